@@ -1,0 +1,84 @@
+#include "service/flags.h"
+
+#include <charconv>
+
+namespace rollwear::cli {
+
+bool Flags::Parse(const std::vector<std::string>& args,
+                  const std::set<std::string>& known,
+                  const std::set<std::string>& switches, std::string* error) {
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a.rfind("--", 0) != 0) {
+      positional_.push_back(a);
+      continue;
+    }
+    std::string name = a.substr(2);
+    std::string value;
+    const size_t eq = name.find('=');
+    const bool inline_value = eq != std::string::npos;
+    if (inline_value) {
+      value = name.substr(eq + 1);
+      name = name.substr(0, eq);
+    }
+    if (known.count(name) == 0 && switches.count(name) == 0) {
+      *error = "unknown option --" + name;
+      return false;
+    }
+    if (switches.count(name) > 0) {
+      values_[name].push_back(inline_value ? value : "1");
+      continue;
+    }
+    if (!inline_value) {
+      if (i + 1 >= args.size()) {
+        *error = "option --" + name + " needs a value";
+        return false;
+      }
+      value = args[++i];
+    }
+    values_[name].push_back(value);
+  }
+  return true;
+}
+
+std::string Flags::Get(const std::string& name, const std::string& fallback) const {
+  auto it = values_.find(name);
+  return it == values_.end() ? fallback : it->second.back();
+}
+
+std::vector<std::string> Flags::GetAll(const std::string& name) const {
+  auto it = values_.find(name);
+  return it == values_.end() ? std::vector<std::string>{} : it->second;
+}
+
+bool Flags::GetInt(const std::string& name, long long fallback, long long* out,
+                   std::string* error) const {
+  if (!Has(name)) {
+    *out = fallback;
+    return true;
+  }
+  const std::string v = Get(name);
+  auto [p, ec] = std::from_chars(v.data(), v.data() + v.size(), *out);
+  if (ec != std::errc() || p != v.data() + v.size()) {
+    *error = "option --" + name + " needs an integer, got '" + v + "'";
+    return false;
+  }
+  return true;
+}
+
+bool Flags::GetDouble(const std::string& name, double fallback, double* out,
+                      std::string* error) const {
+  if (!Has(name)) {
+    *out = fallback;
+    return true;
+  }
+  const std::string v = Get(name);
+  auto [p, ec] = std::from_chars(v.data(), v.data() + v.size(), *out);
+  if (ec != std::errc() || p != v.data() + v.size()) {
+    *error = "option --" + name + " needs a number, got '" + v + "'";
+    return false;
+  }
+  return true;
+}
+
+}  // namespace rollwear::cli
