@@ -1,0 +1,61 @@
+// Incremental, coil-by-coil wear prediction for one mounted roll: the state
+// the daemon keeps per roll position. Each pass adds
+//   wear_i = K(p, r, s_i) * Load(law, pass_i, roll)
+// and the running gradient with respect to the model parameters, so the
+// prediction interval (wear_model.h) is available at any moment. Summing the
+// passes one by one gives the batch prediction of PredictObservation() on
+// the same data up to rounding (tests check 1e-9 relative).
+//
+// Labels unknown to the model (a new roll type or grade) use the gauge
+// value 1 for that factor, i.e. the geometric mean of the known levels.
+//
+// Thread-safety: RollWearState is a plain value; callers serialise updates
+// of one state. The model is only read.
+#ifndef ROLLWEAR_CORE_PREDICTOR_H_
+#define ROLLWEAR_CORE_PREDICTOR_H_
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/wear_law.h"
+#include "core/wear_model.h"
+
+namespace rollwear {
+
+struct RollWearState {
+  int position = -1;   // position level of the model (-1 unknown)
+  int roll_type = -1;  // roll type level of the model (-1 unknown)
+  double diameter_mm = 0;
+  double hardness_hb = 0;
+  double wear_um = 0;
+  int coils = 0;
+  double rolled_length_m = 0;
+  std::vector<double> gradient;  // d(wear)/d(log k, a)
+};
+
+// What a pass brings besides the roll: the coil row of data-format.md.
+struct PassInput {
+  std::string grade;
+  double force_kn = 0;
+  double width_mm = 0;
+  double length_m = 0;
+  double entry_thickness_mm = 0;
+  double exit_thickness_mm = 0;
+};
+
+// A freshly mounted roll at `position_label` ("F6/top").
+RollWearState MountRoll(const WearModel& model, const std::string& position_label,
+                        const std::string& roll_type, double diameter_mm,
+                        double hardness_hb);
+
+// Adds one pass; returns the wear increment in µm.
+double AddPass(const WearModel& model, const PassInput& pass, RollWearState* state);
+
+// 95 % prediction interval of the state's wear.
+std::pair<double, double> WearInterval(const WearModel& model,
+                                       const RollWearState& state);
+
+}  // namespace rollwear
+
+#endif  // ROLLWEAR_CORE_PREDICTOR_H_

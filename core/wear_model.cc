@@ -1,0 +1,54 @@
+#include "core/wear_model.h"
+
+#include <cmath>
+#include <limits>
+
+namespace rollwear {
+
+void WearModel::AddPassGradient(const PassLoadInput& in, int p, int r, int s,
+                                double* grad) const {
+  // d(K*L)/d(log k_j) = K*L for every factor j of the cell;
+  // d(K*L)/da = K*L*ln(stress) for Cao.
+  const double wear = PassWear(in, p, r, s);
+  for (size_t g = 0; g < structure.groups().size(); ++g) {
+    const int c = structure.CoefficientOf(static_cast<int>(g), p, r, s);
+    if (c >= 0) grad[c] += wear;
+  }
+  if (law == WearLaw::kCao) {
+    grad[structure.num_coefficients()] += wear * std::log(CaoStress(in));
+  }
+}
+
+std::pair<double, double> WearModel::Interval(double wear,
+                                              const double* grad) const {
+  double var = noise_sd_um * noise_sd_um + (noise_rel * wear) * (noise_rel * wear);
+  const int n = num_parameters();
+  if (covariance.rows() == n) {
+    Eigen::Map<const Eigen::VectorXd> g(grad, n);
+    var += g.dot(covariance * g);
+  }
+  const double half = 1.959963984540054 * std::sqrt(std::max(var, 0.0));
+  return {wear - half, wear + half};
+}
+
+double WearModel::LogKStdError(int p, int r, int s) const {
+  const int n = num_parameters();
+  if (covariance.rows() != n) return std::numeric_limits<double>::quiet_NaN();
+  Eigen::VectorXd e = Eigen::VectorXd::Zero(n);
+  for (size_t g = 0; g < structure.groups().size(); ++g) {
+    const int c = structure.CoefficientOf(static_cast<int>(g), p, r, s);
+    if (c >= 0) e[c] = 1;
+  }
+  return std::sqrt(std::max(0.0, e.dot(covariance * e)));
+}
+
+std::vector<std::pair<std::string, double>> WearModel::NamedCoefficients() const {
+  std::vector<std::pair<std::string, double>> out;
+  for (int i = 0; i < structure.num_coefficients(); ++i) {
+    out.emplace_back(structure.CoefficientName(i), k[i]);
+  }
+  if (law == WearLaw::kCao) out.emplace_back("a", cao_exponent);
+  return out;
+}
+
+}  // namespace rollwear

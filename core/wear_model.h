@@ -1,0 +1,66 @@
+// WearModel: a calibrated wear model as predictions use it - a wear law, a
+// K structure with its coefficients, the Cao exponent, the covariance of the
+// coefficients and a noise model, so that any campaign's predicted centre
+// wear comes with a prediction interval.
+//
+// Prediction interval (95 %) for a predicted wear d with gradient g of d with
+// respect to the log-coefficients (and the Cao exponent):
+//   var(d) = g' * Sigma * g  +  sigma0^2 + (rho * d)^2
+// where Sigma is the coefficient covariance from the Jacobian (Gauss-Newton
+// approximation, rank-deficient directions removed by SVD) and
+// sigma0^2 + (rho d)^2 the residual variance fitted on training campaigns
+// (grinder noise plus roll-to-roll scatter, which grows with wear).
+//
+// Thread-safety: immutable after calibration; const methods are safe to call
+// concurrently.
+#ifndef ROLLWEAR_CORE_WEAR_MODEL_H_
+#define ROLLWEAR_CORE_WEAR_MODEL_H_
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/k_structure.h"
+#include "core/wear_law.h"
+
+namespace rollwear {
+
+struct WearModel {
+  WearLaw law = WearLaw::kWang;
+  KStructure structure;
+  // Natural (positive) coefficients in the reported gauge (see
+  // k_structure.h), size structure.num_coefficients().
+  std::vector<double> k;
+  double cao_exponent = 1.0;  // Cao's a; unused by other laws
+  // Covariance of (log k..., a) in the reported gauge; empty when unknown.
+  Eigen::MatrixXd covariance;
+  // Residual noise model: var = noise_sd_um^2 + (noise_rel * wear)^2.
+  double noise_sd_um = 0;
+  double noise_rel = 0;
+
+  int num_parameters() const {
+    return structure.num_coefficients() + (law == WearLaw::kCao ? 1 : 0);
+  }
+  // K for level indices of the structure (-1 = unknown level, factor 1).
+  double K(int p, int r, int s) const { return structure.K(k, p, r, s); }
+  // Wear of one pass in µm on a roll at position p of type r, grade s.
+  double PassWear(const PassLoadInput& in, int p, int r, int s) const {
+    return K(p, r, s) * Load(law, in, cao_exponent);
+  }
+  // Adds d(pass wear)/d(log k_j, a) to `grad` (size num_parameters()).
+  void AddPassGradient(const PassLoadInput& in, int p, int r, int s,
+                       double* grad) const;
+  // 95 % interval [lo, hi] for predicted wear `wear` with gradient `grad`.
+  std::pair<double, double> Interval(double wear, const double* grad) const;
+  // Standard error of log K(p, r, s) (gauge-invariant), NaN if unknown.
+  double LogKStdError(int p, int r, int s) const;
+
+  // Coefficients by name ("kF[F6/top]" ..., plus "a" for Cao).
+  std::vector<std::pair<std::string, double>> NamedCoefficients() const;
+};
+
+}  // namespace rollwear
+
+#endif  // ROLLWEAR_CORE_WEAR_MODEL_H_

@@ -1,0 +1,154 @@
+// `rollwear calibrate --data DIR [--model wang|nikitenko|cao] [--option 1|2|3]
+//  [--json FILE] [--start ones|random|empirical] [--protocol exact|paper]
+//  [--split-seed N] [--seed N]`
+// Calibrates on a seeded 2/3 training / 1/3 validation split by campaign and
+// prints the coefficients with standard errors and the figures of merit.
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "core/dataset_io.h"
+#include "core/metrics.h"
+#include "core/study.h"
+#include "service/commands.h"
+#include "service/flags.h"
+
+namespace rollwear::cli {
+namespace {
+
+bool ParseStart(const std::string& s, InitialSet* out) {
+  if (s == "ones") *out = InitialSet::kOnes;
+  else if (s == "random") *out = InitialSet::kRandom;
+  else if (s == "empirical") *out = InitialSet::kEmpirical;
+  else return false;
+  return true;
+}
+
+nlohmann::json Number(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
+
+}  // namespace
+
+int RunCalibrate(const Args& args) {
+  Flags flags;
+  std::string error;
+  if (!flags.Parse(args, {"data", "model", "option", "json", "start", "protocol",
+                          "split-seed", "seed"},
+                   {}, &error)) {
+    std::fprintf(stderr, "rollwear calibrate: %s\n", error.c_str());
+    return 2;
+  }
+  if (!flags.Has("data")) {
+    std::fprintf(stderr, "rollwear calibrate: --data DIR is required\n");
+    return 2;
+  }
+  CalibrationOptions options;
+  long long option = 1, split_seed = 1, seed = 1;
+  if (!ParseWearLaw(flags.Get("model", "wang"), &options.law)) {
+    std::fprintf(stderr, "rollwear calibrate: --model must be wang, nikitenko or cao\n");
+    return 2;
+  }
+  if (!flags.GetInt("option", 1, &option, &error) ||
+      !flags.GetInt("split-seed", 1, &split_seed, &error) ||
+      !flags.GetInt("seed", 1, &seed, &error)) {
+    std::fprintf(stderr, "rollwear calibrate: %s\n", error.c_str());
+    return 2;
+  }
+  options.option = static_cast<int>(option);
+  options.seed = static_cast<uint64_t>(seed);
+  if (!ParseStart(flags.Get("start", "empirical"), &options.initial_set)) {
+    std::fprintf(stderr, "rollwear calibrate: --start must be ones, random or empirical\n");
+    return 2;
+  }
+  const std::string protocol = flags.Get("protocol", "exact");
+  if (protocol == "paper") {
+    options.derivatives = DerivativeMode::kPaperForwardDifference;
+  } else if (protocol != "exact") {
+    std::fprintf(stderr, "rollwear calibrate: --protocol must be exact or paper\n");
+    return 2;
+  }
+  if (!options.IsValid(&error)) {
+    std::fprintf(stderr, "rollwear calibrate: %s\n", error.c_str());
+    return 2;
+  }
+
+  StatusOr<Dataset> data = ReadDataset(flags.Get("data"));
+  if (!data.ok()) {
+    std::fprintf(stderr, "rollwear calibrate: %s\n", data.status().message().c_str());
+    return 1;
+  }
+  const DatasetIndex index(*data);
+  StatusOr<WearStatistics> stats = Aggregate(*data, index, options.law);
+  if (!stats.ok()) {
+    std::fprintf(stderr, "rollwear calibrate: %s\n", stats.status().message().c_str());
+    return 1;
+  }
+  const CampaignSplit split =
+      SplitCampaigns(*stats, 2.0 / 3.0, static_cast<uint64_t>(split_seed));
+  StatusOr<SplitCalibration> run = CalibrateOnSplit(*stats, split, options);
+  if (!run.ok()) {
+    std::fprintf(stderr, "rollwear calibrate: %s\n", run.status().message().c_str());
+    return 1;
+  }
+  const CalibrationResult& r = run->result;
+  const WearModel& m = r.model;
+  std::printf("%s law, option %d, start %s, %s derivatives\n",
+              WearLawName(options.law), options.option,
+              InitialSetName(options.initial_set), protocol.c_str());
+  std::printf("%s\n", r.summary.BriefReport().c_str());
+  std::printf("%-28s %12s %10s\n", "coefficient", "value", "rel. s.e.");
+  const auto named = m.NamedCoefficients();
+  for (size_t i = 0; i < named.size(); ++i) {
+    std::printf("%-28s %12.6g %10s\n", named[i].first.c_str(), named[i].second,
+                std::isfinite(r.std_error[i])
+                    ? (std::to_string(std::lround(r.std_error[i] * 1000) / 10.0).substr(0, 5) + "%").c_str()
+                    : "n/a");
+  }
+  std::printf("training:   %d measurements, gap %.1f µm, cost %.1f µm²\n",
+              run->train.n, run->train.gap_um, run->train.cost);
+  std::printf("validation: %d measurements, gap %.1f µm, cost %.1f µm²\n",
+              run->validation.n, run->validation.gap_um, run->validation.cost);
+  std::printf("noise model: sd %.1f µm + %.1f %% of wear\n", m.noise_sd_um,
+              100 * m.noise_rel);
+
+  if (flags.Has("json")) {
+    nlohmann::json j;
+    j["model"] = WearLawName(options.law);
+    j["option"] = options.option;
+    j["start"] = InitialSetName(options.initial_set);
+    j["protocol"] = protocol;
+    j["split_seed"] = split_seed;
+    nlohmann::json coef = nlohmann::json::object(), se = nlohmann::json::object();
+    for (size_t i = 0; i < named.size(); ++i) {
+      coef[named[i].first] = named[i].second;
+      se[named[i].first] = Number(r.std_error[i]);
+    }
+    j["coefficients"] = coef;
+    j["std_errors_log"] = se;
+    j["cost"] = run->train.cost;
+    j["cost_val"] = run->validation.cost;
+    j["gap_train_um"] = run->train.gap_um;
+    j["gap_val_um"] = run->validation.gap_um;
+    j["n_train"] = run->train.n;
+    j["n_val"] = run->validation.n;
+    j["seconds"] = r.summary.seconds;
+    j["iterations"] = r.summary.iterations;
+    j["evaluations"] = r.summary.evaluations;
+    j["termination"] = r.summary.termination;
+    j["usable"] = r.summary.usable;
+    j["noise"] = {{"sd_um", m.noise_sd_um}, {"rel", m.noise_rel}};
+    j["bias_above_300_um"] = Number(run->bias_above_300_um);
+    std::ofstream out(flags.Get("json"));
+    out << j.dump(2) << "\n";
+    if (!out) {
+      std::fprintf(stderr, "rollwear calibrate: cannot write %s\n", flags.Get("json").c_str());
+      return 1;
+    }
+  }
+  return r.summary.usable ? 0 : 1;
+}
+
+}  // namespace rollwear::cli
