@@ -538,7 +538,9 @@ StatusOr<CalibrationResult> Calibrate(const WearStatistics& stats,
   }
   Eigen::Map<const Eigen::VectorXd> theta_vec(theta.data(), layout.n_full);
   const Eigen::VectorXd theta_rep = transform * theta_vec;
-  WearModel& model = fit.model();
+  // The fit's evaluations (also those of the covariance below) overwrite
+  // the fit's model, so the reported model is a separate copy.
+  WearModel model = fit.model();
   for (int i = 0; i < layout.n_coef; ++i) model.k[i] = std::exp(theta_rep[i]);
   if (layout.a_index >= 0) model.cao_exponent = theta_rep[n_rep - 1];
 
@@ -579,7 +581,7 @@ StatusOr<CalibrationResult> Calibrate(const WearStatistics& stats,
     err.push_back(obs.measured_um - pred.back());
   }
   FitNoiseModel(pred, err, &model);
-  result.model = model;
+  result.model = std::move(model);
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time)
                   .count();
   return result;
