@@ -10,6 +10,7 @@
 
 #include <ceres/ceres.h>
 
+#include "core/lm_setup.h"
 #include "core/random.h"
 
 namespace rollwear {

@@ -33,7 +33,7 @@
 #include <vector>
 
 #include "core/aggregation.h"
-#include "core/lm_setup.h"  // TODO(lead): split LmOptions out so Ceres stays in .cc files
+#include "core/lm_options.h"
 #include "core/status.h"
 #include "core/wear_model.h"
 

@@ -22,7 +22,7 @@ ceres::Solver::Options MakeLmSolverOptions(const LmOptions& options) {
   ceres::Solver::Options out;
   out.minimizer_type = ceres::TRUST_REGION;
   out.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  out.linear_solver_type = ceres::DENSE_QR;
+  out.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
   out.max_num_iterations = options.max_iterations;
   out.function_tolerance = options.function_tolerance;
   out.gradient_tolerance = options.gradient_tolerance;

@@ -10,26 +10,16 @@
 #ifndef ROLLWEAR_CORE_LM_SETUP_H_
 #define ROLLWEAR_CORE_LM_SETUP_H_
 
-#include <string>
-
 #include <ceres/solver.h>
+
+#include "core/lm_options.h"
 
 namespace rollwear {
 
-struct LmOptions {
-  int max_iterations = 500;
-  double function_tolerance = 1e-14;
-  double gradient_tolerance = 1e-14;
-  double parameter_tolerance = 1e-12;
-  // Trust-region radius at start (Ceres default is 1e4).
-  double initial_trust_region_radius = 1e4;
-  int num_threads = 1;
-
-  bool IsValid(std::string* error) const;
-};
-
-// Levenberg-Marquardt, dense QR (the problems are small and dense), no
-// logging to stdout.
+// Levenberg-Marquardt with a dense normal-equations Cholesky solver (the
+// problems are small and dense; on the calibration's ~1000 x 90 Jacobians
+// it is several times faster than dense QR, and the NIST StRD tests show it
+// loses no certified digit), no logging to stdout.
 ceres::Solver::Options MakeLmSolverOptions(const LmOptions& options);
 
 }  // namespace rollwear

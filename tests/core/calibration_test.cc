@@ -335,5 +335,28 @@ TEST(PredictorTest, IncrementalEqualsBatchPrediction) {
   }
 }
 
+// The 95 % prediction interval must hold about 95 % of held-out
+// measurements.
+TEST(PredictorTest, PredictionIntervalCoversHeldOutMeasurements) {
+  const Simulation& sim = PaperMill();
+  const WearStatistics st = Stats(sim.data, WearLaw::kWang);
+  const CampaignSplit split = SplitCampaigns(st);
+  StatusOr<SplitCalibration> run = CalibrateOnSplit(st, split, CalibrationOptions{});
+  ASSERT_TRUE(run.ok());
+  const WearModel& m = run->result.model;
+  int inside = 0, n = 0;
+  for (int o : st.MeasuredObservations(split.validation)) {
+    std::vector<double> grad(m.num_parameters(), 0.0);
+    const double pred = PredictObservation(m, st, st.observations[o], grad.data());
+    const auto [lo, hi] = m.Interval(pred, grad.data());
+    const double meas = st.observations[o].measured_um;
+    inside += (meas >= lo && meas <= hi) ? 1 : 0;
+    ++n;
+  }
+  const double coverage = static_cast<double>(inside) / n;
+  EXPECT_GT(coverage, 0.90) << inside << "/" << n;
+  EXPECT_LT(coverage, 0.99) << inside << "/" << n;
+}
+
 }  // namespace
 }  // namespace rollwear
