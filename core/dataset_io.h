@@ -23,8 +23,8 @@ namespace rollwear {
 // Reads DIR/{campaigns,mounts,coils,measurements}.csv.
 StatusOr<Dataset> ReadDataset(const std::string& dir);
 
-// The same from four streams; `names` label the streams in error messages
-// (normally the file names).
+// The same from four streams. Error messages name them by the canonical file
+// names (campaigns.csv, ...); a null stream is reported as a missing file.
 struct DatasetStreams {
   std::istream* campaigns = nullptr;
   std::istream* mounts = nullptr;

@@ -51,4 +51,37 @@ std::vector<std::pair<std::string, double>> WearModel::NamedCoefficients() const
   return out;
 }
 
+
+// Fits sigma0^2 + (rho d)^2 to squared residuals by least squares on
+// [1, d^2]; falls back to one term when the other would be negative.
+void FitNoiseModel(const std::vector<double>& pred, const std::vector<double>& err,
+                   WearModel* model) {
+  double s00 = 0, s01 = 0, s11 = 0, t0 = 0, t1 = 0;
+  for (size_t i = 0; i < pred.size(); ++i) {
+    const double x = pred[i] * pred[i];
+    const double y = err[i] * err[i];
+    s00 += 1;
+    s01 += x;
+    s11 += x * x;
+    t0 += y;
+    t1 += x * y;
+  }
+  if (s00 == 0) return;
+  const double det = s00 * s11 - s01 * s01;
+  double a = t0 / s00, b = 0;
+  if (det > 1e-12 * s00 * s11) {
+    a = (s11 * t0 - s01 * t1) / det;
+    b = (s00 * t1 - s01 * t0) / det;
+  }
+  if (b < 0) {
+    b = 0;
+    a = t0 / s00;
+  } else if (a < 0) {
+    a = 0;
+    b = s11 > 0 ? t1 / s11 : 0;
+  }
+  model->noise_sd_um = std::sqrt(a);
+  model->noise_rel = std::sqrt(b);
+}
+
 }  // namespace rollwear

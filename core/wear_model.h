@@ -61,6 +61,12 @@ struct WearModel {
   std::vector<std::pair<std::string, double>> NamedCoefficients() const;
 };
 
+// Fits the noise model sigma0^2 + (rho d)^2 of `model` to residuals `err` of
+// predictions `pred` by least squares on [1, d^2] against err^2; falls back
+// to one term when the other would be negative.
+void FitNoiseModel(const std::vector<double>& pred, const std::vector<double>& err,
+                   WearModel* model);
+
 }  // namespace rollwear
 
 #endif  // ROLLWEAR_CORE_WEAR_MODEL_H_
