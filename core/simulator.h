@@ -25,7 +25,7 @@ struct SimulatorOptions {
   int num_campaigns = 395;
   // Mean coils per campaign (campaign lengths vary around it).
   double coils_per_campaign = 131;
-  // Names from SimulatorEffectNames(); empty = no concealed effect.
+  // Names from SimulatorEffects(); empty = no concealed effect.
   std::vector<std::string> effects;
   // Fraction of (campaign, position) measurements missing (gauge faults,
   // not yet ground).
@@ -42,6 +42,14 @@ struct SimulatedEffect {
   std::map<std::string, double> parameters;
 };
 
+// Key of one SimulationTruth::noise_free_wear_um entry: the measurement row
+// it belongs to.
+struct SimulatedMeasurementKey {
+  std::string campaign_id;
+  int stand = 0;
+  Position position = Position::kTop;
+};
+
 struct SimulationTruth {
   uint64_t seed = 0;
   std::string law = "wang";
@@ -54,6 +62,7 @@ struct SimulationTruth {
   // a perfect model of baseline + effects would predict), and the noise
   // floor: mean |measured - noise-free| over all measurements.
   std::vector<double> noise_free_wear_um;
+  std::vector<SimulatedMeasurementKey> noise_free_keys;  // same order
   double noise_floor_um = 0;
   double grinder_noise_sd_um = 0;
   double roll_scatter_sd = 0;  // relative, per physical roll and campaign
