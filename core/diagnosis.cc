@@ -160,6 +160,12 @@ StatusOr<DiagnosisReport> Diagnose(const Dataset& data, const DiagnosisOptions& 
   if (!options.IsValid(&error)) return Status::InvalidArgument("diagnosis options: " + error);
   DiagnosisReport report;
   report.law = WearLawName(options.law);
+  auto mark = std::chrono::steady_clock::now();
+  auto phase = [&report, &mark](const char* name) {
+    const auto now = std::chrono::steady_clock::now();
+    report.phase_seconds[name] += std::chrono::duration<double>(now - mark).count();
+    mark = now;
+  };
 
   // 1. Baseline.
   const DatasetIndex index(data);
@@ -177,6 +183,7 @@ StatusOr<DiagnosisReport> Diagnose(const Dataset& data, const DiagnosisOptions& 
   }
   report.baseline_gap_train_um = base->train.gap_um;
   report.baseline_gap_val_um = base->validation.gap_um;
+  phase("baseline");
 
   StatusOr<TermData> tdr = BuildTermData(data, options.law);
   if (!tdr.ok()) return tdr.status();
@@ -192,9 +199,11 @@ StatusOr<DiagnosisReport> Diagnose(const Dataset& data, const DiagnosisOptions& 
   Fitted current;
   for (double k : base->result.model.k) current.log_k.push_back(std::log(k));
   const std::vector<double> before_all = PredictTerms(td, all, current.log_k, {});
+  phase("data");
 
   // 2. Locate.
   report.locate = diag::Locate(td, data, all, before_all);
+  phase("locate");
 
   // Folds of training campaigns for cross-validation.
   std::vector<int> camps(split.train.begin(), split.train.end());
@@ -220,9 +229,11 @@ StatusOr<DiagnosisReport> Diagnose(const Dataset& data, const DiagnosisOptions& 
     if (nc == 0) break;
     // Screen every candidate (and every grid start of its non-linear
     // parameter) with the score test, then refit only the strongest.
+    phase("refit");
     int num_tests = 0;
     for (const Candidate& c : cands) num_tests += std::max<int>(1, c.starts.size());
     std::vector<double> score_p(nc, 1.0);
+    std::vector<Candidate> best_start = cands;  // each with its best start only
     ParallelFor(nc, options.num_threads, [&](int i) {
       std::vector<std::vector<double>> starts = cands[i].starts;
       if (starts.empty()) starts.push_back(cands[i].spec.term.params);
@@ -231,22 +242,28 @@ StatusOr<DiagnosisReport> Diagnose(const Dataset& data, const DiagnosisOptions& 
         spec.term.params = start;
         int df = 0;
         const double s = ScoreStatistic(td, train, sd, current.log_k, current.terms, spec, &df);
-        if (df > 0) score_p[i] = std::min(score_p[i], ChiSquareSurvival(s, df));
+        const double p = df > 0 ? ChiSquareSurvival(s, df) : 1.0;
+        if (p < score_p[i] || best_start[i].starts.size() > 1) {
+          if (p <= score_p[i]) best_start[i].starts = {start};
+          score_p[i] = std::min(score_p[i], p);
+        }
       }
     });
+    phase("screen");
     std::vector<int> by_score(nc);
     for (int i = 0; i < nc; ++i) by_score[i] = i;
     std::sort(by_score.begin(), by_score.end(),
               [&](int a, int b) { return score_p[a] < score_p[b]; });
     std::vector<int> to_fit;
     for (int i : by_score) {
-      if (to_fit.size() >= 8 || score_p[i] * num_tests > 0.5) break;
+      if (to_fit.size() >= 6 || score_p[i] * num_tests > 0.5) break;
       to_fit.push_back(i);
     }
     std::vector<Fitted> fits(nc);
     ParallelFor(static_cast<int>(to_fit.size()), options.num_threads, [&](int j) {
-      fits[to_fit[j]] = FitCandidate(td, train, sd, current, cands[to_fit[j]]);
+      fits[to_fit[j]] = FitCandidate(td, train, sd, current, best_start[to_fit[j]]);
     });
+    phase("refit");
     const double n = static_cast<double>(train.size());
     std::vector<CandidateResult> results(nc);
     for (int i = 0; i < nc; ++i) {
@@ -269,7 +286,7 @@ StatusOr<DiagnosisReport> Diagnose(const Dataset& data, const DiagnosisOptions& 
               [&](int a, int b) { return results[a].lr > results[b].lr; });
     std::vector<int> to_cv;
     for (int i : order) {
-      if (fits[i].usable && results[i].p_adjusted < options.alpha && to_cv.size() < 4) {
+      if (fits[i].usable && results[i].p_adjusted < options.alpha && to_cv.size() < 3) {
         to_cv.push_back(i);
       }
     }
@@ -279,12 +296,16 @@ StatusOr<DiagnosisReport> Diagnose(const Dataset& data, const DiagnosisOptions& 
     ParallelFor(static_cast<int>(to_cv.size()), options.num_threads, [&](int j) {
       cv_cand[j] = CrossValidate(td, fit_sets, held_out, sd, fits[to_cv[j]]);
     });
+    phase("cross_validation");
     int winner = -1;
     for (size_t j = 0; j < to_cv.size(); ++j) {
       CandidateResult& r = results[to_cv[j]];
       r.cv_mse_ratio = cv_base.mse > 0 ? cv_cand[j].mse / cv_base.mse : 1.0;
       r.accepted = r.cv_mse_ratio < 1 - options.min_cv_improvement;
-      if (r.accepted && (winner < 0 || r.cv_mse_ratio < results[winner].cv_mse_ratio)) {
+      auto penalised = [&](const CandidateResult& c) {
+        return c.cv_mse_ratio + options.cv_penalty_per_parameter * c.df;
+      };
+      if (r.accepted && (winner < 0 || penalised(r) < penalised(results[winner]))) {
         winner = to_cv[j];
       }
     }
@@ -333,6 +354,7 @@ StatusOr<DiagnosisReport> Diagnose(const Dataset& data, const DiagnosisOptions& 
     f.gap_val_before_um = Gap(td, val, PredictTerms(td, val, current.log_k, current.terms));
     f.gap_val_after_um = Gap(td, val, PredictTerms(td, val, adopted.log_k, adopted.terms));
     report.findings.push_back(f);
+    phase("refit");
     used.insert(spec.covariate);
     current = adopted;
   }

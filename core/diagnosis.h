@@ -45,8 +45,11 @@ struct DiagnosisOptions {
   WearLaw law = WearLaw::kWang;
   uint64_t split_seed = 1;
   int cv_folds = 5;
-  double alpha = 0.01;               // family-wise level per round
-  double min_cv_improvement = 0.01;  // relative CV weighted-MSE reduction
+  double alpha = 0.001;              // family-wise level per round
+  double min_cv_improvement = 0.03;  // relative CV weighted-MSE reduction
+  // Parsimony: a candidate must beat one with fewer parameters by this much
+  // CV-error ratio per extra parameter to be preferred.
+  double cv_penalty_per_parameter = 0.005;
   int max_findings = 3;
   int num_bins = 4;                  // quantile bins of the binned form
   int max_factor_levels = 12;
@@ -129,6 +132,9 @@ struct DiagnosisReport {
   std::vector<std::pair<std::string, double>> coefficients;
   std::vector<ModelTerm> terms;
   double seconds = 0;
+  // Wall seconds per phase ("baseline", "data", "locate", "screen",
+  // "refit", "cross_validation"), summed over rounds.
+  std::map<std::string, double> phase_seconds;
 };
 
 StatusOr<DiagnosisReport> Diagnose(const Dataset& data, const DiagnosisOptions& options);

@@ -330,7 +330,7 @@ StatusOr<TermFitResult> FitTerms(const TermData& data, const std::vector<int>& s
     off += t.term.NumParams();
   }
   LmOptions lm;
-  lm.max_iterations = 100;
+  lm.max_iterations = 60;
   lm.function_tolerance = 1e-9;
   lm.parameter_tolerance = 1e-9;
   ceres::Solver::Summary summary;
