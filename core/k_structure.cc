@@ -26,9 +26,9 @@ StatusOr<KStructure> KStructure::ForOption(int option,
     return Status::InvalidArgument("K structure option must be 1, 2 or 3, got " +
                                    std::to_string(option));
   }
-  if (positions.empty() || roll_types.empty() || grades.empty()) {
+  if (positions.empty()) {
     return Status::InvalidArgument(
-        "K structure needs at least one roll position, roll type and grade");
+        "K structure needs at least one roll position");
   }
   KStructure s;
   s.option_ = option;

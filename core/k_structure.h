@@ -40,6 +40,8 @@ class KStructure {
  public:
   KStructure() = default;
   // Option 1, 2 or 3 over the given level labels (positions like "F6/top").
+  // Roll types and grades may be empty (a prior model before any data):
+  // unknown levels then count as 1.
   static StatusOr<KStructure> ForOption(int option,
                                         std::vector<std::string> positions,
                                         std::vector<std::string> roll_types,
