@@ -8,8 +8,8 @@
 // Levels:
 //   pass      varies from pass to pass (force_kn, campaign_length_before_m...)
 //   roll      constant for a roll in a campaign (diameter_mm, hardness_hb)
-//   campaign  constant for a campaign (started_at as days since the first
-//             campaign of the dataset, extra campaign columns)
+//   campaign  constant for a campaign (started_at as days since 1970-01-01,
+//             extra campaign columns)
 //   measurement  what happens at the grinder (cooling_h): acts on the
 //             measured value, not on the wear
 //
@@ -67,7 +67,8 @@ struct PassContext {
 
 // Value of a numeric or flag covariate (factor level index for factors, as
 // a double). NaN when missing (e.g. cooling_h of an unmeasured campaign, an
-// empty extra cell). `origin` is the reference time for started_at.
+// empty extra cell). started_at is given in days since `origin` (rollwear
+// uses origin 0: days since 1970, so a term means the same in every dataset).
 double CovariateValue(const CovariateSpec& spec, const Dataset& data,
                       const PassContext& ctx, UnixSeconds origin);
 

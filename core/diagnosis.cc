@@ -374,6 +374,16 @@ StatusOr<DiagnosisReport> Diagnose(const Dataset& data, const DiagnosisOptions& 
     }
   }
   for (const TermSpec& t : current.terms) report.terms.push_back(t.term);
+  if (ks.ok()) {
+    WearModel& m = report.adopted_model;
+    m.law = options.law;
+    m.structure = *ks;
+    for (double lk : current.log_k) m.k.push_back(std::exp(lk));
+    m.terms = report.terms;
+    std::vector<double> e;
+    for (size_t i = 0; i < train.size(); ++i) e.push_back(td.obs[train[i]].measured_um - pt[i]);
+    FitNoiseModel(pt, e, &m);
+  }
   for (int o : all) {
     const TermObservation& ob = td.obs[o];
     DiagnosisPoint p;

@@ -38,6 +38,7 @@
 #include "core/model_terms.h"
 #include "core/status.h"
 #include "core/wear_law.h"
+#include "core/wear_model.h"
 
 namespace rollwear {
 
@@ -131,6 +132,10 @@ struct DiagnosisReport {
   // The adopted model: option-1 coefficients (names and values) and terms.
   std::vector<std::pair<std::string, double>> coefficients;
   std::vector<ModelTerm> terms;
+  // The same as a servable model version (option 1 + terms, noise model
+  // fitted on the training residuals): what calibrate, the daemon and the
+  // reports use once the finding is adopted.
+  WearModel adopted_model;
   double seconds = 0;
   // Wall seconds per phase ("baseline", "data", "locate", "screen",
   // "refit", "cross_validation"), summed over rounds.

@@ -1,17 +1,58 @@
 #include "core/predictor.h"
 
+#include "core/covariates.h"
+
 namespace rollwear {
 
 RollWearState MountRoll(const WearModel& model, const std::string& position_label,
                         const std::string& roll_type, double diameter_mm,
-                        double hardness_hb) {
+                        double hardness_hb, UnixSeconds campaign_started_at) {
   RollWearState s;
   s.position = model.structure.PositionLevel(position_label);
   s.roll_type = model.structure.RollTypeLevel(roll_type);
   s.diameter_mm = diameter_mm;
   s.hardness_hb = hardness_hb;
   s.gradient.assign(model.num_parameters(), 0.0);
+  s.campaign_started_at = campaign_started_at;
   return s;
+}
+
+double PassTermMultiplier(const WearModel& model, const PassInput& pass,
+                          const RollWearState& state) {
+  if (model.terms.empty()) return 1.0;
+  static const Dataset kNoExtras;
+  static const std::vector<CovariateSpec> kCatalog = CovariateCatalog(kNoExtras);
+  Pass p;
+  p.rolled_at = pass.rolled_at;
+  p.force_kn = pass.force_kn;
+  p.width_mm = pass.width_mm;
+  p.length_m = pass.length_m;
+  p.entry_thickness_mm = pass.entry_thickness_mm;
+  p.exit_thickness_mm = pass.exit_thickness_mm;
+  p.temperature_c = pass.temperature_c;
+  p.speed_mps = pass.speed_mps;
+  p.lubrication = pass.lubrication;
+  p.shift_mm = pass.shift_mm;
+  Mount m;
+  m.diameter_mm = state.diameter_mm;
+  m.hardness_hb = state.hardness_hb;
+  Campaign c;
+  c.started_at = state.campaign_started_at;
+  PassContext ctx;
+  ctx.pass = &p;
+  ctx.mount = &m;
+  ctx.campaign = &c;
+  ctx.length_before_m = state.rolled_length_m;
+  ctx.coils_before = state.coils;
+  double multiplier = 1.0;
+  for (const ModelTerm& t : model.terms) {
+    if (t.IsMeasurementTerm()) continue;
+    for (const CovariateSpec& spec : kCatalog) {
+      if (spec.name != t.covariate || spec.level == CovariateLevel::kMeasurement) continue;
+      multiplier *= TermMultiplier(t, CovariateValue(spec, kNoExtras, ctx, 0), nullptr);
+    }
+  }
+  return multiplier;
 }
 
 double AddPass(const WearModel& model, const PassInput& pass, RollWearState* state) {
@@ -20,12 +61,14 @@ double AddPass(const WearModel& model, const PassInput& pass, RollWearState* sta
                          pass.exit_thickness_mm,  state->diameter_mm,
                          state->hardness_hb};
   const int grade = model.structure.GradeLevel(pass.grade);
-  const double wear = model.PassWear(in, state->position, state->roll_type, grade);
+  const double multiplier = PassTermMultiplier(model, pass, *state);
+  const double wear =
+      model.PassWear(in, state->position, state->roll_type, grade) * multiplier;
   if (static_cast<int>(state->gradient.size()) != model.num_parameters()) {
     state->gradient.assign(model.num_parameters(), 0.0);
   }
   model.AddPassGradient(in, state->position, state->roll_type, grade,
-                        state->gradient.data());
+                        state->gradient.data(), multiplier);
   state->wear_um += wear;
   state->coils += 1;
   state->rolled_length_m += pass.length_m;

@@ -18,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/dataset.h"
 #include "core/wear_law.h"
 #include "core/wear_model.h"
 
@@ -32,6 +33,7 @@ struct RollWearState {
   int coils = 0;
   double rolled_length_m = 0;
   std::vector<double> gradient;  // d(wear)/d(log k, a)
+  UnixSeconds campaign_started_at = 0;  // for hours_since_mount
 };
 
 // What a pass brings besides the roll: the coil row of data-format.md.
@@ -42,12 +44,26 @@ struct PassInput {
   double length_m = 0;
   double entry_thickness_mm = 0;
   double exit_thickness_mm = 0;
+  // Used only by adopted model terms that depend on them.
+  UnixSeconds rolled_at = 0;
+  double temperature_c = 0;
+  double speed_mps = 0;
+  bool lubrication = false;
+  double shift_mm = 0;
 };
 
 // A freshly mounted roll at `position_label` ("F6/top").
 RollWearState MountRoll(const WearModel& model, const std::string& position_label,
                         const std::string& roll_type, double diameter_mm,
-                        double hardness_hb);
+                        double hardness_hb, UnixSeconds campaign_started_at = 0);
+
+// Product of the model's wear-rate terms for this pass on this roll (1 when
+// the model has none): the covariates come from the pass, the roll and the
+// roll's state before the pass (campaign_length_before_m = rolled length so
+// far, campaign_coils_before = coils so far). Terms on extra columns a mill
+// added cannot be evaluated coil by coil and count as 1.
+double PassTermMultiplier(const WearModel& model, const PassInput& pass,
+                          const RollWearState& state);
 
 // Adds one pass; returns the wear increment in µm.
 double AddPass(const WearModel& model, const PassInput& pass, RollWearState* state);

@@ -32,11 +32,7 @@ StatusOr<TermData> BuildTermData(const Dataset& data, WearLaw law) {
     slot_level[slot] = static_cast<int>(td.positions.size());
     td.positions.push_back(RollPositionName(SlotStand(slot), SlotPosition(slot)));
   }
-  UnixSeconds origin = 0;
-  if (!data.campaigns.empty()) {
-    origin = data.campaigns[0].started_at;
-    for (const Campaign& c : data.campaigns) origin = std::min(origin, c.started_at);
-  }
+  const UnixSeconds origin = 0;  // started_at in days since 1970 (covariates.h)
   td.z.resize(td.catalog.size());
   td.obs_z.resize(td.catalog.size());
   for (int c = 0; c < static_cast<int>(data.campaigns.size()); ++c) {

@@ -6,10 +6,10 @@
 namespace rollwear {
 
 void WearModel::AddPassGradient(const PassLoadInput& in, int p, int r, int s,
-                                double* grad) const {
-  // d(K*L)/d(log k_j) = K*L for every factor j of the cell;
-  // d(K*L)/da = K*L*ln(stress) for Cao.
-  const double wear = PassWear(in, p, r, s);
+                                double* grad, double multiplier) const {
+  // d(K*L*M)/d(log k_j) = K*L*M for every factor j of the cell;
+  // d(K*L*M)/da = K*L*M*ln(stress) for Cao.
+  const double wear = PassWear(in, p, r, s) * multiplier;
   for (size_t g = 0; g < structure.groups().size(); ++g) {
     const int c = structure.CoefficientOf(static_cast<int>(g), p, r, s);
     if (c >= 0) grad[c] += wear;

@@ -23,6 +23,7 @@
 #include <Eigen/Core>
 
 #include "core/k_structure.h"
+#include "core/model_terms.h"
 #include "core/wear_law.h"
 
 namespace rollwear {
@@ -39,6 +40,10 @@ struct WearModel {
   // Residual noise model: var = noise_sd_um^2 + (noise_rel * wear)^2.
   double noise_sd_um = 0;
   double noise_rel = 0;
+  // Terms adopted from a diagnosis (model_terms.h): wear-rate terms
+  // multiply each pass's wear; measurement terms only shift what the
+  // grinder is expected to read and do not change predicted wear.
+  std::vector<ModelTerm> terms;
 
   int num_parameters() const {
     return structure.num_coefficients() + (law == WearLaw::kCao ? 1 : 0);
@@ -49,9 +54,10 @@ struct WearModel {
   double PassWear(const PassLoadInput& in, int p, int r, int s) const {
     return K(p, r, s) * Load(law, in, cao_exponent);
   }
-  // Adds d(pass wear)/d(log k_j, a) to `grad` (size num_parameters()).
-  void AddPassGradient(const PassLoadInput& in, int p, int r, int s,
-                       double* grad) const;
+  // Adds d(pass wear)/d(log k_j, a) to `grad` (size num_parameters()) for
+  // a pass whose wear is multiplied by `multiplier` (adopted terms).
+  void AddPassGradient(const PassLoadInput& in, int p, int r, int s, double* grad,
+                       double multiplier = 1.0) const;
   // 95 % interval [lo, hi] for predicted wear `wear` with gradient `grad`.
   std::pair<double, double> Interval(double wear, const double* grad) const;
   // Standard error of log K(p, r, s) (gauge-invariant), NaN if unknown.

@@ -14,6 +14,7 @@
 
 #include "core/diagnosis_report.h"
 #include "core/model_terms.h"
+#include "core/predictor.h"
 #include "core/simulator.h"
 
 namespace rollwear {
@@ -154,6 +155,45 @@ TEST(DiagnosisTest, RemovesUnderPredictionOfLargeWear) {
   EXPECT_NE(html.find("wear_rate_growth_along_campaign"), std::string::npos);
   EXPECT_NE(html.find("<svg"), std::string::npos);
   EXPECT_NE(html.find("&gt;= 300 µm"), std::string::npos);
+}
+
+// The adopted model (option 1 + terms) predicts coil by coil, as the daemon
+// will, exactly what the diagnosis computed in batch.
+TEST(DiagnosisTest, AdoptedModelPredictsCoilByCoilAsInBatch) {
+  const Simulation sim = Simulated(9, {"run_in"});
+  StatusOr<DiagnosisReport> r = Diagnose(sim.data, DiagnosisOptions{});
+  ASSERT_TRUE(r.ok());
+  ASSERT_EQ(r->verdict, "missing_physics_found");
+  const WearModel& m = r->adopted_model;
+  ASSERT_EQ(m.terms.size(), r->findings.size());
+  const Dataset& d = sim.data;
+  const DatasetIndex index(d);
+  std::map<std::tuple<std::string, int, int>, double> after;
+  for (const DiagnosisPoint& p : r->points) {
+    after[{p.campaign_id, p.stand, static_cast<int>(p.position)}] = p.after_um;
+  }
+  int checked = 0;
+  for (size_t c = 0; c < d.campaigns.size() && checked < 200; ++c) {
+    for (int slot : index.slots()) {
+      const int mi = index.MountOf(static_cast<int>(c), slot);
+      auto it = after.find({d.campaigns[c].id, SlotStand(slot), slot % 2});
+      if (mi < 0 || it == after.end()) continue;
+      const Mount& mount = d.mounts[mi];
+      RollWearState state = MountRoll(m, RollPositionName(mount.stand, mount.position),
+                                      d.roll_types[mount.roll_type], mount.diameter_mm,
+                                      mount.hardness_hb, d.campaigns[c].started_at);
+      for (int pi : index.PassesOf(static_cast<int>(c), mount.stand)) {
+        const Pass& p = d.passes[pi];
+        PassInput in{d.grades[p.grade], p.force_kn, p.width_mm, p.length_m,
+                     p.entry_thickness_mm, p.exit_thickness_mm, p.rolled_at,
+                     p.temperature_c, p.speed_mps, p.lubrication, p.shift_mm};
+        AddPass(m, in, &state);
+      }
+      EXPECT_NEAR(state.wear_um, it->second, 1e-9 * it->second);
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 200);
 }
 
 // No concealed effect: quiet in at least 95 % of 20 seeds.
