@@ -3,7 +3,8 @@
 //   Table 1: the three wear laws x the three initial sets (option 1).
 //   Table 2: Wang's law x the three K structures (empirical start).
 //   Table 3: the study's protocol (forward differences, step 5e-3, at most
-//            10 n evaluations) against exact derivatives, per law/option.
+//            10 n evaluations) against exact derivatives, per law/option,
+//            from the all-ones start.
 // Every row also reports the mean residual of validation campaigns whose
 // measured wear exceeds 300 µm (the study saw all models under-predict
 // there).

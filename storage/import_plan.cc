@@ -1,0 +1,412 @@
+#include "storage/import_plan.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "core/dataset_io.h"
+#include "storage/validation.h"
+
+namespace rollwear::storage::internal {
+namespace {
+
+std::string Num(double v) {
+  char buf[64];
+  auto r = std::to_chars(buf, buf + sizeof(buf), v);
+  return std::string(buf, r.ptr);
+}
+
+std::string Row(const char* table, size_t i) {
+  return std::string(table) + "[" + std::to_string(i) + "]";
+}
+
+Status Bad(const std::string& path, const std::string& rule) {
+  return Status::InvalidArgument(path + ": " + rule);
+}
+
+bool InRange(int i, size_t n) { return i >= 0 && static_cast<size_t>(i) < n; }
+
+Status CheckPositive(const std::string& path, double v,
+                     const std::string& where = "") {
+  if (!std::isfinite(v) || !(v > 0)) {
+    return Bad(path, "must be > 0, got " + Num(v) + where);
+  }
+  return Status::Ok();
+}
+
+Status CheckExtras(const ExtraColumns& e, size_t rows, const char* table) {
+  if (e.numeric.size() != e.numeric_names.size() ||
+      e.factor.size() != e.factor_names.size() ||
+      e.factor_levels.size() != e.factor_names.size()) {
+    return Bad(std::string(table) + " extra columns", "inconsistent lists");
+  }
+  for (const auto& col : e.numeric) {
+    if (col.size() != rows) {
+      return Bad(std::string(table) + " extra columns",
+                 "a column does not have one value per row");
+    }
+  }
+  for (size_t c = 0; c < e.factor.size(); ++c) {
+    if (e.factor[c].size() != rows) {
+      return Bad(std::string(table) + " extra columns",
+                 "a column does not have one value per row");
+    }
+    for (int level : e.factor[c]) {
+      if (!InRange(level, e.factor_levels[c].size())) {
+        return Bad(std::string(table) + " extra column " + e.factor_names[c],
+                   "level index out of range");
+      }
+    }
+  }
+  return Status::Ok();
+}
+
+MountedRollIn ToMount(const Dataset& d, const Mount& m) {
+  return MountedRollIn{m.stand,       m.position,
+                       m.roll_id,     d.roll_types[m.roll_type],
+                       m.diameter_mm, m.hardness_hb};
+}
+
+MeasurementIn ToMeasurement(const Dataset& d, const Measurement& m) {
+  return MeasurementIn{d.campaigns[m.campaign].id,
+                       m.stand,
+                       m.position,
+                       m.roll_id,
+                       m.measured_at,
+                       m.wear_center_um};
+}
+
+Status CheckPasses(const Dataset& d) {
+  struct CoilInfo {
+    int campaign, seq, grade, first_row;
+    uint32_t stands;
+  };
+  std::vector<CoilInfo> coils(d.coil_ids.size(), CoilInfo{-1, 0, -1, -1, 0});
+  std::unordered_map<uint64_t, int> seq_owner;
+  for (size_t i = 0; i < d.passes.size(); ++i) {
+    const Pass& p = d.passes[i];
+    const std::string at = Row("passes", i) + ".";
+    if (!InRange(p.campaign, d.campaigns.size())) {
+      return Bad(at + "campaign_id", "unknown campaign (index out of range)");
+    }
+    if (!InRange(p.coil, d.coil_ids.size())) {
+      return Bad(at + "coil_id", "unknown coil (index out of range)");
+    }
+    if (!InRange(p.grade, d.grades.size())) {
+      return Bad(at + "grade", "unknown grade (index out of range)");
+    }
+    const std::string where = " (coil " + d.coil_ids[p.coil] + " at F" +
+                              std::to_string(p.stand) + ")";
+    if (p.seq < 1 || p.seq > kMaxSeq) {
+      return Bad(at + "seq", "must be an integer >= 1" + where);
+    }
+    if (p.stand < kMinStand || p.stand > kMaxStand) {
+      return Bad(at + "stand",
+                 "unknown stand " + std::to_string(p.stand) + " (want F1..F7)");
+    }
+    ROLLWEAR_RETURN_IF_ERROR(CheckPositive(at + "force_kn", p.force_kn, where));
+    ROLLWEAR_RETURN_IF_ERROR(CheckPositive(at + "width_mm", p.width_mm, where));
+    ROLLWEAR_RETURN_IF_ERROR(CheckPositive(at + "length_m", p.length_m, where));
+    ROLLWEAR_RETURN_IF_ERROR(
+        CheckPositive(at + "entry_thickness_mm", p.entry_thickness_mm, where));
+    ROLLWEAR_RETURN_IF_ERROR(
+        CheckPositive(at + "exit_thickness_mm", p.exit_thickness_mm, where));
+    if (p.exit_thickness_mm >= p.entry_thickness_mm) {
+      return Bad(at + "exit_thickness_mm",
+                 "must be < entry_thickness_mm (" + Num(p.entry_thickness_mm) +
+                     "), got " + Num(p.exit_thickness_mm) + where);
+    }
+    if (!std::isfinite(p.temperature_c)) {
+      return Bad(at + "temperature_c", "must be a finite number" + where);
+    }
+    ROLLWEAR_RETURN_IF_ERROR(
+        CheckPositive(at + "speed_mps", p.speed_mps, where));
+    if (!std::isfinite(p.shift_mm)) {
+      return Bad(at + "shift_mm", "must be a finite number" + where);
+    }
+    CoilInfo& info = coils[p.coil];
+    if (info.first_row < 0) {
+      info = CoilInfo{p.campaign, p.seq, p.grade, static_cast<int>(i), 0};
+      const uint64_t key = (static_cast<uint64_t>(p.campaign) << 32) |
+                           static_cast<uint32_t>(p.seq);
+      auto [owner, fresh] = seq_owner.emplace(key, p.coil);
+      if (!fresh) {
+        return Bad(at + "seq",
+                   "seq " + std::to_string(p.seq) + " of campaign " +
+                       d.campaigns[p.campaign].id +
+                       " is already used by coil " + d.coil_ids[owner->second]);
+      }
+    } else {
+      const std::string first =
+          " than passes[" + std::to_string(info.first_row) + "]" + where;
+      if (info.campaign != p.campaign) {
+        return Bad(at + "campaign_id", "differs for the same coil_id" + first);
+      }
+      if (info.seq != p.seq) {
+        return Bad(at + "seq", "differs for the same coil_id" + first);
+      }
+      if (info.grade != p.grade) {
+        return Bad(at + "grade", "differs for the same coil_id" + first);
+      }
+      if (info.stands & (1u << p.stand)) {
+        return Bad(at + "stand", "duplicate key (coil_id, stand)" + where);
+      }
+    }
+    info.stands |= 1u << p.stand;
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+Status CheckDataset(const Dataset& d) {
+  std::unordered_set<std::string> ids;
+  for (size_t i = 0; i < d.campaigns.size(); ++i) {
+    const Campaign& c = d.campaigns[i];
+    const std::string at = Row("campaigns", i) + ".";
+    if (c.id.empty()) return Bad(at + "campaign_id", "must not be empty");
+    if (!ids.insert(c.id).second) {
+      return Bad(at + "campaign_id", "duplicate campaign_id " + c.id);
+    }
+    if (c.ended_at < c.started_at) {
+      return Bad(at + "ended_at",
+                 "must not be before started_at (campaign " + c.id + ")");
+    }
+  }
+  for (const auto& label : d.roll_types) {
+    if (label.empty()) return Bad("roll_types", "labels must not be empty");
+  }
+  for (const auto& label : d.grades) {
+    if (label.empty()) return Bad("grades", "labels must not be empty");
+  }
+  std::unordered_set<std::string> coil_ids;
+  for (const auto& id : d.coil_ids) {
+    if (id.empty()) return Bad("coil_ids", "coil_id must not be empty");
+    if (!coil_ids.insert(id).second) {
+      return Bad("coil_ids", "coil_id " + id + " is listed twice");
+    }
+  }
+  std::vector<int> mount_of(d.campaigns.size() * kNumRollPositionSlots, -1);
+  for (size_t i = 0; i < d.mounts.size(); ++i) {
+    const Mount& m = d.mounts[i];
+    const std::string at = Row("mounts", i) + ".";
+    if (!InRange(m.campaign, d.campaigns.size())) {
+      return Bad(at + "campaign_id", "unknown campaign (index out of range)");
+    }
+    if (m.stand < kMinStand || m.stand > kMaxStand) {
+      return Bad(at + "stand", "unknown stand " + std::to_string(m.stand));
+    }
+    if (m.position != Position::kTop && m.position != Position::kBottom) {
+      return Bad(at + "position", "unknown position");
+    }
+    if (m.roll_id.empty()) return Bad(at + "roll_id", "must not be empty");
+    if (!InRange(m.roll_type, d.roll_types.size())) {
+      return Bad(at + "roll_type", "unknown roll type (index out of range)");
+    }
+    ROLLWEAR_RETURN_IF_ERROR(CheckPositive(at + "diameter_mm", m.diameter_mm));
+    ROLLWEAR_RETURN_IF_ERROR(CheckPositive(at + "hardness_hb", m.hardness_hb));
+    int& slot = mount_of[m.campaign * kNumRollPositionSlots +
+                         RollPositionSlot(m.stand, m.position)];
+    if (slot >= 0) {
+      return Bad(at + "position",
+                 "duplicate key (campaign_id, stand, position): " +
+                     RollPositionName(m.stand, m.position) + " of campaign " +
+                     d.campaigns[m.campaign].id + " (also mounts[" +
+                     std::to_string(slot) + "])");
+    }
+    slot = static_cast<int>(i);
+  }
+  ROLLWEAR_RETURN_IF_ERROR(CheckPasses(d));
+  std::vector<char> measured(mount_of.size(), 0);
+  for (size_t i = 0; i < d.measurements.size(); ++i) {
+    const Measurement& m = d.measurements[i];
+    const std::string at = Row("measurements", i) + ".";
+    if (!InRange(m.campaign, d.campaigns.size())) {
+      return Bad(at + "campaign_id", "unknown campaign (index out of range)");
+    }
+    if (m.stand < kMinStand || m.stand > kMaxStand) {
+      return Bad(at + "stand", "unknown stand " + std::to_string(m.stand));
+    }
+    if (m.position != Position::kTop && m.position != Position::kBottom) {
+      return Bad(at + "position", "unknown position");
+    }
+    if (m.roll_id.empty()) return Bad(at + "roll_id", "must not be empty");
+    if (!std::isfinite(m.wear_center_um) || m.wear_center_um < kMinWearUm) {
+      return Bad(at + "wear_center_um",
+                 "must be a number >= -50, got " + Num(m.wear_center_um));
+    }
+    const size_t key = m.campaign * kNumRollPositionSlots +
+                       RollPositionSlot(m.stand, m.position);
+    const std::string where = RollPositionName(m.stand, m.position) +
+                              " of campaign " + d.campaigns[m.campaign].id;
+    if (measured[key]) {
+      return Bad(at + "position",
+                 "duplicate key (campaign_id, stand, position): " + where);
+    }
+    measured[key] = 1;
+    if (mount_of[key] < 0) {
+      return Bad(at + "stand", "no mount for " + where);
+    }
+    if (d.mounts[mount_of[key]].roll_id != m.roll_id) {
+      return Bad(at + "roll_id",
+                 "roll_id must match the mount: " + where + " mounted " +
+                     d.mounts[mount_of[key]].roll_id + ", got " + m.roll_id);
+    }
+  }
+  ROLLWEAR_RETURN_IF_ERROR(
+      CheckExtras(d.campaign_extra, d.campaigns.size(), "campaigns"));
+  ROLLWEAR_RETURN_IF_ERROR(
+      CheckExtras(d.mount_extra, d.mounts.size(), "mounts"));
+  ROLLWEAR_RETURN_IF_ERROR(
+      CheckExtras(d.pass_extra, d.passes.size(), "passes"));
+  return CheckExtras(d.measurement_extra, d.measurements.size(),
+                     "measurements");
+}
+
+std::vector<StoredCoil> DatasetCoils(const Dataset& d) {
+  std::vector<StoredCoil> coils(d.coil_ids.size());
+  for (const Pass& p : d.passes) {
+    StoredCoil& c = coils[p.coil];
+    if (c.coil_id.empty()) {
+      c.coil_id = d.coil_ids[p.coil];
+      c.campaign_id = d.campaigns[p.campaign].id;
+      c.seq = p.seq;
+      c.grade = d.grades[p.grade];
+    }
+    c.passes.push_back(StoredPass{p.stand, p.rolled_at, p.force_kn, p.width_mm,
+                                  p.length_m, p.entry_thickness_mm,
+                                  p.exit_thickness_mm, p.temperature_c,
+                                  p.speed_mps, p.lubrication, p.shift_mm});
+  }
+  for (StoredCoil& c : coils) {
+    std::stable_sort(c.passes.begin(), c.passes.end(),
+                     [](const StoredPass& a, const StoredPass& b) {
+                       return a.stand < b.stand;
+                     });
+  }
+  return coils;
+}
+
+StatusOr<ImportPlan> PlanImport(const Dataset& d,
+                                const std::vector<StoredCoil>& coils,
+                                const Catalog& catalog,
+                                const CoilLookup& lookup_coil,
+                                const SeqLookup& lookup_seq) {
+  ImportPlan plan;
+  plan.new_campaign.assign(d.campaigns.size(), 1);
+  plan.new_mount.assign(d.mounts.size(), 1);
+  plan.new_coil.assign(d.coil_ids.size(), 1);
+  plan.new_measurement.assign(d.measurements.size(), 1);
+  for (size_t i = 0; i < d.campaigns.size(); ++i) {
+    const Campaign& c = d.campaigns[i];
+    auto it = catalog.campaigns.find(c.id);
+    if (it == catalog.campaigns.end()) {
+      ++plan.num_campaigns;
+      continue;
+    }
+    const CampaignRec& rec = it->second;
+    if (rec.started_at != c.started_at || !rec.ended_at.has_value() ||
+        *rec.ended_at != c.ended_at) {
+      return Status::AlreadyExists(
+          Row("campaigns", i) + ".campaign_id: campaign " + c.id +
+          " is already stored with different content (started_at " +
+          FormatTimestamp(rec.started_at) + ", ended_at " +
+          (rec.ended_at ? FormatTimestamp(*rec.ended_at) : "open") + ")");
+    }
+    plan.new_campaign[i] = 0;
+  }
+  for (size_t i = 0; i < d.mounts.size(); ++i) {
+    const Mount& m = d.mounts[i];
+    if (plan.new_campaign[m.campaign]) continue;
+    const CampaignRec& rec = catalog.campaigns.at(d.campaigns[m.campaign].id);
+    const auto& stored = rec.mounts[RollPositionSlot(m.stand, m.position)];
+    if (!stored.has_value()) continue;
+    if (!SameMount(*stored, ToMount(d, m))) {
+      return Status::AlreadyExists(Row("mounts", i) + ": " +
+                                   RollPositionName(m.stand, m.position) +
+                                   " of campaign " + rec.id +
+                                   " is already stored with different content");
+    }
+    plan.new_mount[i] = 0;
+  }
+  for (size_t i = 0; i < d.measurements.size(); ++i) {
+    const Measurement& m = d.measurements[i];
+    if (plan.new_campaign[m.campaign]) {
+      ++plan.num_measurements;
+      continue;
+    }
+    const CampaignRec& rec = catalog.campaigns.at(d.campaigns[m.campaign].id);
+    const auto& stored =
+        rec.measurements[RollPositionSlot(m.stand, m.position)];
+    if (!stored.has_value()) {
+      ++plan.num_measurements;
+      continue;
+    }
+    if (!SameMeasurement(*stored, ToMeasurement(d, m))) {
+      return Status::AlreadyExists(
+          Row("measurements", i) + ": " +
+          RollPositionName(m.stand, m.position) + " of campaign " + rec.id +
+          " is already measured with different content");
+    }
+    plan.new_measurement[i] = 0;
+  }
+  for (size_t i = 0; i < coils.size(); ++i) {
+    const StoredCoil& coil = coils[i];
+    StatusOr<std::optional<StoredCoil>> stored = lookup_coil(coil.coil_id);
+    if (!stored.ok()) return stored.status();
+    if (stored->has_value()) {
+      if (**stored != coil) {
+        return Status::AlreadyExists("coil_id " + coil.coil_id +
+                                     ": coil already stored with different "
+                                     "content");
+      }
+      plan.new_coil[i] = 0;
+      continue;
+    }
+    if (catalog.campaigns.count(coil.campaign_id) > 0) {
+      StatusOr<std::optional<std::string>> owner =
+          lookup_seq(coil.campaign_id, coil.seq);
+      if (!owner.ok()) return owner.status();
+      if (owner->has_value()) {
+        return Status::FailedPrecondition(
+            "coil_id " + coil.coil_id + ": seq " + std::to_string(coil.seq) +
+            " of campaign " + coil.campaign_id + " is already used by coil " +
+            **owner);
+      }
+    }
+    ++plan.num_coils;
+  }
+  return plan;
+}
+
+void ApplyImport(const Dataset& d, const std::vector<StoredCoil>& coils,
+                 const ImportPlan& plan, bool speculative, Catalog* catalog) {
+  for (size_t i = 0; i < d.campaigns.size(); ++i) {
+    if (!plan.new_campaign[i]) continue;
+    CampaignRec rec;
+    rec.id = d.campaigns[i].id;
+    rec.started_at = d.campaigns[i].started_at;
+    rec.ended_at = d.campaigns[i].ended_at;
+    catalog->campaigns[rec.id] = std::move(rec);
+  }
+  for (size_t i = 0; i < d.mounts.size(); ++i) {
+    if (!plan.new_mount[i]) continue;
+    const Mount& m = d.mounts[i];
+    const int slot = RollPositionSlot(m.stand, m.position);
+    catalog->campaigns[d.campaigns[m.campaign].id].mounts[slot] = ToMount(d, m);
+    catalog->positions_seen |= 1u << slot;
+  }
+  for (size_t i = 0; i < d.measurements.size(); ++i) {
+    if (!plan.new_measurement[i]) continue;
+    ApplyMeasurement(ToMeasurement(d, d.measurements[i]), catalog);
+  }
+  if (speculative) {
+    for (size_t i = 0; i < coils.size(); ++i) {
+      if (plan.new_coil[i]) catalog->pending_coils[coils[i].coil_id] = coils[i];
+    }
+  }
+}
+
+}  // namespace rollwear::storage::internal

@@ -1,0 +1,406 @@
+// MillStore: opening, admission of writes (validation against the
+// speculative catalog), the write entry points, and the read side.
+#include "storage/mill_store.h"
+
+#include <chrono>
+#include <cmath>
+#include <utility>
+
+#include "storage/mill_store_impl.h"
+#include "storage/model_levels.h"
+#include "storage/schema.h"
+#include "storage/store_sql.h"
+#include "storage/validation.h"
+
+namespace rollwear::storage {
+
+bool StoreOptions::IsValid(std::string* error) const {
+  if (max_batch < 1) {
+    *error = "max_batch must be >= 1";
+    return false;
+  }
+  if (default_option < 1 || default_option > 3) {
+    *error = "default_option must be 1, 2 or 3";
+    return false;
+  }
+  if (!std::isfinite(initial_k) || !(initial_k > 0)) {
+    *error = "initial_k must be a finite number > 0";
+    return false;
+  }
+  return true;
+}
+
+const char* CalibrationStatusName(CalibrationStatus s) {
+  switch (s) {
+    case CalibrationStatus::kQueued:
+      return "queued";
+    case CalibrationStatus::kRunning:
+      return "running";
+    case CalibrationStatus::kDone:
+      return "done";
+    case CalibrationStatus::kFailed:
+      return "failed";
+  }
+  return "unknown";
+}
+
+StatusOr<std::unique_ptr<MillStore>> MillStore::Open(
+    const std::string& path, const StoreOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) {
+    return Status::InvalidArgument("store options: " + error);
+  }
+  auto store = std::make_unique<internal::MillStoreImpl>(options);
+  ROLLWEAR_RETURN_IF_ERROR(store->Init(path));
+  return std::unique_ptr<MillStore>(std::move(store));
+}
+
+namespace internal {
+
+UnixSeconds NowSeconds() {
+  return std::chrono::duration_cast<std::chrono::seconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+Status MillStoreImpl::Init(const std::string& path) {
+  path_ = path;
+  StatusOr<std::unique_ptr<Db>> db = Db::Open(path);
+  if (!db.ok()) return db.status();
+  writer_db_ = std::move(db).value();
+  ROLLWEAR_RETURN_IF_ERROR(MigrateSchema(writer_db_.get()));
+  ROLLWEAR_RETURN_IF_ERROR(
+      FailInterruptedCalibrations(writer_db_.get(), NowSeconds()));
+  db = Db::Open(path);
+  if (!db.ok()) return db.status();
+  lookup_db_ = std::move(db).value();
+  db = Db::Open(path);
+  if (!db.ok()) return db.status();
+  read_db_ = std::move(db).value();
+
+  StatusOr<Catalog> catalog = LoadCatalog(writer_db_.get());
+  if (!catalog.ok()) return catalog.status();
+  committed_ = std::move(catalog).value();
+  spec_ = committed_;
+  StatusOr<StoredCounts> counts = LoadCounts(writer_db_.get());
+  if (!counts.ok()) return counts.status();
+  counters_.campaigns = counts->campaigns;
+  counters_.coils = counts->coils;
+  counters_.measurements = counts->measurements;
+  counters_.measurements_since_last_calibration =
+      counts->measurements_since_last_calibration;
+
+  StatusOr<std::optional<ModelVersion>> active =
+      LoadActiveModel(writer_db_.get());
+  if (!active.ok()) return active.status();
+  std::shared_ptr<const ModelVersion> model =
+      active->has_value()
+          ? std::make_shared<const ModelVersion>(std::move(**active))
+          : MakePrior(committed_.positions_seen);
+  InstallModel(std::move(model));
+  writer_ = std::thread([this] { WriterLoop(); });
+  return Status::Ok();
+}
+
+MillStoreImpl::~MillStoreImpl() {
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    stop_ = true;
+  }
+  cv_.notify_all();
+  if (writer_.joinable()) writer_.join();
+}
+
+std::shared_ptr<const ModelVersion> MillStoreImpl::MakePrior(
+    uint32_t positions_seen) const {
+  std::vector<std::string> labels = PositionLabels(positions_seen);
+  if (labels.empty())
+    labels = PositionLabels((1u << kNumRollPositionSlots) - 1);
+  StatusOr<WearModel> wm =
+      PriorModel(options_.default_law, options_.default_option,
+                 std::move(labels), options_.initial_k);
+  auto v = std::make_shared<ModelVersion>();
+  v->version = 0;
+  v->model = WearLawName(options_.default_law);
+  v->option = options_.default_option;
+  v->active = true;
+  if (wm.ok()) v->wear_model = std::move(wm).value();  // valid options: ok
+  return v;
+}
+
+// ------------------------------------------------------------- admission
+
+StatusOr<std::optional<StoredCoil>> MillStoreImpl::FindCoilLocked(
+    const std::string& coil_id, bool* pending) {
+  auto it = spec_.pending_coils.find(coil_id);
+  *pending = it != spec_.pending_coils.end();
+  if (*pending) return std::optional<StoredCoil>(it->second);
+  return LookupCoil(lookup_db_.get(), coil_id);
+}
+
+Status MillStoreImpl::AdmitLocked(WriteItem* item, bool* immediate) {
+  *immediate = false;
+  bool unchanged = false;
+  switch (item->kind) {
+    case WriteKind::kRollChange: {
+      ROLLWEAR_RETURN_IF_ERROR(
+          AdmitRollChange(spec_, item->roll_change, &unchanged));
+      if (!unchanged) {
+        ::rollwear::storage::internal::ApplyRollChange(item->roll_change,
+                                                       &spec_);
+      } else {
+        bool committed = false;
+        *immediate =
+            AdmitRollChange(committed_, item->roll_change, &committed).ok() &&
+            committed;
+      }
+      break;
+    }
+    case WriteKind::kEndCampaign: {
+      ROLLWEAR_RETURN_IF_ERROR(
+          AdmitEnd(spec_, item->campaign_id, item->ended_at, &unchanged));
+      if (!unchanged) {
+        ApplyEnd(item->campaign_id, item->ended_at, &spec_);
+      } else {
+        bool committed = false;
+        *immediate =
+            AdmitEnd(committed_, item->campaign_id, item->ended_at, &committed)
+                .ok() &&
+            committed;
+      }
+      break;
+    }
+    case WriteKind::kCoil: {
+      bool pending = false;
+      StatusOr<std::optional<StoredCoil>> stored =
+          FindCoilLocked(item->coil.coil_id, &pending);
+      if (!stored.ok()) return stored.status();
+      ROLLWEAR_RETURN_IF_ERROR(
+          AdmitCoil(spec_, item->coil_in, item->coil, *stored, &unchanged));
+      if (!unchanged) {
+        ApplyCoil(item->coil, /*speculative=*/true, &spec_);
+      } else {
+        *immediate = !pending;
+      }
+      break;
+    }
+    case WriteKind::kMeasurement: {
+      ROLLWEAR_RETURN_IF_ERROR(
+          AdmitMeasurement(spec_, item->measurement, &unchanged));
+      if (!unchanged) {
+        ApplyMeasurement(item->measurement, &spec_);
+      } else {
+        bool committed = false;
+        *immediate =
+            AdmitMeasurement(committed_, item->measurement, &committed).ok() &&
+            committed;
+      }
+      break;
+    }
+    case WriteKind::kImport: {
+      auto lookup_coil = [this](const std::string& id) {
+        bool pending = false;
+        return FindCoilLocked(id, &pending);
+      };
+      auto lookup_seq = [this](const std::string& campaign, int seq) {
+        return LookupSeq(lookup_db_.get(), campaign, seq);
+      };
+      StatusOr<ImportPlan> plan = PlanImport(
+          *item->dataset, item->dataset_coils, spec_, lookup_coil, lookup_seq);
+      if (!plan.ok()) return plan.status();
+      item->plan = std::move(plan).value();
+      ApplyImport(*item->dataset, item->dataset_coils, item->plan,
+                  /*speculative=*/true, &spec_);
+      break;
+    }
+    case WriteKind::kTask:
+      break;
+  }
+  item->unchanged = unchanged;
+  return Status::Ok();
+}
+
+Status MillStoreImpl::Submit(const ItemPtr& item, bool* immediate) {
+  std::future<void> done = item->done.get_future();
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    if (stop_) return Status::Unavailable("the store is shutting down");
+    ROLLWEAR_RETURN_IF_ERROR(AdmitLocked(item.get(), immediate));
+    if (*immediate) return Status::Ok();
+    queue_.push_back(item);
+  }
+  cv_.notify_one();
+  done.wait();
+  return item->status;
+}
+
+Status MillStoreImpl::RunTask(std::function<Status(Db*)> task,
+                              std::function<void(Db*)> after_commit) {
+  auto item = std::make_shared<WriteItem>();
+  item->kind = WriteKind::kTask;
+  item->task = std::move(task);
+  item->after_commit = std::move(after_commit);
+  bool immediate = false;
+  return Submit(item, &immediate);
+}
+
+// ---------------------------------------------------------------- writes
+
+StatusOr<WriteOutcome> MillStoreImpl::ApplyRollChange(const RollChangeIn& in) {
+  ROLLWEAR_RETURN_IF_ERROR(CheckRollChangeFields(in));
+  auto item = std::make_shared<WriteItem>();
+  item->kind = WriteKind::kRollChange;
+  item->roll_change = in;
+  bool immediate = false;
+  ROLLWEAR_RETURN_IF_ERROR(Submit(item, &immediate));
+  return item->unchanged ? WriteOutcome::kUnchanged : WriteOutcome::kCreated;
+}
+
+StatusOr<WriteOutcome> MillStoreImpl::EndCampaign(
+    const std::string& campaign_id, UnixSeconds ended_at) {
+  ROLLWEAR_RETURN_IF_ERROR(CheckEndFields(campaign_id, ended_at));
+  auto item = std::make_shared<WriteItem>();
+  item->kind = WriteKind::kEndCampaign;
+  item->campaign_id = campaign_id;
+  item->ended_at = ended_at;
+  bool immediate = false;
+  ROLLWEAR_RETURN_IF_ERROR(Submit(item, &immediate));
+  return item->unchanged ? WriteOutcome::kUnchanged : WriteOutcome::kCreated;
+}
+
+StatusOr<CoilOutcome> MillStoreImpl::AddCoil(const CoilIn& in) {
+  ROLLWEAR_RETURN_IF_ERROR(CheckCoilFields(in));
+  auto item = std::make_shared<WriteItem>();
+  item->kind = WriteKind::kCoil;
+  item->coil_in = in;
+  item->coil = CanonicalCoil(in);
+  bool immediate = false;
+  ROLLWEAR_RETURN_IF_ERROR(Submit(item, &immediate));
+  if (immediate) return OutcomeForStored(item->coil);
+  return item->coil_outcome;
+}
+
+StatusOr<WriteOutcome> MillStoreImpl::AddMeasurement(const MeasurementIn& in) {
+  ROLLWEAR_RETURN_IF_ERROR(CheckMeasurementFields(in));
+  auto item = std::make_shared<WriteItem>();
+  item->kind = WriteKind::kMeasurement;
+  item->measurement = in;
+  bool immediate = false;
+  ROLLWEAR_RETURN_IF_ERROR(Submit(item, &immediate));
+  return item->unchanged ? WriteOutcome::kUnchanged : WriteOutcome::kCreated;
+}
+
+Status MillStoreImpl::ImportDataset(const Dataset& data) {
+  ROLLWEAR_RETURN_IF_ERROR(CheckDataset(data));
+  auto item = std::make_shared<WriteItem>();
+  item->kind = WriteKind::kImport;
+  item->dataset = &data;
+  item->dataset_coils = DatasetCoils(data);
+  bool immediate = false;
+  return Submit(item, &immediate);
+}
+
+CoilOutcome MillStoreImpl::OutcomeForStored(const StoredCoil& coil) const {
+  CoilOutcome out;
+  out.outcome = WriteOutcome::kUnchanged;
+  std::shared_ptr<const ModelVersion> model;
+  CampaignRec rec;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    auto it = committed_.campaigns.find(coil.campaign_id);
+    if (it == committed_.campaigns.end()) return out;
+    model = model_;
+    rec = it->second;
+  }
+  // Replaying the campaign gives this coil's increments exactly as they
+  // were added (adopted terms may depend on the campaign so far) and each
+  // roll's total under the current model.
+  std::array<double, kNumRollPositionSlots> coil_wear{};
+  StatusOr<RollStates> replay = Status::Internal("not replayed");
+  {
+    std::lock_guard<std::mutex> lock(read_mu_);
+    replay = ReplayCampaign(read_db_.get(), rec, model->wear_model,
+                            &coil.coil_id, &coil_wear);
+  }
+  for (const StoredPass& p : coil.passes) {
+    for (Position pos : {Position::kTop, Position::kBottom}) {
+      const int slot = RollPositionSlot(p.stand, pos);
+      const auto& mount = rec.mounts[slot];
+      if (!mount.has_value()) continue;
+      double total = 0;
+      if (replay.ok() && (*replay)[slot]) total = (*replay)[slot]->wear_um;
+      out.added.push_back(CoilOutcome::Added{p.stand, pos, mount->roll_id,
+                                             coil_wear[slot], total});
+    }
+  }
+  return out;
+}
+
+// ----------------------------------------------------------------- reads
+
+PositionWear MillStoreImpl::PositionWearLocked(int slot) const {
+  const LiveRoll& roll = *rolls_[slot];
+  PositionWear w;
+  w.stand = SlotStand(slot);
+  w.position = SlotPosition(slot);
+  w.roll_id = roll.mount.roll_id;
+  w.roll_type = roll.mount.roll_type;
+  w.campaign_id = committed_.open_campaign;
+  w.coils = roll.state.coils;
+  w.rolled_length_m = roll.state.rolled_length_m;
+  w.predicted_wear_um = roll.state.wear_um;
+  const auto [lo, hi] = WearInterval(model_->wear_model, roll.state);
+  w.interval_lo_um = lo;
+  w.interval_hi_um = hi;
+  return w;
+}
+
+WearSnapshot MillStoreImpl::Wear() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  WearSnapshot snap;
+  snap.model_version = model_->version;
+  for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
+    if (rolls_[slot]) snap.positions.push_back(PositionWearLocked(slot));
+  }
+  return snap;
+}
+
+StatusOr<PositionWear> MillStoreImpl::WearAt(int stand,
+                                             Position position) const {
+  if (stand < kMinStand || stand > kMaxStand) {
+    return Status::InvalidArgument("stand: unknown stand " +
+                                   std::to_string(stand) + " (want F1..F7)");
+  }
+  if (position != Position::kTop && position != Position::kBottom) {
+    return Status::InvalidArgument("position: want top or bottom");
+  }
+  std::lock_guard<std::mutex> lock(mu_);
+  const int slot = RollPositionSlot(stand, position);
+  if (!rolls_[slot]) {
+    return Status::NotFound("no roll mounted at " +
+                            RollPositionName(stand, position));
+  }
+  return PositionWearLocked(slot);
+}
+
+StatusOr<Dataset> MillStoreImpl::ExportDataset() const {
+  // A connection of its own: a long read must not hold up the small ones.
+  DbOptions o;
+  o.read_only = true;
+  StatusOr<std::unique_ptr<Db>> db = Db::Open(path_, o);
+  if (!db.ok()) return db.status();
+  return ReadStoredDataset(db->get());
+}
+
+StoreCounters MillStoreImpl::Counters() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return counters_;
+}
+
+bool MillStoreImpl::Healthy() const {
+  std::lock_guard<std::mutex> lock(read_mu_);
+  return read_db_->Exec("SELECT 1").ok();
+}
+
+}  // namespace internal
+}  // namespace rollwear::storage

@@ -1,0 +1,171 @@
+// Internal to storage: the MillStore implementation (declared here, defined
+// in mill_store.cc (opening, admission, reads), mill_store_writer.cc (the
+// group-commit writer and publishing), mill_store_calibration.cc (models and
+// calibration runs)).
+//
+// State and locks:
+//   mu_ guards the catalogs, the queue, the live roll states, the active
+//       model pointer and the counters, and lookup_db_ (used to find stored
+//       coils while admitting a write). Held only briefly, never across a
+//       commit.
+//   committed_  the catalog of what the database holds (published state);
+//   spec_       committed_ plus every write queued or being committed, which
+//               is what a new write is validated against;
+//   rolls_      the open campaign's roll states, updated after each commit.
+//   read_mu_ guards read_db_, the connection of the small read queries.
+//   writer_db_ is used by the writer thread only (and by Init before it
+//   starts).
+//
+// Thread-safety: all public methods are thread-safe.
+#ifndef ROLLWEAR_STORAGE_MILL_STORE_IMPL_H_
+#define ROLLWEAR_STORAGE_MILL_STORE_IMPL_H_
+
+#include <array>
+#include <condition_variable>
+#include <deque>
+#include <functional>
+#include <future>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "core/predictor.h"
+#include "storage/import_plan.h"
+#include "storage/mill_store.h"
+#include "storage/sqlite_db.h"
+#include "storage/store_state.h"
+
+namespace rollwear::storage::internal {
+
+enum class WriteKind {
+  kRollChange,
+  kEndCampaign,
+  kCoil,
+  kMeasurement,
+  kImport,  // runs alone in its transaction
+  kTask,    // calibration bookkeeping; runs alone in its transaction
+};
+
+// One queued write and, once `done` is ready, its result.
+struct WriteItem {
+  WriteKind kind = WriteKind::kTask;
+  // An idempotent repeat of a write that is still queued: nothing to write,
+  // acknowledged with the batch (so never before its twin is durable).
+  bool unchanged = false;
+
+  RollChangeIn roll_change;               // kRollChange
+  std::string campaign_id;                // kEndCampaign
+  UnixSeconds ended_at = 0;               // kEndCampaign
+  CoilIn coil_in;                         // kCoil, as posted
+  StoredCoil coil;                        // kCoil, canonical
+  MeasurementIn measurement;              // kMeasurement
+  const Dataset* dataset = nullptr;       // kImport (owned by the caller)
+  std::vector<StoredCoil> dataset_coils;  // kImport
+  ImportPlan plan;                        // kImport
+  std::function<Status(Db*)> task;        // kTask: inside the transaction
+  std::function<void(Db*)> after_commit;  // kTask: writer thread, after
+
+  Status status;
+  CoilOutcome coil_outcome;
+  std::promise<void> done;
+};
+
+struct LiveRoll {
+  MountedRollIn mount;
+  RollWearState state;
+};
+
+class MillStoreImpl final : public MillStore {
+ public:
+  explicit MillStoreImpl(const StoreOptions& options) : options_(options) {}
+  ~MillStoreImpl() override;
+
+  // Opens and migrates the database, loads the state, starts the writer.
+  Status Init(const std::string& path);
+
+  StatusOr<WriteOutcome> ApplyRollChange(const RollChangeIn& in) override;
+  StatusOr<WriteOutcome> EndCampaign(const std::string& campaign_id,
+                                     UnixSeconds ended_at) override;
+  StatusOr<CoilOutcome> AddCoil(const CoilIn& in) override;
+  StatusOr<WriteOutcome> AddMeasurement(const MeasurementIn& in) override;
+
+  WearSnapshot Wear() const override;
+  StatusOr<PositionWear> WearAt(int stand, Position position) const override;
+
+  StatusOr<Dataset> ExportDataset() const override;
+  Status ImportDataset(const Dataset& data) override;
+
+  StatusOr<ModelVersion> ActiveModel() const override;
+  std::vector<ModelVersion> ListModels() const override;
+
+  StatusOr<int64_t> EnqueueCalibration(const std::string& trigger, WearLaw law,
+                                       int option) override;
+  Status RunCalibration(int64_t id) override;
+  StatusOr<CalibrationRecord> GetCalibration(int64_t id) const override;
+  std::vector<CalibrationRecord> ListCalibrations(int limit) const override;
+
+  StoreCounters Counters() const override;
+  bool Healthy() const override;
+
+ private:
+  using ItemPtr = std::shared_ptr<WriteItem>;
+
+  // ---- mill_store.cc
+  // Validates `item` against spec_ and records it there. *immediate: an
+  // idempotent repeat of something already committed (answer at once).
+  Status AdmitLocked(WriteItem* item, bool* immediate);
+  // The coil stored or queued under `coil_id`; *pending when queued.
+  StatusOr<std::optional<StoredCoil>> FindCoilLocked(const std::string& coil_id,
+                                                     bool* pending);
+  // Admits, queues and waits for the commit; *immediate as above.
+  Status Submit(const ItemPtr& item, bool* immediate);
+  Status RunTask(std::function<Status(Db*)> task,
+                 std::function<void(Db*)> after_commit);
+  // The wear a stored coil adds under the current model, for answering a
+  // repeat (predicted totals: the live state, or replayed when the
+  // campaign has ended).
+  CoilOutcome OutcomeForStored(const StoredCoil& coil) const;
+  std::shared_ptr<const ModelVersion> MakePrior(uint32_t positions_seen) const;
+  PositionWear PositionWearLocked(int slot) const;
+
+  // ---- mill_store_writer.cc
+  void WriterLoop();
+  Status ExecuteItem(WriteItem* item);
+  // After a commit: applies the batch to committed_ and the live state.
+  void PublishBatch(const std::vector<ItemPtr>& batch);
+  // After a failed commit: fails the batch, rebuilds spec_ from committed_
+  // and the still-queued writes (re-validated; those now invalid are
+  // answered with their error and returned in *finished).
+  void FailBatch(const std::vector<ItemPtr>& batch, const Status& error,
+                 std::vector<ItemPtr>* finished);
+  // Replays the open campaign's stored passes under `model` and installs
+  // model and roll states together (writer thread or Init).
+  void InstallModel(std::shared_ptr<const ModelVersion> model);
+
+  const StoreOptions options_;
+  std::string path_;
+  std::unique_ptr<Db> writer_db_;
+  std::unique_ptr<Db> lookup_db_;
+  mutable std::mutex read_mu_;
+  std::unique_ptr<Db> read_db_;
+
+  mutable std::mutex mu_;
+  std::condition_variable cv_;
+  bool stop_ = false;
+  std::deque<ItemPtr> queue_;
+  Catalog committed_;
+  Catalog spec_;
+  std::array<std::optional<LiveRoll>, kNumRollPositionSlots> rolls_;
+  std::shared_ptr<const ModelVersion> model_;
+  StoreCounters counters_;
+  std::thread writer_;
+};
+
+UnixSeconds NowSeconds();
+
+}  // namespace rollwear::storage::internal
+
+#endif  // ROLLWEAR_STORAGE_MILL_STORE_IMPL_H_

@@ -1,0 +1,279 @@
+#include "storage/model_codec.h"
+
+#include <cmath>
+#include <limits>
+#include <unordered_set>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace rollwear::storage {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+constexpr int kFormat = 1;
+
+Json Number(double v) {
+  if (std::isnan(v)) return "NaN";
+  if (std::isinf(v)) return v > 0 ? "Infinity" : "-Infinity";
+  return v;
+}
+
+bool NamesUnique(const KStructure& s) {
+  std::unordered_set<std::string> seen;
+  for (int i = 0; i < s.num_coefficients(); ++i) {
+    if (!seen.insert(s.CoefficientName(i)).second) return false;
+  }
+  return true;
+}
+
+Status Bad(const std::string& field, const std::string& rule) {
+  return Status::InvalidArgument("model json: " + field + ": " + rule);
+}
+
+// A finite or non-finite number as written by Number().
+bool ReadNumber(const Json& j, double* out) {
+  if (j.is_number()) {
+    *out = j.get<double>();
+    return true;
+  }
+  if (j.is_null() || (j.is_string() && j.get<std::string>() == "NaN")) {
+    *out = std::numeric_limits<double>::quiet_NaN();
+    return true;
+  }
+  if (j.is_string() && j.get<std::string>() == "Infinity") {
+    *out = std::numeric_limits<double>::infinity();
+    return true;
+  }
+  if (j.is_string() && j.get<std::string>() == "-Infinity") {
+    *out = -std::numeric_limits<double>::infinity();
+    return true;
+  }
+  return false;
+}
+
+Status ReadLabels(const Json& doc, const char* field,
+                  std::vector<std::string>* out) {
+  auto it = doc.find(field);
+  if (it == doc.end()) return Status::Ok();  // optional: empty
+  if (!it->is_array()) return Bad(field, "must be an array of strings");
+  for (const Json& v : *it) {
+    if (!v.is_string()) return Bad(field, "must be an array of strings");
+    out->push_back(v.get<std::string>());
+  }
+  return Status::Ok();
+}
+
+Status ReadScalar(const Json& doc, const char* field, double* out) {
+  auto it = doc.find(field);
+  if (it == doc.end()) return Status::Ok();  // optional: keep default
+  if (!ReadNumber(*it, out)) return Bad(field, "must be a number");
+  return Status::Ok();
+}
+
+Json Numbers(const std::vector<double>& v) {
+  Json arr = Json::array();
+  for (double x : v) arr.push_back(Number(x));
+  return arr;
+}
+
+Json EncodeTerm(const ModelTerm& t) {
+  Json j = Json::object();
+  j["covariate"] = t.covariate;
+  j["form"] = TermFormName(t.form);
+  j["params"] = Numbers(t.params);
+  j["center"] = Number(t.center);
+  j["scale"] = Number(t.scale);
+  j["edges"] = Numbers(t.edges);
+  j["num_levels"] = t.num_levels;
+  return j;
+}
+
+Status ReadNumbers(const Json& obj, const char* key, const std::string& field,
+                   std::vector<double>* out) {
+  auto it = obj.find(key);
+  if (it == obj.end()) return Status::Ok();
+  if (!it->is_array()) return Bad(field, "must be an array of numbers");
+  for (const Json& v : *it) {
+    double x = 0;
+    if (!ReadNumber(v, &x)) return Bad(field, "must be an array of numbers");
+    out->push_back(x);
+  }
+  return Status::Ok();
+}
+
+Status DecodeTerms(const Json& doc, std::vector<ModelTerm>* out) {
+  auto terms = doc.find("terms");
+  if (terms == doc.end()) return Status::Ok();
+  if (!terms->is_array()) return Bad("terms", "must be an array");
+  for (size_t i = 0; i < terms->size(); ++i) {
+    const Json& j = (*terms)[i];
+    const std::string at = "terms[" + std::to_string(i) + "].";
+    if (!j.is_object()) return Bad(at, "must be an object");
+    ModelTerm t;
+    auto cov = j.find("covariate");
+    if (cov == j.end() || !cov->is_string()) {
+      return Bad(at + "covariate", "must be a string");
+    }
+    t.covariate = cov->get<std::string>();
+    auto form = j.find("form");
+    if (form == j.end() || !form->is_string() ||
+        !ParseTermForm(form->get<std::string>(), &t.form)) {
+      return Bad(at + "form", "unknown term form");
+    }
+    ROLLWEAR_RETURN_IF_ERROR(
+        ReadNumbers(j, "params", at + "params", &t.params));
+    ROLLWEAR_RETURN_IF_ERROR(ReadScalar(j, "center", &t.center));
+    ROLLWEAR_RETURN_IF_ERROR(ReadScalar(j, "scale", &t.scale));
+    ROLLWEAR_RETURN_IF_ERROR(ReadNumbers(j, "edges", at + "edges", &t.edges));
+    auto levels = j.find("num_levels");
+    if (levels != j.end()) {
+      if (!levels->is_number_integer()) {
+        return Bad(at + "num_levels", "must be an integer");
+      }
+      t.num_levels = levels->get<int>();
+    }
+    out->push_back(std::move(t));
+  }
+  return Status::Ok();
+}
+
+StatusOr<WearModel> Decode(const Json& doc) {
+  if (!doc.is_object()) return Bad("(document)", "must be an object");
+  WearModel m;
+  auto law = doc.find("law");
+  if (law == doc.end() || !law->is_string() ||
+      !ParseWearLaw(law->get<std::string>(), &m.law)) {
+    return Bad("law", "must be one of wang, nikitenko, cao");
+  }
+  auto option = doc.find("option");
+  if (option == doc.end() || !option->is_number_integer()) {
+    return Bad("option", "must be 1, 2 or 3");
+  }
+  std::vector<std::string> positions, roll_types, grades;
+  ROLLWEAR_RETURN_IF_ERROR(ReadLabels(doc, "positions", &positions));
+  ROLLWEAR_RETURN_IF_ERROR(ReadLabels(doc, "roll_types", &roll_types));
+  ROLLWEAR_RETURN_IF_ERROR(ReadLabels(doc, "grades", &grades));
+  StatusOr<KStructure> ks =
+      KStructure::ForOption(option->get<int>(), std::move(positions),
+                            std::move(roll_types), std::move(grades));
+  if (!ks.ok()) return Bad("option", ks.status().message());
+  m.structure = std::move(ks).value();
+  const int n = m.structure.num_coefficients();
+  m.k.assign(n, 0.0);
+
+  auto k_array = doc.find("k");
+  if (k_array != doc.end()) {
+    if (!k_array->is_array() || static_cast<int>(k_array->size()) != n) {
+      return Bad("k", "must be an array of " + std::to_string(n) + " numbers");
+    }
+    for (int i = 0; i < n; ++i) {
+      if (!ReadNumber((*k_array)[i], &m.k[i])) {
+        return Bad("k", "must hold numbers");
+      }
+    }
+  } else {
+    auto coefs = doc.find("coefficients");
+    if (coefs == doc.end() || !coefs->is_object()) {
+      return Bad("coefficients", "must be an object of name: value");
+    }
+    if (static_cast<int>(coefs->size()) != n) {
+      return Bad("coefficients", "has " + std::to_string(coefs->size()) +
+                                     " entries, the structure needs " +
+                                     std::to_string(n));
+    }
+    for (int i = 0; i < n; ++i) {
+      const std::string& name = m.structure.CoefficientName(i);
+      auto v = coefs->find(name);
+      if (v == coefs->end() || !ReadNumber(*v, &m.k[i])) {
+        return Bad("coefficients." + name, "missing or not a number");
+      }
+    }
+  }
+  ROLLWEAR_RETURN_IF_ERROR(ReadScalar(doc, "cao_exponent", &m.cao_exponent));
+  ROLLWEAR_RETURN_IF_ERROR(ReadScalar(doc, "noise_sd_um", &m.noise_sd_um));
+  ROLLWEAR_RETURN_IF_ERROR(ReadScalar(doc, "noise_rel", &m.noise_rel));
+
+  auto cov = doc.find("covariance");
+  if (cov != doc.end() && !cov->empty()) {
+    const int p = m.num_parameters();
+    if (!cov->is_array() || static_cast<int>(cov->size()) != p) {
+      return Bad("covariance", "must be a " + std::to_string(p) + "x" +
+                                   std::to_string(p) +
+                                   " array of arrays or []");
+    }
+    m.covariance.resize(p, p);
+    for (int r = 0; r < p; ++r) {
+      const Json& row = (*cov)[r];
+      if (!row.is_array() || static_cast<int>(row.size()) != p) {
+        return Bad("covariance[" + std::to_string(r) + "]",
+                   "must hold " + std::to_string(p) + " numbers");
+      }
+      for (int c = 0; c < p; ++c) {
+        if (!ReadNumber(row[c], &m.covariance(r, c))) {
+          return Bad("covariance[" + std::to_string(r) + "][" +
+                         std::to_string(c) + "]",
+                     "must be a number");
+        }
+      }
+    }
+  }
+  ROLLWEAR_RETURN_IF_ERROR(DecodeTerms(doc, &m.terms));
+  return m;
+}
+
+}  // namespace
+
+std::string EncodeWearModel(const WearModel& model) {
+  const KStructure& s = model.structure;
+  Json doc = Json::object();
+  doc["format"] = kFormat;
+  doc["law"] = WearLawName(model.law);
+  doc["option"] = s.option();
+  doc["positions"] = s.positions();
+  doc["roll_types"] = s.roll_types();
+  doc["grades"] = s.grades();
+  Json coefs = Json::object();
+  for (int i = 0; i < s.num_coefficients(); ++i) {
+    coefs[s.CoefficientName(i)] = Number(model.k[i]);
+  }
+  doc["coefficients"] = std::move(coefs);
+  if (!NamesUnique(s)) {
+    Json k = Json::array();
+    for (double v : model.k) k.push_back(Number(v));
+    doc["k"] = std::move(k);
+  }
+  doc["cao_exponent"] = Number(model.cao_exponent);
+  Json cov = Json::array();
+  for (Eigen::Index r = 0; r < model.covariance.rows(); ++r) {
+    Json row = Json::array();
+    for (Eigen::Index c = 0; c < model.covariance.cols(); ++c) {
+      row.push_back(Number(model.covariance(r, c)));
+    }
+    cov.push_back(std::move(row));
+  }
+  doc["covariance"] = std::move(cov);
+  doc["noise_sd_um"] = Number(model.noise_sd_um);
+  doc["noise_rel"] = Number(model.noise_rel);
+  Json terms = Json::array();
+  for (const ModelTerm& t : model.terms) terms.push_back(EncodeTerm(t));
+  doc["terms"] = std::move(terms);
+  return doc.dump();
+}
+
+StatusOr<WearModel> DecodeWearModel(std::string_view json) {
+  Json doc = Json::parse(json.begin(), json.end(), nullptr,
+                         /*allow_exceptions=*/false);
+  if (doc.is_discarded()) {
+    return Status::InvalidArgument("model json: not valid JSON");
+  }
+  try {
+    return Decode(doc);
+  } catch (const std::exception& e) {
+    return Status::InvalidArgument(std::string("model json: ") + e.what());
+  }
+}
+
+}  // namespace rollwear::storage

@@ -1,0 +1,43 @@
+// WearModel <-> JSON: how calibrated models are stored (models.model_json)
+// and shown (the api layer reuses it for GET /v1/models/active).
+//
+//   {"format": 1, "law": "wang", "option": 1,
+//    "positions": ["F6/top", ...], "roll_types": [...], "grades": [...],
+//    "coefficients": {"kF[F6/top]": 0.33, ...},
+//    "cao_exponent": 1.0,
+//    "covariance": [[...], ...],          // (log k..., a); [] when unknown
+//    "noise_sd_um": 4.1, "noise_rel": 0.05,
+//    "terms": [{"covariate": "campaign_length_before_m",
+//               "form": "saturating", "params": [...], "center": 0,
+//               "scale": 1, "edges": [], "num_levels": 0}, ...]}
+//
+// Numbers are written in the shortest form that reads back to the same
+// double, so Decode(Encode(m)) equals m exactly (every coefficient, every
+// covariance entry). Non-finite covariance entries are written as the
+// strings "NaN", "Infinity", "-Infinity". Should two coefficients share a
+// name (labels containing '|' or ']'), an extra "k" array in coefficient
+// order makes the round trip exact anyway.
+//
+// Thread-safety: pure functions.
+#ifndef ROLLWEAR_STORAGE_MODEL_CODEC_H_
+#define ROLLWEAR_STORAGE_MODEL_CODEC_H_
+
+#include <string>
+#include <string_view>
+
+#include "core/model_terms.h"
+#include "core/status.h"
+#include "core/wear_model.h"
+
+namespace rollwear::storage {
+
+// Compact JSON text of `model`.
+std::string EncodeWearModel(const WearModel& model);
+
+// Parses EncodeWearModel's output; InvalidArgument naming the field when
+// the text is not a valid model.
+StatusOr<WearModel> DecodeWearModel(std::string_view json);
+
+}  // namespace rollwear::storage
+
+#endif  // ROLLWEAR_STORAGE_MODEL_CODEC_H_

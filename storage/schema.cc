@@ -1,0 +1,201 @@
+#include "storage/schema.h"
+
+#include <string>
+
+#include "storage/mill_store.h"
+
+namespace rollwear::storage {
+namespace {
+
+// Version 1: the initial schema. Positions are 0 = top, 1 = bottom
+// (core/dataset.h); times are Unix seconds; `extra` holds a row's extra
+// dataset columns as a JSON object (NULL when none). ended_at is NULL
+// while a campaign is open.
+constexpr const char* kSchemaV1 = R"sql(
+CREATE TABLE IF NOT EXISTS schema_version (
+  version INTEGER NOT NULL
+) STRICT;
+
+CREATE TABLE campaigns (
+  id INTEGER PRIMARY KEY,
+  campaign_id TEXT NOT NULL UNIQUE,
+  started_at INTEGER NOT NULL,
+  ended_at INTEGER,
+  extra TEXT
+) STRICT;
+
+CREATE TABLE mounts (
+  id INTEGER PRIMARY KEY,
+  campaign INTEGER NOT NULL REFERENCES campaigns(id),
+  stand INTEGER NOT NULL CHECK (stand BETWEEN 1 AND 7),
+  position INTEGER NOT NULL CHECK (position IN (0, 1)),
+  roll_id TEXT NOT NULL,
+  roll_type TEXT NOT NULL,
+  diameter_mm REAL NOT NULL,
+  hardness_hb REAL NOT NULL,
+  extra TEXT,
+  UNIQUE (campaign, stand, position)
+) STRICT;
+
+CREATE TABLE coils (
+  id INTEGER PRIMARY KEY,
+  coil_id TEXT NOT NULL UNIQUE,
+  campaign INTEGER NOT NULL REFERENCES campaigns(id),
+  seq INTEGER NOT NULL,
+  grade TEXT NOT NULL,
+  UNIQUE (campaign, seq)
+) STRICT;
+
+CREATE TABLE passes (
+  id INTEGER PRIMARY KEY,
+  coil INTEGER NOT NULL REFERENCES coils(id),
+  campaign INTEGER NOT NULL REFERENCES campaigns(id),
+  stand INTEGER NOT NULL CHECK (stand BETWEEN 1 AND 7),
+  rolled_at INTEGER NOT NULL,
+  force_kn REAL NOT NULL,
+  width_mm REAL NOT NULL,
+  length_m REAL NOT NULL,
+  entry_thickness_mm REAL NOT NULL,
+  exit_thickness_mm REAL NOT NULL,
+  temperature_c REAL NOT NULL,
+  speed_mps REAL NOT NULL,
+  lubrication INTEGER NOT NULL CHECK (lubrication IN (0, 1)),
+  shift_mm REAL NOT NULL,
+  extra TEXT,
+  UNIQUE (coil, stand)
+) STRICT;
+CREATE INDEX passes_by_campaign ON passes (campaign);
+
+CREATE TABLE measurements (
+  id INTEGER PRIMARY KEY,
+  campaign INTEGER NOT NULL REFERENCES campaigns(id),
+  stand INTEGER NOT NULL CHECK (stand BETWEEN 1 AND 7),
+  position INTEGER NOT NULL CHECK (position IN (0, 1)),
+  roll_id TEXT NOT NULL,
+  measured_at INTEGER NOT NULL,
+  wear_center_um REAL NOT NULL,
+  extra TEXT,
+  UNIQUE (campaign, stand, position)
+) STRICT;
+
+CREATE TABLE calibrations (
+  id INTEGER PRIMARY KEY,
+  status TEXT NOT NULL
+    CHECK (status IN ('queued', 'running', 'done', 'failed')),
+  triggered_by TEXT NOT NULL,
+  law TEXT NOT NULL,
+  k_option INTEGER NOT NULL,
+  queued_at INTEGER NOT NULL,
+  started_at INTEGER,
+  finished_at INTEGER,
+  coefficients_json TEXT,
+  cost REAL,
+  gap_train_um REAL,
+  gap_val_um REAL,
+  active_gap_val_um REAL,
+  n_train INTEGER NOT NULL DEFAULT 0,
+  n_val INTEGER NOT NULL DEFAULT 0,
+  promoted INTEGER NOT NULL DEFAULT 0,
+  model_version INTEGER,
+  message TEXT NOT NULL DEFAULT '',
+  measurement_watermark INTEGER
+) STRICT;
+
+CREATE TABLE models (
+  version INTEGER PRIMARY KEY,
+  created_at INTEGER NOT NULL,
+  law TEXT NOT NULL,
+  k_option INTEGER NOT NULL,
+  gap_val_um REAL,
+  calibration INTEGER REFERENCES calibrations(id),
+  active INTEGER NOT NULL DEFAULT 0 CHECK (active IN (0, 1)),
+  model_json TEXT NOT NULL
+) STRICT;
+CREATE UNIQUE INDEX models_one_active ON models (active) WHERE active = 1;
+)sql";
+
+// Number of tables in the file (sqlite_% internals excluded).
+StatusOr<int> CountTables(Db* db, bool* has_version_table) {
+  StatusOr<Statement> st = db->Prepare(
+      "SELECT name FROM sqlite_schema WHERE type = 'table' "
+      "AND name NOT LIKE 'sqlite_%'");
+  if (!st.ok()) return st.status();
+  int n = 0;
+  *has_version_table = false;
+  while (true) {
+    StatusOr<bool> row = st->Step();
+    if (!row.ok()) return row.status();
+    if (!*row) break;
+    ++n;
+    if (st->ColumnText(0) == "schema_version") *has_version_table = true;
+  }
+  return n;
+}
+
+}  // namespace
+
+const std::vector<Migration>& SchemaMigrations() {
+  static const std::vector<Migration>* migrations = new std::vector<Migration>{
+      {1, "initial schema", kSchemaV1},
+  };
+  static_assert(kSchemaVersion == 1,
+                "kSchemaVersion must equal the last migration's version");
+  return *migrations;
+}
+
+StatusOr<int> ReadSchemaVersion(Db* db) {
+  bool has_version = false;
+  StatusOr<int> tables = CountTables(db, &has_version);
+  if (!tables.ok()) return tables.status();
+  if (!has_version) {
+    if (*tables == 0) return 0;
+    return Status::FailedPrecondition(
+        "database " + db->path() +
+        " is not a rollwear database (it has tables but no schema_version)");
+  }
+  StatusOr<Statement> st =
+      db->Prepare("SELECT MAX(version) FROM schema_version");
+  if (!st.ok()) return st.status();
+  StatusOr<bool> row = st->Step();
+  if (!row.ok()) return row.status();
+  if (!*row || st->ColumnIsNull(0)) return 0;
+  return static_cast<int>(st->ColumnInt(0));
+}
+
+Status MigrateSchema(Db* db, const std::vector<Migration>& migrations) {
+  for (size_t i = 0; i < migrations.size(); ++i) {
+    if (migrations[i].version != static_cast<int>(i) + 1) {
+      return Status::Internal("schema migrations must be numbered 1, 2, ...");
+    }
+  }
+  const int target = static_cast<int>(migrations.size());
+  StatusOr<Transaction> txn = Transaction::Begin(db);
+  if (!txn.ok()) return txn.status();
+  StatusOr<int> current = ReadSchemaVersion(db);
+  if (!current.ok()) return current.status();
+  if (*current > target) {
+    return Status::FailedPrecondition(
+        "database schema version " + std::to_string(*current) +
+        " is newer than this rollwear (supports up to " +
+        std::to_string(target) + "); upgrade rollwear");
+  }
+  if (*current == target) return Status::Ok();  // nothing to do
+  for (const Migration& m : migrations) {
+    if (m.version <= *current) continue;
+    Status s = db->Exec(m.sql);
+    if (!s.ok()) {
+      return Status(s.code(), "schema migration to version " +
+                                  std::to_string(m.version) + " (" +
+                                  m.description + ") failed: " + s.message());
+    }
+  }
+  ROLLWEAR_RETURN_IF_ERROR(db->Exec("DELETE FROM schema_version"));
+  StatusOr<Statement> set =
+      db->Prepare("INSERT INTO schema_version (version) VALUES (?)");
+  if (!set.ok()) return set.status();
+  set->BindInt(1, target);
+  ROLLWEAR_RETURN_IF_ERROR(set->Run());
+  return txn->Commit();
+}
+
+}  // namespace rollwear::storage

@@ -1,0 +1,377 @@
+#include "storage/store_sql.h"
+
+#include <utility>
+
+namespace rollwear::storage::internal {
+namespace {
+
+// Resets a cached statement when the scope ends, so that no statement is
+// left mid-iteration holding a read snapshot on its connection.
+class ResetOnExit {
+ public:
+  explicit ResetOnExit(Statement* st) : st_(st) {}
+  ~ResetOnExit() { st_->Reset(); }
+  ResetOnExit(const ResetOnExit&) = delete;
+  ResetOnExit& operator=(const ResetOnExit&) = delete;
+
+ private:
+  Statement* st_;
+};
+
+// `var` names the declared variable, so it cannot be parenthesised.
+// NOLINTBEGIN(bugprone-macro-parentheses)
+#define ROLLWEAR_ASSIGN_STMT(var, db, sql)           \
+  StatusOr<Statement*> var##_or = (db)->Cached(sql); \
+  if (!var##_or.ok()) return var##_or.status();      \
+  Statement* var = *var##_or;                        \
+  ResetOnExit var##_reset(var)
+// NOLINTEND(bugprone-macro-parentheses)
+
+void BindExtra(Statement* st, int i, const std::string& extra_json) {
+  if (extra_json.empty()) {
+    st->BindNull(i);
+  } else {
+    st->BindText(i, extra_json);
+  }
+}
+
+}  // namespace
+
+StatusOr<int64_t> InsertCampaign(Db* db, const std::string& campaign_id,
+                                 UnixSeconds started_at,
+                                 std::optional<UnixSeconds> ended_at,
+                                 const std::string& extra_json) {
+  ROLLWEAR_ASSIGN_STMT(st, db,
+                       "INSERT INTO campaigns (campaign_id, started_at, "
+                       "ended_at, extra) VALUES (?, ?, ?, ?)");
+  st->BindText(1, campaign_id).BindInt(2, started_at);
+  if (ended_at.has_value()) {
+    st->BindInt(3, *ended_at);
+  } else {
+    st->BindNull(3);
+  }
+  BindExtra(st, 4, extra_json);
+  ROLLWEAR_RETURN_IF_ERROR(st->Run());
+  return db->LastInsertRowId();
+}
+
+StatusOr<int64_t> CampaignRow(Db* db, const std::string& campaign_id) {
+  ROLLWEAR_ASSIGN_STMT(st, db,
+                       "SELECT id FROM campaigns WHERE campaign_id = ?");
+  st->BindText(1, campaign_id);
+  StatusOr<bool> row = st->Step();
+  if (!row.ok()) return row.status();
+  if (!*row) return Status::NotFound("unknown campaign " + campaign_id);
+  return st->ColumnInt(0);
+}
+
+Status SetCampaignEnded(Db* db, const std::string& campaign_id,
+                        UnixSeconds ended_at) {
+  ROLLWEAR_ASSIGN_STMT(
+      st, db, "UPDATE campaigns SET ended_at = ? WHERE campaign_id = ?");
+  st->BindInt(1, ended_at).BindText(2, campaign_id);
+  ROLLWEAR_RETURN_IF_ERROR(st->Run());
+  if (db->Changes() != 1) {
+    return Status::Internal("end campaign " + campaign_id + ": not stored");
+  }
+  return Status::Ok();
+}
+
+Status EndOpenCampaigns(Db* db, UnixSeconds ended_at) {
+  ROLLWEAR_ASSIGN_STMT(
+      st, db, "UPDATE campaigns SET ended_at = ? WHERE ended_at IS NULL");
+  st->BindInt(1, ended_at);
+  return st->Run();
+}
+
+Status InsertMount(Db* db, int64_t campaign_row, const MountedRollIn& m,
+                   const std::string& extra_json) {
+  ROLLWEAR_ASSIGN_STMT(
+      st, db,
+      "INSERT INTO mounts (campaign, stand, position, roll_id, roll_type, "
+      "diameter_mm, hardness_hb, extra) VALUES (?, ?, ?, ?, ?, ?, ?, ?)");
+  st->BindInt(1, campaign_row)
+      .BindInt(2, m.stand)
+      .BindInt(3, static_cast<int>(m.position))
+      .BindText(4, m.roll_id)
+      .BindText(5, m.roll_type)
+      .BindDouble(6, m.diameter_mm)
+      .BindDouble(7, m.hardness_hb);
+  BindExtra(st, 8, extra_json);
+  return st->Run();
+}
+
+StatusOr<int64_t> InsertCoil(Db* db, int64_t campaign_row,
+                             const StoredCoil& coil) {
+  ROLLWEAR_ASSIGN_STMT(st, db,
+                       "INSERT INTO coils (coil_id, campaign, seq, grade) "
+                       "VALUES (?, ?, ?, ?)");
+  st->BindText(1, coil.coil_id)
+      .BindInt(2, campaign_row)
+      .BindInt(3, coil.seq)
+      .BindText(4, coil.grade);
+  ROLLWEAR_RETURN_IF_ERROR(st->Run());
+  return db->LastInsertRowId();
+}
+
+Status InsertPass(Db* db, int64_t coil_row, int64_t campaign_row,
+                  const StoredPass& p, const std::string& extra_json) {
+  ROLLWEAR_ASSIGN_STMT(
+      st, db,
+      "INSERT INTO passes (coil, campaign, stand, rolled_at, force_kn, "
+      "width_mm, length_m, entry_thickness_mm, exit_thickness_mm, "
+      "temperature_c, speed_mps, lubrication, shift_mm, extra) "
+      "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+  st->BindInt(1, coil_row)
+      .BindInt(2, campaign_row)
+      .BindInt(3, p.stand)
+      .BindInt(4, p.rolled_at)
+      .BindDouble(5, p.force_kn)
+      .BindDouble(6, p.width_mm)
+      .BindDouble(7, p.length_m)
+      .BindDouble(8, p.entry_thickness_mm)
+      .BindDouble(9, p.exit_thickness_mm)
+      .BindDouble(10, p.temperature_c)
+      .BindDouble(11, p.speed_mps)
+      .BindInt(12, p.lubrication ? 1 : 0)
+      .BindDouble(13, p.shift_mm);
+  BindExtra(st, 14, extra_json);
+  return st->Run();
+}
+
+Status InsertCoilWithPasses(Db* db, const StoredCoil& coil) {
+  StatusOr<int64_t> campaign = CampaignRow(db, coil.campaign_id);
+  if (!campaign.ok()) return campaign.status();
+  StatusOr<int64_t> row = InsertCoil(db, *campaign, coil);
+  if (!row.ok()) return row.status();
+  for (const StoredPass& p : coil.passes) {
+    ROLLWEAR_RETURN_IF_ERROR(InsertPass(db, *row, *campaign, p, ""));
+  }
+  return Status::Ok();
+}
+
+Status InsertMeasurement(Db* db, int64_t campaign_row, const MeasurementIn& m,
+                         const std::string& extra_json) {
+  ROLLWEAR_ASSIGN_STMT(
+      st, db,
+      "INSERT INTO measurements (campaign, stand, position, roll_id, "
+      "measured_at, wear_center_um, extra) VALUES (?, ?, ?, ?, ?, ?, ?)");
+  st->BindInt(1, campaign_row)
+      .BindInt(2, m.stand)
+      .BindInt(3, static_cast<int>(m.position))
+      .BindText(4, m.roll_id)
+      .BindInt(5, m.measured_at)
+      .BindDouble(6, m.wear_center_um);
+  BindExtra(st, 7, extra_json);
+  return st->Run();
+}
+
+StatusOr<std::optional<StoredCoil>> LookupCoil(Db* db,
+                                               const std::string& coil_id) {
+  ROLLWEAR_ASSIGN_STMT(
+      st, db,
+      "SELECT g.campaign_id, c.seq, c.grade, p.stand, p.rolled_at, "
+      "p.force_kn, p.width_mm, p.length_m, p.entry_thickness_mm, "
+      "p.exit_thickness_mm, p.temperature_c, p.speed_mps, p.lubrication, "
+      "p.shift_mm FROM coils c JOIN campaigns g ON g.id = c.campaign "
+      "JOIN passes p ON p.coil = c.id WHERE c.coil_id = ? ORDER BY p.stand");
+  st->BindText(1, coil_id);
+  std::optional<StoredCoil> out;
+  while (true) {
+    StatusOr<bool> row = st->Step();
+    if (!row.ok()) return row.status();
+    if (!*row) break;
+    if (!out.has_value()) {
+      out.emplace();
+      out->coil_id = coil_id;
+      out->campaign_id = st->ColumnText(0);
+      out->seq = static_cast<int>(st->ColumnInt(1));
+      out->grade = st->ColumnText(2);
+    }
+    StoredPass p;
+    p.stand = static_cast<int>(st->ColumnInt(3));
+    p.rolled_at = st->ColumnInt(4);
+    p.force_kn = st->ColumnDouble(5);
+    p.width_mm = st->ColumnDouble(6);
+    p.length_m = st->ColumnDouble(7);
+    p.entry_thickness_mm = st->ColumnDouble(8);
+    p.exit_thickness_mm = st->ColumnDouble(9);
+    p.temperature_c = st->ColumnDouble(10);
+    p.speed_mps = st->ColumnDouble(11);
+    p.lubrication = st->ColumnInt(12) != 0;
+    p.shift_mm = st->ColumnDouble(13);
+    out->passes.push_back(p);
+  }
+  return out;
+}
+
+StatusOr<std::optional<std::string>> LookupSeq(Db* db,
+                                               const std::string& campaign_id,
+                                               int seq) {
+  ROLLWEAR_ASSIGN_STMT(
+      st, db,
+      "SELECT c.coil_id FROM coils c JOIN campaigns g ON "
+      "g.id = c.campaign WHERE g.campaign_id = ? AND c.seq = ?");
+  st->BindText(1, campaign_id).BindInt(2, seq);
+  StatusOr<bool> row = st->Step();
+  if (!row.ok()) return row.status();
+  std::optional<std::string> out;
+  if (*row) out = st->ColumnText(0);
+  return out;
+}
+
+StatusOr<Catalog> LoadCatalog(Db* db) {
+  Catalog c;
+  std::unordered_map<int64_t, std::string> by_row;
+  {
+    StatusOr<Statement> st = db->Prepare(
+        "SELECT id, campaign_id, started_at, ended_at FROM campaigns "
+        "ORDER BY id");
+    if (!st.ok()) return st.status();
+    UnixSeconds open_start = 0;
+    while (true) {
+      StatusOr<bool> row = st->Step();
+      if (!row.ok()) return row.status();
+      if (!*row) break;
+      CampaignRec rec;
+      rec.id = st->ColumnText(1);
+      rec.started_at = st->ColumnInt(2);
+      if (!st->ColumnIsNull(3)) rec.ended_at = st->ColumnInt(3);
+      // At most one campaign is open; should a file hold several, the
+      // latest start is the one coils go to.
+      if (!rec.ended_at &&
+          (c.open_campaign.empty() || rec.started_at >= open_start)) {
+        c.open_campaign = rec.id;
+        open_start = rec.started_at;
+      }
+      by_row[st->ColumnInt(0)] = rec.id;
+      c.campaigns[rec.id] = std::move(rec);
+    }
+  }
+  {
+    StatusOr<Statement> st = db->Prepare(
+        "SELECT campaign, stand, position, roll_id, roll_type, diameter_mm, "
+        "hardness_hb FROM mounts ORDER BY id");
+    if (!st.ok()) return st.status();
+    while (true) {
+      StatusOr<bool> row = st->Step();
+      if (!row.ok()) return row.status();
+      if (!*row) break;
+      MountedRollIn m;
+      m.stand = static_cast<int>(st->ColumnInt(1));
+      m.position = static_cast<Position>(st->ColumnInt(2));
+      m.roll_id = st->ColumnText(3);
+      m.roll_type = st->ColumnText(4);
+      m.diameter_mm = st->ColumnDouble(5);
+      m.hardness_hb = st->ColumnDouble(6);
+      const int slot = RollPositionSlot(m.stand, m.position);
+      c.positions_seen |= 1u << slot;
+      c.campaigns[by_row[st->ColumnInt(0)]].mounts[slot] = std::move(m);
+    }
+  }
+  {
+    StatusOr<Statement> st = db->Prepare(
+        "SELECT campaign, stand, position, roll_id, measured_at, "
+        "wear_center_um FROM measurements ORDER BY id");
+    if (!st.ok()) return st.status();
+    while (true) {
+      StatusOr<bool> row = st->Step();
+      if (!row.ok()) return row.status();
+      if (!*row) break;
+      MeasurementIn m;
+      m.campaign_id = by_row[st->ColumnInt(0)];
+      m.stand = static_cast<int>(st->ColumnInt(1));
+      m.position = static_cast<Position>(st->ColumnInt(2));
+      m.roll_id = st->ColumnText(3);
+      m.measured_at = st->ColumnInt(4);
+      m.wear_center_um = st->ColumnDouble(5);
+      const int slot = RollPositionSlot(m.stand, m.position);
+      c.campaigns[m.campaign_id].measurements[slot] = std::move(m);
+    }
+  }
+  if (!c.open_campaign.empty()) {
+    StatusOr<Statement> st = db->Prepare(
+        "SELECT c.seq, c.coil_id FROM coils c JOIN campaigns g ON "
+        "g.id = c.campaign WHERE g.campaign_id = ?");
+    if (!st.ok()) return st.status();
+    st->BindText(1, c.open_campaign);
+    while (true) {
+      StatusOr<bool> row = st->Step();
+      if (!row.ok()) return row.status();
+      if (!*row) break;
+      c.open_seqs[static_cast<int>(st->ColumnInt(0))] = st->ColumnText(1);
+    }
+  }
+  return c;
+}
+
+StatusOr<StoredCounts> LoadCounts(Db* db) {
+  StatusOr<Statement> st = db->Prepare(
+      "SELECT (SELECT COUNT(*) FROM campaigns), (SELECT COUNT(*) FROM coils), "
+      "(SELECT COUNT(*) FROM measurements), "
+      "(SELECT COUNT(*) FROM measurements WHERE id > "
+      "  (SELECT IFNULL(MAX(measurement_watermark), 0) FROM calibrations))");
+  if (!st.ok()) return st.status();
+  StatusOr<bool> row = st->Step();
+  if (!row.ok()) return row.status();
+  StoredCounts n;
+  n.campaigns = st->ColumnInt(0);
+  n.coils = st->ColumnInt(1);
+  n.measurements = st->ColumnInt(2);
+  n.measurements_since_last_calibration = st->ColumnInt(3);
+  return n;
+}
+
+StatusOr<RollStates> ReplayCampaign(
+    Db* db, const CampaignRec& campaign, const WearModel& model,
+    const std::string* coil_id,
+    std::array<double, kNumRollPositionSlots>* coil_wear) {
+  RollStates states;
+  for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
+    const auto& m = campaign.mounts[slot];
+    if (!m.has_value()) continue;
+    states[slot] =
+        MountRoll(model, RollPositionName(m->stand, m->position), m->roll_type,
+                  m->diameter_mm, m->hardness_hb, campaign.started_at);
+  }
+  if (coil_wear != nullptr) coil_wear->fill(0.0);
+  StatusOr<Statement> st = db->Prepare(
+      "SELECT c.coil_id, c.grade, p.stand, p.rolled_at, p.force_kn, "
+      "p.width_mm, p.length_m, p.entry_thickness_mm, p.exit_thickness_mm, "
+      "p.temperature_c, p.speed_mps, p.lubrication, p.shift_mm "
+      "FROM passes p JOIN coils c ON c.id = p.coil "
+      "WHERE p.campaign = (SELECT id FROM campaigns WHERE campaign_id = ?) "
+      "ORDER BY p.id");
+  if (!st.ok()) return st.status();
+  st->BindText(1, campaign.id);
+  StoredPass pass;
+  while (true) {
+    StatusOr<bool> row = st->Step();
+    if (!row.ok()) return row.status();
+    if (!*row) break;
+    const bool wanted = coil_id != nullptr && coil_wear != nullptr &&
+                        st->ColumnText(0) == *coil_id;
+    pass.stand = static_cast<int>(st->ColumnInt(2));
+    pass.rolled_at = st->ColumnInt(3);
+    pass.force_kn = st->ColumnDouble(4);
+    pass.width_mm = st->ColumnDouble(5);
+    pass.length_m = st->ColumnDouble(6);
+    pass.entry_thickness_mm = st->ColumnDouble(7);
+    pass.exit_thickness_mm = st->ColumnDouble(8);
+    pass.temperature_c = st->ColumnDouble(9);
+    pass.speed_mps = st->ColumnDouble(10);
+    pass.lubrication = st->ColumnInt(11) != 0;
+    pass.shift_mm = st->ColumnDouble(12);
+    const PassInput in = ToPassInput(st->ColumnText(1), pass);
+    for (Position p : {Position::kTop, Position::kBottom}) {
+      const int slot = RollPositionSlot(pass.stand, p);
+      auto& s = states[slot];
+      if (!s.has_value()) continue;
+      const double wear = AddPass(model, in, &*s);
+      if (wanted) (*coil_wear)[slot] = wear;
+    }
+  }
+  return states;
+}
+
+}  // namespace rollwear::storage::internal

@@ -1,0 +1,110 @@
+// Internal to storage: the repositories - every SQL statement MillStore
+// runs, one function per row operation, over the schema of schema.h. All
+// values are bound parameters. Functions that write expect the caller to
+// hold a transaction (the group-commit writer does).
+//
+// Thread-safety: each function uses only the Db it is given; callers
+// serialise use of a Db.
+#ifndef ROLLWEAR_STORAGE_STORE_SQL_H_
+#define ROLLWEAR_STORAGE_STORE_SQL_H_
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/dataset.h"
+#include "core/predictor.h"
+#include "core/status.h"
+#include "core/wear_model.h"
+#include "storage/import_plan.h"
+#include "storage/mill_store.h"
+#include "storage/sqlite_db.h"
+#include "storage/store_state.h"
+
+namespace rollwear::storage::internal {
+
+// ---- campaigns, mounts, coils, passes, measurements (store_sql.cc)
+StatusOr<int64_t> InsertCampaign(Db* db, const std::string& campaign_id,
+                                 UnixSeconds started_at,
+                                 std::optional<UnixSeconds> ended_at,
+                                 const std::string& extra_json);
+// Row id of a stored campaign; NotFound when absent.
+StatusOr<int64_t> CampaignRow(Db* db, const std::string& campaign_id);
+Status SetCampaignEnded(Db* db, const std::string& campaign_id,
+                        UnixSeconds ended_at);
+// Ends every open campaign (there is at most one) at `ended_at`.
+Status EndOpenCampaigns(Db* db, UnixSeconds ended_at);
+Status InsertMount(Db* db, int64_t campaign_row, const MountedRollIn& m,
+                   const std::string& extra_json);
+// Inserts the coil row (not its passes); returns its row id.
+StatusOr<int64_t> InsertCoil(Db* db, int64_t campaign_row,
+                             const StoredCoil& coil);
+Status InsertPass(Db* db, int64_t coil_row, int64_t campaign_row,
+                  const StoredPass& p, const std::string& extra_json);
+// Inserts the coil and all its passes.
+Status InsertCoilWithPasses(Db* db, const StoredCoil& coil);
+Status InsertMeasurement(Db* db, int64_t campaign_row, const MeasurementIn& m,
+                         const std::string& extra_json);
+
+StatusOr<std::optional<StoredCoil>> LookupCoil(Db* db,
+                                               const std::string& coil_id);
+// coil_id of the coil using (campaign_id, seq), if any.
+StatusOr<std::optional<std::string>> LookupSeq(Db* db,
+                                               const std::string& campaign_id,
+                                               int seq);
+
+// Everything the catalog holds (store_state.h), from the database.
+StatusOr<Catalog> LoadCatalog(Db* db);
+
+struct StoredCounts {
+  int64_t campaigns = 0;
+  int64_t coils = 0;
+  int64_t measurements = 0;
+  int64_t measurements_since_last_calibration = 0;
+};
+StatusOr<StoredCounts> LoadCounts(Db* db);
+
+// The predicted state of each mounted roll of `campaign` under `model`,
+// replaying its stored passes in the order they were stored (the order in
+// which the live state added them, so the result is bit-identical). With
+// `coil_id` and `coil_wear`, also the wear that coil added to each slot.
+using RollStates =
+    std::array<std::optional<RollWearState>, kNumRollPositionSlots>;
+StatusOr<RollStates> ReplayCampaign(
+    Db* db, const CampaignRec& campaign, const WearModel& model,
+    const std::string* coil_id = nullptr,
+    std::array<double, kNumRollPositionSlots>* coil_wear = nullptr);
+
+// ---- datasets (store_dataset.cc)
+// Writes the new rows of an import plan (inside the caller's transaction).
+Status WriteImport(Db* db, const Dataset& data,
+                   const std::vector<StoredCoil>& coils,
+                   const ImportPlan& plan);
+// Everything stored as a Dataset: rows in the order they were stored,
+// labels interned in first-seen order, extra columns rebuilt. An open
+// campaign gets ended_at = max(started_at, last rolled_at of its passes).
+StatusOr<Dataset> ReadStoredDataset(Db* db);
+
+// ---- models and calibrations (store_sql_models.cc)
+// version of a ModelVersion is ignored; returns the new version.
+StatusOr<int64_t> InsertActiveModel(Db* db, const ModelVersion& m,
+                                    int64_t calibration_id);
+StatusOr<std::optional<ModelVersion>> LoadActiveModel(Db* db);
+StatusOr<std::vector<ModelVersion>> LoadModels(Db* db);
+
+StatusOr<int64_t> InsertCalibration(Db* db, const CalibrationRecord& r);
+// Marks a queued run as running and records the measurement watermark;
+// false when the run was not queued.
+StatusOr<bool> ClaimCalibration(Db* db, int64_t id, UnixSeconds started_at);
+// Writes every result field of `r` (status, times, metrics, ...).
+Status UpdateCalibration(Db* db, const CalibrationRecord& r);
+StatusOr<std::optional<CalibrationRecord>> LoadCalibration(Db* db, int64_t id);
+StatusOr<std::vector<CalibrationRecord>> LoadCalibrations(Db* db, int limit);
+// Runs left 'running' by a process that stopped become 'failed'.
+Status FailInterruptedCalibrations(Db* db, UnixSeconds now);
+
+}  // namespace rollwear::storage::internal
+
+#endif  // ROLLWEAR_STORAGE_STORE_SQL_H_

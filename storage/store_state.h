@@ -1,0 +1,87 @@
+// Internal to storage (included only by storage/*.cc and its tests): the
+// in-memory catalog that MillStore validates writes against, and the
+// canonical forms of stored rows used to decide idempotent repeats.
+//
+// The catalog holds every campaign with its mounts and measurements (a few
+// hundred a year), the open campaign and the seq numbers its coils use.
+// Coils themselves stay in the database; only coils queued but not yet
+// committed are held here (pending_coils) so that a duplicate posted
+// concurrently is seen before its twin commits.
+//
+// Thread-safety: plain values; MillStore guards them with its mutex.
+#ifndef ROLLWEAR_STORAGE_STORE_STATE_H_
+#define ROLLWEAR_STORAGE_STORE_STATE_H_
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "core/dataset.h"
+#include "core/predictor.h"
+#include "storage/mill_store.h"
+
+namespace rollwear::storage::internal {
+
+// One pass as stored (a row of passes).
+struct StoredPass {
+  int stand = 0;
+  UnixSeconds rolled_at = 0;
+  double force_kn = 0;
+  double width_mm = 0;
+  double length_m = 0;
+  double entry_thickness_mm = 0;
+  double exit_thickness_mm = 0;
+  double temperature_c = 0;
+  double speed_mps = 0;
+  bool lubrication = false;
+  double shift_mm = 0;
+  bool operator==(const StoredPass&) const = default;
+};
+
+// A coil with its passes ordered by stand: the canonical content that
+// idempotent repeats are compared on (numbers compared exactly).
+struct StoredCoil {
+  std::string coil_id;
+  std::string campaign_id;
+  int seq = 0;
+  std::string grade;
+  std::vector<StoredPass> passes;
+  bool operator==(const StoredCoil&) const = default;
+};
+
+StoredCoil CanonicalCoil(const CoilIn& in);
+
+// What core/predictor.h needs of a stored pass of a coil of `grade`.
+PassInput ToPassInput(const std::string& grade, const StoredPass& p);
+
+bool SameMount(const MountedRollIn& a, const MountedRollIn& b);
+bool SameMeasurement(const MeasurementIn& a, const MeasurementIn& b);
+
+struct CampaignRec {
+  std::string id;
+  UnixSeconds started_at = 0;
+  std::optional<UnixSeconds> ended_at;  // empty while open
+  std::array<std::optional<MountedRollIn>, kNumRollPositionSlots> mounts;
+  std::array<std::optional<MeasurementIn>, kNumRollPositionSlots> measurements;
+};
+
+struct Catalog {
+  std::unordered_map<std::string, CampaignRec> campaigns;
+  std::string open_campaign;  // empty when no campaign is open
+  // seq -> coil_id of the open campaign's coils (coils are only accepted
+  // for the open campaign, so seq clashes are checked here).
+  std::unordered_map<int, std::string> open_seqs;
+  // Coils queued but not committed (speculative catalog only).
+  std::unordered_map<std::string, StoredCoil> pending_coils;
+  uint32_t positions_seen = 0;  // bit per roll position slot ever mounted
+};
+
+// Position labels ("F6/top") of the slots in `mask`, ascending slot order.
+std::vector<std::string> PositionLabels(uint32_t mask);
+
+}  // namespace rollwear::storage::internal
+
+#endif  // ROLLWEAR_STORAGE_STORE_STATE_H_

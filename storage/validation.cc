@@ -1,0 +1,374 @@
+#include "storage/validation.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+
+#include "core/dataset_io.h"
+
+namespace rollwear::storage::internal {
+namespace {
+
+// Shortest text that reads back as `v`.
+std::string Num(double v) {
+  char buf[64];
+  auto r = std::to_chars(buf, buf + sizeof(buf), v);
+  return std::string(buf, r.ptr);
+}
+
+Status Field(const std::string& path, const std::string& rule) {
+  return Status::InvalidArgument(path + ": " + rule);
+}
+
+Status NonEmpty(const std::string& path, const std::string& v) {
+  if (v.empty()) return Field(path, "must not be empty");
+  return Status::Ok();
+}
+
+Status Finite(const std::string& path, double v) {
+  if (!std::isfinite(v)) return Field(path, "must be a finite number");
+  return Status::Ok();
+}
+
+Status Positive(const std::string& path, double v) {
+  if (!std::isfinite(v) || !(v > 0)) {
+    return Field(path, "must be > 0, got " + Num(v));
+  }
+  return Status::Ok();
+}
+
+Status StandOk(const std::string& path, int stand) {
+  if (stand < kMinStand || stand > kMaxStand) {
+    return Field(path,
+                 "unknown stand " + std::to_string(stand) + " (want F1..F7)");
+  }
+  return Status::Ok();
+}
+
+Status PositionOk(const std::string& path, Position p) {
+  if (p != Position::kTop && p != Position::kBottom) {
+    return Field(path, "unknown position (want top or bottom)");
+  }
+  return Status::Ok();
+}
+
+std::string Stand(int stand) { return "F" + std::to_string(stand); }
+
+const CampaignRec* FindCampaign(const Catalog& c, const std::string& id) {
+  auto it = c.campaigns.find(id);
+  return it == c.campaigns.end() ? nullptr : &it->second;
+}
+
+Status UnknownCampaign(const std::string& id) {
+  return Status::NotFound("campaign_id: unknown campaign " + id);
+}
+
+}  // namespace
+
+StoredCoil CanonicalCoil(const CoilIn& in) {
+  StoredCoil c;
+  c.coil_id = in.coil_id;
+  c.campaign_id = in.campaign_id;
+  c.seq = in.seq;
+  c.grade = in.grade;
+  for (const PassIn& p : in.passes) {
+    c.passes.push_back(StoredPass{p.stand, in.rolled_at, p.force_kn, p.width_mm,
+                                  p.length_m, p.entry_thickness_mm,
+                                  p.exit_thickness_mm, p.temperature_c,
+                                  p.speed_mps, p.lubrication, p.shift_mm});
+  }
+  std::stable_sort(c.passes.begin(), c.passes.end(),
+                   [](const StoredPass& a, const StoredPass& b) {
+                     return a.stand < b.stand;
+                   });
+  return c;
+}
+
+PassInput ToPassInput(const std::string& grade, const StoredPass& p) {
+  PassInput in;
+  in.grade = grade;
+  in.force_kn = p.force_kn;
+  in.width_mm = p.width_mm;
+  in.length_m = p.length_m;
+  in.entry_thickness_mm = p.entry_thickness_mm;
+  in.exit_thickness_mm = p.exit_thickness_mm;
+  in.rolled_at = p.rolled_at;
+  in.temperature_c = p.temperature_c;
+  in.speed_mps = p.speed_mps;
+  in.lubrication = p.lubrication;
+  in.shift_mm = p.shift_mm;
+  return in;
+}
+
+bool SameMount(const MountedRollIn& a, const MountedRollIn& b) {
+  return a.stand == b.stand && a.position == b.position &&
+         a.roll_id == b.roll_id && a.roll_type == b.roll_type &&
+         a.diameter_mm == b.diameter_mm && a.hardness_hb == b.hardness_hb;
+}
+
+bool SameMeasurement(const MeasurementIn& a, const MeasurementIn& b) {
+  return a.campaign_id == b.campaign_id && a.stand == b.stand &&
+         a.position == b.position && a.roll_id == b.roll_id &&
+         a.measured_at == b.measured_at && a.wear_center_um == b.wear_center_um;
+}
+
+std::vector<std::string> PositionLabels(uint32_t mask) {
+  std::vector<std::string> out;
+  for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
+    if (mask & (1u << slot)) {
+      out.push_back(RollPositionName(SlotStand(slot), SlotPosition(slot)));
+    }
+  }
+  return out;
+}
+
+// ------------------------------------------------------------- field rules
+
+Status CheckRollChangeFields(const RollChangeIn& in) {
+  ROLLWEAR_RETURN_IF_ERROR(NonEmpty("campaign_id", in.campaign_id));
+  if (in.rolls.empty()) return Field("rolls", "must not be empty");
+  int first[kNumRollPositionSlots];
+  std::fill(std::begin(first), std::end(first), -1);
+  for (size_t i = 0; i < in.rolls.size(); ++i) {
+    const MountedRollIn& r = in.rolls[i];
+    const std::string at = "rolls[" + std::to_string(i) + "].";
+    ROLLWEAR_RETURN_IF_ERROR(StandOk(at + "stand", r.stand));
+    ROLLWEAR_RETURN_IF_ERROR(PositionOk(at + "position", r.position));
+    ROLLWEAR_RETURN_IF_ERROR(NonEmpty(at + "roll_id", r.roll_id));
+    ROLLWEAR_RETURN_IF_ERROR(NonEmpty(at + "roll_type", r.roll_type));
+    ROLLWEAR_RETURN_IF_ERROR(Positive(at + "diameter_mm", r.diameter_mm));
+    ROLLWEAR_RETURN_IF_ERROR(Positive(at + "hardness_hb", r.hardness_hb));
+    const int slot = RollPositionSlot(r.stand, r.position);
+    if (first[slot] >= 0) {
+      return Field(at + "position", "duplicate roll position " +
+                                        RollPositionName(r.stand, r.position) +
+                                        " (also rolls[" +
+                                        std::to_string(first[slot]) + "])");
+    }
+    first[slot] = static_cast<int>(i);
+  }
+  return Status::Ok();
+}
+
+Status CheckEndFields(const std::string& campaign_id, UnixSeconds) {
+  return NonEmpty("campaign_id", campaign_id);
+}
+
+Status CheckCoilFields(const CoilIn& in) {
+  ROLLWEAR_RETURN_IF_ERROR(NonEmpty("coil_id", in.coil_id));
+  ROLLWEAR_RETURN_IF_ERROR(NonEmpty("campaign_id", in.campaign_id));
+  if (in.seq < 1 || in.seq > kMaxSeq) {
+    return Field("seq",
+                 "must be an integer >= 1, got " + std::to_string(in.seq));
+  }
+  ROLLWEAR_RETURN_IF_ERROR(NonEmpty("grade", in.grade));
+  if (in.passes.empty()) return Field("passes", "must not be empty");
+  int first[kMaxStand + 1];
+  std::fill(std::begin(first), std::end(first), -1);
+  for (size_t i = 0; i < in.passes.size(); ++i) {
+    const PassIn& p = in.passes[i];
+    const std::string at = "passes[" + std::to_string(i) + "].";
+    ROLLWEAR_RETURN_IF_ERROR(StandOk(at + "stand", p.stand));
+    if (first[p.stand] >= 0) {
+      return Field(at + "stand", "duplicate stand " + Stand(p.stand) +
+                                     " (also passes[" +
+                                     std::to_string(first[p.stand]) + "])");
+    }
+    first[p.stand] = static_cast<int>(i);
+    ROLLWEAR_RETURN_IF_ERROR(Positive(at + "force_kn", p.force_kn));
+    ROLLWEAR_RETURN_IF_ERROR(Positive(at + "width_mm", p.width_mm));
+    ROLLWEAR_RETURN_IF_ERROR(Positive(at + "length_m", p.length_m));
+    ROLLWEAR_RETURN_IF_ERROR(
+        Positive(at + "entry_thickness_mm", p.entry_thickness_mm));
+    ROLLWEAR_RETURN_IF_ERROR(
+        Positive(at + "exit_thickness_mm", p.exit_thickness_mm));
+    if (p.exit_thickness_mm >= p.entry_thickness_mm) {
+      return Field(at + "exit_thickness_mm", "must be < entry_thickness_mm (" +
+                                                 Num(p.entry_thickness_mm) +
+                                                 "), got " +
+                                                 Num(p.exit_thickness_mm));
+    }
+    ROLLWEAR_RETURN_IF_ERROR(Finite(at + "temperature_c", p.temperature_c));
+    ROLLWEAR_RETURN_IF_ERROR(Positive(at + "speed_mps", p.speed_mps));
+    ROLLWEAR_RETURN_IF_ERROR(Finite(at + "shift_mm", p.shift_mm));
+  }
+  return Status::Ok();
+}
+
+Status CheckMeasurementFields(const MeasurementIn& in) {
+  ROLLWEAR_RETURN_IF_ERROR(NonEmpty("campaign_id", in.campaign_id));
+  ROLLWEAR_RETURN_IF_ERROR(StandOk("stand", in.stand));
+  ROLLWEAR_RETURN_IF_ERROR(PositionOk("position", in.position));
+  ROLLWEAR_RETURN_IF_ERROR(NonEmpty("roll_id", in.roll_id));
+  ROLLWEAR_RETURN_IF_ERROR(Finite("wear_center_um", in.wear_center_um));
+  if (in.wear_center_um < kMinWearUm) {
+    return Field("wear_center_um",
+                 "must be >= -50 (wear is positive radius loss; only grinder "
+                 "noise may go slightly negative), got " +
+                     Num(in.wear_center_um));
+  }
+  return Status::Ok();
+}
+
+// ----------------------------------------------------------- catalog rules
+
+Status AdmitRollChange(const Catalog& c, const RollChangeIn& in,
+                       bool* unchanged) {
+  *unchanged = false;
+  if (const CampaignRec* rec = FindCampaign(c, in.campaign_id)) {
+    bool same = rec->started_at == in.started_at;
+    int mounted = 0;
+    for (const auto& m : rec->mounts) mounted += m.has_value() ? 1 : 0;
+    same = same && mounted == static_cast<int>(in.rolls.size());
+    for (const MountedRollIn& r : in.rolls) {
+      const auto& m = rec->mounts[RollPositionSlot(r.stand, r.position)];
+      same = same && m.has_value() && SameMount(*m, r);
+    }
+    if (!same) {
+      return Status::AlreadyExists(
+          "campaign_id: campaign " + in.campaign_id +
+          " is already stored with a different roll change (started_at " +
+          FormatTimestamp(rec->started_at) + ")");
+    }
+    *unchanged = true;
+    return Status::Ok();
+  }
+  if (!c.open_campaign.empty()) {
+    const CampaignRec& open = c.campaigns.at(c.open_campaign);
+    if (in.started_at < open.started_at) {
+      return Status::FailedPrecondition(
+          "started_at: " + FormatTimestamp(in.started_at) +
+          " is before the start of the open campaign " + c.open_campaign +
+          " (" + FormatTimestamp(open.started_at) + "), which it would end");
+    }
+  }
+  return Status::Ok();
+}
+
+void ApplyRollChange(const RollChangeIn& in, Catalog* c) {
+  if (!c->open_campaign.empty()) {
+    c->campaigns[c->open_campaign].ended_at = in.started_at;
+  }
+  CampaignRec rec;
+  rec.id = in.campaign_id;
+  rec.started_at = in.started_at;
+  for (const MountedRollIn& r : in.rolls) {
+    const int slot = RollPositionSlot(r.stand, r.position);
+    rec.mounts[slot] = r;
+    c->positions_seen |= 1u << slot;
+  }
+  c->campaigns[in.campaign_id] = std::move(rec);
+  c->open_campaign = in.campaign_id;
+  c->open_seqs.clear();
+}
+
+Status AdmitEnd(const Catalog& c, const std::string& campaign_id,
+                UnixSeconds ended_at, bool* unchanged) {
+  *unchanged = false;
+  const CampaignRec* rec = FindCampaign(c, campaign_id);
+  if (rec == nullptr) return UnknownCampaign(campaign_id);
+  if (rec->ended_at.has_value()) {
+    if (*rec->ended_at == ended_at) {
+      *unchanged = true;
+      return Status::Ok();
+    }
+    return Status::AlreadyExists("ended_at: campaign " + campaign_id +
+                                 " already ended at " +
+                                 FormatTimestamp(*rec->ended_at));
+  }
+  if (ended_at < rec->started_at) {
+    return Status::InvalidArgument("ended_at: must not be before started_at (" +
+                                   FormatTimestamp(rec->started_at) +
+                                   "), got " + FormatTimestamp(ended_at));
+  }
+  return Status::Ok();
+}
+
+void ApplyEnd(const std::string& campaign_id, UnixSeconds ended_at,
+              Catalog* c) {
+  c->campaigns[campaign_id].ended_at = ended_at;
+  if (c->open_campaign == campaign_id) {
+    c->open_campaign.clear();
+    c->open_seqs.clear();
+  }
+}
+
+Status AdmitCoil(const Catalog& c, const CoilIn& in, const StoredCoil& coil,
+                 const std::optional<StoredCoil>& stored, bool* unchanged) {
+  *unchanged = false;
+  if (stored.has_value()) {
+    if (*stored == coil) {
+      *unchanged = true;
+      return Status::Ok();
+    }
+    return Status::AlreadyExists("coil_id: coil " + coil.coil_id +
+                                 " is already stored with different content");
+  }
+  const CampaignRec* rec = FindCampaign(c, in.campaign_id);
+  if (rec == nullptr) return UnknownCampaign(in.campaign_id);
+  if (rec->ended_at.has_value()) {
+    return Status::FailedPrecondition("campaign_id: campaign " +
+                                      in.campaign_id + " has ended (at " +
+                                      FormatTimestamp(*rec->ended_at) + ")");
+  }
+  for (size_t i = 0; i < in.passes.size(); ++i) {
+    const int stand = in.passes[i].stand;
+    if (!rec->mounts[RollPositionSlot(stand, Position::kTop)] &&
+        !rec->mounts[RollPositionSlot(stand, Position::kBottom)]) {
+      return Status::FailedPrecondition(
+          "passes[" + std::to_string(i) + "].stand: no roll mounted at " +
+          Stand(stand) + " in campaign " + in.campaign_id);
+    }
+  }
+  if (c.open_campaign == in.campaign_id) {
+    auto owner = c.open_seqs.find(in.seq);
+    if (owner != c.open_seqs.end()) {
+      return Status::FailedPrecondition(
+          "seq: seq " + std::to_string(in.seq) + " of campaign " +
+          in.campaign_id + " is already used by coil " + owner->second);
+    }
+  }
+  return Status::Ok();
+}
+
+void ApplyCoil(const StoredCoil& coil, bool speculative, Catalog* c) {
+  if (c->open_campaign == coil.campaign_id) {
+    c->open_seqs.emplace(coil.seq, coil.coil_id);
+  }
+  if (speculative) c->pending_coils[coil.coil_id] = coil;
+}
+
+Status AdmitMeasurement(const Catalog& c, const MeasurementIn& in,
+                        bool* unchanged) {
+  *unchanged = false;
+  const CampaignRec* rec = FindCampaign(c, in.campaign_id);
+  if (rec == nullptr) return UnknownCampaign(in.campaign_id);
+  const int slot = RollPositionSlot(in.stand, in.position);
+  const std::string where = RollPositionName(in.stand, in.position) +
+                            " in campaign " + in.campaign_id;
+  if (const auto& stored = rec->measurements[slot]) {
+    if (SameMeasurement(*stored, in)) {
+      *unchanged = true;
+      return Status::Ok();
+    }
+    return Status::AlreadyExists("campaign_id: " + where +
+                                 " is already measured with different content");
+  }
+  const auto& mount = rec->mounts[slot];
+  if (!mount.has_value()) {
+    return Status::FailedPrecondition("stand: no roll mounted at " + where);
+  }
+  if (mount->roll_id != in.roll_id) {
+    return Status::FailedPrecondition("roll_id: roll " + in.roll_id +
+                                      " was not mounted at " + where +
+                                      " (mounted: " + mount->roll_id + ")");
+  }
+  return Status::Ok();
+}
+
+void ApplyMeasurement(const MeasurementIn& in, Catalog* c) {
+  c->campaigns[in.campaign_id]
+      .measurements[RollPositionSlot(in.stand, in.position)] = in;
+}
+
+}  // namespace rollwear::storage::internal

@@ -1,0 +1,57 @@
+// Internal to storage: the rules every write must pass (api.md and
+// data-format.md), in two steps.
+//
+// 1. Check*Fields: the request on its own. InvalidArgument whose message
+//    starts with the JSON path of the field: "passes[1].force_kn: must be
+//    > 0, got -3".
+// 2. Admit*: against the catalog (committed state plus queued writes).
+//    A stored key with equal content sets *unchanged; with other content it
+//    is AlreadyExists; an unknown campaign is NotFound; a state that does
+//    not allow the write (ended campaign, no roll mounted, roll not mounted
+//    there, seq taken) is FailedPrecondition. On success Apply* records the
+//    write in a catalog.
+//
+// Thread-safety: pure functions of their arguments.
+#ifndef ROLLWEAR_STORAGE_VALIDATION_H_
+#define ROLLWEAR_STORAGE_VALIDATION_H_
+
+#include <optional>
+#include <string>
+
+#include "core/status.h"
+#include "storage/mill_store.h"
+#include "storage/store_state.h"
+
+namespace rollwear::storage::internal {
+
+// Lowest accepted centre wear (as the dataset reader): grinder noise on a
+// barely worn roll may read a few tens of µm below zero.
+constexpr double kMinWearUm = -50.0;
+constexpr int kMaxSeq = 1'000'000'000;
+
+Status CheckRollChangeFields(const RollChangeIn& in);
+Status CheckEndFields(const std::string& campaign_id, UnixSeconds ended_at);
+Status CheckCoilFields(const CoilIn& in);
+Status CheckMeasurementFields(const MeasurementIn& in);
+
+Status AdmitRollChange(const Catalog& c, const RollChangeIn& in,
+                       bool* unchanged);
+void ApplyRollChange(const RollChangeIn& in, Catalog* c);
+
+Status AdmitEnd(const Catalog& c, const std::string& campaign_id,
+                UnixSeconds ended_at, bool* unchanged);
+void ApplyEnd(const std::string& campaign_id, UnixSeconds ended_at, Catalog* c);
+
+// `stored` is the coil stored (or queued) under the same coil_id, if any.
+Status AdmitCoil(const Catalog& c, const CoilIn& in, const StoredCoil& coil,
+                 const std::optional<StoredCoil>& stored, bool* unchanged);
+// speculative: also remember the coil in pending_coils.
+void ApplyCoil(const StoredCoil& coil, bool speculative, Catalog* c);
+
+Status AdmitMeasurement(const Catalog& c, const MeasurementIn& in,
+                        bool* unchanged);
+void ApplyMeasurement(const MeasurementIn& in, Catalog* c);
+
+}  // namespace rollwear::storage::internal
+
+#endif  // ROLLWEAR_STORAGE_VALIDATION_H_

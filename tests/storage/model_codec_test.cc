@@ -1,0 +1,212 @@
+// WearModel <-> JSON: exact round trips for every law and option, with
+// covariance (including non-finite entries), and rejection of bad input.
+#include "storage/model_codec.h"
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "storage/model_levels.h"
+
+namespace rollwear::storage {
+namespace {
+
+WearModel MakeModel(WearLaw law, int option) {
+  StatusOr<KStructure> ks = KStructure::ForOption(
+      option, {"F6/top", "F6/bottom", "F7/top", "F7/bottom"},
+      {"ICDP-S3", "HSS-S1", "HSS-S2"}, {"S235", "DP600"});
+  EXPECT_TRUE(ks.ok());
+  WearModel m;
+  m.law = law;
+  m.structure = *ks;
+  for (int i = 0; i < m.structure.num_coefficients(); ++i) {
+    m.k.push_back(0.1 + 1.0 / 3.0 * i + 1e-17 * i);  // awkward decimals
+  }
+  m.cao_exponent = law == WearLaw::kCao ? 1.2345678901234567 : 1.0;
+  const int p = m.num_parameters();
+  m.covariance.resize(p, p);
+  for (int r = 0; r < p; ++r) {
+    for (int c = 0; c < p; ++c) {
+      m.covariance(r, c) = std::sin(r * 7.0 + c) * 1e-3 / 3.0;
+    }
+  }
+  m.noise_sd_um = 4.123456789012345;
+  m.noise_rel = 0.0512345678901;
+  return m;
+}
+
+bool BitEqual(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+void ExpectSame(const WearModel& a, const WearModel& b) {
+  EXPECT_EQ(a.law, b.law);
+  EXPECT_EQ(a.structure.option(), b.structure.option());
+  EXPECT_EQ(a.structure.positions(), b.structure.positions());
+  EXPECT_EQ(a.structure.roll_types(), b.structure.roll_types());
+  EXPECT_EQ(a.structure.grades(), b.structure.grades());
+  ASSERT_EQ(a.k.size(), b.k.size());
+  for (size_t i = 0; i < a.k.size(); ++i) EXPECT_TRUE(BitEqual(a.k[i], b.k[i]));
+  EXPECT_TRUE(BitEqual(a.cao_exponent, b.cao_exponent));
+  EXPECT_TRUE(BitEqual(a.noise_sd_um, b.noise_sd_um));
+  EXPECT_TRUE(BitEqual(a.noise_rel, b.noise_rel));
+  ASSERT_EQ(a.terms.size(), b.terms.size());
+  for (size_t i = 0; i < a.terms.size(); ++i) {
+    const ModelTerm &x = a.terms[i], &y = b.terms[i];
+    EXPECT_EQ(x.covariate, y.covariate);
+    EXPECT_EQ(x.form, y.form);
+    ASSERT_EQ(x.params.size(), y.params.size());
+    for (size_t j = 0; j < x.params.size(); ++j) {
+      EXPECT_TRUE(BitEqual(x.params[j], y.params[j]));
+    }
+    EXPECT_TRUE(BitEqual(x.center, y.center));
+    EXPECT_TRUE(BitEqual(x.scale, y.scale));
+    EXPECT_EQ(x.edges, y.edges);
+    EXPECT_EQ(x.num_levels, y.num_levels);
+  }
+  ASSERT_EQ(a.covariance.rows(), b.covariance.rows());
+  ASSERT_EQ(a.covariance.cols(), b.covariance.cols());
+  for (Eigen::Index r = 0; r < a.covariance.rows(); ++r) {
+    for (Eigen::Index c = 0; c < a.covariance.cols(); ++c) {
+      const double x = a.covariance(r, c), y = b.covariance(r, c);
+      EXPECT_TRUE(BitEqual(x, y) || (std::isnan(x) && std::isnan(y)))
+          << r << "," << c;
+    }
+  }
+}
+
+TEST(ModelCodecTest, RoundTripIsExactForEveryLawAndOption) {
+  for (WearLaw law : {WearLaw::kWang, WearLaw::kNikitenko, WearLaw::kCao}) {
+    for (int option : {1, 2, 3}) {
+      const WearModel m = MakeModel(law, option);
+      const std::string json = EncodeWearModel(m);
+      StatusOr<WearModel> back = DecodeWearModel(json);
+      ASSERT_TRUE(back.ok()) << back.status().ToString() << "\n" << json;
+      ExpectSame(m, *back);
+      EXPECT_EQ(EncodeWearModel(*back), json);
+    }
+  }
+}
+
+TEST(ModelCodecTest, AdoptedTermsRoundTrip) {
+  WearModel m = MakeModel(WearLaw::kWang, 1);
+  ModelTerm growth;
+  growth.covariate = "campaign_length_before_m";
+  growth.form = TermForm::kSaturating;
+  growth.params = {0.4123456789012345, std::log(23456.789)};
+  m.terms.push_back(growth);
+  ModelTerm bins;
+  bins.covariate = "temperature_c";
+  bins.form = TermForm::kBinned;
+  bins.params = {0.1, -0.2 / 3};
+  bins.edges = {930.5, 951.25};
+  bins.center = 1.0 / 3;
+  bins.scale = 7.0 / 9;
+  m.terms.push_back(bins);
+  ModelTerm levels;
+  levels.covariate = "operator_note";
+  levels.form = TermForm::kPerLevel;
+  levels.params = {0.05};
+  levels.num_levels = 2;
+  m.terms.push_back(levels);
+  const std::string json = EncodeWearModel(m);
+  EXPECT_NE(json.find("\"form\":\"saturating\""), std::string::npos) << json;
+  StatusOr<WearModel> back = DecodeWearModel(json);
+  ASSERT_TRUE(back.ok()) << back.status().ToString();
+  ExpectSame(m, *back);
+  StatusOr<WearModel> over =
+      ModelOverLevels(m, m.structure.positions(), {}, {});
+  ASSERT_TRUE(over.ok());
+  EXPECT_EQ(over->terms.size(), 3u);
+}
+
+TEST(ModelCodecTest, CoefficientsAreListedByName) {
+  const WearModel m = MakeModel(WearLaw::kWang, 1);
+  const std::string json = EncodeWearModel(m);
+  EXPECT_NE(json.find("\"kF[F6/top]\":0.1"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"kS[DP600]\""), std::string::npos);
+  EXPECT_NE(json.find("\"law\":\"wang\""), std::string::npos);
+  EXPECT_EQ(json.find("\"k\":"), std::string::npos);  // names are unique
+}
+
+TEST(ModelCodecTest, NonFiniteCovarianceAndEmptyCovariance) {
+  WearModel m = MakeModel(WearLaw::kNikitenko, 3);
+  m.covariance(0, 1) = std::numeric_limits<double>::quiet_NaN();
+  m.covariance(1, 0) = std::numeric_limits<double>::infinity();
+  m.covariance(2, 2) = -std::numeric_limits<double>::infinity();
+  StatusOr<WearModel> back = DecodeWearModel(EncodeWearModel(m));
+  ASSERT_TRUE(back.ok()) << back.status().ToString();
+  ExpectSame(m, *back);
+
+  m.covariance.resize(0, 0);
+  back = DecodeWearModel(EncodeWearModel(m));
+  ASSERT_TRUE(back.ok());
+  EXPECT_EQ(back->covariance.rows(), 0);
+}
+
+TEST(ModelCodecTest, AmbiguousCoefficientNamesStillRoundTrip) {
+  // kRS["A|B" x "C"] and kRS["A" x "B|C"] share the name "kRS[A|B|C]".
+  StatusOr<KStructure> ks =
+      KStructure::ForOption(2, {"F6/top"}, {"A|B", "A"}, {"C", "B|C"});
+  ASSERT_TRUE(ks.ok());
+  WearModel m;
+  m.structure = *ks;
+  for (int i = 0; i < m.structure.num_coefficients(); ++i) {
+    m.k.push_back(0.5 + i);
+  }
+  StatusOr<WearModel> back = DecodeWearModel(EncodeWearModel(m));
+  ASSERT_TRUE(back.ok()) << back.status().ToString();
+  ExpectSame(m, *back);
+}
+
+TEST(ModelCodecTest, PriorModelRoundTrips) {
+  StatusOr<WearModel> prior =
+      PriorModel(WearLaw::kCao, 2, {"F6/top", "F7/bottom"}, 0.3);
+  ASSERT_TRUE(prior.ok());
+  EXPECT_EQ(prior->K(0, -1, -1), 0.3);
+  StatusOr<WearModel> back = DecodeWearModel(EncodeWearModel(*prior));
+  ASSERT_TRUE(back.ok()) << back.status().ToString();
+  ExpectSame(*prior, *back);
+}
+
+TEST(ModelCodecTest, RejectsBadDocuments) {
+  const std::string good = EncodeWearModel(MakeModel(WearLaw::kWang, 3));
+  EXPECT_EQ(DecodeWearModel("{").status().code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(DecodeWearModel("[]").status().code(),
+            StatusCode::kInvalidArgument);
+  std::string bad_law = good;
+  bad_law.replace(bad_law.find("\"wang\""), 6, "\"oops\"");
+  StatusOr<WearModel> r = DecodeWearModel(bad_law);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.status().message().find("law"), std::string::npos);
+  std::string missing = good;
+  missing.replace(missing.find("kF[F6/top]"), 10, "kF[F5/top]");
+  r = DecodeWearModel(missing);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.status().message().find("coefficients.kF[F6/top]"),
+            std::string::npos)
+      << r.status().message();
+}
+
+TEST(ModelCodecTest, ModelOverLevelsTakesCoefficientsByNameUnknownIsOne) {
+  const WearModel m = MakeModel(WearLaw::kWang, 1);
+  StatusOr<WearModel> over = ModelOverLevels(
+      m, {"F7/top", "F5/top"}, {"HSS-S1", "NEW"}, {"DP600", "S235", "X"});
+  ASSERT_TRUE(over.ok());
+  const KStructure& a = m.structure;
+  const KStructure& b = over->structure;
+  EXPECT_EQ(over->k[b.CoefficientIndex("kF[F7/top]")],
+            m.k[a.CoefficientIndex("kF[F7/top]")]);
+  EXPECT_EQ(over->k[b.CoefficientIndex("kF[F5/top]")], 1.0);
+  EXPECT_EQ(over->k[b.CoefficientIndex("kR[HSS-S1]")],
+            m.k[a.CoefficientIndex("kR[HSS-S1]")]);
+  EXPECT_EQ(over->k[b.CoefficientIndex("kS[X]")], 1.0);
+  EXPECT_EQ(over->covariance.rows(), 0);  // levels changed
+  // Same K for a cell both know.
+  EXPECT_EQ(over->K(0, 0, 0),
+            m.K(a.PositionLevel("F7/top"), a.RollTypeLevel("HSS-S1"),
+                a.GradeLevel("DP600")));
+}
+
+}  // namespace
+}  // namespace rollwear::storage

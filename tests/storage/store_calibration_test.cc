@@ -1,0 +1,216 @@
+// Calibration runs on stored data: a run on ~60 simulated campaigns
+// promotes its model (atomically, recorded with metrics), the open
+// campaign is re-predicted under it, and a run that cannot calibrate is
+// recorded as failed without touching the active model.
+#include <gtest/gtest.h>
+
+#include "core/simulator.h"
+#include "storage/mill_store.h"
+#include "storage/sqlite_db.h"
+#include "tests/storage/store_test_util.h"
+
+namespace rollwear::storage {
+namespace {
+
+using testing::ExpectWearMatchesBatch;
+using testing::MakeCoil;
+using testing::MakeMeasurement;
+using testing::MakeRollChange;
+using testing::OpenStore;
+using testing::TempDir;
+
+Dataset SimulatedMill(int campaigns) {
+  SimulatorOptions o;
+  o.seed = 11;
+  o.num_campaigns = campaigns;
+  o.coils_per_campaign = 60;
+  StatusOr<Simulation> sim = Simulate(o);
+  EXPECT_TRUE(sim.ok()) << sim.status().ToString();
+  return sim.ok() ? std::move(sim->data) : Dataset{};
+}
+
+TEST(StoreCalibrationTest, RunOnSimulatedDataPromotesAndRepredicts) {
+  TempDir dir;
+  auto store = OpenStore(dir.File("mill.db"));
+  ASSERT_NE(store, nullptr);
+  const Dataset data = SimulatedMill(60);
+  ASSERT_TRUE(store->ImportDataset(data).ok());
+  EXPECT_GT(store->Counters().measurements_since_last_calibration, 0);
+  // An open campaign with coils, re-predicted after the promotion.
+  ASSERT_TRUE(
+      store->ApplyRollChange(MakeRollChange("OPEN", 1'900'000'000)).ok());
+  for (int i = 0; i < 25; ++i) {
+    ASSERT_TRUE(
+        store->AddCoil(MakeCoil("OK" + std::to_string(i), "OPEN", i + 1, i))
+            .ok());
+  }
+  const double prior_wear = store->Wear().positions[0].predicted_wear_um;
+  const int64_t version_before = store->ActiveModel()->version;
+  EXPECT_EQ(version_before, 0);
+
+  StatusOr<int64_t> id = store->EnqueueCalibration("api", WearLaw::kWang, 1);
+  ASSERT_TRUE(id.ok()) << id.status().ToString();
+  StatusOr<CalibrationRecord> queued = store->GetCalibration(*id);
+  ASSERT_TRUE(queued.ok());
+  EXPECT_EQ(queued->status, CalibrationStatus::kQueued);
+  EXPECT_EQ(queued->trigger, "api");
+  EXPECT_EQ(queued->model, "wang");
+  EXPECT_GT(queued->queued_at, 0);
+
+  Status run = store->RunCalibration(*id);
+  ASSERT_TRUE(run.ok()) << run.ToString();
+  StatusOr<CalibrationRecord> rec = store->GetCalibration(*id);
+  ASSERT_TRUE(rec.ok());
+  EXPECT_EQ(rec->status, CalibrationStatus::kDone) << rec->message;
+  EXPECT_TRUE(rec->promoted) << rec->message;
+  EXPECT_EQ(rec->model_version, 1);
+  EXPECT_GT(rec->n_train, 0);
+  EXPECT_GT(rec->n_val, 0);
+  EXPECT_GT(rec->cost, 0);
+  EXPECT_GT(rec->gap_train_um, 0);
+  EXPECT_GT(rec->gap_val_um, 0);
+  EXPECT_LE(rec->gap_val_um, rec->active_gap_val_um);
+  EXPECT_GE(rec->started_at, rec->queued_at);
+  EXPECT_GE(rec->finished_at, rec->started_at);
+  EXPECT_FALSE(rec->message.empty());
+  // Option 1 over the simulated levels: kF per position, kR, kS.
+  StatusOr<ModelVersion> active = store->ActiveModel();
+  ASSERT_TRUE(active.ok());
+  EXPECT_EQ(active->version, 1);
+  EXPECT_EQ(active->model, "wang");
+  EXPECT_EQ(active->option, 1);
+  EXPECT_TRUE(active->active);
+  EXPECT_EQ(active->gap_val_um, rec->gap_val_um);
+  ASSERT_EQ(
+      rec->coefficients.size(),
+      static_cast<size_t>(active->wear_model.structure.num_coefficients()));
+  EXPECT_EQ(rec->coefficients, active->wear_model.NamedCoefficients());
+  EXPECT_EQ(store->Counters().measurements_since_last_calibration, 0);
+  const std::vector<ModelVersion> models = store->ListModels();
+  ASSERT_EQ(models.size(), 1u);
+  EXPECT_EQ(models[0].version, 1);
+  EXPECT_TRUE(models[0].active);
+  EXPECT_EQ(models[0].wear_model.k, active->wear_model.k);
+
+  // The open campaign's rolls now carry the new model's prediction.
+  const WearSnapshot snap = store->Wear();
+  EXPECT_EQ(snap.model_version, 1);
+  EXPECT_NE(snap.positions[0].predicted_wear_um, prior_wear);
+  EXPECT_EQ(snap.positions[0].coils, 25);
+  ExpectWearMatchesBatch(*store);
+  // A calibrated model has an interval.
+  EXPECT_LT(snap.positions[0].interval_lo_um, snap.positions[0].interval_hi_um);
+
+  // Not queued any more.
+  EXPECT_EQ(store->RunCalibration(*id).code(), StatusCode::kFailedPrecondition);
+
+  // Restart: the promoted model and the re-predicted state come back.
+  store.reset();
+  store = OpenStore(dir.File("mill.db"));
+  ASSERT_NE(store, nullptr);
+  EXPECT_EQ(store->ActiveModel()->version, 1);
+  const WearSnapshot again = store->Wear();
+  ASSERT_EQ(again.positions.size(), snap.positions.size());
+  for (size_t i = 0; i < again.positions.size(); ++i) {
+    EXPECT_EQ(again.positions[i].predicted_wear_um,
+              snap.positions[i].predicted_wear_um);
+    EXPECT_EQ(again.positions[i].interval_hi_um,
+              snap.positions[i].interval_hi_um);
+  }
+  EXPECT_EQ(store->Counters().measurements_since_last_calibration, 0);
+  ASSERT_EQ(store->ListCalibrations(10).size(), 1u);
+  EXPECT_EQ(store->ListCalibrations(10)[0].id, *id);
+
+  // A second run with another law is compared with the active (Wang) model
+  // on the same validation campaigns; recorded either way.
+  StatusOr<int64_t> id2 =
+      store->EnqueueCalibration("nightly", WearLaw::kNikitenko, 3);
+  ASSERT_TRUE(id2.ok());
+  ASSERT_TRUE(store->RunCalibration(*id2).ok());
+  StatusOr<CalibrationRecord> rec2 = store->GetCalibration(*id2);
+  ASSERT_TRUE(rec2.ok());
+  EXPECT_EQ(rec2->status, CalibrationStatus::kDone) << rec2->message;
+  EXPECT_EQ(rec2->trigger, "nightly");
+  EXPECT_EQ(rec2->option, 3);
+  EXPECT_GT(rec2->active_gap_val_um, 0);
+  EXPECT_EQ(rec2->promoted, rec2->gap_val_um <= rec2->active_gap_val_um);
+  EXPECT_EQ(store->ActiveModel()->version, rec2->promoted ? 2 : 1);
+  EXPECT_EQ(store->ListCalibrations(10).size(), 2u);
+  EXPECT_EQ(store->ListCalibrations(1).size(), 1u);
+  ExpectWearMatchesBatch(*store);
+}
+
+TEST(StoreCalibrationTest, FailingRunIsRecordedAndLeavesTheModelAlone) {
+  TempDir dir;
+  auto store = OpenStore(dir.File("mill.db"));
+  ASSERT_NE(store, nullptr);
+  ASSERT_TRUE(store->ApplyRollChange(MakeRollChange("C1", 1000)).ok());
+  for (int i = 0; i < 10; ++i) {
+    ASSERT_TRUE(
+        store->AddCoil(MakeCoil("K" + std::to_string(i), "C1", i + 1, i)).ok());
+  }
+  const WearSnapshot before = store->Wear();
+  StatusOr<ModelVersion> active_before = store->ActiveModel();
+  ASSERT_TRUE(active_before.ok());
+
+  // No measurement at all: nothing to calibrate on.
+  StatusOr<int64_t> id = store->EnqueueCalibration("api", WearLaw::kWang, 1);
+  ASSERT_TRUE(id.ok());
+  ASSERT_TRUE(store->RunCalibration(*id).ok());
+  StatusOr<CalibrationRecord> rec = store->GetCalibration(*id);
+  ASSERT_TRUE(rec.ok());
+  EXPECT_EQ(rec->status, CalibrationStatus::kFailed);
+  EXPECT_FALSE(rec->promoted);
+  EXPECT_EQ(rec->model_version, 0);
+  EXPECT_FALSE(rec->message.empty());
+  EXPECT_GT(rec->finished_at, 0);
+
+  StatusOr<ModelVersion> active = store->ActiveModel();
+  ASSERT_TRUE(active.ok());
+  EXPECT_EQ(active->version, 0);
+  EXPECT_EQ(active->wear_model.k, active_before->wear_model.k);
+  EXPECT_TRUE(store->ListModels().empty());
+  const WearSnapshot after = store->Wear();
+  ASSERT_EQ(after.positions.size(), before.positions.size());
+  for (size_t i = 0; i < after.positions.size(); ++i) {
+    EXPECT_EQ(after.positions[i].predicted_wear_um,
+              before.positions[i].predicted_wear_um);
+  }
+
+  // A measurement arrives: the nightly counter sees it.
+  ASSERT_TRUE(store->ApplyRollChange(MakeRollChange("C2", 5000, "2")).ok());
+  ASSERT_TRUE(
+      store->AddMeasurement(MakeMeasurement("C1", 6, Position::kTop, "R6T", 30))
+          .ok());
+  EXPECT_EQ(store->Counters().measurements_since_last_calibration, 1);
+}
+
+TEST(StoreCalibrationTest, InterruptedRunIsMarkedFailedOnRestart) {
+  TempDir dir;
+  int64_t id = 0;
+  {
+    auto store = OpenStore(dir.File("mill.db"));
+    ASSERT_NE(store, nullptr);
+    StatusOr<int64_t> queued =
+        store->EnqueueCalibration("cli", WearLaw::kCao, 2);
+    ASSERT_TRUE(queued.ok());
+    id = *queued;
+  }
+  {
+    // Simulate a crash in the middle of the run.
+    StatusOr<std::unique_ptr<Db>> db = Db::Open(dir.File("mill.db"));
+    ASSERT_TRUE(db.ok());
+    ASSERT_TRUE((*db)->Exec("UPDATE calibrations SET status = 'running'").ok());
+  }
+  auto store = OpenStore(dir.File("mill.db"));
+  ASSERT_NE(store, nullptr);
+  StatusOr<CalibrationRecord> rec = store->GetCalibration(id);
+  ASSERT_TRUE(rec.ok());
+  EXPECT_EQ(rec->status, CalibrationStatus::kFailed);
+  EXPECT_NE(rec->message.find("interrupted"), std::string::npos);
+  EXPECT_EQ(rec->model, "cao");
+  EXPECT_EQ(rec->option, 2);
+}
+
+}  // namespace
+}  // namespace rollwear::storage
