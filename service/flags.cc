@@ -51,34 +51,32 @@ std::vector<std::string> Flags::GetAll(const std::string& name) const {
   return it == values_.end() ? std::vector<std::string>{} : it->second;
 }
 
-bool Flags::GetInt(const std::string& name, long long fallback, long long* out,
-                   std::string* error) const {
-  if (!Has(name)) {
-    *out = fallback;
-    return true;
-  }
-  const std::string v = Get(name);
+namespace {
+
+// Parses the whole of `v` as a number of type T (std::from_chars).
+template <typename T>
+bool ParseWhole(const std::string& name, const std::string& v, const char* what, T* out,
+                std::string* error) {
   auto [p, ec] = std::from_chars(v.data(), v.data() + v.size(), *out);
   if (ec != std::errc() || p != v.data() + v.size()) {
-    *error = "option --" + name + " needs an integer, got '" + v + "'";
+    *error = "option --" + name + " needs " + what + ", got '" + v + "'";
     return false;
   }
   return true;
 }
 
+}  // namespace
+
+bool Flags::GetInt(const std::string& name, long long fallback, long long* out,
+                   std::string* error) const {
+  *out = fallback;
+  return !Has(name) || ParseWhole(name, Get(name), "an integer", out, error);
+}
+
 bool Flags::GetDouble(const std::string& name, double fallback, double* out,
                       std::string* error) const {
-  if (!Has(name)) {
-    *out = fallback;
-    return true;
-  }
-  const std::string v = Get(name);
-  auto [p, ec] = std::from_chars(v.data(), v.data() + v.size(), *out);
-  if (ec != std::errc() || p != v.data() + v.size()) {
-    *error = "option --" + name + " needs a number, got '" + v + "'";
-    return false;
-  }
-  return true;
+  *out = fallback;
+  return !Has(name) || ParseWhole(name, Get(name), "a number", out, error);
 }
 
 }  // namespace rollwear::cli
