@@ -16,6 +16,11 @@ using Args = std::vector<std::string>;
 int RunSimulate(const Args& args);
 int RunCalibrate(const Args& args);
 int RunStudy(const Args& args);
+int RunServe(const Args& args);
+int RunImport(const Args& args);
+int RunReplay(const Args& args);
+int RunAnn(const Args& args);
+int RunDiagnose(const Args& args);
 
 }  // namespace rollwear::cli
 

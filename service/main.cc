@@ -14,7 +14,12 @@ void PrintUsage() {
                "commands:\n"
                "  simulate  --out DIR [--seed N] [--effect NAME]...   write a synthetic mill dataset\n"
                "  calibrate --data DIR [--model wang|nikitenko|cao] [--option 1|2|3] [--json FILE]\n"
-               "  study     --data DIR [--out DIR]                     the study's Tables 1-3\n");
+               "  study     --data DIR [--out DIR]                     the study's Tables 1-3\n"
+               "  ann       --data DIR [--json FILE] [--seeds N] [--split-seed N]   recurrent ANN vs classical (Table 4)\n"
+               "  serve     --db FILE [--port N] [--config FILE] [--bind ADDR]   the daemon (HTTP API)\n"
+               "  import    --db FILE DIR                              load a dataset folder, all-or-nothing\n"
+               "  replay    --data DIR --url URL [--clients N] [--speed X]   post a dataset through the API\n"
+               "  diagnose  --data DIR [--json FILE] [--html FILE]     find, name and fit missing physics\n");
 }
 
 }  // namespace
@@ -30,6 +35,11 @@ int main(int argc, char** argv) {
   if (command == "simulate") return rollwear::cli::RunSimulate(args);
   if (command == "calibrate") return rollwear::cli::RunCalibrate(args);
   if (command == "study") return rollwear::cli::RunStudy(args);
+  if (command == "serve") return rollwear::cli::RunServe(args);
+  if (command == "import") return rollwear::cli::RunImport(args);
+  if (command == "replay") return rollwear::cli::RunReplay(args);
+  if (command == "ann") return rollwear::cli::RunAnn(args);
+  if (command == "diagnose") return rollwear::cli::RunDiagnose(args);
   std::fprintf(stderr, "rollwear: unknown command '%s'\n", command.c_str());
   PrintUsage();
   return 2;

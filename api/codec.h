@@ -1,0 +1,81 @@
+// Internal to the api layer (included by api/*.cc only): JSON <-> storage
+// types. Decoders check the body's nesting depth before parsing, parse
+// without exceptions, check every field's presence, JSON type (integers are
+// told apart from other numbers) and range, and name a bad field by its
+// JSON path ("passes[1].force_kn"). Unknown extra fields are ignored.
+// Encoders produce the answer bodies of docs/api.md. nlohmann/json.hpp is
+// included by codec_decode.cc and codec_encode.cc only.
+//
+// Thread-safety: stateless functions.
+#ifndef ROLLWEAR_API_CODEC_H_
+#define ROLLWEAR_API_CODEC_H_
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/dataset.h"
+#include "core/wear_law.h"
+#include "storage/mill_store.h"
+
+namespace rollwear::api {
+
+// One error answer: HTTP status, snake_case code, one sentence, and the
+// JSON path of the offending field (empty = null).
+struct ApiError {
+  int status = 0;
+  std::string code;
+  std::string message;
+  std::string field;
+};
+
+// {"error": {"code", "message", "field"}}.
+std::string EncodeError(const ApiError& error);
+
+// Decoders: true and *out filled, or false and *error (status 400).
+bool DecodeRollChange(std::string_view body, int max_depth,
+                      storage::RollChangeIn* out, ApiError* error);
+bool DecodeCampaignEnd(std::string_view body, int max_depth,
+                       UnixSeconds* ended_at, ApiError* error);
+bool DecodeCoil(std::string_view body, int max_depth, storage::CoilIn* out,
+                ApiError* error);
+bool DecodeMeasurement(std::string_view body, int max_depth,
+                       storage::MeasurementIn* out, ApiError* error);
+// An empty body (or "{}") selects the defaults.
+struct CalibrationRequest {
+  WearLaw law = WearLaw::kWang;
+  int option = 1;
+};
+bool DecodeCalibrationRequest(std::string_view body, int max_depth,
+                              CalibrationRequest* out, ApiError* error);
+
+// Answer bodies.
+std::string EncodeRollChangeAnswer(const storage::RollChangeIn& in,
+                                   storage::WriteOutcome outcome);
+std::string EncodeCampaignEndAnswer(const std::string& campaign_id,
+                                    UnixSeconds ended_at,
+                                    storage::WriteOutcome outcome);
+std::string EncodeCoilAnswer(const storage::CoilIn& in,
+                             const storage::CoilOutcome& outcome,
+                             int64_t model_version);
+std::string EncodeMeasurementAnswer(const storage::MeasurementIn& in,
+                                    storage::WriteOutcome outcome);
+std::string EncodeWear(const storage::WearSnapshot& snapshot);
+std::string EncodePositionWear(const storage::PositionWear& wear,
+                               int64_t model_version);
+std::string EncodeCalibrationId(int64_t id);
+std::string EncodeCalibration(const storage::CalibrationRecord& record);
+std::string EncodeCalibrationList(
+    const std::vector<storage::CalibrationRecord>& records);
+std::string EncodeModel(const storage::ModelVersion& model);
+std::string EncodeModelList(const std::vector<storage::ModelVersion>& models);
+std::string EncodeHealth(bool healthy);
+
+// Maximum nesting depth of arrays and objects in `body` (strings are
+// skipped), without parsing it. Stops counting above `limit`.
+int JsonNestingDepth(std::string_view body, int limit);
+
+}  // namespace rollwear::api
+
+#endif  // ROLLWEAR_API_CODEC_H_

@@ -1,0 +1,114 @@
+// Metrics: the daemon's Prometheus figures and their text exposition
+// (format 0.0.4) for GET /metrics.
+//
+//   rollwear_http_request_duration_seconds{route,method}  histogram
+//   rollwear_http_requests_total{route,method,code_class}  counter
+//   rollwear_coils_ingested_total                          counter
+//   rollwear_calibration_runs_total{status}                counter
+//   rollwear_calibration_duration_seconds                  histogram
+// plus figures read from the store at scrape time (StoreFigures):
+//   rollwear_group_commits_total, rollwear_validation_gap_um,
+//   rollwear_model_version, rollwear_{coils,campaigns,measurements}_stored,
+//   rollwear_measurements_since_last_calibration, rollwear_up.
+//
+// Thread-safety: all methods are thread-safe; the hot path (Observe*,
+// CountCoil) is lock-free (relaxed atomics).
+#ifndef ROLLWEAR_API_METRICS_H_
+#define ROLLWEAR_API_METRICS_H_
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+namespace rollwear::api {
+
+// Every route of the API, the label of the request metrics.
+enum class RouteId : int {
+  kRollChanges = 0,   // POST /v1/roll-changes
+  kCampaignEnd,       // POST /v1/campaigns/{campaign_id}/end
+  kCoils,             // POST /v1/coils
+  kWear,              // GET  /v1/wear
+  kWearAt,            // GET  /v1/wear/{stand}/{position}
+  kMeasurements,      // POST /v1/measurements
+  kCalibrationsPost,  // POST /v1/calibrations
+  kCalibrationsList,  // GET  /v1/calibrations
+  kCalibration,       // GET  /v1/calibrations/{id}
+  kModelsActive,      // GET  /v1/models/active
+  kModels,            // GET  /v1/models
+  kHealthz,           // GET  /healthz
+  kMetrics,           // GET  /metrics
+  kUnmatched,         // anything else (404/405)
+  kCount
+};
+constexpr int kNumRoutes = static_cast<int>(RouteId::kCount);
+// "/v1/wear/{stand}/{position}".
+const char* RoutePath(RouteId route);
+// "GET" or "POST" ("" for kUnmatched).
+const char* RouteMethod(RouteId route);
+
+// Figures read from the store when /metrics is scraped.
+struct StoreFigures {
+  bool healthy = false;
+  int64_t commits = 0;
+  int64_t coils = 0;
+  int64_t campaigns = 0;
+  int64_t measurements = 0;
+  int64_t measurements_since_last_calibration = 0;
+  int64_t model_version = 0;
+  double validation_gap_um = 0;  // NaN when the active model has none
+};
+
+class Metrics {
+ public:
+  Metrics() = default;
+  Metrics(const Metrics&) = delete;
+  Metrics& operator=(const Metrics&) = delete;
+
+  // One answered request: latency from the request read to the answer
+  // ready, and its status code.
+  void ObserveRequest(RouteId route, int status, double seconds);
+  // One coil newly stored through the API (repeats are not counted).
+  void CountCoilIngested() {
+    coils_ingested_.fetch_add(1, std::memory_order_relaxed);
+  }
+  // One finished calibration run ("done" or "failed") and its duration.
+  void ObserveCalibration(bool succeeded, double seconds);
+
+  int64_t coils_ingested() const {
+    return coils_ingested_.load(std::memory_order_relaxed);
+  }
+
+  // The Prometheus text exposition of everything above.
+  std::string Render(const StoreFigures& store) const;
+
+ private:
+  // Cumulative-bucket histogram with fixed upper bounds.
+  template <size_t N>
+  struct Histogram {
+    std::array<std::atomic<uint64_t>, N> buckets{};  // count per bucket
+    std::atomic<uint64_t> count{0};
+    std::atomic<uint64_t> sum_ns{0};
+    void Observe(const std::array<double, N>& bounds, double seconds);
+    void Render(std::string_view name, std::string_view labels,
+                const std::array<double, N>& bounds, std::string* out) const;
+  };
+  static constexpr std::array<double, 14> kRequestBounds = {
+      0.0001, 0.00025, 0.0005, 0.001, 0.0025, 0.005, 0.01,
+      0.025,  0.05,    0.1,    0.25,  0.5,    1.0,   5.0};
+  static constexpr std::array<double, 10> kCalibrationBounds = {
+      1, 5, 10, 30, 60, 120, 300, 600, 1800, 3600};
+
+  std::array<Histogram<14>, kNumRoutes> requests_;
+  // Requests by route and status class 2xx, 4xx, 5xx (index 0, 1, 2).
+  std::array<std::array<std::atomic<uint64_t>, 3>, kNumRoutes> codes_{};
+  std::atomic<int64_t> coils_ingested_{0};
+  std::atomic<int64_t> calibrations_done_{0};
+  std::atomic<int64_t> calibrations_failed_{0};
+  Histogram<10> calibration_seconds_;
+};
+
+}  // namespace rollwear::api
+
+#endif  // ROLLWEAR_API_METRICS_H_

@@ -1,0 +1,476 @@
+#include "api/router.h"
+
+#include <charconv>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <string_view>
+#include <utility>
+
+#include <strings.h>
+
+#include "api/codec.h"
+
+namespace rollwear::api {
+namespace {
+
+constexpr std::string_view kCampaignsPrefix = "/v1/campaigns/";
+constexpr std::string_view kEndSuffix = "/end";
+constexpr std::string_view kWearPrefix = "/v1/wear/";
+constexpr std::string_view kCalibrationsPrefix = "/v1/calibrations/";
+
+HttpResponse Answer(int status, std::string body) {
+  HttpResponse r;
+  r.status = status;
+  r.body = std::move(body);
+  return r;
+}
+
+HttpResponse Error(const ApiError& e) {
+  HttpResponse r = Answer(e.status, EncodeError(e));
+  if (e.status == 503) r.headers.emplace_back("Retry-After", "1");
+  if (e.status == 401) r.headers.emplace_back("WWW-Authenticate", "Bearer");
+  return r;
+}
+
+HttpResponse Error(int status, std::string code, std::string message,
+                   std::string field = "") {
+  return Error(
+      ApiError{status, std::move(code), std::move(message), std::move(field)});
+}
+
+const char* ErrorCodeFor(StatusCode code) {
+  switch (code) {
+    case StatusCode::kInvalidArgument:
+      return "invalid_value";
+    case StatusCode::kNotFound:
+      return "not_found";
+    case StatusCode::kAlreadyExists:
+      return "conflict";
+    case StatusCode::kFailedPrecondition:
+      return "inconsistent";
+    case StatusCode::kUnavailable:
+      return "unavailable";
+    default:
+      return "internal";
+  }
+}
+
+bool IsPathChar(char c) {
+  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+         (c >= '0' && c <= '9') || c == '_' || c == '.' || c == '[' || c == ']';
+}
+
+// The JSON path a store message starts with ("passes[1].force_kn: must be
+// > 0" -> "passes[1].force_kn"), or "".
+std::string FieldOf(const std::string& message) {
+  const size_t colon = message.find(": ");
+  if (colon == std::string::npos || colon == 0 || colon > 80) return "";
+  const char first = message[0];
+  if (!((first >= 'a' && first <= 'z') || (first >= 'A' && first <= 'Z'))) {
+    return "";
+  }
+  for (size_t i = 0; i < colon; ++i) {
+    if (!IsPathChar(message[i])) return "";
+  }
+  return message.substr(0, colon);
+}
+
+// The one translation of a store/core error into an HTTP error answer.
+HttpResponse FromStatus(const Status& status) {
+  const int http = HttpStatusFor(status.code());
+  std::string field = http == 400 ? FieldOf(status.message()) : "";
+  return Error(http, ErrorCodeFor(status.code()), status.message(),
+               std::move(field));
+}
+
+const std::string* FindHeader(const HttpRequest& request,
+                              std::string_view name) {
+  for (const auto& [key, value] : request.headers) {
+    if (key.size() == name.size() &&
+        strncasecmp(key.data(), name.data(), name.size()) == 0) {
+      return &value;
+    }
+  }
+  return nullptr;
+}
+
+// Compares in time that depends on the lengths only, not on where the
+// strings first differ.
+bool ConstantTimeEquals(std::string_view a, std::string_view b) {
+  const size_t n = a.size() > b.size() ? a.size() : b.size();
+  unsigned char diff = a.size() == b.size() ? 0 : 1;
+  for (size_t i = 0; i < n; ++i) {
+    const unsigned char x = i < a.size() ? a[i] : 0;
+    const unsigned char y = i < b.size() ? b[i] : 0;
+    diff |= x ^ y;
+  }
+  return diff == 0;
+}
+
+bool ParseInt64(std::string_view text, int64_t* out) {
+  if (text.empty()) return false;
+  const auto [p, ec] =
+      std::from_chars(text.data(), text.data() + text.size(), *out);
+  return ec == std::errc() && p == text.data() + text.size();
+}
+
+HttpResponse MethodNotAllowed(RouteId route, const std::string& method) {
+  HttpResponse r =
+      Error(405, "method_not_allowed",
+            "method " + method + " is not allowed on " + RoutePath(route));
+  const bool both = route == RouteId::kCalibrationsPost ||
+                    route == RouteId::kCalibrationsList;
+  const bool post = std::string_view(RouteMethod(route)) == "POST";
+  r.headers.emplace_back("Allow", both   ? "GET, HEAD, POST"
+                                  : post ? "POST"
+                                         : "GET, HEAD");
+  r.route = route;
+  return r;
+}
+
+// The route of `path` (kUnmatched when none) and its path parameters.
+RouteId MatchRoute(const std::string& path, bool post, std::string* arg1,
+                   std::string* arg2) {
+  if (path == "/v1/roll-changes") return RouteId::kRollChanges;
+  if (path == "/v1/coils") return RouteId::kCoils;
+  if (path == "/v1/wear") return RouteId::kWear;
+  if (path == "/v1/measurements") return RouteId::kMeasurements;
+  if (path == "/v1/calibrations") {
+    return post ? RouteId::kCalibrationsPost : RouteId::kCalibrationsList;
+  }
+  if (path == "/v1/models/active") return RouteId::kModelsActive;
+  if (path == "/v1/models") return RouteId::kModels;
+  if (path == "/healthz") return RouteId::kHealthz;
+  if (path == "/metrics") return RouteId::kMetrics;
+  const std::string_view p(path);
+  if (p.size() > kCampaignsPrefix.size() + kEndSuffix.size() &&
+      p.substr(0, kCampaignsPrefix.size()) == kCampaignsPrefix &&
+      p.substr(p.size() - kEndSuffix.size()) == kEndSuffix) {
+    // The id may hold any character, '/' included (sent as %2F).
+    *arg1 = path.substr(kCampaignsPrefix.size(),
+                        p.size() - kCampaignsPrefix.size() - kEndSuffix.size());
+    return RouteId::kCampaignEnd;
+  }
+  if (p.substr(0, kWearPrefix.size()) == kWearPrefix) {
+    const std::string_view rest = p.substr(kWearPrefix.size());
+    const size_t slash = rest.find('/');
+    if (slash == std::string_view::npos || slash == 0 ||
+        slash + 1 >= rest.size() ||
+        rest.find('/', slash + 1) != std::string_view::npos) {
+      return RouteId::kUnmatched;
+    }
+    *arg1 = std::string(rest.substr(0, slash));
+    *arg2 = std::string(rest.substr(slash + 1));
+    return RouteId::kWearAt;
+  }
+  if (p.substr(0, kCalibrationsPrefix.size()) == kCalibrationsPrefix &&
+      p.size() > kCalibrationsPrefix.size() &&
+      p.find('/', kCalibrationsPrefix.size()) == std::string_view::npos) {
+    *arg1 = path.substr(kCalibrationsPrefix.size());
+    return RouteId::kCalibration;
+  }
+  return RouteId::kUnmatched;
+}
+
+}  // namespace
+
+bool ApiOptions::IsValid(std::string* error) const {
+  if (body_limit_bytes < 256) {
+    *error = "body_limit_bytes must be >= 256";
+    return false;
+  }
+  if (max_json_depth < 4 || max_json_depth > 256) {
+    *error = "max_json_depth must be in [4, 256]";
+    return false;
+  }
+  if (default_option < 1 || default_option > 3) {
+    *error = "default option must be 1, 2 or 3";
+    return false;
+  }
+  return true;
+}
+
+int HttpStatusFor(StatusCode code) {
+  switch (code) {
+    case StatusCode::kOk:
+      return 200;
+    case StatusCode::kInvalidArgument:
+      return 400;
+    case StatusCode::kNotFound:
+      return 404;
+    case StatusCode::kAlreadyExists:
+      return 409;
+    case StatusCode::kFailedPrecondition:
+      return 422;
+    case StatusCode::kUnavailable:
+      return 503;
+    case StatusCode::kNumericalFailure:
+    case StatusCode::kIoError:
+    case StatusCode::kInternal:
+      return 500;
+  }
+  return 500;
+}
+
+Router::Router(storage::MillStore* store, ApiOptions options)
+    : store_(store), options_(std::move(options)) {}
+
+HttpResponse Router::Handle(const HttpRequest& request) {
+  try {
+    return Dispatch(request);
+  } catch (const std::exception& e) {
+    return Error(500, "internal", std::string("internal error: ") + e.what());
+  } catch (...) {
+    return Error(500, "internal", "internal error");
+  }
+}
+
+bool Router::Authorized(const HttpRequest& request) const {
+  if (options_.token.empty()) return true;
+  const std::string* value = FindHeader(request, "Authorization");
+  if (value == nullptr || value->size() < 7 ||
+      strncasecmp(value->data(), "Bearer ", 7) != 0) {
+    return false;
+  }
+  std::string_view presented(*value);
+  presented.remove_prefix(7);
+  while (!presented.empty() && presented.front() == ' ') {
+    presented.remove_prefix(1);
+  }
+  while (!presented.empty() &&
+         (presented.back() == ' ' || presented.back() == '\t')) {
+    presented.remove_suffix(1);
+  }
+  return ConstantTimeEquals(presented, options_.token);
+}
+
+HttpResponse Router::Dispatch(const HttpRequest& request) {
+  const std::string& path = request.path;
+  const bool get = request.method == "GET" || request.method == "HEAD";
+  const bool post = request.method == "POST";
+
+  std::string arg1, arg2;
+  const RouteId route = MatchRoute(path, post, &arg1, &arg2);
+  if (route == RouteId::kUnmatched) {
+    return Error(404, "not_found", "no such endpoint: " + path);
+  }
+  const bool wants_post = std::string_view(RouteMethod(route)) == "POST";
+  if ((wants_post && !post) || (!wants_post && !get)) {
+    return MethodNotAllowed(route, request.method);
+  }
+
+  HttpResponse response;
+  if (post) {
+    if (!Authorized(request)) {
+      response = Error(401, "unauthorized",
+                       "this endpoint needs the header 'Authorization: "
+                       "Bearer <token>' with the configured token");
+      response.route = route;
+      return response;
+    }
+    if (request.body.size() > options_.body_limit_bytes) {
+      response = Error(413, "payload_too_large",
+                       "the body has " + std::to_string(request.body.size()) +
+                           " bytes; the limit is " +
+                           std::to_string(options_.body_limit_bytes));
+      response.route = route;
+      return response;
+    }
+  }
+  switch (route) {
+    case RouteId::kRollChanges:
+      response = PostRollChange(request);
+      break;
+    case RouteId::kCampaignEnd:
+      response = PostCampaignEnd(request, arg1);
+      break;
+    case RouteId::kCoils:
+      response = PostCoil(request);
+      break;
+    case RouteId::kWear:
+      response = GetWear();
+      break;
+    case RouteId::kWearAt:
+      response = GetWearAt(arg1, arg2);
+      break;
+    case RouteId::kMeasurements:
+      response = PostMeasurement(request);
+      break;
+    case RouteId::kCalibrationsPost:
+      response = PostCalibration(request);
+      break;
+    case RouteId::kCalibrationsList:
+      response = ListCalibrations(request);
+      break;
+    case RouteId::kCalibration:
+      response = GetCalibration(arg1);
+      break;
+    case RouteId::kModelsActive:
+      response = GetActiveModel();
+      break;
+    case RouteId::kModels:
+      response = ListModels(request);
+      break;
+    case RouteId::kHealthz:
+      response = GetHealth();
+      break;
+    case RouteId::kMetrics:
+      response = GetMetrics();
+      break;
+    default:
+      response = Error(404, "not_found", "no such endpoint: " + path);
+      break;
+  }
+  response.route = route;
+  return response;
+}
+
+HttpResponse Router::PostRollChange(const HttpRequest& request) {
+  storage::RollChangeIn in;
+  ApiError error;
+  if (!DecodeRollChange(request.body, options_.max_json_depth, &in, &error)) {
+    return Error(error);
+  }
+  StatusOr<storage::WriteOutcome> outcome = store_->ApplyRollChange(in);
+  if (!outcome.ok()) return FromStatus(outcome.status());
+  return Answer(*outcome == storage::WriteOutcome::kCreated ? 201 : 200,
+                EncodeRollChangeAnswer(in, *outcome));
+}
+
+HttpResponse Router::PostCampaignEnd(const HttpRequest& request,
+                                     const std::string& campaign_id) {
+  UnixSeconds ended_at = 0;
+  ApiError error;
+  if (!DecodeCampaignEnd(request.body, options_.max_json_depth, &ended_at,
+                         &error)) {
+    return Error(error);
+  }
+  StatusOr<storage::WriteOutcome> outcome =
+      store_->EndCampaign(campaign_id, ended_at);
+  if (!outcome.ok()) return FromStatus(outcome.status());
+  return Answer(200, EncodeCampaignEndAnswer(campaign_id, ended_at, *outcome));
+}
+
+HttpResponse Router::PostCoil(const HttpRequest& request) {
+  storage::CoilIn in;
+  ApiError error;
+  if (!DecodeCoil(request.body, options_.max_json_depth, &in, &error)) {
+    return Error(error);
+  }
+  StatusOr<storage::CoilOutcome> outcome = store_->AddCoil(in);
+  if (!outcome.ok()) return FromStatus(outcome.status());
+  const bool created = outcome->outcome == storage::WriteOutcome::kCreated;
+  if (created) metrics_.CountCoilIngested();
+  return Answer(created ? 201 : 200, EncodeCoilAnswer(in, *outcome, -1));
+}
+
+HttpResponse Router::GetWear() {
+  return Answer(200, EncodeWear(store_->Wear()));
+}
+
+HttpResponse Router::GetWearAt(const std::string& stand_text,
+                               const std::string& position_text) {
+  const int stand = ParseStand(stand_text);
+  Position position;
+  if (stand == 0 || !ParsePosition(position_text, &position)) {
+    return Error(404, "not_found",
+                 "unknown roll position '" + stand_text + "/" + position_text +
+                     "' (stands F1..F7, positions top or bottom)");
+  }
+  StatusOr<storage::PositionWear> wear = store_->WearAt(stand, position);
+  if (!wear.ok()) return FromStatus(wear.status());
+  // The model version comes with the full snapshot only; a position's
+  // answer names it too so that clients can tell which model predicted.
+  return Answer(200, EncodePositionWear(*wear, store_->Wear().model_version));
+}
+
+HttpResponse Router::PostMeasurement(const HttpRequest& request) {
+  storage::MeasurementIn in;
+  ApiError error;
+  if (!DecodeMeasurement(request.body, options_.max_json_depth, &in, &error)) {
+    return Error(error);
+  }
+  StatusOr<storage::WriteOutcome> outcome = store_->AddMeasurement(in);
+  if (!outcome.ok()) return FromStatus(outcome.status());
+  return Answer(*outcome == storage::WriteOutcome::kCreated ? 201 : 200,
+                EncodeMeasurementAnswer(in, *outcome));
+}
+
+HttpResponse Router::PostCalibration(const HttpRequest& request) {
+  CalibrationRequest in;
+  in.law = options_.default_law;
+  in.option = options_.default_option;
+  ApiError error;
+  if (!DecodeCalibrationRequest(request.body, options_.max_json_depth, &in,
+                                &error)) {
+    return Error(error);
+  }
+  StatusOr<int64_t> id = store_->EnqueueCalibration("api", in.law, in.option);
+  if (!id.ok()) return FromStatus(id.status());
+  if (options_.on_calibration_queued) options_.on_calibration_queued(*id);
+  HttpResponse r = Answer(202, EncodeCalibrationId(*id));
+  r.headers.emplace_back("Location", "/v1/calibrations/" + std::to_string(*id));
+  return r;
+}
+
+HttpResponse Router::GetCalibration(const std::string& id_text) {
+  int64_t id = 0;
+  if (!ParseInt64(id_text, &id) || id <= 0) {
+    return Error(404, "not_found",
+                 "unknown calibration '" + id_text.substr(0, 40) + "'");
+  }
+  StatusOr<storage::CalibrationRecord> record = store_->GetCalibration(id);
+  if (!record.ok()) return FromStatus(record.status());
+  return Answer(200, EncodeCalibration(*record));
+}
+
+HttpResponse Router::ListCalibrations(const HttpRequest& request) {
+  int64_t limit = 50;
+  auto it = request.params.find("limit");
+  if (it != request.params.end() &&
+      (!ParseInt64(it->second, &limit) || limit < 1 || limit > 1000)) {
+    return Error(400, "out_of_range", "limit must be an integer in [1, 1000]",
+                 "limit");
+  }
+  return Answer(200, EncodeCalibrationList(
+                         store_->ListCalibrations(static_cast<int>(limit))));
+}
+
+HttpResponse Router::GetActiveModel() {
+  StatusOr<storage::ModelVersion> model = store_->ActiveModel();
+  if (!model.ok()) return FromStatus(model.status());
+  return Answer(200, EncodeModel(*model));
+}
+
+HttpResponse Router::ListModels(const HttpRequest& request) {
+  return Answer(200, EncodeModelList(store_->ListModels()));
+}
+
+HttpResponse Router::GetHealth() {
+  const bool healthy = store_->Healthy();
+  return Answer(healthy ? 200 : 503, EncodeHealth(healthy));
+}
+
+HttpResponse Router::GetMetrics() {
+  StoreFigures figures;
+  figures.healthy = store_->Healthy();
+  const storage::StoreCounters counters = store_->Counters();
+  figures.commits = counters.commits;
+  figures.coils = counters.coils;
+  figures.campaigns = counters.campaigns;
+  figures.measurements = counters.measurements;
+  figures.measurements_since_last_calibration =
+      counters.measurements_since_last_calibration;
+  figures.validation_gap_um = std::numeric_limits<double>::quiet_NaN();
+  StatusOr<storage::ModelVersion> model = store_->ActiveModel();
+  if (model.ok()) {
+    figures.model_version = model->version;
+    if (model->version > 0) figures.validation_gap_um = model->gap_val_um;
+  }
+  HttpResponse r = Answer(200, metrics_.Render(figures));
+  r.content_type = "text/plain; version=0.0.4; charset=utf-8";
+  return r;
+}
+
+}  // namespace rollwear::api

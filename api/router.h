@@ -1,0 +1,115 @@
+// Router: the whole HTTP API of docs/api.md as a function from request to
+// response, with no sockets (after Valhalla's actor/service split). It
+// matches the route, checks the bearer token and the body limit, decodes and
+// validates the JSON body into storage's input types, calls the MillStore
+// facade, and encodes the answer or the error body
+//   {"error": {"code": "...", "message": "...", "field": "passes[1].force_kn"}}
+// HTTP status codes exist in the api layer only; HttpStatusFor() is the one
+// mapping from core's StatusCode. A rejected request never reaches a write
+// of the store, so it changes nothing.
+//
+// Thread-safety: Handle() is thread-safe (the store is; the router's own
+// state is immutable options and the lock-free Metrics).
+#ifndef ROLLWEAR_API_ROUTER_H_
+#define ROLLWEAR_API_ROUTER_H_
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "api/metrics.h"
+#include "core/status.h"
+#include "core/wear_law.h"
+#include "storage/mill_store.h"
+
+namespace rollwear::api {
+
+struct HttpRequest {
+  std::string method;  // "GET", "POST", ...
+  std::string path;    // decoded path without the query string
+  // Header names as sent; lookups are case-insensitive.
+  std::vector<std::pair<std::string, std::string>> headers;
+  std::string body;
+  std::map<std::string, std::string> params;  // decoded query parameters
+};
+
+struct HttpResponse {
+  int status = 200;
+  std::string content_type = "application/json";
+  std::string body;
+  std::vector<std::pair<std::string, std::string>> headers;  // extra headers
+  // Route template that answered ("/v1/coils", "/v1/wear/{stand}/{position}",
+  // "unmatched"), the label of the latency histogram.
+  RouteId route = RouteId::kUnmatched;
+};
+
+struct ApiOptions {
+  // Bearer token every POST must carry; empty = no authentication.
+  std::string token;
+  // Largest accepted request body; larger ones are answered 413.
+  size_t body_limit_bytes = 1 << 20;
+  // Deepest accepted nesting of JSON arrays/objects (a coil needs 3).
+  int max_json_depth = 16;
+  // Law and K option of POST /v1/calibrations without a body.
+  WearLaw default_law = WearLaw::kWang;
+  int default_option = 1;
+  // Called with the id of every calibration queued through the API, so the
+  // job worker runs it; may be empty (the run then stays queued).
+  std::function<void(int64_t)> on_calibration_queued;
+
+  bool IsValid(std::string* error) const;
+};
+
+// The HTTP status for a store or core error: InvalidArgument 400, NotFound
+// 404, AlreadyExists 409, FailedPrecondition 422, Unavailable 503, anything
+// else 500.
+int HttpStatusFor(StatusCode code);
+
+class Router {
+ public:
+  // `store` must outlive the router.
+  Router(storage::MillStore* store, ApiOptions options);
+
+  Router(const Router&) = delete;
+  Router& operator=(const Router&) = delete;
+
+  HttpResponse Handle(const HttpRequest& request);
+
+  // Request and calibration figures exposed by GET /metrics; the HTTP server
+  // records request latencies here, the scheduler calibration runs.
+  Metrics* metrics() { return &metrics_; }
+  const ApiOptions& options() const { return options_; }
+
+ private:
+  HttpResponse Dispatch(const HttpRequest& request);
+  HttpResponse PostRollChange(const HttpRequest& request);
+  HttpResponse PostCampaignEnd(const HttpRequest& request,
+                               const std::string& campaign_id);
+  HttpResponse PostCoil(const HttpRequest& request);
+  HttpResponse GetWear();
+  HttpResponse GetWearAt(const std::string& stand, const std::string& position);
+  HttpResponse PostMeasurement(const HttpRequest& request);
+  HttpResponse PostCalibration(const HttpRequest& request);
+  HttpResponse GetCalibration(const std::string& id);
+  HttpResponse ListCalibrations(const HttpRequest& request);
+  HttpResponse GetActiveModel();
+  HttpResponse ListModels(const HttpRequest& request);
+  HttpResponse GetHealth();
+  HttpResponse GetMetrics();
+
+  // True when no token is configured or the request carries it as
+  // "Authorization: Bearer <token>" (compared in constant time).
+  bool Authorized(const HttpRequest& request) const;
+
+  storage::MillStore* store_;
+  ApiOptions options_;
+  Metrics metrics_;
+};
+
+}  // namespace rollwear::api
+
+#endif  // ROLLWEAR_API_ROUTER_H_

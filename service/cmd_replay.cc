@@ -1,0 +1,537 @@
+// `rollwear replay --data DIR --url URL [--token T] [--clients N] [--speed X]
+//  [--retry-for S] [--show-wear S] [--json FILE] [--leave-last-open]
+//  [--quiet]`
+// Plays a dataset folder through the HTTP API in time order, as the mill's
+// Level 2 system and the roll shop would: for each campaign (by start) the
+// roll change, its coils (by seq), the campaign end; each measurement once
+// its campaign has ended and its measured_at has come. Roll changes and
+// campaign ends are barriers; coils and measurements in between go out on N
+// concurrent keep-alive clients. --speed X paces events at X times the
+// dataset's own clock (0 = as fast as possible). Connection errors and 5xx
+// answers other than 500 are retried for --retry-for seconds: every POST
+// has an idempotency key, so a retry of a request whose answer was lost is
+// answered 200 and counted once. Prints progress every second, optionally
+// the current wear (GET /v1/wear) every --show-wear seconds, and a summary.
+// --leave-last-open leaves the last campaign running (no end, no
+// measurements), so that its rolls stay mounted and GET /v1/wear shows them.
+// Exit status 0 only when every event was accepted (2xx).
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <chrono>
+#include <condition_variable>
+#include <csignal>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <deque>
+#include <fstream>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "api/http_client.h"
+#include "core/dataset_io.h"
+#include "service/commands.h"
+#include "service/flags.h"
+
+namespace rollwear::cli {
+namespace {
+
+using Json = nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+constexpr const char* kUsage =
+    "usage: rollwear replay --data DIR --url URL [--token T] [--clients N] "
+    "[--speed X] [--retry-for SECONDS] [--show-wear SECONDS] [--json FILE] "
+    "[--leave-last-open] [--quiet]";
+
+enum class Kind { kRollChange, kCoil, kEnd, kMeasurement };
+
+struct Event {
+  Kind kind;
+  UnixSeconds at;
+  int index;  // campaign (roll change, end), coil, or measurement index
+};
+
+std::string UrlEncode(const std::string& s) {
+  static constexpr const char* kHex = "0123456789ABCDEF";
+  std::string out;
+  for (unsigned char c : s) {
+    if (std::isalnum(c) || c == '-' || c == '_' || c == '.' || c == '~') {
+      out += static_cast<char>(c);
+    } else {
+      out += '%';
+      out += kHex[c >> 4];
+      out += kHex[c & 15];
+    }
+  }
+  return out;
+}
+
+std::string StandName(int stand) { return "F" + std::to_string(stand); }
+
+// The dataset as requests.
+class Requests {
+ public:
+  explicit Requests(const Dataset& d) : d_(d) {
+    mounts_of_.resize(d.campaigns.size());
+    for (size_t i = 0; i < d.mounts.size(); ++i) {
+      mounts_of_[d.mounts[i].campaign].push_back(static_cast<int>(i));
+    }
+    passes_of_.resize(d.coil_ids.size());
+    for (size_t i = 0; i < d.passes.size(); ++i) {
+      passes_of_[d.passes[i].coil].push_back(static_cast<int>(i));
+    }
+  }
+
+  // Events in replay order (see the file comment). With `leave_last_open`
+  // the last campaign gets no end and its measurements are left out.
+  std::vector<Event> Timeline(bool leave_last_open) const {
+    std::vector<int> order(d_.campaigns.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+      return d_.campaigns[a].started_at < d_.campaigns[b].started_at;
+    });
+    std::vector<std::vector<int>> coils_of(d_.campaigns.size());
+    for (size_t k = 0; k < passes_of_.size(); ++k) {
+      if (passes_of_[k].empty()) continue;
+      coils_of[d_.passes[passes_of_[k][0]].campaign].push_back(
+          static_cast<int>(k));
+    }
+    std::vector<int> measurements(d_.measurements.size());
+    for (size_t i = 0; i < measurements.size(); ++i) {
+      measurements[i] = static_cast<int>(i);
+    }
+    std::stable_sort(measurements.begin(), measurements.end(),
+                     [&](int a, int b) {
+                       return d_.measurements[a].measured_at <
+                              d_.measurements[b].measured_at;
+                     });
+    std::vector<char> ended(d_.campaigns.size(), 0);
+    std::vector<Event> out;
+    size_t next_m = 0;
+    std::vector<int> waiting;  // measurements due before their campaign ended
+    auto flush = [&](UnixSeconds until) {
+      // Measurements due by `until` whose campaign has ended.
+      std::vector<int> still;
+      for (int m : waiting) {
+        if (ended[d_.measurements[m].campaign]) {
+          out.push_back(
+              {Kind::kMeasurement, d_.measurements[m].measured_at, m});
+        } else {
+          still.push_back(m);
+        }
+      }
+      waiting.swap(still);
+      while (next_m < measurements.size() &&
+             d_.measurements[measurements[next_m]].measured_at <= until) {
+        const int m = measurements[next_m++];
+        if (ended[d_.measurements[m].campaign]) {
+          out.push_back(
+              {Kind::kMeasurement, d_.measurements[m].measured_at, m});
+        } else {
+          waiting.push_back(m);
+        }
+      }
+    };
+    for (int c : order) {
+      const Campaign& campaign = d_.campaigns[c];
+      flush(campaign.started_at);
+      out.push_back({Kind::kRollChange, campaign.started_at, c});
+      std::vector<int>& coils = coils_of[c];
+      std::stable_sort(coils.begin(), coils.end(), [&](int a, int b) {
+        return d_.passes[passes_of_[a][0]].seq <
+               d_.passes[passes_of_[b][0]].seq;
+      });
+      for (int k : coils) {
+        const UnixSeconds at = d_.passes[passes_of_[k][0]].rolled_at;
+        flush(at);
+        out.push_back({Kind::kCoil, at, k});
+      }
+      if (leave_last_open && c == order.back()) break;
+      flush(campaign.ended_at);
+      out.push_back({Kind::kEnd, campaign.ended_at, c});
+      ended[c] = 1;
+    }
+    flush(INT64_MAX);
+    return out;
+  }
+
+  std::string Path(const Event& e) const {
+    switch (e.kind) {
+      case Kind::kRollChange:
+        return "/v1/roll-changes";
+      case Kind::kCoil:
+        return "/v1/coils";
+      case Kind::kEnd:
+        return "/v1/campaigns/" + UrlEncode(d_.campaigns[e.index].id) + "/end";
+      case Kind::kMeasurement:
+        return "/v1/measurements";
+    }
+    return "/";
+  }
+
+  std::string Body(const Event& e) const {
+    Json j;
+    switch (e.kind) {
+      case Kind::kRollChange: {
+        const Campaign& c = d_.campaigns[e.index];
+        Json rolls = Json::array();
+        for (int i : mounts_of_[e.index]) {
+          const Mount& m = d_.mounts[i];
+          rolls.push_back({{"stand", StandName(m.stand)},
+                           {"position", PositionName(m.position)},
+                           {"roll_id", m.roll_id},
+                           {"roll_type", d_.roll_types[m.roll_type]},
+                           {"diameter_mm", m.diameter_mm},
+                           {"hardness_hb", m.hardness_hb}});
+        }
+        j = {{"campaign_id", c.id},
+             {"started_at", FormatTimestamp(c.started_at)},
+             {"rolls", std::move(rolls)}};
+        break;
+      }
+      case Kind::kCoil: {
+        const std::vector<int>& rows = passes_of_[e.index];
+        const Pass& first = d_.passes[rows[0]];
+        Json passes = Json::array();
+        for (int i : rows) {
+          const Pass& p = d_.passes[i];
+          passes.push_back({{"stand", StandName(p.stand)},
+                            {"force_kn", p.force_kn},
+                            {"width_mm", p.width_mm},
+                            {"length_m", p.length_m},
+                            {"entry_thickness_mm", p.entry_thickness_mm},
+                            {"exit_thickness_mm", p.exit_thickness_mm},
+                            {"temperature_c", p.temperature_c},
+                            {"speed_mps", p.speed_mps},
+                            {"lubrication", p.lubrication ? 1 : 0},
+                            {"shift_mm", p.shift_mm}});
+        }
+        j = {{"coil_id", d_.coil_ids[e.index]},
+             {"campaign_id", d_.campaigns[first.campaign].id},
+             {"seq", first.seq},
+             {"rolled_at", FormatTimestamp(first.rolled_at)},
+             {"grade", d_.grades[first.grade]},
+             {"passes", std::move(passes)}};
+        break;
+      }
+      case Kind::kEnd:
+        j = {{"ended_at", FormatTimestamp(d_.campaigns[e.index].ended_at)}};
+        break;
+      case Kind::kMeasurement: {
+        const Measurement& m = d_.measurements[e.index];
+        j = {{"campaign_id", d_.campaigns[m.campaign].id},
+             {"stand", StandName(m.stand)},
+             {"position", PositionName(m.position)},
+             {"roll_id", m.roll_id},
+             {"measured_at", FormatTimestamp(m.measured_at)},
+             {"wear_center_um", m.wear_center_um}};
+        break;
+      }
+    }
+    return j.dump(-1, ' ', false, Json::error_handler_t::replace);
+  }
+
+ private:
+  const Dataset& d_;
+  std::vector<std::vector<int>> mounts_of_;
+  std::vector<std::vector<int>> passes_of_;
+};
+
+struct Counters {
+  std::atomic<int64_t> sent[4] = {};      // by Kind: accepted (2xx)
+  std::atomic<int64_t> repeated[4] = {};  // of which 200 on a repeat
+  std::atomic<int64_t> conflicts{0};
+  std::atomic<int64_t> errors{0};
+  std::atomic<int64_t> retries{0};
+  std::mutex print_mu;
+  int printed_errors = 0;
+};
+
+struct ReplayOptions {
+  std::string url;
+  std::string token;
+  double retry_for_s = 60;
+};
+
+// Sends one event, retrying connection errors and 502/503/504.
+void Send(const Requests& requests, const Event& e, api::HttpClient* client,
+          const ReplayOptions& options, Counters* counters) {
+  const std::string path = requests.Path(e);
+  const std::string body = requests.Body(e);
+  const auto deadline =
+      Clock::now() + std::chrono::milliseconds(
+                         static_cast<int64_t>(options.retry_for_s * 1000));
+  auto backoff = std::chrono::milliseconds(20);
+  api::HttpResult r;
+  for (;;) {
+    r = client->Post(path, body);
+    const bool transient =
+        !r.answered() || r.status == 502 || r.status == 503 || r.status == 504;
+    if (!transient || Clock::now() >= deadline) break;
+    counters->retries.fetch_add(1);
+    std::this_thread::sleep_for(backoff);
+    backoff = std::min(backoff * 2, std::chrono::milliseconds(500));
+  }
+  const int k = static_cast<int>(e.kind);
+  if (r.status >= 200 && r.status < 300) {
+    counters->sent[k].fetch_add(1);
+    if (r.status == 200 && e.kind != Kind::kEnd)
+      counters->repeated[k].fetch_add(1);
+    return;
+  }
+  (r.status == 409 ? counters->conflicts : counters->errors).fetch_add(1);
+  std::lock_guard<std::mutex> lock(counters->print_mu);
+  if (counters->printed_errors++ < 10) {
+    std::fprintf(stderr, "replay: POST %s -> %s\n", path.c_str(),
+                 r.answered()
+                     ? (std::to_string(r.status) + " " + r.body).c_str()
+                     : ("no answer: " + r.error).c_str());
+  }
+}
+
+// N keep-alive clients draining a queue of events that may go in parallel.
+class Pool {
+ public:
+  Pool(int n, const Requests& requests, const ReplayOptions& options,
+       Counters* counters) {
+    for (int i = 0; i < n; ++i) {
+      threads_.emplace_back([this, &requests, &options, counters] {
+        api::HttpClientOptions o;
+        o.token = options.token;
+        api::HttpClient client(options.url, o);
+        std::unique_lock<std::mutex> lock(mu_);
+        for (;;) {
+          cv_.wait(lock, [this] { return stop_ || !queue_.empty(); });
+          if (queue_.empty()) break;
+          const Event e = queue_.front();
+          queue_.pop_front();
+          ++in_flight_;
+          lock.unlock();
+          Send(requests, e, &client, options, counters);
+          lock.lock();
+          --in_flight_;
+          if (queue_.empty() && in_flight_ == 0) drained_.notify_all();
+        }
+      });
+    }
+  }
+  ~Pool() {
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      stop_ = true;
+    }
+    cv_.notify_all();
+    for (auto& t : threads_) t.join();
+  }
+  void Push(const Event& e) {
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      queue_.push_back(e);
+    }
+    cv_.notify_one();
+  }
+  void Drain() {
+    std::unique_lock<std::mutex> lock(mu_);
+    drained_.wait(lock, [this] { return queue_.empty() && in_flight_ == 0; });
+  }
+
+ private:
+  std::mutex mu_;
+  std::condition_variable cv_, drained_;
+  std::deque<Event> queue_;
+  int in_flight_ = 0;
+  bool stop_ = false;
+  std::vector<std::thread> threads_;
+};
+
+void PrintWear(const std::string& url, double elapsed) {
+  api::HttpClient client(url);
+  const api::HttpResult r = client.Get("/v1/wear");
+  if (r.status != 200) return;
+  const Json j = Json::parse(r.body, nullptr, false);
+  if (j.is_discarded() || !j.contains("positions")) return;
+  std::printf("  wear at %5.1f s (model v%s):", elapsed,
+              j.value("model_version", Json(0)).dump().c_str());
+  for (const Json& p : j["positions"]) {
+    const Json interval = p.value("interval_um", Json::array({0, 0}));
+    std::printf("  %s/%s %s %.1f um [%.0f-%.0f] after %d coils",
+                p.value("stand", "").c_str(), p.value("position", "").c_str(),
+                p.value("campaign_id", "").c_str(),
+                p.value("predicted_wear_um", 0.0),
+                interval.size() == 2 ? interval[0].get<double>() : 0.0,
+                interval.size() == 2 ? interval[1].get<double>() : 0.0,
+                p.value("coils", 0));
+  }
+  std::printf("\n");
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int RunReplay(const Args& args) {
+  Flags flags;
+  std::string error;
+  if (!flags.Parse(args,
+                   {"data", "url", "token", "clients", "speed", "retry-for",
+                    "show-wear", "json"},
+                   {"quiet", "leave-last-open"}, &error)) {
+    std::fprintf(stderr, "rollwear replay: %s\n%s\n", error.c_str(), kUsage);
+    return 2;
+  }
+  if (!flags.Has("data") || !flags.Has("url")) {
+    std::fprintf(stderr, "rollwear replay: --data and --url are required\n%s\n",
+                 kUsage);
+    return 2;
+  }
+  long long clients = 8;
+  double speed = 0, show_wear = 0;
+  ReplayOptions options;
+  options.url = flags.Get("url");
+  options.token = flags.Get("token");
+  if (options.token.empty() && std::getenv("ROLLWEAR_TOKEN") != nullptr) {
+    options.token = std::getenv("ROLLWEAR_TOKEN");
+  }
+  if (!flags.GetInt("clients", 8, &clients, &error) ||
+      !flags.GetDouble("speed", 0, &speed, &error) ||
+      !flags.GetDouble("retry-for", 60, &options.retry_for_s, &error) ||
+      !flags.GetDouble("show-wear", 0, &show_wear, &error)) {
+    std::fprintf(stderr, "rollwear replay: %s\n", error.c_str());
+    return 2;
+  }
+  if (clients < 1 || clients > 256 || speed < 0 || options.retry_for_s < 0 ||
+      show_wear < 0) {
+    std::fprintf(stderr,
+                 "rollwear replay: --clients must be in [1, 256]; --speed, "
+                 "--retry-for and --show-wear must be >= 0\n");
+    return 2;
+  }
+  if (options.url.rfind("http://", 0) != 0) {
+    std::fprintf(stderr, "rollwear replay: --url must start with http://\n");
+    return 2;
+  }
+  while (!options.url.empty() && options.url.back() == '/')
+    options.url.pop_back();
+  signal(SIGPIPE, SIG_IGN);
+
+  StatusOr<Dataset> data = ReadDataset(flags.Get("data"));
+  if (!data.ok()) {
+    std::fprintf(stderr, "rollwear replay: %s\n",
+                 data.status().message().c_str());
+    return 1;
+  }
+  const Requests requests(*data);
+  const std::vector<Event> timeline =
+      requests.Timeline(flags.Has("leave-last-open"));
+  const bool quiet = flags.Has("quiet");
+  const auto total_coils = static_cast<int64_t>(data->coil_ids.size());
+  if (!quiet) {
+    std::printf(
+        "replay: %zu campaigns, %lld coils, %zu measurements -> %s "
+        "with %lld clients%s\n",
+        data->campaigns.size(), static_cast<long long>(total_coils),
+        data->measurements.size(), options.url.c_str(), clients,
+        speed > 0 ? (", speed x" + std::to_string(speed)).c_str()
+                  : ", as fast as possible");
+    std::fflush(stdout);
+  }
+
+  Counters counters;
+  const auto start = Clock::now();
+  std::atomic<bool> done{false};
+  std::thread reporter([&] {
+    auto next_progress = start + std::chrono::seconds(1);
+    auto next_wear = start + std::chrono::milliseconds(
+                                 static_cast<int64_t>(show_wear * 1000));
+    while (!done.load()) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      const auto now = Clock::now();
+      const double elapsed = std::chrono::duration<double>(now - start).count();
+      if (!quiet && now >= next_progress) {
+        next_progress += std::chrono::seconds(1);
+        const int64_t coils = counters.sent[1].load();
+        std::printf(
+            "  %5.1f s: %lld/%lld coils (%.0f coils/s), %lld "
+            "campaigns, %lld measurements, %lld retries\n",
+            elapsed, static_cast<long long>(coils),
+            static_cast<long long>(total_coils),
+            elapsed > 0 ? coils / elapsed : 0.0,
+            static_cast<long long>(counters.sent[0].load()),
+            static_cast<long long>(counters.sent[3].load()),
+            static_cast<long long>(counters.retries.load()));
+        std::fflush(stdout);
+      }
+      if (show_wear > 0 && now >= next_wear) {
+        next_wear +=
+            std::chrono::milliseconds(static_cast<int64_t>(show_wear * 1000));
+        PrintWear(options.url, elapsed);
+      }
+    }
+  });
+
+  {
+    Pool pool(static_cast<int>(clients), requests, options, &counters);
+    api::HttpClientOptions client_options;
+    client_options.token = options.token;
+    api::HttpClient main_client(options.url, client_options);
+    const UnixSeconds t0 = timeline.empty() ? 0 : timeline.front().at;
+    for (const Event& e : timeline) {
+      if (speed > 0) {
+        const auto due =
+            start + std::chrono::microseconds(static_cast<int64_t>(
+                        static_cast<double>(e.at - t0) / speed * 1e6));
+        std::this_thread::sleep_until(due);
+      }
+      if (e.kind == Kind::kRollChange || e.kind == Kind::kEnd) {
+        pool.Drain();
+        Send(requests, e, &main_client, options, &counters);
+      } else {
+        pool.Push(e);
+      }
+    }
+    pool.Drain();
+  }
+  const double seconds =
+      std::chrono::duration<double>(Clock::now() - start).count();
+  done.store(true);
+  reporter.join();
+  if (show_wear > 0) PrintWear(options.url, seconds);
+
+  const int64_t coils = counters.sent[1].load();
+  const double rate = seconds > 0 ? coils / seconds : 0;
+  std::printf(
+      "replay: %lld coils (%lld repeated), %lld roll changes, %lld campaign "
+      "ends, %lld measurements in %.2f s: %.0f coils/s; %lld conflicts, %lld "
+      "errors, %lld retries\n",
+      static_cast<long long>(coils),
+      static_cast<long long>(counters.repeated[1].load()),
+      static_cast<long long>(counters.sent[0].load()),
+      static_cast<long long>(counters.sent[2].load()),
+      static_cast<long long>(counters.sent[3].load()), seconds, rate,
+      static_cast<long long>(counters.conflicts.load()),
+      static_cast<long long>(counters.errors.load()),
+      static_cast<long long>(counters.retries.load()));
+  std::fflush(stdout);
+  if (flags.Has("json")) {
+    const Json summary{{"coils", coils},
+                       {"coils_repeated", counters.repeated[1].load()},
+                       {"roll_changes", counters.sent[0].load()},
+                       {"campaign_ends", counters.sent[2].load()},
+                       {"measurements", counters.sent[3].load()},
+                       {"conflicts", counters.conflicts.load()},
+                       {"errors", counters.errors.load()},
+                       {"retries", counters.retries.load()},
+                       {"seconds", seconds},
+                       {"coils_per_second", rate}};
+    std::ofstream out(flags.Get("json"));
+    out << summary.dump(2) << "\n";
+  }
+  return counters.conflicts.load() == 0 && counters.errors.load() == 0 ? 0 : 1;
+}
+
+}  // namespace rollwear::cli

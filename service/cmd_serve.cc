@@ -1,0 +1,205 @@
+// `rollwear serve --db FILE --port N [--config FILE] [--bind ADDR]
+//  [--log-level LEVEL] [--threads N]`
+// The daemon: opens (creating or migrating) the SQLite database, serves the
+// HTTP API of docs/api.md, runs queued and nightly calibrations on one
+// background worker, and stops gracefully on SIGINT/SIGTERM (stop accepting,
+// finish in-flight requests and the running calibration, close the
+// database). Prints the URL it listens on as its first line on stdout.
+#include <csignal>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include <spdlog/sinks/stdout_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include "api/http_server.h"
+#include "api/router.h"
+#include "service/commands.h"
+#include "service/config.h"
+#include "service/flags.h"
+#include "service/scheduler.h"
+#include "storage/mill_store.h"
+
+namespace rollwear::cli {
+namespace {
+
+constexpr const char* kUsage =
+    "usage: rollwear serve --db FILE [--port N] [--config FILE] "
+    "[--bind ADDR] [--log-level LEVEL] [--threads N]";
+
+void SetUpLogging(const std::string& level) {
+  auto logger = spdlog::stderr_logger_mt("rollwear");
+  logger->set_pattern("%Y-%m-%dT%H:%M:%S.%e%z %l %v");
+  spdlog::set_default_logger(logger);
+  spdlog::set_level(spdlog::level::from_str(level));
+  spdlog::flush_on(spdlog::level::info);
+}
+
+// Defaults, then the config file, then ROLLWEAR_* variables, then flags.
+bool BuildConfig(const Flags& flags, service::ServeConfig* config) {
+  if (flags.Has("config")) {
+    const Status s = service::LoadConfigFile(flags.Get("config"), config);
+    if (!s.ok()) {
+      std::fprintf(stderr, "rollwear serve: %s\n", s.message().c_str());
+      return false;
+    }
+  }
+  Status s = service::ApplyEnvironment(config);
+  static constexpr const char* kFlagKeys[][2] = {{"db", "db"},
+                                                 {"port", "port"},
+                                                 {"bind", "bind"},
+                                                 {"log-level", "log_level"},
+                                                 {"threads", "threads"}};
+  for (const auto& [flag, key] : kFlagKeys) {
+    if (!s.ok()) break;
+    if (flags.Has(flag)) {
+      s = service::SetConfigValue(key, flags.Get(flag),
+                                  std::string("--") + flag, config);
+    }
+  }
+  std::string error;
+  if (s.ok() && !config->IsValid(&error)) s = Status::InvalidArgument(error);
+  if (!s.ok()) {
+    std::fprintf(stderr, "rollwear serve: %s\n", s.message().c_str());
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+int RunServe(const Args& args) {
+  Flags flags;
+  std::string error;
+  if (!flags.Parse(args,
+                   {"db", "port", "config", "bind", "log-level", "threads"}, {},
+                   &error) ||
+      !flags.positional().empty()) {
+    std::fprintf(stderr, "rollwear serve: %s\n%s\n",
+                 error.empty() ? "unexpected argument" : error.c_str(), kUsage);
+    return 2;
+  }
+  service::ServeConfig config;
+  if (!BuildConfig(flags, &config)) return 2;
+  SetUpLogging(config.log_level);
+
+  // Block the stop signals in every thread (the store's writer, the HTTP
+  // pool, the scheduler inherit the mask); the main thread waits for them.
+  sigset_t stop_signals;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGINT);
+  sigaddset(&stop_signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+  signal(SIGPIPE, SIG_IGN);
+
+  storage::StoreOptions store_options;
+  store_options.default_law = config.model;
+  store_options.default_option = config.option;
+  StatusOr<std::unique_ptr<storage::MillStore>> opened =
+      storage::MillStore::Open(config.db, store_options);
+  if (!opened.ok()) {
+    spdlog::error("cannot open database {}: {}", config.db,
+                  opened.status().message());
+    std::fprintf(stderr, "rollwear serve: %s\n",
+                 opened.status().message().c_str());
+    return 1;
+  }
+  std::unique_ptr<storage::MillStore> store = std::move(opened).value();
+  const storage::StoreCounters counters = store->Counters();
+  spdlog::info("database {} open: {} campaigns, {} coils, {} measurements",
+               config.db, counters.campaigns, counters.coils,
+               counters.measurements);
+
+  api::Router* router_ptr = nullptr;
+  service::SchedulerOptions scheduler_options;
+  scheduler_options.recalibration_minute = config.recalibration_minute;
+  scheduler_options.law = config.model;
+  scheduler_options.option = config.option;
+  service::Scheduler scheduler(
+      store.get(), scheduler_options,
+      [&router_ptr](const storage::CalibrationRecord& r, double seconds) {
+        const bool done = r.status == storage::CalibrationStatus::kDone;
+        if (router_ptr != nullptr) {
+          router_ptr->metrics()->ObserveCalibration(done, seconds);
+        }
+        if (done) {
+          spdlog::info(
+              "calibration id={} trigger={} model={} option={} status=done "
+              "gap_train_um={:.2f} gap_val_um={:.2f} active_gap_val_um={:.2f} "
+              "promoted={} version={} seconds={:.1f}",
+              r.id, r.trigger, r.model, r.option, r.gap_train_um, r.gap_val_um,
+              r.active_gap_val_um, r.promoted, r.model_version, seconds);
+        } else {
+          spdlog::warn(
+              "calibration id={} trigger={} status=failed "
+              "seconds={:.1f}: {}",
+              r.id, r.trigger, seconds, r.message);
+        }
+      });
+
+  api::ApiOptions api_options;
+  api_options.token = config.token;
+  api_options.body_limit_bytes = config.body_limit_bytes;
+  api_options.default_law = config.model;
+  api_options.default_option = config.option;
+  api_options.on_calibration_queued = [&scheduler](int64_t id) {
+    spdlog::info("calibration id={} queued trigger=api", id);
+    scheduler.Submit(id);
+  };
+  api::Router router(store.get(), api_options);
+  router_ptr = &router;
+
+  api::HttpServerOptions http;
+  http.bind_address = config.bind;
+  http.port = config.port;
+  http.threads = config.threads;
+  http.keep_alive_max_count = config.keep_alive_max;
+  http.keep_alive_timeout_s = config.keep_alive_timeout_s;
+  http.payload_max_bytes = config.body_limit_bytes;
+  if (spdlog::should_log(spdlog::level::debug)) {
+    http.on_request = [](const api::RequestLogEntry& e) {
+      spdlog::debug(
+          "request method={} path={} status={} ms={:.3f} in={} out={} "
+          "remote={}",
+          e.method, e.path, e.status, e.seconds * 1e3, e.request_bytes,
+          e.response_bytes, e.remote_addr);
+    };
+  }
+  api::HttpServer server(&router, http);
+  const Status started = server.Start();
+  if (!started.ok()) {
+    spdlog::error("cannot listen: {}", started.message());
+    std::fprintf(stderr, "rollwear serve: %s\n", started.message().c_str());
+    return 1;
+  }
+  scheduler.Start();
+  const std::string url =
+      "http://" + config.bind + ":" + std::to_string(server.port());
+  spdlog::info(
+      "listening on {} (threads={} keep_alive_max={} body_limit_bytes={} "
+      "auth={} nightly={} model={} option={})",
+      url, config.threads, config.keep_alive_max, config.body_limit_bytes,
+      config.token.empty() ? "off" : "bearer",
+      service::FormatTimeOfDay(config.recalibration_minute),
+      WearLawName(config.model), config.option);
+  std::printf("rollwear: listening on %s\n", url.c_str());
+  std::fflush(stdout);
+
+  int signal_number = 0;
+  sigwait(&stop_signals, &signal_number);
+  spdlog::info(
+      "received {}, stopping: no new connections, finishing "
+      "in-flight requests",
+      signal_number == SIGTERM ? "SIGTERM" : "SIGINT");
+  server.Stop();
+  spdlog::info("HTTP server stopped; waiting for the calibration worker");
+  scheduler.Stop();
+  router_ptr = nullptr;
+  store.reset();
+  spdlog::info("database closed; bye");
+  spdlog::shutdown();
+  return 0;
+}
+
+}  // namespace rollwear::cli

@@ -1,0 +1,84 @@
+// ServeConfig: the settings of `rollwear serve` and where they come from.
+//
+// Precedence, lowest first: built-in defaults, the config file (--config),
+// environment variables ROLLWEAR_<KEY> (ROLLWEAR_TOKEN wins over the file,
+// so the secret can stay out of it), then explicit command-line flags.
+//
+// File format: one `key = value` per line; `#` starts a comment (whole line
+// or after the value); blank lines are ignored; values may be wrapped in
+// double quotes. Keys:
+//   port                 TCP port (0 = ephemeral)                   8080
+//   bind                 listen address                              127.0.0.1
+//   db                   SQLite database file                        (required)
+//   token                bearer token for POSTs (empty = no auth)    ""
+//   body_limit_bytes     largest request body                        1048576
+//   recalibration_time   nightly run, HH:MM local time, or "off"     02:00
+//   model                wang | nikitenko | cao                      wang
+//   option               K structure 1 | 2 | 3                       1
+//   threads              HTTP worker threads                         32
+//   keep_alive_max       requests per kept-alive connection          10000
+//   keep_alive_timeout   idle seconds before a connection closes     5
+//   log_level            trace|debug|info|warn|error|off             info
+// Errors name the place: "rollwear.conf:7: port: must be an integer in
+// [0, 65535], got 'http'" or "ROLLWEAR_PORT: ...".
+//
+// Thread-safety: plain value and stateless functions.
+#ifndef ROLLWEAR_SERVICE_CONFIG_H_
+#define ROLLWEAR_SERVICE_CONFIG_H_
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/status.h"
+#include "core/wear_law.h"
+
+namespace rollwear::service {
+
+struct ServeConfig {
+  int port = 8080;
+  std::string bind = "127.0.0.1";
+  std::string db;
+  std::string token;
+  size_t body_limit_bytes = 1 << 20;
+  // Minutes after local midnight of the nightly recalibration; -1 = off.
+  int recalibration_minute = 2 * 60;
+  WearLaw model = WearLaw::kWang;
+  int option = 1;
+  int threads = 32;
+  int keep_alive_max = 10000;
+  int keep_alive_timeout_s = 5;
+  std::string log_level = "info";
+
+  // Checks the whole configuration (db set, ranges).
+  bool IsValid(std::string* error) const;
+};
+
+// Every key the file and the environment accept.
+const std::vector<std::string>& ConfigKeys();
+
+// Sets one key from its text value; `where` prefixes the error message
+// ("rollwear.conf:7" or "ROLLWEAR_PORT").
+Status SetConfigValue(const std::string& key, const std::string& value,
+                      const std::string& where, ServeConfig* config);
+
+// Applies the lines of a config file's text; `name` labels errors.
+Status ParseConfigText(const std::string& text, const std::string& name,
+                       ServeConfig* config);
+// Reads and applies a config file.
+Status LoadConfigFile(const std::string& path, ServeConfig* config);
+
+// Applies ROLLWEAR_<KEY> variables found by `getenv` (default ::getenv);
+// empty variables count as unset.
+Status ApplyEnvironment(
+    ServeConfig* config,
+    const std::function<const char*(const char*)>& getenv_fn = nullptr);
+
+// "HH:MM" (00:00..23:59) -> minutes after midnight; "off" -> -1.
+bool ParseTimeOfDay(const std::string& text, int* minutes);
+std::string FormatTimeOfDay(int minutes);  // "02:00" or "off"
+
+}  // namespace rollwear::service
+
+#endif  // ROLLWEAR_SERVICE_CONFIG_H_

@@ -1,0 +1,131 @@
+// service/scheduler: the local-time due computation, the nightly trigger
+// (only when measurements arrived since the last run) with an injected
+// clock, and the job worker running queued calibrations on the real store.
+#include "service/scheduler.h"
+
+#include <stdlib.h>
+#include <time.h>
+
+#include <atomic>
+#include <filesystem>
+#include <memory>
+
+#include <gtest/gtest.h>
+
+#include "core/dataset_io.h"
+#include "core/simulator.h"
+#include "tests/e2e/e2e_util.h"
+
+namespace rollwear::service {
+namespace {
+
+UnixSeconds At(const char* iso) {
+  UnixSeconds t = 0;
+  EXPECT_TRUE(ParseTimestamp(iso, &t)) << iso;
+  return t;
+}
+
+void SetTimeZone(const char* tz) {
+  setenv("TZ", tz, 1);
+  tzset();
+}
+
+TEST(NextLocalTimeTest, Utc) {
+  SetTimeZone("UTC");
+  EXPECT_EQ(NextLocalTime(At("2026-03-01T01:00:00Z"), 120),
+            At("2026-03-01T02:00:00Z"));
+  EXPECT_EQ(NextLocalTime(At("2026-03-01T02:00:00Z"), 120),
+            At("2026-03-02T02:00:00Z"));
+  EXPECT_EQ(NextLocalTime(At("2026-03-01T23:59:59Z"), 0),
+            At("2026-03-02T00:00:00Z"));
+  EXPECT_EQ(NextLocalTime(At("2026-12-31T03:00:00Z"), 120),
+            At("2027-01-01T02:00:00Z"));
+}
+
+TEST(NextLocalTimeTest, LocalTimeZoneAndDaylightSaving) {
+  if (!std::filesystem::exists("/usr/share/zoneinfo/Europe/Berlin")) {
+    GTEST_SKIP() << "no tzdata";
+  }
+  SetTimeZone("Europe/Berlin");
+  // Winter: 02:00 CET is 01:00Z; summer: 03:00 CEST is 01:00Z.
+  EXPECT_EQ(NextLocalTime(At("2026-01-10T12:00:00Z"), 120),
+            At("2026-01-11T01:00:00Z"));
+  EXPECT_EQ(NextLocalTime(At("2026-07-10T12:00:00Z"), 180),
+            At("2026-07-11T01:00:00Z"));
+  SetTimeZone("UTC");
+}
+
+class SchedulerTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    SetTimeZone("UTC");
+    StatusOr<std::unique_ptr<storage::MillStore>> store =
+        storage::MillStore::Open(dir_ / "scheduler.db",
+                                 storage::StoreOptions());
+    ASSERT_TRUE(store.ok()) << store.status().ToString();
+    store_ = std::move(store).value();
+  }
+
+  void ImportSimulated(int campaigns) {
+    SimulatorOptions options;
+    options.seed = 9;
+    options.num_campaigns = campaigns;
+    StatusOr<Simulation> sim = Simulate(options);
+    ASSERT_TRUE(sim.ok()) << sim.status().ToString();
+    const Status s = store_->ImportDataset(sim->data);
+    ASSERT_TRUE(s.ok()) << s.ToString();
+  }
+
+  e2e::TempDir dir_;
+  std::unique_ptr<storage::MillStore> store_;
+};
+
+TEST_F(SchedulerTest, NightlyTriggerQueuesOnlyWhenMeasurementsArrived) {
+  SchedulerOptions options;
+  options.recalibration_minute = 120;
+  Scheduler scheduler(store_.get(), options);
+  EXPECT_EQ(scheduler.Tick(At("2026-03-01T00:00:00Z")), 0);  // sets due
+  EXPECT_EQ(scheduler.next_due(), At("2026-03-01T02:00:00Z"));
+  EXPECT_EQ(scheduler.Tick(At("2026-03-01T01:59:59Z")), 0);
+  // Due, but nothing was measured: no run, due moves to the next night.
+  EXPECT_EQ(scheduler.Tick(At("2026-03-01T02:00:00Z")), 0);
+  EXPECT_EQ(scheduler.next_due(), At("2026-03-02T02:00:00Z"));
+  EXPECT_TRUE(store_->ListCalibrations(10).empty());
+
+  ImportSimulated(12);
+  ASSERT_GT(store_->Counters().measurements_since_last_calibration, 0);
+  EXPECT_EQ(scheduler.Tick(At("2026-03-01T12:00:00Z")), 0);  // not due yet
+  const int64_t id = scheduler.Tick(At("2026-03-02T02:00:30Z"));
+  EXPECT_GT(id, 0);
+  EXPECT_EQ(scheduler.next_due(), At("2026-03-03T02:00:00Z"));
+  StatusOr<storage::CalibrationRecord> record = store_->GetCalibration(id);
+  ASSERT_TRUE(record.ok());
+  EXPECT_EQ(record->trigger, "nightly");
+  EXPECT_EQ(record->status, storage::CalibrationStatus::kQueued);
+}
+
+TEST_F(SchedulerTest, WorkerRunsQueuedCalibrationsAndReportsThem) {
+  ImportSimulated(12);
+  std::atomic<int> finished{0};
+  storage::CalibrationRecord last;
+  SchedulerOptions options;
+  options.recalibration_minute = -1;
+  Scheduler scheduler(store_.get(), options,
+                      [&](const storage::CalibrationRecord& r, double) {
+                        last = r;
+                        ++finished;
+                      });
+  // Queued before Start (as by a previous process): picked up by Start.
+  StatusOr<int64_t> id = store_->EnqueueCalibration("api", WearLaw::kWang, 1);
+  ASSERT_TRUE(id.ok()) << id.status().ToString();
+  scheduler.Start();
+  ASSERT_TRUE(scheduler.WaitIdle(std::chrono::seconds(300)));
+  EXPECT_EQ(finished.load(), 1);
+  EXPECT_EQ(last.id, *id);
+  EXPECT_EQ(last.status, storage::CalibrationStatus::kDone) << last.message;
+  EXPECT_EQ(store_->Counters().measurements_since_last_calibration, 0);
+  scheduler.Stop();
+}
+
+}  // namespace
+}  // namespace rollwear::service
