@@ -26,6 +26,8 @@ constexpr RouteInfo kRoutes[kNumRoutes] = {
     {"/v1/models", "GET"},
     {"/healthz", "GET"},
     {"/metrics", "GET"},
+    {"/v1/diagnoses", "POST"},
+    {"/v1/diagnoses/{id}", "GET"},
     {"unmatched", ""},
 };
 

@@ -39,6 +39,8 @@ enum class RouteId : int {
   kModels,            // GET  /v1/models
   kHealthz,           // GET  /healthz
   kMetrics,           // GET  /metrics
+  kDiagnosesPost,     // POST /v1/diagnoses
+  kDiagnosis,         // GET  /v1/diagnoses/{id}
   kUnmatched,         // anything else (404/405)
   kCount
 };

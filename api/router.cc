@@ -18,6 +18,7 @@ constexpr std::string_view kCampaignsPrefix = "/v1/campaigns/";
 constexpr std::string_view kEndSuffix = "/end";
 constexpr std::string_view kWearPrefix = "/v1/wear/";
 constexpr std::string_view kCalibrationsPrefix = "/v1/calibrations/";
+constexpr std::string_view kDiagnosesPrefix = "/v1/diagnoses/";
 
 HttpResponse Answer(int status, std::string body) {
   HttpResponse r;
@@ -143,6 +144,7 @@ RouteId MatchRoute(const std::string& path, bool post, std::string* arg1,
   if (path == "/v1/models") return RouteId::kModels;
   if (path == "/healthz") return RouteId::kHealthz;
   if (path == "/metrics") return RouteId::kMetrics;
+  if (path == "/v1/diagnoses") return RouteId::kDiagnosesPost;
   const std::string_view p(path);
   if (p.size() > kCampaignsPrefix.size() + kEndSuffix.size() &&
       p.substr(0, kCampaignsPrefix.size()) == kCampaignsPrefix &&
@@ -169,6 +171,12 @@ RouteId MatchRoute(const std::string& path, bool post, std::string* arg1,
       p.find('/', kCalibrationsPrefix.size()) == std::string_view::npos) {
     *arg1 = path.substr(kCalibrationsPrefix.size());
     return RouteId::kCalibration;
+  }
+  if (p.substr(0, kDiagnosesPrefix.size()) == kDiagnosesPrefix &&
+      p.size() > kDiagnosesPrefix.size() &&
+      p.find('/', kDiagnosesPrefix.size()) == std::string_view::npos) {
+    *arg1 = path.substr(kDiagnosesPrefix.size());
+    return RouteId::kDiagnosis;
   }
   return RouteId::kUnmatched;
 }
@@ -214,7 +222,9 @@ int HttpStatusFor(StatusCode code) {
 }
 
 Router::Router(storage::MillStore* store, ApiOptions options)
-    : store_(store), options_(std::move(options)) {}
+    : store_(store),
+      options_(std::move(options)),
+      diagnoses_(std::make_unique<DiagnosisJobs>(store)) {}
 
 HttpResponse Router::Handle(const HttpRequest& request) {
   try {
@@ -317,6 +327,12 @@ HttpResponse Router::Dispatch(const HttpRequest& request) {
       break;
     case RouteId::kMetrics:
       response = GetMetrics();
+      break;
+    case RouteId::kDiagnosesPost:
+      response = PostDiagnosis();
+      break;
+    case RouteId::kDiagnosis:
+      response = GetDiagnosis(arg1);
       break;
     default:
       response = Error(404, "not_found", "no such endpoint: " + path);
@@ -423,6 +439,21 @@ HttpResponse Router::GetCalibration(const std::string& id_text) {
   StatusOr<storage::CalibrationRecord> record = store_->GetCalibration(id);
   if (!record.ok()) return FromStatus(record.status());
   return Answer(200, EncodeCalibration(*record));
+}
+
+HttpResponse Router::PostDiagnosis() {
+  const int64_t id = diagnoses_->Enqueue();
+  return Answer(202, "{\"id\":" + std::to_string(id) + ",\"status\":\"queued\"}");
+}
+
+HttpResponse Router::GetDiagnosis(const std::string& id_text) {
+  int64_t id = 0;
+  std::optional<DiagnosisJob> job;
+  if (ParseInt64(id_text, &id) && id > 0) job = diagnoses_->Get(id);
+  if (!job) {
+    return Error(404, "not_found", "unknown diagnosis '" + id_text.substr(0, 40) + "'");
+  }
+  return Answer(200, EncodeDiagnosisJob(*job));
 }
 
 HttpResponse Router::ListCalibrations(const HttpRequest& request) {

@@ -17,10 +17,12 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "api/diagnosis_jobs.h"
 #include "api/metrics.h"
 #include "core/status.h"
 #include "core/wear_law.h"
@@ -100,6 +102,8 @@ class Router {
   HttpResponse ListModels(const HttpRequest& request);
   HttpResponse GetHealth();
   HttpResponse GetMetrics();
+  HttpResponse PostDiagnosis();
+  HttpResponse GetDiagnosis(const std::string& id);
 
   // True when no token is configured or the request carries it as
   // "Authorization: Bearer <token>" (compared in constant time).
@@ -108,6 +112,7 @@ class Router {
   storage::MillStore* store_;
   ApiOptions options_;
   Metrics metrics_;
+  std::unique_ptr<DiagnosisJobs> diagnoses_;
 };
 
 }  // namespace rollwear::api

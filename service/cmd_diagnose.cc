@@ -5,8 +5,7 @@
 #include <cstdio>
 #include <fstream>
 
-#include <nlohmann/json.hpp>
-
+#include "api/diagnosis_json.h"
 #include "core/dataset_io.h"
 #include "core/diagnosis.h"
 #include "core/diagnosis_report.h"
@@ -14,94 +13,6 @@
 #include "service/flags.h"
 
 namespace rollwear::cli {
-namespace {
-
-nlohmann::json Num(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-}
-
-nlohmann::json TermJson(const ModelTerm& t) {
-  nlohmann::json j = {{"covariate", t.covariate},
-                      {"form", TermFormName(t.form)},
-                      {"params", t.params},
-                      {"center", t.center},
-                      {"scale", t.scale}};
-  if (!t.edges.empty()) j["edges"] = t.edges;
-  if (t.num_levels > 0) j["num_levels"] = t.num_levels;
-  return j;
-}
-
-}  // namespace
-
-nlohmann::json DiagnosisJson(const DiagnosisReport& r) {
-  nlohmann::json j;
-  j["baseline"] = {{"model", r.law},
-                   {"option", 1},
-                   {"gap_train_um", r.baseline_gap_train_um},
-                   {"gap_val_um", r.baseline_gap_val_um}};
-  j["final"] = {{"gap_train_um", r.final_gap_train_um}, {"gap_val_um", r.final_gap_val_um}};
-  j["n_train"] = r.n_train;
-  j["n_val"] = r.n_val;
-  j["verdict"] = r.verdict;
-  j["findings"] = nlohmann::json::array();
-  for (const Finding& f : r.findings) {
-    nlohmann::json params = nlohmann::json::object(), se = nlohmann::json::object();
-    for (const auto& [k, v] : f.parameters) params[k] = Num(v);
-    for (const auto& [k, v] : f.parameter_std_errors) se[k] = Num(v);
-    j["findings"].push_back({{"covariate", f.covariate},
-                             {"level", f.level},
-                             {"mechanism", f.mechanism},
-                             {"shape", f.shape},
-                             {"form", f.form},
-                             {"explanation", f.explanation},
-                             {"parameters", params},
-                             {"term", TermJson(f.term)},
-                             {"term_param_std_errors", se},
-                             {"lr_statistic", f.lr},
-                             {"df", f.df},
-                             {"p_value", Num(f.p_adjusted)},
-                             {"p_value_unadjusted", Num(f.p_value)},
-                             {"cv_gap_before_um", f.cv_gap_before_um},
-                             {"cv_gap_after_um", f.cv_gap_after_um},
-                             {"cv_error_ratio", Num(f.cv_mse_ratio)},
-                             {"gap_val_before_um", f.gap_val_before_um},
-                             {"gap_val_after_um", f.gap_val_after_um},
-                             {"alternatives", f.alternatives}});
-  }
-  j["locate"] = nlohmann::json::array();
-  for (const Breakdown& b : r.locate) {
-    nlohmann::json groups = nlohmann::json::array();
-    for (const Breakdown::Group& g : b.groups) {
-      groups.push_back({{"label", g.label},
-                        {"n", g.n},
-                        {"mean_residual_um", g.mean_residual_um},
-                        {"mean_relative_residual", g.mean_relative}});
-    }
-    j["locate"].push_back({{"dimension", b.dimension},
-                           {"test", b.test},
-                           {"statistic", Num(b.statistic)},
-                           {"p_value", Num(b.p_value)},
-                           {"effect_size", Num(b.effect_size)},
-                           {"groups", groups}});
-  }
-  j["candidates_first_round"] = nlohmann::json::array();
-  for (const CandidateResult& c : r.first_round) {
-    j["candidates_first_round"].push_back({{"covariate", c.covariate},
-                                           {"form", c.form},
-                                           {"df", c.df},
-                                           {"lr_statistic", c.lr},
-                                           {"p_value", Num(c.p_adjusted)},
-                                           {"cv_error_ratio", Num(c.cv_mse_ratio)},
-                                           {"accepted", c.accepted}});
-  }
-  nlohmann::json coef = nlohmann::json::object();
-  for (const auto& [k, v] : r.coefficients) coef[k] = v;
-  nlohmann::json terms = nlohmann::json::array();
-  for (const ModelTerm& t : r.terms) terms.push_back(TermJson(t));
-  j["adopted_model"] = {{"model", r.law}, {"option", 1}, {"coefficients", coef}, {"terms", terms}};
-  j["seconds"] = r.seconds;
-  return j;
-}
 
 int RunDiagnose(const Args& args) {
   Flags flags;
@@ -153,7 +64,7 @@ int RunDiagnose(const Args& args) {
               r.final_gap_train_um, r.final_gap_val_um, r.seconds);
   if (flags.Has("json")) {
     std::ofstream out(flags.Get("json"));
-    out << DiagnosisJson(r).dump(2) << "\n";
+    out << api::DiagnosisJsonText(r, 2) << "\n";
     if (!out) {
       std::fprintf(stderr, "rollwear diagnose: cannot write %s\n", flags.Get("json").c_str());
       return 1;

@@ -1,0 +1,88 @@
+#include "api/diagnosis_jobs.h"
+
+#include <nlohmann/json.hpp>
+
+#include "api/diagnosis_json.h"
+#include "core/diagnosis.h"
+
+namespace rollwear::api {
+namespace {
+
+constexpr size_t kKeep = 50;  // reports kept in memory
+
+}  // namespace
+
+std::string EncodeDiagnosisJob(const DiagnosisJob& job) {
+  nlohmann::json j = nlohmann::json::object();
+  if (job.status == "done") {
+    j = nlohmann::json::parse(job.report, nullptr, /*allow_exceptions=*/false);
+    if (j.is_discarded()) j = nlohmann::json::object();
+  }
+  j["id"] = job.id;
+  j["status"] = job.status;
+  if (job.status == "failed") j["message"] = job.message;
+  return j.dump();
+}
+
+DiagnosisJobs::DiagnosisJobs(storage::MillStore* store)
+    : store_(store), worker_([this] { Work(); }) {}
+
+DiagnosisJobs::~DiagnosisJobs() {
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    stop_ = true;
+  }
+  cv_.notify_all();
+  worker_.join();
+}
+
+int64_t DiagnosisJobs::Enqueue() {
+  std::lock_guard<std::mutex> lock(mu_);
+  const int64_t id = next_id_++;
+  jobs_[id] = DiagnosisJob{id, "queued", "", ""};
+  queue_.push_back(id);
+  while (jobs_.size() > kKeep) jobs_.erase(jobs_.begin());
+  cv_.notify_one();
+  return id;
+}
+
+std::optional<DiagnosisJob> DiagnosisJobs::Get(int64_t id) const {
+  std::lock_guard<std::mutex> lock(mu_);
+  auto it = jobs_.find(id);
+  if (it == jobs_.end()) return std::nullopt;
+  return it->second;
+}
+
+void DiagnosisJobs::Work() {
+  for (;;) {
+    int64_t id = 0;
+    {
+      std::unique_lock<std::mutex> lock(mu_);
+      cv_.wait(lock, [this] { return stop_ || !queue_.empty(); });
+      if (stop_) return;
+      id = queue_.front();
+      queue_.pop_front();
+      auto it = jobs_.find(id);
+      if (it == jobs_.end()) continue;  // evicted before it ran
+      it->second.status = "running";
+    }
+    DiagnosisJob result{id, "failed", "", ""};
+    StatusOr<Dataset> data = store_->ExportDataset();
+    if (!data.ok()) {
+      result.message = data.status().message();
+    } else {
+      StatusOr<DiagnosisReport> report = Diagnose(*data, DiagnosisOptions{});
+      if (report.ok()) {
+        result.status = "done";
+        result.report = DiagnosisJsonText(*report);
+      } else {
+        result.message = report.status().message();
+      }
+    }
+    std::lock_guard<std::mutex> lock(mu_);
+    auto it = jobs_.find(id);
+    if (it != jobs_.end()) it->second = std::move(result);
+  }
+}
+
+}  // namespace rollwear::api
