@@ -17,6 +17,11 @@ StatusOr<WearModel> PriorModel(WearLaw law, int option,
   const FactorGroup& kf = m.structure.groups().front();  // kF comes first
   for (int i = 0; i < kf.size; ++i) m.k[kf.offset + i] = initial_k;
   m.cao_exponent = 1.0;
+  // Uncalibrated: K is a typical value, not a fit, so the prediction
+  // interval must say so. K of hot strip finishing work rolls spans about a
+  // factor of two between mills, roll grades and steel grades; a 50 %
+  // relative sd (95 % interval about ±100 %) states that honestly.
+  m.noise_rel = 0.5;
   return m;
 }
 
