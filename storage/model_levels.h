@@ -16,8 +16,9 @@
 namespace rollwear::storage {
 
 // `law`, K structure `option` over `positions` (no roll types, no grades),
-// every kF = initial_k and every other factor 1; no covariance, no noise
-// model (the interval collapses to the prediction).
+// every kF = initial_k and every other factor 1; no covariance, and a noise
+// model of 50 % of the predicted wear (an uncalibrated K is a guess, and the
+// prediction interval says so).
 StatusOr<WearModel> PriorModel(WearLaw law, int option,
                                std::vector<std::string> positions,
                                double initial_k);
