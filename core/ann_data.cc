@@ -172,21 +172,13 @@ std::vector<double> PredictAnn(const AnnModel& model, const AnnInputs& inputs,
 
 FitMetrics AnnMetrics(const AnnInputs& inputs, const std::vector<int>& seqs,
                       const std::vector<double>& predicted) {
-  FitMetrics m;
-  m.n = static_cast<int>(seqs.size());
-  if (seqs.empty()) return m;
   std::vector<int> position;
   std::vector<double> measured;
-  double abs_sum = 0;
-  for (size_t k = 0; k < seqs.size(); ++k) {
-    const AnnSequence& s = inputs.sequences[seqs[k]];
-    position.push_back(s.position);
-    measured.push_back(s.measured_um);
-    abs_sum += std::abs(s.measured_um - predicted[k]);
+  for (int k : seqs) {
+    position.push_back(inputs.sequences[k].position);
+    measured.push_back(inputs.sequences[k].measured_um);
   }
-  m.gap_um = abs_sum / static_cast<double>(seqs.size());
-  m.cost = PaperCost(position, measured, predicted);
-  return m;
+  return MetricsOf(position, measured, predicted);
 }
 
 }  // namespace rollwear

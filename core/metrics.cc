@@ -54,24 +54,27 @@ double PaperCost(const std::vector<int>& position,
   return cost;
 }
 
-FitMetrics Evaluate(const WearModel& model, const WearStatistics& stats,
-                    const std::vector<int>& obs) {
+FitMetrics MetricsOf(const std::vector<int>& position, const std::vector<double>& measured,
+                     const std::vector<double>& predicted) {
   FitMetrics m;
-  m.n = static_cast<int>(obs.size());
-  if (obs.empty()) return m;
-  const std::vector<double> predicted = PredictAll(model, stats, obs);
-  std::vector<double> measured;
-  std::vector<int> position;
+  m.n = static_cast<int>(measured.size());
+  if (measured.empty()) return m;
   double abs_sum = 0;
-  for (size_t i = 0; i < obs.size(); ++i) {
-    const Observation& o = stats.observations[obs[i]];
-    measured.push_back(o.measured_um);
-    position.push_back(o.position);
-    abs_sum += std::abs(o.measured_um - predicted[i]);
-  }
-  m.gap_um = abs_sum / static_cast<double>(obs.size());
+  for (size_t i = 0; i < measured.size(); ++i) abs_sum += std::abs(measured[i] - predicted[i]);
+  m.gap_um = abs_sum / static_cast<double>(measured.size());
   m.cost = PaperCost(position, measured, predicted);
   return m;
+}
+
+FitMetrics Evaluate(const WearModel& model, const WearStatistics& stats,
+                    const std::vector<int>& obs) {
+  std::vector<double> measured;
+  std::vector<int> position;
+  for (int i : obs) {
+    measured.push_back(stats.observations[i].measured_um);
+    position.push_back(stats.observations[i].position);
+  }
+  return MetricsOf(position, measured, PredictAll(model, stats, obs));
 }
 
 }  // namespace rollwear

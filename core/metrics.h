@@ -47,6 +47,11 @@ std::vector<double> PredictAll(const WearModel& model,
                                const WearStatistics& stats,
                                const std::vector<int>& obs);
 
+// Eq. 9 cost and average gap of measured/predicted pairs, each with its
+// roll position level: what Evaluate computes for any predictor.
+FitMetrics MetricsOf(const std::vector<int>& position, const std::vector<double>& measured,
+                     const std::vector<double>& predicted);
+
 // Eq. 9 from measured/predicted pairs grouped by roll position level.
 double PaperCost(const std::vector<int>& position, const std::vector<double>& measured,
                  const std::vector<double>& predicted);
