@@ -43,12 +43,22 @@ bool DecodeCoil(std::string_view body, int max_depth, storage::CoilIn* out,
 bool DecodeMeasurement(std::string_view body, int max_depth,
                        storage::MeasurementIn* out, ApiError* error);
 // An empty body (or "{}") selects the defaults.
+// {"model": "ann"} asks for the recurrent network (option is ignored).
 struct CalibrationRequest {
   WearLaw law = WearLaw::kWang;
   int option = 1;
+  bool ann = false;
 };
 bool DecodeCalibrationRequest(std::string_view body, int max_depth,
                               CalibrationRequest* out, ApiError* error);
+// POST /v1/diagnoses: optional {"adopt": true|false} (default false): when
+// the diagnosis finds missing physics, propose its adopted model
+// (MillStore::ProposeModel).
+struct DiagnosisRequest {
+  bool adopt = false;
+};
+bool DecodeDiagnosisRequest(std::string_view body, int max_depth,
+                            DiagnosisRequest* out, ApiError* error);
 
 // Answer bodies.
 std::string EncodeRollChangeAnswer(const storage::RollChangeIn& in,

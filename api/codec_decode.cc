@@ -399,8 +399,9 @@ bool DecodeCalibrationRequest(std::string_view body, int max_depth,
   if (j.contains("model")) {
     std::string model;
     if (!r.Text("model", &model)) return false;
-    if (!ParseWearLaw(model, &out->law)) {
-      return r.Invalid("model", "must be wang, nikitenko or cao, got '" +
+    out->ann = model == storage::kAnnModelName;
+    if (!out->ann && !ParseWearLaw(model, &out->law)) {
+      return r.Invalid("model", "must be wang, nikitenko, cao or ann, got '" +
                                     model.substr(0, 40) + "'");
     }
   }
@@ -409,6 +410,17 @@ bool DecodeCalibrationRequest(std::string_view body, int max_depth,
     if (!r.Integer("option", 1, 3, &option)) return false;
     out->option = static_cast<int>(option);
   }
+  return true;
+}
+
+bool DecodeDiagnosisRequest(std::string_view body, int max_depth,
+                            DiagnosisRequest* out, ApiError* error) {
+  size_t first = body.find_first_not_of(" \t\r\n");
+  if (first == std::string_view::npos) return true;  // empty: defaults
+  Json j;
+  if (!ParseObject(body, max_depth, &j, error)) return false;
+  ObjectReader r(j, "", error);
+  if (j.contains("adopt") && !r.Flag("adopt", &out->adopt)) return false;
   return true;
 }
 

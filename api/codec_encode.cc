@@ -5,7 +5,9 @@
 #include <nlohmann/json.hpp>
 
 #include "api/codec.h"
+#include "core/ann_model.h"
 #include "core/dataset_io.h"
+#include "storage/model_codec.h"
 
 namespace rollwear::api {
 namespace {
@@ -86,24 +88,35 @@ Json CalibrationJson(const storage::CalibrationRecord& r) {
       {"message", r.message}};
 }
 
+Json TermsJson(const WearModel& m) {
+  return Json::parse(storage::EncodeTerms(m.terms));
+}
+
 Json ModelJson(const storage::ModelVersion& m) {
   Json coefficients = Json::object();
   for (const auto& [name, value] : m.wear_model.NamedCoefficients()) {
     coefficients[name] = FiniteOrNull(value);
   }
-  return Json{
+  Json out{
       {"version", m.version},
       {"model", m.model},
       {"option", m.option},
       {"active", m.active},
       {"coefficients", coefficients},
-      // Extra terms fitted by diagnoses come with a later issue.
-      {"terms", Json::array()},
+      // Terms adopted from a diagnosis, as the model store encodes them.
+      {"terms", TermsJson(m.wear_model)},
       {"gap_val_um",
        m.version == 0 ? Json(nullptr) : FiniteOrNull(m.gap_val_um)},
       {"noise",
        {{"sd_um", m.wear_model.noise_sd_um}, {"rel", m.wear_model.noise_rel}}},
       {"created_at", TimeOrNull(m.created_at)}};
+  if (m.wear_model.is_ann()) {
+    const AnnModel& a = *m.wear_model.ann;
+    out["ann"] = {{"members", a.members.size()},
+                  {"hidden", {a.hidden1, a.hidden2}},
+                  {"inputs", a.num_inputs()}};
+  }
+  return out;
 }
 
 }  // namespace

@@ -21,6 +21,17 @@ std::string EncodeDiagnosisJob(const DiagnosisJob& job) {
   j["id"] = job.id;
   j["status"] = job.status;
   if (job.status == "failed") j["message"] = job.message;
+  if (job.adoption.has_value()) {
+    const storage::CalibrationRecord& r = *job.adoption;
+    j["adoption"] = {
+        {"calibration_id", r.id},
+        {"promoted", r.promoted},
+        {"gap_val_um", r.gap_val_um},
+        {"active_gap_val_um", r.active_gap_val_um},
+        {"model_version", r.model_version == 0 ? nlohmann::json(nullptr)
+                                               : nlohmann::json(r.model_version)},
+        {"message", r.message}};
+  }
   return j.dump();
 }
 
@@ -36,10 +47,14 @@ DiagnosisJobs::~DiagnosisJobs() {
   worker_.join();
 }
 
-int64_t DiagnosisJobs::Enqueue() {
+int64_t DiagnosisJobs::Enqueue(bool adopt) {
   std::lock_guard<std::mutex> lock(mu_);
   const int64_t id = next_id_++;
-  jobs_[id] = DiagnosisJob{id, "queued", "", ""};
+  DiagnosisJob job;
+  job.id = id;
+  job.status = "queued";
+  job.adopt = adopt;
+  jobs_[id] = std::move(job);
   queue_.push_back(id);
   while (jobs_.size() > kKeep) jobs_.erase(jobs_.begin());
   cv_.notify_one();
@@ -56,6 +71,7 @@ std::optional<DiagnosisJob> DiagnosisJobs::Get(int64_t id) const {
 void DiagnosisJobs::Work() {
   for (;;) {
     int64_t id = 0;
+    bool adopt = false;
     {
       std::unique_lock<std::mutex> lock(mu_);
       cv_.wait(lock, [this] { return stop_ || !queue_.empty(); });
@@ -65,8 +81,12 @@ void DiagnosisJobs::Work() {
       auto it = jobs_.find(id);
       if (it == jobs_.end()) continue;  // evicted before it ran
       it->second.status = "running";
+      adopt = it->second.adopt;
     }
-    DiagnosisJob result{id, "failed", "", ""};
+    DiagnosisJob result;
+    result.id = id;
+    result.status = "failed";
+    result.adopt = adopt;
     StatusOr<Dataset> data = store_->ExportDataset();
     if (!data.ok()) {
       result.message = data.status().message();
@@ -75,6 +95,17 @@ void DiagnosisJobs::Work() {
       if (report.ok()) {
         result.status = "done";
         result.report = DiagnosisJsonText(*report);
+        if (adopt && !report->findings.empty()) {
+          StatusOr<storage::CalibrationRecord> run = store_->ProposeModel(
+              "diagnosis " + std::to_string(id), WearLawName(report->adopted_model.law),
+              1, report->adopted_model);
+          if (run.ok()) {
+            result.adoption = std::move(run).value();
+          } else {
+            result.status = "failed";
+            result.message = "adoption could not be recorded: " + run.status().message();
+          }
+        }
       } else {
         result.message = report.status().message();
       }

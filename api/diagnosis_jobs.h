@@ -2,7 +2,11 @@
 // holds, one at a time on a background worker, for POST /v1/diagnoses and
 // GET /v1/diagnoses/{id}. Reports are kept in memory (the last 50); a
 // diagnosis can always be run again from the stored data, so they are not
-// persisted across restarts.
+// persisted across restarts. A diagnosis queued with `adopt` that finds
+// missing physics proposes its adopted model (option 1 plus the fitted
+// terms) to the store, which promotes it when its validation gap is no worse
+// than the active model's (MillStore::ProposeModel); the job then carries
+// that run's record.
 //
 // Thread-safety: all methods are thread-safe. The destructor waits for a
 // running diagnosis to finish.
@@ -27,10 +31,15 @@ struct DiagnosisJob {
   std::string status;   // "queued", "running", "done", "failed"
   std::string report;   // JSON of api/diagnosis_json.h when done
   std::string message;  // why it failed
+  bool adopt = false;
+  // The run that proposed the adopted model (adopt and missing physics).
+  std::optional<storage::CalibrationRecord> adoption;
 };
 
 // {"id", "status"} plus, when done, every field of the report (the JSON of
-// `rollwear diagnose --json`), or "message" when failed.
+// `rollwear diagnose --json`) and, when a model was proposed, "adoption":
+// {"calibration_id", "promoted", "gap_val_um", "active_gap_val_um",
+// "model_version", "message"}; "message" when failed.
 std::string EncodeDiagnosisJob(const DiagnosisJob& job);
 
 class DiagnosisJobs {
@@ -42,7 +51,7 @@ class DiagnosisJobs {
   DiagnosisJobs& operator=(const DiagnosisJobs&) = delete;
 
   // Queues a diagnosis and returns its id.
-  int64_t Enqueue();
+  int64_t Enqueue(bool adopt = false);
   std::optional<DiagnosisJob> Get(int64_t id) const;
 
  private:

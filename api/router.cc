@@ -145,6 +145,7 @@ RouteId MatchRoute(const std::string& path, bool post, std::string* arg1,
   if (path == "/healthz") return RouteId::kHealthz;
   if (path == "/metrics") return RouteId::kMetrics;
   if (path == "/v1/diagnoses") return RouteId::kDiagnosesPost;
+  if (path == "/") return RouteId::kDashboard;
   const std::string_view p(path);
   if (p.size() > kCampaignsPrefix.size() + kEndSuffix.size() &&
       p.substr(0, kCampaignsPrefix.size()) == kCampaignsPrefix &&
@@ -329,10 +330,13 @@ HttpResponse Router::Dispatch(const HttpRequest& request) {
       response = GetMetrics();
       break;
     case RouteId::kDiagnosesPost:
-      response = PostDiagnosis();
+      response = PostDiagnosis(request);
       break;
     case RouteId::kDiagnosis:
       response = GetDiagnosis(arg1);
+      break;
+    case RouteId::kDashboard:
+      response = GetDashboard();
       break;
     default:
       response = Error(404, "not_found", "no such endpoint: " + path);
@@ -422,7 +426,8 @@ HttpResponse Router::PostCalibration(const HttpRequest& request) {
                                 &error)) {
     return Error(error);
   }
-  StatusOr<int64_t> id = store_->EnqueueCalibration("api", in.law, in.option);
+  StatusOr<int64_t> id = in.ann ? store_->EnqueueAnnTraining("api")
+                                : store_->EnqueueCalibration("api", in.law, in.option);
   if (!id.ok()) return FromStatus(id.status());
   if (options_.on_calibration_queued) options_.on_calibration_queued(*id);
   HttpResponse r = Answer(202, EncodeCalibrationId(*id));
@@ -441,8 +446,14 @@ HttpResponse Router::GetCalibration(const std::string& id_text) {
   return Answer(200, EncodeCalibration(*record));
 }
 
-HttpResponse Router::PostDiagnosis() {
-  const int64_t id = diagnoses_->Enqueue();
+HttpResponse Router::PostDiagnosis(const HttpRequest& request) {
+  DiagnosisRequest in;
+  ApiError error;
+  if (!DecodeDiagnosisRequest(request.body, options_.max_json_depth, &in, &error)) {
+    return Error(error);
+  }
+  const int64_t id = diagnoses_->Enqueue(in.adopt);
+  last_diagnosis_id_.store(id, std::memory_order_relaxed);
   return Answer(202, "{\"id\":" + std::to_string(id) + ",\"status\":\"queued\"}");
 }
 

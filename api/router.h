@@ -13,6 +13,7 @@
 #ifndef ROLLWEAR_API_ROUTER_H_
 #define ROLLWEAR_API_ROUTER_H_
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -102,8 +103,10 @@ class Router {
   HttpResponse ListModels(const HttpRequest& request);
   HttpResponse GetHealth();
   HttpResponse GetMetrics();
-  HttpResponse PostDiagnosis();
+  HttpResponse PostDiagnosis(const HttpRequest& request);
   HttpResponse GetDiagnosis(const std::string& id);
+  // GET /: the HTML dashboard (api/dashboard.cc).
+  HttpResponse GetDashboard();
 
   // True when no token is configured or the request carries it as
   // "Authorization: Bearer <token>" (compared in constant time).
@@ -113,6 +116,8 @@ class Router {
   ApiOptions options_;
   Metrics metrics_;
   std::unique_ptr<DiagnosisJobs> diagnoses_;
+  // Id of the last diagnosis queued (0: none), for the dashboard.
+  std::atomic<int64_t> last_diagnosis_id_{0};
 };
 
 }  // namespace rollwear::api

@@ -115,7 +115,7 @@ void BM_AnnAddPass(benchmark::State& state) {
   for (uint64_t s = 2; s <= 5; ++s) {
     model.members.push_back(InitialAnnNetwork(model, s, -1.0));
   }
-  const AnnPassInput pass = AnnPassInputOf(p.data, p.data.passes[0]);
+  const PassInput pass = PassInputOf(p.data, p.data.passes[0]);
   AnnRollState roll =
       MountRoll(model, model.positions[0], model.roll_types[0], 700, 560);
   for (auto _ : state) {

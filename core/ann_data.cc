@@ -74,7 +74,7 @@ StatusOr<AnnModel> FitAnnScaling(const Dataset& data, const DatasetIndex& index,
     if (!is_train[obs.campaign]) continue;
     const Mount& mount = data.mounts[obs.mount];
     for (int pi : index.PassesOf(obs.campaign, mount.stand)) {
-      AnnRawPassFeatures(AnnPassInputOf(data, data.passes[pi]),
+      AnnRawPassFeatures(PassInputOf(data, data.passes[pi]),
                          mount.diameter_mm, raw);
       col[ns - 2].Add(mount.hardness_hb);
       col[ns - 1].Add(mount.diameter_mm);
@@ -140,7 +140,7 @@ AnnInputs BuildAnnInputs(const AnnModel& model, const Dataset& data,
     seq.begin = col;
     for (int pi : index.PassesOf(obs.campaign, mount.stand)) {
       const Pass& pass = data.passes[pi];
-      model.EncodePass(AnnPassInputOf(data, pass), mount.diameter_mm,
+      model.EncodePass(PassInputOf(data, pass), mount.diameter_mm,
                        in.pass_input.col(col).data());
       in.load[col] = BaseLoad(WearLaw::kWang, MakeLoadInput(pass, mount));
       ++col;

@@ -84,22 +84,7 @@ const std::vector<std::string>& AnnPassContinuousNames() {
   return kNames;
 }
 
-AnnPassInput AnnPassInputOf(const Dataset& data, const Pass& p) {
-  AnnPassInput in;
-  in.grade = p.grade >= 0 ? data.grades[p.grade] : std::string();
-  in.force_kn = p.force_kn;
-  in.width_mm = p.width_mm;
-  in.length_m = p.length_m;
-  in.entry_thickness_mm = p.entry_thickness_mm;
-  in.exit_thickness_mm = p.exit_thickness_mm;
-  in.temperature_c = p.temperature_c;
-  in.speed_mps = p.speed_mps;
-  in.lubrication = p.lubrication;
-  in.shift_mm = p.shift_mm;
-  return in;
-}
-
-void AnnRawPassFeatures(const AnnPassInput& p, double diameter_mm,
+void AnnRawPassFeatures(const PassInput& p, double diameter_mm,
                         double* out) {
   const double dh = p.entry_thickness_mm - p.exit_thickness_mm;
   out[0] = p.force_kn;
@@ -152,7 +137,7 @@ Eigen::VectorXd AnnModel::EncodeStatic(int position, int roll_type,
   return s;
 }
 
-void AnnModel::EncodePass(const AnnPassInput& pass, double diameter_mm,
+void AnnModel::EncodePass(const PassInput& pass, double diameter_mm,
                           double* out) const {
   const int ns = static_cast<int>(grades.size());
   const int offset = num_static();
@@ -241,7 +226,7 @@ AnnRollState MountRoll(const AnnModel& model, const std::string& position_label,
   return s;
 }
 
-double AddPass(const AnnModel& model, const AnnPassInput& pass,
+double AddPass(const AnnModel& model, const PassInput& pass,
                AnnRollState* state) {
   const int ns = model.num_static();
   const int np = model.num_pass();

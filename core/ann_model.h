@@ -36,6 +36,7 @@
 #include <Eigen/Core>
 
 #include "core/dataset.h"
+#include "core/pass_input.h"
 #include "core/status.h"
 
 namespace rollwear {
@@ -88,23 +89,9 @@ constexpr int kAnnNumPassContinuous = 12;
 // Names of those inputs (data-format.md columns and derived names).
 const std::vector<std::string>& AnnPassContinuousNames();
 
-// What a pass brings besides the roll: the coil row of data-format.md.
-struct AnnPassInput {
-  std::string grade;
-  double force_kn = 0;
-  double width_mm = 0;
-  double length_m = 0;
-  double entry_thickness_mm = 0;
-  double exit_thickness_mm = 0;
-  double temperature_c = 0;
-  double speed_mps = 0;
-  bool lubrication = false;
-  double shift_mm = 0;
-};
-AnnPassInput AnnPassInputOf(const Dataset& data, const Pass& pass);
 // Raw continuous inputs of a pass on a roll of `diameter_mm` (size
 // kAnnNumPassContinuous).
-void AnnRawPassFeatures(const AnnPassInput& pass, double diameter_mm,
+void AnnRawPassFeatures(const PassInput& pass, double diameter_mm,
                         double* out);
 
 struct AnnModel {
@@ -143,7 +130,7 @@ struct AnnModel {
   Eigen::VectorXd EncodeStatic(int position, int roll_type, double hardness_hb,
                                double diameter_mm) const;
   // Scaled pass inputs (size num_pass()) written to `out`.
-  void EncodePass(const AnnPassInput& pass, double diameter_mm,
+  void EncodePass(const PassInput& pass, double diameter_mm,
                   double* out) const;
   // Scaled state input u = (W - mu_W) / sd_W.
   double EncodeState(double wear_um) const {
@@ -176,7 +163,7 @@ AnnRollState MountRoll(const AnnModel& model, const std::string& position_label,
                        double hardness_hb);
 
 // Adds one pass; returns the increment of the ensemble-mean wear in µm.
-double AddPass(const AnnModel& model, const AnnPassInput& pass,
+double AddPass(const AnnModel& model, const PassInput& pass,
                AnnRollState* state);
 
 // One member's K for a pass given the layer-1 pre-activation `z1` (H1) and

@@ -5,9 +5,11 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <memory>
 
 #include "core/aggregation.h"
 #include "core/ann_data.h"
+#include "core/model_eval.h"
 #include "core/study.h"
 
 namespace rollwear {
@@ -108,6 +110,36 @@ StatusOr<AnnComparison> CompareAnnWithClassical(
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();
   return c;
+}
+
+StatusOr<WearModel> TrainServableAnn(const Dataset& data,
+                                     const std::vector<int>& train_campaigns,
+                                     const AnnTrainingOptions& options) {
+  const DatasetIndex index(data);
+  StatusOr<WearStatistics> stats = Aggregate(data, index, WearLaw::kWang);
+  if (!stats.ok()) return stats.status();
+  const std::vector<int> train = stats->MeasuredObservations(train_campaigns);
+  if (train.empty()) {
+    return Status::FailedPrecondition("no measured roll in the training campaigns");
+  }
+  StatusOr<AnnModel> skeleton = FitAnnScaling(data, index, *stats, train_campaigns,
+                                              options.hidden1, options.hidden2);
+  if (!skeleton.ok()) return skeleton.status();
+  const AnnInputs inputs = BuildAnnInputs(*skeleton, data, index, *stats);
+  StatusOr<AnnTrainingResult> trained = TrainAnn(*skeleton, inputs, train, options);
+  if (!trained.ok()) return trained.status();
+  WearModel model;
+  model.law = WearLaw::kWang;
+  model.ann = std::make_shared<const AnnModel>(std::move(trained->model));
+  const std::vector<MeasuredPrediction> fit =
+      PredictMeasured(model, data, index, train_campaigns);
+  std::vector<double> pred, err;
+  for (const MeasuredPrediction& p : fit) {
+    pred.push_back(p.wear_um);
+    err.push_back(p.measured_um - p.wear_um);
+  }
+  FitNoiseModel(pred, err, &model);
+  return model;
 }
 
 void MemberGapSpread(const AnnComparison& c, bool validation, double* mean,

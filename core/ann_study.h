@@ -26,6 +26,7 @@
 #include "core/dataset.h"
 #include "core/metrics.h"
 #include "core/status.h"
+#include "core/wear_model.h"
 
 namespace rollwear {
 
@@ -73,6 +74,15 @@ StatusOr<AnnComparison> CompareAnnWithClassical(
 // training) gaps.
 void MemberGapSpread(const AnnComparison& c, bool validation, double* mean,
                      double* sd, double* min, double* max);
+
+// The network as a servable model (wear_model.h, WearModel::ann): trained on
+// the training campaigns `train_campaigns` (campaign indices), with the
+// noise model sigma0^2 + (rho d)^2 fitted on its training residuals so that
+// the daemon can give an interval. What a calibration run with model "ann"
+// promotes.
+StatusOr<WearModel> TrainServableAnn(const Dataset& data,
+                                     const std::vector<int>& train_campaigns,
+                                     const AnnTrainingOptions& options);
 
 // The Table 4 analogue as Markdown.
 std::string AnnComparisonMarkdown(const AnnComparison& c);

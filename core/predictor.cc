@@ -1,5 +1,7 @@
 #include "core/predictor.h"
 
+#include <cmath>
+
 #include "core/covariates.h"
 
 namespace rollwear {
@@ -14,6 +16,9 @@ RollWearState MountRoll(const WearModel& model, const std::string& position_labe
   s.hardness_hb = hardness_hb;
   s.gradient.assign(model.num_parameters(), 0.0);
   s.campaign_started_at = campaign_started_at;
+  if (model.is_ann()) {
+    s.ann = MountRoll(*model.ann, position_label, roll_type, diameter_mm, hardness_hb);
+  }
   return s;
 }
 
@@ -56,6 +61,14 @@ double PassTermMultiplier(const WearModel& model, const PassInput& pass,
 }
 
 double AddPass(const WearModel& model, const PassInput& pass, RollWearState* state) {
+  if (model.is_ann()) {
+    // The roll was mounted under this model (MountRoll sets the state).
+    const double wear = AddPass(*model.ann, pass, &*state->ann);
+    state->wear_um = state->ann->wear_um;
+    state->coils = state->ann->coils;
+    state->rolled_length_m = state->ann->rolled_length_m;
+    return wear;
+  }
   const PassLoadInput in{pass.force_kn,           pass.width_mm,
                          pass.length_m,           pass.entry_thickness_mm,
                          pass.exit_thickness_mm,  state->diameter_mm,
@@ -77,6 +90,25 @@ double AddPass(const WearModel& model, const PassInput& pass, RollWearState* sta
 
 std::pair<double, double> WearInterval(const WearModel& model,
                                        const RollWearState& state) {
+  if (model.is_ann() && state.ann.has_value()) {
+    // var = s_members^2 + sigma0^2 + (rho d)^2: the ensemble members'
+    // sample variance stands for the network's own uncertainty (a
+    // deep-ensemble estimate, Lakshminarayanan et al., NIPS 2017).
+    const std::vector<double>& w = state.ann->member_wear_um;
+    double var = 0;
+    if (w.size() > 1) {
+      double mean = 0;
+      for (double x : w) mean += x;
+      mean /= static_cast<double>(w.size());
+      for (double x : w) var += (x - mean) * (x - mean);
+      var /= static_cast<double>(w.size() - 1);
+    }
+    const double d = state.wear_um;
+    var += model.noise_sd_um * model.noise_sd_um +
+           (model.noise_rel * d) * (model.noise_rel * d);
+    const double half = 1.959963984540054 * std::sqrt(var);
+    return {d - half, d + half};
+  }
   return model.Interval(state.wear_um, state.gradient.data());
 }
 

@@ -9,16 +9,24 @@
 // Labels unknown to the model (a new roll type or grade) use the gauge
 // value 1 for that factor, i.e. the geometric mean of the known levels.
 //
+// When the model is the recurrent network (WearModel::ann), the same calls
+// run the network coil by coil (ann_model.h): the state then carries the
+// network's per-member recurrence and the interval combines the members'
+// spread with the noise model.
+//
 // Thread-safety: RollWearState is a plain value; callers serialise updates
 // of one state. The model is only read.
 #ifndef ROLLWEAR_CORE_PREDICTOR_H_
 #define ROLLWEAR_CORE_PREDICTOR_H_
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "core/ann_model.h"
 #include "core/dataset.h"
+#include "core/pass_input.h"
 #include "core/wear_law.h"
 #include "core/wear_model.h"
 
@@ -34,22 +42,7 @@ struct RollWearState {
   double rolled_length_m = 0;
   std::vector<double> gradient;  // d(wear)/d(log k, a)
   UnixSeconds campaign_started_at = 0;  // for hours_since_mount
-};
-
-// What a pass brings besides the roll: the coil row of data-format.md.
-struct PassInput {
-  std::string grade;
-  double force_kn = 0;
-  double width_mm = 0;
-  double length_m = 0;
-  double entry_thickness_mm = 0;
-  double exit_thickness_mm = 0;
-  // Used only by adopted model terms that depend on them.
-  UnixSeconds rolled_at = 0;
-  double temperature_c = 0;
-  double speed_mps = 0;
-  bool lubrication = false;
-  double shift_mm = 0;
+  std::optional<AnnRollState> ann;      // set when the model is the ANN
 };
 
 // A freshly mounted roll at `position_label` ("F6/top").

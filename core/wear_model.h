@@ -11,11 +11,18 @@
 // sigma0^2 + (rho d)^2 the residual variance fitted on training campaigns
 // (grinder noise plus roll-to-roll scatter, which grows with wear).
 //
+// A served model can instead be the study's recurrent network (ann_model.h):
+// then `ann` is set, the law is Wang's, K comes from the network pass by
+// pass, the coefficients, structure and terms are unused, and the interval
+// is var(d) = s_members^2 + sigma0^2 + (rho d)^2 with s_members the spread
+// of the ensemble members' predictions (predictor.h).
+//
 // Thread-safety: immutable after calibration; const methods are safe to call
 // concurrently.
 #ifndef ROLLWEAR_CORE_WEAR_MODEL_H_
 #define ROLLWEAR_CORE_WEAR_MODEL_H_
 
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -27,6 +34,8 @@
 #include "core/wear_law.h"
 
 namespace rollwear {
+
+struct AnnModel;  // ann_model.h
 
 struct WearModel {
   WearLaw law = WearLaw::kWang;
@@ -44,6 +53,11 @@ struct WearModel {
   // multiply each pass's wear; measurement terms only shift what the
   // grinder is expected to read and do not change predicted wear.
   std::vector<ModelTerm> terms;
+  // The recurrent network when this model is the ANN (see above); shared,
+  // immutable.
+  std::shared_ptr<const AnnModel> ann;
+
+  bool is_ann() const { return ann != nullptr; }
 
   int num_parameters() const {
     return structure.num_coefficients() + (law == WearLaw::kCao ? 1 : 0);

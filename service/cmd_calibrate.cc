@@ -1,8 +1,11 @@
 // `rollwear calibrate --data DIR [--model wang|nikitenko|cao] [--option 1|2|3]
 //  [--json FILE] [--start ones|random|empirical] [--protocol exact|paper]
-//  [--split-seed N] [--seed N]`
+//  [--split-seed N] [--seed N] [--terms FILE]`
+// (--terms: see service/calibrate_terms.h)
 // Calibrates on a seeded 2/3 training / 1/3 validation split by campaign and
 // prints the coefficients with standard errors and the figures of merit.
+// --figures DIR: measured vs calculated wear per stand (training and
+// validation campaigns) as DIR/measured_vs_calculated_<law>_option<N>.svg.
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -12,6 +15,8 @@
 #include "core/dataset_io.h"
 #include "core/metrics.h"
 #include "core/study.h"
+#include "core/study_figures.h"
+#include "service/calibrate_terms.h"
 #include "service/commands.h"
 #include "service/flags.h"
 
@@ -30,13 +35,47 @@ nlohmann::json Number(double v) {
   return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
 }
 
+// --figures DIR: the calibrated model's measured vs calculated wear per
+// stand, training and validation campaigns as two series.
+Status WriteCalibrationFigure(const std::string& dir, const CalibrationOptions& options,
+                              const WearStatistics& stats, const CampaignSplit& split,
+                              const SplitCalibration& run) {
+  const std::vector<int> train = stats.MeasuredObservations(split.train);
+  const std::vector<int> val = stats.MeasuredObservations(split.validation);
+  std::vector<int> obs = train;
+  obs.insert(obs.end(), val.begin(), val.end());
+  const std::vector<double> pred = PredictAll(run.result.model, stats, obs);
+  ParitySeries train_s, val_s;
+  char name[96];
+  std::snprintf(name, sizeof(name), "training (gap %.1f µm)", run.train.gap_um);
+  train_s.name = name;
+  train_s.color = "#8c99a6";
+  std::snprintf(name, sizeof(name), "validation (gap %.1f µm)", run.validation.gap_um);
+  val_s.name = name;
+  val_s.color = "#D55E00";
+  for (size_t i = 0; i < obs.size(); ++i) {
+    const bool is_train = i < train.size();
+    train_s.calculated_um.push_back(is_train ? pred[i] : NAN);
+    val_s.calculated_um.push_back(is_train ? NAN : pred[i]);
+  }
+  const std::string law = WearLawName(options.law);
+  const std::string option = std::to_string(options.option);
+  const SvgFigure figure{
+      "measured_vs_calculated_" + law + "_option" + option + ".svg",
+      ParityFigureSvg(law + " law, option " + option + ": measured vs calculated", stats,
+                      obs, {train_s, val_s})};
+  ROLLWEAR_RETURN_IF_ERROR(WriteFigures(dir, {figure}));
+  std::printf("wrote %s/%s\n", dir.c_str(), figure.file_name.c_str());
+  return Status::Ok();
+}
+
 }  // namespace
 
 int RunCalibrate(const Args& args) {
   Flags flags;
   std::string error;
   if (!flags.Parse(args, {"data", "model", "option", "json", "start", "protocol",
-                          "split-seed", "seed"},
+                          "split-seed", "seed", "terms", "figures"},
                    {}, &error)) {
     std::fprintf(stderr, "rollwear calibrate: %s\n", error.c_str());
     return 2;
@@ -59,6 +98,14 @@ int RunCalibrate(const Args& args) {
   }
   options.option = static_cast<int>(option);
   options.seed = static_cast<uint64_t>(seed);
+  if (flags.Has("terms")) {
+    if (options.law != WearLaw::kWang || options.option != 1) {
+      std::fprintf(stderr, "rollwear calibrate: --terms refits Wang's law, option 1\n");
+      return 2;
+    }
+    return RunCalibrateWithTerms(flags.Get("data"), flags.Get("terms"),
+                                 static_cast<uint64_t>(split_seed), flags.Get("json"));
+  }
   if (!ParseStart(flags.Get("start", "empirical"), &options.initial_set)) {
     std::fprintf(stderr, "rollwear calibrate: --start must be ones, random or empirical\n");
     return 2;
@@ -145,6 +192,14 @@ int RunCalibrate(const Args& args) {
     out << j.dump(2) << "\n";
     if (!out) {
       std::fprintf(stderr, "rollwear calibrate: cannot write %s\n", flags.Get("json").c_str());
+      return 1;
+    }
+  }
+  if (flags.Has("figures")) {
+    const Status written =
+        WriteCalibrationFigure(flags.Get("figures"), options, *stats, split, *run);
+    if (!written.ok()) {
+      std::fprintf(stderr, "rollwear calibrate: %s\n", written.message().c_str());
       return 1;
     }
   }

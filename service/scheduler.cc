@@ -99,8 +99,14 @@ int64_t Scheduler::Tick(UnixSeconds now) {
     next_due_ = NextLocalTime(now, options_.recalibration_minute);
   }
   if (store_->Counters().measurements_since_last_calibration <= 0) return 0;
+  // The recurrent network, once active, is retrained as such; otherwise the
+  // configured law and option (a model with adopted terms keeps them:
+  // storage/mill_store_calibration.cc).
+  StatusOr<storage::ModelVersion> active = store_->ActiveModel();
+  const bool ann = active.ok() && active->model == storage::kAnnModelName;
   StatusOr<int64_t> id =
-      store_->EnqueueCalibration("nightly", options_.law, options_.option);
+      ann ? store_->EnqueueAnnTraining("nightly")
+          : store_->EnqueueCalibration("nightly", options_.law, options_.option);
   if (!id.ok()) return 0;
   Submit(*id);
   return *id;

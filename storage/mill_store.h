@@ -135,10 +135,13 @@ struct WearSnapshot {
   std::vector<PositionWear> positions;  // ordered by stand, top first
 };
 
+// Model name of the recurrent network in runs and model versions.
+inline constexpr char kAnnModelName[] = "ann";
+
 struct ModelVersion {
   int64_t version = 0;
   UnixSeconds created_at = 0;
-  std::string model;  // law name, "ann" later
+  std::string model;  // law name, or kAnnModelName
   int option = 0;
   bool active = false;
   double gap_val_um = 0;  // validation gap when it was calibrated
@@ -173,6 +176,25 @@ struct StoreCounters {
   // Measurements committed since the last calibration run started.
   int64_t measurements_since_last_calibration = 0;
   int64_t commits = 0;  // group-commit transactions
+};
+
+// Predicted wear of one roll along a campaign (MillStore::RecentWear).
+struct RollWearHistory {
+  int stand = 0;
+  Position position = Position::kTop;
+  std::string roll_id;
+  // Open campaign only: after each coil the roll rolled, the rolled length
+  // so far and the predicted wear (the last point equals Wear()'s).
+  std::vector<double> rolled_length_m;
+  std::vector<double> predicted_wear_um;
+  double final_predicted_um = 0;      // under the active model
+  std::optional<double> measured_um;  // grinder's centre wear, if measured
+};
+struct CampaignWearHistory {
+  std::string campaign_id;
+  UnixSeconds started_at = 0;
+  bool open = false;
+  std::vector<RollWearHistory> rolls;  // by stand, top first
 };
 
 class MillStore {
@@ -217,8 +239,27 @@ class MillStore {
   virtual StatusOr<int64_t> EnqueueCalibration(const std::string& trigger,
                                                WearLaw law, int option) = 0;
   virtual Status RunCalibration(int64_t id) = 0;
+  // Queues a training run of the recurrent network (model "ann",
+  // core/ann_study.h); RunCalibration runs it like any other run.
+  virtual StatusOr<int64_t> EnqueueAnnTraining(const std::string& trigger) = 0;
+  // Records and runs at once a run for a model fitted elsewhere (a
+  // diagnosis's adopted model: option 1 plus terms): evaluates it and the
+  // active model coil by coil on the same validation campaigns and promotes
+  // it when no worse. Returns the run's record (done or failed); an error
+  // only when the run could not be recorded.
+  virtual StatusOr<CalibrationRecord> ProposeModel(const std::string& trigger,
+                                                   const std::string& model,
+                                                   int option,
+                                                   const WearModel& candidate) = 0;
   virtual StatusOr<CalibrationRecord> GetCalibration(int64_t id) const = 0;
   virtual std::vector<CalibrationRecord> ListCalibrations(int limit) const = 0;
+
+  // The open campaign (if any, with each roll's wear after every coil)
+  // followed by the `ended_campaigns` most recently started ended campaigns
+  // that have a measurement, newest first, all replayed under the active
+  // model (storage/mill_store_history.cc).
+  virtual StatusOr<std::vector<CampaignWearHistory>> RecentWear(
+      int ended_campaigns) const = 0;
 
   virtual StoreCounters Counters() const = 0;
   // True when the database answers a trivial query.

@@ -1,18 +1,31 @@
 // MillStore: models and calibration runs. A run exports the stored data,
-// calibrates on the seeded 2/3 training campaigns, evaluates both the
-// candidate and the active model on the same 1/3 validation campaigns, and
-// promotes the candidate (model row + active flag + run record in one
-// transaction) when it is usable and no worse; then the open campaign's
-// rolls are re-predicted from their stored passes under the new model.
+// fits a candidate on the seeded 2/3 training campaigns, evaluates both the
+// candidate and the active model coil by coil (core/model_eval.h) on the
+// same 1/3 validation campaigns, and promotes the candidate (model row +
+// active flag + run record in one transaction) when it is usable and no
+// worse; then the open campaign's rolls are re-predicted from their stored
+// passes under the new model.
+//
+// Candidates:
+//   model "ann"                the recurrent network (core/ann_study.h)
+//   the active model's law, option 1, and the active model has adopted
+//   terms                      option 1 and the terms refitted jointly
+//                              (core/term_refit.h): a nightly run keeps the
+//                              physics a diagnosis added
+//   otherwise                  the classical calibration (core/study.h)
+//   ProposeModel               a model fitted elsewhere (a diagnosis's
+//                              adopted model), evaluated the same way
 #include <cstdio>
 #include <exception>
 #include <utility>
 
 #include "core/aggregation.h"
+#include "core/ann_study.h"
 #include "core/metrics.h"
+#include "core/model_eval.h"
 #include "core/study.h"
+#include "core/term_refit.h"
 #include "storage/mill_store_impl.h"
-#include "storage/model_levels.h"
 #include "storage/store_sql.h"
 
 namespace rollwear::storage::internal {
@@ -24,65 +37,97 @@ struct RunResult {
   WearModel candidate;
 };
 
-// Validation gap of `active` on the validation campaigns of `split`,
-// computed on statistics of the active model's own law.
-StatusOr<double> ActiveGap(const WearModel& active, const Dataset& data,
-                           const DatasetIndex& index,
-                           const WearStatistics& stats,
-                           const CampaignSplit& split) {
-  const WearStatistics* s = &stats;
-  WearStatistics own;
-  if (active.law != stats.law) {
-    StatusOr<WearStatistics> agg = Aggregate(data, index, active.law);
-    if (!agg.ok()) return agg.status();
-    own = std::move(agg).value();
-    s = &own;
-  }
-  StatusOr<WearModel> over =
-      ModelOverLevels(active, s->positions, s->roll_types, s->grades);
-  if (!over.ok()) return over.status();
-  return Evaluate(*over, *s, s->MeasuredObservations(split.validation)).gap_um;
+// The seeded training/validation split of the stored data (the same one
+// `rollwear calibrate` uses).
+StatusOr<CampaignSplit> SplitOf(const Dataset& data, const DatasetIndex& index,
+                                uint64_t split_seed) {
+  StatusOr<WearStatistics> stats = Aggregate(data, index, WearLaw::kWang);
+  if (!stats.ok()) return stats.status();
+  return SplitCampaigns(*stats, 2.0 / 3.0, split_seed);
 }
 
-RunResult Calibrate(const Dataset& data, WearLaw law, int option,
+FitMetrics MetricsOn(const WearModel& m, const Dataset& data,
+                     const DatasetIndex& index, const std::vector<int>& campaigns) {
+  return MetricsOfPredictions(PredictMeasured(m, data, index, campaigns));
+}
+
+// Fills the figures of `rec` for `candidate` and `active` on the split.
+void Score(const WearModel& candidate, const WearModel& active, const Dataset& data,
+           const DatasetIndex& index, const CampaignSplit& split,
+           CalibrationRecord* rec) {
+  const FitMetrics train = MetricsOn(candidate, data, index, split.train);
+  const FitMetrics val = MetricsOn(candidate, data, index, split.validation);
+  rec->gap_train_um = train.gap_um;
+  rec->gap_val_um = val.gap_um;
+  rec->n_train = train.n;
+  rec->n_val = val.n;
+  if (rec->cost == 0) rec->cost = train.cost;
+  rec->active_gap_val_um = MetricsOn(active, data, index, split.validation).gap_um;
+  if (!candidate.is_ann()) rec->coefficients = candidate.NamedCoefficients();
+}
+
+RunResult Calibrate(const Dataset& data, const std::string& model, int option,
                     uint64_t split_seed, const WearModel& active,
                     CalibrationRecord* rec) {
   RunResult out;
   const DatasetIndex index(data);
+  StatusOr<CampaignSplit> split = SplitOf(data, index, split_seed);
+  if (!split.ok()) {
+    out.error = split.status();
+    return out;
+  }
+  if (model == kAnnModelName) {
+    StatusOr<WearModel> ann = TrainServableAnn(data, split->train, AnnTrainingOptions{});
+    if (!ann.ok()) {
+      out.error = ann.status();
+      return out;
+    }
+    out.candidate = std::move(ann).value();
+    rec->message = "recurrent network, ensemble of " +
+                   std::to_string(AnnTrainingOptions{}.members) + " members";
+    Score(out.candidate, active, data, index, *split, rec);
+    return out;
+  }
+  WearLaw law = WearLaw::kWang;
+  if (!ParseWearLaw(model, &law)) {
+    out.error = Status::Internal("stored law '" + model + "' is unknown");
+    return out;
+  }
+  if (!active.is_ann() && !active.terms.empty() && active.law == law && option == 1) {
+    StatusOr<WearModel> refit = RefitWithTerms(data, law, active.terms, split->train);
+    if (!refit.ok()) {
+      out.error = refit.status();
+      return out;
+    }
+    out.candidate = std::move(refit).value();
+    rec->message = "option 1 with " + std::to_string(active.terms.size()) +
+                   " adopted term(s) refitted";
+    Score(out.candidate, active, data, index, *split, rec);
+    return out;
+  }
   StatusOr<WearStatistics> stats = Aggregate(data, index, law);
   if (!stats.ok()) {
     out.error = stats.status();
     return out;
   }
-  const CampaignSplit split = SplitCampaigns(*stats, 2.0 / 3.0, split_seed);
   CalibrationOptions co;
   co.law = law;
   co.option = option;
-  StatusOr<SplitCalibration> run = CalibrateOnSplit(*stats, split, co);
+  StatusOr<SplitCalibration> run = CalibrateOnSplit(*stats, *split, co);
   if (!run.ok()) {
     out.error = run.status();
     return out;
   }
   const CalibrationSummary& summary = run->result.summary;
-  rec->coefficients = run->result.model.NamedCoefficients();
   rec->cost = summary.final_cost;
-  rec->gap_train_um = run->train.gap_um;
-  rec->gap_val_um = run->validation.gap_um;
-  rec->n_train = run->train.n;
-  rec->n_val = run->validation.n;
   rec->message = summary.BriefReport();
   if (!summary.usable) {
     out.error = Status::NumericalFailure("calibration unusable: " +
                                          summary.BriefReport());
     return out;
   }
-  StatusOr<double> active_gap = ActiveGap(active, data, index, *stats, split);
-  if (!active_gap.ok()) {
-    out.error = active_gap.status();
-    return out;
-  }
-  rec->active_gap_val_um = *active_gap;
   out.candidate = std::move(run->result.model);
+  Score(out.candidate, active, data, index, *split, rec);
   return out;
 }
 
@@ -110,22 +155,77 @@ StatusOr<int64_t> MillStoreImpl::EnqueueCalibration(const std::string& trigger,
       law != WearLaw::kCao) {
     return Status::InvalidArgument("model: must be wang, nikitenko or cao");
   }
+  return InsertRun(trigger, WearLawName(law), option, /*claim=*/false);
+}
+
+StatusOr<int64_t> MillStoreImpl::EnqueueAnnTraining(const std::string& trigger) {
+  return InsertRun(trigger, kAnnModelName, 0, /*claim=*/false);
+}
+
+StatusOr<int64_t> MillStoreImpl::InsertRun(const std::string& trigger,
+                                           const std::string& model, int option,
+                                           bool claim) {
   CalibrationRecord rec;
   rec.status = CalibrationStatus::kQueued;
   rec.trigger = trigger.empty() ? "api" : trigger;
-  rec.model = WearLawName(law);
+  rec.model = model;
   rec.option = option;
   rec.queued_at = NowSeconds();
   int64_t id = 0;
+  bool claimed = false;
   ROLLWEAR_RETURN_IF_ERROR(RunTask(
-      [&rec, &id](Db* db) -> Status {
+      [&rec, &id, &claimed, claim](Db* db) -> Status {
         StatusOr<int64_t> row = InsertCalibration(db, rec);
         if (!row.ok()) return row.status();
         id = *row;
+        if (claim) {
+          StatusOr<bool> ok = ClaimCalibration(db, id, rec.queued_at);
+          if (!ok.ok()) return ok.status();
+          claimed = *ok;
+        }
         return Status::Ok();
       },
-      nullptr));
+      [&](Db*) {
+        if (!claimed) return;
+        std::lock_guard<std::mutex> lock(mu_);
+        counters_.measurements_since_last_calibration = 0;
+      }));
   return id;
+}
+
+StatusOr<CalibrationRecord> MillStoreImpl::ProposeModel(const std::string& trigger,
+                                                        const std::string& model,
+                                                        int option,
+                                                        const WearModel& candidate) {
+  // Recorded as a run that is already running (claimed in the same
+  // transaction), so the job worker never picks it up as a queued one.
+  StatusOr<int64_t> id = InsertRun(trigger, model, option, /*claim=*/true);
+  if (!id.ok()) return id.status();
+  StatusOr<CalibrationRecord> claimed = GetCalibration(*id);
+  if (!claimed.ok()) return claimed.status();
+  CalibrationRecord rec = *claimed;
+  std::shared_ptr<const ModelVersion> active;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    active = model_;
+  }
+  Status error;
+  StatusOr<Dataset> data = ExportDataset();
+  if (!data.ok()) {
+    error = data.status();
+  } else {
+    const DatasetIndex index(*data);
+    StatusOr<CampaignSplit> split = SplitOf(*data, index, options_.split_seed);
+    if (!split.ok()) {
+      error = split.status();
+    } else {
+      rec.message = "proposed by " + rec.trigger;
+      Score(candidate, active->wear_model, *data, index, *split, &rec);
+    }
+  }
+  rec.finished_at = NowSeconds();
+  ROLLWEAR_RETURN_IF_ERROR(FinishRun(std::move(error), candidate, active, &rec));
+  return rec;
 }
 
 StatusOr<CalibrationRecord> MillStoreImpl::GetCalibration(int64_t id) const {
@@ -158,11 +258,6 @@ Status MillStoreImpl::RunCalibration(int64_t id) {
         CalibrationStatusName(queued->status) + ", not queued");
   }
   CalibrationRecord rec = *queued;
-  WearLaw law = WearLaw::kWang;
-  if (!ParseWearLaw(rec.model, &law)) {
-    return Status::Internal("calibration " + std::to_string(id) +
-                            ": stored law '" + rec.model + "' is unknown");
-  }
 
   // 1. Claim the run; the measurements committed so far are the ones it
   //    sees ("since last calibration" restarts from here).
@@ -197,7 +292,7 @@ Status MillStoreImpl::RunCalibration(int64_t id) {
     result.error = data.status();
   } else {
     try {
-      result = Calibrate(*data, law, rec.option, options_.split_seed,
+      result = Calibrate(*data, rec.model, rec.option, options_.split_seed,
                          active->wear_model, &rec);
     } catch (const std::exception& e) {
       result.error =
@@ -206,12 +301,20 @@ Status MillStoreImpl::RunCalibration(int64_t id) {
   }
   rec.finished_at = NowSeconds();
 
+  return FinishRun(std::move(result.error), std::move(result.candidate), active,
+                   &rec);
+}
+
+Status MillStoreImpl::FinishRun(Status error, WearModel candidate,
+                                const std::shared_ptr<const ModelVersion>& active,
+                                CalibrationRecord* run) {
+  CalibrationRecord& rec = *run;
   // 3. Record the run; promote when usable and no worse than the active
   //    model on the same validation campaigns.
-  if (!result.error.ok()) {
+  if (!error.ok()) {
     rec.status = CalibrationStatus::kFailed;
     rec.promoted = false;
-    rec.message = result.error.message();
+    rec.message = error.message();
     return RunTask([&rec](Db* db) { return UpdateCalibration(db, rec); },
                    nullptr);
   }
@@ -235,7 +338,7 @@ Status MillStoreImpl::RunCalibration(int64_t id) {
   promoted->option = rec.option;
   promoted->active = true;
   promoted->gap_val_um = rec.gap_val_um;
-  promoted->wear_model = std::move(result.candidate);
+  promoted->wear_model = std::move(candidate);
   return RunTask(
       [&rec, promoted](Db* db) -> Status {
         StatusOr<int64_t> version = InsertActiveModel(db, *promoted, rec.id);

@@ -103,10 +103,16 @@ class MillStoreImpl final : public MillStore {
 
   StatusOr<int64_t> EnqueueCalibration(const std::string& trigger, WearLaw law,
                                        int option) override;
+  StatusOr<int64_t> EnqueueAnnTraining(const std::string& trigger) override;
+  StatusOr<CalibrationRecord> ProposeModel(const std::string& trigger,
+                                           const std::string& model, int option,
+                                           const WearModel& candidate) override;
   Status RunCalibration(int64_t id) override;
   StatusOr<CalibrationRecord> GetCalibration(int64_t id) const override;
   std::vector<CalibrationRecord> ListCalibrations(int limit) const override;
 
+  StatusOr<std::vector<CampaignWearHistory>> RecentWear(
+      int ended_campaigns) const override;  // mill_store_history.cc
   StoreCounters Counters() const override;
   bool Healthy() const override;
 
@@ -130,6 +136,16 @@ class MillStoreImpl final : public MillStore {
   CoilOutcome OutcomeForStored(const StoredCoil& coil) const;
   std::shared_ptr<const ModelVersion> MakePrior(uint32_t positions_seen) const;
   PositionWear PositionWearLocked(int slot) const;
+
+  // ---- mill_store_calibration.cc
+  // Records a calibration run (claimed at once when `claim`); returns its id.
+  StatusOr<int64_t> InsertRun(const std::string& trigger, const std::string& model,
+                              int option, bool claim);
+  // Records the outcome of a claimed run and promotes `candidate` when the
+  // run succeeded and its validation gap is no worse than the active one's.
+  Status FinishRun(Status error, WearModel candidate,
+                   const std::shared_ptr<const ModelVersion>& active,
+                   CalibrationRecord* run);
 
   // ---- mill_store_writer.cc
   void WriterLoop();

@@ -1,12 +1,15 @@
 #include "storage/model_codec.h"
 
 #include <cmath>
+#include <memory>
 #include <limits>
 #include <unordered_set>
 #include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "core/ann_model.h"
 
 namespace rollwear::storage {
 namespace {
@@ -148,6 +151,18 @@ StatusOr<WearModel> Decode(const Json& doc) {
       !ParseWearLaw(law->get<std::string>(), &m.law)) {
     return Bad("law", "must be one of wang, nikitenko, cao");
   }
+  auto ann = doc.find("ann");
+  if (ann != doc.end()) {
+    // The recurrent network: its own versioned text form.
+    if (!ann->is_string()) return Bad("ann", "must be the network's text form");
+    StatusOr<AnnModel> net = ParseAnnModel(ann->get<std::string>());
+    if (!net.ok()) return Bad("ann", net.status().message());
+    ROLLWEAR_RETURN_IF_ERROR(net->Validate());
+    m.ann = std::make_shared<const AnnModel>(std::move(net).value());
+    ROLLWEAR_RETURN_IF_ERROR(ReadScalar(doc, "noise_sd_um", &m.noise_sd_um));
+    ROLLWEAR_RETURN_IF_ERROR(ReadScalar(doc, "noise_rel", &m.noise_rel));
+    return m;
+  }
   auto option = doc.find("option");
   if (option == doc.end() || !option->is_number_integer()) {
     return Bad("option", "must be 1, 2 or 3");
@@ -231,6 +246,13 @@ std::string EncodeWearModel(const WearModel& model) {
   Json doc = Json::object();
   doc["format"] = kFormat;
   doc["law"] = WearLawName(model.law);
+  if (model.is_ann()) {
+    doc["option"] = 0;
+    doc["ann"] = SerializeAnnModel(*model.ann);
+    doc["noise_sd_um"] = Number(model.noise_sd_um);
+    doc["noise_rel"] = Number(model.noise_rel);
+    return doc.dump();
+  }
   doc["option"] = s.option();
   doc["positions"] = s.positions();
   doc["roll_types"] = s.roll_types();
@@ -261,6 +283,42 @@ std::string EncodeWearModel(const WearModel& model) {
   for (const ModelTerm& t : model.terms) terms.push_back(EncodeTerm(t));
   doc["terms"] = std::move(terms);
   return doc.dump();
+}
+
+std::string EncodeTerms(const std::vector<ModelTerm>& terms) {
+  Json arr = Json::array();
+  for (const ModelTerm& t : terms) arr.push_back(EncodeTerm(t));
+  return arr.dump();
+}
+
+StatusOr<std::vector<ModelTerm>> DecodeModelTerms(std::string_view json) {
+  Json doc = Json::parse(json.begin(), json.end(), nullptr,
+                         /*allow_exceptions=*/false);
+  if (doc.is_discarded() || !doc.is_object()) {
+    return Status::InvalidArgument("terms: not a JSON object");
+  }
+  auto adopted = doc.find("adopted_model");
+  const Json& holder = adopted != doc.end() ? *adopted : doc;
+  if (!holder.is_object() || !holder.contains("terms")) {
+    return Status::InvalidArgument(
+        "terms: no \"terms\" array (expected a model or the JSON of "
+        "`rollwear diagnose --json`)");
+  }
+  std::vector<ModelTerm> terms;
+  try {
+    ROLLWEAR_RETURN_IF_ERROR(DecodeTerms(holder, &terms));
+  } catch (const std::exception& e) {
+    return Status::InvalidArgument(std::string("terms: ") + e.what());
+  }
+  for (size_t i = 0; i < terms.size(); ++i) {
+    if (static_cast<int>(terms[i].params.size()) != terms[i].NumParams()) {
+      return Bad("terms[" + std::to_string(i) + "].params",
+                 "has " + std::to_string(terms[i].params.size()) +
+                     " numbers, the form needs " +
+                     std::to_string(terms[i].NumParams()));
+    }
+  }
+  return terms;
 }
 
 StatusOr<WearModel> DecodeWearModel(std::string_view json) {

@@ -11,6 +11,10 @@
 //               "form": "saturating", "params": [...], "center": 0,
 //               "scale": 1, "edges": [], "num_levels": 0}, ...]}
 //
+// The recurrent network (WearModel::ann) is stored as
+//   {"format": 1, "law": "wang", "option": 0, "ann": "<SerializeAnnModel
+//    text>", "noise_sd_um": ..., "noise_rel": ...}
+//
 // Numbers are written in the shortest form that reads back to the same
 // double, so Decode(Encode(m)) equals m exactly (every coefficient, every
 // covariance entry). Non-finite covariance entries are written as the
@@ -24,6 +28,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "core/model_terms.h"
 #include "core/status.h"
@@ -37,6 +42,13 @@ std::string EncodeWearModel(const WearModel& model);
 // Parses EncodeWearModel's output; InvalidArgument naming the field when
 // the text is not a valid model.
 StatusOr<WearModel> DecodeWearModel(std::string_view json);
+
+// The "terms" array alone (JSON array text), as EncodeWearModel writes it.
+std::string EncodeTerms(const std::vector<ModelTerm>& terms);
+
+// The terms of a model JSON, or of the "adopted_model" of the JSON that
+// `rollwear diagnose --json` writes; InvalidArgument naming the field.
+StatusOr<std::vector<ModelTerm>> DecodeModelTerms(std::string_view json);
 
 }  // namespace rollwear::storage
 

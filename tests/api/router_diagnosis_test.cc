@@ -50,6 +50,64 @@ TEST_F(RouterTest, DiagnosisRunsOnStoredDataAndNamesTheConcealedEffect) {
   EXPECT_TRUE(report["baseline"].contains("gap_val_um"));
 }
 
+TEST_F(RouterTest, DiagnosisWithAdoptPromotesTheAdoptedModelWithItsTerms) {
+  router_.reset();
+  store_.reset();
+  StatusOr<std::unique_ptr<storage::MillStore>> store =
+      storage::MillStore::Open(dir_ + "/adopt.db", storage::StoreOptions());
+  ASSERT_TRUE(store.ok());
+  store_ = std::move(store).value();
+  SimulatorOptions so;
+  so.seed = 33;
+  so.num_campaigns = 240;
+  so.effects = {"lubrication"};
+  StatusOr<Simulation> sim = Simulate(so);
+  ASSERT_TRUE(sim.ok());
+  ASSERT_TRUE(store_->ImportDataset(sim->data).ok());
+  MakeRouter(ApiOptions());
+
+  const HttpResponse posted = Post("/v1/diagnoses", json{{"adopt", true}});
+  ASSERT_EQ(posted.status, 202) << posted.body;
+  const int64_t id = Parse(posted)["id"].get<int64_t>();
+  json report;
+  for (int i = 0; i < 600; ++i) {
+    report = Parse(Get("/v1/diagnoses/" + std::to_string(id)));
+    if (report["status"] == "done" || report["status"] == "failed") break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ASSERT_EQ(report["status"], "done") << report.dump();
+  ASSERT_TRUE(report.contains("adoption")) << report.dump();
+  const json& adoption = report["adoption"];
+  // The prior (uncalibrated) model is active: the adopted model beats it.
+  EXPECT_TRUE(adoption["promoted"].get<bool>()) << adoption.dump();
+  EXPECT_LT(adoption["gap_val_um"].get<double>(), adoption["active_gap_val_um"].get<double>());
+  const int64_t run = adoption["calibration_id"].get<int64_t>();
+  const json calibration = Parse(Get("/v1/calibrations/" + std::to_string(run)));
+  EXPECT_EQ(calibration["trigger"], "diagnosis " + std::to_string(id));
+  EXPECT_EQ(calibration["status"], "done");
+  const json active = Parse(Get("/v1/models/active"));
+  EXPECT_EQ(active["version"], adoption["model_version"]);
+  EXPECT_EQ(active["model"], "wang");
+  ASSERT_EQ(active["terms"].size(), report["findings"].size()) << active.dump();
+  EXPECT_EQ(active["terms"][0]["covariate"], report["findings"][0]["covariate"]);
+  EXPECT_EQ(active["terms"][0]["params"].size(),
+            report["findings"][0]["term"]["params"].size());
+}
+
+TEST_F(RouterTest, DiagnosisAndCalibrationRequestsAreValidated) {
+  HttpResponse r = Post("/v1/diagnoses", json{{"adopt", "yes"}});
+  EXPECT_EQ(r.status, 400) << r.body;
+  EXPECT_EQ(Parse(r)["error"]["field"], "adopt");
+  r = Post("/v1/calibrations", json{{"model", "lstm"}});
+  EXPECT_EQ(r.status, 400) << r.body;
+  EXPECT_NE(Parse(r)["error"]["message"].get<std::string>().find("ann"), std::string::npos);
+  r = Post("/v1/calibrations", json{{"model", "ann"}});
+  ASSERT_EQ(r.status, 202) << r.body;
+  const json rec = Parse(Get("/v1/calibrations/" + std::to_string(Parse(r)["id"].get<int64_t>())));
+  EXPECT_EQ(rec["model"], "ann");
+  EXPECT_EQ(rec["status"], "queued");
+}
+
 TEST_F(RouterTest, UnknownDiagnosisIs404AndPostNeedsTheToken) {
   EXPECT_EQ(Get("/v1/diagnoses/999").status, 404);
   EXPECT_EQ(Get("/v1/diagnoses/abc").status, 404);

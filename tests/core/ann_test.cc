@@ -161,7 +161,7 @@ TEST(AnnModelTest, AnnIncrementalPredictionEqualsBatch) {
     double sum = 0;
     for (int pi : index.PassesOf(obs.campaign, mount.stand)) {
       const double inc =
-          AddPass(model, AnnPassInputOf(e.data, e.data.passes[pi]), &state);
+          AddPass(model, PassInputOf(e.data, e.data.passes[pi]), &state);
       EXPECT_GT(inc, 0);
       sum += inc;
     }
@@ -175,7 +175,7 @@ TEST(AnnModelTest, AnnIncrementalPredictionEqualsBatch) {
   EXPECT_EQ(checked, static_cast<int>(e.stats.observations.size()));
   // An unknown roll type and grade are accepted (all-zero one-hot blocks).
   AnnRollState state = MountRoll(model, "F6/top", "NEW-TYPE", 700, 560);
-  AnnPassInput pass = AnnPassInputOf(e.data, e.data.passes[0]);
+  PassInput pass = PassInputOf(e.data, e.data.passes[0]);
   pass.grade = "NEW-GRADE";
   EXPECT_GT(AddPass(model, pass, &state), 0);
 }

@@ -318,8 +318,7 @@ TEST(PredictorTest, IncrementalEqualsBatchPrediction) {
     for (int pi : index.PassesOf(obs.campaign, m.stand)) {
       const Pass& p = data.passes[pi];
       AddPass(model,
-              PassInput{data.grades[p.grade], p.force_kn, p.width_mm, p.length_m,
-                        p.entry_thickness_mm, p.exit_thickness_mm},
+              PassInputOf(data, p),
               &state);
     }
     std::vector<double> grad(model.num_parameters(), 0.0);

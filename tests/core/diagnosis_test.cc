@@ -184,10 +184,7 @@ TEST(DiagnosisTest, AdoptedModelPredictsCoilByCoilAsInBatch) {
                                       mount.hardness_hb, d.campaigns[c].started_at);
       for (int pi : index.PassesOf(static_cast<int>(c), mount.stand)) {
         const Pass& p = d.passes[pi];
-        PassInput in{d.grades[p.grade], p.force_kn, p.width_mm, p.length_m,
-                     p.entry_thickness_mm, p.exit_thickness_mm, p.rolled_at,
-                     p.temperature_c, p.speed_mps, p.lubrication, p.shift_mm};
-        AddPass(m, in, &state);
+        AddPass(m, PassInputOf(d, p), &state);
       }
       EXPECT_NEAR(state.wear_um, it->second, 1e-9 * it->second);
       ++checked;

@@ -1,0 +1,82 @@
+#include "core/model_eval.h"
+
+#include "core/covariates.h"
+#include "core/predictor.h"
+
+namespace rollwear {
+namespace {
+
+// Sum of the measurement terms' offsets for measurement `mi` of mount `m`.
+double MeasurementOffset(const WearModel& model, const Dataset& data,
+                         const std::vector<CovariateSpec>& catalog, int campaign,
+                         int mount, int measurement) {
+  double offset = 0;
+  for (const ModelTerm& t : model.terms) {
+    if (!t.IsMeasurementTerm()) continue;
+    for (const CovariateSpec& spec : catalog) {
+      if (spec.name != t.covariate) continue;
+      PassContext ctx;
+      ctx.mount = &data.mounts[mount];
+      ctx.mount_row = mount;
+      ctx.campaign = &data.campaigns[campaign];
+      ctx.campaign_row = campaign;
+      ctx.measurement_row = measurement;
+      offset += TermOffset(t, CovariateValue(spec, data, ctx, 0), nullptr);
+      break;
+    }
+  }
+  return offset;
+}
+
+}  // namespace
+
+std::vector<MeasuredPrediction> PredictMeasured(const WearModel& model,
+                                                const Dataset& data,
+                                                const DatasetIndex& index,
+                                                const std::vector<int>& campaigns) {
+  bool has_measurement_terms = false;
+  for (const ModelTerm& t : model.terms) has_measurement_terms |= t.IsMeasurementTerm();
+  const std::vector<CovariateSpec> catalog =
+      has_measurement_terms ? CovariateCatalog(data) : std::vector<CovariateSpec>{};
+  std::vector<MeasuredPrediction> out;
+  for (int c : campaigns) {
+    for (int slot : index.slots()) {
+      const int mi = index.MountOf(c, slot);
+      const int me = index.MeasurementOf(c, slot);
+      if (mi < 0 || me < 0) continue;
+      const Mount& mount = data.mounts[mi];
+      RollWearState state =
+          MountRoll(model, RollPositionName(mount.stand, mount.position),
+                    data.roll_types[mount.roll_type], mount.diameter_mm,
+                    mount.hardness_hb, data.campaigns[c].started_at);
+      for (int pi : index.PassesOf(c, mount.stand)) {
+        AddPass(model, PassInputOf(data, data.passes[pi]), &state);
+      }
+      MeasuredPrediction p;
+      p.campaign = c;
+      p.slot = slot;
+      p.measurement = me;
+      p.measured_um = data.measurements[me].wear_center_um;
+      p.wear_um = state.wear_um;
+      p.expected_um = state.wear_um;
+      if (has_measurement_terms) {
+        p.expected_um += MeasurementOffset(model, data, catalog, c, mi, me);
+      }
+      out.push_back(p);
+    }
+  }
+  return out;
+}
+
+FitMetrics MetricsOfPredictions(const std::vector<MeasuredPrediction>& p) {
+  std::vector<int> group;
+  std::vector<double> measured, predicted;
+  for (const MeasuredPrediction& x : p) {
+    group.push_back(x.slot);
+    measured.push_back(x.measured_um);
+    predicted.push_back(x.expected_um);
+  }
+  return MetricsOf(group, measured, predicted);
+}
+
+}  // namespace rollwear

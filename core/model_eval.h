@@ -1,0 +1,44 @@
+// Coil-by-coil evaluation of a servable model (classical, classical with
+// adopted terms, or the recurrent network: wear_model.h) against the
+// grinder's measurements of chosen campaigns. It runs exactly the
+// incremental predictor the daemon runs (predictor.h) over each measured
+// roll's passes, then adds the model's measurement terms (what the grinder
+// reads besides the wear, model_terms.h), so "validation gap" means the same
+// thing for every kind of model the daemon may promote.
+//
+// Thread-safety: pure function of its arguments.
+#ifndef ROLLWEAR_CORE_MODEL_EVAL_H_
+#define ROLLWEAR_CORE_MODEL_EVAL_H_
+
+#include <vector>
+
+#include "core/dataset.h"
+#include "core/metrics.h"
+#include "core/wear_model.h"
+
+namespace rollwear {
+
+struct MeasuredPrediction {
+  int campaign = -1;     // index into Dataset::campaigns
+  int slot = -1;         // roll position slot (dataset.h)
+  int measurement = -1;  // index into Dataset::measurements
+  double measured_um = 0;
+  double wear_um = 0;      // predicted centre wear
+  double expected_um = 0;  // wear plus measurement terms: what the grinder
+                           // is expected to read
+};
+
+// Every measured roll position of `campaigns` (indices, any order), in
+// campaign then slot order.
+std::vector<MeasuredPrediction> PredictMeasured(const WearModel& model,
+                                                const Dataset& data,
+                                                const DatasetIndex& index,
+                                                const std::vector<int>& campaigns);
+
+// Eq. 9 cost and average gap of `expected_um` against `measured_um`, each
+// roll position slot a group of Eq. 9.
+FitMetrics MetricsOfPredictions(const std::vector<MeasuredPrediction>& p);
+
+}  // namespace rollwear
+
+#endif  // ROLLWEAR_CORE_MODEL_EVAL_H_
