@@ -9,6 +9,7 @@
 
 #include "core/aggregation.h"
 #include "core/ann_data.h"
+#include "core/diagnosis.h"
 #include "core/model_eval.h"
 #include "core/study.h"
 
@@ -106,6 +107,23 @@ StatusOr<AnnComparison> CompareAnnWithClassical(
     f.validation = AnnMetrics(inputs, val, PredictAnn(single, inputs, val));
     c.members.push_back(f);
   }
+  if (options.compare_adopted) {
+    DiagnosisOptions d;
+    d.split_seed = options.split_seed;
+    StatusOr<DiagnosisReport> r = Diagnose(data, d);
+    if (!r.ok()) return r.status();
+    c.has_adopted = true;
+    c.adopted_seconds = r->seconds;
+    c.adopted_train = MetricsOfPredictions(
+        PredictMeasured(r->adopted_model, data, index, split.train));
+    c.adopted_val = MetricsOfPredictions(
+        PredictMeasured(r->adopted_model, data, index, split.validation));
+    c.adopted_parameters = static_cast<int>(r->coefficients.size());
+    for (const ModelTerm& t : r->adopted_model.terms) c.adopted_parameters += t.NumParams();
+    for (const Finding& f : r->findings) {
+      c.adopted_findings.push_back(f.covariate + " (" + f.mechanism + ")");
+    }
+  }
   c.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();
@@ -190,12 +208,22 @@ std::string AnnComparisonMarkdown(const AnnComparison& c) {
       c.classical_val, c.classical_bias_above_300_um, c.classical_seconds);
   row("ANN, " + c.ann_mode, c.ann_parameters, c.ann_train, c.ann_val,
       c.ann_bias_above_300_um, c.ann_seconds);
+  if (c.has_adopted) {
+    row("diagnosis, adopted model", c.adopted_parameters, c.adopted_train,
+        c.adopted_val, std::numeric_limits<double>::quiet_NaN(), c.adopted_seconds);
+  }
   auto delta = [](double ann, double cl) { return 100 * (ann - cl) / cl; };
   std::snprintf(
       buf, sizeof(buf), "| Δ %% (ANN vs classical) | | %s | %s | | | |\n\n",
       Fmt("%+.1f", delta(c.ann_train.gap_um, c.classical_train.gap_um)).c_str(),
       Fmt("%+.1f", delta(c.ann_val.gap_um, c.classical_val.gap_um)).c_str());
   out += buf;
+  if (c.has_adopted) {
+    std::string names;
+    for (const std::string& f : c.adopted_findings) names += (names.empty() ? "" : ", ") + f;
+    out += "Diagnosis findings adopted: " + (names.empty() ? std::string("none") : names) +
+           ".\n\n";
+  }
   double mt, st, lot, hit, mv, sv, lov, hiv;
   MemberGapSpread(c, false, &mt, &st, &lot, &hit);
   MemberGapSpread(c, true, &mv, &sv, &lov, &hiv);

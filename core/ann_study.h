@@ -34,6 +34,10 @@ struct AnnComparisonOptions {
   uint64_t split_seed = kDefaultSplitSeed;
   AnnTrainingOptions training;
   CalibrationOptions classical;  // default: Wang, option 1, empirical start
+  // Also run the diagnosis (diagnosis.h, default options, same split seed)
+  // and evaluate its adopted model on the same campaigns: the third row of
+  // the comparison (docs/ann.md, "which model to pick").
+  bool compare_adopted = false;
 };
 
 struct AnnMemberFigures {
@@ -63,6 +67,12 @@ struct AnnComparison {
   std::vector<AnnMemberFigures> members;
   int best_member = 0;
   double ann_seconds = 0;
+  // The diagnosis's adopted model (option 1 plus terms), when asked for.
+  bool has_adopted = false;
+  FitMetrics adopted_train, adopted_val;
+  int adopted_parameters = 0;
+  std::vector<std::string> adopted_findings;  // "covariate (mechanism)"
+  double adopted_seconds = 0;
   double seconds = 0;  // whole comparison
   AnnModel model;
 };

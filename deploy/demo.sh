@@ -15,7 +15,11 @@
 #                 data (2/3 training / 1/3 validation campaigns); the new
 #                 model is promoted when it beats the active one
 #   5. diagnose   find, name and fit the physics the model leaves out
-#   6. stop       SIGTERM: in-flight requests finish, the database is closed
+#                 (rollwear diagnose: HTML and JSON report)
+#   6. adopt      POST /v1/diagnoses {"adopt":true}: the daemon diagnoses its
+#                 own data and promotes the model with the new term when it
+#                 predicts the held-out campaigns better
+#   7. stop       SIGTERM: in-flight requests finish, the database is closed
 # With ROLLWEAR_DEMO_STUDY=1 a last step runs the study's offline comparison
 # of wear laws, K structures and fitting protocols (a few minutes).
 #
@@ -49,8 +53,8 @@ if [[ ! -x "${bin}" ]]; then
   fi
 fi
 
-total_steps=6
-[[ "${with_study}" == 1 ]] && total_steps=7
+total_steps=7
+[[ "${with_study}" == 1 ]] && total_steps=8
 step=0
 header() {
   step=$((step + 1))
@@ -227,6 +231,42 @@ header "Diagnose what the model leaves out" \
   "${out}/diagnosis.html (open it in a browser), JSON: ${out}/diagnosis.json"
 run diagnose --data "${out}/data" --json "${out}/diagnosis.json" \
   --html "${out}/diagnosis.html"
+
+header "Adopt the finding in the daemon: POST /v1/diagnoses {\"adopt\":true}" \
+  "The daemon runs the same diagnosis on everything it stores. With adopt," \
+  "the model it fitted (K option 1 plus the term for the missing physics) is" \
+  "proposed as a new model version: checked on the same held-out campaigns" \
+  "as any calibration and promoted only if it predicts them at least as" \
+  "well. The running campaign is then re-predicted with the new term, coil" \
+  "by coil, and the nightly recalibration keeps refitting the term."
+printf '$ POST /v1/diagnoses {"adopt":true}\n'
+answer="$(http POST /v1/diagnoses '{"adopt":true}')"
+printf '%s\n' "${answer}"
+id="$(printf '%s' "${answer}" | json_field id)"
+status="queued"
+for _ in $(seq 1 1200); do
+  report="$(http GET "/v1/diagnoses/${id}")"
+  status="$(printf '%s' "${report}" | json_field status)"
+  [[ "${status}" == done || "${status}" == failed ]] && break
+  sleep 0.5
+done
+printf '$ GET /v1/diagnoses/%s\n' "${id}"
+for field in status verdict covariate mechanism; do
+  printf '  %-18s %s\n' "${field}" "$(printf '%s' "${report}" | json_field "${field}")"
+done
+adoption="$(printf '%s' "${report}" | grep -o '"adoption":{[^}]*}' || true)"
+for field in calibration_id promoted gap_val_um active_gap_val_um model_version; do
+  printf '  adoption.%-9s %s\n' "${field}" "$(printf '%s' "${adoption}" | json_field "${field}")"
+done
+printf '$ GET /v1/models/active\n'
+model="$(http GET /v1/models/active)"
+for field in version model option gap_val_um; do
+  printf '  %-18s %s\n' "${field}" "$(printf '%s' "${model}" | json_field "${field}")"
+done
+printf '  terms              %s\n' "$(printf '%s' "${model}" | grep -o '"terms":\[.*\]' |
+  grep -o '"covariate":"[^"]*","form":"[^"]*"' | tr -d '"' | paste -sd ' ' -)"
+printf '$ GET /v1/wear   (the running campaign under the adopted model)\n'
+show_wear
 
 header "Stop the daemon" \
   "SIGTERM: the daemon stops accepting connections, finishes in-flight" \

@@ -1,11 +1,14 @@
 // `rollwear ann --data DIR [--json FILE] [--seeds N] [--split-seed N]
 //  [--seed N] [--select mean|best] [--max-epochs N] [--threads N]
 //  [--weight-decay X] [--no-early-stopping] [--linear-skip]
-//  [--model-out FILE]`
+//  [--model-out FILE] [--with-diagnosis] [--figures DIR]`
 // Trains the recurrent K-estimator and compares it with classical
 // calibration (Wang, option 1) on the same split as `calibrate`: the study's
 // Table 4 analogue (core/ann_study.h). --model-out writes the trained model
-// in its text form (core/ann_model.h).
+// in its text form (core/ann_model.h). --with-diagnosis adds the diagnosis
+// engine's adopted model on the same split as a third row. --figures DIR
+// writes measured vs calculated wear per stand, classical against the ANN
+// (core/study_figures.h).
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -14,6 +17,7 @@
 
 #include "core/ann_study.h"
 #include "core/dataset_io.h"
+#include "core/study_figures.h"
 #include "service/commands.h"
 #include "service/flags.h"
 
@@ -45,8 +49,8 @@ int RunAnn(const Args& args) {
   if (!flags.Parse(args,
                    {"data", "json", "seeds", "split-seed", "seed", "select",
                     "max-epochs", "threads", "model-out", "weight-decay",
-                    "no-early-stopping", "linear-skip"},
-                   {"no-early-stopping", "linear-skip"}, &error)) {
+                    "no-early-stopping", "linear-skip", "with-diagnosis", "figures"},
+                   {"no-early-stopping", "linear-skip", "with-diagnosis"}, &error)) {
     return Fail(error, 2);
   }
   if (!flags.Has("data")) return Fail("--data DIR is required", 2);
@@ -64,6 +68,7 @@ int RunAnn(const Args& args) {
   }
   options.training.early_stopping = !flags.Has("no-early-stopping");
   options.training.linear_skip = flags.Has("linear-skip");
+  options.compare_adopted = flags.Has("with-diagnosis");
   options.split_seed = static_cast<uint64_t>(split_seed);
   options.training.members = static_cast<int>(seeds);
   options.training.seed = static_cast<uint64_t>(seed);
@@ -82,6 +87,14 @@ int RunAnn(const Args& args) {
   StatusOr<AnnComparison> c = CompareAnnWithClassical(*data, options);
   if (!c.ok()) return Fail(c.status().message(), 1);
   std::printf("%s", AnnComparisonMarkdown(*c).c_str());
+
+  if (flags.Has("figures")) {
+    StatusOr<SvgFigure> figure = AnnFigure(*data, options, *c);
+    const Status written =
+        figure.ok() ? WriteFigures(flags.Get("figures"), {*figure}) : figure.status();
+    if (!written.ok()) return Fail(written.message(), 1);
+    std::printf("wrote %s/%s\n", flags.Get("figures").c_str(), figure->file_name.c_str());
+  }
 
   if (flags.Has("model-out")) {
     std::ofstream out(flags.Get("model-out"));
@@ -107,6 +120,12 @@ int RunAnn(const Args& args) {
     j["ann"]["bias_above_300_um"] = Num(c->ann_bias_above_300_um);
     j["ann"]["seconds"] = c->ann_seconds;
     j["ann"]["best_member"] = c->best_member;
+    if (c->has_adopted) {
+      j["adopted"] = Gaps(c->adopted_train, c->adopted_val);
+      j["adopted"]["findings"] = c->adopted_findings;
+      j["adopted"]["parameters"] = c->adopted_parameters;
+      j["adopted"]["seconds"] = c->adopted_seconds;
+    }
     j["delta_percent"] = {
         {"train", Num(100 * (c->ann_train.gap_um - c->classical_train.gap_um) /
                       c->classical_train.gap_um)},
