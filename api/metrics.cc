@@ -28,6 +28,7 @@ constexpr RouteInfo kRoutes[kNumRoutes] = {
     {"/metrics", "GET"},
     {"/v1/diagnoses", "POST"},
     {"/v1/diagnoses/{id}", "GET"},
+    {"/", "GET"},
     {"unmatched", ""},
 };
 

@@ -41,6 +41,7 @@ enum class RouteId : int {
   kMetrics,           // GET  /metrics
   kDiagnosesPost,     // POST /v1/diagnoses
   kDiagnosis,         // GET  /v1/diagnoses/{id}
+  kDashboard,         // GET  / (HTML, api/dashboard.cc)
   kUnmatched,         // anything else (404/405)
   kCount
 };

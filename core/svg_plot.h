@@ -32,6 +32,8 @@ struct PlotSeries {
 };
 
 struct PlotSpec {
+  // Where the legend box goes (inside the plot area, on a white panel).
+  enum class Legend { kTopLeft, kTopRight, kBottomRight, kNone };
   std::string title;
   std::string x_label;  // with unit, e.g. "measured wear (µm)"
   std::string y_label;
@@ -42,9 +44,23 @@ struct PlotSpec {
   std::vector<std::string> categories;
   int width = 520;
   int height = 380;
+  int font_size = 12;  // ticks and legend; titles are 2 px larger
+  Legend legend = Legend::kTopLeft;
+  // true: the <svg> fills its container's width (width="100%", aspect kept
+  // by the viewBox), for HTML pages; false: width x height pixels.
+  bool fluid = false;
 };
 
 std::string RenderSvg(const PlotSpec& spec);
+
+// Several plots side by side in one SVG document (small multiples, e.g.
+// one parity plot per stand), `columns` per row, under a common title.
+std::string RenderSvgGrid(const std::string& title,
+                          const std::vector<PlotSpec>& panels, int columns);
+
+// Colour of the i-th series in the house palette (colour-blind safe,
+// Okabe-Ito order), for callers that draw a series per roll position etc.
+const char* PaletteColor(int i);
 
 // Escapes &, <, >, " for XML/HTML text and attributes.
 std::string XmlEscape(const std::string& text);

@@ -39,6 +39,7 @@ readonly PACKAGES=(
   libgtest-dev
   libgmock-dev
   libbenchmark-dev
+  chromium
 )
 
 usage() {

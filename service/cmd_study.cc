@@ -1,6 +1,7 @@
-// `rollwear study --data DIR [--out DIR] [--split-seed N] [--seed N]`:
-// the study's Tables 1-3 on a dataset, as Markdown (stdout and
-// OUT/study.md) and JSON (OUT/study.json).
+// `rollwear study --data DIR [--out DIR] [--figures DIR] [--split-seed N]
+// [--seed N]`: the study's Tables 1-3 on a dataset, as Markdown (stdout and
+// OUT/study.md) and JSON (OUT/study.json); with --figures, the study's
+// measured-vs-calculated figures as SVG (core/study_figures.h).
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -10,6 +11,7 @@
 
 #include "core/dataset_io.h"
 #include "core/study.h"
+#include "core/study_figures.h"
 #include "service/commands.h"
 #include "service/flags.h"
 
@@ -43,7 +45,7 @@ nlohmann::json RowJson(const StudyRow& r) {
 int RunStudy(const Args& args) {
   Flags flags;
   std::string error;
-  if (!flags.Parse(args, {"data", "out", "split-seed", "seed"}, {}, &error)) {
+  if (!flags.Parse(args, {"data", "out", "figures", "split-seed", "seed"}, {}, &error)) {
     std::fprintf(stderr, "rollwear study: %s\n", error.c_str());
     return 2;
   }
@@ -96,6 +98,18 @@ int RunStudy(const Args& args) {
     }
     std::printf("wrote %s and %s\n", (out / "study.md").c_str(),
                 (out / "study.json").c_str());
+  }
+  if (flags.Has("figures")) {
+    StatusOr<std::vector<SvgFigure>> figures = StudyFigures(*data, options);
+    Status written = figures.ok() ? WriteFigures(flags.Get("figures"), *figures)
+                                  : figures.status();
+    if (!written.ok()) {
+      std::fprintf(stderr, "rollwear study: %s\n", written.message().c_str());
+      return 1;
+    }
+    for (const SvgFigure& f : *figures) {
+      std::printf("wrote %s/%s\n", flags.Get("figures").c_str(), f.file_name.c_str());
+    }
   }
   return 0;
 }

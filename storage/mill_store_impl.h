@@ -21,6 +21,7 @@
 #define ROLLWEAR_STORAGE_MILL_STORE_IMPL_H_
 
 #include <array>
+#include <chrono>
 #include <condition_variable>
 #include <deque>
 #include <functional>
@@ -61,6 +62,7 @@ struct WriteItem {
   UnixSeconds ended_at = 0;               // kEndCampaign
   CoilIn coil_in;                         // kCoil, as posted
   StoredCoil coil;                        // kCoil, canonical
+  std::string coil_wear;                  // kCoil, EncodeCoilWear(answer)
   MeasurementIn measurement;              // kMeasurement
   const Dataset* dataset = nullptr;       // kImport (owned by the caller)
   std::vector<StoredCoil> dataset_coils;  // kImport
@@ -76,6 +78,17 @@ struct WriteItem {
 struct LiveRoll {
   MountedRollIn mount;
   RollWearState state;
+};
+
+// What predictions depend on: the model and the open campaign's rolls. The
+// writer computes the state a batch leaves on a copy before committing it
+// (so each coil's answer is stored with the coil) and installs the copy
+// after the commit.
+struct LiveState {
+  std::shared_ptr<const ModelVersion> model;
+  std::array<std::optional<LiveRoll>, kNumRollPositionSlots> rolls;
+  std::string open_campaign;
+  uint32_t positions_seen = 0;
 };
 
 class MillStoreImpl final : public MillStore {
@@ -130,9 +143,9 @@ class MillStoreImpl final : public MillStore {
   Status Submit(const ItemPtr& item, bool* immediate);
   Status RunTask(std::function<Status(Db*)> task,
                  std::function<void(Db*)> after_commit);
-  // The wear a stored coil adds under the current model, for answering a
-  // repeat (predicted totals: the live state, or replayed when the
-  // campaign has ended).
+  // The answer to a repeat of a stored coil: its first answer, read from
+  // the coil's row (O(passes)); replayed under the current model only if
+  // the row has none (cannot happen after Init's backfill).
   CoilOutcome OutcomeForStored(const StoredCoil& coil) const;
   std::shared_ptr<const ModelVersion> MakePrior(uint32_t positions_seen) const;
   PositionWear PositionWearLocked(int slot) const;
@@ -149,9 +162,19 @@ class MillStoreImpl final : public MillStore {
 
   // ---- mill_store_writer.cc
   void WriterLoop();
+  // Group commit: while the queue holds fewer writes than callers recently
+  // had in flight, waits (at most kMaxLinger) for the rest to arrive, so
+  // one fsync serves them all. Called with mu_ held via `lock`.
+  void LingerLocked(std::unique_lock<std::mutex>* lock);
+  // Computes, on `state`, what the batch's roll changes, ends and coils do
+  // to the predictions; fills each new coil's answer (coil_outcome and
+  // coil_wear). Writer thread, no lock held.
+  void PredictBatch(const std::vector<ItemPtr>& batch, LiveState* state) const;
   Status ExecuteItem(WriteItem* item);
-  // After a commit: applies the batch to committed_ and the live state.
-  void PublishBatch(const std::vector<ItemPtr>& batch);
+  // After a commit: applies the batch to committed_ and installs `next`
+  // (PredictBatch's result; empty for imports and tasks).
+  void PublishBatch(const std::vector<ItemPtr>& batch,
+                    std::optional<LiveState> next);
   // After a failed commit: fails the batch, rebuilds spec_ from committed_
   // and the still-queued writes (re-validated; those now invalid are
   // answered with their error and returned in *finished).
@@ -177,6 +200,14 @@ class MillStoreImpl final : public MillStore {
   std::array<std::optional<LiveRoll>, kNumRollPositionSlots> rolls_;
   std::shared_ptr<const ModelVersion> model_;
   StoreCounters counters_;
+  // Group-commit pacing (mu_): writes queued or being committed, their
+  // maximum over the current and the previous window, and the queue length
+  // at which a caller wakes the writer.
+  int in_flight_ = 0;
+  int peak_in_flight_ = 0;
+  int peak_in_flight_prev_ = 0;
+  std::chrono::steady_clock::time_point peak_window_start_;
+  size_t wake_writer_at_ = 1;
   std::thread writer_;
 };
 

@@ -1,0 +1,166 @@
+// GET /: gathers what the pulpit's dashboard shows from the store (wear of
+// the mounted rolls, the open campaign's wear history, the last measured
+// campaigns under the active model, the last calibrations) and from the
+// router's diagnosis jobs (the latest finished diagnosis), and renders it
+// with core/dashboard_page.h. Part of Router (api/router.h).
+#include <cmath>
+#include <ctime>
+#include <exception>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "api/router.h"
+#include "core/dashboard_page.h"
+
+namespace rollwear::api {
+namespace {
+
+// Ended, measured campaigns behind the parity plots.
+constexpr int kParityCampaigns = 20;
+// Calibration runs listed.
+constexpr int kCalibrationRows = 5;
+// Diagnosis jobs looked back through for the latest finished one
+// (DiagnosisJobs keeps the last 50).
+constexpr int kDiagnosisLookback = 50;
+
+std::string UtcTime(int64_t unix_seconds, bool with_seconds) {
+  if (unix_seconds <= 0) return "";
+  const std::time_t t = static_cast<std::time_t>(unix_seconds);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[40];
+  std::strftime(buf, sizeof(buf),
+                with_seconds ? "%Y-%m-%d %H:%M:%S UTC" : "%Y-%m-%d %H:%M UTC",
+                &tm);
+  return buf;
+}
+
+double NumberOr(const nlohmann::json& j, const char* key, double fallback) {
+  auto it = j.find(key);
+  return it != j.end() && it->is_number() ? it->get<double>() : fallback;
+}
+
+std::string TextOr(const nlohmann::json& j, const char* key) {
+  auto it = j.find(key);
+  return it != j.end() && it->is_string() ? it->get<std::string>() : "";
+}
+
+// The strongest finding of a diagnosis report (JSON of diagnosis_json.h).
+std::optional<DashboardFinding> FindingOf(int64_t id,
+                                          const std::string& report) {
+  try {
+    const nlohmann::json j = nlohmann::json::parse(report);
+    DashboardFinding f;
+    f.diagnosis_id = id;
+    f.verdict = TextOr(j, "verdict");
+    if (j.contains("baseline") && j["baseline"].is_object()) {
+      f.baseline_gap_val_um = NumberOr(j["baseline"], "gap_val_um", NAN);
+    }
+    if (j.contains("findings") && j["findings"].is_array() &&
+        !j["findings"].empty()) {
+      const nlohmann::json& top = j["findings"][0];
+      f.covariate = TextOr(top, "covariate");
+      f.mechanism = TextOr(top, "mechanism");
+      f.explanation = TextOr(top, "explanation");
+      f.p_value = NumberOr(top, "p_value", NAN);
+      f.gap_val_before_um = NumberOr(top, "gap_val_before_um", NAN);
+      f.gap_val_after_um = NumberOr(top, "gap_val_after_um", NAN);
+    }
+    return f;
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
+}  // namespace
+
+HttpResponse Router::GetDashboard() {
+  DashboardData d;
+  d.generated_at = UtcTime(static_cast<int64_t>(std::time(nullptr)), true);
+
+  const storage::WearSnapshot wear = store_->Wear();
+  d.model_version = wear.model_version;
+  StatusOr<storage::ModelVersion> model = store_->ActiveModel();
+  if (model.ok()) {
+    d.model_label = model->version == 0 ? "prior (uncalibrated) " + model->model
+                                        : model->model + ", option " +
+                                              std::to_string(model->option);
+    if (model->version > 0) d.model_gap_val_um = model->gap_val_um;
+  }
+  for (const storage::PositionWear& p : wear.positions) {
+    DashboardRoll r;
+    r.stand = p.stand;
+    r.position = PositionName(p.position);
+    r.roll_id = p.roll_id;
+    r.roll_type = p.roll_type;
+    r.coils = p.coils;
+    r.rolled_length_m = p.rolled_length_m;
+    r.predicted_wear_um = p.predicted_wear_um;
+    r.interval_lo_um = p.interval_lo_um;
+    r.interval_hi_um = p.interval_hi_um;
+    d.campaign_id = p.campaign_id;
+    d.rolls.push_back(std::move(r));
+  }
+
+  StatusOr<std::vector<storage::CampaignWearHistory>> history =
+      store_->RecentWear(kParityCampaigns);
+  if (history.ok()) {
+    for (const storage::CampaignWearHistory& c : *history) {
+      if (c.open) {
+        if (c.campaign_id != d.campaign_id) continue;
+        for (const storage::RollWearHistory& h : c.rolls) {
+          for (DashboardRoll& r : d.rolls) {
+            if (r.stand == h.stand && r.position == PositionName(h.position)) {
+              r.track_length_m = h.rolled_length_m;
+              r.track_wear_um = h.predicted_wear_um;
+            }
+          }
+        }
+        continue;
+      }
+      ++d.parity_campaigns;
+      for (const storage::RollWearHistory& h : c.rolls) {
+        if (!h.measured_um) continue;
+        d.parity.push_back(DashboardParityPoint{
+            h.stand, PositionName(h.position), c.campaign_id, *h.measured_um,
+            h.final_predicted_um});
+      }
+    }
+  }
+
+  for (const storage::CalibrationRecord& c :
+       store_->ListCalibrations(kCalibrationRows)) {
+    DashboardCalibration row;
+    row.id = c.id;
+    row.status = storage::CalibrationStatusName(c.status);
+    row.trigger = c.trigger;
+    row.model = c.model;
+    row.option = c.option;
+    row.finished = UtcTime(c.finished_at, false);
+    row.gap_train_um = c.gap_train_um;
+    row.gap_val_um = c.gap_val_um;
+    row.active_gap_val_um = c.active_gap_val_um;
+    row.promoted = c.promoted;
+    row.model_version = c.model_version;
+    row.message = c.message;
+    d.calibrations.push_back(std::move(row));
+  }
+
+  const int64_t last = last_diagnosis_id_.load(std::memory_order_relaxed);
+  for (int64_t id = last; id > 0 && id > last - kDiagnosisLookback; --id) {
+    std::optional<DiagnosisJob> job = diagnoses_->Get(id);
+    if (!job || job->status != "done") continue;
+    d.diagnosis = FindingOf(id, job->report);
+    if (d.diagnosis) break;
+  }
+
+  HttpResponse r;
+  r.status = 200;
+  r.content_type = "text/html; charset=utf-8";
+  r.body = DashboardHtml(d);
+  r.headers.emplace_back("Cache-Control", "no-store");
+  return r;
+}
+
+}  // namespace rollwear::api

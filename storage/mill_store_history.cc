@@ -1,0 +1,135 @@
+// MillStore::RecentWear: the wear history behind the daemon's dashboard.
+// Replays the open campaign's stored passes (recording each roll's wear
+// after every coil) and the last ended, measured campaigns under the active
+// model, on the read connection. The replay is the one that restores the
+// live state on start (same passes, same order, same model), so the open
+// campaign's last points equal Wear().
+#include <algorithm>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "storage/mill_store_impl.h"
+#include "storage/store_sql.h"
+
+namespace rollwear::storage::internal {
+namespace {
+
+// Replays `rec` under `model` into `out`; with `track`, also every roll's
+// wear after each of its passes.
+Status ReplayInto(Db* db, const CampaignRec& rec, const WearModel& model,
+                  bool track, CampaignWearHistory* out) {
+  RollStates states;
+  std::array<int, kNumRollPositionSlots> index{};
+  index.fill(-1);
+  for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
+    const auto& m = rec.mounts[slot];
+    if (!m.has_value()) continue;
+    states[slot] =
+        MountRoll(model, RollPositionName(m->stand, m->position), m->roll_type,
+                  m->diameter_mm, m->hardness_hb, rec.started_at);
+    RollWearHistory h;
+    h.stand = m->stand;
+    h.position = m->position;
+    h.roll_id = m->roll_id;
+    if (rec.measurements[slot].has_value()) {
+      h.measured_um = rec.measurements[slot]->wear_center_um;
+    }
+    index[slot] = static_cast<int>(out->rolls.size());
+    out->rolls.push_back(std::move(h));
+  }
+  StatusOr<Statement> st = db->Prepare(
+      "SELECT c.grade, p.stand, p.rolled_at, p.force_kn, "
+      "p.width_mm, p.length_m, p.entry_thickness_mm, p.exit_thickness_mm, "
+      "p.temperature_c, p.speed_mps, p.lubrication, p.shift_mm "
+      "FROM passes p JOIN coils c ON c.id = p.coil "
+      "WHERE p.campaign = (SELECT id FROM campaigns WHERE campaign_id = ?) "
+      "ORDER BY p.id");
+  if (!st.ok()) return st.status();
+  st->BindText(1, rec.id);
+  StoredPass pass;
+  while (true) {
+    StatusOr<bool> row = st->Step();
+    if (!row.ok()) return row.status();
+    if (!*row) break;
+    pass.stand = static_cast<int>(st->ColumnInt(1));
+    pass.rolled_at = st->ColumnInt(2);
+    pass.force_kn = st->ColumnDouble(3);
+    pass.width_mm = st->ColumnDouble(4);
+    pass.length_m = st->ColumnDouble(5);
+    pass.entry_thickness_mm = st->ColumnDouble(6);
+    pass.exit_thickness_mm = st->ColumnDouble(7);
+    pass.temperature_c = st->ColumnDouble(8);
+    pass.speed_mps = st->ColumnDouble(9);
+    pass.lubrication = st->ColumnInt(10) != 0;
+    pass.shift_mm = st->ColumnDouble(11);
+    const PassInput in = ToPassInput(st->ColumnText(0), pass);
+    for (Position p : {Position::kTop, Position::kBottom}) {
+      const int slot = RollPositionSlot(pass.stand, p);
+      auto& s = states[slot];
+      if (!s.has_value()) continue;
+      AddPass(model, in, &*s);
+      if (track) {
+        RollWearHistory& h = out->rolls[index[slot]];
+        h.rolled_length_m.push_back(s->rolled_length_m);
+        h.predicted_wear_um.push_back(s->wear_um);
+      }
+    }
+  }
+  for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
+    if (index[slot] >= 0) {
+      out->rolls[index[slot]].final_predicted_um = states[slot]->wear_um;
+    }
+  }
+  return Status::Ok();
+}
+
+bool HasMeasurement(const CampaignRec& rec) {
+  return std::any_of(rec.measurements.begin(), rec.measurements.end(),
+                     [](const auto& m) { return m.has_value(); });
+}
+
+}  // namespace
+
+StatusOr<std::vector<CampaignWearHistory>> MillStoreImpl::RecentWear(
+    int ended_campaigns) const {
+  std::shared_ptr<const ModelVersion> model;
+  std::vector<CampaignRec> recs;  // open first, then newest ended
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    model = model_;
+    if (!committed_.open_campaign.empty()) {
+      auto it = committed_.campaigns.find(committed_.open_campaign);
+      if (it != committed_.campaigns.end()) recs.push_back(it->second);
+    }
+    std::vector<const CampaignRec*> ended;
+    for (const auto& [id, rec] : committed_.campaigns) {
+      if (rec.ended_at.has_value() && HasMeasurement(rec)) {
+        ended.push_back(&rec);
+      }
+    }
+    std::sort(ended.begin(), ended.end(),
+              [](const CampaignRec* a, const CampaignRec* b) {
+                return a->started_at != b->started_at
+                           ? a->started_at > b->started_at
+                           : a->id > b->id;
+              });
+    const size_t n = std::min(
+        ended.size(), static_cast<size_t>(std::max(0, ended_campaigns)));
+    for (size_t i = 0; i < n; ++i) recs.push_back(*ended[i]);
+  }
+  std::vector<CampaignWearHistory> out;
+  std::lock_guard<std::mutex> lock(read_mu_);
+  for (const CampaignRec& rec : recs) {
+    CampaignWearHistory h;
+    h.campaign_id = rec.id;
+    h.started_at = rec.started_at;
+    h.open = !rec.ended_at.has_value();
+    ROLLWEAR_RETURN_IF_ERROR(
+        ReplayInto(read_db_.get(), rec, model->wear_model, h.open, &h));
+    out.push_back(std::move(h));
+  }
+  return out;
+}
+
+}  // namespace rollwear::storage::internal

@@ -1,0 +1,250 @@
+// The dashboard (GET /) end to end: the real daemon with a simulated mill
+// replayed through the API, a calibration and a diagnosis run over HTTP,
+// then headless Chromium loads the page. The DOM it renders must show every
+// mounted roll position with the numbers of GET /v1/wear (at the page's
+// printed precision), the calibration with the gaps of
+// GET /v1/calibrations/{id} and the diagnosis's strongest finding; a
+// screenshot at 1366x768 goes to <build>/tests/artifacts/dashboard.png.
+// Chromium (/usr/bin/chromium, or $ROLLWEAR_CHROMIUM) is required: the test
+// fails when it is missing (deploy/install.sh installs it).
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <regex>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "api/http_client.h"
+#include "core/dashboard_page.h"
+#include "tests/e2e/e2e_util.h"
+
+namespace rollwear::e2e {
+namespace {
+
+std::string Fixed(double v, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
+  return buf;
+}
+
+std::string ChromiumPath() {
+  const char* env = std::getenv("ROLLWEAR_CHROMIUM");
+  return env != nullptr && *env != '\0' ? env : "/usr/bin/chromium";
+}
+
+// <build>/tests/artifacts (the binary is <build>/service/rollwear).
+std::filesystem::path ArtifactsDir() {
+  const std::filesystem::path build =
+      std::filesystem::path(ROLLWEAR_BINARY).parent_path().parent_path();
+  return build / "tests" / "artifacts";
+}
+
+// Runs headless Chromium with `args` after the common flags; returns its
+// exit code, stdout in *out (stderr, which Chromium fills with noise, goes
+// to `log`).
+int RunChromium(const std::string& profile,
+                const std::vector<std::string>& args, const std::string& log,
+                std::string* out) {
+  std::string cmd =
+      "'" + ChromiumPath() +
+      "' --headless --no-sandbox --disable-gpu --no-first-run "
+      "--disable-background-networking --disable-component-update "
+      "--disable-sync --hide-scrollbars --user-data-dir='" +
+      profile + "'";
+  for (const std::string& a : args) cmd += " '" + a + "'";
+  cmd += " 2>>'" + log + "'";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (pipe == nullptr) return -1;
+  char buf[4096];
+  size_t n;
+  out->clear();
+  while ((n = fread(buf, 1, sizeof(buf), pipe)) > 0) out->append(buf, n);
+  const int status = pclose(pipe);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+json WaitFor(const std::string& url, const std::string& path) {
+  json body;
+  for (int i = 0; i < 3000; ++i) {
+    if (HttpGet(url, path, &body) != 200) return body;
+    if (body["status"] == "done" || body["status"] == "failed") return body;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return body;
+}
+
+struct PageRoll {
+  std::map<std::string, std::string> attrs;
+  std::string wear_text;
+  std::string coils_text;
+};
+
+// The roll rows of a rendered page, keyed "F6/top".
+std::map<std::string, PageRoll> RollsOf(const std::string& dom) {
+  std::map<std::string, PageRoll> rolls;
+  const std::regex row(R"(<tr class="roll"([^>]*)>([\s\S]*?)</tr>)");
+  const std::regex attr(R"re(data-([a-z-]+)="([^"]*)")re");
+  const std::regex wear(R"(<td class="wear">([^<]*)</td>)");
+  const std::regex coils(R"(<td class="coils">([^<]*)</td>)");
+  for (auto it = std::sregex_iterator(dom.begin(), dom.end(), row);
+       it != std::sregex_iterator(); ++it) {
+    PageRoll r;
+    const std::string attrs = (*it)[1], cells = (*it)[2];
+    for (auto a = std::sregex_iterator(attrs.begin(), attrs.end(), attr);
+         a != std::sregex_iterator(); ++a) {
+      r.attrs[(*a)[1]] = (*a)[2];
+    }
+    std::smatch m;
+    if (std::regex_search(cells, m, wear)) r.wear_text = m[1];
+    if (std::regex_search(cells, m, coils)) r.coils_text = m[1];
+    rolls["F" + r.attrs["stand"] + "/" + r.attrs["position"]] = r;
+  }
+  return rolls;
+}
+
+TEST(DashboardTest, ChromiumShowsTheMountedRollsWithTheApisNumbers) {
+  const std::string chromium = ChromiumPath();
+  ASSERT_EQ(access(chromium.c_str(), X_OK), 0)
+      << chromium << " is missing: install the Debian package 'chromium' "
+      << "(deploy/install.sh does) or set ROLLWEAR_CHROMIUM";
+
+  TempDir dir;
+  std::string output;
+  ASSERT_EQ(RunRollwear({"simulate", "--out", dir / "data", "--campaigns", "30",
+                         "--seed", "11", "--effect", "campaign_growth"},
+                        &output),
+            0)
+      << output;
+  Daemon daemon(dir / "rollwear.db", dir / "serve.log");
+  std::string error;
+  ASSERT_TRUE(daemon.Start(&error)) << error;
+  ASSERT_EQ(
+      RunRollwear({"replay", "--data", dir / "data", "--url", daemon.url(),
+                   "--clients", "4", "--leave-last-open", "--quiet"},
+                  &output),
+      0)
+      << output;
+
+  json answer;
+  ASSERT_EQ(HttpPost(daemon.url(), "/v1/calibrations", "{}", &answer), 202);
+  const int64_t calibration_id = answer["id"].get<int64_t>();
+  const json calibration = WaitFor(
+      daemon.url(), "/v1/calibrations/" + std::to_string(calibration_id));
+  ASSERT_EQ(calibration["status"], "done") << calibration.dump();
+  ASSERT_EQ(HttpPost(daemon.url(), "/v1/diagnoses", "{}", &answer), 202);
+  const int64_t diagnosis_id = answer["id"].get<int64_t>();
+  const json diagnosis =
+      WaitFor(daemon.url(), "/v1/diagnoses/" + std::to_string(diagnosis_id));
+  ASSERT_EQ(diagnosis["status"], "done") << diagnosis.dump().substr(0, 2000);
+
+  json wear;
+  ASSERT_EQ(HttpGet(daemon.url(), "/v1/wear", &wear), 200);
+  ASSERT_EQ(wear["positions"].size(), 4u) << wear.dump();
+
+  // The page as served: HTML, self-contained (nothing fetched from outside).
+  api::HttpClient client(daemon.url());
+  const api::HttpResult page = client.Get("/");
+  ASSERT_EQ(page.status, 200) << page.body;
+  EXPECT_NE(page.body.find("<svg"), std::string::npos);
+  std::string stripped = page.body;
+  const std::string svg_ns = "http://www.w3.org/2000/svg";
+  for (size_t at = stripped.find(svg_ns); at != std::string::npos;
+       at = stripped.find(svg_ns, at)) {
+    stripped.erase(at, svg_ns.size());
+  }
+  for (const char* outside :
+       {"http:", "https:", "<link", "src=", "url(", "@import"}) {
+    EXPECT_EQ(stripped.find(outside), std::string::npos)
+        << "the page must not load anything from elsewhere: " << outside;
+  }
+
+  // The DOM as Chromium renders it.
+  const std::string log = dir / "chromium.log";
+  std::string dom;
+  ASSERT_EQ(RunChromium(dir / "profile1", {"--dump-dom", daemon.url() + "/"},
+                        log, &dom),
+            0)
+      << ReadFile(log);
+  const std::map<std::string, PageRoll> rolls = RollsOf(dom);
+  ASSERT_EQ(rolls.size(), wear["positions"].size()) << dom.substr(0, 4000);
+  for (const json& p : wear["positions"]) {
+    // The API names stands "F6"; the page's data-stand is the number.
+    const std::string key =
+        p["stand"].get<std::string>() + "/" + p["position"].get<std::string>();
+    auto it = rolls.find(key);
+    ASSERT_NE(it, rolls.end()) << key;
+    const PageRoll& r = it->second;
+    const double w = p["predicted_wear_um"].get<double>();
+    EXPECT_EQ(r.attrs.at("wear-um"), Fixed(w, 3)) << key;
+    EXPECT_EQ(r.wear_text, Fixed(w, 1)) << key;
+    EXPECT_EQ(r.attrs.at("roll-id"), p["roll_id"].get<std::string>()) << key;
+    EXPECT_EQ(r.attrs.at("coils"), std::to_string(p["coils"].get<int>()))
+        << key;
+    EXPECT_EQ(r.coils_text, std::to_string(p["coils"].get<int>())) << key;
+    EXPECT_EQ(r.attrs.at("length-m"),
+              Fixed(p["rolled_length_m"].get<double>(), 3))
+        << key;
+    EXPECT_EQ(r.attrs.at("lo-um"), Fixed(p["interval_um"][0].get<double>(), 3))
+        << key;
+    EXPECT_EQ(r.attrs.at("hi-um"), Fixed(p["interval_um"][1].get<double>(), 3))
+        << key;
+  }
+  // The calibration row carries the API's gaps; the plots are drawn.
+  const std::string cal_row =
+      "<tr class=\"calibration\" data-id=\"" + std::to_string(calibration_id) +
+      "\" data-gap-train-um=\"" +
+      Fixed(calibration["gap_train_um"].get<double>(), 3) +
+      "\" data-gap-val-um=\"" +
+      Fixed(calibration["gap_val_um"].get<double>(), 3) + "\"";
+  EXPECT_NE(dom.find(cal_row), std::string::npos) << cal_row;
+  EXPECT_NE(dom.find("<polyline"), std::string::npos) << "no wear growth curve";
+  EXPECT_NE(dom.find("class=\"identity\""), std::string::npos)
+      << "no parity plot";
+  EXPECT_NE(dom.find("diagnosis #" + std::to_string(diagnosis_id)),
+            std::string::npos);
+  if (!diagnosis["findings"].empty()) {
+    EXPECT_NE(
+        dom.find("data-covariate=\"" +
+                 diagnosis["findings"][0]["covariate"].get<std::string>() +
+                 "\""),
+        std::string::npos);
+  }
+
+  // The screenshot at the pulpit's screen size, kept in the build tree.
+  std::error_code ec;
+  std::filesystem::create_directories(ArtifactsDir(), ec);
+  const std::string png = (ArtifactsDir() / "dashboard.png").string();
+  std::filesystem::remove(png, ec);
+  std::string ignored;
+  ASSERT_EQ(RunChromium(dir / "profile2",
+                        {"--screenshot=" + png, "--window-size=1366,768",
+                         daemon.url() + "/"},
+                        log, &ignored),
+            0)
+      << ReadFile(log);
+  ASSERT_TRUE(std::filesystem::exists(png)) << ReadFile(log);
+  const std::string bytes = ReadFile(png);
+  ASSERT_GT(bytes.size(), 8u);
+  EXPECT_EQ(bytes.substr(1, 3), "PNG");
+  EXPECT_EQ(daemon.Terminate(), 0);
+}
+
+// The page builder alone: empty states and escaping.
+TEST(DashboardTest, PageWithoutRollsSaysSoAndEscapesLabels) {
+  DashboardData d;
+  d.title = "mill <2>";
+  d.generated_at = "2024-01-01 00:00:00 UTC";
+  const std::string html = DashboardHtml(d);
+  EXPECT_NE(html.find("mill &lt;2&gt;"), std::string::npos);
+  EXPECT_NE(html.find("no rolls are mounted"), std::string::npos);
+  EXPECT_NE(html.find("No calibration yet"), std::string::npos);
+  EXPECT_NE(html.find("No diagnosis has run"), std::string::npos);
+  EXPECT_EQ(html.find("<tr class=\"roll\""), std::string::npos);
+}
+
+}  // namespace
+}  // namespace rollwear::e2e
