@@ -343,7 +343,6 @@ StatusOr<DiagnosisReport> Diagnose(const Dataset& data, const DiagnosisOptions& 
     Fitted adopted = Fit(td, train, sd, fits[winner].log_k, fits[winner].terms, true, &se);
     if (!adopted.usable) adopted = fits[winner];
     const TermSpec& spec = adopted.terms.back();
-    diag::NameFinding(td, train, spec, &f);
     f.term = spec.term;
     const int offset = static_cast<int>(se.size()) - spec.term.NumParams();
     if (offset >= 0) {
@@ -351,6 +350,7 @@ StatusOr<DiagnosisReport> Diagnose(const Dataset& data, const DiagnosisOptions& 
         f.parameter_std_errors["param" + std::to_string(j)] = se[offset + j];
       }
     }
+    diag::NameFinding(td, train, spec, &f);
     f.gap_val_before_um = Gap(td, val, PredictTerms(td, val, current.log_k, current.terms));
     f.gap_val_after_um = Gap(td, val, PredictTerms(td, val, adopted.log_k, adopted.terms));
     report.findings.push_back(f);

@@ -302,7 +302,18 @@ void NameFinding(const TermData& td, const std::vector<int>& train, const TermSp
     for (double q : {0.05, 0.275, 0.5, 0.725, 0.95}) {
       v.push_back(TermMultiplier(t, Quantile(w, q), nullptr));
     }
-    const double tol = 0.01 * std::max(1e-12, std::abs(v.back() - v.front()));
+    // A departure from monotone counts only beyond 1 % of the change, and
+    // for the binned form beyond 2 standard errors of a bin's multiplier
+    // (exp(b) * se(b)): a step seen through noisy bins is still a step.
+    double tol = 0.01 * std::max(1e-12, std::abs(v.back() - v.front()));
+    if (t.form == TermForm::kBinned) {
+      for (size_t j = 0; j < t.params.size(); ++j) {
+        auto se = f->parameter_std_errors.find("param" + std::to_string(j));
+        if (se != f->parameter_std_errors.end() && std::isfinite(se->second)) {
+          tol = std::max(tol, 2 * std::exp(t.params[j]) * se->second);
+        }
+      }
+    }
     bool inc = true, dec = true;
     for (size_t i = 1; i < v.size(); ++i) {
       inc = inc && v[i] >= v[i - 1] - tol;

@@ -27,7 +27,8 @@ std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>
                                       const DiagnosisOptions& options);
 
 // Fills mechanism, shape and explanation of a finding from its fitted term
-// and the covariate's training range.
+// and the covariate's training range (reads f->parameter_std_errors when
+// set, to tell a noisy binned step from a peak).
 void NameFinding(const TermData& td, const std::vector<int>& train, const TermSpec& spec,
                  Finding* finding);
 

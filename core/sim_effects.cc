@@ -63,6 +63,29 @@ double Speed(const EffectContext& c, const double* p) {
   return std::pow(c.pass->speed_mps / p[0], p[1]);
 }
 
+// supplier_change: from a given day on, the rolls bought come from a new
+// supplier (or a new casting batch) whose shell wears faster; the roll-type
+// labels stay the same, so only the calendar shows it:
+//   m = 1 + gamma  for campaigns started at or after day_step.
+double SupplierChange(const EffectContext& c, const double* p) {
+  return c.days_since_first_campaign >= p[1] ? 1 + p[0] : 1;
+}
+
+// reduction: heavier reductions mean a longer bite with more forward slip,
+// so more sliding per metre than F/w alone says:  m = (r / r_ref)^beta,
+// r = 1 - h_exit / h_entry.
+double ReductionSlip(const EffectContext& c, const double* p) {
+  const double r = 1 - c.pass->exit_thickness_mm / c.pass->entry_thickness_mm;
+  return std::pow(r / p[0], p[1]);
+}
+
+// diameter: a roll ground down to a smaller diameter runs more revolutions
+// per km of strip and carries a higher contact pressure, so it wears more
+// per unit of Wang's load (which has no diameter):  m = (D_ref / D)^n.
+double Diameter(const EffectContext& c, const double* p) {
+  return std::pow(p[0] / c.mount->diameter_mm, p[1]);
+}
+
 const std::vector<EffectSpec>& BuildTable() {
   static const std::vector<EffectSpec> kEffects = {
       {"campaign_growth",
@@ -121,6 +144,31 @@ const std::vector<EffectSpec>& BuildTable() {
        2,
        {{{"v_ref_mps", 10}, {"beta", 0.5}, {"", 0}}},
        &Speed},
+      {"supplier_change",
+       "started_at",
+       "rolls bought from a new supplier from day day_step on wear faster, "
+       "with unchanged roll-type labels: multiplier 1 + gamma for campaigns "
+       "started on or after day_step (days since the first campaign)",
+       EffectKind::kWearRate,
+       2,
+       {{{"gamma", 0.25}, {"day_step", 45}, {"", 0}}},
+       &SupplierChange},
+      {"reduction",
+       "reduction",
+       "heavier reductions slip more in a longer bite: multiplier "
+       "(reduction / r_ref)^beta, reduction = 1 - exit / entry thickness",
+       EffectKind::kWearRate,
+       2,
+       {{{"r_ref", 0.2}, {"beta", 0.8}, {"", 0}}},
+       &ReductionSlip},
+      {"diameter",
+       "diameter_mm",
+       "reground (smaller) rolls wear more per unit load: multiplier "
+       "(d_ref_mm / diameter_mm)^n",
+       EffectKind::kWearRate,
+       2,
+       {{{"d_ref_mm", 700}, {"n", 3}, {"", 0}}},
+       &Diameter},
   };
   return kEffects;
 }

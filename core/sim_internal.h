@@ -152,6 +152,7 @@ struct EffectContext {
   int coils_before = 0;
   double hours_since_mount = 0;
   double cooling_h = 0;
+  double days_since_first_campaign = 0;  // of this campaign's start
 };
 
 enum class EffectKind {

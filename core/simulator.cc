@@ -319,6 +319,7 @@ std::array<double, 4> MillRun::RollCoils(
         ctx.campaign_length_before_m = length_before_m[s];
         ctx.coils_before = i;
         ctx.hours_since_mount = (*t - start) / 3600.0;
+        ctx.days_since_first_campaign = (start - kStartTime) / 86400.0;
         for (const ActiveEffect& e : rate_effects_) {
           k *= e.spec->apply(ctx, e.parameters.data());
         }

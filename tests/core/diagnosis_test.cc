@@ -6,6 +6,7 @@
 #include "core/diagnosis.h"
 
 #include <cmath>
+#include <iterator>
 #include <set>
 #include <string>
 #include <tuple>
@@ -66,6 +67,9 @@ const Expected kExpected[] = {
     {"lubrication", "lubrication", {"lower_when_on"}, "roll_gap_lubrication"},
     {"hardness", "hardness_hb", {"decreasing"}, "roll_hardness"},
     {"speed", "speed_mps", {"increasing"}, "rolling_speed"},
+    {"supplier_change", "started_at", {"increasing", "saturating_growth"}, "drift_over_time"},
+    {"reduction", "reduction", {"increasing"}, "roll_gap_slip"},
+    {"diameter", "diameter_mm", {"decreasing"}, "roll_diameter"},
 };
 
 class ConcealedEffectTest : public ::testing::TestWithParam<std::tuple<int, uint64_t>> {};
@@ -93,7 +97,7 @@ TEST_P(ConcealedEffectTest, NamesCovariateAndShapeAndReachesNoiseFloor) {
 
 INSTANTIATE_TEST_SUITE_P(
     EveryEffectSeveralSeeds, ConcealedEffectTest,
-    ::testing::Combine(::testing::Range(0, 7), ::testing::Values(101u, 202u, 303u)),
+    ::testing::Combine(::testing::Range(0, static_cast<int>(std::size(kExpected))), ::testing::Values(101u, 202u, 303u)),
     [](const ::testing::TestParamInfo<ConcealedEffectTest::ParamType>& info) {
       return std::string(kExpected[std::get<0>(info.param)].effect) + "_seed" +
              std::to_string(std::get<1>(info.param));
