@@ -2,6 +2,7 @@
 // speculative catalog), the write entry points, and the read side.
 #include "storage/mill_store.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <utility>
@@ -97,7 +98,20 @@ Status MillStoreImpl::Init(const std::string& path) {
       active->has_value()
           ? std::make_shared<const ModelVersion>(std::move(**active))
           : MakePrior(committed_.positions_seen);
+  // Coils without a stored answer (from a version-1 file, or an import
+  // interrupted before schema version 2) get one, under the active model.
+  {
+    StatusOr<Transaction> txn = Transaction::Begin(writer_db_.get());
+    if (!txn.ok()) return txn.status();
+    StatusOr<int> filled =
+        BackfillCoilWear(writer_db_.get(), committed_, model->wear_model);
+    if (!filled.ok()) return filled.status();
+    if (*filled > 0) {
+      ROLLWEAR_RETURN_IF_ERROR(txn->Commit());
+    }
+  }
   InstallModel(std::move(model));
+  peak_window_start_ = std::chrono::steady_clock::now();
   writer_ = std::thread([this] { WriterLoop(); });
   return Status::Ok();
 }
@@ -222,14 +236,20 @@ Status MillStoreImpl::AdmitLocked(WriteItem* item, bool* immediate) {
 
 Status MillStoreImpl::Submit(const ItemPtr& item, bool* immediate) {
   std::future<void> done = item->done.get_future();
+  bool notify = false;
   {
     std::lock_guard<std::mutex> lock(mu_);
     if (stop_) return Status::Unavailable("the store is shutting down");
     ROLLWEAR_RETURN_IF_ERROR(AdmitLocked(item.get(), immediate));
     if (*immediate) return Status::Ok();
     queue_.push_back(item);
+    ++in_flight_;
+    peak_in_flight_ = std::max(peak_in_flight_, in_flight_);
+    // While the writer lingers for more writes, wake it only once enough
+    // are queued.
+    notify = queue_.size() >= wake_writer_at_;
   }
-  cv_.notify_one();
+  if (notify) cv_.notify_one();
   done.wait();
   return item->status;
 }
@@ -312,26 +332,38 @@ CoilOutcome MillStoreImpl::OutcomeForStored(const StoredCoil& coil) const {
     model = model_;
     rec = it->second;
   }
-  // Replaying the campaign gives this coil's increments exactly as they
-  // were added (adopted terms may depend on the campaign so far) and each
-  // roll's total under the current model.
-  std::array<double, kNumRollPositionSlots> coil_wear{};
-  StatusOr<RollStates> replay = Status::Internal("not replayed");
+  // The coil's first answer, stored with it: what it added and each roll's
+  // total right after it, under the model active when it was stored.
+  std::vector<CoilWearEntry> entries;
+  StatusOr<std::optional<std::string>> blob = std::optional<std::string>();
   {
     std::lock_guard<std::mutex> lock(read_mu_);
-    replay = ReplayCampaign(read_db_.get(), rec, model->wear_model,
-                            &coil.coil_id, &coil_wear);
+    blob = LookupCoilWear(read_db_.get(), coil.coil_id);
   }
-  for (const StoredPass& p : coil.passes) {
-    for (Position pos : {Position::kTop, Position::kBottom}) {
-      const int slot = RollPositionSlot(p.stand, pos);
-      const auto& mount = rec.mounts[slot];
-      if (!mount.has_value()) continue;
-      double total = 0;
-      if (replay.ok() && (*replay)[slot]) total = (*replay)[slot]->wear_um;
-      out.added.push_back(CoilOutcome::Added{p.stand, pos, mount->roll_id,
-                                             coil_wear[slot], total});
-    }
+  bool have =
+      blob.ok() && blob->has_value() && DecodeCoilWear(**blob, &entries);
+  if (!have) {
+    // No stored answer (not expected: Init and imports fill them in):
+    // replay the campaign under the current model up to this coil.
+    std::lock_guard<std::mutex> lock(read_mu_);
+    StatusOr<RollStates> replay =
+        ReplayCampaignCoils(read_db_.get(), rec, model->wear_model,
+                            [&](const ReplayedCoil& c) -> Status {
+                              if (c.coil_id == coil.coil_id) {
+                                entries = c.entries;
+                                have = true;
+                              }
+                              return Status::Ok();
+                            });
+    if (!replay.ok()) have = false;
+  }
+  if (!have) return out;
+  for (const CoilWearEntry& e : entries) {
+    const auto& mount = rec.mounts[e.slot];
+    out.added.push_back(
+        CoilOutcome::Added{SlotStand(e.slot), SlotPosition(e.slot),
+                           mount.has_value() ? mount->roll_id : std::string(),
+                           e.wear_um, e.total_um});
   }
   return out;
 }

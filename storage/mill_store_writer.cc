@@ -3,6 +3,23 @@
 // fsync for the batch), commits, then publishes them to the in-memory state
 // and wakes their callers. A failed transaction is rolled back whole; its
 // callers get the error and the speculative state is rebuilt without it.
+//
+// Batching: a closed-loop client posts its next coil only after the answer
+// to the previous one, so the writes that arrive during one commit are
+// only those of the clients not in it. Committing at once would split N
+// clients into small groups and make the disk's fsync rate the limit in
+// coils/s. Instead, when fewer writes are queued than callers recently had
+// in flight, the writer waits - at most kMaxLinger, and only until that
+// many are queued - so one fsync serves all of them. A lone client never
+// waits (one in flight, one queued); a caller that stops posting costs one
+// linger, after which the expected count follows what arrives.
+//
+// Predictions: before the transaction, PredictBatch computes on a copy of
+// the live state what the batch's coils add (each coil's answer is stored
+// with it, coils.wear); after the commit the copy is installed. Only this
+// thread changes the live state, so the copy cannot go stale.
+#include <algorithm>
+#include <optional>
 #include <utility>
 
 #include "storage/mill_store_impl.h"
@@ -12,19 +29,61 @@
 namespace rollwear::storage::internal {
 namespace {
 
+// Longest wait for more writes before a commit. Bounds the latency a
+// commit can add (an fsync on this class of machine takes ~0.2 ms).
+constexpr auto kMaxLinger = std::chrono::microseconds(1000);
+// Window over which the in-flight peak is remembered.
+constexpr auto kPeakWindow = std::chrono::milliseconds(100);
+
 bool IsExclusive(WriteKind k) {
   return k == WriteKind::kImport || k == WriteKind::kTask;
 }
 
+// Whether a batch changes predictions (so PredictBatch runs for it).
+bool NeedsPrediction(const std::vector<std::shared_ptr<WriteItem>>& batch) {
+  for (const auto& item : batch) {
+    if (item->unchanged) continue;
+    if (item->kind == WriteKind::kCoil ||
+        item->kind == WriteKind::kRollChange ||
+        item->kind == WriteKind::kEndCampaign) {
+      return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace
+
+void MillStoreImpl::LingerLocked(std::unique_lock<std::mutex>* lock) {
+  const auto now = std::chrono::steady_clock::now();
+  if (now - peak_window_start_ > kPeakWindow) {
+    peak_in_flight_prev_ = peak_in_flight_;
+    peak_in_flight_ = in_flight_;
+    peak_window_start_ = now;
+  }
+  const size_t target = static_cast<size_t>(std::min(
+      options_.max_batch, std::max(peak_in_flight_, peak_in_flight_prev_)));
+  if (queue_.size() >= target || IsExclusive(queue_.front()->kind)) return;
+  wake_writer_at_ = target;
+  const bool filled = cv_.wait_until(*lock, now + kMaxLinger, [&] {
+    return stop_ || queue_.size() >= target || IsExclusive(queue_.back()->kind);
+  });
+  wake_writer_at_ = 1;
+  if (!filled) {
+    // Fewer callers than remembered: expect what came.
+    peak_in_flight_ = peak_in_flight_prev_ = static_cast<int>(queue_.size());
+  }
+}
 
 void MillStoreImpl::WriterLoop() {
   while (true) {
     std::vector<ItemPtr> batch;
+    std::optional<LiveState> next;
     {
       std::unique_lock<std::mutex> lock(mu_);
       cv_.wait(lock, [this] { return stop_ || !queue_.empty(); });
       if (queue_.empty()) return;  // stopping and drained
+      LingerLocked(&lock);
       const bool exclusive = IsExclusive(queue_.front()->kind);
       do {
         batch.push_back(std::move(queue_.front()));
@@ -32,7 +91,15 @@ void MillStoreImpl::WriterLoop() {
       } while (!exclusive && !queue_.empty() &&
                static_cast<int>(batch.size()) < options_.max_batch &&
                !IsExclusive(queue_.front()->kind));
+      if (!exclusive && NeedsPrediction(batch)) {
+        next.emplace();
+        next->model = model_;
+        next->rolls = rolls_;
+        next->open_campaign = committed_.open_campaign;
+        next->positions_seen = committed_.positions_seen;
+      }
     }
+    if (next) PredictBatch(batch, &*next);
 
     bool needs_write = false;
     for (const ItemPtr& item : batch) needs_write |= !item->unchanged;
@@ -53,16 +120,87 @@ void MillStoreImpl::WriterLoop() {
         std::lock_guard<std::mutex> lock(mu_);
         ++counters_.commits;
       }
-      PublishBatch(batch);
+      PublishBatch(batch, std::move(next));
     } else {
       FailBatch(batch, status, &finished);
     }
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      in_flight_ -= static_cast<int>(finished.size());
+    }
     for (const ItemPtr& item : finished) {
-      if (item->status.ok() && item->kind == WriteKind::kCoil &&
-          item->unchanged) {
+      if (!item->status.ok()) {
+        item->coil_outcome = CoilOutcome();
+      } else if (item->kind == WriteKind::kCoil && item->unchanged) {
         item->coil_outcome = OutcomeForStored(item->coil);
       }
       item->done.set_value();
+    }
+  }
+}
+
+void MillStoreImpl::PredictBatch(const std::vector<ItemPtr>& batch,
+                                 LiveState* state) const {
+  std::vector<CoilWearEntry> entries;
+  for (const ItemPtr& ptr : batch) {
+    WriteItem* item = ptr.get();
+    if (item->unchanged) continue;
+    switch (item->kind) {
+      case WriteKind::kRollChange: {
+        uint32_t seen = state->positions_seen;
+        for (const MountedRollIn& m : item->roll_change.rolls) {
+          seen |= 1u << RollPositionSlot(m.stand, m.position);
+        }
+        if (state->model->version == 0 && seen != state->positions_seen) {
+          state->model = MakePrior(seen);
+        }
+        state->positions_seen = seen;
+        state->open_campaign = item->roll_change.campaign_id;
+        for (auto& r : state->rolls) r.reset();
+        for (const MountedRollIn& m : item->roll_change.rolls) {
+          state->rolls[RollPositionSlot(m.stand, m.position)] =
+              LiveRoll{m, MountRoll(state->model->wear_model,
+                                    RollPositionName(m.stand, m.position),
+                                    m.roll_type, m.diameter_mm, m.hardness_hb,
+                                    item->roll_change.started_at)};
+        }
+        break;
+      }
+      case WriteKind::kEndCampaign:
+        if (state->open_campaign == item->campaign_id) {
+          for (auto& r : state->rolls) r.reset();
+          state->open_campaign.clear();
+        }
+        break;
+      case WriteKind::kCoil: {
+        const StoredCoil& coil = item->coil;
+        CoilOutcome& out = item->coil_outcome;
+        out = CoilOutcome();
+        out.outcome = WriteOutcome::kCreated;
+        entries.clear();
+        if (state->open_campaign == coil.campaign_id) {
+          for (const StoredPass& p : coil.passes) {
+            const PassInput in = ToPassInput(coil.grade, p);
+            for (Position pos : {Position::kTop, Position::kBottom}) {
+              const int slot = RollPositionSlot(p.stand, pos);
+              auto& roll = state->rolls[slot];
+              if (!roll) continue;
+              const double wear =
+                  AddPass(state->model->wear_model, in, &roll->state);
+              out.added.push_back(CoilOutcome::Added{p.stand, pos,
+                                                     roll->mount.roll_id, wear,
+                                                     roll->state.wear_um});
+              entries.push_back(CoilWearEntry{slot, wear, roll->state.wear_um});
+            }
+          }
+        }
+        item->coil_wear = EncodeCoilWear(entries);
+        break;
+      }
+      case WriteKind::kMeasurement:
+      case WriteKind::kImport:
+      case WriteKind::kTask:
+        break;
     }
   }
 }
@@ -84,21 +222,39 @@ Status MillStoreImpl::ExecuteItem(WriteItem* item) {
     case WriteKind::kEndCampaign:
       return SetCampaignEnded(db, item->campaign_id, item->ended_at);
     case WriteKind::kCoil:
-      return InsertCoilWithPasses(db, item->coil);
+      return InsertCoilWithPasses(db, item->coil, &item->coil_wear);
     case WriteKind::kMeasurement: {
       StatusOr<int64_t> row = CampaignRow(db, item->measurement.campaign_id);
       if (!row.ok()) return row.status();
       return InsertMeasurement(db, *row, item->measurement, "");
     }
-    case WriteKind::kImport:
-      return WriteImport(db, *item->dataset, item->dataset_coils, item->plan);
+    case WriteKind::kImport: {
+      ROLLWEAR_RETURN_IF_ERROR(
+          WriteImport(db, *item->dataset, item->dataset_coils, item->plan));
+      // The imported coils' answers, in the same transaction, under the
+      // model the import leaves active (imports run alone, so the catalog
+      // the backfill needs is the committed one plus this import).
+      Catalog catalog;
+      std::shared_ptr<const ModelVersion> model;
+      {
+        std::lock_guard<std::mutex> lock(mu_);
+        catalog = committed_;
+        model = model_;
+      }
+      ApplyImport(*item->dataset, item->dataset_coils, item->plan,
+                  /*speculative=*/false, &catalog);
+      if (model->version == 0) model = MakePrior(catalog.positions_seen);
+      StatusOr<int> filled = BackfillCoilWear(db, catalog, model->wear_model);
+      return filled.status();
+    }
     case WriteKind::kTask:
       return item->task(db);
   }
   return Status::Internal("unknown write kind");
 }
 
-void MillStoreImpl::PublishBatch(const std::vector<ItemPtr>& batch) {
+void MillStoreImpl::PublishBatch(const std::vector<ItemPtr>& batch,
+                                 std::optional<LiveState> next) {
   bool replay_open = false;
   std::vector<WriteItem*> tasks;
   {
@@ -107,51 +263,19 @@ void MillStoreImpl::PublishBatch(const std::vector<ItemPtr>& batch) {
       WriteItem* item = ptr.get();
       if (item->unchanged) continue;
       switch (item->kind) {
-        case WriteKind::kRollChange: {
-          const uint32_t seen = committed_.positions_seen;
+        case WriteKind::kRollChange:
           ::rollwear::storage::internal::ApplyRollChange(item->roll_change,
                                                          &committed_);
           ++counters_.campaigns;
-          if (model_->version == 0 && committed_.positions_seen != seen) {
-            model_ = MakePrior(committed_.positions_seen);
-          }
-          for (auto& r : rolls_) r.reset();
-          for (const MountedRollIn& m : item->roll_change.rolls) {
-            rolls_[RollPositionSlot(m.stand, m.position)] =
-                LiveRoll{m, MountRoll(model_->wear_model,
-                                      RollPositionName(m.stand, m.position),
-                                      m.roll_type, m.diameter_mm, m.hardness_hb,
-                                      item->roll_change.started_at)};
-          }
           break;
-        }
         case WriteKind::kEndCampaign:
-          if (committed_.open_campaign == item->campaign_id) {
-            for (auto& r : rolls_) r.reset();
-          }
           ApplyEnd(item->campaign_id, item->ended_at, &committed_);
           break;
-        case WriteKind::kCoil: {
-          const StoredCoil& coil = item->coil;
-          ApplyCoil(coil, /*speculative=*/false, &committed_);
-          spec_.pending_coils.erase(coil.coil_id);
+        case WriteKind::kCoil:
+          ApplyCoil(item->coil, /*speculative=*/false, &committed_);
+          spec_.pending_coils.erase(item->coil.coil_id);
           ++counters_.coils;
-          CoilOutcome& out = item->coil_outcome;
-          out.outcome = WriteOutcome::kCreated;
-          if (committed_.open_campaign != coil.campaign_id) break;
-          for (const StoredPass& p : coil.passes) {
-            const PassInput in = ToPassInput(coil.grade, p);
-            for (Position pos : {Position::kTop, Position::kBottom}) {
-              auto& roll = rolls_[RollPositionSlot(p.stand, pos)];
-              if (!roll) continue;
-              const double wear = AddPass(model_->wear_model, in, &roll->state);
-              out.added.push_back(CoilOutcome::Added{p.stand, pos,
-                                                     roll->mount.roll_id, wear,
-                                                     roll->state.wear_um});
-            }
-          }
           break;
-        }
         case WriteKind::kMeasurement:
           ApplyMeasurement(item->measurement, &committed_);
           ++counters_.measurements;
@@ -179,6 +303,10 @@ void MillStoreImpl::PublishBatch(const std::vector<ItemPtr>& batch) {
           tasks.push_back(item);
           break;
       }
+    }
+    if (next) {
+      model_ = std::move(next->model);
+      rolls_ = std::move(next->rolls);
     }
   }
   if (replay_open) {

@@ -114,6 +114,18 @@ CREATE TABLE models (
 CREATE UNIQUE INDEX models_one_active ON models (active) WHERE active = 1;
 )sql";
 
+// Version 2: each coil keeps the answer its first post got - per roll
+// position it passed, the wear it added and the roll's total right after it
+// (encoding in store_sql.h, EncodeCoilWear) - so that a repeated post is
+// answered from the coil's row instead of replaying its campaign. NULL for
+// coils stored before (a version-1 file) and, briefly, for imported ones:
+// MillStore fills them in (BackfillCoilWear) in the transaction that
+// imports and on Open; the partial index finds them without a scan.
+constexpr const char* kSchemaV2 = R"sql(
+ALTER TABLE coils ADD COLUMN wear BLOB;
+CREATE INDEX coils_without_wear ON coils (campaign) WHERE wear IS NULL;
+)sql";
+
 // Number of tables in the file (sqlite_% internals excluded).
 StatusOr<int> CountTables(Db* db, bool* has_version_table) {
   StatusOr<Statement> st = db->Prepare(
@@ -137,8 +149,9 @@ StatusOr<int> CountTables(Db* db, bool* has_version_table) {
 const std::vector<Migration>& SchemaMigrations() {
   static const std::vector<Migration>* migrations = new std::vector<Migration>{
       {1, "initial schema", kSchemaV1},
+      {2, "per-coil wear answers", kSchemaV2},
   };
-  static_assert(kSchemaVersion == 1,
+  static_assert(kSchemaVersion == 2,
                 "kSchemaVersion must equal the last migration's version");
   return *migrations;
 }

@@ -6,13 +6,16 @@
 // inside one transaction, so an upgrade either completes or leaves the file
 // as it was. A file whose version is newer than the last migration this
 // build knows is refused (FailedPrecondition) and left untouched. Adding
-// version 2 means appending one Migration to SchemaMigrations() and bumping
+// a version means appending one Migration to SchemaMigrations() and bumping
 // kSchemaVersion in mill_store.h.
 //
 // Version 1 tables (see docs/architecture.md, "Storage"):
 //   campaigns, mounts, coils, passes (one row per coil per stand),
 //   measurements, models (versions of calibrated WearModels as JSON, one
 //   flagged active), calibrations (runs and their metrics).
+// Version 2 adds coils.wear: the answer a coil's first post got (the wear
+// it added to each roll position and the roll's total after it), so that a
+// repeat is answered in O(passes).
 // Rolls' predicted state is not stored: it is recomputed from the stored
 // passes of the open campaign on start and whenever the model changes.
 //

@@ -76,6 +76,13 @@ Statement& Statement::BindText(int i, std::string_view v) {
   return *this;
 }
 
+Statement& Statement::BindBlob(int i, std::string_view bytes) {
+  const int rc = sqlite3_bind_blob(
+      stmt_, i, bytes.data(), static_cast<int>(bytes.size()), SQLITE_TRANSIENT);
+  if (rc != SQLITE_OK && bind_rc_ == SQLITE_OK) bind_rc_ = rc;
+  return *this;
+}
+
 Statement& Statement::BindNull(int i) {
   const int rc = sqlite3_bind_null(stmt_, i);
   if (rc != SQLITE_OK && bind_rc_ == SQLITE_OK) bind_rc_ = rc;
@@ -135,6 +142,13 @@ std::string Statement::ColumnText(int i) const {
   if (text == nullptr) return std::string();
   return std::string(reinterpret_cast<const char*>(text),
                      static_cast<size_t>(n));
+}
+
+std::string Statement::ColumnBlob(int i) const {
+  const void* blob = sqlite3_column_blob(stmt_, i);
+  const int n = sqlite3_column_bytes(stmt_, i);
+  if (blob == nullptr) return std::string();
+  return std::string(static_cast<const char*>(blob), static_cast<size_t>(n));
 }
 
 bool Statement::ColumnIsNull(int i) const {

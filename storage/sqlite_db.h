@@ -49,6 +49,8 @@ class Statement {
   // NULL for NaN (SQLite has no NaN), the value otherwise.
   Statement& BindNullableDouble(int i, double v);
   Statement& BindText(int i, std::string_view v);
+  // The bytes as a BLOB.
+  Statement& BindBlob(int i, std::string_view bytes);
   Statement& BindNull(int i);
 
   // Advances: true when a row is available, false when done.
@@ -64,6 +66,8 @@ class Statement {
   // NaN for NULL.
   double ColumnNullableDouble(int i) const;
   std::string ColumnText(int i) const;
+  // A BLOB's bytes (empty for NULL).
+  std::string ColumnBlob(int i) const;
   bool ColumnIsNull(int i) const;
 
  private:

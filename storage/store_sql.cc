@@ -1,5 +1,8 @@
 #include "storage/store_sql.h"
 
+#include <bit>
+#include <cstring>
+#include <string_view>
 #include <utility>
 
 namespace rollwear::storage::internal {
@@ -102,14 +105,21 @@ Status InsertMount(Db* db, int64_t campaign_row, const MountedRollIn& m,
 }
 
 StatusOr<int64_t> InsertCoil(Db* db, int64_t campaign_row,
-                             const StoredCoil& coil) {
-  ROLLWEAR_ASSIGN_STMT(st, db,
-                       "INSERT INTO coils (coil_id, campaign, seq, grade) "
-                       "VALUES (?, ?, ?, ?)");
+                             const StoredCoil& coil,
+                             const std::string* wear_blob) {
+  ROLLWEAR_ASSIGN_STMT(
+      st, db,
+      "INSERT INTO coils (coil_id, campaign, seq, grade, wear) "
+      "VALUES (?, ?, ?, ?, ?)");
   st->BindText(1, coil.coil_id)
       .BindInt(2, campaign_row)
       .BindInt(3, coil.seq)
       .BindText(4, coil.grade);
+  if (wear_blob != nullptr) {
+    st->BindBlob(5, *wear_blob);
+  } else {
+    st->BindNull(5);
+  }
   ROLLWEAR_RETURN_IF_ERROR(st->Run());
   return db->LastInsertRowId();
 }
@@ -139,10 +149,11 @@ Status InsertPass(Db* db, int64_t coil_row, int64_t campaign_row,
   return st->Run();
 }
 
-Status InsertCoilWithPasses(Db* db, const StoredCoil& coil) {
+Status InsertCoilWithPasses(Db* db, const StoredCoil& coil,
+                            const std::string* wear_blob) {
   StatusOr<int64_t> campaign = CampaignRow(db, coil.campaign_id);
   if (!campaign.ok()) return campaign.status();
-  StatusOr<int64_t> row = InsertCoil(db, *campaign, coil);
+  StatusOr<int64_t> row = InsertCoil(db, *campaign, coil, wear_blob);
   if (!row.ok()) return row.status();
   for (const StoredPass& p : coil.passes) {
     ROLLWEAR_RETURN_IF_ERROR(InsertPass(db, *row, *campaign, p, ""));
@@ -322,10 +333,64 @@ StatusOr<StoredCounts> LoadCounts(Db* db) {
   return n;
 }
 
-StatusOr<RollStates> ReplayCampaign(
-    Db* db, const CampaignRec& campaign, const WearModel& model,
-    const std::string* coil_id,
-    std::array<double, kNumRollPositionSlots>* coil_wear) {
+// ------------------------------------------------------- coil wear answers
+
+// Format 1: a format byte, then per entry the slot (one byte) and the two
+// doubles' IEEE-754 bytes, little-endian (the byte order of every machine
+// rollwear runs on; checked at compile time).
+static_assert(std::endian::native == std::endian::little,
+              "coil wear encoding assumes a little-endian machine");
+constexpr char kCoilWearFormat = 1;
+constexpr size_t kCoilWearEntryBytes = 1 + 2 * sizeof(double);
+
+std::string EncodeCoilWear(const std::vector<CoilWearEntry>& entries) {
+  std::string out(1 + entries.size() * kCoilWearEntryBytes, '\0');
+  out[0] = kCoilWearFormat;
+  char* p = out.data() + 1;
+  for (const CoilWearEntry& e : entries) {
+    *p++ = static_cast<char>(e.slot);
+    std::memcpy(p, &e.wear_um, sizeof(double));
+    p += sizeof(double);
+    std::memcpy(p, &e.total_um, sizeof(double));
+    p += sizeof(double);
+  }
+  return out;
+}
+
+bool DecodeCoilWear(std::string_view blob, std::vector<CoilWearEntry>* out) {
+  out->clear();
+  if (blob.empty() || blob[0] != kCoilWearFormat ||
+      (blob.size() - 1) % kCoilWearEntryBytes != 0) {
+    return false;
+  }
+  const char* p = blob.data() + 1;
+  const size_t n = (blob.size() - 1) / kCoilWearEntryBytes;
+  out->resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    CoilWearEntry& e = (*out)[i];
+    e.slot = static_cast<unsigned char>(*p++);
+    if (e.slot >= kNumRollPositionSlots) return false;
+    std::memcpy(&e.wear_um, p, sizeof(double));
+    p += sizeof(double);
+    std::memcpy(&e.total_um, p, sizeof(double));
+    p += sizeof(double);
+  }
+  return true;
+}
+
+StatusOr<std::optional<std::string>> LookupCoilWear(
+    Db* db, const std::string& coil_id) {
+  ROLLWEAR_ASSIGN_STMT(st, db, "SELECT wear FROM coils WHERE coil_id = ?");
+  st->BindText(1, coil_id);
+  StatusOr<bool> row = st->Step();
+  if (!row.ok()) return row.status();
+  if (!*row || st->ColumnIsNull(0)) return std::optional<std::string>();
+  return std::optional<std::string>(st->ColumnBlob(0));
+}
+
+StatusOr<RollStates> ReplayCampaignCoils(Db* db, const CampaignRec& campaign,
+                                         const WearModel& model,
+                                         const CoilVisitor& visit) {
   RollStates states;
   for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
     const auto& m = campaign.mounts[slot];
@@ -334,23 +399,39 @@ StatusOr<RollStates> ReplayCampaign(
         MountRoll(model, RollPositionName(m->stand, m->position), m->roll_type,
                   m->diameter_mm, m->hardness_hb, campaign.started_at);
   }
-  if (coil_wear != nullptr) coil_wear->fill(0.0);
   StatusOr<Statement> st = db->Prepare(
       "SELECT c.coil_id, c.grade, p.stand, p.rolled_at, p.force_kn, "
       "p.width_mm, p.length_m, p.entry_thickness_mm, p.exit_thickness_mm, "
-      "p.temperature_c, p.speed_mps, p.lubrication, p.shift_mm "
+      "p.temperature_c, p.speed_mps, p.lubrication, p.shift_mm, c.id, "
+      "c.wear IS NULL "
       "FROM passes p JOIN coils c ON c.id = p.coil "
       "WHERE p.campaign = (SELECT id FROM campaigns WHERE campaign_id = ?) "
       "ORDER BY p.id");
   if (!st.ok()) return st.status();
   st->BindText(1, campaign.id);
+  // A coil's passes are stored together, so a coil ends where the next
+  // row's coil differs.
+  ReplayedCoil coil;
+  coil.row = -1;
+  Status visit_status;
+  auto flush = [&] {
+    if (coil.row >= 0 && visit && visit_status.ok()) {
+      visit_status = visit(coil);
+    }
+    coil.entries.clear();
+  };
   StoredPass pass;
   while (true) {
     StatusOr<bool> row = st->Step();
     if (!row.ok()) return row.status();
     if (!*row) break;
-    const bool wanted = coil_id != nullptr && coil_wear != nullptr &&
-                        st->ColumnText(0) == *coil_id;
+    const int64_t coil_row = st->ColumnInt(13);
+    if (coil_row != coil.row) {
+      flush();
+      coil.row = coil_row;
+      coil.coil_id = st->ColumnText(0);
+      coil.wear_missing = st->ColumnInt(14) != 0;
+    }
     pass.stand = static_cast<int>(st->ColumnInt(2));
     pass.rolled_at = st->ColumnInt(3);
     pass.force_kn = st->ColumnDouble(4);
@@ -368,10 +449,52 @@ StatusOr<RollStates> ReplayCampaign(
       auto& s = states[slot];
       if (!s.has_value()) continue;
       const double wear = AddPass(model, in, &*s);
-      if (wanted) (*coil_wear)[slot] = wear;
+      coil.entries.push_back(CoilWearEntry{slot, wear, s->wear_um});
     }
   }
+  flush();
+  if (!visit_status.ok()) return visit_status;
   return states;
+}
+
+StatusOr<RollStates> ReplayCampaign(Db* db, const CampaignRec& campaign,
+                                    const WearModel& model) {
+  return ReplayCampaignCoils(db, campaign, model, nullptr);
+}
+
+StatusOr<int> BackfillCoilWear(Db* db, const Catalog& catalog,
+                               const WearModel& model) {
+  std::vector<std::string> campaigns;
+  {
+    ROLLWEAR_ASSIGN_STMT(
+        st, db,
+        "SELECT DISTINCT k.campaign_id FROM coils c "
+        "JOIN campaigns k ON k.id = c.campaign WHERE c.wear IS NULL");
+    while (true) {
+      StatusOr<bool> row = st->Step();
+      if (!row.ok()) return row.status();
+      if (!*row) break;
+      campaigns.push_back(st->ColumnText(0));
+    }
+  }
+  int filled = 0;
+  for (const std::string& id : campaigns) {
+    auto it = catalog.campaigns.find(id);
+    if (it == catalog.campaigns.end()) {
+      return Status::Internal("campaign " + id + " is not in the catalog");
+    }
+    StatusOr<RollStates> replay = ReplayCampaignCoils(
+        db, it->second, model, [&](const ReplayedCoil& coil) -> Status {
+          if (!coil.wear_missing) return Status::Ok();
+          ROLLWEAR_ASSIGN_STMT(up, db,
+                               "UPDATE coils SET wear = ? WHERE id = ?");
+          up->BindBlob(1, EncodeCoilWear(coil.entries)).BindInt(2, coil.row);
+          ++filled;
+          return up->Run();
+        });
+    if (!replay.ok()) return replay.status();
+  }
+  return filled;
 }
 
 }  // namespace rollwear::storage::internal

@@ -10,8 +10,10 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/dataset.h"
@@ -38,13 +40,17 @@ Status SetCampaignEnded(Db* db, const std::string& campaign_id,
 Status EndOpenCampaigns(Db* db, UnixSeconds ended_at);
 Status InsertMount(Db* db, int64_t campaign_row, const MountedRollIn& m,
                    const std::string& extra_json);
-// Inserts the coil row (not its passes); returns its row id.
+// Inserts the coil row (not its passes); returns its row id. `wear_blob`:
+// the coil's first answer (EncodeCoilWear); null stores NULL, to be filled
+// by BackfillCoilWear.
 StatusOr<int64_t> InsertCoil(Db* db, int64_t campaign_row,
-                             const StoredCoil& coil);
+                             const StoredCoil& coil,
+                             const std::string* wear_blob = nullptr);
 Status InsertPass(Db* db, int64_t coil_row, int64_t campaign_row,
                   const StoredPass& p, const std::string& extra_json);
 // Inserts the coil and all its passes.
-Status InsertCoilWithPasses(Db* db, const StoredCoil& coil);
+Status InsertCoilWithPasses(Db* db, const StoredCoil& coil,
+                            const std::string* wear_blob = nullptr);
 Status InsertMeasurement(Db* db, int64_t campaign_row, const MeasurementIn& m,
                          const std::string& extra_json);
 
@@ -66,16 +72,41 @@ struct StoredCounts {
 };
 StatusOr<StoredCounts> LoadCounts(Db* db);
 
+// ---- a coil's first answer (coils.wear, schema version 2)
+// What a coil added to each roll position it passed, in answer order:
+// EncodeCoilWear gives the stored bytes, DecodeCoilWear reads them back
+// (false when they are not in a known format). Doubles round-trip exactly.
+std::string EncodeCoilWear(const std::vector<CoilWearEntry>& entries);
+bool DecodeCoilWear(std::string_view blob, std::vector<CoilWearEntry>* out);
+// The stored answer of `coil_id`; empty when the coil is unknown or has
+// none yet.
+StatusOr<std::optional<std::string>> LookupCoilWear(Db* db,
+                                                    const std::string& coil_id);
+
 // The predicted state of each mounted roll of `campaign` under `model`,
 // replaying its stored passes in the order they were stored (the order in
-// which the live state added them, so the result is bit-identical). With
-// `coil_id` and `coil_wear`, also the wear that coil added to each slot.
+// which the live state added them, so the result is bit-identical).
+// ReplayCampaignCoils also calls `visit` (may be empty) after each coil with
+// what that coil added; an error from `visit` ends the replay with it.
 using RollStates =
     std::array<std::optional<RollWearState>, kNumRollPositionSlots>;
-StatusOr<RollStates> ReplayCampaign(
-    Db* db, const CampaignRec& campaign, const WearModel& model,
-    const std::string* coil_id = nullptr,
-    std::array<double, kNumRollPositionSlots>* coil_wear = nullptr);
+struct ReplayedCoil {
+  int64_t row = 0;  // coils.id
+  std::string coil_id;
+  bool wear_missing = false;  // coils.wear is NULL
+  std::vector<CoilWearEntry> entries;
+};
+using CoilVisitor = std::function<Status(const ReplayedCoil&)>;
+StatusOr<RollStates> ReplayCampaignCoils(Db* db, const CampaignRec& campaign,
+                                         const WearModel& model,
+                                         const CoilVisitor& visit);
+StatusOr<RollStates> ReplayCampaign(Db* db, const CampaignRec& campaign,
+                                    const WearModel& model);
+// Stores the answer of every coil that has none (a version-1 file, an
+// import), replaying their campaigns under `model`; inside the caller's
+// transaction. Returns how many coils it filled.
+StatusOr<int> BackfillCoilWear(Db* db, const Catalog& catalog,
+                               const WearModel& model);
 
 // ---- datasets (store_dataset.cc)
 // Writes the new rows of an import plan (inside the caller's transaction).

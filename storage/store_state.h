@@ -54,6 +54,15 @@ struct StoredCoil {
 
 StoredCoil CanonicalCoil(const CoilIn& in);
 
+// What a coil added to one roll position: the wear of its pass there and
+// the roll's predicted total right after it (a CoilOutcome::Added without
+// the labels, which follow from the slot and the campaign's mounts).
+struct CoilWearEntry {
+  int slot = 0;
+  double wear_um = 0;
+  double total_um = 0;
+};
+
 // What core/predictor.h needs of a stored pass of a coil of `grade`.
 PassInput ToPassInput(const std::string& grade, const StoredPass& p);
 

@@ -180,6 +180,7 @@ TEST(SchemaTest, NewerFileIsRefusedAndLeftUntouched) {
 
 TEST(SchemaTest, OlderFileIsUpgradedByTheNextMigrationKeepingData) {
   TempDir dir;
+  const int next_version = kSchemaVersion + 1;
   {
     auto store = OpenStore(dir.File("v1.db"));
     ASSERT_NE(store, nullptr);
@@ -187,22 +188,24 @@ TEST(SchemaTest, OlderFileIsUpgradedByTheNextMigrationKeepingData) {
         store->ApplyRollChange(testing::MakeRollChange("C1", 1000)).ok());
     ASSERT_TRUE(store->AddCoil(testing::MakeCoil("K1", "C1", 1)).ok());
   }
-  // A build with one more migration opens the version-1 file.
+  // A build with one more migration opens the current file.
   std::vector<Migration> next = SchemaMigrations();
-  next.push_back({2, "campaign notes",
+  next.push_back({next_version, "campaign notes",
                   "ALTER TABLE campaigns ADD COLUMN note TEXT; "
                   "UPDATE campaigns SET note = 'migrated';"});
   auto db = MustOpen(dir.File("v1.db"));
   ASSERT_TRUE(MigrateSchema(db.get(), next).ok());
-  EXPECT_EQ(QueryInt(db.get(), "SELECT version FROM schema_version"), 2);
+  EXPECT_EQ(QueryInt(db.get(), "SELECT version FROM schema_version"),
+            next_version);
   EXPECT_EQ(QueryText(db.get(), "SELECT note FROM campaigns"), "migrated");
   EXPECT_EQ(QueryInt(db.get(), "SELECT COUNT(*) FROM passes"), 2);
-  // And this build (which supports only version 1) now refuses it.
+  // And this build (which supports only kSchemaVersion) now refuses it.
   db.reset();
   StatusOr<std::unique_ptr<MillStore>> store =
       MillStore::Open(dir.File("v1.db"), {});
   ASSERT_FALSE(store.ok());
-  EXPECT_NE(store.status().message().find("schema version 2 is newer"),
+  EXPECT_NE(store.status().message().find(
+                "schema version " + std::to_string(next_version) + " is newer"),
             std::string::npos);
 }
 
@@ -213,14 +216,17 @@ TEST(SchemaTest, FailingMigrationLeavesTheFileAsItWas) {
     ASSERT_NE(store, nullptr);
   }
   std::vector<Migration> next = SchemaMigrations();
-  next.push_back({2, "half done",
+  next.push_back({kSchemaVersion + 1, "half done",
                   "CREATE TABLE extra_table (x INTEGER); "
                   "ALTER TABLE no_such_table ADD COLUMN y TEXT;"});
   auto db = MustOpen(dir.File("v1.db"));
   Status s = MigrateSchema(db.get(), next);
   ASSERT_FALSE(s.ok());
-  EXPECT_NE(s.message().find("migration to version 2"), std::string::npos);
-  EXPECT_EQ(QueryInt(db.get(), "SELECT version FROM schema_version"), 1);
+  EXPECT_NE(s.message().find("migration to version " +
+                             std::to_string(kSchemaVersion + 1)),
+            std::string::npos);
+  EXPECT_EQ(QueryInt(db.get(), "SELECT version FROM schema_version"),
+            kSchemaVersion);
   EXPECT_EQ(QueryInt(db.get(),
                      "SELECT COUNT(*) FROM sqlite_schema WHERE "
                      "name = 'extra_table'"),

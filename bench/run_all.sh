@@ -1,0 +1,103 @@
+#!/usr/bin/env bash
+# Every performance figure of rollwear in one table: runs core_bench,
+# diagnosis_bench, ann_bench and load_bench from a build directory (a
+# Release build with ROLLWEAR_BUILD_BENCH=ON) and prints figure, measured,
+# target, beside the machine's fsync-per-commit and loopback limits that
+# load_bench measures in the same run (so each throughput reads as a
+# ratio). Takes about 3-5 minutes on 2 cores; run it on a quiet machine.
+#
+#   bash bench/run_all.sh [BUILD_DIR] [--out FILE]
+#
+# BUILD_DIR defaults to ./build. The raw outputs of the four binaries go to
+# BUILD_DIR/bench-run/ (never commit them); --out also writes the table as
+# Markdown to FILE.
+set -euo pipefail
+
+build=build
+out=""
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --out) out="$2"; shift 2 ;;
+    -h|--help) sed -n '2,13p' "$0"; exit 0 ;;
+    *) build="$1"; shift ;;
+  esac
+done
+bin="$build/bench"
+for b in core_bench diagnosis_bench ann_bench load_bench; do
+  if [[ ! -x "$bin/$b" ]]; then
+    echo "run_all.sh: $bin/$b not found: build with -DCMAKE_BUILD_TYPE=Release -DROLLWEAR_BUILD_BENCH=ON" >&2
+    exit 2
+  fi
+done
+work="$build/bench-run"
+rm -rf "$work"
+mkdir -p "$work"
+rows="$work/rows.tsv"   # figure <TAB> measured <TAB> target
+: > "$rows"
+start=$(date +%s)
+
+# Google Benchmark console lines: "<name> <time> <unit> <cpu> <unit> <iter>".
+# Prints "<time> <unit>" of the benchmark named exactly $2 in file $1.
+bm() {
+  awk -v n="$2" '$1 == n { print $2 " " $3; exit }' "$1"
+}
+row() { printf '%s\t%s\t%s\n' "$1" "$2" "$3" >> "$rows"; }
+
+echo "== core_bench" >&2
+"$bin/core_bench" --benchmark_color=false \
+  --benchmark_filter='BM_LoadAndAggregate|BM_FitWang/(1|10)/(1|2)/0' \
+  > "$work/core_bench.txt" 2> "$work/core_bench.err"
+row "load + aggregate, paper size" "$(bm "$work/core_bench.txt" BM_LoadAndAggregate/1)" ""
+row "load + aggregate, 10x strips" "$(bm "$work/core_bench.txt" BM_LoadAndAggregate/10)" ""
+row "Wang option 1 fit, paper size" "$(bm "$work/core_bench.txt" BM_FitWang/1/1/0)" ""
+row "Wang option 2 fit, paper size" "$(bm "$work/core_bench.txt" BM_FitWang/1/2/0)" "< 20 ms"
+row "Wang option 2 fit, 10x strips" "$(bm "$work/core_bench.txt" BM_FitWang/10/2/0)" "= paper size (sufficient statistics)"
+
+echo "== diagnosis_bench" >&2
+"$bin/diagnosis_bench" --benchmark_color=false --benchmark_filter='BM_Diagnose/(0|1)/' \
+  > "$work/diagnosis_bench.txt" 2> "$work/diagnosis_bench.err"
+row "diagnosis, paper size, no effect" "$(bm "$work/diagnosis_bench.txt" BM_Diagnose/0/iterations:1)" "< 10 s"
+row "diagnosis, paper size, campaign_growth" "$(bm "$work/diagnosis_bench.txt" BM_Diagnose/1/iterations:1)" "< 10 s"
+
+echo "== ann_bench" >&2
+"$bin/ann_bench" --benchmark_color=false \
+  --benchmark_filter='BM_AnnTable4PaperSize/1/|BM_AnnEpochGradient|BM_AnnAddPass' \
+  > "$work/ann_bench.txt" 2> "$work/ann_bench.err"
+row "ANN Table 4 (classical + 5-member ensemble), campaign_growth" \
+  "$(bm "$work/ann_bench.txt" BM_AnnTable4PaperSize/1/iterations:1/real_time)" "< 60 s"
+row "ANN one training epoch, one member" "$(bm "$work/ann_bench.txt" BM_AnnEpochGradient)" ""
+row "ANN coil-by-coil prediction, one pass" "$(bm "$work/ann_bench.txt" BM_AnnAddPass)" "microseconds"
+
+echo "== load_bench" >&2
+"$bin/load_bench" --tsv "$work/load.tsv" \
+  > "$work/load_bench.txt" 2>&1 || { cat "$work/load_bench.txt" >&2; exit 1; }
+grep -v '^#' "$work/load.tsv" >> "$rows"
+fsync=$(awk -F'\t' '$1 == "#fsync_limit" { print $2 }' "$work/load.tsv")
+loopback=$(awk -F'\t' '$1 == "#loopback_limit" { print $2 }' "$work/load.tsv")
+
+elapsed=$(( $(date +%s) - start ))
+commit=$(git -C "$(dirname "$0")/.." rev-parse --short HEAD 2>/dev/null || echo unknown)
+{
+  echo "rollwear performance figures - $(date -u +%Y-%m-%dT%H:%M:%SZ), commit $commit (plus working tree), $(nproc) cores, $build"
+  echo "machine limits measured in this run: fsync-per-commit ${fsync} commits/s (WAL, synchronous=FULL), loopback ${loopback} req/s (GET /healthz, 16 clients)"
+  echo
+  awk -F'\t' -v fsync="$fsync" -v loop="$loopback" '
+    function ratio(m, lim,   v) {
+      # a rate ("N coils/s", "N req/s", "(N coils/s)") as a multiple of lim
+      if (m !~ /achieved/ && match(m, /[0-9.]+ (coils|req|commits)\/s/)) {
+        v = substr(m, RSTART, RLENGTH); sub(/ .*/, "", v)
+        if (lim > 0) return sprintf("%.2f", v / lim)
+      }
+      return ""
+    }
+    BEGIN {
+      printf "| %-62s | %-34s | %-22s | %-7s | %-9s |\n", "figure", "measured", "target", "/fsync", "/loopback"
+      printf "|%s|%s|%s|%s|%s|\n", "----------------------------------------------------------------",
+        "------------------------------------", "------------------------", "---------", "-----------"
+    }
+    { printf "| %-62s | %-34s | %-22s | %-7s | %-9s |\n", $1, $2, $3, ratio($2, fsync), ratio($2, loop) }
+  ' "$rows"
+  echo
+  echo "(/fsync, /loopback: a rate over the machine's fsync-per-commit and loopback limits above; whole run ${elapsed} s)"
+} | tee "$work/table.md"
+if [[ -n "$out" ]]; then cp "$work/table.md" "$out"; fi
