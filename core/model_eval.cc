@@ -8,8 +8,8 @@ namespace {
 
 // Sum of the measurement terms' offsets for measurement `mi` of mount `m`.
 double MeasurementOffset(const WearModel& model, const Dataset& data,
-                         const std::vector<CovariateSpec>& catalog, int campaign,
-                         int mount, int measurement) {
+                         const std::vector<CovariateSpec>& catalog,
+                         int campaign, int mount, int measurement) {
   double offset = 0;
   for (const ModelTerm& t : model.terms) {
     if (!t.IsMeasurementTerm()) continue;
@@ -30,14 +30,15 @@ double MeasurementOffset(const WearModel& model, const Dataset& data,
 
 }  // namespace
 
-std::vector<MeasuredPrediction> PredictMeasured(const WearModel& model,
-                                                const Dataset& data,
-                                                const DatasetIndex& index,
-                                                const std::vector<int>& campaigns) {
+std::vector<MeasuredPrediction> PredictMeasured(
+    const WearModel& model, const Dataset& data, const DatasetIndex& index,
+    const std::vector<int>& campaigns) {
   bool has_measurement_terms = false;
-  for (const ModelTerm& t : model.terms) has_measurement_terms |= t.IsMeasurementTerm();
-  const std::vector<CovariateSpec> catalog =
-      has_measurement_terms ? CovariateCatalog(data) : std::vector<CovariateSpec>{};
+  for (const ModelTerm& t : model.terms)
+    has_measurement_terms |= t.IsMeasurementTerm();
+  const std::vector<CovariateSpec> catalog = has_measurement_terms
+                                                 ? CovariateCatalog(data)
+                                                 : std::vector<CovariateSpec>{};
   std::vector<MeasuredPrediction> out;
   for (int c : campaigns) {
     for (int slot : index.slots()) {

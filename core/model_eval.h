@@ -30,10 +30,9 @@ struct MeasuredPrediction {
 
 // Every measured roll position of `campaigns` (indices, any order), in
 // campaign then slot order.
-std::vector<MeasuredPrediction> PredictMeasured(const WearModel& model,
-                                                const Dataset& data,
-                                                const DatasetIndex& index,
-                                                const std::vector<int>& campaigns);
+std::vector<MeasuredPrediction> PredictMeasured(
+    const WearModel& model, const Dataset& data, const DatasetIndex& index,
+    const std::vector<int>& campaigns);
 
 // Eq. 9 cost and average gap of `expected_um` against `measured_um`, each
 // roll position slot a group of Eq. 9.

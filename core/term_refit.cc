@@ -14,7 +14,8 @@ namespace {
 // Bounds of a refit around the adopted parameters: the amplitude ranges of
 // the diagnosis candidates (diagnosis_candidates.cc), and length scales
 // (log lam, log tau) within a factor 20 of the adopted value.
-void Bounds(const ModelTerm& t, std::vector<double>* lo, std::vector<double>* hi) {
+void Bounds(const ModelTerm& t, std::vector<double>* lo,
+            std::vector<double>* hi) {
   const int n = t.NumParams();
   lo->assign(n, -3.0);
   hi->assign(n, 3.0);
@@ -66,11 +67,10 @@ StatusOr<WearModel> RefitWithTerms(const Dataset& data, WearLaw law,
                                      "' is not in the data");
     }
     if (static_cast<int>(t.params.size()) != t.NumParams()) {
-      return Status::InvalidArgument("terms: '" + t.covariate + "' (" +
-                                     TermFormName(t.form) + ") has " +
-                                     std::to_string(t.params.size()) +
-                                     " parameters, expected " +
-                                     std::to_string(t.NumParams()));
+      return Status::InvalidArgument(
+          "terms: '" + t.covariate + "' (" + TermFormName(t.form) + ") has " +
+          std::to_string(t.params.size()) + " parameters, expected " +
+          std::to_string(t.NumParams()));
     }
     Bounds(t, &s.lower, &s.upper);
     for (int j = 0; j < t.NumParams(); ++j) {
@@ -84,7 +84,8 @@ StatusOr<WearModel> RefitWithTerms(const Dataset& data, WearLaw law,
     if (train.count(td->obs[o].campaign) > 0) subset.push_back(o);
   }
   if (subset.empty()) {
-    return Status::FailedPrecondition("no measured roll in the training campaigns");
+    return Status::FailedPrecondition(
+        "no measured roll in the training campaigns");
   }
 
   // Pass 1: unit weights; pass 2: weights from the noise model of pass 1.
@@ -119,8 +120,8 @@ StatusOr<WearModel> RefitWithTerms(const Dataset& data, WearLaw law,
       sd[o] = std::sqrt(std::max(v, 1e-6));
     }
   }
-  StatusOr<KStructure> ks = KStructure::ForOption(1, td->positions, td->roll_types,
-                                                  td->grades);
+  StatusOr<KStructure> ks =
+      KStructure::ForOption(1, td->positions, td->roll_types, td->grades);
   if (!ks.ok()) return ks.status();
   model.structure = std::move(ks).value();
   model.k.clear();

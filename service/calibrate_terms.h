@@ -11,8 +11,9 @@
 namespace rollwear::cli {
 
 // Returns the exit code (0 ok, 1 failure); `json_file` empty = no JSON.
-int RunCalibrateWithTerms(const std::string& data_dir, const std::string& terms_file,
-                          uint64_t split_seed, const std::string& json_file);
+int RunCalibrateWithTerms(const std::string& data_dir,
+                          const std::string& terms_file, uint64_t split_seed,
+                          const std::string& json_file);
 
 }  // namespace rollwear::cli
 

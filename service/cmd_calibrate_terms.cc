@@ -23,17 +23,20 @@
 
 namespace rollwear::cli {
 
-int RunCalibrateWithTerms(const std::string& data_dir, const std::string& terms_file,
-                          uint64_t split_seed, const std::string& json_file) {
+int RunCalibrateWithTerms(const std::string& data_dir,
+                          const std::string& terms_file, uint64_t split_seed,
+                          const std::string& json_file) {
   const auto start = std::chrono::steady_clock::now();
   std::ifstream in(terms_file);
   if (!in) {
-    std::fprintf(stderr, "rollwear calibrate: cannot read --terms %s\n", terms_file.c_str());
+    std::fprintf(stderr, "rollwear calibrate: cannot read --terms %s\n",
+                 terms_file.c_str());
     return 1;
   }
   std::stringstream text;
   text << in.rdbuf();
-  StatusOr<std::vector<ModelTerm>> terms = storage::DecodeModelTerms(text.str());
+  StatusOr<std::vector<ModelTerm>> terms =
+      storage::DecodeModelTerms(text.str());
   if (!terms.ok()) {
     std::fprintf(stderr, "rollwear calibrate: %s: %s\n", terms_file.c_str(),
                  terms.status().message().c_str());
@@ -41,36 +44,45 @@ int RunCalibrateWithTerms(const std::string& data_dir, const std::string& terms_
   }
   StatusOr<Dataset> data = ReadDataset(data_dir);
   if (!data.ok()) {
-    std::fprintf(stderr, "rollwear calibrate: %s\n", data.status().message().c_str());
+    std::fprintf(stderr, "rollwear calibrate: %s\n",
+                 data.status().message().c_str());
     return 1;
   }
   const DatasetIndex index(*data);
   StatusOr<WearStatistics> stats = Aggregate(*data, index, WearLaw::kWang);
   if (!stats.ok()) {
-    std::fprintf(stderr, "rollwear calibrate: %s\n", stats.status().message().c_str());
+    std::fprintf(stderr, "rollwear calibrate: %s\n",
+                 stats.status().message().c_str());
     return 1;
   }
   const CampaignSplit split = SplitCampaigns(*stats, 2.0 / 3.0, split_seed);
-  StatusOr<SplitCalibration> baseline = CalibrateOnSplit(*stats, split, CalibrationOptions{});
+  StatusOr<SplitCalibration> baseline =
+      CalibrateOnSplit(*stats, split, CalibrationOptions{});
   if (!baseline.ok()) {
-    std::fprintf(stderr, "rollwear calibrate: %s\n", baseline.status().message().c_str());
+    std::fprintf(stderr, "rollwear calibrate: %s\n",
+                 baseline.status().message().c_str());
     return 1;
   }
-  StatusOr<WearModel> model = RefitWithTerms(*data, WearLaw::kWang, *terms, split.train);
+  StatusOr<WearModel> model =
+      RefitWithTerms(*data, WearLaw::kWang, *terms, split.train);
   if (!model.ok()) {
-    std::fprintf(stderr, "rollwear calibrate: %s\n", model.status().message().c_str());
+    std::fprintf(stderr, "rollwear calibrate: %s\n",
+                 model.status().message().c_str());
     return 1;
   }
-  const FitMetrics train = MetricsOfPredictions(PredictMeasured(*model, *data, index, split.train));
-  const FitMetrics val =
-      MetricsOfPredictions(PredictMeasured(*model, *data, index, split.validation));
+  const FitMetrics train =
+      MetricsOfPredictions(PredictMeasured(*model, *data, index, split.train));
+  const FitMetrics val = MetricsOfPredictions(
+      PredictMeasured(*model, *data, index, split.validation));
   const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+          .count();
 
-  std::printf("wang law, option 1 with %zu adopted term(s) from %s\n", terms->size(),
-              terms_file.c_str());
+  std::printf("wang law, option 1 with %zu adopted term(s) from %s\n",
+              terms->size(), terms_file.c_str());
   for (const ModelTerm& t : model->terms) {
-    std::printf("  term %-28s %-12s params", t.covariate.c_str(), TermFormName(t.form));
+    std::printf("  term %-28s %-12s params", t.covariate.c_str(),
+                TermFormName(t.form));
     for (double p : t.params) std::printf(" %.5g", p);
     std::printf("\n");
   }
@@ -91,7 +103,8 @@ int RunCalibrateWithTerms(const std::string& data_dir, const std::string& terms_
     j["model"] = "wang";
     j["option"] = 1;
     nlohmann::json coef = nlohmann::json::object();
-    for (const auto& [name, value] : model->NamedCoefficients()) coef[name] = value;
+    for (const auto& [name, value] : model->NamedCoefficients())
+      coef[name] = value;
     j["coefficients"] = coef;
     j["terms"] = nlohmann::json::parse(storage::EncodeTerms(model->terms));
     j["cost"] = train.cost;
@@ -107,7 +120,8 @@ int RunCalibrateWithTerms(const std::string& data_dir, const std::string& terms_
     std::ofstream out(json_file);
     out << j.dump(2) << "\n";
     if (!out) {
-      std::fprintf(stderr, "rollwear calibrate: cannot write %s\n", json_file.c_str());
+      std::fprintf(stderr, "rollwear calibrate: cannot write %s\n",
+                   json_file.c_str());
       return 1;
     }
   }

@@ -26,7 +26,8 @@
 namespace rollwear {
 namespace {
 
-Simulation Mill(uint64_t seed, int campaigns, std::vector<std::string> effects = {}) {
+Simulation Mill(uint64_t seed, int campaigns,
+                std::vector<std::string> effects = {}) {
   SimulatorOptions o;
   o.seed = seed;
   o.num_campaigns = campaigns;
@@ -41,14 +42,16 @@ struct Split {
   WearStatistics stats;
   CampaignSplit split;
   explicit Split(const Dataset& d)
-      : index(d), stats(*Aggregate(d, index, WearLaw::kWang)),
+      : index(d),
+        stats(*Aggregate(d, index, WearLaw::kWang)),
         split(SplitCampaigns(stats, 2.0 / 3.0, kDefaultSplitSeed)) {}
 };
 
 TEST(ModelEvalTest, ClassicalCoilByCoilEqualsBatchEvaluation) {
   const Simulation sim = Mill(41, 60);
   const Split s(sim.data);
-  StatusOr<SplitCalibration> run = CalibrateOnSplit(s.stats, s.split, CalibrationOptions{});
+  StatusOr<SplitCalibration> run =
+      CalibrateOnSplit(s.stats, s.split, CalibrationOptions{});
   ASSERT_TRUE(run.ok());
   const std::vector<MeasuredPrediction> p =
       PredictMeasured(run->result.model, sim.data, s.index, s.split.validation);
@@ -58,14 +61,16 @@ TEST(ModelEvalTest, ClassicalCoilByCoilEqualsBatchEvaluation) {
   EXPECT_NEAR(m.cost, run->validation.cost, 1e-9 * run->validation.cost);
   for (const MeasuredPrediction& x : p) {
     EXPECT_EQ(x.expected_um, x.wear_um);  // no measurement terms
-    EXPECT_EQ(x.measured_um, sim.data.measurements[x.measurement].wear_center_um);
+    EXPECT_EQ(x.measured_um,
+              sim.data.measurements[x.measurement].wear_center_um);
   }
 }
 
 // The diagnosis's adopted model, run coil by coil, reproduces the engine's
 // own predictions of every measured roll (after_um), measurement terms
 // included, and its validation gap.
-void ExpectAdoptedModelReproducesDiagnosis(const Simulation& sim, const char* form_kind) {
+void ExpectAdoptedModelReproducesDiagnosis(const Simulation& sim,
+                                           const char* form_kind) {
   StatusOr<DiagnosisReport> r = Diagnose(sim.data, DiagnosisOptions{});
   ASSERT_TRUE(r.ok()) << r.status().ToString();
   ASSERT_EQ(r->verdict, "missing_physics_found");
@@ -82,8 +87,10 @@ void ExpectAdoptedModelReproducesDiagnosis(const Simulation& sim, const char* fo
     after[{p.campaign_id, p.stand, static_cast<int>(p.position)}] = p.after_um;
   }
   int checked = 0;
-  for (const MeasuredPrediction& x : PredictMeasured(r->adopted_model, sim.data, s.index, all)) {
-    auto it = after.find({sim.data.campaigns[x.campaign].id, SlotStand(x.slot), x.slot % 2});
+  for (const MeasuredPrediction& x :
+       PredictMeasured(r->adopted_model, sim.data, s.index, all)) {
+    auto it = after.find(
+        {sim.data.campaigns[x.campaign].id, SlotStand(x.slot), x.slot % 2});
     ASSERT_NE(it, after.end());
     EXPECT_NEAR(x.expected_um, it->second, 1e-8 * std::max(1.0, it->second));
     ++checked;
@@ -99,23 +106,29 @@ void ExpectAdoptedModelReproducesDiagnosis(const Simulation& sim, const char* fo
   // the gain over the baseline.
   std::vector<ModelTerm> start = r->adopted_model.terms;
   for (ModelTerm& t : start) t.params[0] *= 0.5;
-  StatusOr<WearModel> refit = RefitWithTerms(sim.data, WearLaw::kWang, start, s.split.train);
+  StatusOr<WearModel> refit =
+      RefitWithTerms(sim.data, WearLaw::kWang, start, s.split.train);
   ASSERT_TRUE(refit.ok()) << refit.status().ToString();
   const FitMetrics refit_val = MetricsOfPredictions(
       PredictMeasured(*refit, sim.data, s.index, s.split.validation));
-  ::testing::Test::RecordProperty("diagnosis_val_um", std::to_string(r->final_gap_val_um));
-  ::testing::Test::RecordProperty("refit_val_um", std::to_string(refit_val.gap_um));
-  EXPECT_NEAR(refit_val.gap_um, r->final_gap_val_um, 0.02 * r->final_gap_val_um);
+  ::testing::Test::RecordProperty("diagnosis_val_um",
+                                  std::to_string(r->final_gap_val_um));
+  ::testing::Test::RecordProperty("refit_val_um",
+                                  std::to_string(refit_val.gap_um));
+  EXPECT_NEAR(refit_val.gap_um, r->final_gap_val_um,
+              0.02 * r->final_gap_val_um);
   EXPECT_LT(refit_val.gap_um, 0.95 * r->baseline_gap_val_um);
   EXPECT_GT(refit->noise_sd_um + refit->noise_rel, 0);
 }
 
 TEST(ModelEvalTest, AdoptedWearRateTermRunsCoilByCoilAndRefits) {
-  ExpectAdoptedModelReproducesDiagnosis(Mill(7, 395, {"campaign_growth"}), "wear");
+  ExpectAdoptedModelReproducesDiagnosis(Mill(7, 395, {"campaign_growth"}),
+                                        "wear");
 }
 
 TEST(ModelEvalTest, AdoptedMeasurementTermRunsCoilByCoilAndRefits) {
-  ExpectAdoptedModelReproducesDiagnosis(Mill(8, 395, {"warm_measurement"}), "measurement");
+  ExpectAdoptedModelReproducesDiagnosis(Mill(8, 395, {"warm_measurement"}),
+                                        "measurement");
 }
 
 TEST(TermRefitTest, UnknownCovariateOrWrongParameterCountIsRefused) {
@@ -125,7 +138,8 @@ TEST(TermRefitTest, UnknownCovariateOrWrongParameterCountIsRefused) {
   t.covariate = "no_such_column";
   t.form = TermForm::kLogLinear;
   t.params = {0.1};
-  StatusOr<WearModel> r = RefitWithTerms(sim.data, WearLaw::kWang, {t}, s.split.train);
+  StatusOr<WearModel> r =
+      RefitWithTerms(sim.data, WearLaw::kWang, {t}, s.split.train);
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.status().code(), StatusCode::kInvalidArgument);
   EXPECT_NE(r.status().message().find("no_such_column"), std::string::npos);
@@ -150,7 +164,8 @@ TEST(ServedAnnTest, NetworkServedCoilByCoilEqualsBatchAndItsIntervalCovers) {
 
   // Batch forward pass of the trained network on the same sequences.
   const AnnInputs inputs = BuildAnnInputs(*m->ann, sim.data, s.index, s.stats);
-  const std::vector<int> val_obs = s.stats.MeasuredObservations(s.split.validation);
+  const std::vector<int> val_obs =
+      s.stats.MeasuredObservations(s.split.validation);
   const std::vector<double> batch = PredictAnn(*m->ann, inputs, val_obs);
   const std::vector<MeasuredPrediction> p =
       PredictMeasured(*m, sim.data, s.index, s.split.validation);
@@ -167,9 +182,10 @@ TEST(ServedAnnTest, NetworkServedCoilByCoilEqualsBatchAndItsIntervalCovers) {
     // Interval of the same roll, rebuilt through the predictor.
     const int mi = s.index.MountOf(x.campaign, x.slot);
     const Mount& mount = sim.data.mounts[mi];
-    RollWearState st = MountRoll(*m, RollPositionName(mount.stand, mount.position),
-                                 sim.data.roll_types[mount.roll_type], mount.diameter_mm,
-                                 mount.hardness_hb);
+    RollWearState st =
+        MountRoll(*m, RollPositionName(mount.stand, mount.position),
+                  sim.data.roll_types[mount.roll_type], mount.diameter_mm,
+                  mount.hardness_hb);
     for (int pi : s.index.PassesOf(x.campaign, mount.stand)) {
       AddPass(*m, PassInputOf(sim.data, sim.data.passes[pi]), &st);
     }

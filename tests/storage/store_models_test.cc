@@ -45,16 +45,19 @@ void ExpectLiveWearIsCoilByCoil(const MillStore& store) {
   const DatasetIndex index(*data);
   int campaign = -1;
   for (size_t c = 0; c < data->campaigns.size(); ++c) {
-    if (data->campaigns[c].id == snap.positions.front().campaign_id) campaign = c;
+    if (data->campaigns[c].id == snap.positions.front().campaign_id)
+      campaign = c;
   }
   ASSERT_GE(campaign, 0);
   for (const PositionWear& w : snap.positions) {
-    const int mi = index.MountOf(campaign, RollPositionSlot(w.stand, w.position));
+    const int mi =
+        index.MountOf(campaign, RollPositionSlot(w.stand, w.position));
     ASSERT_GE(mi, 0);
     const Mount& m = data->mounts[mi];
-    RollWearState st = MountRoll(active->wear_model, RollPositionName(m.stand, m.position),
-                                 data->roll_types[m.roll_type], m.diameter_mm, m.hardness_hb,
-                                 data->campaigns[campaign].started_at);
+    RollWearState st =
+        MountRoll(active->wear_model, RollPositionName(m.stand, m.position),
+                  data->roll_types[m.roll_type], m.diameter_mm, m.hardness_hb,
+                  data->campaigns[campaign].started_at);
     for (int pi : index.PassesOf(campaign, m.stand)) {
       AddPass(active->wear_model, PassInputOf(*data, data->passes[pi]), &st);
     }
@@ -67,9 +70,12 @@ void ExpectLiveWearIsCoilByCoil(const MillStore& store) {
 }
 
 void OpenCampaignWithCoils(MillStore* store, int coils) {
-  ASSERT_TRUE(store->ApplyRollChange(MakeRollChange("OPEN", 1'900'000'000)).ok());
+  ASSERT_TRUE(
+      store->ApplyRollChange(MakeRollChange("OPEN", 1'900'000'000)).ok());
   for (int i = 0; i < coils; ++i) {
-    ASSERT_TRUE(store->AddCoil(MakeCoil("OC" + std::to_string(i), "OPEN", i + 1, i)).ok());
+    ASSERT_TRUE(
+        store->AddCoil(MakeCoil("OC" + std::to_string(i), "OPEN", i + 1, i))
+            .ok());
   }
 }
 
@@ -96,8 +102,10 @@ TEST(StoreModelsTest, AdoptedTermsArePromotedServedAndKeptByTheNightlyRun) {
   // A spoiled copy (the growth term's amplitude reversed) is worse than the
   // classical model on validation: recorded, not promoted.
   WearModel spoiled = report->adopted_model;
-  spoiled.terms[0].params[0] = -0.8 * std::abs(spoiled.terms[0].params[0]) - 0.2;
-  StatusOr<CalibrationRecord> bad = store->ProposeModel("test", "wang", 1, spoiled);
+  spoiled.terms[0].params[0] =
+      -0.8 * std::abs(spoiled.terms[0].params[0]) - 0.2;
+  StatusOr<CalibrationRecord> bad =
+      store->ProposeModel("test", "wang", 1, spoiled);
   ASSERT_TRUE(bad.ok()) << bad.status().ToString();
   EXPECT_EQ(bad->status, CalibrationStatus::kDone);
   EXPECT_FALSE(bad->promoted) << bad->message;
@@ -112,34 +120,43 @@ TEST(StoreModelsTest, AdoptedTermsArePromotedServedAndKeptByTheNightlyRun) {
   EXPECT_EQ(run->status, CalibrationStatus::kDone);
   EXPECT_EQ(run->trigger, "diagnosis 1");
   EXPECT_TRUE(run->promoted) << run->message;
-  EXPECT_NEAR(run->active_gap_val_um, classical.gap_val_um, 1e-9 * classical.gap_val_um);
+  EXPECT_NEAR(run->active_gap_val_um, classical.gap_val_um,
+              1e-9 * classical.gap_val_um);
   EXPECT_LT(run->gap_val_um, 0.95 * classical.gap_val_um);
-  EXPECT_NEAR(run->gap_val_um, report->final_gap_val_um, 1e-6 * report->final_gap_val_um);
+  EXPECT_NEAR(run->gap_val_um, report->final_gap_val_um,
+              1e-6 * report->final_gap_val_um);
   StatusOr<ModelVersion> active = store->ActiveModel();
   ASSERT_TRUE(active.ok());
   EXPECT_EQ(active->version, run->model_version);
-  ASSERT_EQ(active->wear_model.terms.size(), report->adopted_model.terms.size());
-  EXPECT_EQ(active->wear_model.terms[0].params, report->adopted_model.terms[0].params);
+  ASSERT_EQ(active->wear_model.terms.size(),
+            report->adopted_model.terms.size());
+  EXPECT_EQ(active->wear_model.terms[0].params,
+            report->adopted_model.terms[0].params);
   ExpectLiveWearIsCoilByCoil(*store);
   // The growth term raises the wear of a roll with rolled length behind it.
   EXPECT_EQ(store->GetCalibration(run->id)->status, CalibrationStatus::kDone);
 
   // More coils are added under the adopted model, incrementally.
   for (int i = 40; i < 60; ++i) {
-    ASSERT_TRUE(store->AddCoil(MakeCoil("OC" + std::to_string(i), "OPEN", i + 1, i)).ok());
+    ASSERT_TRUE(
+        store->AddCoil(MakeCoil("OC" + std::to_string(i), "OPEN", i + 1, i))
+            .ok());
   }
   ExpectLiveWearIsCoilByCoil(*store);
 
   // The nightly run (Wang, option 1) refits the adopted terms.
-  StatusOr<int64_t> nightly = store->EnqueueCalibration("nightly", WearLaw::kWang, 1);
+  StatusOr<int64_t> nightly =
+      store->EnqueueCalibration("nightly", WearLaw::kWang, 1);
   ASSERT_TRUE(nightly.ok());
   ASSERT_TRUE(store->RunCalibration(*nightly).ok());
   const CalibrationRecord refit = *store->GetCalibration(*nightly);
   EXPECT_EQ(refit.status, CalibrationStatus::kDone) << refit.message;
-  EXPECT_NE(refit.message.find("adopted term(s) refitted"), std::string::npos) << refit.message;
+  EXPECT_NE(refit.message.find("adopted term(s) refitted"), std::string::npos)
+      << refit.message;
   EXPECT_LT(refit.gap_val_um, 0.95 * classical.gap_val_um);
   if (refit.promoted) {
-    EXPECT_EQ(store->ActiveModel()->wear_model.terms.size(), report->adopted_model.terms.size());
+    EXPECT_EQ(store->ActiveModel()->wear_model.terms.size(),
+              report->adopted_model.terms.size());
   }
 
   // Restart: the model with terms is decoded and serves the same numbers.
@@ -151,8 +168,10 @@ TEST(StoreModelsTest, AdoptedTermsArePromotedServedAndKeptByTheNightlyRun) {
   const WearSnapshot after = store->Wear();
   ASSERT_EQ(after.positions.size(), before.positions.size());
   for (size_t i = 0; i < after.positions.size(); ++i) {
-    EXPECT_EQ(after.positions[i].predicted_wear_um, before.positions[i].predicted_wear_um);
-    EXPECT_EQ(after.positions[i].interval_hi_um, before.positions[i].interval_hi_um);
+    EXPECT_EQ(after.positions[i].predicted_wear_um,
+              before.positions[i].predicted_wear_um);
+    EXPECT_EQ(after.positions[i].interval_hi_um,
+              before.positions[i].interval_hi_um);
   }
 }
 
@@ -179,7 +198,9 @@ TEST(StoreModelsTest, AnnRunIsRecordedAndTheNetworkIsServedAcrossRestarts) {
   ASSERT_TRUE(active->wear_model.is_ann());
   ExpectLiveWearIsCoilByCoil(*store);
   for (int i = 30; i < 45; ++i) {
-    ASSERT_TRUE(store->AddCoil(MakeCoil("OC" + std::to_string(i), "OPEN", i + 1, i)).ok());
+    ASSERT_TRUE(
+        store->AddCoil(MakeCoil("OC" + std::to_string(i), "OPEN", i + 1, i))
+            .ok());
   }
   ExpectLiveWearIsCoilByCoil(*store);
 
@@ -191,8 +212,10 @@ TEST(StoreModelsTest, AnnRunIsRecordedAndTheNetworkIsServedAcrossRestarts) {
   const WearSnapshot after = store->Wear();
   ASSERT_EQ(after.positions.size(), before.positions.size());
   for (size_t i = 0; i < after.positions.size(); ++i) {
-    EXPECT_EQ(after.positions[i].predicted_wear_um, before.positions[i].predicted_wear_um);
-    EXPECT_EQ(after.positions[i].interval_lo_um, before.positions[i].interval_lo_um);
+    EXPECT_EQ(after.positions[i].predicted_wear_um,
+              before.positions[i].predicted_wear_um);
+    EXPECT_EQ(after.positions[i].interval_lo_um,
+              before.positions[i].interval_lo_um);
   }
 }
 
