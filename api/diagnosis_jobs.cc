@@ -20,7 +20,7 @@ std::string EncodeDiagnosisJob(const DiagnosisJob& job) {
   }
   j["id"] = job.id;
   j["status"] = job.status;
-  if (job.status == "failed") j["message"] = job.message;
+  if (!job.message.empty()) j["message"] = job.message;
   if (job.adoption.has_value()) {
     const storage::CalibrationRecord& r = *job.adoption;
     j["adoption"] = {
@@ -90,25 +90,30 @@ void DiagnosisJobs::Work() {
     StatusOr<Dataset> data = store_->ExportDataset();
     if (!data.ok()) {
       result.message = data.status().message();
-    } else {
-      StatusOr<DiagnosisReport> report = Diagnose(*data, DiagnosisOptions{});
+    } else try {
+      const DiagnosisOptions options;
+      StatusOr<DiagnosisReport> report = Diagnose(*data, options);
       if (report.ok()) {
         result.status = "done";
         result.report = DiagnosisJsonText(*report);
         if (adopt && !report->findings.empty()) {
+          // Scored on the validation campaigns of the data and split the
+          // diagnosis fitted on.
           StatusOr<storage::CalibrationRecord> run = store_->ProposeModel(
               "diagnosis " + std::to_string(id), WearLawName(report->adopted_model.law),
-              1, report->adopted_model);
+              1, report->adopted_model, *data, options.split_seed);
           if (run.ok()) {
             result.adoption = std::move(run).value();
           } else {
-            result.status = "failed";
             result.message = "adoption could not be recorded: " + run.status().message();
           }
         }
       } else {
         result.message = report.status().message();
       }
+    } catch (const std::exception& e) {
+      result.status = "failed";
+      result.message = std::string("diagnosis threw: ") + e.what();
     }
     std::lock_guard<std::mutex> lock(mu_);
     auto it = jobs_.find(id);

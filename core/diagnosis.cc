@@ -55,28 +55,6 @@ double Gap(const TermData& td, const std::vector<int>& obs, const std::vector<do
 
 // Per-observation sd from a noise model fitted to the training residuals of
 // the given model (all observations get an sd, from their prediction).
-std::vector<double> NoiseSd(const TermData& td, const std::vector<int>& train,
-                            const std::vector<double>& log_k,
-                            const std::vector<TermSpec>& terms) {
-  std::vector<int> all(td.obs.size());
-  for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
-  const std::vector<double> pred = PredictTerms(td, all, log_k, terms);
-  std::vector<double> p, e;
-  for (int o : train) {
-    p.push_back(pred[o]);
-    e.push_back(td.obs[o].measured_um - pred[o]);
-  }
-  WearModel noise;
-  FitNoiseModel(p, e, &noise);
-  std::vector<double> sd(td.obs.size());
-  double floor = 1e-6;
-  for (size_t i = 0; i < sd.size(); ++i) {
-    const double v = noise.noise_sd_um * noise.noise_sd_um +
-                     std::pow(noise.noise_rel * pred[i], 2);
-    sd[i] = std::max(std::sqrt(v), floor);
-  }
-  return sd;
-}
 
 Fitted Fit(const TermData& td, const std::vector<int>& subset, const std::vector<double>& sd,
            const std::vector<double>& log_k, std::vector<TermSpec> terms,
@@ -220,7 +198,7 @@ StatusOr<DiagnosisReport> Diagnose(const Dataset& data, const DiagnosisOptions& 
   // 3-4. Hypothesise and test, round after round.
   std::set<int> used;
   for (int round = 0; round < options.max_findings; ++round) {
-    const std::vector<double> sd = NoiseSd(td, train, current.log_k, current.terms);
+    const std::vector<double> sd = TermNoiseSd(td, train, current.log_k, current.terms);
     Fitted cur = Fit(td, train, sd, current.log_k, current.terms);
     if (!cur.usable) break;
     current = cur;

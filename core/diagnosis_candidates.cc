@@ -320,6 +320,10 @@ void NameFinding(const TermData& td, const std::vector<int>& train, const TermSp
       dec = dec && v[i] <= v[i - 1] + tol;
     }
     up = v.back() > v.front();
+    if (inc && dec) {  // flat within the tolerance: monotone in its direction
+      inc = up;
+      dec = !up;
+    }
     if (inc && !dec) {
       return std::string((v[2] - v[0]) > 0.75 * (v[4] - v[0]) ? "saturating_growth"
                                                               : "increasing");

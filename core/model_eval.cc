@@ -14,7 +14,9 @@ double MeasurementOffset(const WearModel& model, const Dataset& data,
   for (const ModelTerm& t : model.terms) {
     if (!t.IsMeasurementTerm()) continue;
     for (const CovariateSpec& spec : catalog) {
-      if (spec.name != t.covariate) continue;
+      // Measurement terms act on measurement-level covariates only (a
+      // pass-level one has no pass here; RefitWithTerms refuses them).
+      if (spec.name != t.covariate || spec.level != CovariateLevel::kMeasurement) continue;
       PassContext ctx;
       ctx.mount = &data.mounts[mount];
       ctx.mount_row = mount;

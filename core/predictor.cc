@@ -1,6 +1,7 @@
 #include "core/predictor.h"
 
 #include <cmath>
+#include <limits>
 
 #include "core/covariates.h"
 
@@ -62,7 +63,12 @@ double PassTermMultiplier(const WearModel& model, const PassInput& pass,
 
 double AddPass(const WearModel& model, const PassInput& pass, RollWearState* state) {
   if (model.is_ann()) {
-    // The roll was mounted under this model (MountRoll sets the state).
+    // The roll must have been mounted under this model (MountRoll sets the
+    // network state); a state of another model gives NaN, never a guess.
+    if (!state->ann.has_value()) {
+      state->wear_um = std::numeric_limits<double>::quiet_NaN();
+      return state->wear_um;
+    }
     const double wear = AddPass(*model.ann, pass, &*state->ann);
     state->wear_um = state->ann->wear_um;
     state->coils = state->ann->coils;

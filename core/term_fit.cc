@@ -441,4 +441,31 @@ std::vector<double> PredictTerms(const TermData& data, const std::vector<int>& s
   return out;
 }
 
+std::vector<double> TermNoiseSd(const TermData& td, const std::vector<int>& train,
+                                const std::vector<double>& log_k,
+                                const std::vector<TermSpec>& terms, WearModel* noise_out) {
+  std::vector<int> all(td.obs.size());
+  for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+  const std::vector<double> pred = PredictTerms(td, all, log_k, terms);
+  std::vector<double> p, e;
+  for (int o : train) {
+    p.push_back(pred[o]);
+    e.push_back(td.obs[o].measured_um - pred[o]);
+  }
+  WearModel noise;
+  FitNoiseModel(p, e, &noise);
+  std::vector<double> sd(td.obs.size());
+  double floor = 1e-6;
+  for (size_t i = 0; i < sd.size(); ++i) {
+    const double v = noise.noise_sd_um * noise.noise_sd_um +
+                     std::pow(noise.noise_rel * pred[i], 2);
+    sd[i] = std::max(std::sqrt(v), floor);
+  }
+  if (noise_out != nullptr) {
+    noise_out->noise_sd_um = noise.noise_sd_um;
+    noise_out->noise_rel = noise.noise_rel;
+  }
+  return sd;
+}
+
 }  // namespace rollwear

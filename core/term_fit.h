@@ -23,6 +23,7 @@
 #include "core/model_terms.h"
 #include "core/status.h"
 #include "core/wear_law.h"
+#include "core/wear_model.h"
 
 namespace rollwear {
 
@@ -90,6 +91,16 @@ std::vector<double> PredictTerms(const TermData& data, const std::vector<int>& s
                                  const std::vector<double>& log_k,
                                  const std::vector<TermSpec>& terms,
                                  bool wear_only = false);
+
+// Per-observation sd of every observation from the noise model
+// sigma0^2 + (rho yhat)^2 (wear_model.h) fitted on the residuals of the
+// training observations `train` under (log_k, terms); floored at 1e-6 µm.
+// The weights of FitTerms that the diagnosis and the refit of adopted terms
+// use. `noise_out` (optional) receives sigma0 and rho.
+std::vector<double> TermNoiseSd(const TermData& td, const std::vector<int>& train,
+                                const std::vector<double>& log_k,
+                                const std::vector<TermSpec>& terms,
+                                WearModel* noise_out = nullptr);
 
 // Score (Lagrange-multiplier) test of adding `candidate` (at its start
 // parameters; the parameters tested are those with a non-zero derivative,

@@ -66,6 +66,15 @@ StatusOr<WearModel> RefitWithTerms(const Dataset& data, WearLaw law,
       return Status::InvalidArgument("terms: covariate '" + t.covariate +
                                      "' is not in the data");
     }
+    const bool on_measurement =
+        td->catalog[s.covariate].level == CovariateLevel::kMeasurement;
+    if (t.IsMeasurementTerm() != on_measurement) {
+      return Status::InvalidArgument(
+          "terms: '" + t.covariate + "' is a " +
+          (on_measurement ? "measurement-side" : "wear-rate") + " covariate but form " +
+          TermFormName(t.form) + " acts on the " +
+          (t.IsMeasurementTerm() ? "measured value" : "wear rate"));
+    }
     if (static_cast<int>(t.params.size()) != t.NumParams()) {
       return Status::InvalidArgument(
           "terms: '" + t.covariate + "' (" + TermFormName(t.form) + ") has " +
@@ -101,24 +110,7 @@ StatusOr<WearModel> RefitWithTerms(const Dataset& data, WearLaw law,
     }
     log_k = fit->log_k;
     specs = fit->terms;
-    const std::vector<double> pred = PredictTerms(*td, subset, log_k, specs);
-    std::vector<double> err;
-    for (size_t i = 0; i < subset.size(); ++i) {
-      err.push_back(td->obs[subset[i]].measured_um - pred[i]);
-    }
-    model.noise_sd_um = 0;
-    model.noise_rel = 0;
-    FitNoiseModel(pred, err, &model);
-    const std::vector<double> all_pred = [&] {
-      std::vector<int> all(td->obs.size());
-      for (size_t o = 0; o < all.size(); ++o) all[o] = static_cast<int>(o);
-      return PredictTerms(*td, all, log_k, specs, /*wear_only=*/true);
-    }();
-    for (size_t o = 0; o < td->obs.size(); ++o) {
-      const double v = model.noise_sd_um * model.noise_sd_um +
-                       std::pow(model.noise_rel * all_pred[o], 2);
-      sd[o] = std::sqrt(std::max(v, 1e-6));
-    }
+    sd = TermNoiseSd(*td, subset, log_k, specs, &model);
   }
   StatusOr<KStructure> ks =
       KStructure::ForOption(1, td->positions, td->roll_types, td->grades);

@@ -100,13 +100,16 @@ int64_t Scheduler::Tick(UnixSeconds now) {
   }
   if (store_->Counters().measurements_since_last_calibration <= 0) return 0;
   // The recurrent network, once active, is retrained as such; otherwise the
-  // configured law and option (a model with adopted terms keeps them:
-  // storage/mill_store_calibration.cc).
+  // configured law and option.
   StatusOr<storage::ModelVersion> active = store_->ActiveModel();
   const bool ann = active.ok() && active->model == storage::kAnnModelName;
+  // A model with adopted terms is recalibrated as its law with option 1, so
+  // that the run refits the terms instead of replacing them.
+  const bool terms = active.ok() && !ann && !active->wear_model.terms.empty();
   StatusOr<int64_t> id =
-      ann ? store_->EnqueueAnnTraining("nightly")
-          : store_->EnqueueCalibration("nightly", options_.law, options_.option);
+      ann     ? store_->EnqueueAnnTraining("nightly")
+      : terms ? store_->EnqueueCalibration("nightly", active->wear_model.law, 1)
+              : store_->EnqueueCalibration("nightly", options_.law, options_.option);
   if (!id.ok()) return 0;
   Submit(*id);
   return *id;

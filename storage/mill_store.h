@@ -243,14 +243,18 @@ class MillStore {
   // core/ann_study.h); RunCalibration runs it like any other run.
   virtual StatusOr<int64_t> EnqueueAnnTraining(const std::string& trigger) = 0;
   // Records and runs at once a run for a model fitted elsewhere (a
-  // diagnosis's adopted model: option 1 plus terms): evaluates it and the
-  // active model coil by coil on the same validation campaigns and promotes
-  // it when no worse. Returns the run's record (done or failed); an error
-  // only when the run could not be recorded.
+  // diagnosis's adopted model: option 1 plus terms) on `data`, the data it
+  // was fitted on: it and the active model are scored coil by coil on the
+  // validation campaigns of `data` under `split_seed` (the campaigns the
+  // candidate was not fitted on), and it is promoted when no worse. Runs
+  // one at a time with RunCalibration. Returns the run's record (done or
+  // failed); an error only when the run could not be recorded.
   virtual StatusOr<CalibrationRecord> ProposeModel(const std::string& trigger,
                                                    const std::string& model,
                                                    int option,
-                                                   const WearModel& candidate) = 0;
+                                                   const WearModel& candidate,
+                                                   const Dataset& data,
+                                                   uint64_t split_seed) = 0;
   virtual StatusOr<CalibrationRecord> GetCalibration(int64_t id) const = 0;
   virtual std::vector<CalibrationRecord> ListCalibrations(int limit) const = 0;
 

@@ -15,6 +15,7 @@
 //   otherwise                  the classical calibration (core/study.h)
 //   ProposeModel               a model fitted elsewhere (a diagnosis's
 //                              adopted model), evaluated the same way
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <utility>
@@ -196,7 +197,10 @@ StatusOr<int64_t> MillStoreImpl::InsertRun(const std::string& trigger,
 StatusOr<CalibrationRecord> MillStoreImpl::ProposeModel(const std::string& trigger,
                                                         const std::string& model,
                                                         int option,
-                                                        const WearModel& candidate) {
+                                                        const WearModel& candidate,
+                                                        const Dataset& data,
+                                                        uint64_t split_seed) {
+  std::lock_guard<std::mutex> runs(calibration_mu_);
   // Recorded as a run that is already running (claimed in the same
   // transaction), so the job worker never picks it up as a queued one.
   StatusOr<int64_t> id = InsertRun(trigger, model, option, /*claim=*/true);
@@ -210,18 +214,17 @@ StatusOr<CalibrationRecord> MillStoreImpl::ProposeModel(const std::string& trigg
     active = model_;
   }
   Status error;
-  StatusOr<Dataset> data = ExportDataset();
-  if (!data.ok()) {
-    error = data.status();
-  } else {
-    const DatasetIndex index(*data);
-    StatusOr<CampaignSplit> split = SplitOf(*data, index, options_.split_seed);
+  try {
+    const DatasetIndex index(data);
+    StatusOr<CampaignSplit> split = SplitOf(data, index, split_seed);
     if (!split.ok()) {
       error = split.status();
     } else {
       rec.message = "proposed by " + rec.trigger;
-      Score(candidate, active->wear_model, *data, index, *split, &rec);
+      Score(candidate, active->wear_model, data, index, *split, &rec);
     }
+  } catch (const std::exception& e) {
+    error = Status::Internal(std::string("proposal threw: ") + e.what());
   }
   rec.finished_at = NowSeconds();
   ROLLWEAR_RETURN_IF_ERROR(FinishRun(std::move(error), candidate, active, &rec));
@@ -280,7 +283,10 @@ Status MillStoreImpl::RunCalibration(int64_t id) {
                                       " is no longer queued");
   }
 
-  // 2. Calibrate (no lock held; this takes seconds).
+  // 2. Calibrate (the store's locks are not held; this takes seconds). One
+  //    run or proposal at a time, from reading the active model to the
+  //    promotion.
+  std::lock_guard<std::mutex> runs(calibration_mu_);
   std::shared_ptr<const ModelVersion> active;
   {
     std::lock_guard<std::mutex> lock(mu_);
@@ -318,8 +324,18 @@ Status MillStoreImpl::FinishRun(Status error, WearModel candidate,
     return RunTask([&rec](Db* db) { return UpdateCalibration(db, rec); },
                    nullptr);
   }
+  if (rec.n_val <= 0 || !std::isfinite(rec.gap_val_um)) {
+    rec.status = CalibrationStatus::kFailed;
+    rec.promoted = false;
+    rec.message += rec.n_val <= 0 ? "; no measured validation campaign: nothing to compare on"
+                                  : "; the validation gap is not finite";
+    return RunTask([&rec](Db* db) { return UpdateCalibration(db, rec); }, nullptr);
+  }
   rec.status = CalibrationStatus::kDone;
-  rec.promoted = rec.gap_val_um <= rec.active_gap_val_um;
+  // An active model without a finite gap (never happens for a stored
+  // model; guarded all the same) is beaten by any finite one.
+  rec.promoted = !std::isfinite(rec.active_gap_val_um) ||
+                 rec.gap_val_um <= rec.active_gap_val_um;
   char gaps[160];
   std::snprintf(gaps, sizeof(gaps),
                 "; validation gap %.2f um vs %.2f um for active model "

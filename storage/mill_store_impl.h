@@ -119,7 +119,8 @@ class MillStoreImpl final : public MillStore {
   StatusOr<int64_t> EnqueueAnnTraining(const std::string& trigger) override;
   StatusOr<CalibrationRecord> ProposeModel(const std::string& trigger,
                                            const std::string& model, int option,
-                                           const WearModel& candidate) override;
+                                           const WearModel& candidate, const Dataset& data,
+                                           uint64_t split_seed) override;
   Status RunCalibration(int64_t id) override;
   StatusOr<CalibrationRecord> GetCalibration(int64_t id) const override;
   std::vector<CalibrationRecord> ListCalibrations(int limit) const override;
@@ -209,6 +210,10 @@ class MillStoreImpl final : public MillStore {
   std::chrono::steady_clock::time_point peak_window_start_;
   size_t wake_writer_at_ = 1;
   std::thread writer_;
+  // Serialises calibration runs and proposals, from reading the active
+  // model to promoting, so that each is compared with the model it
+  // replaces.
+  std::mutex calibration_mu_;
 };
 
 UnixSeconds NowSeconds();

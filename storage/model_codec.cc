@@ -1,5 +1,6 @@
 #include "storage/model_codec.h"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <limits>
@@ -128,8 +129,8 @@ Status DecodeTerms(const Json& doc, std::vector<ModelTerm>* out) {
     }
     ROLLWEAR_RETURN_IF_ERROR(
         ReadNumbers(j, "params", at + "params", &t.params));
-    ROLLWEAR_RETURN_IF_ERROR(ReadScalar(j, "center", &t.center));
-    ROLLWEAR_RETURN_IF_ERROR(ReadScalar(j, "scale", &t.scale));
+    if (!ReadScalar(j, "center", &t.center).ok()) return Bad(at + "center", "must be a number");
+    if (!ReadScalar(j, "scale", &t.scale).ok()) return Bad(at + "scale", "must be a number");
     ROLLWEAR_RETURN_IF_ERROR(ReadNumbers(j, "edges", at + "edges", &t.edges));
     auto levels = j.find("num_levels");
     if (levels != j.end()) {
@@ -311,11 +312,23 @@ StatusOr<std::vector<ModelTerm>> DecodeModelTerms(std::string_view json) {
     return Status::InvalidArgument(std::string("terms: ") + e.what());
   }
   for (size_t i = 0; i < terms.size(); ++i) {
-    if (static_cast<int>(terms[i].params.size()) != terms[i].NumParams()) {
-      return Bad("terms[" + std::to_string(i) + "].params",
-                 "has " + std::to_string(terms[i].params.size()) +
-                     " numbers, the form needs " +
-                     std::to_string(terms[i].NumParams()));
+    const ModelTerm& t = terms[i];
+    const std::string at = "terms[" + std::to_string(i) + "].";
+    if (static_cast<int>(t.params.size()) != t.NumParams()) {
+      return Bad(at + "params", "has " + std::to_string(t.params.size()) +
+                                    " numbers, the form needs " +
+                                    std::to_string(t.NumParams()));
+    }
+    for (double p : t.params) {
+      if (!std::isfinite(p)) return Bad(at + "params", "must be finite");
+    }
+    if (!std::isfinite(t.center)) return Bad(at + "center", "must be finite");
+    if (!(std::isfinite(t.scale) && t.scale > 0)) return Bad(at + "scale", "must be > 0");
+    if (t.form == TermForm::kPower && !(t.center > 0)) {
+      return Bad(at + "center", "must be > 0 for the power form (z / center)^b");
+    }
+    if (!std::is_sorted(t.edges.begin(), t.edges.end())) {
+      return Bad(at + "edges", "must be ascending");
     }
   }
   return terms;

@@ -29,6 +29,10 @@ StatusOr<WearModel> ModelOverLevels(const WearModel& model,
                                     std::vector<std::string> positions,
                                     std::vector<std::string> roll_types,
                                     std::vector<std::string> grades) {
+  if (model.is_ann()) {
+    return Status::InvalidArgument(
+        "the recurrent network has no K coefficients to re-express over levels");
+  }
   StatusOr<KStructure> ks =
       KStructure::ForOption(model.structure.option(), std::move(positions),
                             std::move(roll_types), std::move(grades));

@@ -28,7 +28,7 @@ StatusOr<WearModel> PriorModel(WearLaw law, int option,
 // core/predictor.h does for unknown labels). The Cao exponent, the noise
 // model and the adopted terms are kept; the covariance is kept only when the
 // coefficient list is unchanged (otherwise dropped: it is not needed to
-// evaluate the model).
+// evaluate the model). InvalidArgument for the recurrent network.
 StatusOr<WearModel> ModelOverLevels(const WearModel& model,
                                     std::vector<std::string> positions,
                                     std::vector<std::string> roll_types,

@@ -36,6 +36,7 @@ TEST(CliTermsTest, CalibrateWithTheDiagnosisTermsImprovesValidation) {
   const nlohmann::json diag =
       nlohmann::json::parse(ReadFile(dir / "diag.json"));
   const nlohmann::json cal = nlohmann::json::parse(ReadFile(dir / "cal.json"));
+  ASSERT_FALSE(diag["adopted_model"]["terms"].empty()) << diag.dump();
   ASSERT_EQ(cal["terms"].size(), diag["adopted_model"]["terms"].size());
   EXPECT_EQ(cal["terms"][0]["covariate"], "lubrication");
   // Same split as the diagnosis: the refit lands on its validation gap and

@@ -208,5 +208,46 @@ TEST(ModelCodecTest, ModelOverLevelsTakesCoefficientsByNameUnknownIsOne) {
                 a.GradeLevel("DP600")));
 }
 
+// The terms of a diagnosis JSON (its adopted_model) or of a model JSON;
+// a bad term is refused naming terms[i].field.
+TEST(ModelCodecTest, ModelTermsAreReadFromADiagnosisOrAModelAndChecked) {
+  const std::string diag =
+      R"({"verdict":"missing_physics_found","adopted_model":{"model":"wang","terms":[)"
+      R"({"covariate":"campaign_length_before_m","form":"saturating","params":[0.4,11.5],)"
+      R"("center":0,"scale":1}]}})";
+  StatusOr<std::vector<ModelTerm>> t = DecodeModelTerms(diag);
+  ASSERT_TRUE(t.ok()) << t.status().ToString();
+  ASSERT_EQ(t->size(), 1u);
+  EXPECT_EQ((*t)[0].form, TermForm::kSaturating);
+  EXPECT_EQ((*t)[0].params, (std::vector<double>{0.4, 11.5}));
+  // A model's own "terms" round-trip through EncodeTerms.
+  StatusOr<std::vector<ModelTerm>> again =
+      DecodeModelTerms(R"({"terms":)" + EncodeTerms(*t) + "}");
+  ASSERT_TRUE(again.ok());
+  EXPECT_EQ((*again)[0].params, (*t)[0].params);
+  struct Bad {
+    const char* json;
+    const char* field;
+  };
+  const Bad bad[] = {
+      {R"({"terms":[{"covariate":"x","form":"log_linear","params":[0.1],"scale":0}]})",
+       "terms[0].scale"},
+      {R"({"terms":[{"covariate":"x","form":"power","params":[0.1],"center":-1}]})",
+       "terms[0].center"},
+      {R"({"terms":[{"covariate":"x","form":"log_linear","params":[0.1],"center":"a"}]})",
+       "terms[0].center"},
+      {R"({"terms":[{"covariate":"x","form":"binned","params":[0.1,0.2],"edges":[5,3]}]})",
+       "terms[0].edges"},
+      {R"({"terms":[{"covariate":"x","form":"decaying","params":[0.1]}]})", "terms[0].params"},
+      {R"({"model":"wang"})", "no \"terms\""},
+  };
+  for (const Bad& b : bad) {
+    StatusOr<std::vector<ModelTerm>> r = DecodeModelTerms(b.json);
+    ASSERT_FALSE(r.ok()) << b.json;
+    EXPECT_EQ(r.status().code(), StatusCode::kInvalidArgument);
+    EXPECT_NE(r.status().message().find(b.field), std::string::npos) << r.status().message();
+  }
+}
+
 }  // namespace
 }  // namespace rollwear::storage

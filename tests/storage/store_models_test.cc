@@ -105,7 +105,7 @@ TEST(StoreModelsTest, AdoptedTermsArePromotedServedAndKeptByTheNightlyRun) {
   spoiled.terms[0].params[0] =
       -0.8 * std::abs(spoiled.terms[0].params[0]) - 0.2;
   StatusOr<CalibrationRecord> bad =
-      store->ProposeModel("test", "wang", 1, spoiled);
+      store->ProposeModel("test", "wang", 1, spoiled, *data, 1);
   ASSERT_TRUE(bad.ok()) << bad.status().ToString();
   EXPECT_EQ(bad->status, CalibrationStatus::kDone);
   EXPECT_FALSE(bad->promoted) << bad->message;
@@ -115,7 +115,7 @@ TEST(StoreModelsTest, AdoptedTermsArePromotedServedAndKeptByTheNightlyRun) {
   // The adopted model itself: promoted, its validation gap below the
   // classical model's on the same campaigns.
   StatusOr<CalibrationRecord> run =
-      store->ProposeModel("diagnosis 1", "wang", 1, report->adopted_model);
+      store->ProposeModel("diagnosis 1", "wang", 1, report->adopted_model, *data, 1);
   ASSERT_TRUE(run.ok()) << run.status().ToString();
   EXPECT_EQ(run->status, CalibrationStatus::kDone);
   EXPECT_EQ(run->trigger, "diagnosis 1");
@@ -133,8 +133,9 @@ TEST(StoreModelsTest, AdoptedTermsArePromotedServedAndKeptByTheNightlyRun) {
   EXPECT_EQ(active->wear_model.terms[0].params,
             report->adopted_model.terms[0].params);
   ExpectLiveWearIsCoilByCoil(*store);
-  // The growth term raises the wear of a roll with rolled length behind it.
+  // The run is recorded (listed with the calibrations).
   EXPECT_EQ(store->GetCalibration(run->id)->status, CalibrationStatus::kDone);
+  EXPECT_EQ(store->ListCalibrations(1).front().id, run->id);
 
   // More coils are added under the adopted model, incrementally.
   for (int i = 40; i < 60; ++i) {
@@ -154,6 +155,10 @@ TEST(StoreModelsTest, AdoptedTermsArePromotedServedAndKeptByTheNightlyRun) {
   EXPECT_NE(refit.message.find("adopted term(s) refitted"), std::string::npos)
       << refit.message;
   EXPECT_LT(refit.gap_val_um, 0.95 * classical.gap_val_um);
+  // Refitted on the same training campaigns the adopted fit used: the same
+  // gain, within 3 % (a refit that dropped the terms would be >= 5 % worse).
+  EXPECT_NEAR(refit.gap_val_um, run->gap_val_um, 0.03 * run->gap_val_um);
+  EXPECT_EQ(refit.promoted, refit.gap_val_um <= refit.active_gap_val_um);
   if (refit.promoted) {
     EXPECT_EQ(store->ActiveModel()->wear_model.terms.size(),
               report->adopted_model.terms.size());
