@@ -10,23 +10,32 @@
 namespace rollwear::api::testing {
 namespace {
 
-TEST_F(RouterTest, DiagnosisRunsOnStoredDataAndNamesTheConcealedEffect) {
+// Replaces the fixture's store by a fresh one at `db` holding a simulated
+// mill (240 campaigns) with a concealed lubrication effect.
+class DiagnosisRouterTest : public RouterTest {
+ public:
+  void UseSimulatedMill(const std::string& db, uint64_t seed) {
+    router_.reset();
+    store_.reset();
+    StatusOr<std::unique_ptr<storage::MillStore>> store =
+        storage::MillStore::Open(dir_ + "/" + db, storage::StoreOptions());
+    ASSERT_TRUE(store.ok());
+    store_ = std::move(store).value();
+    SimulatorOptions so;
+    so.seed = seed;
+    so.num_campaigns = 240;
+    so.effects = {"lubrication"};
+    StatusOr<Simulation> sim = Simulate(so);
+    ASSERT_TRUE(sim.ok());
+    ASSERT_TRUE(store_->ImportDataset(sim->data).ok());
+    MakeRouter(ApiOptions());
+  }
+};
+
+TEST_F(DiagnosisRouterTest, DiagnosisRunsOnStoredDataAndNamesTheConcealedEffect) {
   // A fresh store holding a simulated mill with a concealed lubrication
   // effect (the fixture's own open campaign lives in another store).
-  router_.reset();
-  store_.reset();
-  StatusOr<std::unique_ptr<storage::MillStore>> store =
-      storage::MillStore::Open(dir_ + "/diag.db", storage::StoreOptions());
-  ASSERT_TRUE(store.ok());
-  store_ = std::move(store).value();
-  SimulatorOptions so;
-  so.seed = 31;
-  so.num_campaigns = 240;
-  so.effects = {"lubrication"};
-  StatusOr<Simulation> sim = Simulate(so);
-  ASSERT_TRUE(sim.ok());
-  ASSERT_TRUE(store_->ImportDataset(sim->data).ok());
-  MakeRouter(ApiOptions());
+  ASSERT_NO_FATAL_FAILURE(UseSimulatedMill("diag.db", 31));
 
   const HttpResponse posted = Post("/v1/diagnoses", json::object());
   ASSERT_EQ(posted.status, 202) << posted.body;
@@ -50,21 +59,8 @@ TEST_F(RouterTest, DiagnosisRunsOnStoredDataAndNamesTheConcealedEffect) {
   EXPECT_TRUE(report["baseline"].contains("gap_val_um"));
 }
 
-TEST_F(RouterTest, DiagnosisWithAdoptPromotesTheAdoptedModelWithItsTerms) {
-  router_.reset();
-  store_.reset();
-  StatusOr<std::unique_ptr<storage::MillStore>> store =
-      storage::MillStore::Open(dir_ + "/adopt.db", storage::StoreOptions());
-  ASSERT_TRUE(store.ok());
-  store_ = std::move(store).value();
-  SimulatorOptions so;
-  so.seed = 33;
-  so.num_campaigns = 240;
-  so.effects = {"lubrication"};
-  StatusOr<Simulation> sim = Simulate(so);
-  ASSERT_TRUE(sim.ok());
-  ASSERT_TRUE(store_->ImportDataset(sim->data).ok());
-  MakeRouter(ApiOptions());
+TEST_F(DiagnosisRouterTest, DiagnosisWithAdoptPromotesTheAdoptedModelWithItsTerms) {
+  ASSERT_NO_FATAL_FAILURE(UseSimulatedMill("adopt.db", 33));
 
   const HttpResponse posted = Post("/v1/diagnoses", json{{"adopt", true}});
   ASSERT_EQ(posted.status, 202) << posted.body;

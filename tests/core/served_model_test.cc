@@ -22,19 +22,13 @@
 #include "core/simulator.h"
 #include "core/study.h"
 #include "core/term_refit.h"
+#include "tests/core/simulator_test_util.h"
 
 namespace rollwear {
 namespace {
 
-Simulation Mill(uint64_t seed, int campaigns,
-                std::vector<std::string> effects = {}) {
-  SimulatorOptions o;
-  o.seed = seed;
-  o.num_campaigns = campaigns;
-  o.effects = std::move(effects);
-  StatusOr<Simulation> s = Simulate(o);
-  EXPECT_TRUE(s.ok()) << s.status().ToString();
-  return std::move(s).value();
+Simulation Mill(uint64_t seed, int campaigns, std::vector<std::string> effects = {}) {
+  return simulator_test::Simulated(seed, campaigns, std::move(effects));
 }
 
 struct Split {
