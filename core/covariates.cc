@@ -62,8 +62,16 @@ std::vector<CovariateSpec> CovariateCatalog(const Dataset& data) {
 
 double CovariateValue(const CovariateSpec& spec, const Dataset& data,
                       const PassContext& ctx, UnixSeconds origin) {
-  const Pass& p = *ctx.pass;
-  const Mount& m = *ctx.mount;
+  // A context without a pass (a measurement evaluated after the campaign)
+  // or without a mount has no value for what they carry.
+  static const Pass kNoPass;
+  static const Mount kNoMount;
+  if ((ctx.pass == nullptr && spec.level == CovariateLevel::kPass) ||
+      (ctx.mount == nullptr && spec.level == CovariateLevel::kRoll)) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  const Pass& p = ctx.pass != nullptr ? *ctx.pass : kNoPass;
+  const Mount& m = ctx.mount != nullptr ? *ctx.mount : kNoMount;
   switch (spec.source) {
     case CovariateSource::kForce: return p.force_kn;
     case CovariateSource::kWidth: return p.width_mm;
