@@ -32,7 +32,8 @@ class DiagnosisRouterTest : public RouterTest {
   }
 };
 
-TEST_F(DiagnosisRouterTest, DiagnosisRunsOnStoredDataAndNamesTheConcealedEffect) {
+TEST_F(DiagnosisRouterTest,
+       DiagnosisRunsOnStoredDataAndNamesTheConcealedEffect) {
   // A fresh store holding a simulated mill with a concealed lubrication
   // effect (the fixture's own open campaign lives in another store).
   ASSERT_NO_FATAL_FAILURE(UseSimulatedMill("diag.db", 31));
@@ -41,7 +42,7 @@ TEST_F(DiagnosisRouterTest, DiagnosisRunsOnStoredDataAndNamesTheConcealedEffect)
   ASSERT_EQ(posted.status, 202) << posted.body;
   const int64_t id = Parse(posted)["id"].get<int64_t>();
   json report;
-  for (int i = 0; i < 600; ++i) {
+  for (int i = 0; i < 3000; ++i) {  // up to 300 s (sanitizer builds are slow)
     const HttpResponse r = Get("/v1/diagnoses/" + std::to_string(id));
     ASSERT_EQ(r.status, 200) << r.body;
     report = Parse(r);
@@ -59,14 +60,15 @@ TEST_F(DiagnosisRouterTest, DiagnosisRunsOnStoredDataAndNamesTheConcealedEffect)
   EXPECT_TRUE(report["baseline"].contains("gap_val_um"));
 }
 
-TEST_F(DiagnosisRouterTest, DiagnosisWithAdoptPromotesTheAdoptedModelWithItsTerms) {
+TEST_F(DiagnosisRouterTest,
+       DiagnosisWithAdoptPromotesTheAdoptedModelWithItsTerms) {
   ASSERT_NO_FATAL_FAILURE(UseSimulatedMill("adopt.db", 33));
 
   const HttpResponse posted = Post("/v1/diagnoses", json{{"adopt", true}});
   ASSERT_EQ(posted.status, 202) << posted.body;
   const int64_t id = Parse(posted)["id"].get<int64_t>();
   json report;
-  for (int i = 0; i < 600; ++i) {
+  for (int i = 0; i < 3000; ++i) {  // up to 300 s (sanitizer builds are slow)
     report = Parse(Get("/v1/diagnoses/" + std::to_string(id)));
     if (report["status"] == "done" || report["status"] == "failed") break;
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
@@ -76,16 +78,19 @@ TEST_F(DiagnosisRouterTest, DiagnosisWithAdoptPromotesTheAdoptedModelWithItsTerm
   const json& adoption = report["adoption"];
   // The prior (uncalibrated) model is active: the adopted model beats it.
   EXPECT_TRUE(adoption["promoted"].get<bool>()) << adoption.dump();
-  EXPECT_LT(adoption["gap_val_um"].get<double>(), adoption["active_gap_val_um"].get<double>());
+  EXPECT_LT(adoption["gap_val_um"].get<double>(),
+            adoption["active_gap_val_um"].get<double>());
   const int64_t run = adoption["calibration_id"].get<int64_t>();
-  const json calibration = Parse(Get("/v1/calibrations/" + std::to_string(run)));
+  const json calibration =
+      Parse(Get("/v1/calibrations/" + std::to_string(run)));
   EXPECT_EQ(calibration["trigger"], "diagnosis " + std::to_string(id));
   EXPECT_EQ(calibration["status"], "done");
   const json active = Parse(Get("/v1/models/active"));
   EXPECT_EQ(active["version"], adoption["model_version"]);
   EXPECT_EQ(active["model"], "wang");
   ASSERT_EQ(active["terms"].size(), report["findings"].size()) << active.dump();
-  EXPECT_EQ(active["terms"][0]["covariate"], report["findings"][0]["covariate"]);
+  EXPECT_EQ(active["terms"][0]["covariate"],
+            report["findings"][0]["covariate"]);
   EXPECT_EQ(active["terms"][0]["params"].size(),
             report["findings"][0]["term"]["params"].size());
 }
@@ -96,10 +101,12 @@ TEST_F(RouterTest, DiagnosisAndCalibrationRequestsAreValidated) {
   EXPECT_EQ(Parse(r)["error"]["field"], "adopt");
   r = Post("/v1/calibrations", json{{"model", "lstm"}});
   EXPECT_EQ(r.status, 400) << r.body;
-  EXPECT_NE(Parse(r)["error"]["message"].get<std::string>().find("ann"), std::string::npos);
+  EXPECT_NE(Parse(r)["error"]["message"].get<std::string>().find("ann"),
+            std::string::npos);
   r = Post("/v1/calibrations", json{{"model", "ann"}});
   ASSERT_EQ(r.status, 202) << r.body;
-  const json rec = Parse(Get("/v1/calibrations/" + std::to_string(Parse(r)["id"].get<int64_t>())));
+  const json rec = Parse(
+      Get("/v1/calibrations/" + std::to_string(Parse(r)["id"].get<int64_t>())));
   EXPECT_EQ(rec["model"], "ann");
   EXPECT_EQ(rec["status"], "queued");
 }
