@@ -36,6 +36,9 @@ std::string ErrorBodyFor(int status) {
   } else if (status == 414) {
     e.code = "uri_too_long";
     e.message = "the request URI is too long";
+  } else if (status == 431) {
+    e.code = "headers_too_large";
+    e.message = "the request has too many or too large header fields";
   } else if (status == 404) {
     e.code = "not_found";
     e.message = "no such endpoint";
@@ -63,6 +66,10 @@ bool HttpServerOptions::IsValid(std::string* error) const {
   }
   if (keep_alive_timeout_s < 1 || read_timeout_s < 1 || write_timeout_s < 1) {
     *error = "timeouts must be >= 1 s";
+    return false;
+  }
+  if (max_header_count < 8 || max_header_bytes < 1024) {
+    *error = "header limits must be >= 8 fields and >= 1024 bytes";
     return false;
   }
   if (payload_max_bytes < 256) {
@@ -140,8 +147,22 @@ Status HttpServer::Start() {
   // (RFC 9112 6.3), e.g. `curl -X POST .../v1/calibrations`: say so before
   // the body is read. The request object is a non-const local of httplib's
   // request loop, so the cast is well-defined.
+  const size_t max_header_count = o.max_header_count;
+  const size_t max_header_bytes = o.max_header_bytes;
   s.set_pre_routing_handler(
-      [](const httplib::Request& req, httplib::Response&) {
+      [max_header_count, max_header_bytes](const httplib::Request& req,
+                                           httplib::Response& res) {
+        size_t header_bytes = 0;
+        for (const auto& [key, value] : req.headers) {
+          header_bytes += key.size() + value.size() + 4;  // ": " and CRLF
+        }
+        if (req.headers.size() > max_header_count ||
+            header_bytes > max_header_bytes) {
+          res.status = 431;
+          res.set_header("Connection", "close");
+          res.set_content(ErrorBodyFor(431), "application/json");
+          return httplib::Server::HandlerResponse::Handled;
+        }
         if (!req.has_header("Content-Length") &&
             !req.has_header("Transfer-Encoding")) {
           const_cast<httplib::Request&>(req).set_header("Content-Length", "0");

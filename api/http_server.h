@@ -4,7 +4,8 @@
 // and port (0 = ephemeral, port() reports the bound one), a fixed pool of
 // worker threads (one connection per thread while it is kept alive),
 // keep-alive count and timeout, TCP_NODELAY, the payload limit (413 before
-// the body is read), read/write timeouts, per-route latency into
+// the body is read), header count/size limits (431 before the body is
+// read), read/write timeouts, per-route latency into
 // Router::metrics(), and an optional per-request log hook.
 //
 // Thread-safety: Start() and Stop() from one controlling thread; requests
@@ -45,6 +46,14 @@ struct HttpServerOptions {
   int read_timeout_s = 5;
   int write_timeout_s = 5;
   size_t payload_max_bytes = 1 << 20;
+  // Request header limits. cpp-httplib 0.11 (Debian 12, a compiled
+  // library) caps each header line at 8 KiB and the request line at 8 KiB
+  // (CPPHTTPLIB_HEADER_MAX_LENGTH / _REQUEST_URI_MAX_LENGTH, fixed when the
+  // library was built) but not the number of header lines; a request with
+  // more lines or more header bytes than these is answered 431 before its
+  // body is read.
+  size_t max_header_count = 64;
+  size_t max_header_bytes = 32 * 1024;
   bool tcp_nodelay = true;
   // Called after every request on the serving thread; may be empty.
   std::function<void(const RequestLogEntry&)> on_request;
