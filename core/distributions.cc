@@ -1,10 +1,20 @@
 #include "core/distributions.h"
 
+#include <math.h>
+
 #include <cmath>
 #include <limits>
 
 namespace rollwear {
 namespace {
+
+// ln Gamma(x) without touching glibc's global `signgam` (std::lgamma writes
+// it, a data race when the diagnosis evaluates p-values on several threads):
+// the reentrant lgamma_r of glibc/POSIX-2008 extensions.
+double LogGamma(double x) {
+  int sign = 0;
+  return ::lgamma_r(x, &sign);
+}
 
 constexpr double kEps = 1e-15;
 constexpr double kTiny = 1e-300;
@@ -19,7 +29,7 @@ double GammaPSeries(double a, double x) {
     sum += del;
     if (std::abs(del) < std::abs(sum) * kEps) break;
   }
-  return sum * std::exp(-x + a * std::log(x) - std::lgamma(a));
+  return sum * std::exp(-x + a * std::log(x) - LogGamma(a));
 }
 
 // Q(a, x) by its continued fraction (NR 6.2.7, modified Lentz), x >= a + 1.
@@ -37,7 +47,7 @@ double GammaQFraction(double a, double x) {
     h *= del;
     if (std::abs(del - 1) < kEps) break;
   }
-  return std::exp(-x + a * std::log(x) - std::lgamma(a)) * h;
+  return std::exp(-x + a * std::log(x) - LogGamma(a)) * h;
 }
 
 // Continued fraction of the incomplete beta (NR 6.4.5, modified Lentz).
@@ -81,7 +91,7 @@ double RegularizedGammaQ(double a, double x) {
 double RegularizedBeta(double x, double a, double b) {
   if (x <= 0) return 0.0;
   if (x >= 1) return 1.0;
-  const double front = std::exp(std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b) +
+  const double front = std::exp(LogGamma(a + b) - LogGamma(a) - LogGamma(b) +
                                 a * std::log(x) + b * std::log1p(-x));
   // Use the fraction where it converges fast (NR 6.4.6 symmetry).
   if (x < (a + 1) / (a + b + 2)) return front * BetaFraction(x, a, b) / a;

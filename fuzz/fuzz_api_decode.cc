@@ -1,8 +1,8 @@
 // libFuzzer target: the JSON request decoding of every POST endpoint
 // (api/codec.h): roll changes, coils, campaign ends, measurements,
-// calibrations, diagnoses. Every input is given to every decoder (a valid coil body exercises
-// DecodeCoil in depth and the others' error paths), at the daemon's
-// default nesting limit, plus the nesting pre-scan on its own.
+// calibrations, diagnoses. Every input is given to every decoder (a valid coil
+// body exercises DecodeCoil in depth and the others' error paths), at the
+// daemon's default nesting limit, plus the nesting pre-scan on its own.
 //
 // A decoder must answer true, or false with a 400 error that has a code
 // and a message; anything else (a crash, an exception escaping, a leak, a
@@ -54,8 +54,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   {
     api::CalibrationRequest out;
     api::ApiError error;
-    Check(api::DecodeCalibrationRequest(body, kMaxDepth, &out, &error),
-          error);
+    Check(api::DecodeCalibrationRequest(body, kMaxDepth, &out, &error), error);
   }
   {
     api::DiagnosisRequest out;

@@ -36,8 +36,8 @@ std::string RawExchange(int port, const std::string& request) {
   if (connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)) == 0) {
     size_t sent = 0;
     while (sent < request.size()) {
-      const ssize_t n = send(fd, request.data() + sent, request.size() - sent,
-                             MSG_NOSIGNAL);
+      const ssize_t n =
+          send(fd, request.data() + sent, request.size() - sent, MSG_NOSIGNAL);
       if (n <= 0) break;
       sent += static_cast<size_t>(n);
     }
@@ -128,12 +128,13 @@ TEST_F(HttpLimitsTest, BodyOverTheLimitIs413) {
 TEST_F(HttpLimitsTest, TooManyOrTooLargeHeadersAre431) {
   const std::string before = State();
   const std::string body = CoilBody("K1", "C1", 1).dump();
-  const std::string head = "POST /v1/coils HTTP/1.1\r\nHost: x\r\n"
-                           "Authorization: Bearer " +
-                           std::string(kToken) +
-                           "\r\nContent-Type: application/json\r\n"
-                           "Content-Length: " +
-                           std::to_string(body.size()) + "\r\n";
+  const std::string head =
+      "POST /v1/coils HTTP/1.1\r\nHost: x\r\n"
+      "Authorization: Bearer " +
+      std::string(kToken) +
+      "\r\nContent-Type: application/json\r\n"
+      "Content-Length: " +
+      std::to_string(body.size()) + "\r\n";
   std::string many = head;
   for (int i = 0; i < 100; ++i) {
     many += "X-Filler-" + std::to_string(i) + ": y\r\n";
@@ -144,15 +145,16 @@ TEST_F(HttpLimitsTest, TooManyOrTooLargeHeadersAre431) {
 
   std::string large = head;
   for (int i = 0; i < 6; ++i) {
-    large += "X-Big-" + std::to_string(i) + ": " + std::string(6000, 'z') +
-             "\r\n";
+    large +=
+        "X-Big-" + std::to_string(i) + ": " + std::string(6000, 'z') + "\r\n";
   }
   answer = RawExchange(server_->port(), large + "\r\n" + body);
   EXPECT_EQ(answer.rfind("HTTP/1.1 431", 0), 0u) << answer;
   EXPECT_EQ(State(), before);
 
   // Within the limits the same request is fine.
-  answer = RawExchange(server_->port(), head + "Connection: close\r\n\r\n" + body);
+  answer =
+      RawExchange(server_->port(), head + "Connection: close\r\n\r\n" + body);
   EXPECT_EQ(answer.rfind("HTTP/1.1 201", 0), 0u) << answer;
 }
 

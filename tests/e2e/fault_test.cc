@@ -48,9 +48,9 @@ class FaultTest : public ::testing::Test {
     ASSERT_TRUE(InstallFaultVfs());
     SetFaultMode(FaultMode::kNone);
     Start();
-    ASSERT_EQ(Post("/v1/roll-changes",
-                   RollChangeBody("C1", "2026-03-01T06:00:00Z")),
-              201);
+    ASSERT_EQ(
+        Post("/v1/roll-changes", RollChangeBody("C1", "2026-03-01T06:00:00Z")),
+        201);
     for (int k = 1; k <= 5; ++k) ASSERT_EQ(PostCoil(k), 201) << k;
   }
   void TearDown() override {
@@ -157,10 +157,9 @@ TEST_F(FaultTest, ReadOnlyFileSystemAnswers503AndResumes) {
   SetFaultMode(FaultMode::kReadOnly);
   json answer;
   ExpectUnavailable(PostCoil(6, &answer), answer, "I/O error");
-  ExpectUnavailable(
-      Post("/v1/roll-changes", RollChangeBody("C2", "2026-03-01T15:00:00Z"),
-           &answer),
-      answer, "I/O error");
+  ExpectUnavailable(Post("/v1/roll-changes",
+                         RollChangeBody("C2", "2026-03-01T15:00:00Z"), &answer),
+                    answer, "I/O error");
   EXPECT_EQ(State(), before);
   SetFaultMode(FaultMode::kNone);
   EXPECT_EQ(PostCoil(6), 201);
@@ -226,9 +225,10 @@ TEST_F(FaultTest, ConcurrentWritesWhileDiskFlapsNeverDiverge) {
     n_acked += static_cast<int>(acked[c].size());
     n_refused += static_cast<int>(refused[c].size());
   }
-  std::printf("flapping disk: %d coils acknowledged, %d refused, %ld writes "
-              "faulted\n",
-              n_acked, n_refused, FaultedWrites());
+  std::printf(
+      "flapping disk: %d coils acknowledged, %d refused, %ld writes "
+      "faulted\n",
+      n_acked, n_refused, FaultedWrites());
   EXPECT_GT(n_refused, 0) << "the disk never filled during a write";
   ExpectStateMatchesFile();
   const std::map<std::string, double> m = ScrapeMetrics(url_);

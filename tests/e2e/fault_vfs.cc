@@ -1,9 +1,9 @@
 #include "tests/e2e/fault_vfs.h"
 
-#include <sqlite3.h>
-
 #include <atomic>
 #include <mutex>
+
+#include <sqlite3.h>
 
 namespace rollwear::e2e {
 namespace {

@@ -46,10 +46,10 @@ int SoakKills() {
 
 // The dataset as request bodies, in the order a mill produces them.
 struct Plan {
-  std::vector<std::string> roll_changes;           // by campaign
-  std::vector<std::vector<std::string>> coils;     // [campaign] bodies
-  std::vector<std::vector<std::string>> coil_ids;  // [campaign]
-  std::vector<std::string> ends;                   // by campaign
+  std::vector<std::string> roll_changes;               // by campaign
+  std::vector<std::vector<std::string>> coils;         // [campaign] bodies
+  std::vector<std::vector<std::string>> coil_ids;      // [campaign]
+  std::vector<std::string> ends;                       // by campaign
   std::vector<std::vector<std::string>> measurements;  // [campaign]
   std::vector<std::string> campaign_ids;
   size_t num_coils = 0;
@@ -96,14 +96,13 @@ Plan MakePlan(const Dataset& d) {
         json{{"ended_at", FormatTimestamp(d.campaigns[c].ended_at)}}.dump());
   }
   for (const Measurement& m : d.measurements) {
-    p.measurements[m.campaign].push_back(
-        json{{"campaign_id", d.campaigns[m.campaign].id},
-             {"stand", "F" + std::to_string(m.stand)},
-             {"position", PositionName(m.position)},
-             {"roll_id", m.roll_id},
-             {"measured_at", FormatTimestamp(m.measured_at)},
-             {"wear_center_um", m.wear_center_um}}
-            .dump());
+    p.measurements[m.campaign].push_back(json{
+        {"campaign_id", d.campaigns[m.campaign].id},
+        {"stand", "F" + std::to_string(m.stand)},
+        {"position", PositionName(m.position)},
+        {"roll_id", m.roll_id},
+        {"measured_at", FormatTimestamp(m.measured_at)},
+        {"wear_center_um", m.wear_center_um}}.dump());
   }
   return p;
 }
@@ -241,8 +240,8 @@ std::string WearDiff(const json& want, const json& got) {
   for (size_t i = 0; i < want["positions"].size(); ++i) {
     const json& a = want["positions"][i];
     const json& b = got["positions"][i];
-    for (const char* key : {"stand", "position", "roll_id", "campaign_id",
-                            "coils"}) {
+    for (const char* key :
+         {"stand", "position", "roll_id", "campaign_id", "coils"}) {
       if (a.value(key, json()) != b.value(key, json())) {
         out += std::string(key) + " of position " + std::to_string(i) + "\n";
       }
@@ -276,8 +275,8 @@ TEST(SoakTest, KillNineDuringConcurrentPostsLosesNoAcknowledgedCoil) {
   {
     Daemon daemon(dir / "reference.db", dir / "reference.log");
     ASSERT_TRUE(daemon.Start(&error)) << error;
-    ASSERT_TRUE(Drive(daemon.url(), plan, std::chrono::microseconds(0),
-                      &unused, &unused_mu, &error))
+    ASSERT_TRUE(Drive(daemon.url(), plan, std::chrono::microseconds(0), &unused,
+                      &unused_mu, &error))
         << error;
     ASSERT_EQ(HttpGet(daemon.url(), "/v1/wear", &reference_wear), 200);
     ASSERT_EQ(daemon.Terminate(), 0);
@@ -343,24 +342,24 @@ TEST(SoakTest, KillNineDuringConcurrentPostsLosesNoAcknowledgedCoil) {
   const bool sanitizer_report =
       daemon_log.find("Sanitizer") != std::string::npos ||
       daemon_log.find("runtime error:") != std::string::npos;
-  const std::string log_tail =
-      daemon_log.substr(daemon_log.size() > 6000 ? daemon_log.size() - 6000 : 0);
+  const std::string log_tail = daemon_log.substr(
+      daemon_log.size() > 6000 ? daemon_log.size() - 6000 : 0);
   size_t report = daemon_log.find("==================\nWARNING:");
   if (report == std::string::npos) report = daemon_log.find("==ERROR:");
   EXPECT_FALSE(sanitizer_report)
       << (report != std::string::npos ? daemon_log.substr(report, 12000)
-                                       : log_tail);
-  ASSERT_TRUE(drove) << drive_error << "\ndaemon running: "
-                     << daemon->process()->Running() << "\n"
+                                      : log_tail);
+  ASSERT_TRUE(drove) << drive_error
+                     << "\ndaemon running: " << daemon->process()->Running()
+                     << "\n"
                      << log_tail;
   json soak_wear;
   ASSERT_EQ(HttpGet(url, "/v1/wear", &soak_wear), 200);
   ASSERT_EQ(daemon->Terminate(), 0);
 
   std::set<std::string> stored_reference, stored_soak;
-  const std::string want = CanonicalDump(dir / "reference.db",
-                                         dir / "export_reference",
-                                         &stored_reference);
+  const std::string want = CanonicalDump(
+      dir / "reference.db", dir / "export_reference", &stored_reference);
   const std::string got =
       CanonicalDump(dir / "soak.db", dir / "export_soak", &stored_soak);
   int lost = 0;
