@@ -9,6 +9,7 @@
 #define ROLLWEAR_CORE_PASS_INPUT_H_
 
 #include <string>
+#include <utility>
 
 #include "core/dataset.h"
 
@@ -27,6 +28,25 @@ struct PassInput {
   bool lubrication = false;
   double shift_mm = 0;
 };
+
+// The pass input of any row type with the coil row's fields (a dataset
+// Pass, storage's stored pass) for a coil of `grade`.
+template <typename Row>
+PassInput PassInputFromRow(std::string grade, const Row& p) {
+  PassInput in;
+  in.grade = std::move(grade);
+  in.force_kn = p.force_kn;
+  in.width_mm = p.width_mm;
+  in.length_m = p.length_m;
+  in.entry_thickness_mm = p.entry_thickness_mm;
+  in.exit_thickness_mm = p.exit_thickness_mm;
+  in.rolled_at = p.rolled_at;
+  in.temperature_c = p.temperature_c;
+  in.speed_mps = p.speed_mps;
+  in.lubrication = p.lubrication;
+  in.shift_mm = p.shift_mm;
+  return in;
+}
 
 // The pass of row `pass` of a dataset.
 PassInput PassInputOf(const Dataset& data, const Pass& pass);

@@ -85,19 +85,7 @@ StoredCoil CanonicalCoil(const CoilIn& in) {
 }
 
 PassInput ToPassInput(const std::string& grade, const StoredPass& p) {
-  PassInput in;
-  in.grade = grade;
-  in.force_kn = p.force_kn;
-  in.width_mm = p.width_mm;
-  in.length_m = p.length_m;
-  in.entry_thickness_mm = p.entry_thickness_mm;
-  in.exit_thickness_mm = p.exit_thickness_mm;
-  in.rolled_at = p.rolled_at;
-  in.temperature_c = p.temperature_c;
-  in.speed_mps = p.speed_mps;
-  in.lubrication = p.lubrication;
-  in.shift_mm = p.shift_mm;
-  return in;
+  return PassInputFromRow(grade, p);
 }
 
 bool SameMount(const MountedRollIn& a, const MountedRollIn& b) {
