@@ -119,6 +119,19 @@ show_wear() {
   done
 }
 
+# wait_done PATH: polls GET PATH every 0.5 s (at most 10 min) until its
+# "status" is done or failed; prints the last answer.
+wait_done() {
+  local body status
+  for _ in $(seq 1 1200); do
+    body="$(http GET "$1")"
+    status="$(printf '%s' "${body}" | json_field status)"
+    [[ "${status}" == done || "${status}" == failed ]] && break
+    sleep 0.5
+  done
+  printf '%s' "${body}"
+}
+
 daemon_pid=""
 stop_daemon() {
   if [[ -n "${daemon_pid}" ]] && kill -0 "${daemon_pid}" 2>/dev/null; then
@@ -199,13 +212,7 @@ printf '$ POST /v1/calibrations {"model":"wang","option":1}\n'
 answer="$(http POST /v1/calibrations '{"model":"wang","option":1}')"
 printf '%s\n' "${answer}"
 id="$(printf '%s' "${answer}" | json_field id)"
-status="queued"
-for _ in $(seq 1 1200); do
-  record="$(http GET "/v1/calibrations/${id}")"
-  status="$(printf '%s' "${record}" | json_field status)"
-  [[ "${status}" == done || "${status}" == failed ]] && break
-  sleep 0.5
-done
+record="$(wait_done "/v1/calibrations/${id}")"
 printf '$ GET /v1/calibrations/%s\n' "${id}"
 for field in status model option n_train n_val cost gap_train_um gap_val_um \
   active_gap_val_um promoted model_version message; do
@@ -243,13 +250,7 @@ printf '$ POST /v1/diagnoses {"adopt":true}\n'
 answer="$(http POST /v1/diagnoses '{"adopt":true}')"
 printf '%s\n' "${answer}"
 id="$(printf '%s' "${answer}" | json_field id)"
-status="queued"
-for _ in $(seq 1 1200); do
-  report="$(http GET "/v1/diagnoses/${id}")"
-  status="$(printf '%s' "${report}" | json_field status)"
-  [[ "${status}" == done || "${status}" == failed ]] && break
-  sleep 0.5
-done
+report="$(wait_done "/v1/diagnoses/${id}")"
 printf '$ GET /v1/diagnoses/%s\n' "${id}"
 for field in status verdict covariate mechanism; do
   printf '  %-18s %s\n' "${field}" "$(printf '%s' "${report}" | json_field "${field}")"
