@@ -7,8 +7,8 @@
 // 1. fsync limit: single-row INSERT commits into a scratch SQLite file in
 //    WAL mode with synchronous=FULL (what one fsync per commit allows on
 //    this disk, measured in the same run). Loopback limit: GET /healthz
-//    (a trivial request) from the same 16 keep-alive clients against the
-//    daemon below - what HTTP on loopback allows on these cores. Every
+//    (a trivial request) over the same 16 keep-alive connections against
+//    the daemon below - what HTTP on loopback allows on these cores. Every
 //    throughput figure is also printed as a multiple of both limits.
 // 2. durable ingestion: `rollwear serve` (the release binary, loopback,
 //    temporary database) takes POST /v1/coils from 16 concurrent keep-alive
@@ -21,23 +21,29 @@
 //    every request it delays); target p99 < 1 ms (issue #3).
 // 4. replay of a paper-size simulated dataset (395 campaigns) through the
 //    API with `rollwear replay` into a fresh daemon; target < 30 s.
-// The client runs on the same cores as the daemon. --tsv writes the table
-// as "figure<TAB>measured<TAB>target" lines (bench/run_all.sh reads it).
+// The load comes from bench/load_client.h: one epoll thread driving the
+// keep-alive connections (as wrk does). It runs on the same cores as the
+// daemon, so its CPU per request and the daemon's (from /proc) are printed
+// beside each figure. --tsv writes the table as
+// "figure<TAB>measured<TAB>target" lines (bench/run_all.sh reads it).
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <iterator>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <string>
+#include <sstream>
 #include <thread>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 #include <sqlite3.h>
 
-#include "api/http_client.h"
+#include "bench/load_client.h"
 #include "core/dataset_io.h"
 #include "tests/e2e/e2e_util.h"
 
@@ -108,24 +114,40 @@ struct Figure {
   std::string vs_loopback;
 };
 
-// `n` requests of `path` (GET) from `clients` keep-alive clients, closed
-// loop: requests per second.
-double ClosedLoopGets(const std::string& url, const std::string& path,
-                      int clients, int n, int* failures) {
-  std::atomic<int> next{0}, bad{0};
-  const auto start = Clock::now();
-  std::vector<std::thread> threads;
-  for (int t = 0; t < clients; ++t) {
-    threads.emplace_back([&] {
-      api::HttpClient client(url);
-      while (next.fetch_add(1) < n) {
-        if (client.Get(path).status != 200) ++bad;
-      }
-    });
+// CPU seconds (user + system) the process `pid` has used so far.
+double ProcessCpuSeconds(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+  std::string text((std::istreambuf_iterator<char>(in)),
+                   std::istreambuf_iterator<char>());
+  const size_t close = text.rfind(')');
+  if (close == std::string::npos) return 0;
+  // Fields after the command name start at field 3; utime, stime are 14, 15.
+  std::istringstream rest(text.substr(close + 2));
+  std::string field;
+  double utime = 0, stime = 0;
+  for (int k = 3; k <= 15 && rest >> field; ++k) {
+    if (k == 14) utime = std::atof(field.c_str());
+    if (k == 15) stime = std::atof(field.c_str());
   }
-  for (auto& t : threads) t.join();
-  *failures = bad.load();
-  return n / Seconds(start, Clock::now());
+  return (utime + stime) / static_cast<double>(sysconf(_SC_CLK_TCK));
+}
+
+// `n` copies of one request.
+std::vector<std::string> Repeated(const std::string& request, int n) {
+  return std::vector<std::string>(static_cast<size_t>(n), request);
+}
+
+// Runs a load and reports the daemon's CPU seconds spent during it.
+LoadResult Measure(const LoadOptions& o, const std::vector<std::string>& reqs,
+                   pid_t daemon, double* daemon_cpu_s) {
+  const double before = ProcessCpuSeconds(daemon);
+  LoadResult r = RunLoad(o, reqs);
+  *daemon_cpu_s = ProcessCpuSeconds(daemon) - before;
+  if (!r.first_error.empty()) {
+    std::fprintf(stderr, "load_bench: first failure: %s\n",
+                 r.first_error.c_str());
+  }
+  return r;
 }
 
 std::string Fmt(const char* format, double v) {
@@ -198,7 +220,7 @@ int Run(const Options& o) {
     return 1;
   }
 
-  // 2. durable ingestion with 16 keep-alive clients.
+  // 2. durable ingestion over 16 keep-alive connections.
   {
     std::string error;
     e2e::Daemon daemon(work + "/ingest.db", work + "/ingest.log", 0,
@@ -207,16 +229,25 @@ int Run(const Options& o) {
       std::fprintf(stderr, "load_bench: %s\n", error.c_str());
       return 1;
     }
-    int loop_failures = 0;
-    ClosedLoopGets(daemon.url(), "/healthz", o.clients, 5000, &loop_failures);
-    loopback_limit = ClosedLoopGets(daemon.url(), "/healthz", o.clients, 40000,
-                                    &loop_failures);
+    const pid_t pid = daemon.process()->pid();
+    LoadOptions load;
+    load.port = daemon.port();
+    load.connections = o.clients;
+    load.expect_status = 200;
+    double daemon_cpu = 0;
+    const std::string healthz = RequestBytes("GET", "/healthz");
+    Measure(load, Repeated(healthz, 5000), pid, &daemon_cpu);  // warm-up
+    const LoadResult loop =
+        Measure(load, Repeated(healthz, 40000), pid, &daemon_cpu);
+    loopback_limit = loop.answered / loop.seconds;
     std::printf(
-        "[1b]  loopback limit: GET /healthz, %d keep-alive clients: %.0f "
-        "req/s, %d failures\n",
-        o.clients, loopback_limit, loop_failures);
+        "[1b]  loopback limit: GET /healthz, %d keep-alive connections: %.0f "
+        "req/s, %lld failures; CPU per request: daemon %.1f us, client %.1f "
+        "us\n",
+        o.clients, loopback_limit, static_cast<long long>(loop.failures),
+        1e6 * daemon_cpu / 40000, 1e6 * loop.client_cpu_s / 40000);
     figures.push_back({"loopback limit (GET /healthz, " +
-                           std::to_string(o.clients) + " clients)",
+                           std::to_string(o.clients) + " connections)",
                        Fmt("%.0f req/s", loopback_limit), "(machine limit)",
                        Fmt("%.2f", loopback_limit / fsync_limit), "1.00"});
 
@@ -228,116 +259,79 @@ int Run(const Options& o) {
       std::fprintf(stderr, "load_bench: roll change refused\n");
       return 1;
     }
-    const std::vector<std::string> bodies =
-        SyntheticCoils(*data, "BENCH-C1", o.coils);
-    std::vector<std::vector<double>> latencies(o.clients);
-    std::atomic<int> next{0}, failures{0};
-    const auto start = Clock::now();
-    std::vector<std::thread> threads;
-    for (int t = 0; t < o.clients; ++t) {
-      threads.emplace_back([&, t] {
-        api::HttpClient client(daemon.url());
-        latencies[t].reserve(bodies.size() / o.clients + 16);
-        for (;;) {
-          const int i = next.fetch_add(1);
-          if (i >= static_cast<int>(bodies.size())) break;
-          const auto t0 = Clock::now();
-          const int status = client.Post("/v1/coils", bodies[i]).status;
-          latencies[t].push_back(Seconds(t0, Clock::now()));
-          if (status != 201) ++failures;
-        }
-      });
+    std::vector<std::string> posts;
+    for (const std::string& body : SyntheticCoils(*data, "BENCH-C1", o.coils)) {
+      posts.push_back(RequestBytes("POST", "/v1/coils", body));
     }
-    for (auto& t : threads) t.join();
-    const double elapsed = Seconds(start, Clock::now());
-    std::vector<double> all;
-    for (auto& v : latencies) all.insert(all.end(), v.begin(), v.end());
-    const double rate = bodies.size() / elapsed;
-    const double p50 = Percentile(&all, 0.50), p99 = Percentile(&all, 0.99);
+    load.expect_status = 201;
+    LoadResult ingest = Measure(load, posts, pid, &daemon_cpu);
+    const double rate = ingest.answered / ingest.seconds;
+    const double p50 = Percentile(&ingest.latency_s, 0.50);
+    const double p99 = Percentile(&ingest.latency_s, 0.99);
     const auto metrics = e2e::ScrapeMetrics(daemon.url());
     const double commits = metrics.count("rollwear_group_commits_total")
                                ? metrics.at("rollwear_group_commits_total")
                                : 0;
+    const double daemon_us = 1e6 * daemon_cpu / posts.size();
+    const double client_us = 1e6 * ingest.client_cpu_s / posts.size();
     std::printf(
         "[2/4] ingestion: %zu coils in %.2f s = %.0f coils/s, p50 "
-        "%.2f ms, p99 %.2f ms, %d failures, %.0f group commits "
-        "(%.1f coils/commit)\n",
-        bodies.size(), elapsed, rate, p50 * 1e3, p99 * 1e3, failures.load(),
-        commits, commits > 0 ? bodies.size() / commits : 0.0);
-    Figure ingest{"durable POST /v1/coils, " + std::to_string(o.clients) +
-                      " keep-alive clients",
-                  Fmt("%.0f coils/s", rate), ">= 10000 coils/s"};
-    ratios(rate, &ingest);
-    figures.push_back(ingest);
+        "%.2f ms, p99 %.2f ms, %lld failures, %.0f group commits "
+        "(%.1f coils/commit); CPU per coil: daemon %.1f us, client %.1f us\n",
+        posts.size(), ingest.seconds, rate, p50 * 1e3, p99 * 1e3,
+        static_cast<long long>(ingest.failures), commits,
+        commits > 0 ? posts.size() / commits : 0.0, daemon_us, client_us);
+    Figure ingest_figure{"durable POST /v1/coils, " +
+                             std::to_string(o.clients) +
+                             " keep-alive connections",
+                         Fmt("%.0f coils/s", rate), ">= 10000 coils/s", "", ""};
+    ratios(rate, &ingest_figure);
+    figures.push_back(ingest_figure);
     figures.push_back(
         {"  POST /v1/coils latency p50 / p99",
          Fmt("%.2f ms", p50 * 1e3) + " / " + Fmt("%.2f ms", p99 * 1e3), "", "",
          ""});
     figures.push_back({"  coils per group commit",
-                       Fmt("%.1f", commits > 0 ? bodies.size() / commits : 0.0),
+                       Fmt("%.1f", commits > 0 ? posts.size() / commits : 0.0),
+                       "", "", ""});
+    figures.push_back({"  CPU per coil: daemon / load client",
+                       Fmt("%.0f us", daemon_us) + Fmt(" / %.0f us", client_us),
                        "", "", ""});
 
     // 2b. Repeats of coils stored above (in a 100,000-coil campaign: a
     // repeat is answered from the coil's row, whatever the campaign size).
-    const std::vector<std::string>& c2_bodies = bodies;
-    const int repeats = 20000;
-    std::atomic<int> next_repeat{0}, repeat_failures{0};
-    const auto repeat_start = Clock::now();
-    std::vector<std::thread> repeat_threads;
-    for (int t = 0; t < o.clients; ++t) {
-      repeat_threads.emplace_back([&] {
-        api::HttpClient client(daemon.url());
-        for (int i = next_repeat++; i < repeats; i = next_repeat++) {
-          if (client.Post("/v1/coils", c2_bodies[i % c2_bodies.size()])
-                  .status != 200) {
-            ++repeat_failures;
-          }
-        }
-      });
-    }
-    for (auto& t : repeat_threads) t.join();
-    const double repeat_rate = repeats / Seconds(repeat_start, Clock::now());
+    std::vector<std::string> repeats;
+    for (int i = 0; i < 20000; ++i) repeats.push_back(posts[i % posts.size()]);
+    load.expect_status = 200;
+    const LoadResult again = Measure(load, repeats, pid, &daemon_cpu);
+    const double repeat_rate = again.answered / again.seconds;
     std::printf(
         "[2b]  repeated coils (200, no commit, %zu-coil campaign): "
-        "%.0f coils/s, %d failures\n",
-        bodies.size(), repeat_rate, repeat_failures.load());
+        "%.0f coils/s, %lld failures; CPU per coil: daemon %.1f us\n",
+        posts.size(), repeat_rate, static_cast<long long>(again.failures),
+        1e6 * daemon_cpu / repeats.size());
     Figure repeat{"  POST /v1/coils repeats (200, no commit)",
-                  Fmt("%.0f coils/s", repeat_rate), ""};
+                  Fmt("%.0f coils/s", repeat_rate), "", "", ""};
     ratios(repeat_rate, &repeat);
     figures.push_back(repeat);
 
     // 3. GET /v1/wear at a paced rate, open loop.
-    const int wear_clients = 8;
-    const double per_client = o.wear_rate / wear_clients;
-    const int per_client_n = static_cast<int>(per_client * o.wear_seconds);
-    std::vector<std::vector<double>> wear_lat(wear_clients);
-    std::atomic<int> wear_failures{0};
-    const auto wear_start = Clock::now() + std::chrono::milliseconds(50);
-    std::vector<std::thread> wear_threads;
-    for (int t = 0; t < wear_clients; ++t) {
-      wear_threads.emplace_back([&, t] {
-        api::HttpClient client(daemon.url());
-        for (int i = 0; i < per_client_n; ++i) {
-          const auto due =
-              wear_start + std::chrono::microseconds(static_cast<int64_t>(
-                               (i + t / static_cast<double>(wear_clients)) /
-                               per_client * 1e6));
-          std::this_thread::sleep_until(due);
-          if (client.Get("/v1/wear").status != 200) ++wear_failures;
-          wear_lat[t].push_back(Seconds(due, Clock::now()));
-        }
-      });
-    }
-    for (auto& t : wear_threads) t.join();
-    const double wear_elapsed = Seconds(wear_start, Clock::now());
-    std::vector<double> wl;
-    for (auto& v : wear_lat) wl.insert(wl.end(), v.begin(), v.end());
-    const double achieved = wl.size() / wear_elapsed;
-    const double w50 = Percentile(&wl, 0.5), w99 = Percentile(&wl, 0.99);
+    LoadOptions paced = load;
+    paced.connections = 8;
+    paced.rate = o.wear_rate;
+    const int wear_n = static_cast<int>(o.wear_rate * o.wear_seconds);
+    LoadResult wear =
+        Measure(paced, Repeated(RequestBytes("GET", "/v1/wear"), wear_n), pid,
+                &daemon_cpu);
+    const double achieved = wear.answered / wear.seconds;
+    const double w50 = Percentile(&wear.latency_s, 0.5);
+    const double w99 = Percentile(&wear.latency_s, 0.99);
     std::printf(
         "[3/4] GET /v1/wear at %.0f req/s target: achieved %.0f "
-        "req/s, p50 %.3f ms, p99 %.3f ms, %d failures\n",
-        o.wear_rate, achieved, w50 * 1e3, w99 * 1e3, wear_failures.load());
+        "req/s, p50 %.3f ms, p99 %.3f ms, %lld failures; CPU per request: "
+        "daemon %.1f us\n",
+        o.wear_rate, achieved, w50 * 1e3, w99 * 1e3,
+        static_cast<long long>(wear.failures), 1e6 * daemon_cpu / wear_n);
     figures.push_back(
         {Fmt("GET /v1/wear p99 at paced %.0f req/s", o.wear_rate),
          Fmt("%.2f ms", w99 * 1e3) + Fmt(" (achieved %.0f req/s)", achieved),
@@ -375,7 +369,7 @@ int Run(const Options& o) {
         Fmt("replay of the paper-size dataset (%.0f campaigns)",
             static_cast<double>(data->campaigns.size())),
         Fmt("%.1f s", elapsed) + Fmt(" (%.0f coils/s)", coils / elapsed),
-        "< 30 s"};
+        "< 30 s", "", ""};
     ratios(coils / elapsed, &replay_figure);
     figures.push_back(replay_figure);
     daemon.Terminate();
