@@ -90,6 +90,10 @@ Status MillStoreImpl::Init(const std::string& path) {
   counters_.measurements = counts->measurements;
   counters_.measurements_since_last_calibration =
       counts->measurements_since_last_calibration;
+  committed_coil_ids_.Reserve(static_cast<size_t>(counts->coils));
+  ROLLWEAR_RETURN_IF_ERROR(ForEachCoilId(
+      writer_db_.get(),
+      [this](const std::string& id) { committed_coil_ids_.Insert(id); }));
 
   StatusOr<std::optional<ModelVersion>> active =
       LoadActiveModel(writer_db_.get());
@@ -149,6 +153,10 @@ StatusOr<std::optional<StoredCoil>> MillStoreImpl::FindCoilLocked(
   auto it = spec_.pending_coils.find(coil_id);
   *pending = it != spec_.pending_coils.end();
   if (*pending) return std::optional<StoredCoil>(it->second);
+  // Not stored for certain: no SQLite read under mu_ for a new coil.
+  if (!committed_coil_ids_.MayContain(coil_id)) {
+    return std::optional<StoredCoil>();
+  }
   return LookupCoil(lookup_db_.get(), coil_id);
 }
 

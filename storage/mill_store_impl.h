@@ -5,10 +5,15 @@
 //
 // State and locks:
 //   mu_ guards the catalogs, the queue, the live roll states, the active
-//       model pointer and the counters, and lookup_db_ (used to find stored
-//       coils while admitting a write). Held only briefly, never across a
-//       commit.
+//       model pointer and the counters, committed_coil_ids_, and
+//       lookup_db_ (used to read a stored coil while admitting a write).
+//       Held only briefly, never across a commit.
 //   committed_  the catalog of what the database holds (published state);
+//   committed_coil_ids_  hashes of every committed coil id: a coil id it
+//               does not contain is not stored, so admitting a new coil
+//               reads nothing from SQLite (filled by Init, extended by
+//               PublishBatch in the same critical section that drops the
+//               coil from spec_.pending_coils);
 //   spec_       committed_ plus every write queued or being committed, which
 //               is what a new write is validated against;
 //   rolls_      the open campaign's roll states, updated after each commit.
@@ -34,6 +39,7 @@
 #include <vector>
 
 #include "core/predictor.h"
+#include "storage/coil_id_filter.h"
 #include "storage/import_plan.h"
 #include "storage/mill_store.h"
 #include "storage/sqlite_db.h"
@@ -119,7 +125,8 @@ class MillStoreImpl final : public MillStore {
   StatusOr<int64_t> EnqueueAnnTraining(const std::string& trigger) override;
   StatusOr<CalibrationRecord> ProposeModel(const std::string& trigger,
                                            const std::string& model, int option,
-                                           const WearModel& candidate, const Dataset& data,
+                                           const WearModel& candidate,
+                                           const Dataset& data,
                                            uint64_t split_seed) override;
   Status RunCalibration(int64_t id) override;
   StatusOr<CalibrationRecord> GetCalibration(int64_t id) const override;
@@ -137,7 +144,8 @@ class MillStoreImpl final : public MillStore {
   // Validates `item` against spec_ and records it there. *immediate: an
   // idempotent repeat of something already committed (answer at once).
   Status AdmitLocked(WriteItem* item, bool* immediate);
-  // The coil stored or queued under `coil_id`; *pending when queued.
+  // The coil stored or queued under `coil_id`; *pending when queued. Reads
+  // the database only when committed_coil_ids_ may contain the id.
   StatusOr<std::optional<StoredCoil>> FindCoilLocked(const std::string& coil_id,
                                                      bool* pending);
   // Admits, queues and waits for the commit; *immediate as above.
@@ -153,8 +161,8 @@ class MillStoreImpl final : public MillStore {
 
   // ---- mill_store_calibration.cc
   // Records a calibration run (claimed at once when `claim`); returns its id.
-  StatusOr<int64_t> InsertRun(const std::string& trigger, const std::string& model,
-                              int option, bool claim);
+  StatusOr<int64_t> InsertRun(const std::string& trigger,
+                              const std::string& model, int option, bool claim);
   // Records the outcome of a claimed run and promotes `candidate` when the
   // run succeeded and its validation gap is no worse than the active one's.
   Status FinishRun(Status error, WearModel candidate,
@@ -197,6 +205,7 @@ class MillStoreImpl final : public MillStore {
   bool stop_ = false;
   std::deque<ItemPtr> queue_;
   Catalog committed_;
+  CoilIdFilter committed_coil_ids_;
   Catalog spec_;
   std::array<std::optional<LiveRoll>, kNumRollPositionSlots> rolls_;
   std::shared_ptr<const ModelVersion> model_;

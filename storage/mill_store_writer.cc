@@ -273,6 +273,7 @@ void MillStoreImpl::PublishBatch(const std::vector<ItemPtr>& batch,
           break;
         case WriteKind::kCoil:
           ApplyCoil(item->coil, /*speculative=*/false, &committed_);
+          committed_coil_ids_.Insert(item->coil.coil_id);
           spec_.pending_coils.erase(item->coil.coil_id);
           ++counters_.coils;
           break;
@@ -287,6 +288,7 @@ void MillStoreImpl::PublishBatch(const std::vector<ItemPtr>& batch,
                       /*speculative=*/false, &committed_);
           for (size_t i = 0; i < item->dataset_coils.size(); ++i) {
             if (item->plan.new_coil[i]) {
+              committed_coil_ids_.Insert(item->dataset_coils[i].coil_id);
               spec_.pending_coils.erase(item->dataset_coils[i].coil_id);
             }
           }

@@ -238,8 +238,26 @@ bool Db::InTransaction() const { return sqlite3_get_autocommit(db_) == 0; }
 
 // -------------------------------------------------------------- Transaction
 
+namespace {
+
+// BEGIN and COMMIT run once per group commit: prepared once per connection
+// (Db::Cached, keyed by these arrays' addresses) instead of being parsed
+// again by sqlite3_exec each time.
+constexpr char kBeginImmediate[] = "BEGIN IMMEDIATE";
+constexpr char kCommit[] = "COMMIT";
+
+Status RunCached(Db* db, const char* sql) {
+  StatusOr<Statement*> st = db->Cached(sql);
+  if (!st.ok()) return st.status();
+  Status s = (*st)->Run();
+  (*st)->Reset();
+  return s;
+}
+
+}  // namespace
+
 StatusOr<Transaction> Transaction::Begin(Db* db) {
-  ROLLWEAR_RETURN_IF_ERROR(db->Exec("BEGIN IMMEDIATE"));
+  ROLLWEAR_RETURN_IF_ERROR(RunCached(db, kBeginImmediate));
   return Transaction(db);
 }
 
@@ -247,7 +265,7 @@ Transaction::~Transaction() { Rollback(); }
 
 Status Transaction::Commit() {
   if (db_ == nullptr) return Status::Internal("transaction already finished");
-  Status s = db_->Exec("COMMIT");
+  Status s = RunCached(db_, kCommit);
   if (!s.ok()) {
     // A failed COMMIT may leave the transaction open (e.g. SQLITE_BUSY);
     // roll it back so nothing of it survives.

@@ -116,6 +116,7 @@ class Db {
 
 // BEGIN IMMEDIATE (the write lock is taken at once, so a busy database is
 // seen here rather than at the first write); rolled back unless committed.
+// BEGIN and COMMIT are prepared once per Db (Cached).
 class Transaction {
  public:
   static StatusOr<Transaction> Begin(Db* db);

@@ -216,6 +216,19 @@ StatusOr<std::optional<StoredCoil>> LookupCoil(Db* db,
   return out;
 }
 
+Status ForEachCoilId(Db* db,
+                     const std::function<void(const std::string&)>& visit) {
+  // Once per open: not cached. Reads the coil_id index, not the table.
+  StatusOr<Statement> st = db->Prepare("SELECT coil_id FROM coils");
+  if (!st.ok()) return st.status();
+  while (true) {
+    StatusOr<bool> row = st->Step();
+    if (!row.ok()) return row.status();
+    if (!*row) return Status::Ok();
+    visit(st->ColumnText(0));
+  }
+}
+
 StatusOr<std::optional<std::string>> LookupSeq(Db* db,
                                                const std::string& campaign_id,
                                                int seq) {

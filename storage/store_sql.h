@@ -56,6 +56,9 @@ Status InsertMeasurement(Db* db, int64_t campaign_row, const MeasurementIn& m,
 
 StatusOr<std::optional<StoredCoil>> LookupCoil(Db* db,
                                                const std::string& coil_id);
+// Calls `visit` with the coil_id of every stored coil (any order).
+Status ForEachCoilId(Db* db,
+                     const std::function<void(const std::string&)>& visit);
 // coil_id of the coil using (campaign_id, seq), if any.
 StatusOr<std::optional<std::string>> LookupSeq(Db* db,
                                                const std::string& campaign_id,
