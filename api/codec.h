@@ -4,12 +4,13 @@
 // told apart from other numbers) and range, and name a bad field by its
 // JSON path ("passes[1].force_kn"). Unknown extra fields are ignored.
 // Encoders produce the answer bodies of docs/api.md. nlohmann/json.hpp is
-// included by codec_decode.cc and codec_encode.cc only.
+// included by .cc files only.
 //
 // Thread-safety: stateless functions.
 #ifndef ROLLWEAR_API_CODEC_H_
 #define ROLLWEAR_API_CODEC_H_
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -20,6 +21,14 @@
 #include "storage/mill_store.h"
 
 namespace rollwear::api {
+
+// Identifiers (campaign, coil, roll ids, labels) longer than this are
+// refused; nothing in a mill comes close.
+inline constexpr size_t kMaxIdLength = 200;
+// A coil passes each stand at most once.
+inline constexpr size_t kMaxPasses = kMaxStand;
+// Largest sequence number of a coil in its campaign.
+inline constexpr int64_t kMaxCoilSeq = 1'000'000'000;
 
 // One error answer: HTTP status, snake_case code, one sentence, and the
 // JSON path of the offending field (empty = null).
@@ -38,8 +47,14 @@ bool DecodeRollChange(std::string_view body, int max_depth,
                       storage::RollChangeIn* out, ApiError* error);
 bool DecodeCampaignEnd(std::string_view body, int max_depth,
                        UnixSeconds* ended_at, ApiError* error);
+// TryDecodeCoilFast (api/coil_fast_decode.h) for the usual body, else
+// DecodeCoilDom, which produces every error.
 bool DecodeCoil(std::string_view body, int max_depth, storage::CoilIn* out,
                 ApiError* error);
+// DecodeCoil's general path: the body as an nlohmann DOM, read member by
+// member. Declared for the tests that compare it with the fast path.
+bool DecodeCoilDom(std::string_view body, int max_depth, storage::CoilIn* out,
+                   ApiError* error);
 bool DecodeMeasurement(std::string_view body, int max_depth,
                        storage::MeasurementIn* out, ApiError* error);
 // An empty body (or "{}") selects the defaults.

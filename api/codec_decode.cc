@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/codec.h"
+#include "api/coil_fast_decode.h"
 #include "core/dataset_io.h"
 
 namespace rollwear::api {
@@ -16,12 +17,8 @@ namespace {
 // order.
 using Json = nlohmann::ordered_json;
 
-// Identifiers (campaign, coil, roll ids, labels) longer than this are
-// refused; nothing in a mill comes close.
-constexpr size_t kMaxIdLength = 200;
 // The dataset reader's rule: only grinder noise may go slightly negative.
 constexpr double kMinWearUm = -50;
-constexpr size_t kMaxPasses = kMaxStand;
 constexpr size_t kMaxRolls = kNumRollPositionSlots;
 
 std::string Dump(const Json& j) {
@@ -323,13 +320,19 @@ bool DecodeCampaignEnd(std::string_view body, int max_depth,
 
 bool DecodeCoil(std::string_view body, int max_depth, storage::CoilIn* out,
                 ApiError* error) {
+  return TryDecodeCoilFast(body, max_depth, out) ||
+         DecodeCoilDom(body, max_depth, out, error);
+}
+
+bool DecodeCoilDom(std::string_view body, int max_depth, storage::CoilIn* out,
+                   ApiError* error) {
   Json j;
   if (!ParseObject(body, max_depth, &j, error)) return false;
   ObjectReader r(j, "", error);
   int64_t seq = 0;
   if (!r.Text("coil_id", &out->coil_id) ||
       !r.Text("campaign_id", &out->campaign_id) ||
-      !r.Integer("seq", 1, 1'000'000'000, &seq) ||
+      !r.Integer("seq", 1, kMaxCoilSeq, &seq) ||
       !r.Timestamp("rolled_at", &out->rolled_at) ||
       !r.Text("grade", &out->grade)) {
     return false;

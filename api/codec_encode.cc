@@ -1,10 +1,15 @@
-// The answer bodies of docs/api.md (see codec.h).
+// The answer bodies of docs/api.md (see codec.h). Those of the hot
+// endpoints (errors, coils, wear) go through JsonWriter, which prints what
+// the DOM's dump() would; the rest build an nlohmann DOM.
+#include <charconv>
 #include <cmath>
+#include <string_view>
 #include <utility>
 
 #include <nlohmann/json.hpp>
 
 #include "api/codec.h"
+#include "api/json_writer.h"
 #include "core/ann_model.h"
 #include "core/dataset_io.h"
 #include "storage/model_codec.h"
@@ -46,18 +51,40 @@ const char* StatusName(storage::CalibrationStatus s) {
   return "unknown";
 }
 
-Json PositionJson(const storage::PositionWear& w) {
-  return Json{
-      {"stand", "F" + std::to_string(w.stand)},
-      {"position", PositionName(w.position)},
-      {"roll_id", w.roll_id},
-      {"roll_type", w.roll_type},
-      {"campaign_id", w.campaign_id},
-      {"coils", w.coils},
-      {"rolled_length_m", w.rolled_length_m},
-      {"predicted_wear_um", w.predicted_wear_um},
-      {"interval_um", Json::array({w.interval_lo_um, w.interval_hi_um})}};
+// Stand numbers as "F6"; any int prints as the DOM encoders printed it.
+void WriteStand(JsonWriter* w, int stand) {
+  char text[16] = {'F'};
+  const auto result = std::to_chars(text + 1, text + sizeof(text), stand);
+  w->String(std::string_view(text, static_cast<size_t>(result.ptr - text)));
 }
+
+// The members of one element of GET /v1/wear, inside an open object.
+void WritePositionMembers(JsonWriter* w, const storage::PositionWear& p) {
+  w->Key("stand");
+  WriteStand(w, p.stand);
+  w->Key("position");
+  w->String(PositionName(p.position));
+  w->Key("roll_id");
+  w->String(p.roll_id);
+  w->Key("roll_type");
+  w->String(p.roll_type);
+  w->Key("campaign_id");
+  w->String(p.campaign_id);
+  w->Key("coils");
+  w->Int(p.coils);
+  w->Key("rolled_length_m");
+  w->Double(p.rolled_length_m);
+  w->Key("predicted_wear_um");
+  w->Double(p.predicted_wear_um);
+  w->Key("interval_um");
+  w->BeginArray();
+  w->Double(p.interval_lo_um);
+  w->Double(p.interval_hi_um);
+  w->EndArray();
+}
+
+// Room for one position (its strings come on top).
+constexpr size_t kPositionBytes = 200;
 
 Json CalibrationJson(const storage::CalibrationRecord& r) {
   Json coefficients = Json::object();
@@ -122,10 +149,24 @@ Json ModelJson(const storage::ModelVersion& m) {
 }  // namespace
 
 std::string EncodeError(const ApiError& error) {
-  Json e{{"code", error.code},
-         {"message", error.message},
-         {"field", error.field.empty() ? Json(nullptr) : Json(error.field)}};
-  return Dump(Json{{"error", e}});
+  JsonWriter w(64 + error.code.size() + error.message.size() +
+               error.field.size());
+  w.BeginObject();
+  w.Key("error");
+  w.BeginObject();
+  w.Key("code");
+  w.String(error.code);
+  w.Key("message");
+  w.String(error.message);
+  w.Key("field");
+  if (error.field.empty()) {
+    w.Null();
+  } else {
+    w.String(error.field);
+  }
+  w.EndObject();
+  w.EndObject();
+  return w.Take();
 }
 
 std::string EncodeRollChangeAnswer(const storage::RollChangeIn& in,
@@ -147,20 +188,39 @@ std::string EncodeCampaignEndAnswer(const std::string& campaign_id,
 std::string EncodeCoilAnswer(const storage::CoilIn& in,
                              const storage::CoilOutcome& outcome,
                              int64_t model_version) {
-  Json added = Json::array();
+  size_t reserve = 128 + in.coil_id.size() + in.campaign_id.size();
+  for (const auto& a : outcome.added) reserve += 112 + a.roll_id.size();
+  JsonWriter w(reserve);
+  w.BeginObject();
+  w.Key("coil_id");
+  w.String(in.coil_id);
+  w.Key("campaign_id");
+  w.String(in.campaign_id);
+  w.Key("outcome");
+  w.String(OutcomeName(outcome.outcome));
+  w.Key("added");
+  w.BeginArray();
   for (const auto& a : outcome.added) {
-    added.push_back({{"stand", "F" + std::to_string(a.stand)},
-                     {"position", PositionName(a.position)},
-                     {"roll_id", a.roll_id},
-                     {"wear_um", a.wear_um},
-                     {"predicted_wear_um", a.predicted_wear_um}});
+    w.BeginObject();
+    w.Key("stand");
+    WriteStand(&w, a.stand);
+    w.Key("position");
+    w.String(PositionName(a.position));
+    w.Key("roll_id");
+    w.String(a.roll_id);
+    w.Key("wear_um");
+    w.Double(a.wear_um);
+    w.Key("predicted_wear_um");
+    w.Double(a.predicted_wear_um);
+    w.EndObject();
   }
-  Json j{{"coil_id", in.coil_id},
-         {"campaign_id", in.campaign_id},
-         {"outcome", OutcomeName(outcome.outcome)},
-         {"added", std::move(added)}};
-  if (model_version >= 0) j["model_version"] = model_version;
-  return Dump(j);
+  w.EndArray();
+  if (model_version >= 0) {
+    w.Key("model_version");
+    w.Int(model_version);
+  }
+  w.EndObject();
+  return w.Take();
 }
 
 std::string EncodeMeasurementAnswer(const storage::MeasurementIn& in,
@@ -172,17 +232,37 @@ std::string EncodeMeasurementAnswer(const storage::MeasurementIn& in,
 }
 
 std::string EncodeWear(const storage::WearSnapshot& snapshot) {
-  Json positions = Json::array();
-  for (const auto& p : snapshot.positions) positions.push_back(PositionJson(p));
-  return Dump(Json{{"model_version", snapshot.model_version},
-                   {"positions", std::move(positions)}});
+  size_t reserve = 64;
+  for (const auto& p : snapshot.positions) {
+    reserve += kPositionBytes + p.roll_id.size() + p.roll_type.size() +
+               p.campaign_id.size();
+  }
+  JsonWriter w(reserve);
+  w.BeginObject();
+  w.Key("model_version");
+  w.Int(snapshot.model_version);
+  w.Key("positions");
+  w.BeginArray();
+  for (const auto& p : snapshot.positions) {
+    w.BeginObject();
+    WritePositionMembers(&w, p);
+    w.EndObject();
+  }
+  w.EndArray();
+  w.EndObject();
+  return w.Take();
 }
 
 std::string EncodePositionWear(const storage::PositionWear& wear,
                                int64_t model_version) {
-  Json j = PositionJson(wear);
-  j["model_version"] = model_version;
-  return Dump(j);
+  JsonWriter w(kPositionBytes + 32 + wear.roll_id.size() +
+               wear.roll_type.size() + wear.campaign_id.size());
+  w.BeginObject();
+  WritePositionMembers(&w, wear);
+  w.Key("model_version");
+  w.Int(model_version);
+  w.EndObject();
+  return w.Take();
 }
 
 std::string EncodeCalibrationId(int64_t id) {

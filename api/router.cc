@@ -398,11 +398,19 @@ HttpResponse Router::GetWearAt(const std::string& stand_text,
                  "unknown roll position '" + stand_text + "/" + position_text +
                      "' (stands F1..F7, positions top or bottom)");
   }
+  // The answer names the model version so that clients can tell which model
+  // predicted; only the full snapshot has it, so the position is taken from
+  // the same snapshot: one visit to the store, and the two agree.
+  const storage::WearSnapshot snapshot = store_->Wear();
+  for (const storage::PositionWear& wear : snapshot.positions) {
+    if (wear.stand == stand && wear.position == position) {
+      return Answer(200, EncodePositionWear(wear, snapshot.model_version));
+    }
+  }
+  // Not mounted (or mounted just now): the store's own answer.
   StatusOr<storage::PositionWear> wear = store_->WearAt(stand, position);
   if (!wear.ok()) return FromStatus(wear.status());
-  // The model version comes with the full snapshot only; a position's
-  // answer names it too so that clients can tell which model predicted.
-  return Answer(200, EncodePositionWear(*wear, store_->Wear().model_version));
+  return Answer(200, EncodePositionWear(*wear, snapshot.model_version));
 }
 
 HttpResponse Router::PostMeasurement(const HttpRequest& request) {
@@ -426,8 +434,9 @@ HttpResponse Router::PostCalibration(const HttpRequest& request) {
                                 &error)) {
     return Error(error);
   }
-  StatusOr<int64_t> id = in.ann ? store_->EnqueueAnnTraining("api")
-                                : store_->EnqueueCalibration("api", in.law, in.option);
+  StatusOr<int64_t> id =
+      in.ann ? store_->EnqueueAnnTraining("api")
+             : store_->EnqueueCalibration("api", in.law, in.option);
   if (!id.ok()) return FromStatus(id.status());
   if (options_.on_calibration_queued) options_.on_calibration_queued(*id);
   HttpResponse r = Answer(202, EncodeCalibrationId(*id));
@@ -449,12 +458,14 @@ HttpResponse Router::GetCalibration(const std::string& id_text) {
 HttpResponse Router::PostDiagnosis(const HttpRequest& request) {
   DiagnosisRequest in;
   ApiError error;
-  if (!DecodeDiagnosisRequest(request.body, options_.max_json_depth, &in, &error)) {
+  if (!DecodeDiagnosisRequest(request.body, options_.max_json_depth, &in,
+                              &error)) {
     return Error(error);
   }
   const int64_t id = diagnoses_->Enqueue(in.adopt);
   last_diagnosis_id_.store(id, std::memory_order_relaxed);
-  return Answer(202, "{\"id\":" + std::to_string(id) + ",\"status\":\"queued\"}");
+  return Answer(202,
+                "{\"id\":" + std::to_string(id) + ",\"status\":\"queued\"}");
 }
 
 HttpResponse Router::GetDiagnosis(const std::string& id_text) {
@@ -462,7 +473,8 @@ HttpResponse Router::GetDiagnosis(const std::string& id_text) {
   std::optional<DiagnosisJob> job;
   if (ParseInt64(id_text, &id) && id > 0) job = diagnoses_->Get(id);
   if (!job) {
-    return Error(404, "not_found", "unknown diagnosis '" + id_text.substr(0, 40) + "'");
+    return Error(404, "not_found",
+                 "unknown diagnosis '" + id_text.substr(0, 40) + "'");
   }
   return Answer(200, EncodeDiagnosisJob(*job));
 }
