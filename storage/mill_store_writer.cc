@@ -7,12 +7,15 @@
 // Batching: a closed-loop client posts its next coil only after the answer
 // to the previous one, so the writes that arrive during one commit are
 // only those of the clients not in it. Committing at once would split N
-// clients into small groups and make the disk's fsync rate the limit in
-// coils/s. Instead, when fewer writes are queued than callers recently had
-// in flight, the writer waits - at most kMaxLinger, and only until that
-// many are queued - so one fsync serves all of them. A lone client never
-// waits (one in flight, one queued); a caller that stops posting costs one
-// linger, after which the expected count follows what arrives.
+// clients into many small groups and make the disk's fsync rate the limit
+// in coils/s; waiting for all N would leave the cores idle during every
+// fsync (all callers would be inside the commit). The writer waits - at
+// most kMaxLinger - until half of the callers recently in flight are
+// queued: N clients settle into two groups of N/2 that alternate, one
+// being committed while the other's requests are decoded, validated and
+// answered. A lone client never waits (one in flight, one queued); a caller
+// that stops posting costs one linger, after which the expected count
+// follows what arrives.
 //
 // Predictions: before the transaction, PredictBatch computes on a copy of
 // the live state what the batch's coils add (each coil's answer is stored
@@ -32,6 +35,8 @@ namespace {
 // Longest wait for more writes before a commit. Bounds the latency a
 // commit can add (an fsync on this class of machine takes ~0.2 ms).
 constexpr auto kMaxLinger = std::chrono::microseconds(1000);
+// Callers in flight are committed in this many alternating groups.
+constexpr int kLingerGroups = 2;
 // Window over which the in-flight peak is remembered.
 constexpr auto kPeakWindow = std::chrono::milliseconds(100);
 
@@ -61,8 +66,9 @@ void MillStoreImpl::LingerLocked(std::unique_lock<std::mutex>* lock) {
     peak_in_flight_ = in_flight_;
     peak_window_start_ = now;
   }
-  const size_t target = static_cast<size_t>(std::min(
-      options_.max_batch, std::max(peak_in_flight_, peak_in_flight_prev_)));
+  const int peak = std::max(peak_in_flight_, peak_in_flight_prev_);
+  const size_t target = static_cast<size_t>(
+      std::min(options_.max_batch, (peak + kLingerGroups - 1) / kLingerGroups));
   if (queue_.size() >= target || IsExclusive(queue_.front()->kind)) return;
   wake_writer_at_ = target;
   const bool filled = cv_.wait_until(*lock, now + kMaxLinger, [&] {
