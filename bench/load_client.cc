@@ -80,6 +80,7 @@ struct Conn {
   int fd = -1;
   int64_t request = -1;  // in flight; -1 when idle
   int64_t next_paced = -1;  // open loop: this connection's next request
+  bool watch_out = false;   // EPOLLOUT requested
   size_t sent = 0;
   Clock::time_point origin;  // latency is measured from here
   std::string in;
@@ -172,6 +173,7 @@ class Loop {
     epoll_ctl(epoll_, EPOLL_CTL_ADD, conn.fd, &ev);
     conn.in.clear();
     conn.request = -1;
+    conn.watch_out = false;
     return true;
   }
 
@@ -244,18 +246,24 @@ class Loop {
       if (k > 0) {
         conn.sent += static_cast<size_t>(k);
       } else if (k < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
-        epoll_event ev{};
-        ev.events = EPOLLIN | EPOLLOUT;
-        ev.data.u64 = c;
-        epoll_ctl(epoll_, EPOLL_CTL_MOD, conn.fd, &ev);
+        WatchWritable(c, true);
         return;
       } else {
         Lost(c, std::string("send: ") + std::strerror(errno));
         return;
       }
     }
+    WatchWritable(c, false);
+  }
+
+  // Asks epoll for EPOLLOUT too while a request is only partly sent (one
+  // epoll_ctl per change, none per request in the usual case).
+  void WatchWritable(size_t c, bool on) {
+    Conn& conn = conns_[c];
+    if (conn.watch_out == on) return;
+    conn.watch_out = on;
     epoll_event ev{};
-    ev.events = EPOLLIN;
+    ev.events = on ? EPOLLIN | EPOLLOUT : EPOLLIN;
     ev.data.u64 = c;
     epoll_ctl(epoll_, EPOLL_CTL_MOD, conn.fd, &ev);
   }
