@@ -18,7 +18,9 @@
 //    answer) for the cost of the non-durable path.
 // 3. GET /v1/wear latency at a paced 5,000 requests/s (open loop: latency is
 //    measured from each request's scheduled time, so a stall counts for
-//    every request it delays); target p99 < 1 ms (issue #3).
+//    every request it delays), three runs, median p99; target p99 < 1 ms
+//    (issue #3). Also the p99 inside the daemon (its own histogram) and the
+//    CPU steal of the host during the runs.
 // 4. replay of a paper-size simulated dataset (395 campaigns) through the
 //    API with `rollwear replay` into a fresh daemon; target < 30 s.
 // The load comes from bench/load_client.h: one epoll thread driving the
@@ -369,33 +371,52 @@ int Run(const Options& o) {
     ratios(repeat_rate, &repeat);
     figures.push_back(repeat);
 
-    // 3. GET /v1/wear at a paced rate, open loop.
+    // 3. GET /v1/wear at a paced rate, open loop: three runs, because on a
+    // virtual machine one stall of the host (steal) moves a p99 by
+    // milliseconds; each run's p99 is printed and the median is the figure.
     LoadOptions paced = load;
     paced.connections = 8;
     paced.rate = o.wear_rate;
     const int wear_n = static_cast<int>(o.wear_rate * o.wear_seconds);
     const CpuTimes wear_cpu0 = ReadCpuTimes();
-    LoadResult wear =
-        Measure(paced, Repeated(RequestBytes("GET", "/v1/wear"), wear_n), pid,
-                &daemon_cpu);
+    std::vector<double> run_p99;
+    double achieved = 0, w50 = 0, wear_client_cpu = 0, wear_daemon_cpu = 0;
+    int64_t wear_failures = 0;
+    for (int run = 0; run < 3; ++run) {
+      LoadResult wear =
+          Measure(paced, Repeated(RequestBytes("GET", "/v1/wear"), wear_n),
+                  pid, &daemon_cpu);
+      achieved += wear.answered / wear.seconds / 3;
+      w50 += Percentile(&wear.latency_s, 0.5) / 3;
+      run_p99.push_back(Percentile(&wear.latency_s, 0.99));
+      wear_failures += wear.failures;
+      wear_client_cpu += wear.client_cpu_s;
+      wear_daemon_cpu += daemon_cpu;
+    }
     const double wear_steal = StealShare(wear_cpu0, ReadCpuTimes());
-    const double achieved = wear.answered / wear.seconds;
-    const double w50 = Percentile(&wear.latency_s, 0.5);
-    const double w99 = Percentile(&wear.latency_s, 0.99);
+    std::vector<double> sorted_p99 = run_p99;
+    std::sort(sorted_p99.begin(), sorted_p99.end());
+    const double w99 = sorted_p99[1];
     const double server99 = ServerQuantile(daemon.url(), "/v1/wear", "GET", 0.99);
     std::printf(
-        "[3/4] GET /v1/wear at %.0f req/s target: achieved %.0f "
-        "req/s, p50 %.3f ms, p99 %.3f ms, %lld failures; inside the daemon "
-        "p99 <= %.3f ms; CPU per request: daemon %.1f us, client %.1f us; "
-        "steal %.1f%%\n",
-        o.wear_rate, achieved, w50 * 1e3, w99 * 1e3,
-        static_cast<long long>(wear.failures), server99 * 1e3,
-        1e6 * daemon_cpu / wear_n, 1e6 * wear.client_cpu_s / wear_n,
-        100 * wear_steal);
+        "[3/4] GET /v1/wear at %.0f req/s target, 3 runs: achieved %.0f "
+        "req/s, p50 %.3f ms, p99 %.3f / %.3f / %.3f ms (median %.3f), %lld "
+        "failures; inside the daemon p99 <= %.3f ms; CPU per request: daemon "
+        "%.1f us, client %.1f us; steal %.1f%%\n",
+        o.wear_rate, achieved, w50 * 1e3, run_p99[0] * 1e3, run_p99[1] * 1e3,
+        run_p99[2] * 1e3, w99 * 1e3, static_cast<long long>(wear_failures),
+        server99 * 1e3, 1e6 * wear_daemon_cpu / (3.0 * wear_n),
+        1e6 * wear_client_cpu / (3.0 * wear_n), 100 * wear_steal);
     figures.push_back(
-        {Fmt("GET /v1/wear p99 at paced %.0f req/s", o.wear_rate),
+        {Fmt("GET /v1/wear p99 at paced %.0f req/s (median of 3)",
+             o.wear_rate),
          Fmt("%.2f ms", w99 * 1e3) + Fmt(" (achieved %.0f req/s)", achieved),
          "p99 < 1 ms", "", ""});
+    figures.push_back({"  GET /v1/wear p99 of the 3 runs",
+                       Fmt("%.2f", run_p99[0] * 1e3) +
+                           Fmt(" / %.2f", run_p99[1] * 1e3) +
+                           Fmt(" / %.2f ms", run_p99[2] * 1e3),
+                       "", "", ""});
     figures.push_back({"  GET /v1/wear p99 inside the daemon (handler)",
                        Fmt("<= %.3f ms", server99 * 1e3), "", "", ""});
     figures.push_back({"  CPU steal during ingestion / GET test",

@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
 # Every performance figure of rollwear in one table: runs core_bench,
-# diagnosis_bench, ann_bench and load_bench from a build directory (a
-# Release build with ROLLWEAR_BUILD_BENCH=ON) and prints figure, measured,
-# target, beside the machine's fsync-per-commit and loopback limits that
-# load_bench measures in the same run (so each throughput reads as a
-# ratio). Takes about 3-5 minutes on 2 cores; run it on a quiet machine.
+# diagnosis_bench, ann_bench, ingest_bench and load_bench from a build
+# directory (a Release build with ROLLWEAR_BUILD_BENCH=ON) and prints
+# figure, measured, target, beside the machine's fsync-per-commit and
+# loopback limits that load_bench measures in the same run (so each
+# throughput reads as a ratio). Takes about 3-5 minutes on 2 cores; run it on a quiet machine.
 #
 #   bash bench/run_all.sh [BUILD_DIR] [--out FILE]
 #
-# BUILD_DIR defaults to ./build. The raw outputs of the four binaries go to
+# BUILD_DIR defaults to ./build. The raw outputs of the five binaries go to
 # BUILD_DIR/bench-run/ (never commit them); --out also writes the table as
 # Markdown to FILE.
 set -euo pipefail
@@ -23,7 +23,7 @@ while [[ $# -gt 0 ]]; do
   esac
 done
 bin="$build/bench"
-for b in core_bench diagnosis_bench ann_bench load_bench; do
+for b in core_bench diagnosis_bench ann_bench ingest_bench load_bench; do
   if [[ ! -x "$bin/$b" ]]; then
     echo "run_all.sh: $bin/$b not found: build with -DCMAKE_BUILD_TYPE=Release -DROLLWEAR_BUILD_BENCH=ON" >&2
     exit 2
@@ -67,6 +67,21 @@ row "ANN Table 4 (classical + 5-member ensemble), campaign_growth" \
   "$(bm "$work/ann_bench.txt" BM_AnnTable4PaperSize/1/iterations:1/real_time)" "< 60 s"
 row "ANN one training epoch, one member" "$(bm "$work/ann_bench.txt" BM_AnnEpochGradient)" ""
 row "ANN coil-by-coil prediction, one pass" "$(bm "$work/ann_bench.txt" BM_AnnAddPass)" "microseconds"
+
+echo "== ingest_bench" >&2
+"$bin/ingest_bench" --benchmark_color=false --benchmark_min_time=2 \
+  --benchmark_filter='BM_DecodeCoil|BM_EncodeCoilAnswer|BM_StoreAddCoil/real_time/threads:16' \
+  > "$work/ingest_bench.txt" 2> "$work/ingest_bench.err"
+# items_per_second of the benchmark named exactly $2 in file $1, as "N coils/s".
+ips() {
+  awk -v n="$2" '$1 == n { for (i = 1; i <= NF; ++i) if ($i ~ /^items_per_second=/) {
+    v = $i; sub(/^items_per_second=/, "", v); sub(/\/s$/, "", v)
+    m = 1; if (v ~ /k$/) m = 1e3; if (v ~ /M$/) m = 1e6; sub(/[kM]$/, "", v)
+    printf "%.0f coils/s\n", v * m; exit } }' "$1"
+}
+row "coil request decode (482 B, 2 passes)" "$(bm "$work/ingest_bench.txt" BM_DecodeCoil)" ""
+row "coil answer encode (527 B)" "$(bm "$work/ingest_bench.txt" BM_EncodeCoilAnswer)" ""
+row "MillStore::AddCoil, 16 threads, no HTTP (durable)" "$(ips "$work/ingest_bench.txt" BM_StoreAddCoil/real_time/threads:16)" ""
 
 echo "== load_bench" >&2
 "$bin/load_bench" --tsv "$work/load.tsv" \

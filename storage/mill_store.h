@@ -37,7 +37,7 @@ namespace rollwear::storage {
 
 // Schema version this build writes; older files are migrated on Open, newer
 // ones are refused.
-constexpr int kSchemaVersion = 2;
+constexpr int kSchemaVersion = 3;
 
 struct StoreOptions {
   // Maximum coils committed in one group-commit transaction.

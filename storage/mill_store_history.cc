@@ -43,8 +43,8 @@ Status ReplayInto(Db* db, const CampaignRec& rec, const WearModel& model,
       "p.width_mm, p.length_m, p.entry_thickness_mm, p.exit_thickness_mm, "
       "p.temperature_c, p.speed_mps, p.lubrication, p.shift_mm "
       "FROM passes p JOIN coils c ON c.id = p.coil "
-      "WHERE p.campaign = (SELECT id FROM campaigns WHERE campaign_id = ?) "
-      "ORDER BY p.id");
+      "WHERE c.campaign = (SELECT id FROM campaigns WHERE campaign_id = ?) "
+      "ORDER BY c.id, p.id");
   if (!st.ok()) return st.status();
   st->BindText(1, rec.id);
   StoredPass pass;

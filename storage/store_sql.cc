@@ -418,8 +418,8 @@ StatusOr<RollStates> ReplayCampaignCoils(Db* db, const CampaignRec& campaign,
       "p.temperature_c, p.speed_mps, p.lubrication, p.shift_mm, c.id, "
       "c.wear IS NULL "
       "FROM passes p JOIN coils c ON c.id = p.coil "
-      "WHERE p.campaign = (SELECT id FROM campaigns WHERE campaign_id = ?) "
-      "ORDER BY p.id");
+      "WHERE c.campaign = (SELECT id FROM campaigns WHERE campaign_id = ?) "
+      "ORDER BY c.id, p.id");
   if (!st.ok()) return st.status();
   st->BindText(1, campaign.id);
   // A coil's passes are stored together, so a coil ends where the next
