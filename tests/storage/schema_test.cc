@@ -11,6 +11,8 @@ namespace rollwear::storage {
 namespace {
 
 using testing::OpenStore;
+using testing::MakeCoil;
+using testing::MakeRollChange;
 using testing::TempDir;
 
 std::unique_ptr<Db> MustOpen(const std::string& path, DbOptions o = {}) {
@@ -132,6 +134,49 @@ TEST(SchemaTest, NewFileGetsTheCurrentVersion) {
   // Migrating again is a no-op.
   ASSERT_TRUE(MigrateSchema(db.get()).ok());
   EXPECT_EQ(QueryInt(db.get(), "SELECT COUNT(*) FROM schema_version"), 1);
+}
+
+// Version 3 drops the index of passes by campaign; a version-2 file (which
+// has it) loses it on open, and its campaigns' passes still replay: the
+// open campaign's wear after reopening equals the wear before.
+TEST(SchemaTest, VersionTwoFileLosesThePassesByCampaignIndex) {
+  TempDir dir;
+  const std::string path = dir.File("v2.db");
+  WearSnapshot before;
+  {
+    auto store = OpenStore(path);
+    ASSERT_NE(store, nullptr);
+    ASSERT_TRUE(store->ApplyRollChange(MakeRollChange("C1", 1000)).ok());
+    for (int i = 1; i <= 20; ++i) {
+      ASSERT_TRUE(store->AddCoil(MakeCoil("K" + std::to_string(i), "C1", i, i))
+                      .ok());
+    }
+    before = store->Wear();
+  }
+  {
+    auto db = MustOpen(path);
+    ASSERT_TRUE(db->Exec("CREATE INDEX passes_by_campaign ON passes "
+                         "(campaign); UPDATE schema_version SET version = 2")
+                    .ok());
+  }
+  auto store = OpenStore(path);
+  ASSERT_NE(store, nullptr);
+  const WearSnapshot after = store->Wear();
+  ASSERT_EQ(after.positions.size(), before.positions.size());
+  ASSERT_FALSE(after.positions.empty());
+  for (size_t i = 0; i < after.positions.size(); ++i) {
+    EXPECT_EQ(after.positions[i].coils, 20);
+    EXPECT_NEAR(after.positions[i].predicted_wear_um,
+                before.positions[i].predicted_wear_um,
+                1e-9 * before.positions[i].predicted_wear_um);
+  }
+  store.reset();
+  auto db = MustOpen(path);
+  EXPECT_EQ(QueryInt(db.get(), "SELECT version FROM schema_version"),
+            kSchemaVersion);
+  EXPECT_EQ(QueryInt(db.get(), "SELECT COUNT(*) FROM sqlite_schema WHERE "
+                               "name = 'passes_by_campaign'"),
+            0);
 }
 
 TEST(SchemaTest, EmptyVersionZeroFileIsUpgradedOnOpen) {
