@@ -99,10 +99,10 @@ struct StoreFixture {
     rc.started_at = 1893456000;  // 2030-01-01
     for (int stand : {6, 7}) {
       for (Position pos : {Position::kTop, Position::kBottom}) {
-        rc.rolls.push_back({stand, pos,
-                            "R" + std::to_string(stand) +
-                                (pos == Position::kTop ? "T" : "B"),
-                            "HSS", 700, 700});
+        rc.rolls.push_back(
+            {stand, pos,
+             "R" + std::to_string(stand) + (pos == Position::kTop ? "T" : "B"),
+             "HSS", 700, 700});
       }
     }
     if (!store->ApplyRollChange(rc).ok()) std::abort();

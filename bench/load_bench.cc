@@ -33,12 +33,12 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <iterator>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <memory>
-#include <string>
 #include <sstream>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -384,8 +384,8 @@ int Run(const Options& o) {
     int64_t wear_failures = 0;
     for (int run = 0; run < 3; ++run) {
       LoadResult wear =
-          Measure(paced, Repeated(RequestBytes("GET", "/v1/wear"), wear_n),
-                  pid, &daemon_cpu);
+          Measure(paced, Repeated(RequestBytes("GET", "/v1/wear"), wear_n), pid,
+                  &daemon_cpu);
       achieved += wear.answered / wear.seconds / 3;
       w50 += Percentile(&wear.latency_s, 0.5) / 3;
       run_p99.push_back(Percentile(&wear.latency_s, 0.99));
@@ -397,7 +397,8 @@ int Run(const Options& o) {
     std::vector<double> sorted_p99 = run_p99;
     std::sort(sorted_p99.begin(), sorted_p99.end());
     const double w99 = sorted_p99[1];
-    const double server99 = ServerQuantile(daemon.url(), "/v1/wear", "GET", 0.99);
+    const double server99 =
+        ServerQuantile(daemon.url(), "/v1/wear", "GET", 0.99);
     std::printf(
         "[3/4] GET /v1/wear at %.0f req/s target, 3 runs: achieved %.0f "
         "req/s, p50 %.3f ms, p99 %.3f / %.3f / %.3f ms (median %.3f), %lld "
@@ -408,8 +409,7 @@ int Run(const Options& o) {
         server99 * 1e3, 1e6 * wear_daemon_cpu / (3.0 * wear_n),
         1e6 * wear_client_cpu / (3.0 * wear_n), 100 * wear_steal);
     figures.push_back(
-        {Fmt("GET /v1/wear p99 at paced %.0f req/s (median of 3)",
-             o.wear_rate),
+        {Fmt("GET /v1/wear p99 at paced %.0f req/s (median of 3)", o.wear_rate),
          Fmt("%.2f ms", w99 * 1e3) + Fmt(" (achieved %.0f req/s)", achieved),
          "p99 < 1 ms", "", ""});
     figures.push_back({"  GET /v1/wear p99 of the 3 runs",
@@ -419,10 +419,10 @@ int Run(const Options& o) {
                        "", "", ""});
     figures.push_back({"  GET /v1/wear p99 inside the daemon (handler)",
                        Fmt("<= %.3f ms", server99 * 1e3), "", "", ""});
-    figures.push_back({"  CPU steal during ingestion / GET test",
-                       Fmt("%.1f%%", 100 * ingest_steal) +
-                           Fmt(" / %.1f%%", 100 * wear_steal),
-                       "", "", ""});
+    figures.push_back(
+        {"  CPU steal during ingestion / GET test",
+         Fmt("%.1f%%", 100 * ingest_steal) + Fmt(" / %.1f%%", 100 * wear_steal),
+         "", "", ""});
     daemon.Terminate();
   }
 

@@ -66,8 +66,8 @@ bool ParseHead(const std::string& in, Head* head, bool* bad) {
     const size_t next = text.find("\r\n", pos);
     std::string_view line = text.substr(pos, next - pos);
     if (StartsWithLower(line, "content-length:")) {
-      head->body_length = std::strtoull(
-          std::string(line.substr(15)).c_str(), nullptr, 10);
+      head->body_length =
+          std::strtoull(std::string(line.substr(15)).c_str(), nullptr, 10);
     } else if (StartsWithLower(line, "connection:")) {
       head->close = line.find("close") != std::string_view::npos;
     }
@@ -78,7 +78,7 @@ bool ParseHead(const std::string& in, Head* head, bool* bad) {
 
 struct Conn {
   int fd = -1;
-  int64_t request = -1;  // in flight; -1 when idle
+  int64_t request = -1;     // in flight; -1 when idle
   int64_t next_paced = -1;  // open loop: this connection's next request
   bool watch_out = false;   // EPOLLOUT requested
   size_t sent = 0;
@@ -105,16 +105,15 @@ class Loop {
       if (!Open(c)) break;
     }
     start_ = Clock::now();
-    const auto give_up = start_ + std::chrono::duration_cast<Clock::duration>(
-                                      std::chrono::duration<double>(
-                                          o_.timeout_s));
+    const auto give_up =
+        start_ + std::chrono::duration_cast<Clock::duration>(
+                     std::chrono::duration<double>(o_.timeout_s));
     Dispatch();
     epoll_event events[64];
     while (Finished() < static_cast<int64_t>(requests_.size())) {
       if (Clock::now() > give_up) {
         Fail("timed out");
-        result_.failures +=
-            static_cast<int64_t>(requests_.size()) - Finished();
+        result_.failures += static_cast<int64_t>(requests_.size()) - Finished();
         break;
       }
       const int n = epoll_wait(epoll_, events, 64, 100);
@@ -331,8 +330,9 @@ class Loop {
 
 std::string RequestBytes(const std::string& method, const std::string& path,
                          const std::string& body) {
-  std::string out = method + " " + path +
-                    " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: keep-alive\r\n";
+  std::string out =
+      method + " " + path +
+      " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: keep-alive\r\n";
   if (!body.empty() || method == "POST") {
     out += "Content-Type: application/json\r\nContent-Length: " +
            std::to_string(body.size()) + "\r\n";

@@ -39,12 +39,12 @@ struct LoadOptions {
 
 struct LoadResult {
   int64_t answered = 0;
-  int64_t failures = 0;            // other status, lost answer, timeout
-  std::vector<double> latency_s;   // one per answered request
-  std::map<int, int64_t> statuses; // status code -> count
-  double seconds = 0;              // first send to last answer
-  double client_cpu_s = 0;         // this thread's user+system CPU
-  std::string first_error;         // what went wrong first, if anything
+  int64_t failures = 0;             // other status, lost answer, timeout
+  std::vector<double> latency_s;    // one per answered request
+  std::map<int, int64_t> statuses;  // status code -> count
+  double seconds = 0;               // first send to last answer
+  double client_cpu_s = 0;          // this thread's user+system CPU
+  std::string first_error;          // what went wrong first, if anything
 };
 
 // The bytes of one HTTP/1.1 request with a keep-alive connection.

@@ -10,9 +10,9 @@
 namespace rollwear::storage {
 namespace {
 
-using testing::OpenStore;
 using testing::MakeCoil;
 using testing::MakeRollChange;
+using testing::OpenStore;
 using testing::TempDir;
 
 std::unique_ptr<Db> MustOpen(const std::string& path, DbOptions o = {}) {
@@ -148,8 +148,8 @@ TEST(SchemaTest, VersionTwoFileLosesThePassesByCampaignIndex) {
     ASSERT_NE(store, nullptr);
     ASSERT_TRUE(store->ApplyRollChange(MakeRollChange("C1", 1000)).ok());
     for (int i = 1; i <= 20; ++i) {
-      ASSERT_TRUE(store->AddCoil(MakeCoil("K" + std::to_string(i), "C1", i, i))
-                      .ok());
+      ASSERT_TRUE(
+          store->AddCoil(MakeCoil("K" + std::to_string(i), "C1", i, i)).ok());
     }
     before = store->Wear();
   }
@@ -174,8 +174,9 @@ TEST(SchemaTest, VersionTwoFileLosesThePassesByCampaignIndex) {
   auto db = MustOpen(path);
   EXPECT_EQ(QueryInt(db.get(), "SELECT version FROM schema_version"),
             kSchemaVersion);
-  EXPECT_EQ(QueryInt(db.get(), "SELECT COUNT(*) FROM sqlite_schema WHERE "
-                               "name = 'passes_by_campaign'"),
+  EXPECT_EQ(QueryInt(db.get(),
+                     "SELECT COUNT(*) FROM sqlite_schema WHERE "
+                     "name = 'passes_by_campaign'"),
             0);
 }
 
