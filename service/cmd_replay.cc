@@ -34,6 +34,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/http_client.h"
+#include "api/request_encode.h"
 #include "core/dataset_io.h"
 #include "service/commands.h"
 #include "service/flags.h"
@@ -71,8 +72,6 @@ std::string UrlEncode(const std::string& s) {
   }
   return out;
 }
-
-std::string StandName(int stand) { return "F" + std::to_string(stand); }
 
 // The dataset as requests.
 class Requests {
@@ -176,65 +175,17 @@ class Requests {
   }
 
   std::string Body(const Event& e) const {
-    Json j;
     switch (e.kind) {
-      case Kind::kRollChange: {
-        const Campaign& c = d_.campaigns[e.index];
-        Json rolls = Json::array();
-        for (int i : mounts_of_[e.index]) {
-          const Mount& m = d_.mounts[i];
-          rolls.push_back({{"stand", StandName(m.stand)},
-                           {"position", PositionName(m.position)},
-                           {"roll_id", m.roll_id},
-                           {"roll_type", d_.roll_types[m.roll_type]},
-                           {"diameter_mm", m.diameter_mm},
-                           {"hardness_hb", m.hardness_hb}});
-        }
-        j = {{"campaign_id", c.id},
-             {"started_at", FormatTimestamp(c.started_at)},
-             {"rolls", std::move(rolls)}};
-        break;
-      }
-      case Kind::kCoil: {
-        const std::vector<int>& rows = passes_of_[e.index];
-        const Pass& first = d_.passes[rows[0]];
-        Json passes = Json::array();
-        for (int i : rows) {
-          const Pass& p = d_.passes[i];
-          passes.push_back({{"stand", StandName(p.stand)},
-                            {"force_kn", p.force_kn},
-                            {"width_mm", p.width_mm},
-                            {"length_m", p.length_m},
-                            {"entry_thickness_mm", p.entry_thickness_mm},
-                            {"exit_thickness_mm", p.exit_thickness_mm},
-                            {"temperature_c", p.temperature_c},
-                            {"speed_mps", p.speed_mps},
-                            {"lubrication", p.lubrication ? 1 : 0},
-                            {"shift_mm", p.shift_mm}});
-        }
-        j = {{"coil_id", d_.coil_ids[e.index]},
-             {"campaign_id", d_.campaigns[first.campaign].id},
-             {"seq", first.seq},
-             {"rolled_at", FormatTimestamp(first.rolled_at)},
-             {"grade", d_.grades[first.grade]},
-             {"passes", std::move(passes)}};
-        break;
-      }
+      case Kind::kRollChange:
+        return api::RollChangeRequest(d_, e.index, mounts_of_[e.index]);
+      case Kind::kCoil:
+        return api::CoilRequest(d_, passes_of_[e.index]);
       case Kind::kEnd:
-        j = {{"ended_at", FormatTimestamp(d_.campaigns[e.index].ended_at)}};
-        break;
-      case Kind::kMeasurement: {
-        const Measurement& m = d_.measurements[e.index];
-        j = {{"campaign_id", d_.campaigns[m.campaign].id},
-             {"stand", StandName(m.stand)},
-             {"position", PositionName(m.position)},
-             {"roll_id", m.roll_id},
-             {"measured_at", FormatTimestamp(m.measured_at)},
-             {"wear_center_um", m.wear_center_um}};
-        break;
-      }
+        return api::CampaignEndRequest(d_, e.index);
+      case Kind::kMeasurement:
+        return api::MeasurementRequest(d_, e.index);
     }
-    return j.dump(-1, ' ', false, Json::error_handler_t::replace);
+    return "{}";
   }
 
  private:

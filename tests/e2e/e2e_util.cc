@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "api/http_client.h"
+#include "api/request_encode.h"
 #include "core/aggregation.h"
 #include "core/dataset_io.h"
 #include "core/k_structure.h"
@@ -278,45 +279,20 @@ std::map<std::string, double> WearByKey(const json& wear) {
 }
 
 json RollChangeJson(const Dataset& data, int c) {
-  json rolls = json::array();
-  for (const Mount& m : data.mounts) {
-    if (m.campaign != c) continue;
-    rolls.push_back({{"stand", "F" + std::to_string(m.stand)},
-                     {"position", PositionName(m.position)},
-                     {"roll_id", m.roll_id},
-                     {"roll_type", data.roll_types[m.roll_type]},
-                     {"diameter_mm", m.diameter_mm},
-                     {"hardness_hb", m.hardness_hb}});
+  std::vector<int> mounts;
+  for (size_t i = 0; i < data.mounts.size(); ++i) {
+    if (data.mounts[i].campaign == c) mounts.push_back(static_cast<int>(i));
   }
-  return {{"campaign_id", data.campaigns[c].id},
-          {"started_at", FormatTimestamp(data.campaigns[c].started_at)},
-          {"rolls", rolls}};
+  return json::parse(api::RollChangeRequest(data, c, mounts));
 }
 
 json CoilJson(const Dataset& data, int k) {
-  json passes = json::array();
-  const Pass* first = nullptr;
-  for (const Pass& p : data.passes) {
-    if (p.coil != k) continue;
-    if (first == nullptr) first = &p;
-    passes.push_back({{"stand", "F" + std::to_string(p.stand)},
-                      {"force_kn", p.force_kn},
-                      {"width_mm", p.width_mm},
-                      {"length_m", p.length_m},
-                      {"entry_thickness_mm", p.entry_thickness_mm},
-                      {"exit_thickness_mm", p.exit_thickness_mm},
-                      {"temperature_c", p.temperature_c},
-                      {"speed_mps", p.speed_mps},
-                      {"lubrication", p.lubrication ? 1 : 0},
-                      {"shift_mm", p.shift_mm}});
+  std::vector<int> passes;
+  for (size_t i = 0; i < data.passes.size(); ++i) {
+    if (data.passes[i].coil == k) passes.push_back(static_cast<int>(i));
   }
-  if (first == nullptr) return json::object();
-  return {{"coil_id", data.coil_ids[k]},
-          {"campaign_id", data.campaigns[first->campaign].id},
-          {"seq", first->seq},
-          {"rolled_at", FormatTimestamp(first->rolled_at)},
-          {"grade", data.grades[first->grade]},
-          {"passes", passes}};
+  if (passes.empty()) return json::object();
+  return json::parse(api::CoilRequest(data, passes));
 }
 
 std::vector<int> CoilsOf(const Dataset& data, int c) {

@@ -29,6 +29,7 @@
 #include <gtest/gtest.h>
 
 #include "api/http_client.h"
+#include "api/request_encode.h"
 #include "core/dataset_io.h"
 #include "storage/mill_store.h"
 #include "tests/e2e/e2e_util.h"
@@ -61,48 +62,30 @@ Plan MakePlan(const Dataset& d) {
   p.coils.resize(n);
   p.coil_ids.resize(n);
   p.measurements.resize(n);
-  // One pass over the passes (CoilJson per coil would be quadratic).
-  std::vector<json> coil_json(d.coil_ids.size());
-  for (const Pass& pass : d.passes) {
-    json& c = coil_json[pass.coil];
-    if (c.is_null()) {
-      c = {{"coil_id", d.coil_ids[pass.coil]},
-           {"campaign_id", d.campaigns[pass.campaign].id},
-           {"seq", pass.seq},
-           {"rolled_at", FormatTimestamp(pass.rolled_at)},
-           {"grade", d.grades[pass.grade]},
-           {"passes", json::array()}};
-    }
-    c["passes"].push_back({{"stand", "F" + std::to_string(pass.stand)},
-                           {"force_kn", pass.force_kn},
-                           {"width_mm", pass.width_mm},
-                           {"length_m", pass.length_m},
-                           {"entry_thickness_mm", pass.entry_thickness_mm},
-                           {"exit_thickness_mm", pass.exit_thickness_mm},
-                           {"temperature_c", pass.temperature_c},
-                           {"speed_mps", pass.speed_mps},
-                           {"lubrication", pass.lubrication ? 1 : 0},
-                           {"shift_mm", pass.shift_mm}});
+  // One pass over the passes and mounts (per-coil scans would be
+  // quadratic).
+  std::vector<std::vector<int>> passes_of(d.coil_ids.size());
+  for (size_t i = 0; i < d.passes.size(); ++i) {
+    passes_of[d.passes[i].coil].push_back(static_cast<int>(i));
+  }
+  std::vector<std::vector<int>> mounts_of(n);
+  for (size_t i = 0; i < d.mounts.size(); ++i) {
+    mounts_of[d.mounts[i].campaign].push_back(static_cast<int>(i));
   }
   for (size_t c = 0; c < n; ++c) {
+    const int ci = static_cast<int>(c);
     p.campaign_ids.push_back(d.campaigns[c].id);
-    p.roll_changes.push_back(RollChangeJson(d, static_cast<int>(c)).dump());
-    for (int k : CoilsOf(d, static_cast<int>(c))) {
-      p.coils[c].push_back(coil_json[k].dump());
+    p.roll_changes.push_back(api::RollChangeRequest(d, ci, mounts_of[c]));
+    for (int k : CoilsOf(d, ci)) {
+      p.coils[c].push_back(api::CoilRequest(d, passes_of[k]));
       p.coil_ids[c].push_back(d.coil_ids[k]);
     }
     p.num_coils += p.coils[c].size();
-    p.ends.push_back(
-        json{{"ended_at", FormatTimestamp(d.campaigns[c].ended_at)}}.dump());
+    p.ends.push_back(api::CampaignEndRequest(d, ci));
   }
-  for (const Measurement& m : d.measurements) {
-    p.measurements[m.campaign].push_back(json{
-        {"campaign_id", d.campaigns[m.campaign].id},
-        {"stand", "F" + std::to_string(m.stand)},
-        {"position", PositionName(m.position)},
-        {"roll_id", m.roll_id},
-        {"measured_at", FormatTimestamp(m.measured_at)},
-        {"wear_center_um", m.wear_center_um}}.dump());
+  for (size_t i = 0; i < d.measurements.size(); ++i) {
+    p.measurements[d.measurements[i].campaign].push_back(
+        api::MeasurementRequest(d, static_cast<int>(i)));
   }
   return p;
 }
