@@ -362,7 +362,7 @@ bool DecodeCoilDom(std::string_view body, int max_depth, storage::CoilIn* out,
       return false;
     }
     if (seen[p.stand]) {
-      return e.Invalid("stand", "F" + std::to_string(p.stand) +
+      return e.Invalid("stand", StandName(p.stand) +
                                     " appears in an earlier pass of the coil");
     }
     seen[p.stand] = true;

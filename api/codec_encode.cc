@@ -226,7 +226,7 @@ std::string EncodeCoilAnswer(const storage::CoilIn& in,
 std::string EncodeMeasurementAnswer(const storage::MeasurementIn& in,
                                     storage::WriteOutcome outcome) {
   return Dump(Json{{"campaign_id", in.campaign_id},
-                   {"stand", "F" + std::to_string(in.stand)},
+                   {"stand", StandName(in.stand)},
                    {"position", PositionName(in.position)},
                    {"outcome", OutcomeName(outcome)}});
 }

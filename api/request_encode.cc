@@ -4,11 +4,6 @@
 #include "core/dataset_io.h"
 
 namespace rollwear::api {
-namespace {
-
-std::string StandName(int stand) { return "F" + std::to_string(stand); }
-
-}  // namespace
 
 std::string RollChangeRequest(const Dataset& data, int campaign,
                               const std::vector<int>& mounts) {

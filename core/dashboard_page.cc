@@ -6,6 +6,7 @@
 #include <map>
 #include <utility>
 
+#include "core/dataset.h"
 #include "core/svg_plot.h"
 
 namespace rollwear {
@@ -24,13 +25,6 @@ std::string Fmt(const char* format, double v) {
 
 std::string Attr(const char* name, const std::string& value) {
   return std::string(" ") + name + "=\"" + XmlEscape(value) + "\"";
-}
-
-// "F6" (appended piecewise: GCC 12 warns falsely on "F" + to_string()).
-std::string StandName(int stand) {
-  std::string s = "F";
-  s += std::to_string(stand);
-  return s;
 }
 
 std::string Label(int stand, const std::string& position) {

@@ -17,6 +17,14 @@ const char* PositionName(Position p) {
   return p == Position::kTop ? "top" : "bottom";
 }
 
+// Appended piecewise: GCC 12 warns falsely (-Wrestrict) on
+// "F" + std::to_string().
+std::string StandName(int stand) {
+  std::string s = "F";
+  s += std::to_string(stand);
+  return s;
+}
+
 int ParseStand(const std::string& text) {
   if (text.size() == 2 && text[0] == 'F' && text[1] >= '0' + kMinStand &&
       text[1] <= '0' + kMaxStand) {

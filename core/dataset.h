@@ -30,10 +30,14 @@ inline int RollPositionSlot(int stand, Position p) {
   return (stand - 1) * 2 + static_cast<int>(p);
 }
 inline int SlotStand(int slot) { return slot / 2 + 1; }
-inline Position SlotPosition(int slot) { return static_cast<Position>(slot % 2); }
+inline Position SlotPosition(int slot) {
+  return static_cast<Position>(slot % 2);
+}
 // "F6/top".
 std::string RollPositionName(int stand, Position p);
 const char* PositionName(Position p);  // "top" / "bottom"
+// "F6": the stand's name in the data format and the API.
+std::string StandName(int stand);
 // Parses "F1".."F7"; returns 0 when invalid.
 int ParseStand(const std::string& text);
 // Parses "top"/"bottom"; returns false when invalid.
@@ -143,9 +147,9 @@ class DatasetIndex {
 // Canonical derived quantities of data-format.md for one pass as seen by the
 // roll in `mount`. `length_before_m` and `coils_before` are the campaign
 // state before this pass at the same stand.
-double SpecificForce(const Pass& p);                       // kN/mm
-double ContactLength(const Pass& p, double diameter_mm);   // mm
-double Reduction(const Pass& p);                           // 1
+double SpecificForce(const Pass& p);                      // kN/mm
+double ContactLength(const Pass& p, double diameter_mm);  // mm
+double Reduction(const Pass& p);                          // 1
 
 }  // namespace rollwear
 

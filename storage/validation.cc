@@ -52,8 +52,6 @@ Status PositionOk(const std::string& path, Position p) {
   return Status::Ok();
 }
 
-std::string Stand(int stand) { return "F" + std::to_string(stand); }
-
 const CampaignRec* FindCampaign(const Catalog& c, const std::string& id) {
   auto it = c.campaigns.find(id);
   return it == c.campaigns.end() ? nullptr : &it->second;
@@ -158,7 +156,7 @@ Status CheckCoilFields(const CoilIn& in) {
     const std::string at = "passes[" + std::to_string(i) + "].";
     ROLLWEAR_RETURN_IF_ERROR(StandOk(at + "stand", p.stand));
     if (first[p.stand] >= 0) {
-      return Field(at + "stand", "duplicate stand " + Stand(p.stand) +
+      return Field(at + "stand", "duplicate stand " + StandName(p.stand) +
                                      " (also passes[" +
                                      std::to_string(first[p.stand]) + "])");
     }
@@ -305,7 +303,7 @@ Status AdmitCoil(const Catalog& c, const CoilIn& in, const StoredCoil& coil,
         !rec->mounts[RollPositionSlot(stand, Position::kBottom)]) {
       return Status::FailedPrecondition(
           "passes[" + std::to_string(i) + "].stand: no roll mounted at " +
-          Stand(stand) + " in campaign " + in.campaign_id);
+          StandName(stand) + " in campaign " + in.campaign_id);
     }
   }
   if (c.open_campaign == in.campaign_id) {
