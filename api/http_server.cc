@@ -1,53 +1,235 @@
+// The daemon's HTTP/1.1 server: one epoll I/O thread plus a small worker
+// pool (design notes in http_server.h and docs/architecture.md).
+//
+// Per connection the I/O thread reads what the socket has (edge-triggered),
+// parses one request at a time (api/http_parser.h), and runs it as
+// Router::Plan says: in place (wear reads), through the store's group
+// commit (coils: the answer comes back from the writer thread through the
+// completion queue and an eventfd), or on a worker (everything that may
+// wait on SQLite). The answer is written in one send(); a connection's next
+// (pipelined) request is parsed only once the answer to the previous one
+// is queued, so answers keep their order.
 #include "api/http_server.h"
 
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <sys/epoll.h>
+#include <sys/eventfd.h>
 #include <sys/socket.h>
+#include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <chrono>
+#include <condition_variable>
+#include <cstring>
+#include <deque>
+#include <exception>
+#include <mutex>
 #include <thread>
+#include <unordered_map>
 #include <utility>
+#include <vector>
 
-#include <httplib.h>
+#include <netdb.h>
 
 #include "api/codec.h"
+#include "api/http_parser.h"
 
 namespace rollwear::api {
 namespace {
 
-HttpRequest ToRequest(const httplib::Request& req) {
-  HttpRequest r;
-  r.method = req.method;
-  r.path = req.path;
-  r.body = req.body;
-  r.headers.reserve(req.headers.size());
-  for (const auto& [key, value] : req.headers)
-    r.headers.emplace_back(key, value);
-  for (const auto& [key, value] : req.params) r.params.emplace(key, value);
+using Clock = std::chrono::steady_clock;
+
+constexpr uint64_t kListenTag = 0;
+constexpr uint64_t kWakeTag = 1;
+constexpr uint64_t kFirstConnId = 2;
+// Sweep period for timeouts (they are whole seconds).
+constexpr int kSweepMs = 100;
+// After a "Connection: close" answer the server reads and drops what the
+// client still sends (so that closing does not reset the answer away), for
+// at most this long.
+constexpr auto kLingerAfterClose = std::chrono::seconds(2);
+// A client that pipelines requests without reading the answers is not read
+// further while this many answer bytes wait for it.
+constexpr size_t kMaxPendingOut = 1 << 20;
+
+const char* ReasonPhrase(int status) {
+  switch (status) {
+    case 100:
+      return "Continue";
+    case 200:
+      return "OK";
+    case 201:
+      return "Created";
+    case 202:
+      return "Accepted";
+    case 204:
+      return "No Content";
+    case 400:
+      return "Bad Request";
+    case 401:
+      return "Unauthorized";
+    case 403:
+      return "Forbidden";
+    case 404:
+      return "Not Found";
+    case 405:
+      return "Method Not Allowed";
+    case 409:
+      return "Conflict";
+    case 413:
+      return "Payload Too Large";
+    case 414:
+      return "URI Too Long";
+    case 422:
+      return "Unprocessable Content";
+    case 431:
+      return "Request Header Fields Too Large";
+    case 500:
+      return "Internal Server Error";
+    case 501:
+      return "Not Implemented";
+    case 503:
+      return "Service Unavailable";
+    case 505:
+      return "HTTP Version Not Supported";
+    default:
+      return status < 400 ? "OK" : "Error";
+  }
+}
+
+// The error body of an answer the server gives before any handler runs.
+HttpResponse ProtocolError(int status, const std::string& message) {
+  ApiError e{status, "bad_request", message, ""};
+  switch (status) {
+    case 413:
+      e.code = "payload_too_large";
+      break;
+    case 414:
+      e.code = "uri_too_long";
+      break;
+    case 431:
+      e.code = "headers_too_large";
+      break;
+    case 501:
+      e.code = "not_implemented";
+      break;
+    case 505:
+      e.code = "http_version_not_supported";
+      break;
+    case 503:
+      e.code = "unavailable";
+      break;
+    default:
+      break;
+  }
+  HttpResponse r;
+  r.status = status;
+  r.body = EncodeError(e);
+  r.route = RouteId::kUnmatched;
   return r;
 }
 
-// Error body for answers that httplib gives before any handler runs
-// (413 payload too large, 400 bad request line, 414 URI too long).
-std::string ErrorBodyFor(int status) {
-  ApiError e{status, "bad_request", "malformed HTTP request", ""};
-  if (status == 413) {
-    e.code = "payload_too_large";
-    e.message = "the body is larger than the configured limit";
-  } else if (status == 414) {
-    e.code = "uri_too_long";
-    e.message = "the request URI is too long";
-  } else if (status == 431) {
-    e.code = "headers_too_large";
-    e.message = "the request has too many or too large header fields";
-  } else if (status == 404) {
-    e.code = "not_found";
-    e.message = "no such endpoint";
-  } else if (status >= 500) {
-    e.code = "internal";
-    e.message = "internal error";
-  }
-  return EncodeError(e);
+HttpResponse InternalError(const char* what) {
+  HttpResponse r;
+  r.status = 500;
+  r.body = EncodeError(
+      ApiError{500, "internal", std::string("internal error: ") + what, ""});
+  return r;
 }
+
+HttpResponse SafeHandle(Router* router, const HttpRequest& request) {
+  try {
+    return router->Handle(request);
+  } catch (const std::exception& e) {
+    return InternalError(e.what());
+  } catch (...) {
+    return InternalError("unknown exception");
+  }
+}
+
+// A fixed pool of threads running queued tasks in order.
+class WorkerPool {
+ public:
+  explicit WorkerPool(int threads) {
+    for (int i = 0; i < threads; ++i) {
+      threads_.emplace_back([this] { Run(); });
+    }
+  }
+  ~WorkerPool() {
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      stop_ = true;
+    }
+    cv_.notify_all();
+    for (std::thread& t : threads_) t.join();
+  }
+  void Post(std::function<void()> task) {
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      tasks_.push_back(std::move(task));
+    }
+    cv_.notify_one();
+  }
+
+ private:
+  void Run() {
+    while (true) {
+      std::function<void()> task;
+      {
+        std::unique_lock<std::mutex> lock(mu_);
+        cv_.wait(lock, [this] { return stop_ || !tasks_.empty(); });
+        if (tasks_.empty()) return;  // stopping and drained
+        task = std::move(tasks_.front());
+        tasks_.pop_front();
+      }
+      task();
+    }
+  }
+
+  std::mutex mu_;
+  std::condition_variable cv_;
+  std::deque<std::function<void()>> tasks_;
+  bool stop_ = false;
+  std::vector<std::thread> threads_;
+};
+
+struct Conn {
+  uint64_t id = 0;
+  int fd = -1;
+  std::string remote_addr;
+  std::string in;  // received bytes; the parser sees in[in_start..]
+  size_t in_start = 0;
+  std::string out;  // answer bytes not yet sent start at out_sent
+  size_t out_sent = 0;
+  RequestParser parser;
+  bool busy = false;          // a request is with the router
+  bool read_pending = false;  // stopped reading before EAGAIN
+  bool request_started = false;
+  bool continue_sent = false;
+  bool close_after_write = false;
+  bool lingering = false;  // answered, write side shut, draining
+  bool peer_closed = false;
+  int served = 0;
+  Clock::time_point deadline;
+  // The request with the router.
+  std::string method;
+  std::string path;
+  size_t request_bytes = 0;
+  bool keep_alive = true;
+  bool head = false;
+  Clock::time_point started;
+
+  explicit Conn(const HttpParserLimits& limits) : parser(limits) {}
+};
+
+struct Completion {
+  uint64_t conn_id;
+  HttpResponse response;
+};
 
 }  // namespace
 
@@ -58,6 +240,10 @@ bool HttpServerOptions::IsValid(std::string* error) const {
   }
   if (threads < 1 || threads > 4096) {
     *error = "threads must be in [1, 4096]";
+    return false;
+  }
+  if (max_connections < 1) {
+    *error = "max_connections must be >= 1";
     return false;
   }
   if (keep_alive_max_count < 1) {
@@ -84,29 +270,471 @@ bool HttpServerOptions::IsValid(std::string* error) const {
 }
 
 struct HttpServer::Impl {
-  Router* router;
+  Router* router = nullptr;
   HttpServerOptions options;
-  httplib::Server server;
-  std::thread listener;
+  HttpParserLimits limits;
+  int listen_fd = -1;
+  int epoll_fd = -1;
+  int wake_fd = -1;
   int port = 0;
   bool started = false;
-  std::atomic<bool> exited{false};
+  std::thread loop;
+  std::thread::id loop_id;
+  std::unique_ptr<WorkerPool> pool;
+  std::atomic<bool> stopping{false};
+  bool accept_paused = false;
+  Clock::time_point accept_resume;
 
-  void Serve(const httplib::Request& req, httplib::Response& res) {
-    const auto start = std::chrono::steady_clock::now();
-    const HttpResponse out = router->Handle(ToRequest(req));
-    res.status = out.status;
-    for (const auto& [key, value] : out.headers) res.set_header(key, value);
-    res.set_content(out.body, out.content_type);
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-            .count();
-    router->metrics()->ObserveRequest(out.route, out.status, seconds);
-    if (options.on_request) {
-      options.on_request(RequestLogEntry{req.method, req.path, req.remote_addr,
-                                         out.status, seconds, req.body.size(),
-                                         out.body.size()});
+  std::unordered_map<uint64_t, std::unique_ptr<Conn>> conns;
+  uint64_t next_id = kFirstConnId;
+  // Requests with the router or a worker whose answer has not come back.
+  int in_flight = 0;
+
+  std::mutex completions_mu;
+  std::vector<Completion> completions;
+  std::vector<Completion> completions_spare;
+
+  // ------------------------------------------------------------ setup
+  Status Bind() {
+    addrinfo hints{};
+    hints.ai_family = AF_UNSPEC;
+    hints.ai_socktype = SOCK_STREAM;
+    hints.ai_flags = AI_PASSIVE;
+    addrinfo* found = nullptr;
+    const std::string service = std::to_string(options.port);
+    if (getaddrinfo(options.bind_address.c_str(), service.c_str(), &hints,
+                    &found) != 0) {
+      return Status::Unavailable("cannot resolve bind address " +
+                                 options.bind_address);
     }
+    int fd = -1;
+    for (addrinfo* a = found; a != nullptr; a = a->ai_next) {
+      fd = socket(a->ai_family, a->ai_socktype | SOCK_NONBLOCK | SOCK_CLOEXEC,
+                  a->ai_protocol);
+      if (fd < 0) continue;
+      // SO_REUSEADDR only (no SO_REUSEPORT): a restarted daemon can rebind
+      // through TIME_WAIT, but two daemons never share a port.
+      int yes = 1;
+      setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof(yes));
+      if (bind(fd, a->ai_addr, a->ai_addrlen) == 0 &&
+          listen(fd, SOMAXCONN) == 0) {
+        break;
+      }
+      close(fd);
+      fd = -1;
+    }
+    freeaddrinfo(found);
+    if (fd < 0) {
+      return Status::Unavailable("cannot bind " + options.bind_address + ":" +
+                                 std::to_string(options.port) +
+                                 " (address in use or not local?)");
+    }
+    sockaddr_storage bound{};
+    socklen_t len = sizeof(bound);
+    getsockname(fd, reinterpret_cast<sockaddr*>(&bound), &len);
+    port = bound.ss_family == AF_INET6
+               ? ntohs(reinterpret_cast<sockaddr_in6*>(&bound)->sin6_port)
+               : ntohs(reinterpret_cast<sockaddr_in*>(&bound)->sin_port);
+    listen_fd = fd;
+    return Status::Ok();
+  }
+
+  // ------------------------------------------------------------ loop
+  void Run() {
+    loop_id = std::this_thread::get_id();
+    std::vector<epoll_event> events(256);
+    auto next_sweep = Clock::now();
+    while (true) {
+      const int n = epoll_wait(epoll_fd, events.data(),
+                               static_cast<int>(events.size()), kSweepMs);
+      for (int i = 0; i < n; ++i) {
+        const uint64_t tag = events[i].data.u64;
+        if (tag == kListenTag) {
+          Accept();
+        } else if (tag == kWakeTag) {
+          uint64_t count;
+          while (read(wake_fd, &count, sizeof(count)) > 0) {
+          }
+        } else {
+          auto it = conns.find(tag);
+          if (it == conns.end()) continue;
+          Conn* c = it->second.get();
+          if (events[i].events & EPOLLOUT) {
+            Flush(c);
+            if (!conns.count(tag)) continue;
+            // Requests held back while answers were pending.
+            if (!c->busy && c->out_sent == c->out.size()) ProcessInput(c);
+            if (!conns.count(tag)) continue;
+          }
+          if (events[i].events & (EPOLLIN | EPOLLRDHUP | EPOLLHUP | EPOLLERR))
+            OnReadable(c);
+        }
+      }
+      RunCompletions();
+      const auto now = Clock::now();
+      if (now >= next_sweep) {
+        Sweep(now);
+        next_sweep = now + std::chrono::milliseconds(kSweepMs);
+      }
+      if (stopping.load() && Drained()) break;
+    }
+    for (auto& [id, c] : conns) close(c->fd);
+    conns.clear();
+  }
+
+  // While stopping: stop accepting, close what has nothing in progress.
+  bool Drained() {
+    if (listen_fd >= 0) {
+      epoll_ctl(epoll_fd, EPOLL_CTL_DEL, listen_fd, nullptr);
+      close(listen_fd);
+      listen_fd = -1;
+    }
+    std::vector<Conn*> idle;
+    for (auto& [id, c] : conns) {
+      if (!c->busy && c->out_sent == c->out.size()) idle.push_back(c.get());
+    }
+    for (Conn* c : idle) Close(c);
+    return in_flight == 0 && conns.empty();
+  }
+
+  void Accept() {
+    while (true) {
+      sockaddr_storage addr{};
+      socklen_t len = sizeof(addr);
+      const int fd = accept4(listen_fd, reinterpret_cast<sockaddr*>(&addr),
+                             &len, SOCK_NONBLOCK | SOCK_CLOEXEC);
+      if (fd < 0) {
+        if (errno == EINTR || errno == ECONNABORTED) continue;
+        if (errno == EMFILE || errno == ENFILE || errno == ENOBUFS ||
+            errno == ENOMEM) {
+          // Out of descriptors: stop listening for a moment rather than
+          // spin on a level-triggered listener.
+          epoll_event ev{};
+          ev.data.u64 = kListenTag;
+          epoll_ctl(epoll_fd, EPOLL_CTL_MOD, listen_fd, &ev);
+          accept_paused = true;
+          accept_resume = Clock::now() + std::chrono::milliseconds(100);
+        }
+        return;
+      }
+      if (conns.size() >= static_cast<size_t>(options.max_connections)) {
+        close(fd);  // the client sees the connection closed; it may retry
+        continue;
+      }
+      if (options.tcp_nodelay) {
+        int yes = 1;
+        setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &yes, sizeof(yes));
+      }
+      auto c = std::make_unique<Conn>(limits);
+      c->id = next_id++;
+      c->fd = fd;
+      c->remote_addr = AddressText(addr);
+      c->deadline = Clock::now() + std::chrono::seconds(options.read_timeout_s);
+      epoll_event ev{};
+      ev.events = EPOLLIN | EPOLLOUT | EPOLLRDHUP | EPOLLET;
+      ev.data.u64 = c->id;
+      if (epoll_ctl(epoll_fd, EPOLL_CTL_ADD, fd, &ev) != 0) {
+        close(fd);
+        continue;
+      }
+      conns.emplace(c->id, std::move(c));
+    }
+  }
+
+  static std::string AddressText(const sockaddr_storage& addr) {
+    char text[INET6_ADDRSTRLEN] = {0};
+    if (addr.ss_family == AF_INET) {
+      inet_ntop(AF_INET, &reinterpret_cast<const sockaddr_in*>(&addr)->sin_addr,
+                text, sizeof(text));
+    } else if (addr.ss_family == AF_INET6) {
+      inet_ntop(AF_INET6,
+                &reinterpret_cast<const sockaddr_in6*>(&addr)->sin6_addr, text,
+                sizeof(text));
+    }
+    return text;
+  }
+
+  void Close(Conn* c) {
+    epoll_ctl(epoll_fd, EPOLL_CTL_DEL, c->fd, nullptr);
+    close(c->fd);
+    conns.erase(c->id);  // destroys *c
+  }
+
+  // Reads until the socket is empty (edge-triggered), then parses.
+  void OnReadable(Conn* c) {
+    const size_t cap =
+        limits.max_body_bytes + limits.max_header_bytes + (64 << 10);
+    char buf[64 << 10];
+    c->read_pending = false;
+    while (true) {
+      if (!c->lingering && c->in.size() - c->in_start >= cap) {
+        c->read_pending = true;  // resumed when the request is answered
+        break;
+      }
+      const ssize_t n = recv(c->fd, buf, sizeof(buf), 0);
+      if (n > 0) {
+        if (!c->lingering) c->in.append(buf, static_cast<size_t>(n));
+        continue;
+      }
+      if (n < 0 && errno == EINTR) continue;
+      if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) break;
+      c->peer_closed = true;  // EOF or error
+      break;
+    }
+    if (c->lingering) {
+      if (c->peer_closed) Close(c);
+      return;
+    }
+    const uint64_t id = c->id;
+    ProcessInput(c);
+    auto it = conns.find(id);
+    if (it == conns.end()) return;
+    c = it->second.get();
+    // A peer that closed its side gets the answers it asked for; then the
+    // connection goes.
+    if (c->peer_closed && !c->busy && c->out_sent == c->out.size()) Close(c);
+  }
+
+  // Parses and dispatches requests until one is with the router or the
+  // input is used up. May close `c`.
+  void ProcessInput(Conn* c) {
+    const uint64_t id = c->id;
+    while (conns.count(id) && !c->busy && !c->close_after_write &&
+           c->out.size() - c->out_sent < kMaxPendingOut) {
+      const std::string_view data = std::string_view(c->in).substr(c->in_start);
+      const auto now = Clock::now();
+      if (data.empty()) {
+        c->in.clear();
+        c->in_start = 0;
+        return;
+      }
+      if (!c->request_started) {
+        // The head must arrive within the read timeout of its first byte.
+        c->request_started = true;
+        c->deadline = now + std::chrono::seconds(options.read_timeout_s);
+      }
+      const RequestParser::Result result = c->parser.Parse(data);
+      if (result == RequestParser::Result::kNeedMore) {
+        if (c->parser.headers_done()) {
+          c->deadline = now + std::chrono::seconds(options.read_timeout_s);
+          if (c->parser.expects_continue() && !c->continue_sent) {
+            c->continue_sent = true;
+            c->out += "HTTP/1.1 100 Continue\r\n\r\n";
+            Flush(c);
+          }
+        }
+        return;
+      }
+      if (result == RequestParser::Result::kError) {
+        router->metrics()->ObserveRequest(RouteId::kUnmatched,
+                                          c->parser.error_status(), 0);
+        c->keep_alive = false;
+        c->head = false;
+        WriteAnswer(c, ProtocolError(c->parser.error_status(),
+                                     c->parser.error_message()));
+        return;
+      }
+      c->in_start += c->parser.consumed();
+      if (c->in_start == c->in.size()) {
+        c->in.clear();
+        c->in_start = 0;
+      } else if (c->in_start > (64 << 10)) {
+        c->in.erase(0, c->in_start);
+        c->in_start = 0;
+      }
+      HttpRequest request = std::move(c->parser.request());
+      c->keep_alive = c->parser.keep_alive() &&
+                      ++c->served < options.keep_alive_max_count &&
+                      !stopping.load();
+      c->head = c->parser.head();
+      c->parser.Reset();
+      c->request_started = false;
+      c->continue_sent = false;
+      Dispatch(c, std::move(request));
+    }
+  }
+
+  void Dispatch(Conn* c, HttpRequest request) {
+    c->busy = true;
+    c->method = request.method;
+    c->path = request.path;
+    c->request_bytes = request.body.size();
+    c->started = Clock::now();
+    Execution execution = Execution::kBlocking;
+    try {
+      execution = router->Plan(request);
+    } catch (...) {
+    }
+    const uint64_t id = c->id;
+    switch (execution) {
+      case Execution::kInline:
+        Complete(c, SafeHandle(router, request));
+        return;
+      case Execution::kAsync:
+        ++in_flight;
+        try {
+          router->HandleAsync(request, [this, id](HttpResponse response) {
+            Post(Completion{id, std::move(response)});
+          });
+        } catch (const std::exception& e) {
+          Post(Completion{id, InternalError(e.what())});
+        }
+        return;
+      case Execution::kBlocking:
+        ++in_flight;
+        pool->Post([this, id, request = std::move(request)] {
+          Post(Completion{id, SafeHandle(router, request)});
+        });
+        return;
+    }
+  }
+
+  // From any thread: hands an answer to the I/O thread.
+  void Post(Completion completion) {
+    bool wake = false;
+    {
+      std::lock_guard<std::mutex> lock(completions_mu);
+      wake = completions.empty();
+      completions.push_back(std::move(completion));
+    }
+    if (wake && std::this_thread::get_id() != loop_id) {
+      const uint64_t one = 1;
+      [[maybe_unused]] const ssize_t n = write(wake_fd, &one, sizeof(one));
+    }
+  }
+
+  void RunCompletions() {
+    while (true) {
+      {
+        std::lock_guard<std::mutex> lock(completions_mu);
+        if (completions.empty()) return;
+        completions_spare.swap(completions);
+      }
+      for (Completion& done : completions_spare) {
+        --in_flight;
+        auto it = conns.find(done.conn_id);
+        if (it == conns.end()) continue;  // the client went away
+        Conn* c = it->second.get();
+        Complete(c, std::move(done.response));
+        if (!conns.count(done.conn_id)) continue;
+        if (c->read_pending) {
+          OnReadable(c);
+        } else {
+          ProcessInput(c);
+          if (conns.count(done.conn_id) && c->peer_closed && !c->busy &&
+              c->out_sent == c->out.size()) {
+            Close(c);
+          }
+        }
+      }
+      completions_spare.clear();
+    }
+  }
+
+  // The router's answer to the request `c` had with it.
+  void Complete(Conn* c, HttpResponse response) {
+    c->busy = false;
+    const double seconds =
+        std::chrono::duration<double>(Clock::now() - c->started).count();
+    router->metrics()->ObserveRequest(response.route, response.status, seconds);
+    if (options.on_request) {
+      try {
+        options.on_request(
+            RequestLogEntry{c->method, c->path, c->remote_addr, response.status,
+                            seconds, c->request_bytes, response.body.size()});
+      } catch (...) {
+      }
+    }
+    WriteAnswer(c, response);
+  }
+
+  // Queues the answer (one send for head and body) and flushes it. May
+  // close `c`.
+  void WriteAnswer(Conn* c, const HttpResponse& response) {
+    std::string& out = c->out;
+    if (c->out_sent == out.size()) {
+      out.clear();
+      c->out_sent = 0;
+    }
+    out += "HTTP/1.1 ";
+    out += std::to_string(response.status);
+    out += ' ';
+    out += ReasonPhrase(response.status);
+    out += "\r\nContent-Type: ";
+    out += response.content_type;
+    out += "\r\nContent-Length: ";
+    out += std::to_string(response.body.size());
+    out += "\r\n";
+    for (const auto& [key, value] : response.headers) {
+      out += key;
+      out += ": ";
+      out += value;
+      out += "\r\n";
+    }
+    if (!c->keep_alive) {
+      out += "Connection: close\r\n";
+      c->close_after_write = true;
+    }
+    out += "\r\n";
+    if (!c->head) out += response.body;
+    Flush(c);
+  }
+
+  // Sends what is queued. May close `c`.
+  void Flush(Conn* c) {
+    if (c->out_sent == c->out.size()) return;
+    while (c->out_sent < c->out.size()) {
+      const ssize_t n = send(c->fd, c->out.data() + c->out_sent,
+                             c->out.size() - c->out_sent, MSG_NOSIGNAL);
+      if (n > 0) {
+        c->out_sent += static_cast<size_t>(n);
+        continue;
+      }
+      if (n < 0 && errno == EINTR) continue;
+      if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
+        c->deadline =
+            Clock::now() + std::chrono::seconds(options.write_timeout_s);
+        return;  // EPOLLOUT resumes
+      }
+      Close(c);  // the peer is gone
+      return;
+    }
+    c->out.clear();
+    c->out_sent = 0;
+    if (c->close_after_write && !c->lingering) {
+      // Shut the write side and drain what the client still sends, so that
+      // closing with unread input does not reset the answer away.
+      shutdown(c->fd, SHUT_WR);
+      c->lingering = true;
+      c->in.clear();
+      c->in_start = 0;
+      c->deadline = Clock::now() + kLingerAfterClose;
+      if (c->peer_closed) {
+        Close(c);
+        return;
+      }
+      OnReadable(c);
+      return;
+    }
+    if (!c->busy && !c->lingering && c->in_start == c->in.size()) {
+      c->deadline =
+          Clock::now() + std::chrono::seconds(options.keep_alive_timeout_s);
+    }
+  }
+
+  void Sweep(Clock::time_point now) {
+    if (accept_paused && now >= accept_resume && listen_fd >= 0) {
+      epoll_event ev{};
+      ev.events = EPOLLIN;
+      ev.data.u64 = kListenTag;
+      epoll_ctl(epoll_fd, EPOLL_CTL_MOD, listen_fd, &ev);
+      accept_paused = false;
+    }
+    std::vector<Conn*> expired;
+    for (auto& [id, c] : conns) {
+      if (!c->busy && now > c->deadline) expired.push_back(c.get());
+    }
+    for (Conn* c : expired) Close(c);
   }
 };
 
@@ -123,101 +751,29 @@ Status HttpServer::Start() {
   if (!impl_->options.IsValid(&error)) return Status::InvalidArgument(error);
   if (impl_->started) return Status::FailedPrecondition("already started");
   Impl* impl = impl_.get();
-  httplib::Server& s = impl->server;
   const HttpServerOptions& o = impl->options;
-
-  const int threads = o.threads;
-  s.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
-  s.set_tcp_nodelay(o.tcp_nodelay);
-  // SO_REUSEADDR only (no SO_REUSEPORT): a restarted daemon can rebind
-  // through TIME_WAIT, but two daemons never share a port.
-  s.set_socket_options([](socket_t sock) {
-    int yes = 1;
-    setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof(yes));
-  });
-  s.set_keep_alive_max_count(static_cast<size_t>(o.keep_alive_max_count));
-  s.set_keep_alive_timeout(o.keep_alive_timeout_s);
-  s.set_read_timeout(o.read_timeout_s, 0);
-  s.set_write_timeout(o.write_timeout_s, 0);
-  s.set_payload_max_length(o.payload_max_bytes);
-
-  // cpp-httplib 0.11 reads a POST/PUT/PATCH/DELETE without Content-Length
-  // or chunked encoding until the connection closes (a 400 after the read
-  // timeout on a kept-alive connection). Such a request has no body
-  // (RFC 9112 6.3), e.g. `curl -X POST .../v1/calibrations`: say so before
-  // the body is read. The request object is a non-const local of httplib's
-  // request loop, so the cast is well-defined.
-  const size_t max_header_count = o.max_header_count;
-  const size_t max_header_bytes = o.max_header_bytes;
-  s.set_pre_routing_handler(
-      [max_header_count, max_header_bytes](const httplib::Request& req,
-                                           httplib::Response& res) {
-        size_t header_bytes = 0;
-        for (const auto& [key, value] : req.headers) {
-          header_bytes += key.size() + value.size() + 4;  // ": " and CRLF
-        }
-        if (req.headers.size() > max_header_count ||
-            header_bytes > max_header_bytes) {
-          res.status = 431;
-          res.set_header("Connection", "close");
-          res.set_content(ErrorBodyFor(431), "application/json");
-          return httplib::Server::HandlerResponse::Handled;
-        }
-        if (!req.has_header("Content-Length") &&
-            !req.has_header("Transfer-Encoding")) {
-          const_cast<httplib::Request&>(req).set_header("Content-Length", "0");
-        }
-        return httplib::Server::HandlerResponse::Unhandled;
-      });
-  auto handler = [impl](const httplib::Request& req, httplib::Response& res) {
-    impl->Serve(req, res);
-  };
-  s.Get(".*", handler);
-  s.Post(".*", handler);
-  s.Put(".*", handler);
-  s.Patch(".*", handler);
-  s.Delete(".*", handler);
-  s.Options(".*", handler);
-  s.set_error_handler(httplib::Server::HandlerWithResponse(
-      [impl](const httplib::Request& req, httplib::Response& res) {
-        // Answers of our handler already carry their JSON body.
-        if (!res.body.empty())
-          return httplib::Server::HandlerResponse::Unhandled;
-        res.set_content(ErrorBodyFor(res.status), "application/json");
-        impl->router->metrics()->ObserveRequest(RouteId::kUnmatched, res.status,
-                                                0);
-        return httplib::Server::HandlerResponse::Handled;
-      }));
-  s.set_exception_handler([](const httplib::Request&, httplib::Response& res,
-                             const std::exception_ptr&) {
-    res.status = 500;
-    res.set_content(ErrorBodyFor(500), "application/json");
-  });
-
-  if (o.port == 0) {
-    impl->port = s.bind_to_any_port(o.bind_address);
-    if (impl->port < 0) {
-      return Status::Unavailable("cannot bind an ephemeral port on " +
-                                 o.bind_address);
-    }
-  } else {
-    if (!s.bind_to_port(o.bind_address, o.port)) {
-      return Status::Unavailable("cannot bind " + o.bind_address + ":" +
-                                 std::to_string(o.port) +
-                                 " (address in use or not local?)");
-    }
-    impl->port = o.port;
+  impl->limits.max_request_line = 8192;
+  impl->limits.max_header_count = o.max_header_count;
+  impl->limits.max_header_bytes = o.max_header_bytes;
+  impl->limits.max_body_bytes = o.payload_max_bytes;
+  ROLLWEAR_RETURN_IF_ERROR(impl->Bind());
+  impl->epoll_fd = epoll_create1(EPOLL_CLOEXEC);
+  impl->wake_fd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+  if (impl->epoll_fd < 0 || impl->wake_fd < 0) {
+    return Status::Unavailable(std::string("epoll/eventfd: ") +
+                               std::strerror(errno));
   }
-  impl->listener = std::thread([impl] {
-    impl->server.listen_after_bind();
-    impl->exited.store(true);
-  });
+  epoll_event ev{};
+  ev.events = EPOLLIN;
+  ev.data.u64 = kListenTag;
+  epoll_ctl(impl->epoll_fd, EPOLL_CTL_ADD, impl->listen_fd, &ev);
+  ev.data.u64 = kWakeTag;
+  epoll_ctl(impl->epoll_fd, EPOLL_CTL_ADD, impl->wake_fd, &ev);
+  impl->pool = std::make_unique<WorkerPool>(o.threads);
+  impl->stopping.store(false);
+  impl->loop = std::thread([impl] { impl->Run(); });
+  impl->loop_id = impl->loop.get_id();
   impl->started = true;
-  // httplib's stop() only acts once the accept loop runs; wait for it so
-  // that a Stop() right after Start() cannot be lost.
-  while (!s.is_running() && !impl->exited.load()) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  }
   return Status::Ok();
 }
 
@@ -225,9 +781,17 @@ int HttpServer::port() const { return impl_->port; }
 
 void HttpServer::Stop() {
   if (!impl_ || !impl_->started) return;
-  impl_->server.stop();
-  if (impl_->listener.joinable()) impl_->listener.join();
-  impl_->started = false;
+  Impl* impl = impl_.get();
+  impl->stopping.store(true);
+  const uint64_t one = 1;
+  [[maybe_unused]] const ssize_t n = write(impl->wake_fd, &one, sizeof(one));
+  if (impl->loop.joinable()) impl->loop.join();
+  impl->pool.reset();  // runs what is queued, joins
+  if (impl->listen_fd >= 0) close(impl->listen_fd);
+  close(impl->epoll_fd);
+  close(impl->wake_fd);
+  impl->listen_fd = impl->epoll_fd = impl->wake_fd = -1;
+  impl->started = false;
 }
 
 }  // namespace rollwear::api

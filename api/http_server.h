@@ -1,16 +1,26 @@
-// HttpServer: the daemon's HTTP/1.1 listener (cpp-httplib behind a pimpl,
-// so that only http_server.cc includes httplib.h). Every request goes
-// through Router::Handle; the server adds the socket concerns: bind address
-// and port (0 = ephemeral, port() reports the bound one), a fixed pool of
-// worker threads (one connection per thread while it is kept alive),
-// keep-alive count and timeout, TCP_NODELAY, the payload limit (413 before
-// the body is read), header count/size limits (431 before the body is
-// read), read/write timeouts, per-route latency into
-// Router::metrics(), and an optional per-request log hook.
+// HttpServer: the daemon's HTTP/1.1 listener. One epoll I/O thread owns
+// every connection (read, parse with api/http_parser.h, answer in one
+// send); each request runs as Router::Plan says: wear reads in place on the
+// I/O thread, POST /v1/coils through the store's group commit without
+// holding a thread (the answer comes back from the writer thread), and
+// everything that may wait on SQLite on a fixed worker pool. So a kept-alive
+// connection costs a socket and a few buffers, not a thread.
+//
+// The server adds the socket concerns to Router::Handle: bind address and
+// port (0 = ephemeral, port() reports the bound one), keep-alive count and
+// idle timeout, read timeout (the head of a request must arrive within it
+// of its first byte; the body may pause at most that long), write timeout,
+// TCP_NODELAY, pipelining (answers in request order), Expect:
+// 100-continue, chunked request bodies, the payload limit (413 before the
+// body is read), request line and header limits (414, 431), a connection
+// cap, per-route latency into Router::metrics() and an optional
+// per-request log hook.
 //
 // Thread-safety: Start() and Stop() from one controlling thread; requests
-// are served on the pool's threads. Stop() is graceful: it closes the
-// listening socket, lets in-flight requests finish and joins the pool.
+// are served on the I/O thread and the pool's threads. Stop() is graceful:
+// it stops accepting, closes idle connections, lets requests in progress
+// finish and be answered, then joins the threads. The router (and the store
+// behind it) must outlive the server.
 #ifndef ROLLWEAR_API_HTTP_SERVER_H_
 #define ROLLWEAR_API_HTTP_SERVER_H_
 
@@ -38,20 +48,19 @@ struct RequestLogEntry {
 struct HttpServerOptions {
   std::string bind_address = "127.0.0.1";
   int port = 0;  // 0 = ephemeral
-  // Worker threads. A kept-alive connection holds one while it is open, so
-  // this bounds the concurrent clients served without queueing.
+  // Worker threads for the requests that may wait on SQLite or a
+  // calibration (everything but coils and wear reads).
   int threads = 32;
+  // Open connections; one more is accepted and closed at once.
+  int max_connections = 1000;
   int keep_alive_max_count = 10000;  // requests per connection
   int keep_alive_timeout_s = 5;      // idle seconds before closing
   int read_timeout_s = 5;
   int write_timeout_s = 5;
   size_t payload_max_bytes = 1 << 20;
-  // Request header limits. cpp-httplib 0.11 (Debian 12, a compiled
-  // library) caps each header line at 8 KiB and the request line at 8 KiB
-  // (CPPHTTPLIB_HEADER_MAX_LENGTH / _REQUEST_URI_MAX_LENGTH, fixed when the
-  // library was built) but not the number of header lines; a request with
-  // more lines or more header bytes than these is answered 431 before its
-  // body is read.
+  // Request header limits: a request with more header lines or more header
+  // bytes than these is answered 431 before its body is read. The request
+  // line is capped at 8 KiB (414).
   size_t max_header_count = 64;
   size_t max_header_bytes = 32 * 1024;
   bool tcp_nodelay = true;

@@ -273,21 +273,8 @@ HttpResponse Router::Dispatch(const HttpRequest& request) {
 
   HttpResponse response;
   if (post) {
-    if (!Authorized(request)) {
-      response = Error(401, "unauthorized",
-                       "this endpoint needs the header 'Authorization: "
-                       "Bearer <token>' with the configured token");
-      response.route = route;
-      return response;
-    }
-    if (request.body.size() > options_.body_limit_bytes) {
-      response = Error(413, "payload_too_large",
-                       "the body has " + std::to_string(request.body.size()) +
-                           " bytes; the limit is " +
-                           std::to_string(options_.body_limit_bytes));
-      response.route = route;
-      return response;
-    }
+    std::optional<HttpResponse> refused = RefusePost(request, route);
+    if (refused) return std::move(*refused);
   }
   switch (route) {
     case RouteId::kRollChanges:
@@ -372,17 +359,90 @@ HttpResponse Router::PostCampaignEnd(const HttpRequest& request,
   return Answer(200, EncodeCampaignEndAnswer(campaign_id, ended_at, *outcome));
 }
 
+std::optional<HttpResponse> Router::RefusePost(const HttpRequest& request,
+                                               RouteId route) const {
+  std::optional<HttpResponse> response;
+  if (!Authorized(request)) {
+    response = Error(401, "unauthorized",
+                     "this endpoint needs the header 'Authorization: "
+                     "Bearer <token>' with the configured token");
+  } else if (request.body.size() > options_.body_limit_bytes) {
+    response = Error(413, "payload_too_large",
+                     "the body has " + std::to_string(request.body.size()) +
+                         " bytes; the limit is " +
+                         std::to_string(options_.body_limit_bytes));
+  }
+  if (response) response->route = route;
+  return response;
+}
+
 HttpResponse Router::PostCoil(const HttpRequest& request) {
   storage::CoilIn in;
   ApiError error;
   if (!DecodeCoil(request.body, options_.max_json_depth, &in, &error)) {
     return Error(error);
   }
-  StatusOr<storage::CoilOutcome> outcome = store_->AddCoil(in);
+  return CoilAnswer(in, store_->AddCoil(in));
+}
+
+HttpResponse Router::CoilAnswer(
+    const storage::CoilIn& in,
+    const StatusOr<storage::CoilOutcome>& outcome) {
   if (!outcome.ok()) return FromStatus(outcome.status());
   const bool created = outcome->outcome == storage::WriteOutcome::kCreated;
   if (created) metrics_.CountCoilIngested();
   return Answer(created ? 201 : 200, EncodeCoilAnswer(in, *outcome, -1));
+}
+
+Execution Router::Plan(const HttpRequest& request) const {
+  const bool post = request.method == "POST";
+  std::string arg1, arg2;
+  switch (MatchRoute(request.path, post, &arg1, &arg2)) {
+    case RouteId::kCoils:
+      return post ? Execution::kAsync : Execution::kInline;
+    case RouteId::kWear:
+    case RouteId::kWearAt:
+    case RouteId::kUnmatched:
+      return Execution::kInline;
+    default:
+      return Execution::kBlocking;
+  }
+}
+
+void Router::HandleAsync(const HttpRequest& request, Done done) {
+  std::string arg1, arg2;
+  if (request.method != "POST" ||
+      MatchRoute(request.path, /*post=*/true, &arg1, &arg2) !=
+          RouteId::kCoils) {
+    done(Handle(request));
+    return;
+  }
+  std::optional<HttpResponse> refused = RefusePost(request, RouteId::kCoils);
+  if (refused) {
+    done(std::move(*refused));
+    return;
+  }
+  auto in = std::make_shared<storage::CoilIn>();
+  ApiError error;
+  if (!DecodeCoil(request.body, options_.max_json_depth, in.get(), &error)) {
+    HttpResponse response = Error(error);
+    response.route = RouteId::kCoils;
+    done(std::move(response));
+    return;
+  }
+  store_->AddCoilAsync(
+      *in, [this, in, done = std::move(done)](
+               StatusOr<storage::CoilOutcome> outcome) {
+        HttpResponse response;
+        try {
+          response = CoilAnswer(*in, outcome);
+        } catch (const std::exception& e) {
+          response =
+              Error(500, "internal", std::string("internal error: ") + e.what());
+        }
+        response.route = RouteId::kCoils;
+        done(std::move(response));
+      });
 }
 
 HttpResponse Router::GetWear() {

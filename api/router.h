@@ -19,6 +19,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -72,6 +73,19 @@ struct ApiOptions {
 // else 500.
 int HttpStatusFor(StatusCode code);
 
+// Where a server should run a request (Router::Plan).
+enum class Execution {
+  // Handle() answers from memory without waiting on the disk or a lock held
+  // across SQL (wear reads, 404/405 answers): run it on the I/O thread.
+  kInline,
+  // POST /v1/coils: HandleAsync() queues it for the group commit and
+  // answers from the store's writer thread.
+  kAsync,
+  // Anything else may wait on SQLite or a calibration: run Handle() on a
+  // worker thread.
+  kBlocking,
+};
+
 class Router {
  public:
   // `store` must outlive the router.
@@ -81,6 +95,16 @@ class Router {
   Router& operator=(const Router&) = delete;
 
   HttpResponse Handle(const HttpRequest& request);
+
+  // Cheap and without side effects: how Handle()/HandleAsync() will run
+  // this request.
+  Execution Plan(const HttpRequest& request) const;
+  // The answer of Handle(), given to `done` exactly once: for a coil that
+  // is queued, on the store's writer thread after its group commit;
+  // otherwise on the calling thread before HandleAsync returns (so only
+  // kAsync and kInline requests belong here). `done` must be quick.
+  using Done = std::function<void(HttpResponse)>;
+  void HandleAsync(const HttpRequest& request, Done done);
 
   // Request and calibration figures exposed by GET /metrics; the HTTP server
   // records request latencies here, the scheduler calibration runs.
@@ -93,6 +117,12 @@ class Router {
   HttpResponse PostCampaignEnd(const HttpRequest& request,
                                const std::string& campaign_id);
   HttpResponse PostCoil(const HttpRequest& request);
+  HttpResponse CoilAnswer(const storage::CoilIn& in,
+                          const StatusOr<storage::CoilOutcome>& outcome);
+  // The refusal Dispatch gives before a POST's handler runs (401, 413), or
+  // an empty optional.
+  std::optional<HttpResponse> RefusePost(const HttpRequest& request,
+                                         RouteId route) const;
   HttpResponse GetWear();
   HttpResponse GetWearAt(const std::string& stand, const std::string& position);
   HttpResponse PostMeasurement(const HttpRequest& request);

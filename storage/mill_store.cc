@@ -242,8 +242,7 @@ Status MillStoreImpl::AdmitLocked(WriteItem* item, bool* immediate) {
   return Status::Ok();
 }
 
-Status MillStoreImpl::Submit(const ItemPtr& item, bool* immediate) {
-  std::future<void> done = item->done.get_future();
+Status MillStoreImpl::Enqueue(const ItemPtr& item, bool* immediate) {
   bool notify = false;
   {
     std::lock_guard<std::mutex> lock(mu_);
@@ -258,6 +257,13 @@ Status MillStoreImpl::Submit(const ItemPtr& item, bool* immediate) {
     notify = queue_.size() >= wake_writer_at_;
   }
   if (notify) cv_.notify_one();
+  return Status::Ok();
+}
+
+Status MillStoreImpl::Submit(const ItemPtr& item, bool* immediate) {
+  std::future<void> done = item->done.get_future();
+  ROLLWEAR_RETURN_IF_ERROR(Enqueue(item, immediate));
+  if (*immediate) return Status::Ok();
   done.wait();
   return item->status;
 }
@@ -306,6 +312,36 @@ StatusOr<CoilOutcome> MillStoreImpl::AddCoil(const CoilIn& in) {
   ROLLWEAR_RETURN_IF_ERROR(Submit(item, &immediate));
   if (immediate) return OutcomeForStored(item->coil);
   return item->coil_outcome;
+}
+
+void MillStoreImpl::AddCoilAsync(const CoilIn& in, CoilDone done) {
+  const Status fields = CheckCoilFields(in);
+  if (!fields.ok()) {
+    done(fields);
+    return;
+  }
+  auto item = std::make_shared<WriteItem>();
+  item->kind = WriteKind::kCoil;
+  item->coil_in = in;
+  item->coil = CanonicalCoil(in);
+  // The writer calls this once the item is finished; the item owns the
+  // callback, and the callback sees the item through a raw pointer (no
+  // cycle: the writer drops its reference after the call).
+  WriteItem* raw = item.get();
+  item->on_done = [raw, done] {
+    if (raw->status.ok()) {
+      done(raw->coil_outcome);
+    } else {
+      done(raw->status);
+    }
+  };
+  bool immediate = false;
+  const Status queued = Enqueue(item, &immediate);
+  if (!queued.ok()) {
+    done(queued);
+  } else if (immediate) {
+    done(OutcomeForStored(item->coil));
+  }
 }
 
 StatusOr<WriteOutcome> MillStoreImpl::AddMeasurement(const MeasurementIn& in) {

@@ -24,6 +24,7 @@
 #define ROLLWEAR_STORAGE_MILL_STORE_H_
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -211,6 +212,14 @@ class MillStore {
                                              UnixSeconds ended_at) = 0;
   // Durable before it returns.
   virtual StatusOr<CoilOutcome> AddCoil(const CoilIn& in) = 0;
+  // AddCoil without waiting for the commit. `done` is called exactly once
+  // with what AddCoil would have returned: on the calling thread, before
+  // AddCoilAsync returns, when the coil is refused or repeats a committed
+  // one; otherwise on the store's writer thread once the coil's group is
+  // durable (or has failed). `done` must be quick and must not call the
+  // store's writes (it runs between two group commits).
+  using CoilDone = std::function<void(StatusOr<CoilOutcome>)>;
+  virtual void AddCoilAsync(const CoilIn& in, CoilDone done) = 0;
   virtual StatusOr<WriteOutcome> AddMeasurement(const MeasurementIn& in) = 0;
 
   // The rolls of the open campaign (none once it has ended and no roll

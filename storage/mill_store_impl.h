@@ -78,6 +78,8 @@ struct WriteItem {
 
   Status status;
   CoilOutcome coil_outcome;
+  // Set for AddCoilAsync: called by the writer instead of `done`.
+  std::function<void()> on_done;
   std::promise<void> done;
 };
 
@@ -109,6 +111,7 @@ class MillStoreImpl final : public MillStore {
   StatusOr<WriteOutcome> EndCampaign(const std::string& campaign_id,
                                      UnixSeconds ended_at) override;
   StatusOr<CoilOutcome> AddCoil(const CoilIn& in) override;
+  void AddCoilAsync(const CoilIn& in, CoilDone done) override;
   StatusOr<WriteOutcome> AddMeasurement(const MeasurementIn& in) override;
 
   WearSnapshot Wear() const override;
@@ -149,6 +152,9 @@ class MillStoreImpl final : public MillStore {
   StatusOr<std::optional<StoredCoil>> FindCoilLocked(const std::string& coil_id,
                                                      bool* pending);
   // Admits, queues and waits for the commit; *immediate as above.
+  // Queues `item` for the writer (Submit then waits for it). Refused or
+  // answered at admission (*immediate): nothing is queued.
+  Status Enqueue(const ItemPtr& item, bool* immediate);
   Status Submit(const ItemPtr& item, bool* immediate);
   Status RunTask(std::function<Status(Db*)> task,
                  std::function<void(Db*)> after_commit);

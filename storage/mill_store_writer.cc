@@ -140,7 +140,11 @@ void MillStoreImpl::WriterLoop() {
       } else if (item->kind == WriteKind::kCoil && item->unchanged) {
         item->coil_outcome = OutcomeForStored(item->coil);
       }
-      item->done.set_value();
+      if (item->on_done) {
+        item->on_done();
+      } else {
+        item->done.set_value();
+      }
     }
   }
 }

@@ -1,0 +1,407 @@
+#include "api/http_parser.h"
+
+#include <charconv>
+#include <utility>
+
+#include <strings.h>
+
+namespace rollwear::api {
+namespace {
+
+// RFC 9110 5.6.2: tchar.
+bool IsTokenChar(char c) {
+  if ((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+      (c >= '0' && c <= '9')) {
+    return true;
+  }
+  switch (c) {
+    case '!':
+    case '#':
+    case '$':
+    case '%':
+    case '&':
+    case '\'':
+    case '*':
+    case '+':
+    case '-':
+    case '.':
+    case '^':
+    case '_':
+    case '`':
+    case '|':
+    case '~':
+      return true;
+    default:
+      return false;
+  }
+}
+
+bool EqualsNoCase(std::string_view a, std::string_view b) {
+  return a.size() == b.size() && strncasecmp(a.data(), b.data(), a.size()) == 0;
+}
+
+std::string_view TrimOws(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t'))
+    s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t'))
+    s.remove_suffix(1);
+  return s;
+}
+
+// Whether the comma-separated list `value` holds `token` (any case).
+bool ListHas(std::string_view value, std::string_view token) {
+  while (!value.empty()) {
+    const size_t comma = value.find(',');
+    if (EqualsNoCase(TrimOws(value.substr(0, comma)), token)) return true;
+    if (comma == std::string_view::npos) break;
+    value.remove_prefix(comma + 1);
+  }
+  return false;
+}
+
+int HexValue(char c) {
+  if (c >= '0' && c <= '9') return c - '0';
+  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+  return -1;
+}
+
+// Lines end in CRLF; a CR or LF anywhere else is refused.
+bool HasStrayLineBreak(std::string_view line) {
+  return line.find_first_of("\r\n") != std::string_view::npos;
+}
+
+}  // namespace
+
+bool PercentDecode(std::string_view in, bool plus_is_space, std::string* out) {
+  out->clear();
+  out->reserve(in.size());
+  for (size_t i = 0; i < in.size(); ++i) {
+    const char c = in[i];
+    if (c == '%') {
+      if (i + 2 >= in.size()) return false;
+      const int hi = HexValue(in[i + 1]);
+      const int lo = HexValue(in[i + 2]);
+      if (hi < 0 || lo < 0) return false;
+      out->push_back(static_cast<char>(hi * 16 + lo));
+      i += 2;
+    } else if (c == '+' && plus_is_space) {
+      out->push_back(' ');
+    } else {
+      out->push_back(c);
+    }
+  }
+  return true;
+}
+
+RequestParser::RequestParser(HttpParserLimits limits) : limits_(limits) {}
+
+void RequestParser::Reset() {
+  phase_ = Phase::kHead;
+  request_ = HttpRequest();
+  head_scanned_ = 0;
+  body_start_ = 0;
+  content_length_ = 0;
+  chunk_pos_ = 0;
+  chunk_left_ = 0;
+  trailer_start_ = 0;
+  consumed_ = 0;
+  keep_alive_ = true;
+  expects_continue_ = false;
+  error_status_ = 0;
+  error_message_.clear();
+}
+
+RequestParser::Result RequestParser::Fail(int status, std::string message) {
+  error_status_ = status;
+  error_message_ = std::move(message);
+  return Result::kError;
+}
+
+RequestParser::Result RequestParser::Parse(std::string_view data) {
+  if (error_status_ != 0) return Result::kError;
+  if (phase_ == Phase::kDone) return Result::kDone;
+  if (phase_ == Phase::kHead) {
+    // Resume the search for CRLFCRLF a few bytes back, so that the work
+    // stays linear however the bytes arrive.
+    const size_t from = head_scanned_ >= 3 ? head_scanned_ - 3 : 0;
+    const size_t end = data.find("\r\n\r\n", from);
+    if (end == std::string_view::npos) {
+      // A head whose lines end in a bare LF (or hold a bare CR) would never
+      // end: refuse it as soon as the stray byte is seen.
+      for (size_t i = head_scanned_; i < data.size(); ++i) {
+        if ((data[i] == '\n' && (i == 0 || data[i - 1] != '\r')) ||
+            (data[i] == '\r' && i + 1 < data.size() && data[i + 1] != '\n')) {
+          return Fail(400, "bare CR or LF in the request head");
+        }
+      }
+      if (head_scanned_ > 0 && data[head_scanned_ - 1] == '\r' &&
+          head_scanned_ < data.size() && data[head_scanned_] != '\n') {
+        return Fail(400, "bare CR or LF in the request head");
+      }
+      head_scanned_ = data.size();
+      const size_t line_end = data.find("\r\n");
+      if (line_end == std::string_view::npos &&
+          data.size() > limits_.max_request_line) {
+        return Fail(414, "the request line is longer than " +
+                             std::to_string(limits_.max_request_line) +
+                             " bytes");
+      }
+      if (line_end != std::string_view::npos &&
+          data.size() - line_end - 2 > limits_.max_header_bytes + 2) {
+        return Fail(431, "the header fields are larger than " +
+                             std::to_string(limits_.max_header_bytes) +
+                             " bytes");
+      }
+      return Result::kNeedMore;
+    }
+    const Result head = ParseHead(data.substr(0, end + 2));
+    if (head == Result::kError) return head;
+    body_start_ = end + 4;
+    chunk_pos_ = body_start_;
+  }
+  if (phase_ == Phase::kBody) {
+    if (data.size() - body_start_ < content_length_) return Result::kNeedMore;
+    request_.body.assign(data.substr(body_start_, content_length_));
+    consumed_ = body_start_ + content_length_;
+    phase_ = Phase::kDone;
+    expects_continue_ = false;
+    return Result::kDone;
+  }
+  return ParseChunked(data);
+}
+
+RequestParser::Result RequestParser::ParseRequestLine(std::string_view line) {
+  if (line.size() > limits_.max_request_line) {
+    return Fail(414, "the request line is longer than " +
+                         std::to_string(limits_.max_request_line) + " bytes");
+  }
+  const size_t sp1 = line.find(' ');
+  const size_t sp2 =
+      sp1 == std::string_view::npos ? sp1 : line.find(' ', sp1 + 1);
+  if (sp1 == 0 || sp2 == std::string_view::npos ||
+      line.find(' ', sp2 + 1) != std::string_view::npos) {
+    return Fail(400, "malformed request line");
+  }
+  const std::string_view method = line.substr(0, sp1);
+  const std::string_view target = line.substr(sp1 + 1, sp2 - sp1 - 1);
+  const std::string_view version = line.substr(sp2 + 1);
+  for (char c : method) {
+    if (!IsTokenChar(c)) return Fail(400, "malformed request method");
+  }
+  if (version.size() != 8 || version.substr(0, 5) != "HTTP/" ||
+      version[6] != '.' || version[5] < '0' || version[5] > '9' ||
+      version[7] < '0' || version[7] > '9') {
+    return Fail(400, "malformed HTTP version");
+  }
+  if (version != "HTTP/1.1" && version != "HTTP/1.0") {
+    return Fail(505, "HTTP version not supported (HTTP/1.0 and 1.1 are)");
+  }
+  keep_alive_ = version == "HTTP/1.1";
+  if (target.empty() || target.front() != '/') {
+    return Fail(400, "the request target must be an absolute path");
+  }
+  for (char c : target) {
+    if (static_cast<unsigned char>(c) <= 0x20 || c == 0x7f) {
+      return Fail(400, "the request target has a control character");
+    }
+  }
+  request_.method.assign(method);
+  const size_t q = target.find('?');
+  if (!PercentDecode(target.substr(0, q), false, &request_.path)) {
+    return Fail(400, "malformed percent escape in the path");
+  }
+  if (q != std::string_view::npos) {
+    std::string_view query = target.substr(q + 1);
+    const size_t hash = query.find('#');
+    if (hash != std::string_view::npos) query = query.substr(0, hash);
+    std::string key, value;
+    while (!query.empty()) {
+      const size_t amp = query.find('&');
+      const std::string_view pair = query.substr(0, amp);
+      const size_t eq = pair.find('=');
+      if (!pair.empty()) {
+        if (!PercentDecode(pair.substr(0, eq), true, &key) ||
+            !PercentDecode(eq == std::string_view::npos ? std::string_view()
+                                                        : pair.substr(eq + 1),
+                           true, &value)) {
+          return Fail(400, "malformed percent escape in the query");
+        }
+        request_.params.emplace(key, value);  // the first one wins
+      }
+      if (amp == std::string_view::npos) break;
+      query.remove_prefix(amp + 1);
+    }
+  }
+  return Result::kNeedMore;
+}
+
+// `head` is the request line and the field lines, each ending in CRLF.
+RequestParser::Result RequestParser::ParseHead(std::string_view head) {
+  size_t line_end = head.find("\r\n");
+  const std::string_view request_line = head.substr(0, line_end);
+  if (HasStrayLineBreak(request_line)) {
+    return Fail(400, "bare CR or LF in the request line");
+  }
+  if (ParseRequestLine(request_line) == Result::kError) return Result::kError;
+
+  bool has_length = false;
+  bool chunked = false;
+  bool has_coding = false;
+  size_t header_bytes = 0;
+  size_t pos = line_end + 2;
+  while (pos < head.size()) {
+    line_end = head.find("\r\n", pos);
+    const std::string_view line = head.substr(pos, line_end - pos);
+    pos = line_end + 2;
+    header_bytes += line.size() + 2;
+    if (request_.headers.size() >= limits_.max_header_count) {
+      return Fail(431, "more than " + std::to_string(limits_.max_header_count) +
+                           " header fields");
+    }
+    if (header_bytes > limits_.max_header_bytes) {
+      return Fail(431, "the header fields are larger than " +
+                           std::to_string(limits_.max_header_bytes) + " bytes");
+    }
+    if (HasStrayLineBreak(line)) {
+      return Fail(400, "bare CR or LF in a header field");
+    }
+    if (line.front() == ' ' || line.front() == '\t') {
+      return Fail(400, "obsolete line folding in the header fields");
+    }
+    const size_t colon = line.find(':');
+    if (colon == std::string_view::npos || colon == 0) {
+      return Fail(400, "malformed header field");
+    }
+    const std::string_view name = line.substr(0, colon);
+    for (char c : name) {
+      if (!IsTokenChar(c)) {
+        return Fail(400,
+                    "malformed header field name '" + std::string(name) + "'");
+      }
+    }
+    const std::string_view value = TrimOws(line.substr(colon + 1));
+    for (char c : value) {
+      if ((static_cast<unsigned char>(c) < 0x20 && c != '\t') || c == 0x7f) {
+        return Fail(400, "control character in header field '" +
+                             std::string(name) + "'");
+      }
+    }
+    if (EqualsNoCase(name, "Content-Length")) {
+      size_t length = 0;
+      const auto [end, ec] =
+          std::from_chars(value.data(), value.data() + value.size(), length);
+      if (value.empty() || ec != std::errc() ||
+          end != value.data() + value.size()) {
+        return Fail(400, "malformed Content-Length");
+      }
+      if (has_length && length != content_length_) {
+        return Fail(400, "two different Content-Length values");
+      }
+      has_length = true;
+      content_length_ = length;
+    } else if (EqualsNoCase(name, "Transfer-Encoding")) {
+      has_coding = true;
+      if (!EqualsNoCase(value, "chunked") || chunked) {
+        return Fail(501, "transfer coding '" + std::string(value) +
+                             "' is not supported (only chunked)");
+      }
+      chunked = true;
+    } else if (EqualsNoCase(name, "Connection")) {
+      if (ListHas(value, "close")) keep_alive_ = false;
+      if (ListHas(value, "keep-alive")) keep_alive_ = true;
+      if (ListHas(value, "close")) keep_alive_ = false;
+    } else if (EqualsNoCase(name, "Expect")) {
+      expects_continue_ = EqualsNoCase(value, "100-continue");
+    }
+    request_.headers.emplace_back(std::string(name), std::string(value));
+  }
+  if (has_length && has_coding) {
+    return Fail(400, "both Content-Length and Transfer-Encoding");
+  }
+  if (has_length && content_length_ > limits_.max_body_bytes) {
+    return Fail(413, "the body is larger than " +
+                         std::to_string(limits_.max_body_bytes) + " bytes");
+  }
+  // RFC 9112 6.3: without either, a request has no body.
+  phase_ = chunked ? Phase::kChunkSize : Phase::kBody;
+  if (!chunked && content_length_ == 0) expects_continue_ = false;
+  return Result::kNeedMore;
+}
+
+// RFC 9112 7.1: chunk = chunk-size [ chunk-ext ] CRLF chunk-data CRLF;
+// last-chunk = 1*"0" [ chunk-ext ] CRLF; then trailer fields and CRLF.
+RequestParser::Result RequestParser::ParseChunked(std::string_view data) {
+  constexpr size_t kMaxChunkLine = 1024;
+  while (true) {
+    if (phase_ == Phase::kChunkSize) {
+      const size_t eol = data.find("\r\n", chunk_pos_);
+      if (eol == std::string_view::npos) {
+        if (data.size() - chunk_pos_ > kMaxChunkLine)
+          return Fail(400, "chunk-size line too long");
+        return Result::kNeedMore;
+      }
+      const std::string_view line = data.substr(chunk_pos_, eol - chunk_pos_);
+      if (HasStrayLineBreak(line)) return Fail(400, "bare CR or LF in a chunk");
+      const size_t digits_end = line.find_first_of("; \t");
+      const std::string_view digits = line.substr(0, digits_end);
+      size_t size = 0;
+      const auto [end, ec] = std::from_chars(
+          digits.data(), digits.data() + digits.size(), size, 16);
+      if (digits.empty() || ec != std::errc() ||
+          end != digits.data() + digits.size()) {
+        return Fail(400, "malformed chunk size");
+      }
+      if (size > limits_.max_body_bytes - request_.body.size()) {
+        return Fail(413, "the body is larger than " +
+                             std::to_string(limits_.max_body_bytes) + " bytes");
+      }
+      chunk_pos_ = eol + 2;
+      if (size == 0) {
+        phase_ = Phase::kTrailer;
+        trailer_start_ = chunk_pos_;
+      } else {
+        chunk_left_ = size;
+        phase_ = Phase::kChunkData;
+      }
+      expects_continue_ = false;
+    }
+    if (phase_ == Phase::kChunkData) {
+      const size_t available = data.size() - chunk_pos_;
+      const size_t take = std::min(available, chunk_left_);
+      request_.body.append(data.substr(chunk_pos_, take));
+      chunk_pos_ += take;
+      chunk_left_ -= take;
+      if (chunk_left_ > 0 || data.size() - chunk_pos_ < 2)
+        return Result::kNeedMore;
+      if (data.substr(chunk_pos_, 2) != "\r\n")
+        return Fail(400, "chunk data not followed by CRLF");
+      chunk_pos_ += 2;
+      phase_ = Phase::kChunkSize;
+      continue;
+    }
+    if (phase_ == Phase::kTrailer) {
+      // Trailer fields are read and dropped; an empty line ends them.
+      while (true) {
+        const size_t eol = data.find("\r\n", chunk_pos_);
+        if (eol == std::string_view::npos) {
+          if (data.size() - chunk_pos_ > limits_.max_header_bytes)
+            return Fail(431, "trailer fields too large");
+          return Result::kNeedMore;
+        }
+        if (eol == chunk_pos_) {
+          consumed_ = eol + 2;
+          phase_ = Phase::kDone;
+          return Result::kDone;
+        }
+        if (eol - trailer_start_ > limits_.max_header_bytes) {
+          return Fail(431, "trailer fields too large");
+        }
+        chunk_pos_ = eol + 2;
+      }
+    }
+    return Result::kNeedMore;
+  }
+}
+
+}  // namespace rollwear::api
