@@ -11,8 +11,6 @@
 // is queued, so answers keep their order.
 #include "api/http_server.h"
 
-#include <arpa/inet.h>
-#include <fcntl.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
 #include <sys/epoll.h>
@@ -23,9 +21,7 @@
 #include <atomic>
 #include <cerrno>
 #include <chrono>
-#include <condition_variable>
 #include <cstring>
-#include <deque>
 #include <exception>
 #include <mutex>
 #include <thread>
@@ -33,10 +29,9 @@
 #include <utility>
 #include <vector>
 
-#include <netdb.h>
-
 #include "api/codec.h"
 #include "api/http_parser.h"
+#include "api/http_wire.h"
 
 namespace rollwear::api {
 namespace {
@@ -56,91 +51,6 @@ constexpr auto kLingerAfterClose = std::chrono::seconds(2);
 // further while this many answer bytes wait for it.
 constexpr size_t kMaxPendingOut = 1 << 20;
 
-const char* ReasonPhrase(int status) {
-  switch (status) {
-    case 100:
-      return "Continue";
-    case 200:
-      return "OK";
-    case 201:
-      return "Created";
-    case 202:
-      return "Accepted";
-    case 204:
-      return "No Content";
-    case 400:
-      return "Bad Request";
-    case 401:
-      return "Unauthorized";
-    case 403:
-      return "Forbidden";
-    case 404:
-      return "Not Found";
-    case 405:
-      return "Method Not Allowed";
-    case 409:
-      return "Conflict";
-    case 413:
-      return "Payload Too Large";
-    case 414:
-      return "URI Too Long";
-    case 422:
-      return "Unprocessable Content";
-    case 431:
-      return "Request Header Fields Too Large";
-    case 500:
-      return "Internal Server Error";
-    case 501:
-      return "Not Implemented";
-    case 503:
-      return "Service Unavailable";
-    case 505:
-      return "HTTP Version Not Supported";
-    default:
-      return status < 400 ? "OK" : "Error";
-  }
-}
-
-// The error body of an answer the server gives before any handler runs.
-HttpResponse ProtocolError(int status, const std::string& message) {
-  ApiError e{status, "bad_request", message, ""};
-  switch (status) {
-    case 413:
-      e.code = "payload_too_large";
-      break;
-    case 414:
-      e.code = "uri_too_long";
-      break;
-    case 431:
-      e.code = "headers_too_large";
-      break;
-    case 501:
-      e.code = "not_implemented";
-      break;
-    case 505:
-      e.code = "http_version_not_supported";
-      break;
-    case 503:
-      e.code = "unavailable";
-      break;
-    default:
-      break;
-  }
-  HttpResponse r;
-  r.status = status;
-  r.body = EncodeError(e);
-  r.route = RouteId::kUnmatched;
-  return r;
-}
-
-HttpResponse InternalError(const char* what) {
-  HttpResponse r;
-  r.status = 500;
-  r.body = EncodeError(
-      ApiError{500, "internal", std::string("internal error: ") + what, ""});
-  return r;
-}
-
 HttpResponse SafeHandle(Router* router, const HttpRequest& request) {
   try {
     return router->Handle(request);
@@ -150,52 +60,6 @@ HttpResponse SafeHandle(Router* router, const HttpRequest& request) {
     return InternalError("unknown exception");
   }
 }
-
-// A fixed pool of threads running queued tasks in order.
-class WorkerPool {
- public:
-  explicit WorkerPool(int threads) {
-    for (int i = 0; i < threads; ++i) {
-      threads_.emplace_back([this] { Run(); });
-    }
-  }
-  ~WorkerPool() {
-    {
-      std::lock_guard<std::mutex> lock(mu_);
-      stop_ = true;
-    }
-    cv_.notify_all();
-    for (std::thread& t : threads_) t.join();
-  }
-  void Post(std::function<void()> task) {
-    {
-      std::lock_guard<std::mutex> lock(mu_);
-      tasks_.push_back(std::move(task));
-    }
-    cv_.notify_one();
-  }
-
- private:
-  void Run() {
-    while (true) {
-      std::function<void()> task;
-      {
-        std::unique_lock<std::mutex> lock(mu_);
-        cv_.wait(lock, [this] { return stop_ || !tasks_.empty(); });
-        if (tasks_.empty()) return;  // stopping and drained
-        task = std::move(tasks_.front());
-        tasks_.pop_front();
-      }
-      task();
-    }
-  }
-
-  std::mutex mu_;
-  std::condition_variable cv_;
-  std::deque<std::function<void()>> tasks_;
-  bool stop_ = false;
-  std::vector<std::thread> threads_;
-};
 
 struct Conn {
   uint64_t id = 0;
@@ -296,46 +160,9 @@ struct HttpServer::Impl {
 
   // ------------------------------------------------------------ setup
   Status Bind() {
-    addrinfo hints{};
-    hints.ai_family = AF_UNSPEC;
-    hints.ai_socktype = SOCK_STREAM;
-    hints.ai_flags = AI_PASSIVE;
-    addrinfo* found = nullptr;
-    const std::string service = std::to_string(options.port);
-    if (getaddrinfo(options.bind_address.c_str(), service.c_str(), &hints,
-                    &found) != 0) {
-      return Status::Unavailable("cannot resolve bind address " +
-                                 options.bind_address);
-    }
-    int fd = -1;
-    for (addrinfo* a = found; a != nullptr; a = a->ai_next) {
-      fd = socket(a->ai_family, a->ai_socktype | SOCK_NONBLOCK | SOCK_CLOEXEC,
-                  a->ai_protocol);
-      if (fd < 0) continue;
-      // SO_REUSEADDR only (no SO_REUSEPORT): a restarted daemon can rebind
-      // through TIME_WAIT, but two daemons never share a port.
-      int yes = 1;
-      setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof(yes));
-      if (bind(fd, a->ai_addr, a->ai_addrlen) == 0 &&
-          listen(fd, SOMAXCONN) == 0) {
-        break;
-      }
-      close(fd);
-      fd = -1;
-    }
-    freeaddrinfo(found);
-    if (fd < 0) {
-      return Status::Unavailable("cannot bind " + options.bind_address + ":" +
-                                 std::to_string(options.port) +
-                                 " (address in use or not local?)");
-    }
-    sockaddr_storage bound{};
-    socklen_t len = sizeof(bound);
-    getsockname(fd, reinterpret_cast<sockaddr*>(&bound), &len);
-    port = bound.ss_family == AF_INET6
-               ? ntohs(reinterpret_cast<sockaddr_in6*>(&bound)->sin6_port)
-               : ntohs(reinterpret_cast<sockaddr_in*>(&bound)->sin_port);
-    listen_fd = fd;
+    StatusOr<int> fd = ListenOn(options.bind_address, options.port, &port);
+    if (!fd.ok()) return fd.status();
+    listen_fd = *fd;
     return Status::Ok();
   }
 
@@ -439,19 +266,6 @@ struct HttpServer::Impl {
       }
       conns.emplace(c->id, std::move(c));
     }
-  }
-
-  static std::string AddressText(const sockaddr_storage& addr) {
-    char text[INET6_ADDRSTRLEN] = {0};
-    if (addr.ss_family == AF_INET) {
-      inet_ntop(AF_INET, &reinterpret_cast<const sockaddr_in*>(&addr)->sin_addr,
-                text, sizeof(text));
-    } else if (addr.ss_family == AF_INET6) {
-      inet_ntop(AF_INET6,
-                &reinterpret_cast<const sockaddr_in6*>(&addr)->sin6_addr, text,
-                sizeof(text));
-    }
-    return text;
   }
 
   void Close(Conn* c) {
