@@ -157,6 +157,7 @@ struct HttpServer::Impl {
   std::mutex completions_mu;
   std::vector<Completion> completions;
   std::vector<Completion> completions_spare;
+  std::atomic<bool> wake_pending{false};
 
   // ------------------------------------------------------------ setup
   Status Bind() {
@@ -182,6 +183,7 @@ struct HttpServer::Impl {
           uint64_t count;
           while (read(wake_fd, &count, sizeof(count)) > 0) {
           }
+          wake_pending.store(false);
         } else {
           auto it = conns.find(tag);
           if (it == conns.end()) continue;
@@ -404,14 +406,17 @@ struct HttpServer::Impl {
   }
 
   // From any thread: hands an answer to the I/O thread.
+  // The writer answers a group's coils one after the other; one eventfd
+  // write per wake-up of the I/O thread serves them all (a wake-up is the
+  // dear part on a virtual machine). The I/O thread clears wake_pending
+  // after draining the eventfd and before it takes the queue, so a post it
+  // does not take finds the flag clear and writes again.
   void Post(Completion completion) {
-    bool wake = false;
     {
       std::lock_guard<std::mutex> lock(completions_mu);
-      wake = completions.empty();
       completions.push_back(std::move(completion));
     }
-    if (wake && std::this_thread::get_id() != loop_id) {
+    if (std::this_thread::get_id() != loop_id && !wake_pending.exchange(true)) {
       const uint64_t one = 1;
       [[maybe_unused]] const ssize_t n = write(wake_fd, &one, sizeof(one));
     }

@@ -281,6 +281,9 @@ class Loop {
   void Receive(size_t c) {
     Conn& conn = conns_[c];
     char buf[16384];
+    // A server that closes after an answer ("Connection: close") may send
+    // the answer and its FIN together: read the answer before the EOF.
+    bool closed = false;
     for (;;) {
       const ssize_t k = recv(conn.fd, buf, sizeof(buf), 0);
       if (k > 0) {
@@ -288,18 +291,24 @@ class Loop {
         continue;
       }
       if (k < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) break;
-      Lost(c, k == 0 ? "connection closed by the server"
-                     : std::string("recv: ") + std::strerror(errno));
+      if (k == 0) {
+        closed = true;
+        break;
+      }
+      Lost(c, std::string("recv: ") + std::strerror(errno));
       return;
     }
     Head head;
     bool bad = false;
-    if (!ParseHead(conn.in, &head, &bad)) return;
-    if (bad || conn.request < 0) {
+    const bool have_head = ParseHead(conn.in, &head, &bad);
+    if (have_head && (bad || conn.request < 0)) {
       Lost(c, "unexpected bytes from the server");
       return;
     }
-    if (conn.in.size() < head.head_length + head.body_length) return;
+    if (!have_head || conn.in.size() < head.head_length + head.body_length) {
+      if (closed) Lost(c, "connection closed by the server");
+      return;
+    }
     const auto now = Clock::now();
     last_answer_ = now;
     result_.latency_s.push_back(
@@ -314,7 +323,7 @@ class Loop {
     }
     conn.in.erase(0, head.head_length + head.body_length);
     conn.request = -1;
-    if (head.close) Reopen(c);
+    if (head.close || closed) Reopen(c);
   }
 
   const LoadOptions& o_;
