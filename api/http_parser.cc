@@ -8,6 +8,9 @@
 namespace rollwear::api {
 namespace {
 
+// Longest chunk-size line (size and extensions).
+constexpr size_t kMaxChunkLine = 1024;
+
 // RFC 9110 5.6.2: tchar.
 bool IsTokenChar(char c) {
   if ((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
@@ -73,6 +76,16 @@ bool HasStrayLineBreak(std::string_view line) {
 
 }  // namespace
 
+size_t MaxChunkedWireBytes(const HttpParserLimits& limits) {
+  return 2 * limits.max_body_bytes + (64 << 10);
+}
+
+size_t MaxRequestBytes(const HttpParserLimits& limits) {
+  return limits.max_request_line + 2 + limits.max_header_bytes + 4 +
+         MaxChunkedWireBytes(limits) + kMaxChunkLine + 2 +
+         limits.max_header_bytes + 2;
+}
+
 bool PercentDecode(std::string_view in, bool plus_is_space, std::string* out) {
   out->clear();
   out->reserve(in.size());
@@ -105,6 +118,7 @@ void RequestParser::Reset() {
   chunk_pos_ = 0;
   chunk_left_ = 0;
   trailer_start_ = 0;
+  first_crlf_ = std::string_view::npos;
   consumed_ = 0;
   keep_alive_ = true;
   expects_continue_ = false;
@@ -115,6 +129,7 @@ void RequestParser::Reset() {
 RequestParser::Result RequestParser::Fail(int status, std::string message) {
   error_status_ = status;
   error_message_ = std::move(message);
+  expects_continue_ = false;
   return Result::kError;
 }
 
@@ -122,39 +137,9 @@ RequestParser::Result RequestParser::Parse(std::string_view data) {
   if (error_status_ != 0) return Result::kError;
   if (phase_ == Phase::kDone) return Result::kDone;
   if (phase_ == Phase::kHead) {
-    // Resume the search for CRLFCRLF a few bytes back, so that the work
-    // stays linear however the bytes arrive.
-    const size_t from = head_scanned_ >= 3 ? head_scanned_ - 3 : 0;
-    const size_t end = data.find("\r\n\r\n", from);
-    if (end == std::string_view::npos) {
-      // A head whose lines end in a bare LF (or hold a bare CR) would never
-      // end: refuse it as soon as the stray byte is seen.
-      for (size_t i = head_scanned_; i < data.size(); ++i) {
-        if ((data[i] == '\n' && (i == 0 || data[i - 1] != '\r')) ||
-            (data[i] == '\r' && i + 1 < data.size() && data[i + 1] != '\n')) {
-          return Fail(400, "bare CR or LF in the request head");
-        }
-      }
-      if (head_scanned_ > 0 && data[head_scanned_ - 1] == '\r' &&
-          head_scanned_ < data.size() && data[head_scanned_] != '\n') {
-        return Fail(400, "bare CR or LF in the request head");
-      }
-      head_scanned_ = data.size();
-      const size_t line_end = data.find("\r\n");
-      if (line_end == std::string_view::npos &&
-          data.size() > limits_.max_request_line) {
-        return Fail(414, "the request line is longer than " +
-                             std::to_string(limits_.max_request_line) +
-                             " bytes");
-      }
-      if (line_end != std::string_view::npos &&
-          data.size() - line_end - 2 > limits_.max_header_bytes + 2) {
-        return Fail(431, "the header fields are larger than " +
-                             std::to_string(limits_.max_header_bytes) +
-                             " bytes");
-      }
-      return Result::kNeedMore;
-    }
+    const size_t end = ScanHead(data);
+    if (error_status_ != 0) return Result::kError;
+    if (end == std::string_view::npos) return Result::kNeedMore;
     const Result head = ParseHead(data.substr(0, end + 2));
     if (head == Result::kError) return head;
     body_start_ = end + 4;
@@ -169,6 +154,44 @@ RequestParser::Result RequestParser::Parse(std::string_view data) {
     return Result::kDone;
   }
   return ParseChunked(data);
+}
+
+// Looks at the head's bytes once each, in order, as if they arrived one by
+// one: the errors that show before the head is complete (a bare CR or LF,
+// a request line or field section over its limit) are found at the same
+// byte however the data is split, so the answer does not depend on the
+// split. Returns the offset of the head's final CRLFCRLF, or npos.
+size_t RequestParser::ScanHead(std::string_view data) {
+  for (size_t i = head_scanned_; i < data.size(); ++i) {
+    const char c = data[i];
+    const char prev = i > 0 ? data[i - 1] : '\0';
+    head_scanned_ = i + 1;
+    if ((c == '\n' && prev != '\r') || (prev == '\r' && c != '\n')) {
+      Fail(400, "bare CR or LF in the request head");
+      return std::string_view::npos;
+    }
+    if (c == '\n') {
+      if (first_crlf_ == std::string_view::npos) {
+        first_crlf_ = i - 1;
+      } else if (i >= 3 && data[i - 2] == '\n') {
+        return i - 3;  // "\r\n\r\n" ends here
+      }
+    }
+    // Limits, with one byte of grace for a CR whose LF has not come yet.
+    if (first_crlf_ == std::string_view::npos &&
+        i + 1 > limits_.max_request_line + 1) {
+      Fail(414, "the request line is longer than " +
+                    std::to_string(limits_.max_request_line) + " bytes");
+      return std::string_view::npos;
+    }
+    if (first_crlf_ != std::string_view::npos &&
+        i + 1 - (first_crlf_ + 2) > limits_.max_header_bytes + 2) {
+      Fail(431, "the header fields are larger than " +
+                    std::to_string(limits_.max_header_bytes) + " bytes");
+      return std::string_view::npos;
+    }
+  }
+  return std::string_view::npos;
 }
 
 RequestParser::Result RequestParser::ParseRequestLine(std::string_view line) {
@@ -332,17 +355,29 @@ RequestParser::Result RequestParser::ParseHead(std::string_view head) {
 // RFC 9112 7.1: chunk = chunk-size [ chunk-ext ] CRLF chunk-data CRLF;
 // last-chunk = 1*"0" [ chunk-ext ] CRLF; then trailer fields and CRLF.
 RequestParser::Result RequestParser::ParseChunked(std::string_view data) {
-  constexpr size_t kMaxChunkLine = 1024;
+  // Every check is made on a whole line, or on a partial line with one
+  // byte of grace for its CR, in the order the bytes come: the answer does
+  // not depend on how the data is split.
   while (true) {
     if (phase_ == Phase::kChunkSize) {
       const size_t eol = data.find("\r\n", chunk_pos_);
       if (eol == std::string_view::npos) {
-        if (data.size() - chunk_pos_ > kMaxChunkLine)
+        if (data.size() - chunk_pos_ > kMaxChunkLine + 1)
           return Fail(400, "chunk-size line too long");
         return Result::kNeedMore;
       }
       const std::string_view line = data.substr(chunk_pos_, eol - chunk_pos_);
+      if (line.size() > kMaxChunkLine) {
+        return Fail(400, "chunk-size line too long");
+      }
       if (HasStrayLineBreak(line)) return Fail(400, "bare CR or LF in a chunk");
+      // Framing counts too: tiny chunks may not make a small body take
+      // more than twice the body limit on the wire.
+      if (eol + 2 - body_start_ > MaxChunkedWireBytes(limits_)) {
+        return Fail(413, "the chunked body takes more than " +
+                             std::to_string(MaxChunkedWireBytes(limits_)) +
+                             " bytes on the wire");
+      }
       const size_t digits_end = line.find_first_of("; \t");
       const std::string_view digits = line.substr(0, digits_end);
       size_t size = 0;
@@ -385,7 +420,7 @@ RequestParser::Result RequestParser::ParseChunked(std::string_view data) {
       while (true) {
         const size_t eol = data.find("\r\n", chunk_pos_);
         if (eol == std::string_view::npos) {
-          if (data.size() - chunk_pos_ > limits_.max_header_bytes)
+          if (data.size() - trailer_start_ > limits_.max_header_bytes + 1)
             return Fail(431, "trailer fields too large");
           return Result::kNeedMore;
         }
@@ -396,6 +431,9 @@ RequestParser::Result RequestParser::ParseChunked(std::string_view data) {
         }
         if (eol - trailer_start_ > limits_.max_header_bytes) {
           return Fail(431, "trailer fields too large");
+        }
+        if (HasStrayLineBreak(data.substr(chunk_pos_, eol - chunk_pos_))) {
+          return Fail(400, "bare CR or LF in a trailer field");
         }
         chunk_pos_ = eol + 2;
       }

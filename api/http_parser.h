@@ -35,6 +35,13 @@ struct HttpParserLimits {
   size_t max_body_bytes = 1 << 20;      // larger body: 413
 };
 
+// The most bytes a chunked body may take on the wire (chunk framing
+// included): twice the body limit plus 64 KiB; more is a 413.
+size_t MaxChunkedWireBytes(const HttpParserLimits& limits);
+// The most bytes one request can take before the parser answers kDone or
+// kError: a reader may stop reading a connection's input there.
+size_t MaxRequestBytes(const HttpParserLimits& limits);
+
 class RequestParser {
  public:
   enum class Result { kNeedMore, kDone, kError };
@@ -70,6 +77,7 @@ class RequestParser {
   enum class Phase { kHead, kBody, kChunkSize, kChunkData, kTrailer, kDone };
 
   Result Fail(int status, std::string message);
+  size_t ScanHead(std::string_view data);
   Result ParseHead(std::string_view head);
   Result ParseRequestLine(std::string_view line);
   Result ParseChunked(std::string_view data);
@@ -83,6 +91,7 @@ class RequestParser {
   size_t chunk_pos_ = 0;      // offset of the next chunk-size line/data
   size_t chunk_left_ = 0;     // bytes of the current chunk not yet copied
   size_t trailer_start_ = 0;  // offset of the trailer fields
+  size_t first_crlf_ = std::string_view::npos;  // end of the request line
   size_t consumed_ = 0;
   bool keep_alive_ = true;
   bool expects_continue_ = false;

@@ -278,8 +278,7 @@ struct HttpServer::Impl {
 
   // Reads until the socket is empty (edge-triggered), then parses.
   void OnReadable(Conn* c) {
-    const size_t cap =
-        limits.max_body_bytes + limits.max_header_bytes + (64 << 10);
+    const size_t cap = MaxRequestBytes(limits) + (64 << 10);
     char buf[64 << 10];
     c->read_pending = false;
     while (true) {
@@ -358,11 +357,11 @@ struct HttpServer::Impl {
         c->in.erase(0, c->in_start);
         c->in_start = 0;
       }
+      c->head = c->parser.head();  // before the request is moved out
       HttpRequest request = std::move(c->parser.request());
       c->keep_alive = c->parser.keep_alive() &&
                       ++c->served < options.keep_alive_max_count &&
                       !stopping.load();
-      c->head = c->parser.head();
       c->parser.Reset();
       c->request_started = false;
       c->continue_sent = false;
@@ -591,7 +590,6 @@ Status HttpServer::Start() {
   impl->pool = std::make_unique<WorkerPool>(o.threads);
   impl->stopping.store(false);
   impl->loop = std::thread([impl] { impl->Run(); });
-  impl->loop_id = impl->loop.get_id();
   impl->started = true;
   return Status::Ok();
 }

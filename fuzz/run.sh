@@ -9,7 +9,7 @@
 #              built (cmake --build BUILD_DIR --target fuzz_all)
 #   SECONDS    fuzzing time per target (-max_total_time)
 #   TARGET     names without the fuzz_ prefix (default: all of them:
-#              dataset_csv api_decode config)
+#              dataset_csv api_decode config http_parser)
 #
 # Each target starts from its committed seed corpus fuzz/corpus/<target>/,
 # which is only read; the inputs libFuzzer finds go to
@@ -31,7 +31,7 @@ shift 2
   { echo "fuzz/run.sh: SECONDS must be a positive integer" >&2; exit 2; }
 fuzz_dir="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 targets=("$@")
-if [[ ${#targets[@]} -eq 0 ]]; then targets=(dataset_csv api_decode config); fi
+if [[ ${#targets[@]} -eq 0 ]]; then targets=(dataset_csv api_decode config http_parser); fi
 
 # Leaks are failures; UBSan stops at the first report (the build also uses
 # -fno-sanitize-recover=undefined).
