@@ -578,6 +578,43 @@ TEST(HttpParserTest, LongChunkExtensionInEverySplit) {
   EXPECT_EQ(Snapshot(p, r), whole);
 }
 
+// Chunk framing counts against the wire limit: a body far below the body
+// limit, sent one byte per chunk with long extensions, is a 413 once its
+// framing passes MaxChunkedWireBytes; the same body in one chunk is fine.
+TEST(HttpParserTest, ChunkFramingOverTheWireLimitIs413) {
+  HttpParserLimits limits;
+  limits.max_body_bytes = 256;
+  ASSERT_EQ(MaxChunkedWireBytes(limits), 2 * 256 + 65536u);
+  const std::string head =
+      "POST / HTTP/1.1\r\nHost: x\r\nTransfer-Encoding: chunked\r\n\r\n";
+  std::string framed = head;
+  for (int i = 0; i < 200; ++i) {
+    framed += "1;" + std::string(1000, 'x') + "\r\nA\r\n";
+  }
+  framed += "0\r\n\r\n";
+  ASSERT_GT(framed.size() - head.size(), MaxChunkedWireBytes(limits));
+  const Parsed whole = ParseWhole(framed, limits);
+  EXPECT_EQ(whole.result, Result::kError);
+  EXPECT_EQ(whole.error_status, 413);
+  RequestParser p(limits);
+  Result r = Result::kNeedMore;
+  for (size_t n = 1; n <= framed.size() && r == Result::kNeedMore; ++n) {
+    r = p.Parse(std::string_view(framed).substr(0, n));
+  }
+  EXPECT_EQ(Snapshot(p, r), whole);
+
+  const std::string plain =
+      head + "c8\r\n" + std::string(200, 'A') + "\r\n0\r\n\r\n";
+  const Parsed ok = ParseWhole(plain, limits);
+  ASSERT_EQ(ok.result, Result::kDone);
+  EXPECT_EQ(ok.body, std::string(200, 'A'));
+  // Whatever the parser can need before it answers stays below the
+  // server's read cap.
+  EXPECT_GE(MaxRequestBytes(limits), limits.max_request_line +
+                                         limits.max_header_bytes +
+                                         MaxChunkedWireBytes(limits));
+}
+
 TEST(HttpParserTest, ChunkSizeOverflowIsAnError) {
   RequestParser p;
   ASSERT_EQ(
