@@ -81,9 +81,11 @@ size_t MaxChunkedWireBytes(const HttpParserLimits& limits) {
 }
 
 size_t MaxRequestBytes(const HttpParserLimits& limits) {
+  // Head, framing up to the last chunk-size line, that chunk's data and
+  // CRLF, the trailer.
   return limits.max_request_line + 2 + limits.max_header_bytes + 4 +
          MaxChunkedWireBytes(limits) + kMaxChunkLine + 2 +
-         limits.max_header_bytes + 2;
+         limits.max_body_bytes + 2 + limits.max_header_bytes + 2;
 }
 
 bool PercentDecode(std::string_view in, bool plus_is_space, std::string* out) {
@@ -118,6 +120,8 @@ void RequestParser::Reset() {
   chunk_pos_ = 0;
   chunk_left_ = 0;
   trailer_start_ = 0;
+  trailer_scanned_ = 0;
+  http10_ = false;
   first_crlf_ = std::string_view::npos;
   consumed_ = 0;
   keep_alive_ = true;
@@ -220,7 +224,8 @@ RequestParser::Result RequestParser::ParseRequestLine(std::string_view line) {
   if (version != "HTTP/1.1" && version != "HTTP/1.0") {
     return Fail(505, "HTTP version not supported (HTTP/1.0 and 1.1 are)");
   }
-  keep_alive_ = version == "HTTP/1.1";
+  http10_ = version == "HTTP/1.0";
+  keep_alive_ = !http10_;
   if (target.empty() || target.front() != '/') {
     return Fail(400, "the request target must be an absolute path");
   }
@@ -269,6 +274,7 @@ RequestParser::Result RequestParser::ParseHead(std::string_view head) {
   if (ParseRequestLine(request_line) == Result::kError) return Result::kError;
 
   bool has_length = false;
+  bool saw_close = false;
   bool chunked = false;
   bool has_coding = false;
   size_t header_bytes = 0;
@@ -331,13 +337,19 @@ RequestParser::Result RequestParser::ParseHead(std::string_view head) {
       }
       chunked = true;
     } else if (EqualsNoCase(name, "Connection")) {
-      if (ListHas(value, "close")) keep_alive_ = false;
+      // "close" wins over "keep-alive", in any field line.
+      if (ListHas(value, "close")) saw_close = true;
       if (ListHas(value, "keep-alive")) keep_alive_ = true;
-      if (ListHas(value, "close")) keep_alive_ = false;
     } else if (EqualsNoCase(name, "Expect")) {
-      expects_continue_ = EqualsNoCase(value, "100-continue");
+      // RFC 9110 10.1.1: an HTTP/1.0 client's expectation is ignored.
+      expects_continue_ = !http10_ && EqualsNoCase(value, "100-continue");
     }
     request_.headers.emplace_back(std::string(name), std::string(value));
+  }
+  if (saw_close) keep_alive_ = false;
+  if (chunked && http10_) {
+    // RFC 9112 6.1: chunked framing on HTTP/1.0 is faulty.
+    return Fail(400, "Transfer-Encoding on an HTTP/1.0 request");
   }
   if (has_length && has_coding) {
     return Fail(400, "both Content-Length and Transfer-Encoding");
@@ -378,8 +390,16 @@ RequestParser::Result RequestParser::ParseChunked(std::string_view data) {
                              std::to_string(MaxChunkedWireBytes(limits_)) +
                              " bytes on the wire");
       }
+      // chunk-size [ BWS ";" chunk-ext ]: after the hex digits only blanks
+      // and then ";" (or the end of the line).
       const size_t digits_end = line.find_first_of("; \t");
       const std::string_view digits = line.substr(0, digits_end);
+      if (digits_end != std::string_view::npos) {
+        const size_t after = line.find_first_not_of(" \t", digits_end);
+        if (after != std::string_view::npos && line[after] != ';') {
+          return Fail(400, "malformed chunk size");
+        }
+      }
       size_t size = 0;
       const auto [end, ec] = std::from_chars(
           digits.data(), digits.data() + digits.size(), size, 16);
@@ -395,6 +415,7 @@ RequestParser::Result RequestParser::ParseChunked(std::string_view data) {
       if (size == 0) {
         phase_ = Phase::kTrailer;
         trailer_start_ = chunk_pos_;
+        trailer_scanned_ = chunk_pos_;
       } else {
         chunk_left_ = size;
         phase_ = Phase::kChunkData;
@@ -418,8 +439,11 @@ RequestParser::Result RequestParser::ParseChunked(std::string_view data) {
     if (phase_ == Phase::kTrailer) {
       // Trailer fields are read and dropped; an empty line ends them.
       while (true) {
-        const size_t eol = data.find("\r\n", chunk_pos_);
+        // Resume the search where the last call stopped (linear work).
+        const size_t eol =
+            data.find("\r\n", std::max(chunk_pos_, trailer_scanned_));
         if (eol == std::string_view::npos) {
+          trailer_scanned_ = data.size() - 1;
           if (data.size() - trailer_start_ > limits_.max_header_bytes + 1)
             return Fail(431, "trailer fields too large");
           return Result::kNeedMore;

@@ -7,8 +7,9 @@
 // that could be read two ways by two parsers (request smuggling) is a 400:
 // both Content-Length and Transfer-Encoding, two different Content-Length
 // values, white space before a field's colon, obsolete line folding, a
-// bare LF or CR. A transfer coding other than chunked is a 501, a version
-// other than HTTP/1.0 or 1.1 a 505.
+// bare LF or CR, chunked framing on HTTP/1.0, junk after a chunk size. A
+// transfer coding other than chunked is a 501, a version other than
+// HTTP/1.0 or 1.1 a 505. "Connection: close" wins over "keep-alive".
 //
 // Use: append what the socket gives to one buffer and call Parse() on the
 // unconsumed part (the buffer must keep the bytes already seen); kDone
@@ -61,6 +62,8 @@ class RequestParser {
   // After kDone: whether the connection may serve another request
   // (HTTP/1.1 without "Connection: close", or HTTP/1.0 with keep-alive).
   bool keep_alive() const { return keep_alive_; }
+  // The request line says HTTP/1.0 (its kept-alive answer must say so).
+  bool http10() const { return http10_; }
   // The request is a HEAD (its answer has no body).
   bool head() const { return request_.method == "HEAD"; }
   // The field section is complete and the client waits for "100 Continue"
@@ -88,9 +91,11 @@ class RequestParser {
   size_t head_scanned_ = 0;  // bytes searched for the end of the head
   size_t body_start_ = 0;    // offset of the body in the data
   size_t content_length_ = 0;
-  size_t chunk_pos_ = 0;      // offset of the next chunk-size line/data
-  size_t chunk_left_ = 0;     // bytes of the current chunk not yet copied
-  size_t trailer_start_ = 0;  // offset of the trailer fields
+  size_t chunk_pos_ = 0;        // offset of the next chunk-size line/data
+  size_t chunk_left_ = 0;       // bytes of the current chunk not yet copied
+  size_t trailer_start_ = 0;    // offset of the trailer fields
+  size_t trailer_scanned_ = 0;  // where the search for CRLF resumes
+  bool http10_ = false;
   size_t first_crlf_ = std::string_view::npos;  // end of the request line
   size_t consumed_ = 0;
   bool keep_alive_ = true;

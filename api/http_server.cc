@@ -85,6 +85,7 @@ struct Conn {
   size_t request_bytes = 0;
   bool keep_alive = true;
   bool head = false;
+  bool http10 = false;
   Clock::time_point started;
 
   explicit Conn(const HttpParserLimits& limits) : parser(limits) {}
@@ -122,8 +123,12 @@ bool HttpServerOptions::IsValid(std::string* error) const {
     *error = "header limits must be >= 8 fields and >= 1024 bytes";
     return false;
   }
-  if (payload_max_bytes < 256) {
-    *error = "payload limit must be >= 256 bytes";
+  if (payload_max_bytes < 256 || payload_max_bytes > (size_t{1} << 30)) {
+    *error = "payload limit must be in [256 B, 1 GiB]";
+    return false;
+  }
+  if (max_header_bytes > (size_t{1} << 20) || max_header_count > 10000) {
+    *error = "header limits must be <= 1 MiB and <= 10000 fields";
     return false;
   }
   if (bind_address.empty()) {
@@ -191,8 +196,14 @@ struct HttpServer::Impl {
           if (events[i].events & EPOLLOUT) {
             Flush(c);
             if (!conns.count(tag)) continue;
-            // Requests held back while answers were pending.
-            if (!c->busy && c->out_sent == c->out.size()) ProcessInput(c);
+            // Requests (or input) held back while answers were pending.
+            if (!c->busy && c->out_sent == c->out.size()) {
+              if (c->read_pending) {
+                OnReadable(c);
+              } else {
+                ProcessInput(c);
+              }
+            }
             if (!conns.count(tag)) continue;
           }
           if (events[i].events & (EPOLLIN | EPOLLRDHUP | EPOLLHUP | EPOLLERR))
@@ -220,7 +231,10 @@ struct HttpServer::Impl {
     }
     std::vector<Conn*> idle;
     for (auto& [id, c] : conns) {
-      if (!c->busy && c->out_sent == c->out.size()) idle.push_back(c.get());
+      // A lingering connection closes by itself within kLingerAfterClose.
+      if (!c->busy && !c->lingering && c->out_sent == c->out.size()) {
+        idle.push_back(c.get());
+      }
     }
     for (Conn* c : idle) Close(c);
     return in_flight == 0 && conns.empty();
@@ -276,8 +290,31 @@ struct HttpServer::Impl {
     conns.erase(c->id);  // destroys *c
   }
 
-  // Reads until the socket is empty (edge-triggered), then parses.
+  // Reads until the socket is empty (edge-triggered) and parses, again
+  // while reading stopped at the input cap and the requests read were
+  // answered in place. May close `c`.
   void OnReadable(Conn* c) {
+    const uint64_t id = c->id;
+    while (true) {
+      ReadSocket(c);
+      if (c->lingering) {
+        if (c->peer_closed) Close(c);
+        return;
+      }
+      ProcessInput(c);
+      if (!conns.count(id)) return;
+      if (!c->read_pending || c->busy || c->close_after_write ||
+          c->out.size() - c->out_sent >= kMaxPendingOut) {
+        break;
+      }
+    }
+    // A peer that closed its side gets the answers it asked for; then the
+    // connection goes.
+    if (c->peer_closed && !c->busy && c->out_sent == c->out.size()) Close(c);
+  }
+
+  // Reads what the socket has, up to the input cap (then read_pending).
+  void ReadSocket(Conn* c) {
     const size_t cap = MaxRequestBytes(limits) + (64 << 10);
     char buf[64 << 10];
     c->read_pending = false;
@@ -296,18 +333,6 @@ struct HttpServer::Impl {
       c->peer_closed = true;  // EOF or error
       break;
     }
-    if (c->lingering) {
-      if (c->peer_closed) Close(c);
-      return;
-    }
-    const uint64_t id = c->id;
-    ProcessInput(c);
-    auto it = conns.find(id);
-    if (it == conns.end()) return;
-    c = it->second.get();
-    // A peer that closed its side gets the answers it asked for; then the
-    // connection goes.
-    if (c->peer_closed && !c->busy && c->out_sent == c->out.size()) Close(c);
   }
 
   // Parses and dispatches requests until one is with the router or the
@@ -358,6 +383,7 @@ struct HttpServer::Impl {
         c->in_start = 0;
       }
       c->head = c->parser.head();  // before the request is moved out
+      c->http10 = c->parser.http10();
       HttpRequest request = std::move(c->parser.request());
       c->keep_alive = c->parser.keep_alive() &&
                       ++c->served < options.keep_alive_max_count &&
@@ -388,11 +414,18 @@ struct HttpServer::Impl {
       case Execution::kAsync:
         ++in_flight;
         try {
-          router->HandleAsync(request, [this, id](HttpResponse response) {
-            Post(Completion{id, std::move(response)});
-          });
+          router->HandleAsync(
+              request,
+              [this, id](HttpResponse response) {
+                Post(Completion{id, std::move(response)});
+              },
+              [this](std::function<void()> task) {
+                pool->Post(std::move(task));
+              });
         } catch (const std::exception& e) {
           Post(Completion{id, InternalError(e.what())});
+        } catch (...) {
+          Post(Completion{id, InternalError("unknown exception")});
         }
         return;
       case Execution::kBlocking:
@@ -409,12 +442,12 @@ struct HttpServer::Impl {
   // write per wake-up of the I/O thread serves them all (a wake-up is the
   // dear part on a virtual machine). The I/O thread clears wake_pending
   // after draining the eventfd and before it takes the queue, so a post it
-  // does not take finds the flag clear and writes again.
+  // does not take finds the flag clear and writes again. The write is made
+  // under the lock: the I/O thread cannot take this completion (and let
+  // Stop() free the server) before Post is done with it.
   void Post(Completion completion) {
-    {
-      std::lock_guard<std::mutex> lock(completions_mu);
-      completions.push_back(std::move(completion));
-    }
+    std::lock_guard<std::mutex> lock(completions_mu);
+    completions.push_back(std::move(completion));
     if (std::this_thread::get_id() != loop_id && !wake_pending.exchange(true)) {
       const uint64_t one = 1;
       [[maybe_unused]] const ssize_t n = write(wake_fd, &one, sizeof(one));
@@ -489,9 +522,12 @@ struct HttpServer::Impl {
       out += value;
       out += "\r\n";
     }
+    if (stopping.load()) c->keep_alive = false;
     if (!c->keep_alive) {
       out += "Connection: close\r\n";
       c->close_after_write = true;
+    } else if (c->http10) {
+      out += "Connection: keep-alive\r\n";
     }
     out += "\r\n";
     if (!c->head) out += response.body;
@@ -589,6 +625,8 @@ Status HttpServer::Start() {
   epoll_ctl(impl->epoll_fd, EPOLL_CTL_ADD, impl->wake_fd, &ev);
   impl->pool = std::make_unique<WorkerPool>(o.threads);
   impl->stopping.store(false);
+  impl->wake_pending.store(false);
+  impl->accept_paused = false;
   impl->loop = std::thread([impl] { impl->Run(); });
   impl->started = true;
   return Status::Ok();

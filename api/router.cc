@@ -385,9 +385,8 @@ HttpResponse Router::PostCoil(const HttpRequest& request) {
   return CoilAnswer(in, store_->AddCoil(in));
 }
 
-HttpResponse Router::CoilAnswer(
-    const storage::CoilIn& in,
-    const StatusOr<storage::CoilOutcome>& outcome) {
+HttpResponse Router::CoilAnswer(const storage::CoilIn& in,
+                                const StatusOr<storage::CoilOutcome>& outcome) {
   if (!outcome.ok()) return FromStatus(outcome.status());
   const bool created = outcome->outcome == storage::WriteOutcome::kCreated;
   if (created) metrics_.CountCoilIngested();
@@ -409,11 +408,11 @@ Execution Router::Plan(const HttpRequest& request) const {
   }
 }
 
-void Router::HandleAsync(const HttpRequest& request, Done done) {
+void Router::HandleAsync(const HttpRequest& request, Done done,
+                         const storage::MillStore::Executor& blocking) {
   std::string arg1, arg2;
-  if (request.method != "POST" ||
-      MatchRoute(request.path, /*post=*/true, &arg1, &arg2) !=
-          RouteId::kCoils) {
+  if (request.method != "POST" || MatchRoute(request.path, /*post=*/true, &arg1,
+                                             &arg2) != RouteId::kCoils) {
     done(Handle(request));
     return;
   }
@@ -431,18 +430,22 @@ void Router::HandleAsync(const HttpRequest& request, Done done) {
     return;
   }
   store_->AddCoilAsync(
-      *in, [this, in, done = std::move(done)](
-               StatusOr<storage::CoilOutcome> outcome) {
+      *in,
+      [this, in,
+       done = std::move(done)](StatusOr<storage::CoilOutcome> outcome) {
         HttpResponse response;
         try {
           response = CoilAnswer(*in, outcome);
         } catch (const std::exception& e) {
-          response =
-              Error(500, "internal", std::string("internal error: ") + e.what());
+          response = Error(500, "internal",
+                           std::string("internal error: ") + e.what());
+        } catch (...) {
+          response = Error(500, "internal", "internal error");
         }
         response.route = RouteId::kCoils;
         done(std::move(response));
-      });
+      },
+      blocking);
 }
 
 HttpResponse Router::GetWear() {

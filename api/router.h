@@ -100,11 +100,14 @@ class Router {
   // this request.
   Execution Plan(const HttpRequest& request) const;
   // The answer of Handle(), given to `done` exactly once: for a coil that
-  // is queued, on the store's writer thread after its group commit;
-  // otherwise on the calling thread before HandleAsync returns (so only
-  // kAsync and kInline requests belong here). `done` must be quick.
+  // is queued, on the store's writer thread after its group commit; for
+  // the repeat of a stored coil, through `blocking` (it reads the first
+  // answer from the database); otherwise on the calling thread before
+  // HandleAsync returns (so only kAsync and kInline requests belong here).
+  // `done` must be quick.
   using Done = std::function<void(HttpResponse)>;
-  void HandleAsync(const HttpRequest& request, Done done);
+  void HandleAsync(const HttpRequest& request, Done done,
+                   const storage::MillStore::Executor& blocking);
 
   // Request and calibration figures exposed by GET /metrics; the HTTP server
   // records request latencies here, the scheduler calibration runs.

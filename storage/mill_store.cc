@@ -314,7 +314,8 @@ StatusOr<CoilOutcome> MillStoreImpl::AddCoil(const CoilIn& in) {
   return item->coil_outcome;
 }
 
-void MillStoreImpl::AddCoilAsync(const CoilIn& in, CoilDone done) {
+void MillStoreImpl::AddCoilAsync(const CoilIn& in, CoilDone done,
+                                 const Executor& blocking) {
   const Status fields = CheckCoilFields(in);
   if (!fields.ok()) {
     done(fields);
@@ -340,7 +341,9 @@ void MillStoreImpl::AddCoilAsync(const CoilIn& in, CoilDone done) {
   if (!queued.ok()) {
     done(queued);
   } else if (immediate) {
-    done(OutcomeForStored(item->coil));
+    blocking([this, coil = std::move(item->coil), done = std::move(done)] {
+      done(OutcomeForStored(coil));
+    });
   }
 }
 

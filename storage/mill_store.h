@@ -214,12 +214,16 @@ class MillStore {
   virtual StatusOr<CoilOutcome> AddCoil(const CoilIn& in) = 0;
   // AddCoil without waiting for the commit. `done` is called exactly once
   // with what AddCoil would have returned: on the calling thread, before
-  // AddCoilAsync returns, when the coil is refused or repeats a committed
-  // one; otherwise on the store's writer thread once the coil's group is
-  // durable (or has failed). `done` must be quick and must not call the
-  // store's writes (it runs between two group commits).
+  // AddCoilAsync returns, when the coil is refused; through `blocking`
+  // when it repeats a committed coil (its first answer is read from the
+  // database); otherwise on the store's writer thread once the coil's
+  // group is durable (or has failed). `done` must be quick and must not
+  // call the store's writes (it runs between two group commits).
   using CoilDone = std::function<void(StatusOr<CoilOutcome>)>;
-  virtual void AddCoilAsync(const CoilIn& in, CoilDone done) = 0;
+  // Runs a task on a thread that may wait on SQLite.
+  using Executor = std::function<void(std::function<void()>)>;
+  virtual void AddCoilAsync(const CoilIn& in, CoilDone done,
+                            const Executor& blocking) = 0;
   virtual StatusOr<WriteOutcome> AddMeasurement(const MeasurementIn& in) = 0;
 
   // The rolls of the open campaign (none once it has ended and no roll
@@ -258,12 +262,9 @@ class MillStore {
   // candidate was not fitted on), and it is promoted when no worse. Runs
   // one at a time with RunCalibration. Returns the run's record (done or
   // failed); an error only when the run could not be recorded.
-  virtual StatusOr<CalibrationRecord> ProposeModel(const std::string& trigger,
-                                                   const std::string& model,
-                                                   int option,
-                                                   const WearModel& candidate,
-                                                   const Dataset& data,
-                                                   uint64_t split_seed) = 0;
+  virtual StatusOr<CalibrationRecord> ProposeModel(
+      const std::string& trigger, const std::string& model, int option,
+      const WearModel& candidate, const Dataset& data, uint64_t split_seed) = 0;
   virtual StatusOr<CalibrationRecord> GetCalibration(int64_t id) const = 0;
   virtual std::vector<CalibrationRecord> ListCalibrations(int limit) const = 0;
 

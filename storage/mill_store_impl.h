@@ -111,7 +111,8 @@ class MillStoreImpl final : public MillStore {
   StatusOr<WriteOutcome> EndCampaign(const std::string& campaign_id,
                                      UnixSeconds ended_at) override;
   StatusOr<CoilOutcome> AddCoil(const CoilIn& in) override;
-  void AddCoilAsync(const CoilIn& in, CoilDone done) override;
+  void AddCoilAsync(const CoilIn& in, CoilDone done,
+                    const Executor& blocking) override;
   StatusOr<WriteOutcome> AddMeasurement(const MeasurementIn& in) override;
 
   WearSnapshot Wear() const override;

@@ -807,3 +807,52 @@ TEST(HttpParserTest, LargeChunkedBodyByteByByte) {
 
 }  // namespace
 }  // namespace rollwear::api
+
+namespace rollwear::api {
+namespace {
+
+// "close" in any Connection line wins over "keep-alive" in another.
+TEST(HttpParserReviewTest, CloseWinsAcrossConnectionLines) {
+  for (const char* data :
+       {"GET / HTTP/1.1\r\nConnection: close\r\nConnection: keep-alive\r\n\r\n",
+        "GET / HTTP/1.1\r\nConnection: keep-alive\r\nConnection: close\r\n\r\n",
+        "GET / HTTP/1.0\r\nConnection: keep-alive, close\r\n\r\n"}) {
+    RequestParser p;
+    ASSERT_EQ(p.Parse(data), RequestParser::Result::kDone) << data;
+    EXPECT_FALSE(p.keep_alive()) << data;
+  }
+}
+
+// RFC 9112 6.1: chunked framing on HTTP/1.0 is faulty; RFC 9110 10.1.1: an
+// HTTP/1.0 client's Expect is ignored.
+TEST(HttpParserReviewTest, Http10ChunkedIs400AndExpectIsIgnored) {
+  ExpectError(
+      "POST / HTTP/1.0\r\nTransfer-Encoding: chunked\r\n\r\n3\r\nabc\r\n0\r\n"
+      "\r\n",
+      400);
+  RequestParser p;
+  ASSERT_EQ(p.Parse("POST / HTTP/1.0\r\nExpect: 100-continue\r\n"
+                    "Content-Length: 3\r\n\r\n"),
+            RequestParser::Result::kNeedMore);
+  EXPECT_TRUE(p.headers_done());
+  EXPECT_FALSE(p.expects_continue());
+  EXPECT_TRUE(p.http10());
+}
+
+// After the hex digits of a chunk size only blanks and ";" may follow.
+TEST(HttpParserReviewTest, JunkAfterAChunkSizeIs400) {
+  const std::string head =
+      "POST / HTTP/1.1\r\nHost: x\r\nTransfer-Encoding: chunked\r\n\r\n";
+  for (const char* line : {"5 xyz", "5\tfoo", "5 5", "5x"}) {
+    ExpectError(head + line + "\r\nhello\r\n0\r\n\r\n", 400);
+  }
+  for (const char* line : {"5", "5 ", "5 ;a=b", "5;a", "5\t; q=\"x\""}) {
+    RequestParser p;
+    const std::string data = head + line + "\r\nhello\r\n0\r\n\r\n";
+    ASSERT_EQ(p.Parse(data), RequestParser::Result::kDone) << line;
+    EXPECT_EQ(p.request().body, "hello") << line;
+  }
+}
+
+}  // namespace
+}  // namespace rollwear::api

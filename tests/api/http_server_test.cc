@@ -439,6 +439,8 @@ TEST_F(HttpServerTest, Http10KeepAliveStaysOpen) {
     const std::optional<RawResponse> r = conn.Read();
     ASSERT_TRUE(r) << i;
     EXPECT_EQ(r->status, 200);
+    // An HTTP/1.0 client closes unless the answer says keep-alive.
+    EXPECT_EQ(Lower(r->Header("connection")), "keep-alive") << i;
   }
 }
 

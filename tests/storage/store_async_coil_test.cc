@@ -1,8 +1,9 @@
 // MillStore::AddCoilAsync, the coil path of the epoll server: every call
-// gets exactly one answer; a refusal or the repeat of a committed coil is
-// answered on the calling thread before the call returns, a new coil on the
-// writer thread once its group is committed (so never before it is
-// durable); and the answers equal those of the blocking AddCoil.
+// gets exactly one answer; a refusal is answered on the calling thread
+// before the call returns, the repeat of a committed coil through the
+// executor for blocking work (its answer is read from the database), a new
+// coil on the writer thread once its group is committed (so never before
+// it is durable); and the answers equal those of the blocking AddCoil.
 #include <atomic>
 #include <condition_variable>
 #include <map>
@@ -25,6 +26,17 @@ using testing::OpenStore;
 using testing::TempDir;
 
 std::string CoilId(int i) { return "A" + std::to_string(100000 + i); }
+
+// Runs blocking work at once on the calling thread, counting it.
+struct InlineExecutor {
+  std::atomic<int> tasks{0};
+  MillStore::Executor Get() {
+    return [this](std::function<void()> task) {
+      ++tasks;
+      task();
+    };
+  }
+};
 
 // Collects the answers of AddCoilAsync calls.
 class Answers {
@@ -76,9 +88,11 @@ TEST(StoreAsyncCoilTest, AnswersOnceAndLikeTheBlockingCall) {
 
   constexpr int kCoils = 400;
   Answers answers;
+  InlineExecutor blocking;
   const int64_t commits_before = store->Counters().commits;
   for (int i = 0; i < kCoils; ++i) {
-    store->AddCoilAsync(MakeCoil(CoilId(i), "C1", i + 1, i), answers.Slot(i));
+    store->AddCoilAsync(MakeCoil(CoilId(i), "C1", i + 1, i), answers.Slot(i),
+                        blocking.Get());
   }
   answers.WaitFor(kCoils);
   const std::thread::id me = std::this_thread::get_id();
@@ -104,17 +118,23 @@ TEST(StoreAsyncCoilTest, AnswersOnceAndLikeTheBlockingCall) {
   EXPECT_EQ(store->Counters().coils, kCoils);
   ExpectWearMatchesBatch(*store, 1e-9);
 
-  // Refusals and repeats of committed coils: answered before the call
-  // returns, on the calling thread.
+  EXPECT_EQ(blocking.tasks.load(), 0) << "new coils need no blocking work";
+
+  // Refusals, and repeats of committed coils through the executor (inline
+  // here): answered before the call returns.
   Answers now;
-  store->AddCoilAsync(MakeCoil(CoilId(7), "C1", 8, 7), now.Slot(0));
+  store->AddCoilAsync(MakeCoil(CoilId(7), "C1", 8, 7), now.Slot(0),
+                      blocking.Get());
+  EXPECT_EQ(blocking.tasks.load(), 1) << "a repeat reads the database";
   CoilIn changed = MakeCoil(CoilId(7), "C1", 8, 7);
   changed.passes[0].force_kn += 1;
-  store->AddCoilAsync(changed, now.Slot(1));
+  store->AddCoilAsync(changed, now.Slot(1), blocking.Get());
   CoilIn bad = MakeCoil("A-bad", "C1", 9999, 9999);
   bad.passes[0].force_kn = -1;
-  store->AddCoilAsync(bad, now.Slot(2));
-  store->AddCoilAsync(MakeCoil("A-x", "no-such-campaign", 1, 1), now.Slot(3));
+  store->AddCoilAsync(bad, now.Slot(2), blocking.Get());
+  store->AddCoilAsync(MakeCoil("A-x", "no-such-campaign", 1, 1), now.Slot(3),
+                      blocking.Get());
+  EXPECT_EQ(blocking.tasks.load(), 1) << "refusals need no blocking work";
   for (int k = 0; k < 4; ++k) {
     ASSERT_EQ(now.Calls(k), 1) << k;
     EXPECT_EQ(now.Thread(k), me) << k;
@@ -137,7 +157,8 @@ TEST(StoreAsyncCoilTest, QueuedCoilsAreAnsweredWhenTheStoreCloses) {
   for (int i = 0; i < kCoils; ++i) {
     store->AddCoilAsync(
         MakeCoil(CoilId(i), "C1", i + 1, i),
-        [&](StatusOr<CoilOutcome> outcome) { (outcome.ok() ? ok : failed)++; });
+        [&](StatusOr<CoilOutcome> outcome) { (outcome.ok() ? ok : failed)++; },
+        [](std::function<void()> task) { task(); });
   }
   store.reset();  // drains the queue: every coil committed and answered
   EXPECT_EQ(ok.load() + failed.load(), kCoils);
