@@ -448,13 +448,16 @@ RequestParser::Result RequestParser::ParseChunked(std::string_view data) {
             return Fail(431, "trailer fields too large");
           return Result::kNeedMore;
         }
+        // Lines and their CRLFs must fit the limit, as in the head; the
+        // final empty line is measured like the others (a partial line is
+        // given one byte of grace for its CR above).
+        if (eol - trailer_start_ > limits_.max_header_bytes) {
+          return Fail(431, "trailer fields too large");
+        }
         if (eol == chunk_pos_) {
           consumed_ = eol + 2;
           phase_ = Phase::kDone;
           return Result::kDone;
-        }
-        if (eol - trailer_start_ > limits_.max_header_bytes) {
-          return Fail(431, "trailer fields too large");
         }
         if (HasStrayLineBreak(data.substr(chunk_pos_, eol - chunk_pos_))) {
           return Fail(400, "bare CR or LF in a trailer field");

@@ -856,3 +856,31 @@ TEST(HttpParserReviewTest, JunkAfterAChunkSizeIs400) {
 
 }  // namespace
 }  // namespace rollwear::api
+
+namespace rollwear::api {
+namespace {
+
+// The fuzzer's find: a trailer section ending at the limit, or one byte
+// below it, gets the same answer in one piece and byte by byte.
+TEST(HttpParserReviewTest, TrailerAtTheLimitInEverySplit) {
+  HttpParserLimits limits;
+  limits.max_header_bytes = 1024;
+  for (size_t line = 1015; line <= 1026; ++line) {
+    const std::string data =
+        "POST /a HTTP/1.1\r\nTransfer-Encoding: chunked\r\n\r\n0\r\nX:" +
+        std::string(line - 2, 'a') + "\r\n\r\n";
+    const Parsed whole = ParseWhole(data, limits);
+    RequestParser p(limits);
+    Result r = Result::kNeedMore;
+    for (size_t n = 1; n <= data.size() && r == Result::kNeedMore; ++n) {
+      r = p.Parse(std::string_view(data).substr(0, n));
+    }
+    EXPECT_EQ(Snapshot(p, r), whole) << "trailer line of " << line << " bytes";
+    // Short trailers pass, long ones are 431.
+    if (line + 2 <= 1024) EXPECT_EQ(whole.result, Result::kDone) << line;
+    if (line > 1024) EXPECT_EQ(whole.error_status, 431) << line;
+  }
+}
+
+}  // namespace
+}  // namespace rollwear::api
