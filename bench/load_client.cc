@@ -82,7 +82,8 @@ struct Conn {
   int64_t next_paced = -1;  // open loop: this connection's next request
   bool watch_out = false;   // EPOLLOUT requested
   size_t sent = 0;
-  Clock::time_point origin;  // latency is measured from here
+  Clock::time_point origin;   // latency is measured from here
+  Clock::time_point sent_at;  // when the client got to send it
   std::string in;
 };
 
@@ -94,6 +95,7 @@ class Loop {
   LoadResult Run() {
     const double cpu0 = ThreadCpuSeconds();
     result_.latency_s.reserve(requests_.size());
+    result_.from_send_s.reserve(requests_.size());
     epoll_ = epoll_create1(EPOLL_CLOEXEC);
     timer_ = timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC);
     epoll_event ev{};
@@ -221,6 +223,7 @@ class Loop {
       conn.request = i;
       conn.sent = 0;
       conn.origin = o_.rate > 0 ? Due(i) : now;
+      conn.sent_at = now;
       Send(c);
     }
     if (wake != Clock::time_point::max()) {
@@ -313,6 +316,8 @@ class Loop {
     last_answer_ = now;
     result_.latency_s.push_back(
         std::chrono::duration<double>(now - conn.origin).count());
+    result_.from_send_s.push_back(
+        std::chrono::duration<double>(now - conn.sent_at).count());
     ++result_.answered;
     ++result_.statuses[head.status];
     if (o_.expect_status != 0 && head.status != o_.expect_status) {

@@ -39,8 +39,11 @@ struct LoadOptions {
 
 struct LoadResult {
   int64_t answered = 0;
-  int64_t failures = 0;             // other status, lost answer, timeout
-  std::vector<double> latency_s;    // one per answered request
+  int64_t failures = 0;           // other status, lost answer, timeout
+  std::vector<double> latency_s;  // one per answered request
+  // The same from the moment the request was sent (open loop: without the
+  // time the client's own timer fired late).
+  std::vector<double> from_send_s;
   std::map<int, int64_t> statuses;  // status code -> count
   double seconds = 0;               // first send to last answer
   double client_cpu_s = 0;          // this thread's user+system CPU
