@@ -117,6 +117,18 @@ Parsed ParseByteByByte(std::string_view data, HttpParserLimits limits = {}) {
   return Snapshot(p, r);
 }
 
+// Grows the prefix one byte at a time until the parser answers (kDone or
+// kError, unlike ParseByteByByte an early error is allowed) and returns
+// the snapshot then.
+Parsed ParseGrowing(std::string_view data, HttpParserLimits limits = {}) {
+  RequestParser p(limits);
+  Result r = Result::kNeedMore;
+  for (size_t n = 1; n <= data.size() && r == Result::kNeedMore; ++n) {
+    r = p.Parse(data.substr(0, n));
+  }
+  return Snapshot(p, r);
+}
+
 // ------------------------------------------------------------ basics
 
 TEST(HttpParserTest, GetWithQueryStringIsDecoded) {
@@ -570,12 +582,7 @@ TEST(HttpParserTest, LongChunkExtensionInEverySplit) {
       "2;ext=" +
       std::string(1100, 'e') + "\r\nok\r\n0\r\n\r\n";
   const Parsed whole = ParseWhole(data);
-  RequestParser p;
-  Result r = Result::kNeedMore;
-  for (size_t n = 1; n <= data.size() && r == Result::kNeedMore; ++n) {
-    r = p.Parse(std::string_view(data).substr(0, n));
-  }
-  EXPECT_EQ(Snapshot(p, r), whole);
+  EXPECT_EQ(ParseGrowing(data), whole);
 }
 
 // Chunk framing counts against the wire limit: a body far below the body
@@ -596,12 +603,7 @@ TEST(HttpParserTest, ChunkFramingOverTheWireLimitIs413) {
   const Parsed whole = ParseWhole(framed, limits);
   EXPECT_EQ(whole.result, Result::kError);
   EXPECT_EQ(whole.error_status, 413);
-  RequestParser p(limits);
-  Result r = Result::kNeedMore;
-  for (size_t n = 1; n <= framed.size() && r == Result::kNeedMore; ++n) {
-    r = p.Parse(std::string_view(framed).substr(0, n));
-  }
-  EXPECT_EQ(Snapshot(p, r), whole);
+  EXPECT_EQ(ParseGrowing(framed, limits), whole);
 
   const std::string plain =
       head + "c8\r\n" + std::string(200, 'A') + "\r\n0\r\n\r\n";
@@ -870,12 +872,8 @@ TEST(HttpParserReviewTest, TrailerAtTheLimitInEverySplit) {
         "POST /a HTTP/1.1\r\nTransfer-Encoding: chunked\r\n\r\n0\r\nX:" +
         std::string(line - 2, 'a') + "\r\n\r\n";
     const Parsed whole = ParseWhole(data, limits);
-    RequestParser p(limits);
-    Result r = Result::kNeedMore;
-    for (size_t n = 1; n <= data.size() && r == Result::kNeedMore; ++n) {
-      r = p.Parse(std::string_view(data).substr(0, n));
-    }
-    EXPECT_EQ(Snapshot(p, r), whole) << "trailer line of " << line << " bytes";
+    EXPECT_EQ(ParseGrowing(data, limits), whole)
+        << "trailer line of " << line << " bytes";
     // Short trailers pass, long ones are 431.
     if (line + 2 <= 1024) EXPECT_EQ(whole.result, Result::kDone) << line;
     if (line > 1024) EXPECT_EQ(whole.error_status, 431) << line;
