@@ -302,29 +302,33 @@ StatusOr<WriteOutcome> MillStoreImpl::EndCampaign(
   return item->unchanged ? WriteOutcome::kUnchanged : WriteOutcome::kCreated;
 }
 
-StatusOr<CoilOutcome> MillStoreImpl::AddCoil(const CoilIn& in) {
+StatusOr<MillStoreImpl::ItemPtr> MillStoreImpl::CoilItem(
+    const CoilIn& in) const {
   ROLLWEAR_RETURN_IF_ERROR(CheckCoilFields(in));
   auto item = std::make_shared<WriteItem>();
   item->kind = WriteKind::kCoil;
   item->coil_in = in;
   item->coil = CanonicalCoil(in);
+  return item;
+}
+
+StatusOr<CoilOutcome> MillStoreImpl::AddCoil(const CoilIn& in) {
+  StatusOr<ItemPtr> item = CoilItem(in);
+  if (!item.ok()) return item.status();
   bool immediate = false;
-  ROLLWEAR_RETURN_IF_ERROR(Submit(item, &immediate));
-  if (immediate) return OutcomeForStored(item->coil);
-  return item->coil_outcome;
+  ROLLWEAR_RETURN_IF_ERROR(Submit(*item, &immediate));
+  if (immediate) return OutcomeForStored((*item)->coil);
+  return (*item)->coil_outcome;
 }
 
 void MillStoreImpl::AddCoilAsync(const CoilIn& in, CoilDone done,
                                  const Executor& blocking) {
-  const Status fields = CheckCoilFields(in);
-  if (!fields.ok()) {
-    done(fields);
+  StatusOr<ItemPtr> made = CoilItem(in);
+  if (!made.ok()) {
+    done(made.status());
     return;
   }
-  auto item = std::make_shared<WriteItem>();
-  item->kind = WriteKind::kCoil;
-  item->coil_in = in;
-  item->coil = CanonicalCoil(in);
+  ItemPtr item = std::move(made).value();
   // The writer calls this once the item is finished; the item owns the
   // callback, and the callback sees the item through a raw pointer (no
   // cycle: the writer drops its reference after the call).

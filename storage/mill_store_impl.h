@@ -156,6 +156,8 @@ class MillStoreImpl final : public MillStore {
   // Queues `item` for the writer (Submit then waits for it). Refused or
   // answered at admission (*immediate): nothing is queued.
   Status Enqueue(const ItemPtr& item, bool* immediate);
+  // A coil write item, or the error of its fields (AddCoil, AddCoilAsync).
+  StatusOr<ItemPtr> CoilItem(const CoilIn& in) const;
   Status Submit(const ItemPtr& item, bool* immediate);
   Status RunTask(std::function<Status(Db*)> task,
                  std::function<void(Db*)> after_commit);
