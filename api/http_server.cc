@@ -180,6 +180,7 @@ struct HttpServer::Impl {
     while (true) {
       const int n = epoll_wait(epoll_fd, events.data(),
                                static_cast<int>(events.size()), kSweepMs);
+      if (n > 0 && options.on_activity) options.on_activity();
       for (int i = 0; i < n; ++i) {
         const uint64_t tag = events[i].data.u64;
         if (tag == kListenTag) {

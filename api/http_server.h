@@ -66,6 +66,10 @@ struct HttpServerOptions {
   bool tcp_nodelay = true;
   // Called after every request on the serving thread; may be empty.
   std::function<void(const RequestLogEntry&)> on_request;
+  // Called on the I/O thread each time it wakes up with work (input,
+  // a new connection, a completion), before handling it; may be empty.
+  // Must be cheap: it runs ahead of every batch of requests.
+  std::function<void()> on_activity;
 
   bool IsValid(std::string* error) const;
 };

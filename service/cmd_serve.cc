@@ -5,6 +5,7 @@
 // background worker, and stops gracefully on SIGINT/SIGTERM (stop accepting,
 // finish in-flight requests and the running calibration, close the
 // database). Prints the URL it listens on as its first line on stdout.
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <memory>
@@ -17,6 +18,7 @@
 #include "api/router.h"
 #include "service/commands.h"
 #include "service/config.h"
+#include "service/cpu_latency.h"
 #include "service/flags.h"
 #include "service/scheduler.h"
 #include "storage/mill_store.h"
@@ -27,6 +29,11 @@ namespace {
 constexpr const char* kUsage =
     "usage: rollwear serve --db FILE [--port N] [--config FILE] "
     "[--bind ADDR] [--log-level LEVEL] [--threads N]";
+
+// How long the CPU wake-up limit stays held after the last request: long
+// enough that a steady stream (one wear read every few seconds) keeps it,
+// short enough that an idle daemon lets the CPUs sleep.
+constexpr std::chrono::seconds kCpuLatencyReleaseAfter{10};
 
 void SetUpLogging(const std::string& level) {
   auto logger = spdlog::stderr_logger_mt("rollwear");
@@ -92,6 +99,28 @@ int RunServe(const Args& args) {
   sigaddset(&stop_signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
   signal(SIGPIPE, SIG_IGN);
+
+  // Opened before the database is touched, so a setting that cannot be
+  // honoured stops the start with nothing done.
+  std::unique_ptr<service::CpuLatencyHold> cpu_latency;
+  if (config.cpu_wakeup_latency_us >= 0) {
+    StatusOr<std::unique_ptr<service::CpuLatencyHold>> hold =
+        service::CpuLatencyHold::Open(config.cpu_wakeup_latency_us,
+                                      kCpuLatencyReleaseAfter);
+    if (!hold.ok()) {
+      spdlog::error("cpu_wakeup_latency_us={}: {}",
+                    config.cpu_wakeup_latency_us, hold.status().message());
+      std::fprintf(stderr, "rollwear serve: cpu_wakeup_latency_us=%d: %s\n",
+                   config.cpu_wakeup_latency_us,
+                   hold.status().message().c_str());
+      return 1;
+    }
+    cpu_latency = std::move(hold).value();
+    spdlog::info(
+        "cpu wake-up latency limit {} us held while requests arrive, "
+        "released after {} s without one",
+        config.cpu_wakeup_latency_us, kCpuLatencyReleaseAfter.count());
+  }
 
   storage::StoreOptions store_options;
   store_options.default_law = config.model;
@@ -165,6 +194,9 @@ int RunServe(const Args& args) {
           e.method, e.path, e.status, e.seconds * 1e3, e.request_bytes,
           e.response_bytes, e.remote_addr);
     };
+  }
+  if (cpu_latency) {
+    http.on_activity = [hold = cpu_latency.get()] { hold->Touch(); };
   }
   api::HttpServer server(&router, http);
   const Status started = server.Start();

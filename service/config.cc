@@ -81,7 +81,8 @@ const std::vector<std::string>& ConfigKeys() {
                                                  "threads",
                                                  "keep_alive_max",
                                                  "keep_alive_timeout",
-                                                 "log_level"};
+                                                 "log_level",
+                                                 "cpu_wakeup_latency_us"};
   return kKeys;
 }
 
@@ -138,6 +139,15 @@ Status SetConfigValue(const std::string& key, const std::string& value,
                  value);
     }
     c->log_level = value;
+  } else if (key == "cpu_wakeup_latency_us") {
+    if (value == "off") {
+      c->cpu_wakeup_latency_us = -1;
+    } else if (!ParseInt(value, 0, 1000000, &n)) {
+      return Bad(where, key, "must be an integer in [0, 1000000] or off",
+                 value);
+    } else {
+      c->cpu_wakeup_latency_us = static_cast<int>(n);
+    }
   } else {
     std::string known;
     for (const std::string& k : ConfigKeys()) {

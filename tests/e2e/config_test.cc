@@ -38,7 +38,8 @@ TEST(ConfigTest, ParsesEveryKeyWithCommentsAndQuotes) {
       "threads = 16\n"
       "keep_alive_max = 500\n"
       "keep_alive_timeout = 10\n"
-      "log_level = debug\n",
+      "log_level = debug\n"
+      "cpu_wakeup_latency_us = 0\n",
       "rollwear.conf", &c);
   ASSERT_TRUE(s.ok()) << s.ToString();
   EXPECT_EQ(c.port, 9090);
@@ -53,6 +54,28 @@ TEST(ConfigTest, ParsesEveryKeyWithCommentsAndQuotes) {
   EXPECT_EQ(c.keep_alive_max, 500);
   EXPECT_EQ(c.keep_alive_timeout_s, 10);
   EXPECT_EQ(c.log_level, "debug");
+  EXPECT_EQ(c.cpu_wakeup_latency_us, 0);
+}
+
+TEST(ConfigTest, CpuWakeupLatencyIsOffByDefaultAndRangeChecked) {
+  ServeConfig c;
+  EXPECT_EQ(c.cpu_wakeup_latency_us, -1);
+  ASSERT_TRUE(
+      ParseConfigText("cpu_wakeup_latency_us = 50\n", "a.conf", &c).ok());
+  EXPECT_EQ(c.cpu_wakeup_latency_us, 50);
+  ASSERT_TRUE(
+      ParseConfigText("cpu_wakeup_latency_us = off\n", "a.conf", &c).ok());
+  EXPECT_EQ(c.cpu_wakeup_latency_us, -1);
+  for (const char* bad : {"-1", "1000001", "fast", "1.5"}) {
+    const Status s = ParseConfigText(
+        std::string("\ncpu_wakeup_latency_us = ") + bad + "\n", "a.conf", &c);
+    ASSERT_FALSE(s.ok()) << bad;
+    EXPECT_EQ(s.message(),
+              std::string("a.conf:2: cpu_wakeup_latency_us: must be an integer "
+                          "in [0, 1000000] or off, got '") +
+                  bad + "'");
+    EXPECT_EQ(c.cpu_wakeup_latency_us, -1);  // unchanged
+  }
 }
 
 TEST(ConfigTest, ErrorsNameFileLineAndKey) {

@@ -1,0 +1,173 @@
+// service/cpu_latency: the CPU latency QoS hold, on a regular file (which
+// records every value written, 4 bytes each) and, where this process may
+// write it, on the kernel's /dev/cpu_dma_latency through the real daemon.
+#include "service/cpu_latency.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "tests/e2e/e2e_util.h"
+
+namespace rollwear::service {
+namespace {
+
+using std::chrono::milliseconds;
+
+// The s32 values written to `path`, in order.
+std::vector<int32_t> Written(const std::string& path) {
+  const std::string bytes = e2e::ReadFile(path);
+  std::vector<int32_t> values(bytes.size() / sizeof(int32_t));
+  std::memcpy(values.data(), bytes.data(), values.size() * sizeof(int32_t));
+  return values;
+}
+
+// Polls `done` for up to `limit`.
+template <typename F>
+bool WaitFor(F done, milliseconds limit) {
+  const auto end = std::chrono::steady_clock::now() + limit;
+  while (!done()) {
+    if (std::chrono::steady_clock::now() > end) return false;
+    std::this_thread::sleep_for(milliseconds(2));
+  }
+  return true;
+}
+
+TEST(CpuLatencyHoldTest, HoldsWhileTouchedAndReleasesWhenIdle) {
+  e2e::TempDir dir;
+  const std::string device = dir / "qos";
+  {
+    std::FILE* f = std::fopen(device.c_str(), "w");
+    std::fclose(f);
+  }
+  auto hold = CpuLatencyHold::Open(0, milliseconds(80), device);
+  ASSERT_TRUE(hold.ok()) << hold.status().ToString();
+  CpuLatencyHold& h = **hold;
+  EXPECT_FALSE(h.engaged());
+  EXPECT_TRUE(Written(device).empty());  // opening asks for nothing
+
+  // A stream of requests 10 ms apart for 300 ms: one write, held through.
+  const auto start = std::chrono::steady_clock::now();
+  while (std::chrono::steady_clock::now() - start < milliseconds(300)) {
+    h.Touch();
+    EXPECT_TRUE(h.engaged());
+    std::this_thread::sleep_for(milliseconds(10));
+  }
+  EXPECT_EQ(Written(device), std::vector<int32_t>({0}));
+  EXPECT_EQ(h.engagements(), 1);
+  EXPECT_EQ(h.releases(), 0);
+
+  // Idle: released (PM_QOS_DEFAULT_VALUE, -1) once, 80 ms after the last
+  // touch, and not before half of that.
+  const auto idle_from = std::chrono::steady_clock::now();
+  ASSERT_TRUE(WaitFor([&] { return !h.engaged(); }, milliseconds(2000)));
+  EXPECT_GE(std::chrono::steady_clock::now() - idle_from, milliseconds(40));
+  EXPECT_EQ(Written(device), std::vector<int32_t>({0, -1}));
+  EXPECT_EQ(h.releases(), 1);
+
+  // The next request holds it again.
+  h.Touch();
+  EXPECT_TRUE(h.engaged());
+  EXPECT_EQ(Written(device), std::vector<int32_t>({0, -1, 0}));
+}
+
+TEST(CpuLatencyHoldTest, ConcurrentTouchesWriteTheLimitOnce) {
+  e2e::TempDir dir;
+  const std::string device = dir / "qos";
+  {
+    std::FILE* f = std::fopen(device.c_str(), "w");
+    std::fclose(f);
+  }
+  auto hold = CpuLatencyHold::Open(25, milliseconds(60000), device);
+  ASSERT_TRUE(hold.ok()) << hold.status().ToString();
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 8; ++t) {
+    threads.emplace_back([&] {
+      for (int i = 0; i < 1000; ++i) (*hold)->Touch();
+    });
+  }
+  for (std::thread& t : threads) t.join();
+  EXPECT_EQ(Written(device), std::vector<int32_t>({25}));
+  EXPECT_EQ((*hold)->engagements(), 1);
+}
+
+TEST(CpuLatencyHoldTest, RefusesBadLimitsAndUnopenableDevices) {
+  e2e::TempDir dir;
+  auto bad = CpuLatencyHold::Open(-1, milliseconds(10), dir / "x");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.status().code(), StatusCode::kInvalidArgument);
+  auto missing = CpuLatencyHold::Open(0, milliseconds(10), dir / "no/such");
+  ASSERT_FALSE(missing.ok());
+  EXPECT_EQ(missing.status().code(), StatusCode::kIoError);
+  EXPECT_NE(missing.status().message().find(dir / "no/such"),
+            std::string::npos);
+  EXPECT_NE(missing.status().message().find("No such file"), std::string::npos)
+      << missing.status().message();
+  auto directory = CpuLatencyHold::Open(0, milliseconds(10), dir.path());
+  ASSERT_FALSE(directory.ok());
+  EXPECT_NE(directory.status().message().find("cannot open for writing"),
+            std::string::npos);
+}
+
+// The kernel's aggregated CPU latency limit (a read of the device returns
+// it as an s32); -1 when the device cannot be read.
+int64_t KernelLimit() {
+  const int fd = open(kCpuLatencyDevice, O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return -1;
+  int32_t value = 0;
+  const ssize_t n = read(fd, &value, sizeof(value));
+  close(fd);
+  return n == sizeof(value) ? value : -1;
+}
+
+// The daemon with cpu_wakeup_latency_us set holds the limit once a request
+// came in, and the kernel drops it when the daemon exits.
+TEST(CpuLatencyHoldTest, DaemonHoldsTheKernelLimitWhileServing) {
+  if (access(kCpuLatencyDevice, W_OK) != 0) {
+    GTEST_SKIP() << kCpuLatencyDevice << " is not writable here";
+  }
+  constexpr int kLimitUs = 7;
+  const int64_t before = KernelLimit();
+  if (before <= kLimitUs) {
+    GTEST_SKIP() << "another holder already asks for " << before << " us";
+  }
+  e2e::TempDir dir;
+  e2e::Daemon daemon(
+      dir / "w.db", dir / "serve.log", 0, {},
+      {"ROLLWEAR_CPU_WAKEUP_LATENCY_US=" + std::to_string(kLimitUs)});
+  std::string error;
+  ASSERT_TRUE(daemon.Start(&error)) << error;
+  nlohmann::json body;
+  ASSERT_EQ(e2e::HttpGet(daemon.url(), "/v1/wear", &body), 200);
+  EXPECT_EQ(KernelLimit(), kLimitUs);
+  EXPECT_EQ(daemon.Terminate(), 0);
+  EXPECT_EQ(KernelLimit(), before);
+  EXPECT_NE(e2e::ReadFile(dir / "serve.log")
+                .find("cpu wake-up latency limit 7 us held"),
+            std::string::npos);
+}
+
+TEST(CpuLatencyHoldTest, DaemonRefusesABadLimitBeforeTouchingTheDatabase) {
+  e2e::TempDir dir;
+  e2e::Subprocess serve({ROLLWEAR_BINARY, "serve", "--db", dir / "w.db"},
+                        dir / "serve.log",
+                        {"ROLLWEAR_CPU_WAKEUP_LATENCY_US=fast"});
+  EXPECT_EQ(serve.Wait(60), 2);
+  EXPECT_NE(e2e::ReadFile(dir / "serve.log")
+                .find("ROLLWEAR_CPU_WAKEUP_LATENCY_US: cpu_wakeup_latency_us: "
+                      "must be an integer in [0, 1000000] or off, got 'fast'"),
+            std::string::npos)
+      << e2e::ReadFile(dir / "serve.log");
+  EXPECT_EQ(access((dir / "w.db").c_str(), F_OK), -1);
+}
+
+}  // namespace
+}  // namespace rollwear::service
