@@ -48,15 +48,15 @@ TEST(CpuLatencyHoldTest, HoldsWhileTouchedAndReleasesWhenIdle) {
     std::FILE* f = std::fopen(device.c_str(), "w");
     std::fclose(f);
   }
-  auto hold = CpuLatencyHold::Open(0, milliseconds(80), device);
+  auto hold = CpuLatencyHold::Open(0, milliseconds(300), device);
   ASSERT_TRUE(hold.ok()) << hold.status().ToString();
   CpuLatencyHold& h = **hold;
   EXPECT_FALSE(h.engaged());
   EXPECT_TRUE(Written(device).empty());  // opening asks for nothing
 
-  // A stream of requests 10 ms apart for 300 ms: one write, held through.
+  // A stream of requests 10 ms apart for 600 ms: one write, held through.
   const auto start = std::chrono::steady_clock::now();
-  while (std::chrono::steady_clock::now() - start < milliseconds(300)) {
+  while (std::chrono::steady_clock::now() - start < milliseconds(600)) {
     h.Touch();
     EXPECT_TRUE(h.engaged());
     std::this_thread::sleep_for(milliseconds(10));
@@ -65,11 +65,11 @@ TEST(CpuLatencyHoldTest, HoldsWhileTouchedAndReleasesWhenIdle) {
   EXPECT_EQ(h.engagements(), 1);
   EXPECT_EQ(h.releases(), 0);
 
-  // Idle: released (PM_QOS_DEFAULT_VALUE, -1) once, 80 ms after the last
+  // Idle: released (PM_QOS_DEFAULT_VALUE, -1) once, 300 ms after the last
   // touch, and not before half of that.
   const auto idle_from = std::chrono::steady_clock::now();
   ASSERT_TRUE(WaitFor([&] { return !h.engaged(); }, milliseconds(2000)));
-  EXPECT_GE(std::chrono::steady_clock::now() - idle_from, milliseconds(40));
+  EXPECT_GE(std::chrono::steady_clock::now() - idle_from, milliseconds(150));
   EXPECT_EQ(Written(device), std::vector<int32_t>({0, -1}));
   EXPECT_EQ(h.releases(), 1);
 
