@@ -87,6 +87,9 @@ HttpResponse Router::GetDashboard() {
                                         : model->model + ", option " +
                                               std::to_string(model->option);
     if (model->version > 0) d.model_gap_val_um = model->gap_val_um;
+    for (const ModelTerm& t : model->wear_model.terms) {
+      d.parity_reading_terms |= t.IsMeasurementTerm();
+    }
   }
   for (const storage::PositionWear& p : wear.positions) {
     DashboardRoll r;
@@ -124,7 +127,7 @@ HttpResponse Router::GetDashboard() {
         if (!h.measured_um) continue;
         d.parity.push_back(DashboardParityPoint{
             h.stand, PositionName(h.position), c.campaign_id, *h.measured_um,
-            h.final_predicted_um});
+            h.expected_reading_um});
       }
     }
   }

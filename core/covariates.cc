@@ -47,7 +47,7 @@ std::vector<CovariateSpec> CovariateCatalog(const Dataset& data) {
       {"diameter_mm", S::kDiameter, L::kRoll, K::kNumeric},
       {"hardness_hb", S::kHardness, L::kRoll, K::kNumeric},
       {"started_at", S::kStartedAt, L::kCampaign, K::kNumeric},
-      {"cooling_h", S::kCoolingHours, L::kMeasurement, K::kNumeric},
+      {kCoolingHoursName, S::kCoolingHours, L::kMeasurement, K::kNumeric},
   };
   AddExtras(data.pass_extra, L::kPass, S::kPassExtraNumeric, S::kPassExtraFactor,
             true, &c);
@@ -95,9 +95,8 @@ double CovariateValue(const CovariateSpec& spec, const Dataset& data,
       return static_cast<double>(ctx.campaign->started_at - origin) / 86400.0;
     case CovariateSource::kCoolingHours:
       if (ctx.measurement_row < 0) return kNaN;
-      return static_cast<double>(data.measurements[ctx.measurement_row].measured_at -
-                                 ctx.campaign->ended_at) /
-             3600.0;
+      return CoolingHours(data.measurements[ctx.measurement_row].measured_at,
+                          ctx.campaign->ended_at);
     case CovariateSource::kPassExtraNumeric:
       return data.pass_extra.numeric[spec.extra_column][ctx.pass_row];
     case CovariateSource::kMountExtraNumeric:

@@ -65,6 +65,13 @@ struct PassContext {
   int coils_before = 0;
 };
 
+// cooling_h: hours from the campaign's end to the grinder's measurement
+// (negative when measured before the recorded end).
+inline constexpr const char* kCoolingHoursName = "cooling_h";
+inline double CoolingHours(UnixSeconds measured_at, UnixSeconds ended_at) {
+  return static_cast<double>(measured_at - ended_at) / 3600.0;
+}
+
 // Value of a numeric or flag covariate (factor level index for factors, as
 // a double). NaN when missing (e.g. cooling_h of an unmeasured campaign, an
 // empty extra cell). started_at is given in days since `origin` (rollwear

@@ -269,7 +269,11 @@ std::string ParitySection(const DashboardData& d) {
   std::string s =
       "<section id=\"parity\"><h2>Measured against predicted, last " +
       std::to_string(d.parity_campaigns) +
-      " measured campaigns <small>per stand, active model</small></h2>\n";
+      " measured campaigns <small>per stand, active model" +
+      std::string(d.parity_reading_terms
+                      ? "; predicted wear plus the model's measurement terms"
+                      : "") +
+      "</small></h2>\n";
   std::map<int, std::vector<const DashboardParityPoint*>> by_stand;
   for (const DashboardParityPoint& p : d.parity)
     by_stand[p.stand].push_back(&p);
@@ -284,7 +288,8 @@ std::string ParitySection(const DashboardData& d) {
     PlotSpec spec;
     spec.title = StandName(stand);
     spec.x_label = "measured wear (µm)";
-    spec.y_label = "predicted wear (µm)";
+    spec.y_label = d.parity_reading_terms ? "predicted reading (µm)"
+                                          : "predicted wear (µm)";
     spec.identity_line = true;
     spec.width = 830 / columns;
     spec.height = n <= 2 ? 315 : 250;

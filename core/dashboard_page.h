@@ -49,7 +49,9 @@ struct DashboardParityPoint {
   std::string position;  // "top" / "bottom"
   std::string campaign_id;
   double measured_um = 0;
-  double predicted_um = 0;  // under the active model
+  // Under the active model: the predicted wear plus its measurement terms
+  // (what the grinder is expected to read; see parity_reading_terms).
+  double predicted_um = 0;
 };
 
 struct DashboardCalibration {
@@ -90,6 +92,9 @@ struct DashboardData {
   std::vector<DashboardRoll> rolls;  // by stand, top first
   int parity_campaigns = 0;          // campaigns behind `parity`
   std::vector<DashboardParityPoint> parity;
+  // The active model has measurement terms: the parity plots' y axis is the
+  // expected grinder reading, not the wear alone.
+  bool parity_reading_terms = false;
   std::vector<DashboardCalibration> calibrations;  // newest first
   std::optional<DashboardFinding> diagnosis;
   int refresh_seconds = 15;

@@ -1,33 +1,35 @@
 #include "core/model_eval.h"
 
+#include <cmath>
+#include <limits>
+
 #include "core/covariates.h"
 #include "core/predictor.h"
 
 namespace rollwear {
 namespace {
 
-// Sum of the measurement terms' offsets for measurement `mi` of mount `m`.
+// Sum of the measurement terms' offsets for measurement `measurement` of
+// mount `mount`.
 double MeasurementOffset(const WearModel& model, const Dataset& data,
                          const std::vector<CovariateSpec>& catalog,
                          int campaign, int mount, int measurement) {
-  double offset = 0;
-  for (const ModelTerm& t : model.terms) {
-    if (!t.IsMeasurementTerm()) continue;
+  PassContext ctx;
+  ctx.mount = &data.mounts[mount];
+  ctx.mount_row = mount;
+  ctx.campaign = &data.campaigns[campaign];
+  ctx.campaign_row = campaign;
+  ctx.measurement_row = measurement;
+  return MeasurementTermsOffset(model, [&](const std::string& name) {
     for (const CovariateSpec& spec : catalog) {
       // Measurement terms act on measurement-level covariates only (a
       // pass-level one has no pass here; RefitWithTerms refuses them).
-      if (spec.name != t.covariate || spec.level != CovariateLevel::kMeasurement) continue;
-      PassContext ctx;
-      ctx.mount = &data.mounts[mount];
-      ctx.mount_row = mount;
-      ctx.campaign = &data.campaigns[campaign];
-      ctx.campaign_row = campaign;
-      ctx.measurement_row = measurement;
-      offset += TermOffset(t, CovariateValue(spec, data, ctx, 0), nullptr);
-      break;
+      if (spec.name == name && spec.level == CovariateLevel::kMeasurement) {
+        return CovariateValue(spec, data, ctx, 0);
+      }
     }
-  }
-  return offset;
+    return std::numeric_limits<double>::quiet_NaN();
+  });
 }
 
 }  // namespace
@@ -69,6 +71,18 @@ std::vector<MeasuredPrediction> PredictMeasured(
     }
   }
   return out;
+}
+
+double MeasurementTermsOffset(
+    const WearModel& model,
+    const std::function<double(const std::string& covariate)>& value) {
+  double offset = 0;
+  for (const ModelTerm& t : model.terms) {
+    if (!t.IsMeasurementTerm()) continue;
+    const double z = value(t.covariate);
+    if (!std::isnan(z)) offset += TermOffset(t, z, nullptr);
+  }
+  return offset;
 }
 
 FitMetrics MetricsOfPredictions(const std::vector<MeasuredPrediction>& p) {

@@ -10,6 +10,8 @@
 #ifndef ROLLWEAR_CORE_MODEL_EVAL_H_
 #define ROLLWEAR_CORE_MODEL_EVAL_H_
 
+#include <functional>
+#include <string>
 #include <vector>
 
 #include "core/dataset.h"
@@ -33,6 +35,15 @@ struct MeasuredPrediction {
 std::vector<MeasuredPrediction> PredictMeasured(
     const WearModel& model, const Dataset& data, const DatasetIndex& index,
     const std::vector<int>& campaigns);
+
+// What the grinder reads besides the wear: the sum of `model`'s measurement
+// terms (model_terms.h, offset forms) at the measurement's covariate values.
+// `value(covariate)` gives a measurement-level covariate's value, NaN when
+// it is unknown; a term on an unknown covariate adds nothing. 0 for a model
+// without measurement terms.
+double MeasurementTermsOffset(
+    const WearModel& model,
+    const std::function<double(const std::string& covariate)>& value);
 
 // Eq. 9 cost and average gap of `expected_um` against `measured_um`, each
 // roll position slot a group of Eq. 9.

@@ -3,12 +3,17 @@
 // after every coil) and the last ended, measured campaigns under the active
 // model, on the read connection. The replay is the one that restores the
 // live state on start (same passes, same order, same model), so the open
-// campaign's last points equal Wear().
+// campaign's last points equal Wear(). A measured roll also gets what the
+// grinder is expected to read (core/model_eval.h: the model's measurement
+// terms added), the number validation compares with the measurement.
 #include <algorithm>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <vector>
 
+#include "core/covariates.h"
+#include "core/model_eval.h"
 #include "storage/mill_store_impl.h"
 #include "storage/store_sql.h"
 
@@ -77,8 +82,18 @@ Status ReplayInto(Db* db, const CampaignRec& rec, const WearModel& model,
     }
   }
   for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
-    if (index[slot] >= 0) {
-      out->rolls[index[slot]].final_predicted_um = states[slot]->wear_um;
+    if (index[slot] < 0) continue;
+    RollWearHistory& h = out->rolls[index[slot]];
+    h.final_predicted_um = states[slot]->wear_um;
+    h.expected_reading_um = h.final_predicted_um;
+    const auto& measured = rec.measurements[slot];
+    if (measured.has_value() && rec.ended_at.has_value()) {
+      h.expected_reading_um +=
+          MeasurementTermsOffset(model, [&](const std::string& covariate) {
+            return covariate == kCoolingHoursName
+                       ? CoolingHours(measured->measured_at, *rec.ended_at)
+                       : std::numeric_limits<double>::quiet_NaN();
+          });
     }
   }
   return Status::Ok();
