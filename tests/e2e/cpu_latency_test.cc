@@ -30,6 +30,14 @@ std::vector<int32_t> Written(const std::string& path) {
   return values;
 }
 
+// An empty regular file standing in for the device, in `dir`.
+std::string FakeDevice(const e2e::TempDir& dir) {
+  const std::string path = dir / "qos";
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (f != nullptr) std::fclose(f);
+  return path;
+}
+
 // Polls `done` for up to `limit`.
 template <typename F>
 bool WaitFor(F done, milliseconds limit) {
@@ -43,11 +51,7 @@ bool WaitFor(F done, milliseconds limit) {
 
 TEST(CpuLatencyHoldTest, HoldsWhileTouchedAndReleasesWhenIdle) {
   e2e::TempDir dir;
-  const std::string device = dir / "qos";
-  {
-    std::FILE* f = std::fopen(device.c_str(), "w");
-    std::fclose(f);
-  }
+  const std::string device = FakeDevice(dir);
   auto hold = CpuLatencyHold::Open(0, milliseconds(300), device);
   ASSERT_TRUE(hold.ok()) << hold.status().ToString();
   CpuLatencyHold& h = **hold;
@@ -81,11 +85,7 @@ TEST(CpuLatencyHoldTest, HoldsWhileTouchedAndReleasesWhenIdle) {
 
 TEST(CpuLatencyHoldTest, ConcurrentTouchesWriteTheLimitOnce) {
   e2e::TempDir dir;
-  const std::string device = dir / "qos";
-  {
-    std::FILE* f = std::fopen(device.c_str(), "w");
-    std::fclose(f);
-  }
+  const std::string device = FakeDevice(dir);
   auto hold = CpuLatencyHold::Open(25, milliseconds(60000), device);
   ASSERT_TRUE(hold.ok()) << hold.status().ToString();
   std::vector<std::thread> threads;

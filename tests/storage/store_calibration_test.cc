@@ -4,7 +4,6 @@
 // recorded as failed without touching the active model.
 #include <gtest/gtest.h>
 
-#include "core/simulator.h"
 #include "storage/mill_store.h"
 #include "storage/sqlite_db.h"
 #include "tests/storage/store_test_util.h"
@@ -17,23 +16,14 @@ using testing::MakeCoil;
 using testing::MakeMeasurement;
 using testing::MakeRollChange;
 using testing::OpenStore;
+using testing::SimulatedMill;
 using testing::TempDir;
-
-Dataset SimulatedMill(int campaigns) {
-  SimulatorOptions o;
-  o.seed = 11;
-  o.num_campaigns = campaigns;
-  o.coils_per_campaign = 60;
-  StatusOr<Simulation> sim = Simulate(o);
-  EXPECT_TRUE(sim.ok()) << sim.status().ToString();
-  return sim.ok() ? std::move(sim->data) : Dataset{};
-}
 
 TEST(StoreCalibrationTest, RunOnSimulatedDataPromotesAndRepredicts) {
   TempDir dir;
   auto store = OpenStore(dir.File("mill.db"));
   ASSERT_NE(store, nullptr);
-  const Dataset data = SimulatedMill(60);
+  const Dataset data = SimulatedMill(11, 60, 60);
   ASSERT_TRUE(store->ImportDataset(data).ok());
   EXPECT_GT(store->Counters().measurements_since_last_calibration, 0);
   // An open campaign with coils, re-predicted after the promotion.

@@ -9,7 +9,6 @@
 
 #include <gtest/gtest.h>
 
-#include "core/simulator.h"
 #include "storage/mill_store.h"
 #include "storage/sqlite_db.h"
 #include "tests/storage/store_test_util.h"
@@ -151,13 +150,8 @@ TEST(StoreCoilAnswerTest, ConcurrentTwinsAllGetTheCreatedAnswer) {
 }
 
 TEST(StoreCoilAnswerTest, AfterAPromotionARepeatStillGetsItsFirstAnswer) {
-  SimulatorOptions o;
-  o.seed = 11;
-  o.num_campaigns = 45;
-  o.coils_per_campaign = 60;
-  StatusOr<Simulation> sim = Simulate(o);
-  ASSERT_TRUE(sim.ok()) << sim.status().ToString();
-  const Dataset& data = sim->data;
+  const Dataset data = testing::SimulatedMill(11, 45, 60);
+  ASSERT_FALSE(data.campaigns.empty());
   TempDir dir;
   auto store = OpenStore(dir.File("mill.db"));
   ASSERT_NE(store, nullptr);

@@ -11,7 +11,6 @@
 
 #include "core/diagnosis.h"
 #include "core/model_eval.h"
-#include "core/simulator.h"
 #include "storage/mill_store.h"
 #include "tests/storage/store_test_util.h"
 
@@ -19,18 +18,8 @@ namespace rollwear::storage {
 namespace {
 
 using testing::OpenStore;
+using testing::SimulatedMill;
 using testing::TempDir;
-
-Dataset WarmMeasurementMill() {
-  SimulatorOptions o;
-  o.seed = 21;
-  o.num_campaigns = 60;
-  o.coils_per_campaign = 40;
-  o.effects = {"warm_measurement"};
-  StatusOr<Simulation> sim = Simulate(o);
-  EXPECT_TRUE(sim.ok()) << sim.status().ToString();
-  return sim.ok() ? std::move(sim->data) : Dataset{};
-}
 
 // (campaign id, "stand/position") -> expected reading, by the offline
 // evaluation of `model` over `data`.
@@ -88,7 +77,7 @@ TEST(StoreHistoryTest, ParityUsesTheExpectedReadingWithMeasurementTerms) {
   TempDir dir;
   auto store = OpenStore(dir.File("mill.db"));
   ASSERT_NE(store, nullptr);
-  const Dataset mill = WarmMeasurementMill();
+  const Dataset mill = SimulatedMill(21, 60, 40, {"warm_measurement"});
   ASSERT_TRUE(store->ImportDataset(mill).ok());
   StatusOr<int64_t> id = store->EnqueueCalibration("api", WearLaw::kWang, 1);
   ASSERT_TRUE(id.ok());

@@ -9,7 +9,6 @@
 
 #include "core/diagnosis.h"
 #include "core/predictor.h"
-#include "core/simulator.h"
 #include "storage/mill_store.h"
 #include "tests/storage/store_test_util.h"
 
@@ -20,18 +19,8 @@ using testing::MakeCoil;
 using testing::MakeRollChange;
 using testing::OpenStore;
 using testing::RelDiff;
+using testing::SimulatedMill;
 using testing::TempDir;
-
-Dataset GrowthMill() {
-  SimulatorOptions o;
-  o.seed = 12;
-  o.num_campaigns = 160;
-  o.coils_per_campaign = 80;
-  o.effects = {"campaign_growth"};
-  StatusOr<Simulation> sim = Simulate(o);
-  EXPECT_TRUE(sim.ok()) << sim.status().ToString();
-  return sim.ok() ? std::move(sim->data) : Dataset{};
-}
 
 // Live wear of the open campaign equals the active model run coil by coil
 // over the stored passes (terms and network included).
@@ -83,7 +72,9 @@ TEST(StoreModelsTest, AdoptedTermsArePromotedServedAndKeptByTheNightlyRun) {
   TempDir dir;
   auto store = OpenStore(dir.File("mill.db"));
   ASSERT_NE(store, nullptr);
-  ASSERT_TRUE(store->ImportDataset(GrowthMill()).ok());
+  ASSERT_TRUE(
+      store->ImportDataset(SimulatedMill(12, 160, 80, {"campaign_growth"}))
+          .ok());
   StatusOr<int64_t> id = store->EnqueueCalibration("api", WearLaw::kWang, 1);
   ASSERT_TRUE(id.ok());
   ASSERT_TRUE(store->RunCalibration(*id).ok());
@@ -114,8 +105,8 @@ TEST(StoreModelsTest, AdoptedTermsArePromotedServedAndKeptByTheNightlyRun) {
 
   // The adopted model itself: promoted, its validation gap below the
   // classical model's on the same campaigns.
-  StatusOr<CalibrationRecord> run =
-      store->ProposeModel("diagnosis 1", "wang", 1, report->adopted_model, *data, 1);
+  StatusOr<CalibrationRecord> run = store->ProposeModel(
+      "diagnosis 1", "wang", 1, report->adopted_model, *data, 1);
   ASSERT_TRUE(run.ok()) << run.status().ToString();
   EXPECT_EQ(run->status, CalibrationStatus::kDone);
   EXPECT_EQ(run->trigger, "diagnosis 1");
@@ -184,7 +175,9 @@ TEST(StoreModelsTest, AnnRunIsRecordedAndTheNetworkIsServedAcrossRestarts) {
   TempDir dir;
   auto store = OpenStore(dir.File("mill.db"));
   ASSERT_NE(store, nullptr);
-  ASSERT_TRUE(store->ImportDataset(GrowthMill()).ok());
+  ASSERT_TRUE(
+      store->ImportDataset(SimulatedMill(12, 160, 80, {"campaign_growth"}))
+          .ok());
   OpenCampaignWithCoils(store.get(), 30);
   StatusOr<int64_t> id = store->EnqueueAnnTraining("api");
   ASSERT_TRUE(id.ok());

@@ -1,6 +1,7 @@
 #include "tests/storage/store_test_util.h"
 
 #include "core/aggregation.h"
+#include "core/simulator.h"
 #include "storage/model_levels.h"
 
 namespace rollwear::storage::testing {
@@ -47,6 +48,18 @@ void ExpectWearMatchesBatch(const MillStore& store, double tol) {
     EXPECT_TRUE(found) << "slot " << obs.slot;
   }
   EXPECT_EQ(compared, static_cast<int>(snap.positions.size()));
+}
+
+Dataset SimulatedMill(uint64_t seed, int campaigns, int coils,
+                      const std::vector<std::string>& effects) {
+  SimulatorOptions o;
+  o.seed = seed;
+  o.num_campaigns = campaigns;
+  o.coils_per_campaign = coils;
+  o.effects = effects;
+  StatusOr<Simulation> sim = Simulate(o);
+  EXPECT_TRUE(sim.ok()) << sim.status().ToString();
+  return sim.ok() ? std::move(sim->data) : Dataset{};
 }
 
 }  // namespace rollwear::storage::testing

@@ -210,6 +210,12 @@ inline void ExpectSameDataset(const Dataset& a, const Dataset& b) {
 // over the data's levels) to `tol` relative.
 void ExpectWearMatchesBatch(const MillStore& store, double tol = 1e-9);
 
+// A simulated mill (core/simulator.h): `campaigns` campaigns of `coils`
+// coils with the named concealed effects; an empty dataset and a test
+// failure when the simulator refuses.
+Dataset SimulatedMill(uint64_t seed, int campaigns, int coils,
+                      const std::vector<std::string>& effects = {});
+
 }  // namespace rollwear::storage::testing
 
 #endif  // ROLLWEAR_TESTS_STORAGE_STORE_TEST_UTIL_H_
