@@ -117,8 +117,8 @@ int RunServe(const Args& args) {
     }
     cpu_latency = std::move(hold).value();
     spdlog::info(
-        "cpu wake-up latency limit {} us held while requests arrive, "
-        "released after {} s without one",
+        "cpu wake-up latency limit {} us held while traffic arrives, "
+        "released {} s after the last",
         config.cpu_wakeup_latency_us, kCpuLatencyReleaseAfter.count());
   }
 
@@ -196,6 +196,8 @@ int RunServe(const Args& args) {
     };
   }
   if (cpu_latency) {
+    // cpu_latency is declared before server, so it outlives the I/O thread
+    // that calls this.
     http.on_activity = [hold = cpu_latency.get()] { hold->Touch(); };
   }
   api::HttpServer server(&router, http);

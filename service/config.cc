@@ -243,6 +243,10 @@ bool ServeConfig::IsValid(std::string* error) const {
     *error = "threads must be >= 1";
     return false;
   }
+  if (cpu_wakeup_latency_us < -1 || cpu_wakeup_latency_us > 1000000) {
+    *error = "cpu_wakeup_latency_us must be off or in [0, 1000000]";
+    return false;
+  }
   return true;
 }
 

@@ -19,8 +19,8 @@
 //   keep_alive_max       requests per kept-alive connection          10000
 //   keep_alive_timeout   idle seconds before a connection closes     5
 //   log_level            trace|debug|info|warn|error|off             info
-//   cpu_wakeup_latency_us  CPU wake-up limit held while requests       off
-//                        arrive (0..1000000 us, or off); needs write
+//   cpu_wakeup_latency_us  CPU wake-up limit held while traffic        off
+//                        arrives (0..1000000 us, or off); needs write
 //                        access to /dev/cpu_dma_latency (cpu_latency.h)
 // Errors name the place: "rollwear.conf:7: port: must be an integer in
 // [0, 65535], got 'http'" or "ROLLWEAR_PORT: ...".

@@ -11,8 +11,9 @@
 // (docs/performance.md). The price: while the request is held, idle CPUs
 // poll instead of sleeping (power; in a VM, the host sees busy vCPUs).
 //
-// So the request is held only while requests arrive: the first Touch()
-// after a quiet spell writes the limit, and a background thread writes
+// So the request is held only while there is traffic: the first Touch()
+// after a quiet spell writes the limit, and a background thread, checking
+// every release_after / 4 (at most every second), writes
 // PM_QOS_DEFAULT_VALUE (-1, "no constraint from me") once no Touch() came
 // for `release_after`. Closing the device (the destructor, or the process
 // dying) removes the request.
@@ -21,9 +22,11 @@
 // open device; the effective limit is the minimum over every holder, and a
 // read returns it.
 //
-// Thread-safety: Touch() and engaged() may be called from any thread; the
-// first Touch() after a release takes a mutex and makes one write(2).
-// Construction and destruction are single-threaded.
+// Thread-safety: Touch(), ReleaseIfIdle() and the accessors may be called
+// from any thread; the first Touch() after a release takes a mutex and
+// makes one write(2). Construction and destruction are single-threaded, and
+// no Touch() may race with or follow destruction (it would write to a
+// closed descriptor): whoever calls Touch() must be gone first.
 #ifndef ROLLWEAR_SERVICE_CPU_LATENCY_H_
 #define ROLLWEAR_SERVICE_CPU_LATENCY_H_
 
@@ -56,8 +59,15 @@ class CpuLatencyHold {
   CpuLatencyHold(const CpuLatencyHold&) = delete;
   CpuLatencyHold& operator=(const CpuLatencyHold&) = delete;
 
-  // A request arrived: hold the limit (writes it if released).
+  // Traffic arrived: hold the limit (writes it if released).
   void Touch();
+  // Releases the limit when no Touch() came within `release_after` before
+  // `now_ns` (steady_clock nanoseconds); true when it released. The
+  // background thread calls it with the current time; tests may call it
+  // with any time.
+  bool ReleaseIfIdle(int64_t now_ns);
+  // steady_clock nanoseconds of the last Touch().
+  int64_t last_touch_ns() const { return last_touch_ns_.load(); }
   // Whether the limit is currently held.
   bool engaged() const { return engaged_.load(std::memory_order_acquire); }
   // Times the limit was written (engagements) and released.
@@ -68,6 +78,7 @@ class CpuLatencyHold {
  private:
   CpuLatencyHold(int fd, int limit_us, std::chrono::milliseconds release_after);
   void ReleaseLoop();
+  bool ReleaseIfIdleLocked(int64_t now_ns);  // mu_ held
   bool WriteValue(int32_t value);
 
   const int fd_;
@@ -78,6 +89,8 @@ class CpuLatencyHold {
   std::atomic<bool> engaged_{false};
   std::atomic<int64_t> engagements_{0};
   std::atomic<int64_t> releases_{0};
+
+  std::atomic<bool> write_failed_{false};  // a failed write was logged
 
   std::mutex mu_;  // serialises the writes and guards stop_
   std::condition_variable cv_;

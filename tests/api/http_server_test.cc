@@ -737,5 +737,30 @@ TEST_F(HttpServerTest, UnsupportedVersionAndCodingAreJsonErrors) {
   }
 }
 
+// on_activity (what keeps the CPU wake-up limit held, service/
+// cpu_latency.h) runs when traffic wakes the I/O thread, before the
+// request is answered, and not on the idle thread's periodic sweeps.
+TEST_F(HttpServerTest, OnActivityRunsForTrafficOnly) {
+  auto calls = std::make_shared<std::atomic<int>>(0);
+  HttpServerOptions options;
+  options.on_activity = [calls] { calls->fetch_add(1); };
+  StartServer(options);
+  // Idle: several sweep periods pass without a call.
+  std::this_thread::sleep_for(std::chrono::milliseconds(600));
+  EXPECT_EQ(calls->load(), 0);
+  RawConnection conn(server_->port());
+  ASSERT_TRUE(conn.ok());
+  ASSERT_TRUE(conn.Send(kGetWear));
+  ASSERT_TRUE(conn.Read());
+  const int after_one = calls->load();
+  EXPECT_GE(after_one, 1);
+  for (int i = 0; i < 5; ++i) {
+    ASSERT_TRUE(conn.Send(kGetWear));
+    ASSERT_TRUE(conn.Read());
+  }
+  // Each request after the first woke the idle thread at least once.
+  EXPECT_GE(calls->load(), after_one + 5);
+}
+
 }  // namespace
 }  // namespace rollwear::api::testing

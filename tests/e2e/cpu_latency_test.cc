@@ -4,11 +4,13 @@
 #include "service/cpu_latency.h"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <string>
 #include <thread>
 #include <vector>
@@ -49,31 +51,36 @@ bool WaitFor(F done, milliseconds limit) {
   return true;
 }
 
+constexpr int64_t kHourNs = 3600LL * 1000 * 1000 * 1000;
+
+// The hold's decisions at chosen times: a one-hour release delay keeps the
+// background thread out of the way, so nothing depends on the test's pace.
 TEST(CpuLatencyHoldTest, HoldsWhileTouchedAndReleasesWhenIdle) {
   e2e::TempDir dir;
   const std::string device = FakeDevice(dir);
-  auto hold = CpuLatencyHold::Open(0, milliseconds(300), device);
+  auto hold = CpuLatencyHold::Open(0, std::chrono::hours(1), device);
   ASSERT_TRUE(hold.ok()) << hold.status().ToString();
   CpuLatencyHold& h = **hold;
   EXPECT_FALSE(h.engaged());
   EXPECT_TRUE(Written(device).empty());  // opening asks for nothing
+  EXPECT_FALSE(h.ReleaseIfIdle(h.last_touch_ns() + 2 * kHourNs));
 
-  // A stream of requests 10 ms apart for 600 ms: one write, held through.
-  const auto start = std::chrono::steady_clock::now();
-  while (std::chrono::steady_clock::now() - start < milliseconds(600)) {
+  // A stream of requests: one write, held through.
+  for (int i = 0; i < 100; ++i) {
     h.Touch();
     EXPECT_TRUE(h.engaged());
-    std::this_thread::sleep_for(milliseconds(10));
   }
   EXPECT_EQ(Written(device), std::vector<int32_t>({0}));
   EXPECT_EQ(h.engagements(), 1);
-  EXPECT_EQ(h.releases(), 0);
 
-  // Idle: released (PM_QOS_DEFAULT_VALUE, -1) once, 300 ms after the last
-  // touch, and not before half of that.
-  const auto idle_from = std::chrono::steady_clock::now();
-  ASSERT_TRUE(WaitFor([&] { return !h.engaged(); }, milliseconds(2000)));
-  EXPECT_GE(std::chrono::steady_clock::now() - idle_from, milliseconds(150));
+  // Still held just before the delay has passed since the last request,
+  // released (PM_QOS_DEFAULT_VALUE, -1) once it has, and only once.
+  const int64_t last = h.last_touch_ns();
+  EXPECT_FALSE(h.ReleaseIfIdle(last + kHourNs - 1));
+  EXPECT_TRUE(h.engaged());
+  EXPECT_TRUE(h.ReleaseIfIdle(last + kHourNs));
+  EXPECT_FALSE(h.engaged());
+  EXPECT_FALSE(h.ReleaseIfIdle(last + 2 * kHourNs));
   EXPECT_EQ(Written(device), std::vector<int32_t>({0, -1}));
   EXPECT_EQ(h.releases(), 1);
 
@@ -81,6 +88,23 @@ TEST(CpuLatencyHoldTest, HoldsWhileTouchedAndReleasesWhenIdle) {
   h.Touch();
   EXPECT_TRUE(h.engaged());
   EXPECT_EQ(Written(device), std::vector<int32_t>({0, -1, 0}));
+  EXPECT_EQ(h.engagements(), 2);
+}
+
+// The background thread releases by itself (no upper bound on when: the
+// machine may be slow, only that it happens).
+TEST(CpuLatencyHoldTest, BackgroundThreadReleasesAfterTheDelay) {
+  e2e::TempDir dir;
+  const std::string device = FakeDevice(dir);
+  auto hold = CpuLatencyHold::Open(3, milliseconds(20), device);
+  ASSERT_TRUE(hold.ok()) << hold.status().ToString();
+  const auto touched = std::chrono::steady_clock::now();
+  (*hold)->Touch();
+  ASSERT_TRUE(
+      WaitFor([&] { return (*hold)->releases() == 1; }, milliseconds(30000)));
+  EXPECT_GE(std::chrono::steady_clock::now() - touched, milliseconds(20));
+  EXPECT_FALSE((*hold)->engaged());
+  EXPECT_EQ(Written(device), std::vector<int32_t>({3, -1}));
 }
 
 TEST(CpuLatencyHoldTest, ConcurrentTouchesWriteTheLimitOnce) {
@@ -131,10 +155,10 @@ int64_t KernelLimit() {
 // The daemon with cpu_wakeup_latency_us set holds the limit once a request
 // came in, and the kernel drops it when the daemon exits.
 TEST(CpuLatencyHoldTest, DaemonHoldsTheKernelLimitWhileServing) {
-  if (access(kCpuLatencyDevice, W_OK) != 0) {
-    GTEST_SKIP() << kCpuLatencyDevice << " is not writable here";
+  if (access(kCpuLatencyDevice, R_OK | W_OK) != 0) {
+    GTEST_SKIP() << kCpuLatencyDevice << " is not readable and writable here";
   }
-  constexpr int kLimitUs = 7;
+  constexpr int kLimitUs = 7;  // unusual: another holder would rarely ask
   const int64_t before = KernelLimit();
   if (before <= kLimitUs) {
     GTEST_SKIP() << "another holder already asks for " << before << " us";
@@ -147,15 +171,54 @@ TEST(CpuLatencyHoldTest, DaemonHoldsTheKernelLimitWhileServing) {
   ASSERT_TRUE(daemon.Start(&error)) << error;
   nlohmann::json body;
   ASSERT_EQ(e2e::HttpGet(daemon.url(), "/v1/wear", &body), 200);
-  EXPECT_EQ(KernelLimit(), kLimitUs);
+  // The effective limit is the minimum over all holders: at most ours.
+  EXPECT_LE(KernelLimit(), kLimitUs);
+  EXPECT_GE(KernelLimit(), 0);
   EXPECT_EQ(daemon.Terminate(), 0);
-  EXPECT_EQ(KernelLimit(), before);
+  EXPECT_GT(KernelLimit(), kLimitUs);  // ours is gone
   EXPECT_NE(e2e::ReadFile(dir / "serve.log")
                 .find("cpu wake-up latency limit 7 us held"),
             std::string::npos);
 }
 
-TEST(CpuLatencyHoldTest, DaemonRefusesABadLimitBeforeTouchingTheDatabase) {
+// A limit that cannot be held stops the start (exit 1) before the database
+// is opened, and says why. Run as a user who may not write the device: this
+// one, or nobody when this is root (a copy of the binary where nobody may
+// run it).
+TEST(CpuLatencyHoldTest, DaemonStopsWithNothingDoneWhenTheLimitCannotBeHeld) {
+  e2e::TempDir dir;
+  std::vector<std::string> argv;
+  if (geteuid() == 0) {
+    if (access("/usr/bin/setpriv", X_OK) != 0) {
+      GTEST_SKIP() << "root, and no setpriv to drop to nobody";
+    }
+    ASSERT_EQ(chmod(dir.path().c_str(), 0755), 0);
+    std::filesystem::copy_file(ROLLWEAR_BINARY, dir / "rollwear");
+    ASSERT_EQ(chmod((dir / "rollwear").c_str(), 0755), 0);
+    argv = {"/usr/bin/setpriv", "--reuid=65534", "--regid=65534",
+            "--clear-groups", dir / "rollwear"};
+  } else {
+    if (access(kCpuLatencyDevice, W_OK) == 0) {
+      GTEST_SKIP() << "this user may write " << kCpuLatencyDevice;
+    }
+    argv = {ROLLWEAR_BINARY};
+  }
+  for (const char* a : {"serve", "--db"}) argv.push_back(a);
+  argv.push_back(dir / "w.db");
+  e2e::Subprocess serve(argv, dir / "serve.log",
+                        {"ROLLWEAR_CPU_WAKEUP_LATENCY_US=0"});
+  EXPECT_EQ(serve.Wait(60), 1);
+  const std::string log = e2e::ReadFile(dir / "serve.log");
+  EXPECT_NE(log.find("rollwear serve: cpu_wakeup_latency_us=0: "
+                     "/dev/cpu_dma_latency: cannot open for writing: "),
+            std::string::npos)
+      << log;
+  EXPECT_NE(log.find("docs/operations.md#cpu-wake-up-latency"),
+            std::string::npos);
+  EXPECT_EQ(access((dir / "w.db").c_str(), F_OK), -1);
+}
+
+TEST(CpuLatencyHoldTest, BadLimitIsAConfigurationError) {
   e2e::TempDir dir;
   e2e::Subprocess serve({ROLLWEAR_BINARY, "serve", "--db", dir / "w.db"},
                         dir / "serve.log",
