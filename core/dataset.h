@@ -69,13 +69,10 @@ struct Mount {
   double hardness_hb = 0;
 };
 
-// One row of coils.csv: one coil passing one stand.
-struct Pass {
-  int campaign = -1;  // index into Dataset::campaigns
-  int coil = -1;      // index into Dataset::coil_ids
-  int seq = 0;
-  UnixSeconds rolled_at = 0;
-  int grade = -1;  // index into Dataset::grades
+// What one coil brings to one stand: the measured quantities of a
+// coils.csv row, without its keys, time and grade (the pass of an API coil
+// body is exactly this: storage::PassIn).
+struct PassMeasures {
   int stand = 0;
   double force_kn = 0;
   double width_mm = 0;
@@ -86,6 +83,16 @@ struct Pass {
   double speed_mps = 0;
   bool lubrication = false;
   double shift_mm = 0;
+  bool operator==(const PassMeasures&) const = default;
+};
+
+// One row of coils.csv: one coil passing one stand.
+struct Pass : PassMeasures {
+  int campaign = -1;  // index into Dataset::campaigns
+  int coil = -1;      // index into Dataset::coil_ids
+  int seq = 0;
+  UnixSeconds rolled_at = 0;
+  int grade = -1;  // index into Dataset::grades
 };
 
 struct Measurement {

@@ -275,10 +275,8 @@ std::vector<StoredCoil> DatasetCoils(const Dataset& d) {
       c.seq = p.seq;
       c.grade = d.grades[p.grade];
     }
-    c.passes.push_back(StoredPass{p.stand, p.rolled_at, p.force_kn, p.width_mm,
-                                  p.length_m, p.entry_thickness_mm,
-                                  p.exit_thickness_mm, p.temperature_c,
-                                  p.speed_mps, p.lubrication, p.shift_mm});
+    c.passes.push_back(
+        StoredPass{static_cast<const PassMeasures&>(p), p.rolled_at});
   }
   for (StoredCoil& c : coils) {
     std::stable_sort(c.passes.begin(), c.passes.end(),

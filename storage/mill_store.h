@@ -70,18 +70,8 @@ struct RollChangeIn {
   std::vector<MountedRollIn> rolls;
 };
 
-struct PassIn {
-  int stand = 0;
-  double force_kn = 0;
-  double width_mm = 0;
-  double length_m = 0;
-  double entry_thickness_mm = 0;
-  double exit_thickness_mm = 0;
-  double temperature_c = 0;
-  double speed_mps = 0;
-  bool lubrication = false;
-  double shift_mm = 0;
-};
+// One pass of a coil body: a coils.csv row's measured quantities.
+using PassIn = PassMeasures;
 
 struct CoilIn {
   std::string coil_id;

@@ -151,10 +151,7 @@ Status WriteImport(Db* db, const Dataset& d,
       if (!row.ok()) return row.status();
       coil_rows[p.coil] = *row;
     }
-    const StoredPass sp{
-        p.stand,     p.rolled_at,          p.force_kn,          p.width_mm,
-        p.length_m,  p.entry_thickness_mm, p.exit_thickness_mm, p.temperature_c,
-        p.speed_mps, p.lubrication,        p.shift_mm};
+    const StoredPass sp{static_cast<const PassMeasures&>(p), p.rolled_at};
     ROLLWEAR_RETURN_IF_ERROR(InsertPass(db, coil_rows[p.coil],
                                         campaign_rows[p.campaign], sp,
                                         ExtraRowJson(d.pass_extra, i)));

@@ -25,19 +25,9 @@
 
 namespace rollwear::storage::internal {
 
-// One pass as stored (a row of passes).
-struct StoredPass {
-  int stand = 0;
+// One pass as stored (a row of passes): the pass and its coil's time.
+struct StoredPass : PassMeasures {
   UnixSeconds rolled_at = 0;
-  double force_kn = 0;
-  double width_mm = 0;
-  double length_m = 0;
-  double entry_thickness_mm = 0;
-  double exit_thickness_mm = 0;
-  double temperature_c = 0;
-  double speed_mps = 0;
-  bool lubrication = false;
-  double shift_mm = 0;
   bool operator==(const StoredPass&) const = default;
 };
 

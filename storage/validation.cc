@@ -70,10 +70,7 @@ StoredCoil CanonicalCoil(const CoilIn& in) {
   c.seq = in.seq;
   c.grade = in.grade;
   for (const PassIn& p : in.passes) {
-    c.passes.push_back(StoredPass{p.stand, in.rolled_at, p.force_kn, p.width_mm,
-                                  p.length_m, p.entry_thickness_mm,
-                                  p.exit_thickness_mm, p.temperature_c,
-                                  p.speed_mps, p.lubrication, p.shift_mm});
+    c.passes.push_back(StoredPass{p, in.rolled_at});
   }
   std::stable_sort(c.passes.begin(), c.passes.end(),
                    [](const StoredPass& a, const StoredPass& b) {
