@@ -376,11 +376,21 @@ std::optional<HttpResponse> Router::RefusePost(const HttpRequest& request,
   return response;
 }
 
+std::optional<HttpResponse> Router::DecodeCoilBody(const HttpRequest& request,
+                                                   storage::CoilIn* in) const {
+  ApiError error;
+  if (DecodeCoil(request.body, options_.max_json_depth, in, &error)) {
+    return std::nullopt;
+  }
+  HttpResponse response = Error(error);
+  response.route = RouteId::kCoils;
+  return response;
+}
+
 HttpResponse Router::PostCoil(const HttpRequest& request) {
   storage::CoilIn in;
-  ApiError error;
-  if (!DecodeCoil(request.body, options_.max_json_depth, &in, &error)) {
-    return Error(error);
+  if (std::optional<HttpResponse> refused = DecodeCoilBody(request, &in)) {
+    return std::move(*refused);
   }
   return CoilAnswer(in, store_->AddCoil(in));
 }
@@ -422,11 +432,8 @@ void Router::HandleAsync(const HttpRequest& request, Done done,
     return;
   }
   auto in = std::make_shared<storage::CoilIn>();
-  ApiError error;
-  if (!DecodeCoil(request.body, options_.max_json_depth, in.get(), &error)) {
-    HttpResponse response = Error(error);
-    response.route = RouteId::kCoils;
-    done(std::move(response));
+  if (std::optional<HttpResponse> refused = DecodeCoilBody(request, in.get())) {
+    done(std::move(*refused));
     return;
   }
   store_->AddCoilAsync(

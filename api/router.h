@@ -120,6 +120,9 @@ class Router {
   HttpResponse PostCampaignEnd(const HttpRequest& request,
                                const std::string& campaign_id);
   HttpResponse PostCoil(const HttpRequest& request);
+  // Decodes a coil body into `in`; the error answer when it is refused.
+  std::optional<HttpResponse> DecodeCoilBody(const HttpRequest& request,
+                                             storage::CoilIn* in) const;
   HttpResponse CoilAnswer(const storage::CoilIn& in,
                           const StatusOr<storage::CoilOutcome>& outcome);
   // The refusal Dispatch gives before a POST's handler runs (401, 413), or
