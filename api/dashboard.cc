@@ -12,6 +12,7 @@
 
 #include "api/router.h"
 #include "core/dashboard_page.h"
+#include "core/model_eval.h"
 
 namespace rollwear::api {
 namespace {
@@ -87,9 +88,7 @@ HttpResponse Router::GetDashboard() {
                                         : model->model + ", option " +
                                               std::to_string(model->option);
     if (model->version > 0) d.model_gap_val_um = model->gap_val_um;
-    for (const ModelTerm& t : model->wear_model.terms) {
-      d.parity_reading_terms |= t.IsMeasurementTerm();
-    }
+    d.parity_reading_terms = HasMeasurementTerms(model->wear_model);
   }
   for (const storage::PositionWear& p : wear.positions) {
     DashboardRoll r;

@@ -37,9 +37,7 @@ double MeasurementOffset(const WearModel& model, const Dataset& data,
 std::vector<MeasuredPrediction> PredictMeasured(
     const WearModel& model, const Dataset& data, const DatasetIndex& index,
     const std::vector<int>& campaigns) {
-  bool has_measurement_terms = false;
-  for (const ModelTerm& t : model.terms)
-    has_measurement_terms |= t.IsMeasurementTerm();
+  const bool has_measurement_terms = HasMeasurementTerms(model);
   const std::vector<CovariateSpec> catalog = has_measurement_terms
                                                  ? CovariateCatalog(data)
                                                  : std::vector<CovariateSpec>{};
@@ -71,6 +69,13 @@ std::vector<MeasuredPrediction> PredictMeasured(
     }
   }
   return out;
+}
+
+bool HasMeasurementTerms(const WearModel& model) {
+  for (const ModelTerm& t : model.terms) {
+    if (t.IsMeasurementTerm()) return true;
+  }
+  return false;
 }
 
 double MeasurementTermsOffset(

@@ -36,6 +36,10 @@ std::vector<MeasuredPrediction> PredictMeasured(
     const WearModel& model, const Dataset& data, const DatasetIndex& index,
     const std::vector<int>& campaigns);
 
+// Whether `model` has a measurement term (an offset on what the grinder
+// reads, model_terms.h).
+bool HasMeasurementTerms(const WearModel& model);
+
 // What the grinder reads besides the wear: the sum of `model`'s measurement
 // terms (model_terms.h, offset forms) at the measurement's covariate values.
 // `value(covariate)` gives a measurement-level covariate's value, NaN when
