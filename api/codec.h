@@ -16,8 +16,8 @@
 #include <string_view>
 #include <vector>
 
-#include "core/dataset.h"
-#include "core/wear_law.h"
+#include "core/dataset/dataset.h"
+#include "core/model/wear_law.h"
 #include "storage/mill_store.h"
 
 namespace rollwear::api {

@@ -8,7 +8,7 @@
 
 #include "api/codec.h"
 #include "api/coil_fast_decode.h"
-#include "core/dataset_io.h"
+#include "core/dataset/dataset_io.h"
 
 namespace rollwear::api {
 namespace {

@@ -10,8 +10,8 @@
 
 #include "api/codec.h"
 #include "api/json_writer.h"
-#include "core/ann_model.h"
-#include "core/dataset_io.h"
+#include "core/model/ann_model.h"
+#include "core/dataset/dataset_io.h"
 #include "storage/model_codec.h"
 
 namespace rollwear::api {

@@ -10,8 +10,8 @@
 #include <system_error>
 
 #include "api/codec.h"
-#include "core/dataset.h"
-#include "core/dataset_io.h"
+#include "core/dataset/dataset.h"
+#include "core/dataset/dataset_io.h"
 
 namespace rollwear::api {
 namespace {

@@ -2,7 +2,7 @@
 // the mounted rolls, the open campaign's wear history, the last measured
 // campaigns under the active model, the last calibrations) and from the
 // router's diagnosis jobs (the latest finished diagnosis), and renders it
-// with core/dashboard_page.h. Part of Router (api/router.h).
+// with api/dashboard_page.h. Part of Router (api/router.h).
 #include <cmath>
 #include <ctime>
 #include <exception>
@@ -11,8 +11,8 @@
 #include <nlohmann/json.hpp>
 
 #include "api/router.h"
-#include "core/dashboard_page.h"
-#include "core/model_eval.h"
+#include "api/dashboard_page.h"
+#include "core/model/model_eval.h"
 
 namespace rollwear::api {
 namespace {

@@ -3,7 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/diagnosis_json.h"
-#include "core/diagnosis.h"
+#include "core/diagnosis/diagnosis.h"
 
 namespace rollwear::api {
 namespace {

@@ -1,4 +1,4 @@
-// DiagnosisJobs: runs diagnoses (core/diagnosis.h) of everything the store
+// DiagnosisJobs: runs diagnoses (core/diagnosis/diagnosis.h) of everything the store
 // holds, one at a time on a background worker, for POST /v1/diagnoses and
 // GET /v1/diagnoses/{id}. Reports are kept in memory (the last 50); a
 // diagnosis can always be run again from the stored data, so they are not

@@ -8,7 +8,7 @@
 
 #include <string>
 
-#include "core/diagnosis.h"
+#include "core/diagnosis/diagnosis.h"
 
 namespace rollwear::api {
 

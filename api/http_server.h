@@ -30,7 +30,7 @@
 #include <string>
 
 #include "api/router.h"
-#include "core/status.h"
+#include "core/base/status.h"
 
 namespace rollwear::api {
 

@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "api/router.h"
-#include "core/status.h"
+#include "core/base/status.h"
 
 namespace rollwear::api {
 

@@ -1,7 +1,7 @@
 #include "api/request_encode.h"
 
 #include "api/json_writer.h"
-#include "core/dataset_io.h"
+#include "core/dataset/dataset_io.h"
 
 namespace rollwear::api {
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "core/dataset.h"
+#include "core/dataset/dataset.h"
 
 namespace rollwear::api {
 

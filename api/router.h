@@ -26,8 +26,8 @@
 
 #include "api/diagnosis_jobs.h"
 #include "api/metrics.h"
-#include "core/status.h"
-#include "core/wear_law.h"
+#include "core/base/status.h"
+#include "core/model/wear_law.h"
 #include "storage/mill_store.h"
 
 namespace rollwear::api {

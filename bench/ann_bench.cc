@@ -10,12 +10,12 @@
 
 #include <benchmark/benchmark.h>
 
-#include "core/aggregation.h"
-#include "core/ann_bptt.h"
-#include "core/ann_data.h"
-#include "core/ann_study.h"
-#include "core/ann_train.h"
-#include "core/simulator.h"
+#include "core/model/aggregation.h"
+#include "core/ann/ann_bptt.h"
+#include "core/ann/ann_data.h"
+#include "core/ann/ann_study.h"
+#include "core/ann/ann_train.h"
+#include "core/sim/simulator.h"
 
 namespace rollwear {
 namespace {

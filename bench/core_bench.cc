@@ -12,11 +12,11 @@
 #include <filesystem>
 #include <map>
 
-#include "core/aggregation.h"
-#include "core/calibration.h"
-#include "core/dataset_io.h"
-#include "core/metrics.h"
-#include "core/simulator.h"
+#include "core/model/aggregation.h"
+#include "core/fit/calibration.h"
+#include "core/dataset/dataset_io.h"
+#include "core/model/metrics.h"
+#include "core/sim/simulator.h"
 
 namespace rollwear {
 namespace {

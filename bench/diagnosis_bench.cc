@@ -5,8 +5,8 @@
 // Run: ./build/bench/diagnosis_bench
 #include <benchmark/benchmark.h>
 
-#include "core/diagnosis.h"
-#include "core/simulator.h"
+#include "core/diagnosis/diagnosis.h"
+#include "core/sim/simulator.h"
 
 namespace rollwear {
 namespace {

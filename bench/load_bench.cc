@@ -53,7 +53,7 @@
 
 #include "api/http_client.h"
 #include "bench/load_client.h"
-#include "core/dataset_io.h"
+#include "core/dataset/dataset_io.h"
 #include "service/cpu_latency.h"
 #include "tests/e2e/e2e_util.h"
 

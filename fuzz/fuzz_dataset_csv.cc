@@ -1,4 +1,4 @@
-// libFuzzer target: the dataset CSV reader (core/dataset_io.h,
+// libFuzzer target: the dataset CSV reader (core/dataset/dataset_io.h,
 // ReadDatasetStreams, which runs the RFC 4180 parser, the column and number
 // parsers, the timestamp parser and every cross-file rule).
 //
@@ -15,7 +15,7 @@
 #include <string>
 #include <string_view>
 
-#include "core/dataset_io.h"
+#include "core/dataset/dataset_io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string_view input(reinterpret_cast<const char*>(data), size);

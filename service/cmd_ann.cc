@@ -4,20 +4,20 @@
 //  [--model-out FILE] [--with-diagnosis] [--figures DIR]`
 // Trains the recurrent K-estimator and compares it with classical
 // calibration (Wang, option 1) on the same split as `calibrate`: the study's
-// Table 4 analogue (core/ann_study.h). --model-out writes the trained model
-// in its text form (core/ann_model.h). --with-diagnosis adds the diagnosis
+// Table 4 analogue (core/ann/ann_study.h). --model-out writes the trained model
+// in its text form (core/model/ann_model.h). --with-diagnosis adds the diagnosis
 // engine's adopted model on the same split as a third row. --figures DIR
 // writes measured vs calculated wear per stand, classical against the ANN
-// (core/study_figures.h).
+// (core/report/study_figures.h).
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 
 #include <nlohmann/json.hpp>
 
-#include "core/ann_study.h"
-#include "core/dataset_io.h"
-#include "core/study_figures.h"
+#include "core/ann/ann_study.h"
+#include "core/dataset/dataset_io.h"
+#include "core/report/study_figures.h"
 #include "service/commands.h"
 #include "service/flags.h"
 

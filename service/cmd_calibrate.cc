@@ -12,10 +12,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/dataset_io.h"
-#include "core/metrics.h"
-#include "core/study.h"
-#include "core/study_figures.h"
+#include "core/dataset/dataset_io.h"
+#include "core/model/metrics.h"
+#include "core/fit/study.h"
+#include "core/report/study_figures.h"
 #include "service/calibrate_terms.h"
 #include "service/commands.h"
 #include "service/flags.h"

@@ -3,8 +3,8 @@
 // diagnosis. FILE is the JSON of `rollwear diagnose --json` (its
 // "adopted_model") or a model JSON with a "terms" array. The option-1
 // coefficients and the terms' parameters are refitted jointly on the seeded
-// training campaigns (core/term_refit.h) and evaluated coil by coil on the
-// validation campaigns (core/model_eval.h), beside the plain option-1
+// training campaigns (core/fit/term_refit.h) and evaluated coil by coil on the
+// validation campaigns (core/model/model_eval.h), beside the plain option-1
 // calibration on the same split, so the gain of the adopted physics is shown.
 #include <chrono>
 #include <cstdio>
@@ -13,11 +13,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/dataset_io.h"
-#include "core/metrics.h"
-#include "core/model_eval.h"
-#include "core/study.h"
-#include "core/term_refit.h"
+#include "core/dataset/dataset_io.h"
+#include "core/model/metrics.h"
+#include "core/model/model_eval.h"
+#include "core/fit/study.h"
+#include "core/fit/term_refit.h"
 #include "service/calibrate_terms.h"
 #include "storage/model_codec.h"
 

@@ -1,14 +1,14 @@
 // `rollwear diagnose --data DIR [--json FILE] [--html FILE] [--split-seed N]`:
 // locate model-vs-measurement mismatch, name and fit the missing physics,
-// show the gain on held-out campaigns (core/diagnosis.h).
+// show the gain on held-out campaigns (core/diagnosis/diagnosis.h).
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 
 #include "api/diagnosis_json.h"
-#include "core/dataset_io.h"
-#include "core/diagnosis.h"
-#include "core/diagnosis_report.h"
+#include "core/dataset/dataset_io.h"
+#include "core/diagnosis/diagnosis.h"
+#include "core/report/diagnosis_report.h"
 #include "service/commands.h"
 #include "service/flags.h"
 

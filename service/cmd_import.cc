@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <memory>
 
-#include "core/dataset_io.h"
+#include "core/dataset/dataset_io.h"
 #include "service/commands.h"
 #include "service/flags.h"
 #include "storage/mill_store.h"

@@ -35,7 +35,7 @@
 
 #include "api/http_client.h"
 #include "api/request_encode.h"
-#include "core/dataset_io.h"
+#include "core/dataset/dataset_io.h"
 #include "service/commands.h"
 #include "service/flags.h"
 

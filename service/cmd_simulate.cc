@@ -11,9 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "core/dataset_io.h"
-#include "core/simulator.h"
+#include "core/dataset/dataset_io.h"
+#include "core/sim/simulator.h"
 #include "service/commands.h"
+#include "service/sim_truth_json.h"
 #include "service/flags.h"
 
 namespace rollwear::cli {

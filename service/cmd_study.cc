@@ -1,7 +1,7 @@
 // `rollwear study --data DIR [--out DIR] [--figures DIR] [--split-seed N]
 // [--seed N]`: the study's Tables 1-3 on a dataset, as Markdown (stdout and
 // OUT/study.md) and JSON (OUT/study.json); with --figures, the study's
-// measured-vs-calculated figures as SVG (core/study_figures.h).
+// measured-vs-calculated figures as SVG (core/report/study_figures.h).
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -9,9 +9,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/dataset_io.h"
-#include "core/study.h"
-#include "core/study_figures.h"
+#include "core/dataset/dataset_io.h"
+#include "core/fit/study.h"
+#include "core/report/study_figures.h"
 #include "service/commands.h"
 #include "service/flags.h"
 

@@ -34,8 +34,8 @@
 #include <string>
 #include <vector>
 
-#include "core/status.h"
-#include "core/wear_law.h"
+#include "core/base/status.h"
+#include "core/model/wear_law.h"
 
 namespace rollwear::service {
 

@@ -39,7 +39,7 @@
 #include <string>
 #include <thread>
 
-#include "core/status.h"
+#include "core/base/status.h"
 
 namespace rollwear::service {
 

@@ -23,8 +23,8 @@
 #include <mutex>
 #include <thread>
 
-#include "core/dataset.h"
-#include "core/wear_law.h"
+#include "core/dataset/dataset.h"
+#include "core/model/wear_law.h"
 #include "storage/mill_store.h"
 
 namespace rollwear::service {

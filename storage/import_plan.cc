@@ -6,7 +6,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
-#include "core/dataset_io.h"
+#include "core/dataset/dataset_io.h"
 #include "storage/validation.h"
 
 namespace rollwear::storage::internal {

@@ -21,8 +21,8 @@
 #include <string>
 #include <vector>
 
-#include "core/dataset.h"
-#include "core/status.h"
+#include "core/dataset/dataset.h"
+#include "core/base/status.h"
 #include "storage/store_state.h"
 
 namespace rollwear::storage::internal {

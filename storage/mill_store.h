@@ -11,7 +11,7 @@
 // nothing. Idempotency: a write whose key is stored returns kUnchanged when
 // the content is equal and an AlreadyExists error when it differs.
 //
-// Errors (core/status.h): InvalidArgument (bad field; message names it as
+// Errors (core/base/status.h): InvalidArgument (bad field; message names it as
 // "passes[1].force_kn: must be > 0"), NotFound (unknown campaign/position/
 // model/calibration), AlreadyExists (same key, other content),
 // FailedPrecondition (well-formed but inconsistent: coil for an ended
@@ -30,9 +30,9 @@
 #include <string>
 #include <vector>
 
-#include "core/dataset.h"
-#include "core/status.h"
-#include "core/wear_model.h"
+#include "core/dataset/dataset.h"
+#include "core/base/status.h"
+#include "core/model/wear_model.h"
 
 namespace rollwear::storage {
 
@@ -248,7 +248,7 @@ class MillStore {
                                                WearLaw law, int option) = 0;
   virtual Status RunCalibration(int64_t id) = 0;
   // Queues a training run of the recurrent network (model "ann",
-  // core/ann_study.h); RunCalibration runs it like any other run.
+  // core/ann/ann_study.h); RunCalibration runs it like any other run.
   virtual StatusOr<int64_t> EnqueueAnnTraining(const std::string& trigger) = 0;
   // Records and runs at once a run for a model fitted elsewhere (a
   // diagnosis's adopted model: option 1 plus terms) on `data`, the data it

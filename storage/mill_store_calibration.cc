@@ -1,18 +1,18 @@
 // MillStore: models and calibration runs. A run exports the stored data,
 // fits a candidate on the seeded 2/3 training campaigns, evaluates both the
-// candidate and the active model coil by coil (core/model_eval.h) on the
+// candidate and the active model coil by coil (core/model/model_eval.h) on the
 // same 1/3 validation campaigns, and promotes the candidate (model row +
 // active flag + run record in one transaction) when it is usable and no
 // worse; then the open campaign's rolls are re-predicted from their stored
 // passes under the new model.
 //
 // Candidates:
-//   model "ann"                the recurrent network (core/ann_study.h)
+//   model "ann"                the recurrent network (core/ann/ann_study.h)
 //   the active model's law, option 1, and the active model has adopted
 //   terms                      option 1 and the terms refitted jointly
-//                              (core/term_refit.h): a nightly run keeps the
+//                              (core/fit/term_refit.h): a nightly run keeps the
 //                              physics a diagnosis added
-//   otherwise                  the classical calibration (core/study.h)
+//   otherwise                  the classical calibration (core/fit/study.h)
 //   ProposeModel               a model fitted elsewhere (a diagnosis's
 //                              adopted model), evaluated the same way
 #include <cmath>
@@ -20,12 +20,12 @@
 #include <exception>
 #include <utility>
 
-#include "core/aggregation.h"
-#include "core/ann_study.h"
-#include "core/metrics.h"
-#include "core/model_eval.h"
-#include "core/study.h"
-#include "core/term_refit.h"
+#include "core/model/aggregation.h"
+#include "core/ann/ann_study.h"
+#include "core/model/metrics.h"
+#include "core/model/model_eval.h"
+#include "core/fit/study.h"
+#include "core/fit/term_refit.h"
 #include "storage/mill_store_impl.h"
 #include "storage/store_sql.h"
 

@@ -4,7 +4,7 @@
 // model, on the read connection. The replay is the one that restores the
 // live state on start (same passes, same order, same model), so the open
 // campaign's last points equal Wear(). A measured roll also gets what the
-// grinder is expected to read (core/model_eval.h: the model's measurement
+// grinder is expected to read (core/model/model_eval.h: the model's measurement
 // terms added), the number validation compares with the measurement.
 #include <algorithm>
 #include <limits>
@@ -12,8 +12,8 @@
 #include <mutex>
 #include <vector>
 
-#include "core/covariates.h"
-#include "core/model_eval.h"
+#include "core/model/covariates.h"
+#include "core/model/model_eval.h"
 #include "storage/mill_store_impl.h"
 #include "storage/store_sql.h"
 

@@ -38,7 +38,7 @@
 #include <thread>
 #include <vector>
 
-#include "core/predictor.h"
+#include "core/model/predictor.h"
 #include "storage/coil_id_filter.h"
 #include "storage/import_plan.h"
 #include "storage/mill_store.h"

@@ -10,7 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/ann_model.h"
+#include "core/model/ann_model.h"
 
 namespace rollwear::storage {
 namespace {

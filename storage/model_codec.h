@@ -30,9 +30,9 @@
 #include <string_view>
 #include <vector>
 
-#include "core/model_terms.h"
-#include "core/status.h"
-#include "core/wear_model.h"
+#include "core/model/model_terms.h"
+#include "core/base/status.h"
+#include "core/model/wear_model.h"
 
 namespace rollwear::storage {
 

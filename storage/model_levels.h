@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "core/status.h"
-#include "core/wear_model.h"
+#include "core/base/status.h"
+#include "core/model/wear_model.h"
 
 namespace rollwear::storage {
 
@@ -25,7 +25,7 @@ StatusOr<WearModel> PriorModel(WearLaw law, int option,
 
 // `model` over the given levels: each coefficient is taken from `model` by
 // name, a level the model has never seen gets its gauge value 1 (what
-// core/predictor.h does for unknown labels). The Cao exponent, the noise
+// core/model/predictor.h does for unknown labels). The Cao exponent, the noise
 // model and the adopted terms are kept; the covariance is kept only when the
 // coefficient list is unchanged (otherwise dropped: it is not needed to
 // evaluate the model). InvalidArgument for the recurrent network.

@@ -8,7 +8,7 @@ namespace rollwear::storage {
 namespace {
 
 // Version 1: the initial schema. Positions are 0 = top, 1 = bottom
-// (core/dataset.h); times are Unix seconds; `extra` holds a row's extra
+// (core/dataset/dataset.h); times are Unix seconds; `extra` holds a row's extra
 // dataset columns as a JSON object (NULL when none). ended_at is NULL
 // while a campaign is open.
 constexpr const char* kSchemaV1 = R"sql(

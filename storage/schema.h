@@ -27,7 +27,7 @@
 #include <string>
 #include <vector>
 
-#include "core/status.h"
+#include "core/base/status.h"
 #include "storage/sqlite_db.h"
 
 namespace rollwear::storage {

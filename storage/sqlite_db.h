@@ -21,7 +21,7 @@
 #include <unordered_map>
 #include <utility>
 
-#include "core/status.h"
+#include "core/base/status.h"
 
 struct sqlite3;
 struct sqlite3_stmt;

@@ -16,10 +16,10 @@
 #include <string_view>
 #include <vector>
 
-#include "core/dataset.h"
-#include "core/predictor.h"
-#include "core/status.h"
-#include "core/wear_model.h"
+#include "core/dataset/dataset.h"
+#include "core/model/predictor.h"
+#include "core/base/status.h"
+#include "core/model/wear_model.h"
 #include "storage/import_plan.h"
 #include "storage/mill_store.h"
 #include "storage/sqlite_db.h"

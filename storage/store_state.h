@@ -19,8 +19,8 @@
 #include <unordered_map>
 #include <vector>
 
-#include "core/dataset.h"
-#include "core/predictor.h"
+#include "core/dataset/dataset.h"
+#include "core/model/predictor.h"
 #include "storage/mill_store.h"
 
 namespace rollwear::storage::internal {
@@ -53,7 +53,7 @@ struct CoilWearEntry {
   double total_um = 0;
 };
 
-// What core/predictor.h needs of a stored pass of a coil of `grade`.
+// What core/model/predictor.h needs of a stored pass of a coil of `grade`.
 PassInput ToPassInput(const std::string& grade, const StoredPass& p);
 
 bool SameMount(const MountedRollIn& a, const MountedRollIn& b);

@@ -4,7 +4,7 @@
 #include <charconv>
 #include <cmath>
 
-#include "core/dataset_io.h"
+#include "core/dataset/dataset_io.h"
 
 namespace rollwear::storage::internal {
 namespace {

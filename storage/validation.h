@@ -18,7 +18,7 @@
 #include <optional>
 #include <string>
 
-#include "core/status.h"
+#include "core/base/status.h"
 #include "storage/mill_store.h"
 #include "storage/store_state.h"
 

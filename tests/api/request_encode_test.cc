@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "api/codec.h"
-#include "core/simulator.h"
+#include "core/sim/simulator.h"
 
 namespace rollwear::api {
 namespace {

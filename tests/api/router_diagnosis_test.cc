@@ -4,7 +4,7 @@
 #include <chrono>
 #include <thread>
 
-#include "core/simulator.h"
+#include "core/sim/simulator.h"
 #include "tests/api/api_test_util.h"
 
 namespace rollwear::api::testing {

@@ -7,13 +7,13 @@
 
 #include <gtest/gtest.h>
 
-#include "core/aggregation.h"
-#include "core/ann_bptt.h"
-#include "core/ann_data.h"
-#include "core/ann_model.h"
-#include "core/ann_study.h"
-#include "core/ann_train.h"
-#include "core/simulator.h"
+#include "core/model/aggregation.h"
+#include "core/ann/ann_bptt.h"
+#include "core/ann/ann_data.h"
+#include "core/model/ann_model.h"
+#include "core/ann/ann_study.h"
+#include "core/ann/ann_train.h"
+#include "core/sim/simulator.h"
 
 namespace rollwear {
 namespace {

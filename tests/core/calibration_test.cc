@@ -1,16 +1,16 @@
 // Calibration, K structures and incremental prediction on simulated mills.
-#include "core/calibration.h"
+#include "core/fit/calibration.h"
 
 #include <cmath>
 #include <map>
 
 #include <gtest/gtest.h>
 
-#include "core/aggregation.h"
-#include "core/metrics.h"
-#include "core/predictor.h"
-#include "core/simulator.h"
-#include "core/study.h"
+#include "core/model/aggregation.h"
+#include "core/model/metrics.h"
+#include "core/model/predictor.h"
+#include "core/sim/simulator.h"
+#include "core/fit/study.h"
 
 namespace rollwear {
 namespace {

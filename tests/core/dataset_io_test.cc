@@ -2,7 +2,7 @@
 // field, derived quantities and the index, CSV dialect details, round trip,
 // timestamps and a ~100k-row synthetic dataset. Bad input is covered in
 // dataset_validation_test.cc.
-#include "core/dataset_io.h"
+#include "core/dataset/dataset_io.h"
 
 #include <unistd.h>
 
@@ -16,8 +16,8 @@
 
 #include <gtest/gtest.h>
 
-#include "core/csv.h"
-#include "core/dataset.h"
+#include "core/base/csv.h"
+#include "core/dataset/dataset.h"
 #include "tests/core/dataset_test_util.h"
 
 namespace rollwear {

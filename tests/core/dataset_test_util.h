@@ -15,8 +15,8 @@
 
 #include <gtest/gtest.h>
 
-#include "core/dataset.h"
-#include "core/dataset_io.h"
+#include "core/dataset/dataset.h"
+#include "core/dataset/dataset_io.h"
 
 namespace rollwear::dataset_test {
 

@@ -21,8 +21,8 @@
 
 #include <gtest/gtest.h>
 
-#include "core/dataset.h"
-#include "core/dataset_io.h"
+#include "core/dataset/dataset.h"
+#include "core/dataset/dataset_io.h"
 #include "tests/core/dataset_test_util.h"
 
 namespace rollwear {

@@ -3,7 +3,7 @@
 // which effect is present, bring the validation gap to within 15 % of the
 // noise floor, find two effects at once, and stay quiet on data without any
 // effect. One code path and the default options everywhere.
-#include "core/diagnosis.h"
+#include "core/diagnosis/diagnosis.h"
 
 #include <cmath>
 #include <iterator>
@@ -13,10 +13,10 @@
 
 #include <gtest/gtest.h>
 
-#include "core/diagnosis_report.h"
-#include "core/model_terms.h"
-#include "core/predictor.h"
-#include "core/simulator.h"
+#include "core/report/diagnosis_report.h"
+#include "core/model/model_terms.h"
+#include "core/model/predictor.h"
+#include "core/sim/simulator.h"
 
 namespace rollwear {
 namespace {

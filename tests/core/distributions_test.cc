@@ -1,6 +1,6 @@
 // Tail probabilities against tabulated values (Abramowitz & Stegun tables
 // 26.7-26.9; R's pchisq/pt/pf give the same digits).
-#include "core/distributions.h"
+#include "core/base/distributions.h"
 
 #include <cmath>
 

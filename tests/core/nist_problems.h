@@ -1,5 +1,5 @@
 // NIST StRD nonlinear least-squares reference problems for the tests of
-// rollwear's Levenberg-Marquardt set-up (core/lm_setup.h).
+// rollwear's Levenberg-Marquardt set-up (core/fit/lm_setup.h).
 //
 // Source: NIST Information Technology Laboratory, Statistical Reference
 // Datasets (StRD), nonlinear regression,
@@ -24,7 +24,7 @@
 
 #include <ceres/problem.h>
 
-#include "core/status.h"
+#include "core/base/status.h"
 
 namespace rollwear::nist {
 

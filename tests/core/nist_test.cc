@@ -1,5 +1,5 @@
 // Proves that rollwear's one Levenberg-Marquardt set-up
-// (MakeLmSolverOptions in core/lm_setup.h, default LmOptions) reproduces
+// (MakeLmSolverOptions in core/fit/lm_setup.h, default LmOptions) reproduces
 // the certified values of the 27 NIST StRD nonlinear regression problems
 // (https://www.itl.nist.gov/div898/strd/, data in tests/data/nist/).
 //
@@ -40,7 +40,7 @@
 #include <ceres/solver.h>
 #include <gtest/gtest.h>
 
-#include "core/lm_setup.h"
+#include "core/fit/lm_setup.h"
 #include "tests/core/nist_problems.h"
 
 namespace rollwear::nist {

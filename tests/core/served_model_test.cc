@@ -1,9 +1,9 @@
 // The models the daemon can serve, evaluated the one way promotion uses
-// (core/model_eval.h): coil by coil through the incremental predictor.
+// (core/model/model_eval.h): coil by coil through the incremental predictor.
 //  - a classical model: the same figures as the batch evaluation;
 //  - a diagnosis's adopted model (wear-rate and measurement terms): the same
 //    predictions as the diagnosis engine's own, and a refit of its terms
-//    (core/term_refit.h) keeps the gain on held-out campaigns;
+//    (core/fit/term_refit.h) keeps the gain on held-out campaigns;
 //  - the recurrent network: the same predictions as its training-time
 //    batch forward pass, and an interval that covers held-out measurements.
 #include <cmath>
@@ -12,16 +12,17 @@
 
 #include <gtest/gtest.h>
 
-#include "core/aggregation.h"
-#include "core/ann_data.h"
-#include "core/ann_study.h"
-#include "core/diagnosis.h"
-#include "core/metrics.h"
-#include "core/model_eval.h"
-#include "core/predictor.h"
-#include "core/simulator.h"
-#include "core/study.h"
-#include "core/term_refit.h"
+#include "core/model/aggregation.h"
+#include "core/ann/ann_data.h"
+#include "core/ann/ann_bptt.h"
+#include "core/ann/ann_study.h"
+#include "core/diagnosis/diagnosis.h"
+#include "core/model/metrics.h"
+#include "core/model/model_eval.h"
+#include "core/model/predictor.h"
+#include "core/sim/simulator.h"
+#include "core/fit/study.h"
+#include "core/fit/term_refit.h"
 #include "tests/core/simulator_test_util.h"
 
 namespace rollwear {

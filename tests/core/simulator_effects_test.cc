@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/simulator.h"
+#include "core/sim/simulator.h"
 #include "tests/core/simulator_test_util.h"
 
 namespace rollwear {

@@ -15,9 +15,9 @@
 
 #include <gtest/gtest.h>
 
-#include "core/dataset.h"
-#include "core/simulator.h"
-#include "core/wear_law.h"
+#include "core/dataset/dataset.h"
+#include "core/sim/simulator.h"
+#include "core/model/wear_law.h"
 
 namespace rollwear::simulator_test {
 

@@ -1,12 +1,12 @@
-// core/svg_plot.h: parity plots get equal axes and the 1:1 line, labels and
+// core/report/svg_plot.h: parity plots get equal axes and the 1:1 line, labels and
 // legend entries are escaped and present, fluid plots fill their container,
-// grids place one panel per cell; core/study_figures.h draws one panel per
+// grids place one panel per cell; core/report/study_figures.h draws one panel per
 // stand.
-#include "core/svg_plot.h"
+#include "core/report/svg_plot.h"
 
 #include <gtest/gtest.h>
 
-#include "core/study_figures.h"
+#include "core/report/study_figures.h"
 
 namespace rollwear {
 namespace {

@@ -12,7 +12,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/dataset_io.h"
+#include "core/dataset/dataset_io.h"
 #include "tests/e2e/e2e_util.h"
 
 namespace rollwear::e2e {

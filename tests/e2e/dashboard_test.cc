@@ -19,7 +19,7 @@
 #include <gtest/gtest.h>
 
 #include "api/http_client.h"
-#include "core/dashboard_page.h"
+#include "api/dashboard_page.h"
 #include "tests/e2e/e2e_util.h"
 
 namespace rollwear::e2e {

@@ -15,10 +15,10 @@
 
 #include "api/http_client.h"
 #include "api/request_encode.h"
-#include "core/aggregation.h"
-#include "core/dataset_io.h"
-#include "core/k_structure.h"
-#include "core/wear_model.h"
+#include "core/model/aggregation.h"
+#include "core/dataset/dataset_io.h"
+#include "core/model/k_structure.h"
+#include "core/model/wear_model.h"
 
 #ifndef ROLLWEAR_BINARY
 #error "ROLLWEAR_BINARY must name the rollwear executable"

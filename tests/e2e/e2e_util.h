@@ -17,7 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/dataset.h"
+#include "core/dataset/dataset.h"
 
 namespace rollwear::e2e {
 

@@ -12,8 +12,8 @@
 
 #include <gtest/gtest.h>
 
-#include "core/dataset_io.h"
-#include "core/simulator.h"
+#include "core/dataset/dataset_io.h"
+#include "core/sim/simulator.h"
 #include "tests/e2e/e2e_util.h"
 
 namespace rollwear::service {

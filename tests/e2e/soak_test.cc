@@ -30,7 +30,7 @@
 
 #include "api/http_client.h"
 #include "api/request_encode.h"
-#include "core/dataset_io.h"
+#include "core/dataset/dataset_io.h"
 #include "storage/mill_store.h"
 #include "tests/e2e/e2e_util.h"
 

@@ -4,8 +4,8 @@
 // stored content name the key.
 #include <gtest/gtest.h>
 
-#include "core/dataset_io.h"
-#include "core/simulator.h"
+#include "core/dataset/dataset_io.h"
+#include "core/sim/simulator.h"
 #include "storage/mill_store.h"
 #include "tests/storage/store_test_util.h"
 

@@ -1,7 +1,7 @@
 // MillStore::RecentWear, the history behind the dashboard: the parity
 // points of measured campaigns compare the measurement with what the
 // grinder is expected to read under the active model, the same number the
-// model's validation uses (core/model_eval.h), measurement terms included.
+// model's validation uses (core/model/model_eval.h), measurement terms included.
 #include <cmath>
 #include <map>
 #include <string>
@@ -9,8 +9,8 @@
 
 #include <gtest/gtest.h>
 
-#include "core/diagnosis.h"
-#include "core/model_eval.h"
+#include "core/diagnosis/diagnosis.h"
+#include "core/model/model_eval.h"
 #include "storage/mill_store.h"
 #include "tests/storage/store_test_util.h"
 

@@ -7,8 +7,8 @@
 //    an interval and survives a restart bit for bit.
 #include <gtest/gtest.h>
 
-#include "core/diagnosis.h"
-#include "core/predictor.h"
+#include "core/diagnosis/diagnosis.h"
+#include "core/model/predictor.h"
 #include "storage/mill_store.h"
 #include "tests/storage/store_test_util.h"
 

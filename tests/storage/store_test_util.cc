@@ -1,7 +1,7 @@
 #include "tests/storage/store_test_util.h"
 
-#include "core/aggregation.h"
-#include "core/simulator.h"
+#include "core/model/aggregation.h"
+#include "core/sim/simulator.h"
 #include "storage/model_levels.h"
 
 namespace rollwear::storage::testing {

@@ -15,8 +15,8 @@
 
 #include <gtest/gtest.h>
 
-#include "core/dataset.h"
-#include "core/status.h"
+#include "core/dataset/dataset.h"
+#include "core/base/status.h"
 #include "storage/mill_store.h"
 
 namespace rollwear::storage::testing {
@@ -210,7 +210,7 @@ inline void ExpectSameDataset(const Dataset& a, const Dataset& b) {
 // over the data's levels) to `tol` relative.
 void ExpectWearMatchesBatch(const MillStore& store, double tol = 1e-9);
 
-// A simulated mill (core/simulator.h): `campaigns` campaigns of `coils`
+// A simulated mill (core/sim/simulator.h): `campaigns` campaigns of `coils`
 // coils with the named concealed effects; an empty dataset and a test
 // failure when the simulator refuses.
 Dataset SimulatedMill(uint64_t seed, int campaigns, int coils,

@@ -1,0 +1,260 @@
+#include "core/base/csv.h"
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <system_error>
+
+namespace rollwear::csv {
+namespace {
+
+// Characters that end an unquoted field; NUL marks the end of the buffer
+// (std::string keeps one after the last character).
+constexpr std::array<bool, 256> kFieldEnd = [] {
+  std::array<bool, 256> a{};
+  a[static_cast<unsigned char>(',')] = true;
+  a[static_cast<unsigned char>('\n')] = true;
+  a[static_cast<unsigned char>('\r')] = true;
+  a[0] = true;
+  return a;
+}();
+
+// Exact powers of ten representable in a double.
+constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                             1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+                             1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+
+// Plain decimals ("-123.45") with at most 19 digits, whose digits as an
+// integer m fit in 53 bits and with at most 22 decimals: m / 10^k is then
+// one correctly rounded IEEE division of two exact doubles, so the result
+// equals std::from_chars' (Clinger's fast path). Anything else -> false.
+bool ParseSimpleDecimal(std::string_view t, double* out) {
+  size_t i = 0;
+  const bool negative = !t.empty() && t[0] == '-';
+  if (negative) ++i;
+  uint64_t mantissa = 0;
+  int digits = 0;
+  int decimals = 0;
+  bool dot = false;
+  for (; i < t.size(); ++i) {
+    const char c = t[i];
+    if (c >= '0' && c <= '9') {
+      if (++digits > 19) return false;
+      mantissa = mantissa * 10 + static_cast<uint64_t>(c - '0');
+      decimals += dot;
+    } else if (c == '.' && !dot) {
+      dot = true;
+    } else {
+      return false;
+    }
+  }
+  if (digits == 0 || mantissa > (uint64_t{1} << 53) || decimals > 22) {
+    return false;
+  }
+  auto v = static_cast<double>(mantissa);
+  if (decimals > 0) v /= kPow10[decimals];
+  *out = negative ? -v : v;
+  return true;
+}
+
+Status SyntaxError(std::string_view file, int line, size_t column,
+                   const std::vector<std::string>& header,
+                   std::string_view rule) {
+  std::string field = "header";
+  if (!header.empty()) {
+    field = column >= 1 && column <= header.size()
+                ? header[column - 1]
+                : std::string("(extra field)");
+  }
+  std::string message(file);
+  message += ':' + std::to_string(line) + ':' + std::to_string(column) + ' ' +
+             field + ": ";
+  message += rule;
+  return Status::InvalidArgument(std::move(message));
+}
+
+}  // namespace
+
+StatusOr<Table> Table::Parse(std::string text, std::string_view file) {
+  if (text.size() >= std::numeric_limits<uint32_t>::max()) {
+    return Status::InvalidArgument(std::string(file) +
+                                   ":0:0 file: file too large (4 GiB or more)");
+  }
+  Table t;
+  t.buffer_ = std::move(text);
+  char* s = t.buffer_.data();
+  const size_t n = t.buffer_.size();
+  size_t i = 0;
+  if (n >= 3 && static_cast<unsigned char>(s[0]) == 0xEF &&
+      static_cast<unsigned char>(s[1]) == 0xBB &&
+      static_cast<unsigned char>(s[2]) == 0xBF) {
+    i = 3;
+  }
+  // A rough guess that avoids most reallocations: >= 5 bytes per field.
+  t.fields_.reserve(n / 5 + 16);
+  t.records_.reserve(n / 64 + 4);
+
+  uint32_t line = 1;
+  bool have_header = false;
+  std::vector<Span> header_fields;
+  while (i < n) {
+    // Blank line: skip (keeps counting lines).
+    if (s[i] == '\n') {
+      ++line;
+      ++i;
+      continue;
+    }
+    if (s[i] == '\r') {
+      i += (i + 1 < n && s[i + 1] == '\n') ? 2 : 1;
+      ++line;
+      continue;
+    }
+    const uint32_t record_line = line;
+    const size_t first_field = t.fields_.size();
+    for (;;) {
+      if (i < n && s[i] == '"') {
+        // Quoted field: unescape in place (the write index never passes the
+        // read index).
+        const size_t start = ++i;
+        size_t w = start;
+        for (;;) {
+          if (i >= n) {
+            return SyntaxError(file, static_cast<int>(record_line),
+                               t.fields_.size() - first_field + 1, t.header_,
+                               "unterminated quoted field");
+          }
+          const char c = s[i];
+          if (c == '"') {
+            if (i + 1 < n && s[i + 1] == '"') {
+              s[w++] = '"';
+              i += 2;
+              continue;
+            }
+            ++i;
+            break;
+          }
+          if (c == '\n' || (c == '\r' && !(i + 1 < n && s[i + 1] == '\n'))) {
+            ++line;
+          }
+          s[w++] = c;
+          ++i;
+        }
+        t.fields_.push_back(
+            {static_cast<uint32_t>(start), static_cast<uint32_t>(w - start)});
+        if (i < n && s[i] != ',' && s[i] != '\n' && s[i] != '\r') {
+          return SyntaxError(file, static_cast<int>(line),
+                             t.fields_.size() - first_field, t.header_,
+                             "unexpected character after closing quote");
+        }
+      } else {
+        const size_t start = i;
+        for (;;) {
+          while (!kFieldEnd[static_cast<unsigned char>(s[i])]) ++i;
+          if (s[i] != '\0' || i >= n) break;
+          ++i;  // a NUL byte inside the data
+        }
+        t.fields_.push_back(
+            {static_cast<uint32_t>(start), static_cast<uint32_t>(i - start)});
+      }
+      if (i >= n) break;
+      if (s[i] == ',') {
+        ++i;
+        continue;
+      }
+      // End of line.
+      i += (s[i] == '\r' && i + 1 < n && s[i + 1] == '\n') ? 2 : 1;
+      ++line;
+      break;
+    }
+    const auto count = static_cast<uint32_t>(t.fields_.size() - first_field);
+    if (!have_header) {
+      have_header = true;
+      t.header_line_ = static_cast<int>(record_line);
+      t.header_.reserve(count);
+      for (size_t f = first_field; f < t.fields_.size(); ++f) {
+        const Span& sp = t.fields_[f];
+        t.header_.emplace_back(
+            Trim(std::string_view(t.buffer_.data() + sp.begin, sp.size)));
+      }
+      t.fields_.resize(first_field);
+      continue;
+    }
+    t.records_.push_back(
+        {static_cast<uint32_t>(first_field), count, record_line});
+  }
+  return t;
+}
+
+int Table::FindColumn(std::string_view name) const {
+  for (size_t c = 0; c < header_.size(); ++c) {
+    if (header_[c] == name) return static_cast<int>(c);
+  }
+  return -1;
+}
+
+NumberResult ParseDouble(std::string_view text, double* out) {
+  text = Trim(text);
+  if (!text.empty() && text[0] == '+') {
+    text.remove_prefix(1);
+    if (!text.empty() && (text[0] == '+' || text[0] == '-')) {
+      return NumberResult::kInvalid;
+    }
+  }
+  if (text.empty()) return NumberResult::kInvalid;
+  if (ParseSimpleDecimal(text, out)) return NumberResult::kOk;
+  const char* end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(text.data(), end, *out);
+  if (ec == std::errc::result_out_of_range) return NumberResult::kOutOfRange;
+  if (ec != std::errc() || ptr != end) return NumberResult::kInvalid;
+  return NumberResult::kOk;
+}
+
+NumberResult ParseInt64(std::string_view text, int64_t* out) {
+  text = Trim(text);
+  if (!text.empty() && text[0] == '+') {
+    text.remove_prefix(1);
+    if (!text.empty() && (text[0] == '+' || text[0] == '-')) {
+      return NumberResult::kInvalid;
+    }
+  }
+  if (text.empty()) return NumberResult::kInvalid;
+  const char* end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(text.data(), end, *out);
+  if (ec == std::errc::result_out_of_range) return NumberResult::kOutOfRange;
+  if (ec != std::errc() || ptr != end) return NumberResult::kInvalid;
+  return NumberResult::kOk;
+}
+
+void AppendField(std::string* out, std::string_view text) {
+  bool quote = !text.empty() && (text.front() == ' ' || text.front() == '\t' ||
+                                 text.back() == ' ' || text.back() == '\t');
+  if (!quote) {
+    for (char c : text) {
+      if (c == ',' || c == '"' || c == '\n' || c == '\r') {
+        quote = true;
+        break;
+      }
+    }
+  }
+  if (!quote) {
+    out->append(text);
+    return;
+  }
+  out->push_back('"');
+  for (char c : text) {
+    if (c == '"') out->push_back('"');
+    out->push_back(c);
+  }
+  out->push_back('"');
+}
+
+void AppendDouble(std::string* out, double value) {
+  if (std::isnan(value)) return;
+  char buf[32];
+  const auto [ptr, ec] = std::to_chars(buf, buf + sizeof(buf), value);
+  (void)ec;  // 32 bytes always suffice for the shortest form of a double.
+  out->append(buf, ptr);
+}
+
+}  // namespace rollwear::csv

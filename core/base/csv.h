@@ -1,0 +1,99 @@
+// Internal CSV helpers of core (used by the dataset reader/writer; not a
+// public API). csv::Table parses a whole file held in memory following
+// RFC 4180: quoted fields, doubled quotes, commas and line breaks inside
+// quotes, LF or CRLF line ends, an optional UTF-8 byte-order mark. Quoted
+// fields are unescaped in place, so a parsed table is one buffer plus an
+// (offset, size) pair per field; every record remembers the physical line
+// (1-based, counting line breaks inside quoted fields) on which it starts.
+// Completely empty lines are skipped (their lines still count).
+//
+// The number parsers use std::from_chars and accept the whole field only.
+//
+// Thread-safety: a Table is immutable after Parse and may be read from any
+// thread; the free functions are pure.
+#ifndef ROLLWEAR_CORE_BASE_CSV_H_
+#define ROLLWEAR_CORE_BASE_CSV_H_
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/base/status.h"
+
+namespace rollwear::csv {
+
+class Table {
+ public:
+  // Parses `text`; `file` labels errors ("coils.csv:12:3 shift_mm:
+  // unterminated quoted field"). Fails only on malformed quoting or a file
+  // of 4 GiB or more.
+  static StatusOr<Table> Parse(std::string text, std::string_view file);
+
+  // Header names (surrounding spaces and tabs removed). Empty for an empty
+  // file.
+  const std::vector<std::string>& header() const { return header_; }
+  // Physical line of the header row (1 unless blank lines precede it).
+  int header_line() const { return header_line_; }
+  // 0-based index of the header column called `name`, or -1.
+  int FindColumn(std::string_view name) const;
+
+  // Data records (the header is not one of them).
+  size_t num_records() const { return records_.size(); }
+  size_t num_fields(size_t record) const { return records_[record].num_fields; }
+  int line(size_t record) const {
+    return static_cast<int>(records_[record].line);
+  }
+  // Unescaped field text; valid while the Table lives (and is not moved
+  // from).
+  std::string_view field(size_t record, size_t column) const {
+    const Span& s = fields_[records_[record].first_field + column];
+    return std::string_view(buffer_.data() + s.begin, s.size);
+  }
+
+ private:
+  struct Span {
+    uint32_t begin;
+    uint32_t size;
+  };
+  struct Record {
+    uint32_t first_field;
+    uint32_t num_fields;
+    uint32_t line;
+  };
+
+  std::string buffer_;
+  std::vector<Span> fields_;
+  std::vector<Record> records_;
+  std::vector<std::string> header_;
+  int header_line_ = 1;
+};
+
+// Removes leading and trailing spaces and tabs.
+inline std::string_view Trim(std::string_view text) {
+  size_t b = 0;
+  size_t e = text.size();
+  while (b < e && (text[b] == ' ' || text[b] == '\t')) ++b;
+  while (e > b && (text[e - 1] == ' ' || text[e - 1] == '\t')) --e;
+  return text.substr(b, e - b);
+}
+
+enum class NumberResult { kOk, kInvalid, kOutOfRange };
+// Parses the whole of `text` (after Trim) as a decimal floating-point number;
+// one leading '+' is accepted. "nan"/"inf" parse (kOk, non-finite value): the
+// caller decides whether that is acceptable.
+NumberResult ParseDouble(std::string_view text, double* out);
+// Parses the whole of `text` (after Trim) as a decimal integer.
+NumberResult ParseInt64(std::string_view text, int64_t* out);
+
+// Appends `text` as one CSV field, quoted when it holds a comma, quote, CR
+// or LF, or starts or ends with a space or tab.
+void AppendField(std::string* out, std::string_view text);
+// Appends the shortest decimal form that reads back to exactly `value`
+// (std::to_chars); NaN becomes an empty field.
+void AppendDouble(std::string* out, double value);
+
+}  // namespace rollwear::csv
+
+#endif  // ROLLWEAR_CORE_BASE_CSV_H_

@@ -1,0 +1,382 @@
+// Reading a dataset folder: file access, CSV parsing (core/base/csv.h) and the
+// rules of the format's bad-input section, file by file (field-level checks
+// in dataset_checks.cc). Writing and the timestamp codec live in
+// dataset_write.cc.
+#include "core/dataset/dataset_io.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <istream>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <vector>
+
+#include "core/base/csv.h"
+#include "core/dataset/dataset_checks.h"
+#include "core/dataset/dataset_columns.h"
+
+namespace rollwear {
+namespace {
+
+// Lowest accepted centre wear: wear is radius loss (positive); a few tens of
+// µm below zero is grinder noise on a barely worn roll.
+constexpr double kMinWearUm = -50.0;
+
+// Largest accepted seq (keeps seq in an int with room to spare).
+constexpr int64_t kMaxSeq = 1'000'000'000;
+
+// Interns `label` into `table` through `index` (views into stable buffers).
+int InternView(std::string_view label, LabelIndex* index,
+               std::vector<std::string>* table) {
+  bool added = false;
+  const int i = index->Insert(label, static_cast<int>(table->size()), &added);
+  if (added) table->emplace_back(label);
+  return i;
+}
+
+Status ReadCampaigns(const FileView& f, Dataset* d, LabelIndex* ids) {
+  namespace col = campaign_col;
+  std::vector<int> first_line;
+  d->campaigns.reserve(f.rows());
+  ids->reserve(f.rows());
+  for (size_t r = 0; r < f.rows(); ++r) {
+    ROLLWEAR_RETURN_IF_ERROR(f.CheckFieldCount(r));
+    Campaign c;
+    std::string_view id;
+    ROLLWEAR_RETURN_IF_ERROR(f.Text(r, col::kId, &id));
+    ROLLWEAR_RETURN_IF_ERROR(f.Time(r, col::kStartedAt, &c.started_at));
+    ROLLWEAR_RETURN_IF_ERROR(f.Time(r, col::kEndedAt, &c.ended_at));
+    if (c.ended_at < c.started_at) {
+      return f.Error(r, col::kEndedAt,
+                     "ended_at must not be before started_at");
+    }
+    bool added = false;
+    const int index =
+        ids->Insert(id, static_cast<int>(d->campaigns.size()), &added);
+    if (!added) {
+      return f.Error(r, col::kId,
+                     "duplicate campaign_id " + Quote(id) + " (first on line " +
+                         std::to_string(first_line[index]) + ")");
+    }
+    c.id = std::string(id);
+    d->campaigns.push_back(std::move(c));
+    first_line.push_back(f.line(r));
+  }
+  f.CollectExtras(&d->campaign_extra);
+  return Status::Ok();
+}
+
+Status ReadMounts(const FileView& f, LabelIndex* campaigns, Dataset* d,
+                  std::vector<int>* mount_of) {
+  namespace col = mount_col;
+  LabelIndex roll_types;
+  mount_of->assign(d->campaigns.size() * kNumRollPositionSlots, -1);
+  std::vector<int> lines;
+  for (size_t r = 0; r < f.rows(); ++r) {
+    ROLLWEAR_RETURN_IF_ERROR(f.CheckFieldCount(r));
+    Mount m;
+    ROLLWEAR_RETURN_IF_ERROR(
+        f.Campaign(r, col::kCampaign, campaigns, &m.campaign));
+    ROLLWEAR_RETURN_IF_ERROR(f.Stand(r, col::kStand, &m.stand));
+    ROLLWEAR_RETURN_IF_ERROR(f.PositionOf(r, col::kPosition, &m.position));
+    std::string_view roll_id, roll_type;
+    ROLLWEAR_RETURN_IF_ERROR(f.Text(r, col::kRollId, &roll_id));
+    ROLLWEAR_RETURN_IF_ERROR(f.Text(r, col::kRollType, &roll_type));
+    ROLLWEAR_RETURN_IF_ERROR(f.Positive(r, col::kDiameter, &m.diameter_mm));
+    ROLLWEAR_RETURN_IF_ERROR(f.Positive(r, col::kHardness, &m.hardness_hb));
+    int& slot = (*mount_of)[m.campaign * kNumRollPositionSlots +
+                            RollPositionSlot(m.stand, m.position)];
+    if (slot >= 0) {
+      return f.Error(r, col::kCampaign,
+                     "duplicate key (campaign_id, stand, position): " +
+                         RollPositionName(m.stand, m.position) +
+                         " of campaign " + Quote(f.Raw(r, col::kCampaign)) +
+                         " already mounted on line " +
+                         std::to_string(lines[slot]));
+    }
+    slot = static_cast<int>(d->mounts.size());
+    m.roll_id = std::string(roll_id);
+    m.roll_type = InternView(roll_type, &roll_types, &d->roll_types);
+    d->mounts.push_back(std::move(m));
+    lines.push_back(f.line(r));
+  }
+  f.CollectExtras(&d->mount_extra);
+  return Status::Ok();
+}
+
+// What the first row of a coil fixed; its other stands must agree.
+struct CoilInfo {
+  int campaign;
+  int seq;
+  int grade;
+  int line;
+  int stand_line[kMaxStand + 1];  // line of the pass at each stand, 0 if none
+};
+
+Status ReadCoils(const FileView& f, LabelIndex* campaigns, Dataset* d) {
+  namespace col = coil_col;
+  LabelIndex coil_index, grades;
+  std::vector<CoilInfo> coils;
+  // (campaign, seq) -> coil: seq orders the coils of a campaign.
+  std::unordered_map<uint64_t, int> seq_owner;
+  coil_index.reserve(f.rows());
+  seq_owner.reserve(f.rows());
+  d->passes.reserve(f.rows());
+  for (size_t r = 0; r < f.rows(); ++r) {
+    ROLLWEAR_RETURN_IF_ERROR(f.CheckFieldCount(r));
+    Pass p;
+    std::string_view coil_id, grade;
+    int64_t seq = 0;
+    ROLLWEAR_RETURN_IF_ERROR(
+        f.Campaign(r, col::kCampaign, campaigns, &p.campaign));
+    ROLLWEAR_RETURN_IF_ERROR(f.Text(r, col::kCoil, &coil_id));
+    ROLLWEAR_RETURN_IF_ERROR(f.Integer(r, col::kSeq, &seq));
+    if (seq < 1 || seq > kMaxSeq) {
+      return f.Error(r, col::kSeq,
+                     std::string(seq < 1 ? "must be an integer >= 1"
+                                         : "must be <= 1000000000") +
+                         ", got " + Quote(f.Raw(r, col::kSeq)));
+    }
+    p.seq = static_cast<int>(seq);
+    ROLLWEAR_RETURN_IF_ERROR(f.Time(r, col::kRolledAt, &p.rolled_at));
+    ROLLWEAR_RETURN_IF_ERROR(f.Text(r, col::kGrade, &grade));
+    ROLLWEAR_RETURN_IF_ERROR(f.Stand(r, col::kStand, &p.stand));
+    ROLLWEAR_RETURN_IF_ERROR(f.Positive(r, col::kForce, &p.force_kn));
+    ROLLWEAR_RETURN_IF_ERROR(f.Positive(r, col::kWidth, &p.width_mm));
+    ROLLWEAR_RETURN_IF_ERROR(f.Positive(r, col::kLength, &p.length_m));
+    ROLLWEAR_RETURN_IF_ERROR(f.Positive(r, col::kEntry, &p.entry_thickness_mm));
+    ROLLWEAR_RETURN_IF_ERROR(f.Positive(r, col::kExit, &p.exit_thickness_mm));
+    if (p.exit_thickness_mm >= p.entry_thickness_mm) {
+      return f.Error(r, col::kExit,
+                     "must be < entry_thickness_mm (" +
+                         std::string(csv::Trim(f.Raw(r, col::kEntry))) +
+                         "), got " + Quote(f.Raw(r, col::kExit)));
+    }
+    ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kTemperature, &p.temperature_c));
+    ROLLWEAR_RETURN_IF_ERROR(f.Positive(r, col::kSpeed, &p.speed_mps));
+    const std::string_view lub = csv::Trim(f.Raw(r, col::kLubrication));
+    if (lub.empty()) {
+      return f.Error(r, col::kLubrication, "required field is empty");
+    }
+    if (lub != "0" && lub != "1") {
+      return f.Error(r, col::kLubrication, "must be 0 or 1, got " + Quote(lub));
+    }
+    p.lubrication = lub == "1";
+    ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kShift, &p.shift_mm));
+    p.grade = InternView(grade, &grades, &d->grades);
+
+    bool added = false;
+    p.coil = coil_index.Insert(coil_id, static_cast<int>(coils.size()), &added);
+    if (added) {
+      const uint64_t key = (static_cast<uint64_t>(p.campaign) << 32) |
+                           static_cast<uint32_t>(p.seq);
+      auto [owner, fresh] = seq_owner.emplace(key, p.coil);
+      if (!fresh) {
+        const CoilInfo& other = coils[owner->second];
+        return f.Error(r, col::kSeq,
+                       "seq " + std::to_string(p.seq) + " of campaign " +
+                           Quote(f.Raw(r, col::kCampaign)) +
+                           " is already used by coil_id " +
+                           Quote(d->coil_ids[owner->second]) + " (line " +
+                           std::to_string(other.line) + ")");
+      }
+      CoilInfo info{p.campaign, p.seq, p.grade, f.line(r), {}};
+      coils.push_back(info);
+      d->coil_ids.emplace_back(coil_id);
+    } else {
+      const CoilInfo& info = coils[p.coil];
+      auto where = [&] {
+        return " on line " + std::to_string(info.line) + " (same coil_id " +
+               Quote(coil_id) + " at another stand)";
+      };
+      if (info.campaign != p.campaign) {
+        return f.Error(r, col::kCampaign,
+                       "coil has campaign_id " +
+                           Quote(d->campaigns[info.campaign].id) + where());
+      }
+      if (info.seq != p.seq) {
+        return f.Error(r, col::kSeq,
+                       "coil has seq " + std::to_string(info.seq) + where());
+      }
+      if (info.grade != p.grade) {
+        return f.Error(
+            r, col::kGrade,
+            "coil has grade " + Quote(d->grades[info.grade]) + where());
+      }
+      if (info.stand_line[p.stand] != 0) {
+        return f.Error(r, col::kCoil,
+                       "duplicate key (coil_id, stand): coil_id " +
+                           Quote(coil_id) + " at F" + std::to_string(p.stand) +
+                           " already on line " +
+                           std::to_string(info.stand_line[p.stand]));
+      }
+    }
+    coils[p.coil].stand_line[p.stand] = f.line(r);
+    d->passes.push_back(p);
+  }
+  f.CollectExtras(&d->pass_extra);
+  return Status::Ok();
+}
+
+Status ReadMeasurements(const FileView& f, LabelIndex* campaigns,
+                        const std::vector<int>& mount_of, Dataset* d) {
+  namespace col = measurement_col;
+  std::vector<int> measured(mount_of.size(), 0);  // line, 0 if none
+  for (size_t r = 0; r < f.rows(); ++r) {
+    ROLLWEAR_RETURN_IF_ERROR(f.CheckFieldCount(r));
+    Measurement m;
+    std::string_view roll_id;
+    ROLLWEAR_RETURN_IF_ERROR(
+        f.Campaign(r, col::kCampaign, campaigns, &m.campaign));
+    ROLLWEAR_RETURN_IF_ERROR(f.Stand(r, col::kStand, &m.stand));
+    ROLLWEAR_RETURN_IF_ERROR(f.PositionOf(r, col::kPosition, &m.position));
+    ROLLWEAR_RETURN_IF_ERROR(f.Text(r, col::kRollId, &roll_id));
+    ROLLWEAR_RETURN_IF_ERROR(f.Time(r, col::kMeasuredAt, &m.measured_at));
+    ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kWear, &m.wear_center_um));
+    if (m.wear_center_um < kMinWearUm) {
+      return f.Error(r, col::kWear,
+                     "must be >= -50 um (wear is positive radius loss; only "
+                     "grinder noise may go slightly negative), got " +
+                         Quote(f.Raw(r, col::kWear)));
+    }
+    const size_t key = m.campaign * kNumRollPositionSlots +
+                       RollPositionSlot(m.stand, m.position);
+    const std::string where = RollPositionName(m.stand, m.position) +
+                              " of campaign " + Quote(f.Raw(r, col::kCampaign));
+    if (measured[key] != 0) {
+      return f.Error(r, col::kCampaign,
+                     "duplicate key (campaign_id, stand, position): " + where +
+                         " already measured on line " +
+                         std::to_string(measured[key]));
+    }
+    const int mount = mount_of[key];
+    if (mount < 0) {
+      return f.Error(r, col::kStand,
+                     "no mount for " + where + " in mounts.csv");
+    }
+    if (d->mounts[mount].roll_id != roll_id) {
+      return f.Error(r, col::kRollId,
+                     "roll_id must match mounts.csv: " + where + " mounted " +
+                         Quote(d->mounts[mount].roll_id) + ", got " +
+                         Quote(roll_id));
+    }
+    measured[key] = f.line(r);
+    m.roll_id = std::string(roll_id);
+    d->measurements.push_back(std::move(m));
+  }
+  f.CollectExtras(&d->measurement_extra);
+  return Status::Ok();
+}
+
+// Validates and converts the four file contents (in DatasetFile order).
+StatusOr<Dataset> ParseDataset(std::string (&texts)[kNumDatasetFiles]) {
+  // All four tables stay alive until the end: label maps view their buffers.
+  std::vector<csv::Table> tables;
+  tables.reserve(kNumDatasetFiles);
+  for (int i = 0; i < kNumDatasetFiles; ++i) {
+    StatusOr<csv::Table> t =
+        csv::Table::Parse(std::move(texts[i]), kDatasetFileNames[i]);
+    if (!t.ok()) return t.status();
+    tables.push_back(std::move(t).value());
+  }
+  std::vector<FileView> files;
+  files.reserve(kNumDatasetFiles);
+  for (int i = 0; i < kNumDatasetFiles; ++i) {
+    files.emplace_back(tables[i], kDatasetFileNames[i], kDatasetColumns[i]);
+    ROLLWEAR_RETURN_IF_ERROR(files.back().Bind());
+  }
+  Dataset d;
+  LabelIndex campaigns;
+  std::vector<int> mount_of;
+  ROLLWEAR_RETURN_IF_ERROR(
+      ReadCampaigns(files[kCampaignsFile], &d, &campaigns));
+  ROLLWEAR_RETURN_IF_ERROR(
+      ReadMounts(files[kMountsFile], &campaigns, &d, &mount_of));
+  ROLLWEAR_RETURN_IF_ERROR(ReadCoils(files[kCoilsFile], &campaigns, &d));
+  ROLLWEAR_RETURN_IF_ERROR(
+      ReadMeasurements(files[kMeasurementsFile], &campaigns, mount_of, &d));
+  return d;
+}
+
+// Reads the rest of `fp`, sizing the buffer once when the size is known.
+bool ReadAll(std::FILE* fp, std::string* out) {
+  const long start = std::ftell(fp);
+  if (start >= 0 && std::fseek(fp, 0, SEEK_END) == 0) {
+    const long end = std::ftell(fp);
+    if (std::fseek(fp, start, SEEK_SET) != 0) return false;
+    if (end > start) {
+      out->resize(static_cast<size_t>(end - start));
+      out->resize(std::fread(out->data(), 1, out->size(), fp));
+    }
+  }
+  char buf[1 << 16];
+  size_t got;
+  while ((got = std::fread(buf, 1, sizeof(buf), fp)) > 0) out->append(buf, got);
+  return std::ferror(fp) == 0;
+}
+
+// The same for a stream (string streams and files know their size).
+bool ReadAll(std::istream* in, std::string* out) {
+  const std::istream::pos_type start = in->tellg();
+  if (start != std::istream::pos_type(-1) && in->seekg(0, std::ios::end)) {
+    const std::istream::pos_type end = in->tellg();
+    in->seekg(start);
+    if (end != std::istream::pos_type(-1) && end > start) {
+      out->resize(static_cast<size_t>(end - start));
+      in->read(out->data(), static_cast<std::streamsize>(out->size()));
+      out->resize(static_cast<size_t>(in->gcount()));
+    }
+  }
+  in->clear(in->rdstate() & ~(std::ios::failbit | std::ios::eofbit));
+  char buf[1 << 16];
+  while (in->read(buf, sizeof(buf)) || in->gcount() > 0) {
+    out->append(buf, static_cast<size_t>(in->gcount()));
+  }
+  return !in->bad();
+}
+
+Status MissingFile(int file, const std::string& detail) {
+  return Status::InvalidArgument(std::string(kDatasetFileNames[file]) +
+                                 ":0:0 " + kDatasetFileNames[file] +
+                                 ": missing file" + detail);
+}
+
+}  // namespace
+
+StatusOr<Dataset> ReadDataset(const std::string& dir) {
+  std::string texts[kNumDatasetFiles];
+  for (int i = 0; i < kNumDatasetFiles; ++i) {
+    const std::string path = dir + "/" + kDatasetFileNames[i];
+    std::FILE* fp = std::fopen(path.c_str(), "rb");
+    if (fp == nullptr) {
+      const int err = errno;
+      if (err == ENOENT || err == ENOTDIR) {
+        return MissingFile(i, " (" + path + ")");
+      }
+      return Status::IoError("cannot open " + path + ": " + std::strerror(err));
+    }
+    const bool ok = ReadAll(fp, &texts[i]);
+    std::fclose(fp);
+    if (!ok) return Status::IoError("cannot read " + path);
+  }
+  return ParseDataset(texts);
+}
+
+StatusOr<Dataset> ReadDatasetStreams(const DatasetStreams& in) {
+  std::istream* streams[kNumDatasetFiles] = {in.campaigns, in.mounts, in.coils,
+                                             in.measurements};
+  std::string texts[kNumDatasetFiles];
+  for (int i = 0; i < kNumDatasetFiles; ++i) {
+    if (streams[i] == nullptr) return MissingFile(i, " (no stream given)");
+    if (!ReadAll(streams[i], &texts[i])) {
+      return Status::IoError(std::string("cannot read ") +
+                             kDatasetFileNames[i]);
+    }
+  }
+  return ParseDataset(texts);
+}
+
+}  // namespace rollwear

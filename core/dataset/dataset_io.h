@@ -1,0 +1,47 @@
+// Reading and writing mill dataset folders (the CSV format of
+// docs/data-format.md).
+//
+// ReadDataset validates every rule of the format's bad-input section and
+// reports the first broken rule as "<file>:<line>:<column> <field>: <rule>"
+// (line 1 is the header, column is 1-based field position). A rejected
+// dataset yields no Dataset at all: import is all-or-nothing.
+//
+// Thread-safety: stateless functions; safe to call concurrently on distinct
+// folders.
+#ifndef ROLLWEAR_CORE_DATASET_DATASET_IO_H_
+#define ROLLWEAR_CORE_DATASET_DATASET_IO_H_
+
+#include <istream>
+#include <ostream>
+#include <string>
+
+#include "core/dataset/dataset.h"
+#include "core/base/status.h"
+
+namespace rollwear {
+
+// Reads DIR/{campaigns,mounts,coils,measurements}.csv.
+StatusOr<Dataset> ReadDataset(const std::string& dir);
+
+// The same from four streams. Error messages name them by the canonical file
+// names (campaigns.csv, ...); a null stream is reported as a missing file.
+struct DatasetStreams {
+  std::istream* campaigns = nullptr;
+  std::istream* mounts = nullptr;
+  std::istream* coils = nullptr;
+  std::istream* measurements = nullptr;
+};
+StatusOr<Dataset> ReadDatasetStreams(const DatasetStreams& in);
+
+// Writes the four CSV files into `dir` (created if missing).
+Status WriteDataset(const Dataset& data, const std::string& dir);
+
+// ISO 8601 with offset or Z ("2026-03-01T06:12:00Z",
+// "2026-03-01T07:12:00+01:00", fractional seconds accepted and truncated).
+bool ParseTimestamp(const std::string& text, UnixSeconds* out);
+// Always "YYYY-MM-DDTHH:MM:SSZ".
+std::string FormatTimestamp(UnixSeconds t);
+
+}  // namespace rollwear
+
+#endif  // ROLLWEAR_CORE_DATASET_DATASET_IO_H_

@@ -1,0 +1,149 @@
+// Diagnosis: when predictions and grinder measurements disagree in a
+// structured way, find where, name the physics the model leaves out, fit a
+// term for it and show on held-out campaigns that the fit improved.
+//
+// One code path and one default configuration for every dataset; the
+// engine is never told which effect (if any) is present:
+//  1. Baseline: calibrate Wang option 1 (calibration.h) on the training
+//     campaigns of the seeded 2/3-1/3 split.
+//  2. Locate: break the baseline residuals down by roll position, roll type,
+//     dominant grade, campaign length, wear amplitude, time, and against
+//     every catalogued covariate aggregated as the model aggregates it
+//     (ANOVA F or Pearson t tests), with effect sizes.
+//  3. Hypothesise: a library of nested candidate terms (model_terms.h) over
+//     every covariate of the catalog (covariates.h): log-linear, power,
+//     quantile-binned, saturating and decaying forms, flags, factor levels,
+//     and measurement-side offsets.
+//  4. Test: refit baseline + candidate jointly (term_fit.h); likelihood
+//     ratio LR = n ln(RSS0/RSS1) ~ chi2(df) with a Bonferroni correction
+//     over all candidates of the round, and K-fold cross-validation on the
+//     training campaigns; a candidate is adopted only when both agree
+//     (p_adj < alpha and CV error reduced by min_cv_improvement). The best
+//     by cross-validation wins; repeat on the improved model for a further
+//     effect until nothing is significant.
+//  5. Adopt and report: the adopted terms with parameters and standard
+//     errors, the validation gap before and after each.
+//
+// Thread-safety: Diagnose is reentrant; it uses up to options.num_threads
+// worker threads internally.
+#ifndef ROLLWEAR_CORE_DIAGNOSIS_DIAGNOSIS_H_
+#define ROLLWEAR_CORE_DIAGNOSIS_DIAGNOSIS_H_
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/dataset/dataset.h"
+#include "core/model/model_terms.h"
+#include "core/base/status.h"
+#include "core/model/wear_law.h"
+#include "core/model/wear_model.h"
+
+namespace rollwear {
+
+struct DiagnosisOptions {
+  WearLaw law = WearLaw::kWang;
+  uint64_t split_seed = 1;
+  int cv_folds = 5;
+  double alpha = 0.001;              // family-wise level per round
+  double min_cv_improvement = 0.03;  // relative CV weighted-MSE reduction
+  // Parsimony: a candidate must beat one with fewer parameters by this much
+  // CV-error ratio per extra parameter to be preferred.
+  double cv_penalty_per_parameter = 0.005;
+  int max_findings = 3;
+  int num_bins = 4;                  // quantile bins of the binned form
+  int max_factor_levels = 12;
+  int num_threads = 2;
+
+  bool IsValid(std::string* error) const;
+};
+
+// One dimension of the residual breakdown.
+struct Breakdown {
+  std::string dimension;  // "roll_position", "wear_amplitude", a covariate...
+  std::string test;       // "anova" or "pearson"
+  double statistic = 0;   // F or t
+  double p_value = 1;
+  double effect_size = 0;  // largest |mean relative residual| of a group, or |r|
+  struct Group {
+    std::string label;
+    int n = 0;
+    double mean_residual_um = 0;  // measured - predicted
+    double mean_relative = 0;     // mean of (measured - predicted) / predicted
+  };
+  std::vector<Group> groups;
+};
+
+struct CandidateResult {
+  std::string covariate;
+  std::string form;
+  int df = 0;
+  double lr = 0;
+  double p_value = 1;
+  double p_adjusted = 1;
+  double cv_mse_ratio = 1;  // CV weighted MSE with / without; NaN if not run
+  bool accepted = false;
+};
+
+struct Finding {
+  std::string covariate;
+  std::string level;      // "pass", "roll", "campaign", "measurement"
+  std::string mechanism;  // physical name, e.g. "wear_rate_growth_along_campaign"
+  std::string shape;      // "increasing", "decreasing", "saturating_growth",
+                          // "decaying", "on_off", "per_level", "peaked"...
+  std::string form;       // TermFormName
+  std::string explanation;
+  std::map<std::string, double> parameters;
+  std::map<std::string, double> parameter_std_errors;
+  double lr = 0;
+  int df = 0;
+  double p_value = 1;
+  double p_adjusted = 1;
+  double cv_gap_before_um = 0, cv_gap_after_um = 0;
+  double cv_mse_ratio = 1;
+  double gap_val_before_um = 0, gap_val_after_um = 0;
+  std::vector<std::string> alternatives;  // covariates that fit almost as well
+  ModelTerm term;                         // the adopted term
+};
+
+// Per validation observation, for plots.
+struct DiagnosisPoint {
+  std::string campaign_id;
+  int stand = 0;
+  Position position = Position::kTop;
+  bool validation = false;
+  double measured_um = 0;
+  double before_um = 0;  // baseline prediction
+  double after_um = 0;   // prediction with the adopted terms
+  std::map<std::string, double> covariates;  // of the findings, aggregated
+};
+
+struct DiagnosisReport {
+  std::string law;
+  int n_train = 0, n_val = 0;
+  double baseline_gap_train_um = 0, baseline_gap_val_um = 0;
+  double final_gap_train_um = 0, final_gap_val_um = 0;
+  std::vector<Breakdown> locate;  // strongest evidence first
+  std::vector<Finding> findings;  // order of adoption = strongest first
+  std::vector<CandidateResult> first_round;  // by p-value, top 15
+  std::string verdict;  // "missing_physics_found" | "no_significant_mismatch"
+  std::vector<DiagnosisPoint> points;
+  // The adopted model: option-1 coefficients (names and values) and terms.
+  std::vector<std::pair<std::string, double>> coefficients;
+  std::vector<ModelTerm> terms;
+  // The same as a servable model version (option 1 + terms, noise model
+  // fitted on the training residuals): what calibrate, the daemon and the
+  // reports use once the finding is adopted.
+  WearModel adopted_model;
+  double seconds = 0;
+  // Wall seconds per phase ("baseline", "data", "locate", "screen",
+  // "refit", "cross_validation"), summed over rounds.
+  std::map<std::string, double> phase_seconds;
+};
+
+StatusOr<DiagnosisReport> Diagnose(const Dataset& data, const DiagnosisOptions& options);
+
+}  // namespace rollwear
+
+#endif  // ROLLWEAR_CORE_DIAGNOSIS_DIAGNOSIS_H_

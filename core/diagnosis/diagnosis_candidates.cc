@@ -1,0 +1,424 @@
+// The candidate-term library of the diagnosis engine and the naming of the
+// mechanisms it finds; see diagnosis.h.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <utility>
+
+#include "core/diagnosis/diagnosis_internal.h"
+
+namespace rollwear::diag {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+struct WeightedValues {
+  std::vector<std::pair<double, double>> v;  // (value, weight), sorted
+  double total = 0;
+};
+
+WeightedValues Collect(const TermData& td, const std::vector<int>& obs, int k) {
+  WeightedValues w;
+  const bool pass_level = td.catalog[k].level == CovariateLevel::kPass;
+  for (int o : obs) {
+    const TermObservation& ob = td.obs[o];
+    if (pass_level) {
+      for (int i = ob.pass_begin; i < ob.pass_end; ++i) {
+        const double z = td.z[k][i];
+        if (!std::isnan(z)) w.v.emplace_back(z, td.load[i]);
+      }
+    } else {
+      const double z = td.obs_z[k][o];
+      if (!std::isnan(z)) w.v.emplace_back(z, 1.0);
+    }
+  }
+  std::sort(w.v.begin(), w.v.end());
+  for (const auto& [z, wt] : w.v) w.total += wt;
+  return w;
+}
+
+double Quantile(const WeightedValues& w, double q) {
+  if (w.v.empty() || !(w.total > 0)) return kNaN;
+  const double target = q * w.total;
+  double acc = 0;
+  for (const auto& [z, wt] : w.v) {
+    acc += wt;
+    if (acc >= target) return z;
+  }
+  return w.v.back().first;
+}
+
+void MeanSd(const WeightedValues& w, double* mean, double* sd) {
+  double s = 0, s2 = 0;
+  for (const auto& [z, wt] : w.v) s += wt * z;
+  *mean = s / w.total;
+  for (const auto& [z, wt] : w.v) s2 += wt * (z - *mean) * (z - *mean);
+  *sd = std::sqrt(s2 / w.total);
+}
+
+TermSpec Spec(int k, const CovariateSpec& c, TermForm form, std::vector<double> start,
+              std::vector<double> lo, std::vector<double> hi) {
+  TermSpec s;
+  s.covariate = k;
+  s.term.covariate = c.name;
+  s.term.form = form;
+  s.term.params = std::move(start);
+  s.lower = std::move(lo);
+  s.upper = std::move(hi);
+  return s;
+}
+
+}  // namespace
+
+double CovariateQuantile(const TermData& td, const std::vector<int>& obs, int k, double q) {
+  return Quantile(Collect(td, obs, k), q);
+}
+
+std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>& train,
+                                      const std::set<int>& used,
+                                      const DiagnosisOptions& options) {
+  std::vector<Candidate> out;
+  for (int k = 0; k < static_cast<int>(td.catalog.size()); ++k) {
+    if (used.count(k) > 0) continue;
+    const CovariateSpec& c = td.catalog[k];
+    const WeightedValues w = Collect(td, train, k);
+    if (w.v.size() < 10) continue;
+    const double p01 = Quantile(w, 0.01), p05 = Quantile(w, 0.05);
+    const double p50 = Quantile(w, 0.5), p95 = Quantile(w, 0.95);
+    if (c.kind == CovariateKind::kFactor) {
+      int levels = 0;
+      for (const auto& [z, wt] : w.v) levels = std::max(levels, static_cast<int>(z) + 1);
+      if (levels < 2 || levels > options.max_factor_levels) continue;
+      TermSpec s = Spec(k, c, TermForm::kPerLevel, std::vector<double>(levels - 1, 0.0),
+                        std::vector<double>(levels - 1, -3.0),
+                        std::vector<double>(levels - 1, 3.0));
+      s.term.num_levels = levels;
+      out.push_back({s, {}});
+      continue;
+    }
+    if (c.kind == CovariateKind::kFlag) {
+      double on = 0;
+      for (const auto& [z, wt] : w.v) on += z > 0.5 ? wt : 0.0;
+      if (on < 0.02 * w.total || on > 0.98 * w.total) continue;
+      out.push_back({Spec(k, c, TermForm::kFlag, {0.0}, {-3.0}, {3.0}), {}});
+      continue;
+    }
+    if (!(p95 > p05)) continue;  // (nearly) constant
+    double mean, sd;
+    MeanSd(w, &mean, &sd);
+    if (!(sd > 0)) continue;
+    if (c.level == CovariateLevel::kMeasurement) {
+      TermSpec lin = Spec(k, c, TermForm::kOffsetLinear, {0.0}, {-1000.0}, {1000.0});
+      lin.term.center = mean;
+      lin.term.scale = sd;
+      out.push_back({lin, {}});
+      if (p01 >= 0 && p50 > 0) {
+        Candidate dec{Spec(k, c, TermForm::kOffsetDecay, {0.0, std::log(p50)},
+                           {-1000.0, std::log(0.02 * p50)}, {1000.0, std::log(20 * p95)}),
+                      {}};
+        for (double f : {0.25, 1.0, 4.0}) dec.starts.push_back({0.0, std::log(f * p50)});
+        out.push_back(dec);
+      }
+      continue;
+    }
+    TermSpec ll = Spec(k, c, TermForm::kLogLinear, {0.0}, {-2.0}, {2.0});
+    ll.term.center = mean;
+    ll.term.scale = sd;
+    out.push_back({ll, {}});
+    if (p01 > 0) {
+      TermSpec pw = Spec(k, c, TermForm::kPower, {0.0}, {-4.0}, {4.0});
+      pw.term.center = mean;
+      out.push_back({pw, {}});
+    }
+    std::vector<double> edges;
+    for (int b = 1; b < options.num_bins; ++b) {
+      const double e = Quantile(w, static_cast<double>(b) / options.num_bins);
+      if (edges.empty() || e > edges.back()) edges.push_back(e);
+    }
+    if (edges.size() >= 2 && edges.back() < w.v.back().first) {
+      const int nb = static_cast<int>(edges.size());
+      TermSpec bin = Spec(k, c, TermForm::kBinned, std::vector<double>(nb, 0.0),
+                          std::vector<double>(nb, -3.0), std::vector<double>(nb, 3.0));
+      bin.term.edges = edges;
+      out.push_back({bin, {}});
+    }
+    if (c.accumulates && p95 > 0 && p05 >= 0) {
+      Candidate sat{Spec(k, c, TermForm::kSaturating, {0.0, std::log(p95)},
+                         {-0.9, std::log(0.05 * p95)}, {10.0, std::log(20 * p95)}),
+                    {}};
+      for (double f : {0.2, 1.0, 5.0}) sat.starts.push_back({0.0, std::log(f * p95)});
+      out.push_back(sat);
+      Candidate dec{Spec(k, c, TermForm::kDecaying, {0.0, std::log(0.1 * p95)},
+                         {-0.9, std::log(0.005 * p95)}, {10.0, std::log(p95)}),
+                    {}};
+      for (double f : {0.02, 0.1, 0.4}) dec.starts.push_back({0.0, std::log(f * p95)});
+      out.push_back(dec);
+    }
+  }
+  return out;
+}
+
+namespace {
+
+struct Mechanism {
+  const char* covariate;
+  const char* up;  // mechanism when the multiplier rises with the covariate
+  const char* up_text;
+  const char* down;
+  const char* down_text;
+};
+
+// Physical reading of a dependence on each canonical covariate.
+constexpr Mechanism kMechanisms[] = {
+    {"campaign_length_before_m", "wear_rate_growth_along_campaign",
+     "Each km of strip wears the roll more than the one before: the roll surface "
+     "degrades along the campaign (fire cracks, banding, loss of the protective "
+     "oxide layer), which the wear law, summing independent strips, leaves out.",
+     "run_in_of_fresh_surface",
+     "A freshly ground roll wears faster at first (grinding roughness peaks are "
+     "worn off) and then settles; the wear law treats every strip alike."},
+    {"campaign_coils_before", "wear_rate_growth_along_campaign",
+     "Wear per coil rises with the number of coils already rolled: the roll "
+     "surface degrades along the campaign.",
+     "run_in_of_fresh_surface",
+     "The first coils after a roll change wear the roll more: run-in of a freshly "
+     "ground surface."},
+    {"hours_since_mount", "wear_rate_growth_along_campaign",
+     "Wear rate rises with time in the stand: thermal fatigue and surface "
+     "degradation accumulate during the campaign.",
+     "run_in_of_fresh_surface",
+     "Wear is highest in the first hours after mounting: run-in and the thermal "
+     "transient of a cold roll."},
+    {"temperature_c", "hot_strip_oxide_abrasion",
+     "Hotter strip wears the roll more: thicker, abrasive oxide scale and a "
+     "hotter roll surface at higher entry temperature.",
+     "cold_strip_hardness_and_scale",
+     "Colder strip wears the roll more: it is harder and carries a harder, more "
+     "abrasive tertiary scale."},
+    {"lubrication", "lubrication_increases_wear",
+     "Passes with roll-gap lubrication on wear more than the law predicts.",
+     "roll_gap_lubrication",
+     "Roll-gap lubrication lowers friction and slip in the bite and with them "
+     "the abrasive wear, beyond what the lower force already accounts for."},
+    {"hardness_hb", "hardness_increases_wear",
+     "Harder rolls wear more than the law predicts (e.g. a harder but more brittle "
+     "roll grade).",
+     "roll_hardness",
+     "Softer rolls wear faster: Archard wear scales with 1/hardness, which Wang's "
+     "law does not contain (and rolls get softer as they are ground down)."},
+    {"speed_mps", "rolling_speed",
+     "Faster rolling wears the roll more per km: more sliding and a higher "
+     "thermal load of the roll surface.",
+     "rolling_speed_decrease",
+     "Slower rolling wears the roll more per km: longer contact time and hotter "
+     "contact per revolution."},
+    {"force_kn", "superlinear_load_dependence",
+     "Wear grows faster than linearly with rolling force (pressure exponent above "
+     "one in the Archard law).",
+     "sublinear_load_dependence",
+     "Wear grows slower than linearly with rolling force."},
+    {"specific_force_kn_per_mm", "superlinear_load_dependence",
+     "Wear grows faster than linearly with specific force (pressure exponent "
+     "above one).",
+     "sublinear_load_dependence", "Wear grows slower than linearly with specific force."},
+    {"width_mm", "strip_width", "Wider strips wear the barrel centre more per unit load.",
+     "narrow_strip_concentration",
+     "Narrow strips concentrate the contact at the barrel centre, wearing it "
+     "more per unit load."},
+    {"shift_mm", "axial_shift_position",
+     "Centre wear depends on the axial shift position: shifting moves the contact "
+     "zone along the barrel.",
+     "axial_shift_position",
+     "Centre wear depends on the axial shift position: shifting moves the contact "
+     "zone along the barrel."},
+    {"reduction", "roll_gap_slip",
+     "Heavier reductions wear the roll more: more forward slip and sliding in a "
+     "longer bite.",
+     "roll_gap_slip_decrease", "Lighter reductions wear the roll more per unit load."},
+    {"contact_length_mm", "roll_gap_slip",
+     "Longer contact arcs wear the roll more: more sliding per revolution.",
+     "roll_gap_slip_decrease", "Shorter contact arcs wear the roll more per unit load."},
+    {"entry_thickness_mm", "strip_thickness", "Thicker entry strip wears the roll more.",
+     "thin_strip", "Thinner entry strip wears the roll more per unit load."},
+    {"exit_thickness_mm", "strip_thickness", "Thicker exit strip wears the roll more.",
+     "thin_strip", "Thinner strip wears the roll more per unit load."},
+    {"length_m", "coil_length", "Longer coils wear more per metre than short ones.",
+     "coil_length", "Short coils wear more per metre (threading and tail-out)."},
+    {"diameter_mm", "roll_diameter",
+     "Larger rolls wear more per unit load than the law predicts.", "roll_diameter",
+     "Smaller (more reground) rolls wear more per unit load: higher contact "
+     "pressure and more revolutions per km."},
+    {"started_at", "drift_over_time",
+     "Wear rates drift upward over the months (e.g. a new roll supplier or batch, "
+     "a changed cooling practice).",
+     "drift_over_time", "Wear rates drift downward over the months."},
+    {"cooling_h", "thermal_expansion_at_measurement",
+     "Rolls measured soon after the campaign read a different wear: the roll "
+     "still carries thermal expansion at the barrel centre when gauged warm.",
+     "thermal_expansion_at_measurement",
+     "Rolls measured soon after the campaign read less wear: a warm roll is still "
+     "expanded at the barrel centre, which hides part of the wear until it cools."},
+};
+
+const Mechanism* FindMechanism(const std::string& covariate) {
+  for (const Mechanism& m : kMechanisms) {
+    if (covariate == m.covariate) return &m;
+  }
+  return nullptr;
+}
+
+std::string Format(const char* fmt, double a, double b = 0, double c = 0, double d = 0) {
+  char buf[256];
+  std::snprintf(buf, sizeof(buf), fmt, a, b, c, d);
+  return buf;
+}
+
+}  // namespace
+
+void NameFinding(const TermData& td, const std::vector<int>& train, const TermSpec& spec,
+                 Finding* f) {
+  const ModelTerm& t = spec.term;
+  const CovariateSpec& c = td.catalog[spec.covariate];
+  const WeightedValues w = Collect(td, train, spec.covariate);
+  const double lo = Quantile(w, 0.05), hi = Quantile(w, 0.95);
+  f->covariate = c.name;
+  f->form = TermFormName(t.form);
+  switch (c.level) {
+    case CovariateLevel::kPass: f->level = "pass"; break;
+    case CovariateLevel::kRoll: f->level = "roll"; break;
+    case CovariateLevel::kCampaign: f->level = "campaign"; break;
+    case CovariateLevel::kMeasurement: f->level = "measurement"; break;
+  }
+  const double* p = t.params.data();
+  bool up = true;
+  std::string fitted;
+  // Shape of a wear-rate multiplier from its profile over the covariate's
+  // 5th..95th percentiles: monotone (with or without most of the change in
+  // the first half: saturating growth / decay) or with an interior extreme.
+  auto profile_shape = [&]() {
+    std::vector<double> v;
+    for (double q : {0.05, 0.275, 0.5, 0.725, 0.95}) {
+      v.push_back(TermMultiplier(t, Quantile(w, q), nullptr));
+    }
+    // A departure from monotone counts only beyond 1 % of the change, and
+    // for the binned form beyond 2 standard errors of a bin's multiplier
+    // (exp(b) * se(b)): a step seen through noisy bins is still a step.
+    double tol = 0.01 * std::max(1e-12, std::abs(v.back() - v.front()));
+    if (t.form == TermForm::kBinned) {
+      for (size_t j = 0; j < t.params.size(); ++j) {
+        auto se = f->parameter_std_errors.find("param" + std::to_string(j));
+        if (se != f->parameter_std_errors.end() && std::isfinite(se->second)) {
+          tol = std::max(tol, 2 * std::exp(t.params[j]) * se->second);
+        }
+      }
+    }
+    bool inc = true, dec = true;
+    for (size_t i = 1; i < v.size(); ++i) {
+      inc = inc && v[i] >= v[i - 1] - tol;
+      dec = dec && v[i] <= v[i - 1] + tol;
+    }
+    up = v.back() > v.front();
+    if (inc && dec) {  // flat within the tolerance: monotone in its direction
+      inc = up;
+      dec = !up;
+    }
+    if (inc && !dec) {
+      return std::string((v[2] - v[0]) > 0.75 * (v[4] - v[0]) ? "saturating_growth"
+                                                              : "increasing");
+    }
+    if (dec && !inc) {
+      return std::string((v[0] - v[2]) > 0.75 * (v[0] - v[4]) ? "decaying" : "decreasing");
+    }
+    const size_t imax = std::max_element(v.begin(), v.end()) - v.begin();
+    const size_t imin = std::min_element(v.begin(), v.end()) - v.begin();
+    if (imax > 0 && imax + 1 < v.size()) return std::string("peaked");
+    if (imin > 0 && imin + 1 < v.size()) return std::string("valley");
+    return std::string(up ? "increasing" : "decreasing");
+  };
+  const std::string range_text =
+      Format("wear-rate multiplier %.3f at the 5th percentile (%.4g) and ",
+             TermMultiplier(t, lo, nullptr), lo) +
+      Format("%.3f at the 95th (%.4g)", TermMultiplier(t, hi, nullptr), hi);
+  switch (t.form) {
+    case TermForm::kLogLinear:
+    case TermForm::kPower: {
+      f->shape = profile_shape();
+      if (t.form == TermForm::kLogLinear) {
+        f->parameters = {{"beta", p[0]}, {"center", t.center}, {"scale", t.scale}};
+      } else {
+        f->parameters = {{"exponent", p[0]}, {"reference", t.center}};
+      }
+      fitted = range_text;
+      break;
+    }
+    case TermForm::kSaturating:
+    case TermForm::kDecaying: {
+      const double lam = std::exp(p[1]);
+      f->shape = profile_shape();
+      f->parameters = {{"beta", p[0]}, {"lambda", lam}};
+      fitted = range_text + Format(", length scale %.4g", lam);
+      break;
+    }
+    case TermForm::kFlag:
+      up = p[0] > 0;
+      f->shape = up ? "higher_when_on" : "lower_when_on";
+      f->parameters = {{"beta", p[0]}, {"multiplier_on", std::exp(p[0])}};
+      fitted = Format("wear-rate multiplier %.3f when on", std::exp(p[0]));
+      break;
+    case TermForm::kBinned: {
+      f->shape = profile_shape();
+      std::vector<double> m = {1.0};
+      for (double b : t.params) m.push_back(std::exp(b));
+      for (size_t i = 0; i < m.size(); ++i) {
+        f->parameters["bin" + std::to_string(i) + "_multiplier"] = m[i];
+      }
+      for (size_t i = 0; i < t.edges.size(); ++i) {
+        f->parameters["edge" + std::to_string(i)] = t.edges[i];
+      }
+      fitted = "wear-rate multipliers by quantile bin of the covariate:";
+      for (double v : m) fitted += Format(" %.3f", v);
+      break;
+    }
+    case TermForm::kPerLevel:
+      f->shape = "per_level";
+      for (size_t i = 0; i < t.params.size(); ++i) {
+        f->parameters["level" + std::to_string(i + 1) + "_multiplier"] = std::exp(t.params[i]);
+      }
+      fitted = "a wear-rate multiplier per level";
+      break;
+    case TermForm::kOffsetDecay:
+      up = p[0] > 0;
+      f->shape = p[0] < 0 ? "reads_low_when_measured_early" : "reads_high_when_measured_early";
+      f->parameters = {{"amplitude_um", p[0]}, {"tau", std::exp(p[1])}};
+      fitted = Format("measured wear offset %.1f µm right after the campaign, fading with "
+                      "time constant %.3g",
+                      p[0], std::exp(p[1]));
+      break;
+    case TermForm::kOffsetLinear:
+      up = p[0] > 0;
+      f->shape = up ? "increasing" : "decreasing";
+      f->parameters = {{"slope_um_per_sd", p[0]}, {"center", t.center}, {"scale", t.scale}};
+      fitted = Format("measured wear offset of %.1f µm per standard deviation (%.4g)", p[0],
+                      t.scale);
+      break;
+  }
+  const Mechanism* m = FindMechanism(c.name);
+  std::string text;
+  if (m != nullptr) {
+    f->mechanism = up ? m->up : m->down;
+    text = up ? m->up_text : m->down_text;
+  } else if (t.IsMeasurementTerm()) {
+    f->mechanism = "measurement_bias_" + c.name;
+    text = "What the grinder reads depends on " + c.name +
+           ", a measurement-side effect the wear model does not contain.";
+  } else {
+    f->mechanism = c.name + "_dependence";
+    text = "The wear rate depends on " + c.name +
+           ", a quantity the wear law does not contain.";
+  }
+  f->explanation = text + " Fitted: " + fitted + ".";
+}
+
+}  // namespace rollwear::diag

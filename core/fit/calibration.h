@@ -1,0 +1,110 @@
+// Calibration of the wear coefficients K with Levenberg-Marquardt (Ceres)
+// on per-campaign sufficient statistics (aggregation.h).
+//
+// Minimised cost (study Eq. 9), over the training observations:
+//   F = sum_p (1/n_p) sum_{c in p} (d_meas[c,p] - d_calc[c,p])^2
+// as Ceres residuals r = (d_meas - d_calc) / sqrt(n_p).
+//
+// Exact mode (default): parameters are log k (positivity by construction),
+// analytic Jacobian, bounds |log k| <= log_bound and a in [a_lo, a_hi] for
+// Cao; one reference level per non-position group is held fixed (gauge, see
+// k_structure.h) and the result is reported in the geometric-mean gauge.
+// Paper mode: the study's protocol - natural k with bounds, forward
+// differences with relative step 5e-3, at most 10*n evaluations - on the
+// same cost, gauge and priors, so the two can be compared.
+//
+// Option 2 shrinkage: rare or absent (roll type, grade) cells must not give
+// wild coefficients, so log kRS[r,s] gets a Gaussian prior centred on an
+// additive (option-1-like) surface u_r + v_s with sd `option2_prior_sd`:
+//   extra residuals  (sigma_w / tau) * (log kRS[r,s] - u_r - v_s)
+// where sigma_w^2 is the weighted residual variance of an option-1 pre-fit.
+// Cells with no data then take the option-1 value u_r + v_s.
+//
+// Standard errors: Ceres covariance (dense SVD, rank deficiency handled by a
+// pseudo-inverse) of the free parameters, scaled by s^2 = sum r^2/(m - n),
+// mapped to the reported gauge.
+//
+// Thread-safety: Calibrate is reentrant; it shares no state between calls.
+#ifndef ROLLWEAR_CORE_FIT_CALIBRATION_H_
+#define ROLLWEAR_CORE_FIT_CALIBRATION_H_
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/model/aggregation.h"
+#include "core/fit/lm_options.h"
+#include "core/base/status.h"
+#include "core/model/wear_model.h"
+
+namespace rollwear {
+
+// The study's three initial sets.
+enum class InitialSet {
+  kOnes = 1,       // every coefficient 1 (a = 1 for Cao)
+  kRandom = 2,     // one random value per factor group (seeded)
+  kEmpirical = 3,  // kF[p] = sum d_meas / sum load per position, others 1
+};
+const char* InitialSetName(InitialSet s);  // "ones", "random", "empirical"
+
+enum class DerivativeMode {
+  kExact,                   // analytic Jacobian, log parameters
+  kPaperForwardDifference,  // the study's protocol
+};
+
+struct CalibrationOptions {
+  WearLaw law = WearLaw::kWang;
+  int option = 1;
+  InitialSet initial_set = InitialSet::kEmpirical;
+  uint64_t seed = 1;  // for InitialSet::kRandom
+  DerivativeMode derivatives = DerivativeMode::kExact;
+  double fd_relative_step = 5e-3;          // paper mode
+  int max_evaluations_per_parameter = 10;  // paper mode: at most 10*n
+  double log_bound = 10;                   // |log k| <= log_bound
+  double paper_k_lower = 1e-6;             // paper mode bounds on k
+  double paper_k_upper = 1e4;
+  double cao_a_lower = 0.2;
+  double cao_a_upper = 4.0;
+  double option2_prior_sd = 0.3;  // tau, log scale
+  bool compute_covariance = true;
+  LmOptions lm;
+
+  bool IsValid(std::string* error) const;
+};
+
+struct CalibrationSummary {
+  bool usable = false;      // converged (or hit the budget) to finite values
+  std::string termination;  // Ceres termination type, e.g. "CONVERGENCE"
+  std::string message;
+  int iterations = 0;
+  int evaluations = 0;  // residual evaluations (incl. finite differences)
+  int num_free_parameters = 0;
+  int num_observations = 0;
+  double initial_cost = 0;  // Eq. 9 on training, µm^2
+  double final_cost = 0;
+  double seconds = 0;
+  // One line: "wang option 1: CONVERGENCE after 7 iterations, cost 1234 ->
+  // 567 µm^2, 21 parameters, 1053 observations, usable".
+  std::string BriefReport() const;
+};
+
+struct CalibrationResult {
+  WearModel model;
+  CalibrationSummary summary;
+  // Per parameter of model (log k..., a): standard error in the reported
+  // gauge; NaN where the training data do not identify it.
+  std::vector<double> std_error;
+  std::vector<bool> identified;
+};
+
+// Calibrates on the observations `train` (indices into
+// stats.observations, each with a measurement). A fit that fails
+// numerically is returned with summary.usable = false; a Status error means
+// the inputs were unusable (invalid options, no training data).
+StatusOr<CalibrationResult> Calibrate(const WearStatistics& stats,
+                                      const std::vector<int>& train,
+                                      const CalibrationOptions& options);
+
+}  // namespace rollwear
+
+#endif  // ROLLWEAR_CORE_FIT_CALIBRATION_H_

@@ -1,0 +1,82 @@
+// The rollwear study on any dataset: the tables of the paper the product
+// comes from, computed on one seeded 2/3-1/3 campaign split.
+//   Table 1: the three wear laws x the three initial sets (option 1).
+//   Table 2: Wang's law x the three K structures (empirical start).
+//   Table 3: the study's protocol (forward differences, step 5e-3, at most
+//            10 n evaluations) against exact derivatives, per law/option,
+//            from the all-ones start.
+// Every row also reports the mean residual of validation campaigns whose
+// measured wear exceeds 300 µm (the study saw all models under-predict
+// there).
+//
+// Thread-safety: RunStudy is reentrant.
+#ifndef ROLLWEAR_CORE_FIT_STUDY_H_
+#define ROLLWEAR_CORE_FIT_STUDY_H_
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/fit/calibration.h"
+#include "core/dataset/dataset.h"
+#include "core/model/metrics.h"
+#include "core/base/status.h"
+
+namespace rollwear {
+
+struct StudyRow {
+  std::string law;
+  int option = 1;
+  std::string initial_set;
+  std::string derivatives;  // "exact" or "paper"
+  int num_parameters = 0;   // free parameters
+  double initial_cost = 0;  // Eq. 9 at the start, training
+  double cost = 0;          // Eq. 9 at the optimum, training
+  double gap_train_um = 0;
+  double gap_val_um = 0;
+  // Mean (measured - predicted) over validation campaigns with measured
+  // wear > 300 µm; positive = under-prediction. NaN when there are none.
+  double bias_above_300_um = 0;
+  int n_above_300 = 0;
+  int iterations = 0;
+  int evaluations = 0;
+  double seconds = 0;
+  bool usable = false;
+  std::string termination;
+};
+
+struct StudyReport {
+  int n_campaigns = 0;
+  int n_coils = 0;
+  int n_train = 0;  // training observations
+  int n_val = 0;    // validation observations
+  uint64_t split_seed = 0;
+  std::vector<StudyRow> table1, table2, table3;
+};
+
+// One calibration on a split, with its training and validation figures:
+// what `rollwear calibrate` and every row of the study run.
+struct SplitCalibration {
+  CalibrationResult result;
+  FitMetrics train;
+  FitMetrics validation;
+  double bias_above_300_um = 0;  // see StudyRow
+  int n_above_300 = 0;
+};
+StatusOr<SplitCalibration> CalibrateOnSplit(const WearStatistics& stats,
+                                            const CampaignSplit& split,
+                                            const CalibrationOptions& options);
+
+struct StudyOptions {
+  uint64_t split_seed = 1;
+  uint64_t random_start_seed = 1;
+};
+
+StatusOr<StudyReport> RunStudy(const Dataset& data, const StudyOptions& options);
+
+// The report as Markdown (three tables with captions).
+std::string StudyMarkdown(const StudyReport& report);
+
+}  // namespace rollwear
+
+#endif  // ROLLWEAR_CORE_FIT_STUDY_H_

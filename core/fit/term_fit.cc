@@ -1,0 +1,471 @@
+// Joint LM fit of option-1 coefficients and model terms; see term_fit.h.
+#include "core/fit/term_fit.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+
+#include <Eigen/Dense>
+#include <ceres/ceres.h>
+
+#include "core/fit/lm_setup.h"
+
+namespace rollwear {
+
+int TermData::CovariateIndex(const std::string& name) const {
+  for (size_t i = 0; i < catalog.size(); ++i) {
+    if (catalog[i].name == name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+StatusOr<TermData> BuildTermData(const Dataset& data, WearLaw law) {
+  const DatasetIndex index(data);
+  TermData td;
+  td.law = law;
+  td.roll_types = data.roll_types;
+  td.grades = data.grades;
+  td.catalog = CovariateCatalog(data);
+  std::vector<int> slot_level(kNumRollPositionSlots, -1);
+  for (int slot : index.slots()) {
+    slot_level[slot] = static_cast<int>(td.positions.size());
+    td.positions.push_back(RollPositionName(SlotStand(slot), SlotPosition(slot)));
+  }
+  const UnixSeconds origin = 0;  // started_at in days since 1970 (covariates.h)
+  td.z.resize(td.catalog.size());
+  td.obs_z.resize(td.catalog.size());
+  for (int c = 0; c < static_cast<int>(data.campaigns.size()); ++c) {
+    for (int slot : index.slots()) {
+      const int m = index.MountOf(c, slot);
+      const int meas = index.MeasurementOf(c, slot);
+      if (m < 0 || meas < 0) continue;
+      const Mount& mount = data.mounts[m];
+      TermObservation o;
+      o.campaign = c;
+      o.slot = slot;
+      o.position = slot_level[slot];
+      o.roll_type = mount.roll_type;
+      o.mount = m;
+      o.measurement = meas;
+      o.measured_um = data.measurements[meas].wear_center_um;
+      o.pass_begin = static_cast<int>(td.load.size());
+      PassContext ctx;
+      ctx.mount = &mount;
+      ctx.mount_row = m;
+      ctx.campaign = &data.campaigns[c];
+      ctx.campaign_row = c;
+      ctx.measurement_row = meas;
+      for (int pi : index.PassesOf(c, mount.stand)) {
+        const Pass& pass = data.passes[pi];
+        ctx.pass = &pass;
+        ctx.pass_row = pi;
+        const PassLoadInput in{pass.force_kn,          pass.width_mm,
+                               pass.length_m,          pass.entry_thickness_mm,
+                               pass.exit_thickness_mm, mount.diameter_mm,
+                               mount.hardness_hb};
+        const double load = BaseLoad(law, in);
+        if (!std::isfinite(load) || load < 0) {
+          return Status::InvalidArgument("coil " + data.coil_ids[pass.coil] +
+                                         ": wear load is not finite");
+        }
+        td.load.push_back(load);
+        td.grade.push_back(pass.grade);
+        for (size_t k = 0; k < td.catalog.size(); ++k) {
+          td.z[k].push_back(CovariateValue(td.catalog[k], data, ctx, origin));
+        }
+        ctx.length_before_m += pass.length_m;
+        ctx.coils_before += 1;
+      }
+      o.pass_end = static_cast<int>(td.load.size());
+      for (size_t k = 0; k < td.catalog.size(); ++k) {
+        double num = 0, den = 0, first = std::numeric_limits<double>::quiet_NaN();
+        for (int i = o.pass_begin; i < o.pass_end; ++i) {
+          const double v = td.z[k][i];
+          if (std::isnan(v)) continue;
+          if (std::isnan(first)) first = v;
+          num += td.load[i] * v;
+          den += td.load[i];
+        }
+        double agg = first;
+        if (td.catalog[k].level == CovariateLevel::kPass && den > 0) agg = num / den;
+        td.obs_z[k].push_back(agg);
+      }
+      td.obs.push_back(o);
+    }
+  }
+  return td;
+}
+
+namespace {
+
+// Evaluates predictions and their Jacobian for log_k (n_coef) and the term
+// parameters (concatenated after log_k).
+class TermModel {
+ public:
+  TermModel(const TermData& data, const std::vector<TermSpec>& terms)
+      : data_(data), terms_(terms) {
+    p_ = static_cast<int>(data.positions.size());
+    r_ = static_cast<int>(data.roll_types.size());
+    s_ = static_cast<int>(data.grades.size());
+    n_coef_ = p_ + r_ + s_;
+    n_ = n_coef_;
+    for (const TermSpec& t : terms_) {
+      offsets_.push_back(n_);
+      n_ += t.term.NumParams();
+    }
+    k_.resize(s_);
+    t_.resize(s_);
+  }
+
+  int num_coef() const { return n_coef_; }
+  int num_params() const { return n_; }
+  int r_offset() const { return p_; }
+  int s_offset() const { return p_ + r_; }
+  std::vector<TermSpec>& terms() { return terms_; }
+
+  // Writes params into the terms.
+  void SetParams(const double* params) {
+    for (size_t t = 0; t < terms_.size(); ++t) {
+      std::copy(params + offsets_[t], params + offsets_[t] + terms_[t].term.NumParams(),
+                terms_[t].term.params.begin());
+    }
+  }
+
+  // Prediction of observation o; with `grad` (size num_params, zeroed by
+  // the caller) also d(prediction)/d(params).
+  double Predict(const double* params, int o, double* grad, bool wear_only = false) {
+    const TermObservation& obs = data_.obs[o];
+    const double base = params[obs.position] +
+                        (obs.roll_type >= 0 ? params[p_ + obs.roll_type] : 0.0);
+    for (int s = 0; s < s_; ++s) {
+      k_[s] = std::exp(base + params[p_ + r_ + s]);
+      t_[s] = 0;
+    }
+    double wear = 0;
+    scratch_.resize(8);
+    const size_t nt = terms_.size();
+    mt_.resize(nt);
+    if (grad != nullptr) dm_.resize(static_cast<size_t>(n_));
+    for (int i = obs.pass_begin; i < obs.pass_end; ++i) {
+      const int g = data_.grade[i];
+      double m = 1;
+      for (size_t t = 0; t < nt; ++t) {
+        const ModelTerm& term = terms_[t].term;
+        if (term.IsMeasurementTerm()) continue;
+        mt_[t] = TermMultiplier(term, data_.z[terms_[t].covariate][i],
+                                grad != nullptr ? dm_.data() + offsets_[t] : nullptr);
+        m *= mt_[t];
+      }
+      const double c = k_[g] * data_.load[i] * m;
+      wear += c;
+      t_[g] += c;
+      if (grad == nullptr) continue;
+      for (size_t t = 0; t < nt; ++t) {
+        const ModelTerm& term = terms_[t].term;
+        if (term.IsMeasurementTerm()) continue;
+        // d(c)/d(param) = c / m_t * dm_t/d(param).
+        const double f = mt_[t] != 0 ? c / mt_[t] : 0.0;
+        const int np = term.NumParams();
+        for (int j = 0; j < np; ++j) grad[offsets_[t] + j] += f * dm_[offsets_[t] + j];
+      }
+    }
+    double y = wear;
+    if (grad != nullptr) {
+      double total = 0;
+      for (int s = 0; s < s_; ++s) {
+        grad[p_ + r_ + s] += t_[s];
+        total += t_[s];
+      }
+      grad[obs.position] += total;
+      if (obs.roll_type >= 0) grad[p_ + obs.roll_type] += total;
+    }
+    if (wear_only) return y;
+    for (size_t t = 0; t < terms_.size(); ++t) {
+      const ModelTerm& term = terms_[t].term;
+      if (!term.IsMeasurementTerm()) continue;
+      const int np = term.NumParams();
+      if (static_cast<int>(scratch_.size()) < np) scratch_.resize(np);
+      const double z = data_.obs_z[terms_[t].covariate][o];
+      y += TermOffset(term, z, scratch_.data());
+      if (grad != nullptr) {
+        for (int j = 0; j < np; ++j) grad[offsets_[t] + j] += scratch_[j];
+      }
+    }
+    return y;
+  }
+
+ private:
+  const TermData& data_;
+  std::vector<TermSpec> terms_;
+  std::vector<int> offsets_;
+  int p_ = 0, r_ = 0, s_ = 0, n_coef_ = 0, n_ = 0;
+  std::vector<double> k_, t_, scratch_, mt_, dm_;
+};
+
+class TermCost : public ceres::CostFunction {
+ public:
+  TermCost(TermModel* model, const std::vector<int>& subset,
+           const std::vector<double>& sd, std::vector<double> full,
+           std::vector<int> free)
+      : model_(model), subset_(subset), sd_(sd), full_(std::move(full)),
+        free_(std::move(free)) {
+    set_num_residuals(static_cast<int>(subset_.size()));
+    mutable_parameter_block_sizes()->push_back(static_cast<int>(free_.size()));
+    grad_.resize(model_->num_params());
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    for (size_t j = 0; j < free_.size(); ++j) full_[free_[j]] = parameters[0][j];
+    model_->SetParams(full_.data());
+    const bool jac = jacobians != nullptr && jacobians[0] != nullptr;
+    const size_t nf = free_.size();
+    for (size_t row = 0; row < subset_.size(); ++row) {
+      const int o = subset_[row];
+      if (jac) std::fill(grad_.begin(), grad_.end(), 0.0);
+      const double y = model_->Predict(full_.data(), o, jac ? grad_.data() : nullptr);
+      const double w = 1.0 / sd_[o];
+      residuals[row] = w * (data_y(o) - y);
+      if (!std::isfinite(residuals[row])) return false;
+      if (jac) {
+        for (size_t j = 0; j < nf; ++j) jacobians[0][row * nf + j] = -w * grad_[free_[j]];
+      }
+    }
+    return true;
+  }
+
+  void set_measured(const std::vector<double>* y) { y_ = y; }
+
+ private:
+  double data_y(int o) const { return (*y_)[o]; }
+  TermModel* model_;
+  const std::vector<int>& subset_;
+  const std::vector<double>& sd_;
+  mutable std::vector<double> full_;
+  std::vector<int> free_;
+  mutable std::vector<double> grad_;
+  const std::vector<double>* y_ = nullptr;
+};
+
+}  // namespace
+
+StatusOr<TermFitResult> FitTerms(const TermData& data, const std::vector<int>& subset,
+                                 const std::vector<double>& sd,
+                                 const std::vector<double>& log_k_start,
+                                 const std::vector<TermSpec>& terms,
+                                 bool compute_errors) {
+  if (subset.empty()) return Status::FailedPrecondition("no observations to fit");
+  TermModel model(data, terms);
+  const int n = model.num_params();
+  const int n_coef = model.num_coef();
+  std::vector<double> full(n, 0.0);
+  // Load carried by each coefficient in the subset (identifiability).
+  std::vector<double> load(n_coef, 0.0);
+  std::vector<double> meas_pos(data.positions.size(), 0.0),
+      load_pos(data.positions.size(), 0.0);
+  for (int o : subset) {
+    const TermObservation& obs = data.obs[o];
+    double total = 0;
+    for (int i = obs.pass_begin; i < obs.pass_end; ++i) {
+      load[model.s_offset() + data.grade[i]] += data.load[i];
+      total += data.load[i];
+    }
+    load[obs.position] += total;
+    if (obs.roll_type >= 0) load[model.r_offset() + obs.roll_type] += total;
+    meas_pos[obs.position] += obs.measured_um;
+    load_pos[obs.position] += total;
+  }
+  if (static_cast<int>(log_k_start.size()) == n_coef) {
+    std::copy(log_k_start.begin(), log_k_start.end(), full.begin());
+  } else {
+    for (size_t p = 0; p < data.positions.size(); ++p) {
+      if (meas_pos[p] > 0 && load_pos[p] > 0) full[p] = std::log(meas_pos[p] / load_pos[p]);
+    }
+  }
+  int off = n_coef;
+  for (const TermSpec& t : terms) {
+    for (int j = 0; j < t.term.NumParams(); ++j) {
+      full[off + j] = std::clamp(t.term.params[j], t.lower[j], t.upper[j]);
+    }
+    off += t.term.NumParams();
+  }
+  // Gauge: fix levels without data and the heaviest kR and kS level.
+  std::vector<bool> fixed(n, false);
+  for (int i = 0; i < n_coef; ++i) fixed[i] = load[i] <= 0;
+  auto heaviest = [&load](int b, int e) {
+    int best = b;
+    for (int i = b; i < e; ++i) {
+      if (load[i] > load[best]) best = i;
+    }
+    return best;
+  };
+  if (model.s_offset() > model.r_offset()) {
+    fixed[heaviest(model.r_offset(), model.s_offset())] = true;
+  }
+  fixed[heaviest(model.s_offset(), n_coef)] = true;
+  std::vector<int> free;
+  for (int i = 0; i < n; ++i) {
+    if (!fixed[i]) free.push_back(i);
+  }
+  std::vector<double> x;
+  for (int i : free) x.push_back(full[i]);
+  std::vector<double> y(data.obs.size(), 0.0);
+  for (int o : subset) y[o] = data.obs[o].measured_um;
+  auto* cost = new TermCost(&model, subset, sd, full, free);
+  cost->set_measured(&y);
+  ceres::Problem problem;
+  problem.AddResidualBlock(cost, nullptr, x.data());
+  off = n_coef;
+  for (const TermSpec& t : terms) {
+    for (int j = 0; j < t.term.NumParams(); ++j) {
+      const int fj = static_cast<int>(std::find(free.begin(), free.end(), off + j) - free.begin());
+      problem.SetParameterLowerBound(x.data(), fj, t.lower[j]);
+      problem.SetParameterUpperBound(x.data(), fj, t.upper[j]);
+    }
+    off += t.term.NumParams();
+  }
+  LmOptions lm;
+  lm.max_iterations = 60;
+  lm.function_tolerance = 1e-9;
+  lm.parameter_tolerance = 1e-9;
+  ceres::Solver::Summary summary;
+  ceres::Solve(MakeLmSolverOptions(lm), &problem, &summary);
+  for (size_t j = 0; j < free.size(); ++j) full[free[j]] = x[j];
+  model.SetParams(full.data());
+
+  TermFitResult r;
+  r.log_k.assign(full.begin(), full.begin() + n_coef);
+  r.terms = model.terms();
+  r.iterations = static_cast<int>(summary.iterations.size());
+  r.num_free = static_cast<int>(free.size());
+  r.weighted_rss = 2 * summary.final_cost;
+  r.usable = summary.IsSolutionUsable() && std::isfinite(r.weighted_rss);
+  if (compute_errors && r.usable) {
+    ceres::Covariance::Options co;
+    co.algorithm_type = ceres::DENSE_SVD;
+    co.null_space_rank = -1;
+    co.min_reciprocal_condition_number = 1e-12;
+    ceres::Covariance covariance(co);
+    const int nf = static_cast<int>(free.size());
+    std::vector<double> cx(static_cast<size_t>(nf) * nf);
+    std::vector<std::pair<const double*, const double*>> blocks = {{x.data(), x.data()}};
+    if (covariance.Compute(blocks, &problem) &&
+        covariance.GetCovarianceBlock(x.data(), x.data(), cx.data())) {
+      const double s2 = r.weighted_rss / std::max(1, static_cast<int>(subset.size()) - nf);
+      for (int i = n_coef; i < n; ++i) {
+        const int fj = static_cast<int>(std::find(free.begin(), free.end(), i) - free.begin());
+        r.term_std_error.push_back(std::sqrt(std::max(0.0, s2 * cx[fj * nf + fj])));
+      }
+    }
+  }
+  return r;
+}
+
+double ScoreStatistic(const TermData& data, const std::vector<int>& subset,
+                      const std::vector<double>& sd, const std::vector<double>& log_k,
+                      const std::vector<TermSpec>& terms, const TermSpec& candidate,
+                      int* df) {
+  std::vector<TermSpec> all = terms;
+  all.push_back(candidate);
+  TermModel model(data, all);
+  const int n = model.num_params();
+  const int n_cur = n - candidate.term.NumParams();
+  std::vector<double> full(n, 0.0);
+  std::copy(log_k.begin(), log_k.end(), full.begin());
+  int off = model.num_coef();
+  for (const TermSpec& t : all) {
+    std::copy(t.term.params.begin(), t.term.params.end(), full.begin() + off);
+    off += t.term.NumParams();
+  }
+  model.SetParams(full.data());
+  const int m = static_cast<int>(subset.size());
+  Eigen::MatrixXd j0(m, n_cur);
+  Eigen::MatrixXd jc(m, n - n_cur);
+  Eigen::VectorXd r(m);
+  std::vector<double> grad(n);
+  for (int row = 0; row < m; ++row) {
+    const int o = subset[row];
+    std::fill(grad.begin(), grad.end(), 0.0);
+    const double y = model.Predict(full.data(), o, grad.data());
+    const double w = 1.0 / sd[o];
+    r[row] = w * (data.obs[o].measured_um - y);
+    for (int j = 0; j < n_cur; ++j) j0(row, j) = w * grad[j];
+    for (int j = n_cur; j < n; ++j) jc(row, j - n_cur) = w * grad[j];
+  }
+  // Drop candidate columns that are identically zero (parameters whose
+  // derivative vanishes at the start, such as a length scale at b = 0).
+  std::vector<int> keep;
+  for (int j = 0; j < jc.cols(); ++j) {
+    if (jc.col(j).squaredNorm() > 0) keep.push_back(j);
+  }
+  *df = 0;
+  if (keep.empty()) return 0;
+  Eigen::MatrixXd jk(m, keep.size());
+  for (size_t j = 0; j < keep.size(); ++j) jk.col(j) = jc.col(keep[j]);
+  // Project out the current model's Jacobian (rank-revealing QR handles the
+  // gauge directions), then S = r' P (P'P)^+ P' r / sigma^2.
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(j0);
+  const Eigen::MatrixXd resid_cols = jk - j0 * qr.solve(jk);
+  const Eigen::VectorXd g = resid_cols.transpose() * r;
+  const Eigen::MatrixXd info = resid_cols.transpose() * resid_cols;
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(info);
+  const double top = es.eigenvalues().maxCoeff();
+  double s = 0;
+  for (int i = 0; i < es.eigenvalues().size(); ++i) {
+    const double lambda = es.eigenvalues()[i];
+    if (!(lambda > 1e-10 * top) || !(top > 0)) continue;
+    const double proj = es.eigenvectors().col(i).dot(g);
+    s += proj * proj / lambda;
+    ++*df;
+  }
+  const double sigma2 = r.squaredNorm() / m;
+  return sigma2 > 0 ? s / sigma2 : 0.0;
+}
+
+std::vector<double> PredictTerms(const TermData& data, const std::vector<int>& subset,
+                                 const std::vector<double>& log_k,
+                                 const std::vector<TermSpec>& terms, bool wear_only) {
+  TermModel model(data, terms);
+  std::vector<double> full(model.num_params(), 0.0);
+  std::copy(log_k.begin(), log_k.end(), full.begin());
+  int off = model.num_coef();
+  for (const TermSpec& t : terms) {
+    std::copy(t.term.params.begin(), t.term.params.end(), full.begin() + off);
+    off += t.term.NumParams();
+  }
+  model.SetParams(full.data());
+  std::vector<double> out;
+  out.reserve(subset.size());
+  for (int o : subset) out.push_back(model.Predict(full.data(), o, nullptr, wear_only));
+  return out;
+}
+
+std::vector<double> TermNoiseSd(const TermData& td, const std::vector<int>& train,
+                                const std::vector<double>& log_k,
+                                const std::vector<TermSpec>& terms, WearModel* noise_out) {
+  std::vector<int> all(td.obs.size());
+  for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+  const std::vector<double> pred = PredictTerms(td, all, log_k, terms);
+  std::vector<double> p, e;
+  for (int o : train) {
+    p.push_back(pred[o]);
+    e.push_back(td.obs[o].measured_um - pred[o]);
+  }
+  WearModel noise;
+  FitNoiseModel(p, e, &noise);
+  std::vector<double> sd(td.obs.size());
+  double floor = 1e-6;
+  for (size_t i = 0; i < sd.size(); ++i) {
+    const double v = noise.noise_sd_um * noise.noise_sd_um +
+                     std::pow(noise.noise_rel * pred[i], 2);
+    sd[i] = std::max(std::sqrt(v), floor);
+  }
+  if (noise_out != nullptr) {
+    noise_out->noise_sd_um = noise.noise_sd_um;
+    noise_out->noise_rel = noise.noise_rel;
+  }
+  return sd;
+}
+
+}  // namespace rollwear

@@ -1,0 +1,38 @@
+// Recalibration of a model with adopted terms (diagnosis.h): the option-1
+// wear coefficients and the parameters of every adopted term refitted
+// jointly by Levenberg-Marquardt (term_fit.h) on the training campaigns,
+// with the terms' form, covariate, centring and bins kept as adopted. This is
+// what the nightly recalibration and `rollwear calibrate --terms` run once a
+// finding has become part of the model, so the adopted physics is not lost
+// when K is updated.
+//
+// Weights: a first fit with unit weights gives residuals whose noise model
+// sigma0^2 + (rho d)^2 (wear_model.h) sets sd_o for a second, weighted fit,
+// the weighting the diagnosis used when it adopted the terms.
+//
+// Thread-safety: pure function of its arguments.
+#ifndef ROLLWEAR_CORE_FIT_TERM_REFIT_H_
+#define ROLLWEAR_CORE_FIT_TERM_REFIT_H_
+
+#include <vector>
+
+#include "core/dataset/dataset.h"
+#include "core/model/model_terms.h"
+#include "core/base/status.h"
+#include "core/model/wear_law.h"
+#include "core/model/wear_model.h"
+
+namespace rollwear {
+
+// Fits on the measured rolls of `train_campaigns` (campaign indices). The
+// returned model has option-1 structure over the dataset's levels, the
+// refitted terms and a noise model from the training residuals (no
+// coefficient covariance). InvalidArgument when a term's covariate is not
+// in the dataset; NumericalFailure when the fit is unusable.
+StatusOr<WearModel> RefitWithTerms(const Dataset& data, WearLaw law,
+                                   const std::vector<ModelTerm>& terms,
+                                   const std::vector<int>& train_campaigns);
+
+}  // namespace rollwear
+
+#endif  // ROLLWEAR_CORE_FIT_TERM_REFIT_H_

@@ -1,0 +1,119 @@
+#include "core/model/covariates.h"
+
+#include <cmath>
+#include <limits>
+
+namespace rollwear {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+void AddExtras(const ExtraColumns& extra, CovariateLevel level,
+               CovariateSource numeric, CovariateSource factor, bool has_factor,
+               std::vector<CovariateSpec>* out) {
+  for (size_t i = 0; i < extra.numeric_names.size(); ++i) {
+    out->push_back({extra.numeric_names[i], numeric, level,
+                    CovariateKind::kNumeric, static_cast<int>(i)});
+  }
+  if (!has_factor) return;
+  for (size_t i = 0; i < extra.factor_names.size(); ++i) {
+    out->push_back({extra.factor_names[i], factor, level, CovariateKind::kFactor,
+                    static_cast<int>(i)});
+  }
+}
+
+}  // namespace
+
+std::vector<CovariateSpec> CovariateCatalog(const Dataset& data) {
+  using L = CovariateLevel;
+  using K = CovariateKind;
+  using S = CovariateSource;
+  std::vector<CovariateSpec> c = {
+      {"force_kn", S::kForce, L::kPass, K::kNumeric},
+      {"width_mm", S::kWidth, L::kPass, K::kNumeric},
+      {"length_m", S::kLength, L::kPass, K::kNumeric},
+      {"entry_thickness_mm", S::kEntryThickness, L::kPass, K::kNumeric},
+      {"exit_thickness_mm", S::kExitThickness, L::kPass, K::kNumeric},
+      {"temperature_c", S::kTemperature, L::kPass, K::kNumeric},
+      {"speed_mps", S::kSpeed, L::kPass, K::kNumeric},
+      {"lubrication", S::kLubrication, L::kPass, K::kFlag},
+      {"shift_mm", S::kShift, L::kPass, K::kNumeric},
+      {"specific_force_kn_per_mm", S::kSpecificForce, L::kPass, K::kNumeric},
+      {"contact_length_mm", S::kContactLength, L::kPass, K::kNumeric},
+      {"reduction", S::kReduction, L::kPass, K::kNumeric},
+      {"campaign_length_before_m", S::kLengthBefore, L::kPass, K::kNumeric, -1, true},
+      {"campaign_coils_before", S::kCoilsBefore, L::kPass, K::kNumeric, -1, true},
+      {"hours_since_mount", S::kHoursSinceMount, L::kPass, K::kNumeric, -1, true},
+      {"diameter_mm", S::kDiameter, L::kRoll, K::kNumeric},
+      {"hardness_hb", S::kHardness, L::kRoll, K::kNumeric},
+      {"started_at", S::kStartedAt, L::kCampaign, K::kNumeric},
+      {kCoolingHoursName, S::kCoolingHours, L::kMeasurement, K::kNumeric},
+  };
+  AddExtras(data.pass_extra, L::kPass, S::kPassExtraNumeric, S::kPassExtraFactor,
+            true, &c);
+  AddExtras(data.mount_extra, L::kRoll, S::kMountExtraNumeric,
+            S::kMountExtraFactor, true, &c);
+  AddExtras(data.campaign_extra, L::kCampaign, S::kCampaignExtraNumeric,
+            S::kCampaignExtraFactor, true, &c);
+  AddExtras(data.measurement_extra, L::kMeasurement, S::kMeasurementExtraNumeric,
+            S::kMeasurementExtraNumeric, false, &c);
+  return c;
+}
+
+double CovariateValue(const CovariateSpec& spec, const Dataset& data,
+                      const PassContext& ctx, UnixSeconds origin) {
+  // A context without a pass (a measurement evaluated after the campaign)
+  // or without a mount has no value for what they carry.
+  static const Pass kNoPass;
+  static const Mount kNoMount;
+  if ((ctx.pass == nullptr && spec.level == CovariateLevel::kPass) ||
+      (ctx.mount == nullptr && spec.level == CovariateLevel::kRoll)) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  const Pass& p = ctx.pass != nullptr ? *ctx.pass : kNoPass;
+  const Mount& m = ctx.mount != nullptr ? *ctx.mount : kNoMount;
+  switch (spec.source) {
+    case CovariateSource::kForce: return p.force_kn;
+    case CovariateSource::kWidth: return p.width_mm;
+    case CovariateSource::kLength: return p.length_m;
+    case CovariateSource::kEntryThickness: return p.entry_thickness_mm;
+    case CovariateSource::kExitThickness: return p.exit_thickness_mm;
+    case CovariateSource::kTemperature: return p.temperature_c;
+    case CovariateSource::kSpeed: return p.speed_mps;
+    case CovariateSource::kLubrication: return p.lubrication ? 1.0 : 0.0;
+    case CovariateSource::kShift: return p.shift_mm;
+    case CovariateSource::kSpecificForce: return SpecificForce(p);
+    case CovariateSource::kContactLength: return ContactLength(p, m.diameter_mm);
+    case CovariateSource::kReduction: return Reduction(p);
+    case CovariateSource::kLengthBefore: return ctx.length_before_m;
+    case CovariateSource::kCoilsBefore: return ctx.coils_before;
+    case CovariateSource::kHoursSinceMount:
+      return static_cast<double>(p.rolled_at - ctx.campaign->started_at) / 3600.0;
+    case CovariateSource::kDiameter: return m.diameter_mm;
+    case CovariateSource::kHardness: return m.hardness_hb;
+    case CovariateSource::kStartedAt:
+      return static_cast<double>(ctx.campaign->started_at - origin) / 86400.0;
+    case CovariateSource::kCoolingHours:
+      if (ctx.measurement_row < 0) return kNaN;
+      return CoolingHours(data.measurements[ctx.measurement_row].measured_at,
+                          ctx.campaign->ended_at);
+    case CovariateSource::kPassExtraNumeric:
+      return data.pass_extra.numeric[spec.extra_column][ctx.pass_row];
+    case CovariateSource::kMountExtraNumeric:
+      return data.mount_extra.numeric[spec.extra_column][ctx.mount_row];
+    case CovariateSource::kCampaignExtraNumeric:
+      return data.campaign_extra.numeric[spec.extra_column][ctx.campaign_row];
+    case CovariateSource::kMeasurementExtraNumeric:
+      if (ctx.measurement_row < 0) return kNaN;
+      return data.measurement_extra.numeric[spec.extra_column][ctx.measurement_row];
+    case CovariateSource::kPassExtraFactor:
+      return data.pass_extra.factor[spec.extra_column][ctx.pass_row];
+    case CovariateSource::kMountExtraFactor:
+      return data.mount_extra.factor[spec.extra_column][ctx.mount_row];
+    case CovariateSource::kCampaignExtraFactor:
+      return data.campaign_extra.factor[spec.extra_column][ctx.campaign_row];
+  }
+  return kNaN;
+}
+
+}  // namespace rollwear

@@ -1,0 +1,84 @@
+// The covariates a wear model can be missing: every recorded column and
+// derived quantity of the data format (docs/data-format.md), plus the extra
+// numeric columns and text factors a mill adds, evaluated for one pass as
+// seen by the roll it wears. One catalog serves the diagnosis engine (which
+// searches over it) and the predictor (which evaluates adopted terms coil by
+// coil), so a term means the same thing in both.
+//
+// Levels:
+//   pass      varies from pass to pass (force_kn, campaign_length_before_m...)
+//   roll      constant for a roll in a campaign (diameter_mm, hardness_hb)
+//   campaign  constant for a campaign (started_at as days since 1970-01-01,
+//             extra campaign columns)
+//   measurement  what happens at the grinder (cooling_h): acts on the
+//             measured value, not on the wear
+//
+// Thread-safety: pure functions and immutable values.
+#ifndef ROLLWEAR_CORE_MODEL_COVARIATES_H_
+#define ROLLWEAR_CORE_MODEL_COVARIATES_H_
+
+#include <string>
+#include <vector>
+
+#include "core/dataset/dataset.h"
+
+namespace rollwear {
+
+enum class CovariateLevel { kPass, kRoll, kCampaign, kMeasurement };
+enum class CovariateKind { kNumeric, kFlag, kFactor };
+
+enum class CovariateSource {
+  kForce, kWidth, kLength, kEntryThickness, kExitThickness, kTemperature,
+  kSpeed, kLubrication, kShift, kSpecificForce, kContactLength, kReduction,
+  kLengthBefore, kCoilsBefore, kHoursSinceMount, kDiameter, kHardness,
+  kStartedAt, kCoolingHours,
+  kPassExtraNumeric, kMountExtraNumeric, kCampaignExtraNumeric,
+  kMeasurementExtraNumeric,
+  kPassExtraFactor, kMountExtraFactor, kCampaignExtraFactor,
+};
+
+struct CovariateSpec {
+  std::string name;  // canonical name, or the extra column's header
+  CovariateSource source;
+  CovariateLevel level;
+  CovariateKind kind;
+  int extra_column = -1;  // for extra columns: index in the ExtraColumns
+  // True when the quantity grows monotonically within a campaign (rolled
+  // length, coils, hours): candidates then include saturating and decaying
+  // forms (growth vs run-in).
+  bool accumulates = false;
+};
+
+// Every covariate the dataset supports, canonical ones first.
+std::vector<CovariateSpec> CovariateCatalog(const Dataset& data);
+
+// The state of a roll position before a pass, in the campaign.
+struct PassContext {
+  const Pass* pass = nullptr;
+  int pass_row = -1;  // row in Dataset::passes (for extra columns)
+  const Mount* mount = nullptr;
+  int mount_row = -1;
+  const Campaign* campaign = nullptr;
+  int campaign_row = -1;
+  int measurement_row = -1;  // -1 when not measured
+  double length_before_m = 0;
+  int coils_before = 0;
+};
+
+// cooling_h: hours from the campaign's end to the grinder's measurement
+// (negative when measured before the recorded end).
+inline constexpr const char* kCoolingHoursName = "cooling_h";
+inline double CoolingHours(UnixSeconds measured_at, UnixSeconds ended_at) {
+  return static_cast<double>(measured_at - ended_at) / 3600.0;
+}
+
+// Value of a numeric or flag covariate (factor level index for factors, as
+// a double). NaN when missing (e.g. cooling_h of an unmeasured campaign, an
+// empty extra cell). started_at is given in days since `origin` (rollwear
+// uses origin 0: days since 1970, so a term means the same in every dataset).
+double CovariateValue(const CovariateSpec& spec, const Dataset& data,
+                      const PassContext& ctx, UnixSeconds origin);
+
+}  // namespace rollwear
+
+#endif  // ROLLWEAR_CORE_MODEL_COVARIATES_H_

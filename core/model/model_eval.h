@@ -1,0 +1,58 @@
+// Coil-by-coil evaluation of a servable model (classical, classical with
+// adopted terms, or the recurrent network: wear_model.h) against the
+// grinder's measurements of chosen campaigns. It runs exactly the
+// incremental predictor the daemon runs (predictor.h) over each measured
+// roll's passes, then adds the model's measurement terms (what the grinder
+// reads besides the wear, model_terms.h), so "validation gap" means the same
+// thing for every kind of model the daemon may promote.
+//
+// Thread-safety: pure function of its arguments.
+#ifndef ROLLWEAR_CORE_MODEL_MODEL_EVAL_H_
+#define ROLLWEAR_CORE_MODEL_MODEL_EVAL_H_
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/dataset/dataset.h"
+#include "core/model/metrics.h"
+#include "core/model/wear_model.h"
+
+namespace rollwear {
+
+struct MeasuredPrediction {
+  int campaign = -1;     // index into Dataset::campaigns
+  int slot = -1;         // roll position slot (dataset.h)
+  int measurement = -1;  // index into Dataset::measurements
+  double measured_um = 0;
+  double wear_um = 0;      // predicted centre wear
+  double expected_um = 0;  // wear plus measurement terms: what the grinder
+                           // is expected to read
+};
+
+// Every measured roll position of `campaigns` (indices, any order), in
+// campaign then slot order.
+std::vector<MeasuredPrediction> PredictMeasured(
+    const WearModel& model, const Dataset& data, const DatasetIndex& index,
+    const std::vector<int>& campaigns);
+
+// Whether `model` has a measurement term (an offset on what the grinder
+// reads, model_terms.h).
+bool HasMeasurementTerms(const WearModel& model);
+
+// What the grinder reads besides the wear: the sum of `model`'s measurement
+// terms (model_terms.h, offset forms) at the measurement's covariate values.
+// `value(covariate)` gives a measurement-level covariate's value, NaN when
+// it is unknown; a term on an unknown covariate adds nothing. 0 for a model
+// without measurement terms.
+double MeasurementTermsOffset(
+    const WearModel& model,
+    const std::function<double(const std::string& covariate)>& value);
+
+// Eq. 9 cost and average gap of `expected_um` against `measured_um`, each
+// roll position slot a group of Eq. 9.
+FitMetrics MetricsOfPredictions(const std::vector<MeasuredPrediction>& p);
+
+}  // namespace rollwear
+
+#endif  // ROLLWEAR_CORE_MODEL_MODEL_EVAL_H_

@@ -1,0 +1,121 @@
+#include "core/model/predictor.h"
+
+#include <cmath>
+#include <limits>
+
+#include "core/model/covariates.h"
+
+namespace rollwear {
+
+RollWearState MountRoll(const WearModel& model, const std::string& position_label,
+                        const std::string& roll_type, double diameter_mm,
+                        double hardness_hb, UnixSeconds campaign_started_at) {
+  RollWearState s;
+  s.position = model.structure.PositionLevel(position_label);
+  s.roll_type = model.structure.RollTypeLevel(roll_type);
+  s.diameter_mm = diameter_mm;
+  s.hardness_hb = hardness_hb;
+  s.gradient.assign(model.num_parameters(), 0.0);
+  s.campaign_started_at = campaign_started_at;
+  if (model.is_ann()) {
+    s.ann = MountRoll(*model.ann, position_label, roll_type, diameter_mm, hardness_hb);
+  }
+  return s;
+}
+
+double PassTermMultiplier(const WearModel& model, const PassInput& pass,
+                          const RollWearState& state) {
+  if (model.terms.empty()) return 1.0;
+  static const Dataset kNoExtras;
+  static const std::vector<CovariateSpec> kCatalog = CovariateCatalog(kNoExtras);
+  Pass p;
+  p.rolled_at = pass.rolled_at;
+  p.force_kn = pass.force_kn;
+  p.width_mm = pass.width_mm;
+  p.length_m = pass.length_m;
+  p.entry_thickness_mm = pass.entry_thickness_mm;
+  p.exit_thickness_mm = pass.exit_thickness_mm;
+  p.temperature_c = pass.temperature_c;
+  p.speed_mps = pass.speed_mps;
+  p.lubrication = pass.lubrication;
+  p.shift_mm = pass.shift_mm;
+  Mount m;
+  m.diameter_mm = state.diameter_mm;
+  m.hardness_hb = state.hardness_hb;
+  Campaign c;
+  c.started_at = state.campaign_started_at;
+  PassContext ctx;
+  ctx.pass = &p;
+  ctx.mount = &m;
+  ctx.campaign = &c;
+  ctx.length_before_m = state.rolled_length_m;
+  ctx.coils_before = state.coils;
+  double multiplier = 1.0;
+  for (const ModelTerm& t : model.terms) {
+    if (t.IsMeasurementTerm()) continue;
+    for (const CovariateSpec& spec : kCatalog) {
+      if (spec.name != t.covariate || spec.level == CovariateLevel::kMeasurement) continue;
+      multiplier *= TermMultiplier(t, CovariateValue(spec, kNoExtras, ctx, 0), nullptr);
+    }
+  }
+  return multiplier;
+}
+
+double AddPass(const WearModel& model, const PassInput& pass, RollWearState* state) {
+  if (model.is_ann()) {
+    // The roll must have been mounted under this model (MountRoll sets the
+    // network state); a state of another model gives NaN, never a guess.
+    if (!state->ann.has_value()) {
+      state->wear_um = std::numeric_limits<double>::quiet_NaN();
+      return state->wear_um;
+    }
+    const double wear = AddPass(*model.ann, pass, &*state->ann);
+    state->wear_um = state->ann->wear_um;
+    state->coils = state->ann->coils;
+    state->rolled_length_m = state->ann->rolled_length_m;
+    return wear;
+  }
+  const PassLoadInput in{pass.force_kn,           pass.width_mm,
+                         pass.length_m,           pass.entry_thickness_mm,
+                         pass.exit_thickness_mm,  state->diameter_mm,
+                         state->hardness_hb};
+  const int grade = model.structure.GradeLevel(pass.grade);
+  const double multiplier = PassTermMultiplier(model, pass, *state);
+  const double wear =
+      model.PassWear(in, state->position, state->roll_type, grade) * multiplier;
+  if (static_cast<int>(state->gradient.size()) != model.num_parameters()) {
+    state->gradient.assign(model.num_parameters(), 0.0);
+  }
+  model.AddPassGradient(in, state->position, state->roll_type, grade,
+                        state->gradient.data(), multiplier);
+  state->wear_um += wear;
+  state->coils += 1;
+  state->rolled_length_m += pass.length_m;
+  return wear;
+}
+
+std::pair<double, double> WearInterval(const WearModel& model,
+                                       const RollWearState& state) {
+  if (model.is_ann() && state.ann.has_value()) {
+    // var = s_members^2 + sigma0^2 + (rho d)^2: the ensemble members'
+    // sample variance stands for the network's own uncertainty (a
+    // deep-ensemble estimate, Lakshminarayanan et al., NIPS 2017).
+    const std::vector<double>& w = state.ann->member_wear_um;
+    double var = 0;
+    if (w.size() > 1) {
+      double mean = 0;
+      for (double x : w) mean += x;
+      mean /= static_cast<double>(w.size());
+      for (double x : w) var += (x - mean) * (x - mean);
+      var /= static_cast<double>(w.size() - 1);
+    }
+    const double d = state.wear_um;
+    var += model.noise_sd_um * model.noise_sd_um +
+           (model.noise_rel * d) * (model.noise_rel * d);
+    const double half = 1.959963984540054 * std::sqrt(var);
+    return {d - half, d + half};
+  }
+  return model.Interval(state.wear_um, state.gradient.data());
+}
+
+}  // namespace rollwear

@@ -1,0 +1,70 @@
+// Incremental, coil-by-coil wear prediction for one mounted roll: the state
+// the daemon keeps per roll position. Each pass adds
+//   wear_i = K(p, r, s_i) * Load(law, pass_i, roll)
+// and the running gradient with respect to the model parameters, so the
+// prediction interval (wear_model.h) is available at any moment. Summing the
+// passes one by one gives the batch prediction of PredictObservation() on
+// the same data up to rounding (tests check 1e-9 relative).
+//
+// Labels unknown to the model (a new roll type or grade) use the gauge
+// value 1 for that factor, i.e. the geometric mean of the known levels.
+//
+// When the model is the recurrent network (WearModel::ann), the same calls
+// run the network coil by coil (ann_model.h): the state then carries the
+// network's per-member recurrence and the interval combines the members'
+// spread with the noise model.
+//
+// Thread-safety: RollWearState is a plain value; callers serialise updates
+// of one state. The model is only read.
+#ifndef ROLLWEAR_CORE_MODEL_PREDICTOR_H_
+#define ROLLWEAR_CORE_MODEL_PREDICTOR_H_
+
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/model/ann_model.h"
+#include "core/dataset/dataset.h"
+#include "core/dataset/pass_input.h"
+#include "core/model/wear_law.h"
+#include "core/model/wear_model.h"
+
+namespace rollwear {
+
+struct RollWearState {
+  int position = -1;   // position level of the model (-1 unknown)
+  int roll_type = -1;  // roll type level of the model (-1 unknown)
+  double diameter_mm = 0;
+  double hardness_hb = 0;
+  double wear_um = 0;
+  int coils = 0;
+  double rolled_length_m = 0;
+  std::vector<double> gradient;  // d(wear)/d(log k, a)
+  UnixSeconds campaign_started_at = 0;  // for hours_since_mount
+  std::optional<AnnRollState> ann;      // set when the model is the ANN
+};
+
+// A freshly mounted roll at `position_label` ("F6/top").
+RollWearState MountRoll(const WearModel& model, const std::string& position_label,
+                        const std::string& roll_type, double diameter_mm,
+                        double hardness_hb, UnixSeconds campaign_started_at = 0);
+
+// Product of the model's wear-rate terms for this pass on this roll (1 when
+// the model has none): the covariates come from the pass, the roll and the
+// roll's state before the pass (campaign_length_before_m = rolled length so
+// far, campaign_coils_before = coils so far). Terms on extra columns a mill
+// added cannot be evaluated coil by coil and count as 1.
+double PassTermMultiplier(const WearModel& model, const PassInput& pass,
+                          const RollWearState& state);
+
+// Adds one pass; returns the wear increment in µm.
+double AddPass(const WearModel& model, const PassInput& pass, RollWearState* state);
+
+// 95 % prediction interval of the state's wear.
+std::pair<double, double> WearInterval(const WearModel& model,
+                                       const RollWearState& state);
+
+}  // namespace rollwear
+
+#endif  // ROLLWEAR_CORE_MODEL_PREDICTOR_H_

@@ -1,0 +1,500 @@
+// The mill simulator's campaign loop: roll inventory and rotation, passes,
+// true wear (Wang's law with option-1 coefficients and the selected
+// concealed effects), grinder measurements with noise, regrinding and
+// scrapping. Process details live in sim_process.cc, effects in
+// sim_effects.cc.
+#include "core/sim/simulator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <set>
+
+#include "core/sim/sim_internal.h"
+#include "core/model/wear_law.h"
+
+namespace rollwear {
+namespace {
+
+using sim::EffectContext;
+using sim::EffectKind;
+using sim::EffectSpec;
+using sim::MakeRandom;
+using sim::RoundTo;
+using sim::Stream;
+
+// Noise model of the measured wear:
+//   measured = S * W + offsets + e,  S ~ lognormal(mean 1, kRollScatterSigma)
+// per physical roll and campaign (roll-to-roll material scatter), e ~ N(0,
+// kGrinderNoiseSd) (gauge repeatability on the grinder).
+constexpr double kRollScatterSigma = 0.09;
+constexpr double kGrinderNoiseSd = 8.0;
+// 2025-01-06T06:00:00Z, start of the first campaign.
+constexpr UnixSeconds kStartTime = 1736143200;
+constexpr int kStands[2] = {6, 7};
+
+struct Roll {
+  std::string id;
+  int type = 0;
+  double new_diameter_mm = 0;
+  double diameter_mm = 0;
+  double new_hardness_hb = 0;
+  UnixSeconds available_at = 0;
+};
+
+std::string Serial(char prefix, int n, int width) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%c%0*d", prefix, width, n);
+  return buf;
+}
+
+Roll NewRoll(int serial, int type, Random* rng) {
+  Roll r;
+  r.id = Serial('R', serial, 4);
+  r.type = type;
+  r.new_diameter_mm =
+      RoundTo(rng->Uniform(sim::kNewDiameterMinMm, sim::kNewDiameterMaxMm), 2);
+  r.diameter_mm = r.new_diameter_mm;
+  r.new_hardness_hb =
+      sim::RollTypes()[type].hardness_new_hb + rng->Normal(0, 12);
+  return r;
+}
+
+// Surface hardness falls as the roll is ground into its working layer.
+double HardnessAt(const Roll& r) {
+  const double depth_mm = (r.new_diameter_mm - r.diameter_mm) / 2;
+  return RoundTo(
+      r.new_hardness_hb - sim::RollTypes()[r.type].hardness_slope * depth_mm,
+      1);
+}
+
+double Preference(int type, int stand) {
+  const auto& t = sim::RollTypes()[type];
+  return stand == 6 ? t.preference_f6 : t.preference_f7;
+}
+
+// The roll shop's choice of a work roll for `stand`: a roll type drawn with
+// weight preference * (rolls of that type ready), and of that type the roll
+// that has waited longest. With `same_type` >= 0 that type is kept when a
+// roll of it is ready (matched pairs). If nothing is ready the roll ready
+// first is taken and the campaign start is delayed until then.
+int ChooseRoll(const std::vector<Roll>& rolls, const std::vector<bool>& taken,
+               int stand, int same_type, UnixSeconds* start, Random* rng) {
+  std::array<int, sim::kNumRollTypes> best{};
+  std::array<double, sim::kNumRollTypes> weight{};
+  best.fill(-1);
+  int earliest = -1;
+  for (int i = 0; i < static_cast<int>(rolls.size()); ++i) {
+    const Roll& r = rolls[i];
+    if (taken[i] || Preference(r.type, stand) <= 0) continue;
+    if (earliest < 0 || r.available_at < rolls[earliest].available_at) {
+      earliest = i;
+    }
+    if (r.available_at > *start) continue;
+    weight[r.type] += Preference(r.type, stand);
+    if (best[r.type] < 0 || r.available_at < rolls[best[r.type]].available_at) {
+      best[r.type] = i;
+    }
+  }
+  if (same_type >= 0 && best[same_type] >= 0) return best[same_type];
+  double total = 0;
+  for (double w : weight) total += w;
+  if (total <= 0) {
+    *start = std::max(*start, rolls[earliest].available_at);
+    return earliest;
+  }
+  return best[sim::Categorical(rng, weight.data(), sim::kNumRollTypes)];
+}
+
+// An effect switched on, with its parameter values as the array its Apply
+// function reads.
+struct ActiveEffect {
+  const EffectSpec* spec;
+  std::array<double, sim::kMaxEffectParameters> parameters{};
+};
+
+// One simulation in progress: the roll shop's inventory, the dataset being
+// written and the truth. Run() simulates the campaigns in order; every
+// campaign draws from its own random streams (sim::Stream).
+class MillRun {
+ public:
+  MillRun(const SimulatorOptions& options, Simulation* out)
+      : options_(options), data_(out->data), truth_(out->truth) {
+    grade_index_.fill(-1);
+    type_index_.fill(-1);
+  }
+
+  void Run();
+
+ private:
+  void InitTruthAndEffects();
+  void BuildInventory();
+  // Chooses the four work rolls (mounted_); may delay *start until enough
+  // rolls are ready.
+  void ChooseRolls(UnixSeconds* start, Random* rng);
+  void AddMounts(int campaign);
+  // Appends the passes of `coils`, the first rolled at *t, and returns the
+  // noise-free wear per sim slot (before measurement effects); *t ends as
+  // the time the last tail leaves F7.
+  std::array<double, 4> RollCoils(int campaign, UnixSeconds start,
+                                  const std::vector<sim::CoilPlan>& coils,
+                                  UnixSeconds* t);
+  Pass MakePass(int campaign, int coil_index, int seq, UnixSeconds t,
+                const sim::CoilPlan& coil, int stand) const;
+  void MeasureAndRegrind(int campaign, const std::array<double, 4>& wear_um);
+
+  const Mount& MountOf(int slot) const {
+    return data_.mounts[first_mount_ + slot];
+  }
+  const sim::RollTypeSpec& TypeOf(int slot) const {
+    return sim::RollTypes()[rolls_[mounted_[slot]].type];
+  }
+
+  const SimulatorOptions& options_;
+  Dataset& data_;
+  SimulationTruth& truth_;
+  std::vector<ActiveEffect> rate_effects_;
+  std::vector<ActiveEffect> measurement_effects_;
+  std::vector<Roll> rolls_;
+  int next_serial_ = 1;
+  std::array<int, sim::kNumGrades> grade_index_{};    // -> Dataset::grades
+  std::array<int, sim::kNumRollTypes> type_index_{};  // -> Dataset::roll_types
+  // The current campaign: roll index per sim slot, first mount row.
+  std::array<int, 4> mounted_{};
+  size_t first_mount_ = 0;
+  double abs_noise_sum_ = 0;
+};
+
+void MillRun::InitTruthAndEffects() {
+  truth_.seed = options_.seed;
+  truth_.law = WearLawName(WearLaw::kWang);
+  truth_.grinder_noise_sd_um = kGrinderNoiseSd;
+  truth_.roll_scatter_sd = kRollScatterSigma;
+  for (int stand : kStands) {
+    for (Position p : {Position::kTop, Position::kBottom}) {
+      truth_.k_position[RollPositionName(stand, p)] =
+          sim::kPositionFactor[sim::SimSlot(stand, p)];
+    }
+  }
+  for (const auto& t : sim::RollTypes()) {
+    truth_.k_roll_type[t.label] = t.k_roll_type;
+  }
+  for (const auto& g : sim::Grades()) truth_.k_grade[g.label] = g.k_grade;
+
+  for (const std::string& name : options_.effects) {
+    const EffectSpec* e = sim::FindEffect(name);
+    ActiveEffect active{e, {}};
+    SimulatedEffect out{e->name, e->covariate, e->description, {}};
+    for (int i = 0; i < e->num_parameters; ++i) {
+      active.parameters[i] = e->parameters[i].value;
+      out.parameters[e->parameters[i].name] = e->parameters[i].value;
+    }
+    (e->kind == EffectKind::kWearRate ? rate_effects_ : measurement_effects_)
+        .push_back(active);
+    truth_.effects.push_back(std::move(out));
+  }
+}
+
+// Roll inventory: 12..16 rolls per type, at diameters spread over their
+// working layer (a shop in steady state).
+void MillRun::BuildInventory() {
+  Random rng = MakeRandom(options_.seed, Stream::kInventory, 0);
+  for (int t = 0; t < sim::kNumRollTypes; ++t) {
+    const int n = 12 + static_cast<int>(rng.Below(5));
+    for (int i = 0; i < n; ++i) {
+      Roll r = NewRoll(next_serial_++, t, &rng);
+      r.diameter_mm =
+          RoundTo(rng.Uniform(sim::kScrapDiameterMm + 4, r.new_diameter_mm), 2);
+      rolls_.push_back(std::move(r));
+    }
+  }
+}
+
+// F7 (premium rolls) first, then F6; the bottom roll is of the top roll's
+// type in 85% of the changes (matched pairs).
+void MillRun::ChooseRolls(UnixSeconds* start, Random* rng) {
+  std::vector<bool> taken(rolls_.size(), false);
+  for (int stand : {7, 6}) {
+    const int top = ChooseRoll(rolls_, taken, stand, -1, start, rng);
+    taken[top] = true;
+    const int pair_type = rng->Uniform() < 0.85 ? rolls_[top].type : -1;
+    const int bottom = ChooseRoll(rolls_, taken, stand, pair_type, start, rng);
+    taken[bottom] = true;
+    mounted_[sim::SimSlot(stand, Position::kTop)] = top;
+    mounted_[sim::SimSlot(stand, Position::kBottom)] = bottom;
+  }
+}
+
+// Mount rows in sim-slot order (F6 top, F6 bottom, F7 top, F7 bottom).
+void MillRun::AddMounts(int campaign) {
+  first_mount_ = data_.mounts.size();
+  for (int stand : kStands) {
+    for (Position p : {Position::kTop, Position::kBottom}) {
+      const Roll& r = rolls_[mounted_[sim::SimSlot(stand, p)]];
+      Mount m;
+      m.campaign = campaign;
+      m.stand = stand;
+      m.position = p;
+      m.roll_id = r.id;
+      if (type_index_[r.type] < 0) {
+        type_index_[r.type] =
+            Dataset::Intern(&data_.roll_types, sim::RollTypes()[r.type].label);
+      }
+      m.roll_type = type_index_[r.type];
+      m.diameter_mm = r.diameter_mm;
+      m.hardness_hb = HardnessAt(r);
+      data_.mounts.push_back(std::move(m));
+    }
+  }
+}
+
+Pass MillRun::MakePass(int campaign, int coil_index, int seq, UnixSeconds t,
+                       const sim::CoilPlan& coil, int stand) const {
+  const bool f7 = stand == 7;
+  Pass pass;
+  pass.campaign = campaign;
+  pass.coil = coil_index;
+  pass.seq = seq;
+  pass.rolled_at = t;
+  pass.grade = grade_index_[coil.grade];
+  pass.stand = stand;
+  pass.width_mm = coil.width_mm;
+  pass.entry_thickness_mm = f7 ? coil.h6_mm : coil.h5_mm;
+  pass.exit_thickness_mm = f7 ? coil.h7_mm : coil.h6_mm;
+  // L = m / (rho * w * h_exit).
+  pass.length_m = RoundTo(coil.mass_t * 1000 /
+                              (sim::kSteelDensity * coil.width_mm * 1e-3 *
+                               pass.exit_thickness_mm * 1e-3),
+                          1);
+  pass.temperature_c = f7 ? coil.t7_c : coil.t6_c;
+  pass.speed_mps = f7 ? coil.v7_mps : coil.v6_mps;
+  pass.lubrication = coil.lubrication;
+  pass.shift_mm = f7 ? coil.shift7_mm : coil.shift6_mm;
+  // The force model sees the mean diameter and modulus of the roll pair.
+  const int top = sim::SimSlot(stand, Position::kTop);
+  const int bottom = sim::SimSlot(stand, Position::kBottom);
+  const double young = 0.5 * (TypeOf(top).young_gpa + TypeOf(bottom).young_gpa);
+  const double diameter =
+      0.5 * (MountOf(top).diameter_mm + MountOf(bottom).diameter_mm);
+  pass.force_kn =
+      RoundTo(sim::RollForceKn(sim::Grades()[coil.grade], pass.width_mm,
+                               pass.entry_thickness_mm, pass.exit_thickness_mm,
+                               pass.temperature_c, pass.speed_mps, diameter,
+                               young, pass.lubrication),
+              1);
+  return pass;
+}
+
+// Each pass adds K * Load * prod(effect multipliers) to the two rolls of its
+// stand, K = kF[position] * kR[roll type] * kS[grade] (option 1), Load from
+// Wang's law on the recorded (rounded) row.
+std::array<double, 4> MillRun::RollCoils(
+    int campaign, UnixSeconds start, const std::vector<sim::CoilPlan>& coils,
+    UnixSeconds* t) {
+  std::array<double, 4> wear_um{};
+  std::array<double, 2> length_before_m{};  // per stand
+  for (int i = 0; i < static_cast<int>(coils.size()); ++i) {
+    const sim::CoilPlan& coil = coils[i];
+    const sim::GradeSpec& grade = sim::Grades()[coil.grade];
+    if (grade_index_[coil.grade] < 0) {
+      grade_index_[coil.grade] = Dataset::Intern(&data_.grades, grade.label);
+    }
+    const int coil_index = static_cast<int>(data_.coil_ids.size());
+    data_.coil_ids.push_back(Serial('H', coil_index + 1, 7));
+    for (int s = 0; s < 2; ++s) {
+      const int stand = kStands[s];
+      const Pass pass = MakePass(campaign, coil_index, i + 1, *t, coil, stand);
+      for (Position p : {Position::kTop, Position::kBottom}) {
+        const int slot = sim::SimSlot(stand, p);
+        const Mount& m = MountOf(slot);
+        const PassLoadInput in{pass.force_kn,          pass.width_mm,
+                               pass.length_m,          pass.entry_thickness_mm,
+                               pass.exit_thickness_mm, m.diameter_mm,
+                               m.hardness_hb};
+        double k = sim::kPositionFactor[slot] * TypeOf(slot).k_roll_type *
+                   grade.k_grade;
+        EffectContext ctx;
+        ctx.pass = &pass;
+        ctx.mount = &m;
+        ctx.campaign_length_before_m = length_before_m[s];
+        ctx.coils_before = i;
+        ctx.hours_since_mount = (*t - start) / 3600.0;
+        ctx.days_since_first_campaign = (start - kStartTime) / 86400.0;
+        for (const ActiveEffect& e : rate_effects_) {
+          k *= e.spec->apply(ctx, e.parameters.data());
+        }
+        wear_um[slot] += k * BaseLoad(WearLaw::kWang, in);
+      }
+      length_before_m[s] += pass.length_m;
+      data_.passes.push_back(pass);
+    }
+    // Next head in after this tail leaves F7 (strip speed v (1 + f)).
+    const double tail_s =
+        data_.passes.back().length_m / (coil.v7_mps * (1 + coil.slip7));
+    const bool last = i + 1 == static_cast<int>(coils.size());
+    *t +=
+        static_cast<UnixSeconds>(std::lround(tail_s + (last ? 0 : coil.gap_s)));
+  }
+  return wear_um;
+}
+
+// Grinder measurements, regrind and scrapping after the campaign. Cooling
+// time before the measurement: a campaign-level backlog (lognormal, median
+// 7 h) times a per-roll factor, kept within 1..48 h.
+void MillRun::MeasureAndRegrind(int campaign,
+                                const std::array<double, 4>& wear_um) {
+  const uint64_t seed = options_.seed;
+  const Campaign& cp = data_.campaigns[campaign];
+  Random cooling_rng = MakeRandom(seed, Stream::kCooling, campaign);
+  Random scatter_rng = MakeRandom(seed, Stream::kScatter, campaign);
+  Random grinder_rng = MakeRandom(seed, Stream::kGrinder, campaign);
+  Random missing_rng = MakeRandom(seed, Stream::kMissing, campaign);
+  Random regrind_rng = MakeRandom(seed, Stream::kRegrind, campaign);
+  const double backlog_h = 7 * std::exp(cooling_rng.Normal(0, 0.8));
+  for (int slot = 0; slot < 4; ++slot) {
+    const Mount& m = MountOf(slot);
+    Roll& roll = rolls_[mounted_[slot]];
+    const double cooling_h = std::clamp(
+        backlog_h * std::exp(cooling_rng.Normal(0, 0.25)), 1.0, 48.0);
+    const UnixSeconds measured_at =
+        cp.ended_at + static_cast<UnixSeconds>(std::lround(cooling_h * 3600));
+    const double scatter =
+        sim::LogNormalMeanOne(&scatter_rng, kRollScatterSigma);
+    const double grinder = grinder_rng.Normal(0, kGrinderNoiseSd);
+    const bool missing =
+        missing_rng.Uniform() < options_.missing_measurement_fraction;
+
+    // Measurement-side effects see the recorded cooling time.
+    EffectContext ctx;
+    ctx.mount = &m;
+    ctx.cooling_h = (measured_at - cp.ended_at) / 3600.0;
+    double offset_um = 0;
+    for (const ActiveEffect& e : measurement_effects_) {
+      offset_um += e.spec->apply(ctx, e.parameters.data());
+    }
+    const double true_wear_um = scatter * wear_um[slot];
+    if (!missing) {
+      Measurement meas;
+      meas.campaign = campaign;
+      meas.stand = m.stand;
+      meas.position = m.position;
+      meas.roll_id = m.roll_id;
+      meas.measured_at = measured_at;
+      meas.wear_center_um =
+          RoundTo(std::max(1.0, true_wear_um + offset_um + grinder), 1);
+      const double noise_free = wear_um[slot] + offset_um;
+      abs_noise_sum_ += std::fabs(meas.wear_center_um - noise_free);
+      truth_.noise_free_wear_um.push_back(noise_free);
+      truth_.noise_free_keys.push_back({cp.id, m.stand, m.position});
+      data_.measurements.push_back(std::move(meas));
+    }
+
+    // Regrind: remove the wear plus a safety stock of 0.2..0.6 mm on the
+    // radius; a roll below its scrap diameter is replaced by a new one.
+    const double safety_mm = regrind_rng.Uniform(0.2, 0.6);
+    roll.diameter_mm =
+        RoundTo(roll.diameter_mm - 2 * (true_wear_um * 1e-3 + safety_mm), 2);
+    roll.available_at = measured_at + static_cast<UnixSeconds>(
+                                          regrind_rng.Uniform(3600, 3 * 3600));
+    if (roll.diameter_mm < sim::kScrapDiameterMm) {
+      const UnixSeconds ready = roll.available_at;
+      roll = NewRoll(next_serial_++, roll.type, &regrind_rng);
+      roll.available_at = ready;
+    }
+  }
+}
+
+void MillRun::Run() {
+  InitTruthAndEffects();
+  BuildInventory();
+  const size_t expected_passes = static_cast<size_t>(
+      options_.num_campaigns * options_.coils_per_campaign * 2 * 1.1);
+  data_.passes.reserve(expected_passes);
+  data_.coil_ids.reserve(expected_passes / 2);
+  data_.campaigns.reserve(options_.num_campaigns);
+
+  UnixSeconds start = kStartTime;
+  for (int c = 0; c < options_.num_campaigns; ++c) {
+    Random schedule_rng = MakeRandom(options_.seed, Stream::kSchedule, c);
+    Random choice_rng = MakeRandom(options_.seed, Stream::kRollChoice, c);
+    Random timing_rng = MakeRandom(options_.seed, Stream::kTiming, c);
+    const sim::CampaignPlan plan =
+        sim::PlanCampaign(options_.coils_per_campaign, &schedule_rng);
+    const std::vector<sim::CoilPlan> coils =
+        sim::PlanCoils(plan, &schedule_rng);
+    ChooseRolls(&start, &choice_rng);
+    AddMounts(c);
+
+    Campaign campaign;
+    campaign.id = Serial('C', c + 1, 4);
+    campaign.started_at = start;
+    // First head in 5..15 min after the change; rolls out 2..8 min after
+    // the last tail.
+    UnixSeconds t =
+        start + static_cast<UnixSeconds>(timing_rng.Uniform(300, 900));
+    const std::array<double, 4> wear_um = RollCoils(c, start, coils, &t);
+    campaign.ended_at =
+        t + static_cast<UnixSeconds>(timing_rng.Uniform(120, 480));
+    data_.campaigns.push_back(campaign);
+    MeasureAndRegrind(c, wear_um);
+    // Roll change: 20..40 min.
+    start = campaign.ended_at +
+            static_cast<UnixSeconds>(timing_rng.Uniform(20 * 60, 40 * 60));
+  }
+  truth_.noise_floor_um = data_.measurements.empty()
+                              ? 0
+                              : abs_noise_sum_ / data_.measurements.size();
+}
+
+}  // namespace
+
+bool SimulatorOptions::IsValid(std::string* error) const {
+  if (num_campaigns < 1 || num_campaigns > 100000) {
+    *error = "num_campaigns must be in 1..100000";
+    return false;
+  }
+  if (!(coils_per_campaign >= 10 && coils_per_campaign <= 2000)) {
+    *error = "coils_per_campaign must be in 10..2000";
+    return false;
+  }
+  if (!(missing_measurement_fraction >= 0 &&
+        missing_measurement_fraction <= 1)) {
+    *error = "missing_measurement_fraction must be in [0, 1]";
+    return false;
+  }
+  std::set<std::string> seen;
+  for (const std::string& name : effects) {
+    if (sim::FindEffect(name) == nullptr) {
+      std::string valid;
+      for (const auto& e : sim::EffectTable()) {
+        valid += valid.empty() ? "" : ", ";
+        valid += e.name;
+      }
+      *error = "unknown effect '" + name + "' (valid: " + valid + ")";
+      return false;
+    }
+    if (!seen.insert(name).second) {
+      *error = "effect '" + name + "' given twice";
+      return false;
+    }
+  }
+  return true;
+}
+
+std::vector<std::pair<std::string, std::string>> SimulatorEffects() {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const EffectSpec& e : sim::EffectTable()) {
+    out.emplace_back(e.name, e.description);
+  }
+  return out;
+}
+
+StatusOr<Simulation> Simulate(const SimulatorOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) return Status::InvalidArgument(error);
+  Simulation result;
+  MillRun(options, &result).Run();
+  return result;
+}
+
+}  // namespace rollwear

@@ -1,0 +1,83 @@
+// Mill simulator: writes a synthetic hot-strip-mill dataset shaped like the
+// rollwear study (F6/F7 finishing stands, top and bottom work rolls, 395
+// campaigns, about 51,700 coils, 8 roll types/suppliers, 9 grades), with
+// forces from a flow-stress model, regrinds and replacements of physical
+// rolls, grinder noise and roll-to-roll scatter. The true wear is Wang's law
+// with option-1 coefficients kF[position]*kR[roll type]*kS[grade], optionally
+// modified by concealed effects that the baseline model lacks.
+//
+// Thread-safety: Simulate is a pure function of its options (seeded RNG).
+#ifndef ROLLWEAR_CORE_SIM_SIMULATOR_H_
+#define ROLLWEAR_CORE_SIM_SIMULATOR_H_
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/dataset/dataset.h"
+#include "core/base/status.h"
+
+namespace rollwear {
+
+struct SimulatorOptions {
+  uint64_t seed = 1;
+  int num_campaigns = 395;
+  // Mean coils per campaign (campaign lengths vary around it).
+  double coils_per_campaign = 131;
+  // Names from SimulatorEffects(); empty = no concealed effect.
+  std::vector<std::string> effects;
+  // Fraction of (campaign, position) measurements missing (gauge faults,
+  // not yet ground).
+  double missing_measurement_fraction = 0.0;
+
+  bool IsValid(std::string* error) const;
+};
+
+// A concealed effect and its true parameters.
+struct SimulatedEffect {
+  std::string name;         // e.g. "campaign_growth"
+  std::string covariate;    // canonical column/derived name it acts through
+  std::string description;  // one sentence of physics
+  std::map<std::string, double> parameters;
+};
+
+// Key of one SimulationTruth::noise_free_wear_um entry: the measurement row
+// it belongs to.
+struct SimulatedMeasurementKey {
+  std::string campaign_id;
+  int stand = 0;
+  Position position = Position::kTop;
+};
+
+struct SimulationTruth {
+  uint64_t seed = 0;
+  std::string law = "wang";
+  // True option-1 factors, by label (position "F6/top", roll type, grade).
+  std::map<std::string, double> k_position;
+  std::map<std::string, double> k_roll_type;
+  std::map<std::string, double> k_grade;
+  std::vector<SimulatedEffect> effects;
+  // Noise-free centre wear for each row of Dataset::measurements (the wear
+  // a perfect model of baseline + effects would predict), and the noise
+  // floor: mean |measured - noise-free| over all measurements.
+  std::vector<double> noise_free_wear_um;
+  std::vector<SimulatedMeasurementKey> noise_free_keys;  // same order
+  double noise_floor_um = 0;
+  double grinder_noise_sd_um = 0;
+  double roll_scatter_sd = 0;  // relative, per physical roll and campaign
+};
+
+struct Simulation {
+  Dataset data;
+  SimulationTruth truth;
+};
+
+// Names accepted in SimulatorOptions::effects, with a one-line description.
+std::vector<std::pair<std::string, std::string>> SimulatorEffects();
+
+StatusOr<Simulation> Simulate(const SimulatorOptions& options);
+
+}  // namespace rollwear
+
+#endif  // ROLLWEAR_CORE_SIM_SIMULATOR_H_

@@ -1,0 +1,74 @@
+#include "service/sim_truth_json.h"
+
+#include <cmath>
+#include <fstream>
+#include <map>
+
+#include <nlohmann/json.hpp>
+
+namespace rollwear {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// A finite number as itself, anything else as null (JSON has no NaN).
+Json Number(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
+
+Json Object(const std::map<std::string, double>& m) {
+  Json out = Json::object();
+  for (const auto& [key, value] : m) out[key] = Number(value);
+  return out;
+}
+
+}  // namespace
+
+std::string TruthJson(const SimulationTruth& truth) {
+  Json doc;
+  doc["seed"] = truth.seed;
+  doc["law"] = truth.law;
+  doc["option"] = 1;
+  doc["k_position"] = Object(truth.k_position);
+  doc["k_roll_type"] = Object(truth.k_roll_type);
+  doc["k_grade"] = Object(truth.k_grade);
+  Json effects = Json::array();
+  for (const SimulatedEffect& e : truth.effects) {
+    effects.push_back({{"name", e.name},
+                       {"covariate", e.covariate},
+                       {"description", e.description},
+                       {"parameters", Object(e.parameters)}});
+  }
+  doc["effects"] = std::move(effects);
+  doc["noise_floor_um"] = Number(truth.noise_floor_um);
+  doc["grinder_noise_sd_um"] = Number(truth.grinder_noise_sd_um);
+  doc["roll_scatter_sd"] = Number(truth.roll_scatter_sd);
+  // One row per Dataset::measurements row; plain numbers when the keys are
+  // missing (older callers fill only the values).
+  const bool keyed =
+      truth.noise_free_keys.size() == truth.noise_free_wear_um.size();
+  Json rows = Json::array();
+  for (size_t i = 0; i < truth.noise_free_wear_um.size(); ++i) {
+    if (!keyed) {
+      rows.push_back(Number(truth.noise_free_wear_um[i]));
+      continue;
+    }
+    const SimulatedMeasurementKey& k = truth.noise_free_keys[i];
+    rows.push_back({{"campaign_id", k.campaign_id},
+                    {"stand", "F" + std::to_string(k.stand)},
+                    {"position", PositionName(k.position)},
+                    {"noise_free_wear_um", Number(truth.noise_free_wear_um[i])}});
+  }
+  doc["noise_free_wear_um"] = std::move(rows);
+  return doc.dump(2) + "\n";
+}
+
+Status WriteTruthJson(const SimulationTruth& truth, const std::string& path) {
+  const std::string out = TruthJson(truth);
+  std::ofstream file(path, std::ios::binary | std::ios::trunc);
+  if (!file) return Status::IoError("cannot open " + path + " for writing");
+  file.write(out.data(), static_cast<std::streamsize>(out.size()));
+  file.close();
+  if (!file) return Status::IoError("cannot write " + path);
+  return Status::Ok();
+}
+
+}  // namespace rollwear

@@ -1,0 +1,64 @@
+// service/sim_truth_json: the simulator's truth file parses as JSON and
+// carries every measurement's noise-free wear and the concealed effects.
+#include "service/sim_truth_json.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "tests/core/simulator_test_util.h"
+
+namespace rollwear {
+namespace {
+
+using simulator_test::Simulated;
+
+TEST(SimTruthJsonTest, WritesEveryMeasurementAndEffect) {
+  const Simulation sim = Simulated(3, 12, {"warm_measurement"}, 0.1);
+  const std::string path =
+      (std::filesystem::temp_directory_path() /
+       ("rollwear_truth_test_" + std::to_string(::getpid()) + ".json"))
+          .string();
+  ASSERT_TRUE(WriteTruthJson(sim.truth, path).ok());
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::filesystem::remove(path);
+  const nlohmann::json doc = nlohmann::json::parse(text.str());
+
+  EXPECT_EQ(doc.at("seed").get<uint64_t>(), 3u);
+  ASSERT_EQ(doc.at("noise_free_wear_um").size(), sim.data.measurements.size());
+  const nlohmann::json& first = doc.at("noise_free_wear_um").at(0);
+  EXPECT_EQ(first.at("campaign_id").get<std::string>(),
+            sim.truth.noise_free_keys[0].campaign_id);
+  EXPECT_DOUBLE_EQ(first.at("noise_free_wear_um").get<double>(),
+                   sim.truth.noise_free_wear_um[0]);
+  EXPECT_EQ(doc.at("k_roll_type").size(), sim.truth.k_roll_type.size());
+  ASSERT_EQ(doc.at("effects").size(), 1u);
+  EXPECT_EQ(doc.at("effects")[0].at("name").get<std::string>(),
+            "warm_measurement");
+  EXPECT_DOUBLE_EQ(
+      doc.at("effects")[0].at("parameters").at("amplitude_um").get<double>(),
+      60.0);
+  EXPECT_DOUBLE_EQ(doc.at("noise_floor_um").get<double>(),
+                   sim.truth.noise_floor_um);
+}
+
+TEST(SimTruthJsonTest, NonFiniteNumbersAreNull) {
+  SimulationTruth truth;
+  truth.noise_floor_um = std::numeric_limits<double>::quiet_NaN();
+  truth.k_grade["S1"] = std::numeric_limits<double>::infinity();
+  const nlohmann::json doc = nlohmann::json::parse(TruthJson(truth));
+  EXPECT_TRUE(doc.at("noise_floor_um").is_null());
+  EXPECT_TRUE(doc.at("k_grade").at("S1").is_null());
+  EXPECT_TRUE(doc.at("noise_free_wear_um").empty());
+}
+
+}  // namespace
+}  // namespace rollwear
