@@ -25,29 +25,59 @@ struct Command {
 // Integer options take plain decimal digits: CLI11's own conversion
 // (strtoll, base 0) would read "010" as octal and wrap "-1" into a huge
 // unsigned seed.
-const CLI::Validator kCount(
-    [](std::string& value) -> std::string {
-      if (value.empty() ||
-          value.find_first_not_of("0123456789") != std::string::npos) {
-        return "needs a non-negative integer, got '" + value + "'";
-      }
-      value.erase(0, std::min(value.find_first_not_of('0'), value.size() - 1));
-      return "";
-    },
-    "", "non-negative integer");
+CLI::Validator Count() {
+  return CLI::Validator(
+      [](std::string& value) -> std::string {
+        if (value.empty() ||
+            value.find_first_not_of("0123456789") != std::string::npos) {
+          return "needs a non-negative integer, got '" + value + "'";
+        }
+        value.erase(0,
+                    std::min(value.find_first_not_of('0'), value.size() - 1));
+        return "";
+      },
+      "", "non-negative integer");
+}
 
 template <typename T>
 CLI::Option* AddCount(CLI::App* app, const std::string& name, T& value,
                       const std::string& help) {
   return app->add_option(name, value, help)
-      ->transform(kCount)
+      ->transform(Count())
       ->type_name("N")
       ->capture_default_str();
 }
 
 CLI::Option* AddNumber(CLI::App* app, const std::string& name, double& value,
                        const std::string& help) {
-  return app->add_option(name, value, help)->type_name("X")->capture_default_str();
+  return app->add_option(name, value, help)
+      ->type_name("X")
+      ->capture_default_str();
+}
+
+// A string option whose value is a path or a name, shown as `type`.
+CLI::Option* AddPath(CLI::App* app, const std::string& name, std::string& value,
+                     const std::string& type, const std::string& help) {
+  return app->add_option(name, value, help)->type_name(type);
+}
+
+// One of `choices`; the help shows them and the default.
+CLI::Option* AddChoice(CLI::App* app, const std::string& name,
+                       std::string& value,
+                       const std::vector<std::string>& choices,
+                       const std::string& help) {
+  return app->add_option(name, value, help)
+      ->check(CLI::IsMember(choices))
+      ->capture_default_str();
+}
+
+CLI::Option* AddLaw(CLI::App* app, std::string& value,
+                    const std::string& help) {
+  return AddChoice(app, "--model", value, {"wang", "nikitenko", "cao"}, help);
+}
+
+CLI::Option* AddData(CLI::App* app, std::string& value) {
+  return AddPath(app, "--data", value, "DIR", "dataset folder")->required();
 }
 
 CLI::App* AddCommand(CLI::App* app, const std::string& name,
@@ -64,24 +94,23 @@ Command AddSimulate(CLI::App* app) {
       app, "simulate",
       "Write a synthetic mill dataset folder and, beside it, the simulator's "
       "ground truth (JSON); print a summary.");
-  c->add_option("--out", args->out, "dataset folder to write (required)")
-      ->type_name("DIR");
+  AddPath(c, "--out", args->out, "DIR", "dataset folder to write (required)");
   AddCount(c, "--seed", args->options.seed, "simulator seed");
   c->add_option("--effect", args->effects,
-                "concealed effect(s) to simulate, comma-separated; repeatable; "
-                "none = no effect (see --list-effects)")
+                "concealed effect(s) to simulate, comma-separated; "
+                "repeatable; none = no effect (see --list-effects)")
       ->type_name("NAME[,NAME]")
-      ->allow_extra_args(false);
-  AddCount(c, "--campaigns", args->options.num_campaigns, "campaigns to simulate")
+      ->allow_extra_args(false);  // one value per --effect
+  AddCount(c, "--campaigns", args->options.num_campaigns,
+           "campaigns to simulate")
       ->check(CLI::Range(1, 100000));
   AddNumber(c, "--coils-per-campaign", args->options.coils_per_campaign,
             "mean coils per campaign");
   AddNumber(c, "--missing", args->options.missing_measurement_fraction,
             "fraction of grinder measurements left out");
-  c->add_option("--truth", args->truth,
-                "ground-truth JSON file (default DIR.truth.json, beside DIR; "
-                "never inside it)")
-      ->type_name("FILE");
+  AddPath(c, "--truth", args->truth, "FILE",
+          "ground-truth JSON file (default DIR.truth.json, beside DIR; "
+          "never inside it)");
   c->add_flag("--list-effects", args->list_effects,
               "list the effects the simulator can conceal, and exit");
   return {c, [args] { return RunSimulate(*args); }};
@@ -94,30 +123,23 @@ Command AddCalibrate(CLI::App* app) {
       "Calibrate a wear model on a seeded 2/3 training / 1/3 validation split "
       "by campaign; print the coefficients with standard errors and the "
       "figures of merit.");
-  c->add_option("--data", args->data, "dataset folder")->type_name("DIR")->required();
-  c->add_option("--model", args->model, "wear law")
-      ->check(CLI::IsMember({"wang", "nikitenko", "cao"}))
-      ->capture_default_str();
+  AddData(c, args->data);
+  AddLaw(c, args->model, "wear law");
   AddCount(c, "--option", args->options.option, "K structure option")
       ->check(CLI::IsMember({1, 2, 3}));
-  c->add_option("--start", args->start, "initial set of the coefficients")
-      ->check(CLI::IsMember({"ones", "random", "empirical"}))
-      ->capture_default_str();
-  c->add_option("--protocol", args->protocol,
-                "derivatives: exact (automatic) or paper (forward differences, "
-                "the study's protocol)")
-      ->check(CLI::IsMember({"exact", "paper"}))
-      ->capture_default_str();
+  AddChoice(c, "--start", args->start, {"ones", "random", "empirical"},
+            "initial set of the coefficients");
+  AddChoice(c, "--protocol", args->protocol, {"exact", "paper"},
+            "derivatives: exact (automatic) or paper (forward differences, "
+            "the study's protocol)");
   AddCount(c, "--split-seed", args->split_seed, "seed of the campaign split");
   AddCount(c, "--seed", args->options.seed, "seed of --start random");
-  c->add_option("--json", args->json, "write the result as JSON")->type_name("FILE");
-  c->add_option("--figures", args->figures,
-                "write measured vs calculated wear per stand as SVG into DIR")
-      ->type_name("DIR");
-  c->add_option("--terms", args->terms,
-                "refit Wang's law, option 1, with the terms adopted by "
-                "`rollwear diagnose --json` (or a model JSON with \"terms\")")
-      ->type_name("FILE");
+  AddPath(c, "--json", args->json, "FILE", "write the result as JSON");
+  AddPath(c, "--figures", args->figures, "DIR",
+          "write measured vs calculated wear per stand as SVG into DIR");
+  AddPath(c, "--terms", args->terms, "FILE",
+          "refit Wang's law, option 1, with the terms adopted by "
+          "`rollwear diagnose --json` (or a model JSON with \"terms\")");
   return {c, [args] { return RunCalibrate(*args); }};
 }
 
@@ -127,13 +149,13 @@ Command AddStudy(CLI::App* app) {
       app, "study",
       "The study's Tables 1-3 on a dataset, as Markdown on stdout (and, with "
       "--out, study.md and study.json).");
-  c->add_option("--data", args->data, "dataset folder")->type_name("DIR")->required();
-  c->add_option("--out", args->out, "write study.md and study.json into DIR")
-      ->type_name("DIR");
-  c->add_option("--figures", args->figures,
-                "write the study's measured vs calculated figures as SVG into DIR")
-      ->type_name("DIR");
-  AddCount(c, "--split-seed", args->options.split_seed, "seed of the campaign split");
+  AddData(c, args->data);
+  AddPath(c, "--out", args->out, "DIR",
+          "write study.md and study.json into DIR");
+  AddPath(c, "--figures", args->figures, "DIR",
+          "write the study's measured vs calculated figures as SVG into DIR");
+  AddCount(c, "--split-seed", args->options.split_seed,
+           "seed of the campaign split");
   AddCount(c, "--seed", args->options.random_start_seed,
            "seed of the random initial sets");
   return {c, [args] { return RunStudy(*args); }};
@@ -146,30 +168,27 @@ Command AddAnn(CLI::App* app) {
       app, "ann",
       "Train the recurrent K-estimator and compare it with classical "
       "calibration (Wang, option 1) on the same split: the study's Table 4.");
-  c->add_option("--data", args->data, "dataset folder")->type_name("DIR")->required();
-  c->add_option("--json", args->json, "write the comparison as JSON")->type_name("FILE");
+  AddData(c, args->data);
+  AddPath(c, "--json", args->json, "FILE", "write the comparison as JSON");
   AddCount(c, "--seeds", t.members, "ensemble members (training seeds)");
-  AddCount(c, "--split-seed", args->options.split_seed, "seed of the campaign split");
+  AddCount(c, "--split-seed", args->options.split_seed,
+           "seed of the campaign split");
   AddCount(c, "--seed", t.seed, "first training seed");
-  c->add_option("--select", args->select,
-                "ensemble: mean of the members, or the best on the holdout")
-      ->check(CLI::IsMember({"mean", "best"}))
-      ->capture_default_str();
+  AddChoice(c, "--select", args->select, {"mean", "best"},
+            "ensemble: mean of the members, or the best on the holdout");
   AddCount(c, "--max-epochs", t.max_epochs, "training epochs at most");
   AddCount(c, "--threads", t.threads, "training threads");
   AddNumber(c, "--weight-decay", t.weight_decay, "AdamW weight decay");
   c->add_flag("--no-early-stopping", args->no_early_stopping,
               "train all epochs; the holdout is only reported");
   c->add_flag("--linear-skip", t.linear_skip, "train the linear skip path");
-  c->add_option("--model-out", args->model_out,
-                "write the trained model in its text form")
-      ->type_name("FILE");
+  AddPath(c, "--model-out", args->model_out, "FILE",
+          "write the trained model in its text form");
   c->add_flag("--with-diagnosis", args->options.compare_adopted,
               "add the diagnosis engine's adopted model as a third row");
-  c->add_option("--figures", args->figures,
-                "write measured vs calculated wear, classical against the ANN, "
-                "as SVG into DIR")
-      ->type_name("DIR");
+  AddPath(c, "--figures", args->figures, "DIR",
+          "write measured vs calculated wear, classical against the ANN, "
+          "as SVG into DIR");
   return {c, [args] { return RunAnn(*args); }};
 }
 
@@ -208,8 +227,8 @@ Command AddServe(CLI::App* app) {
         ->type_name(s.type)
         ->default_str(s.fallback);
   }
-  c->add_option("--config", args->config, "config file (docs/operations.md)")
-      ->type_name("FILE");
+  AddPath(c, "--config", args->config, "FILE",
+          "config file (docs/operations.md)");
   return {c, [args] { return RunServe(*args); }};
 }
 
@@ -219,7 +238,7 @@ Command AddImport(CLI::App* app) {
       app, "import",
       "Load a dataset folder into the database, all-or-nothing: the first "
       "broken rule is reported as file:line:column and nothing is stored.");
-  c->add_option("--db", args->db, "SQLite database")->type_name("FILE")->required();
+  AddPath(c, "--db", args->db, "FILE", "SQLite database")->required();
   c->add_option("DIR", args->dir, "dataset folder (docs/data-format.md)")
       ->type_name("DIR")
       ->required();
@@ -233,12 +252,11 @@ Command AddReplay(CLI::App* app) {
       "Post a dataset folder through the HTTP API in time order, as the "
       "mill's Level 2 system and the roll shop would; exit 0 only when every "
       "event was accepted.");
-  c->add_option("--data", args->data, "dataset folder")->type_name("DIR")->required();
-  c->add_option("--url", args->url, "the daemon, http://HOST:PORT")
-      ->type_name("URL")
+  AddData(c, args->data);
+  AddPath(c, "--url", args->url, "URL", "the daemon, http://HOST:PORT")
       ->required();
-  c->add_option("--token", args->token, "bearer token (default $ROLLWEAR_TOKEN)")
-      ->type_name("T");
+  AddPath(c, "--token", args->token, "T",
+          "bearer token (default $ROLLWEAR_TOKEN)");
   AddCount(c, "--clients", args->clients, "concurrent keep-alive clients")
       ->check(CLI::Range(1, 256));
   AddNumber(c, "--speed", args->speed,
@@ -250,7 +268,7 @@ Command AddReplay(CLI::App* app) {
   AddNumber(c, "--show-wear", args->show_wear_s,
             "print GET /v1/wear every X seconds (0 = never)")
       ->check(CLI::NonNegativeNumber);
-  c->add_option("--json", args->json, "write the summary as JSON")->type_name("FILE");
+  AddPath(c, "--json", args->json, "FILE", "write the summary as JSON");
   c->add_flag("--leave-last-open", args->leave_last_open,
               "leave the last campaign running (no end, no measurements)");
   c->add_flag("--quiet", args->quiet, "no progress lines");
@@ -263,13 +281,12 @@ Command AddDiagnose(CLI::App* app) {
       app, "diagnose",
       "Locate model-vs-measurement mismatch, name and fit the missing "
       "physics, show the gain on held-out campaigns (docs/diagnosis.md).");
-  c->add_option("--data", args->data, "dataset folder")->type_name("DIR")->required();
-  c->add_option("--json", args->json, "write the report as JSON")->type_name("FILE");
-  c->add_option("--html", args->html, "write the report as HTML")->type_name("FILE");
-  AddCount(c, "--split-seed", args->options.split_seed, "seed of the campaign split");
-  c->add_option("--model", args->model, "wear law of the baseline")
-      ->check(CLI::IsMember({"wang", "nikitenko", "cao"}))
-      ->capture_default_str();
+  AddData(c, args->data);
+  AddPath(c, "--json", args->json, "FILE", "write the report as JSON");
+  AddPath(c, "--html", args->html, "FILE", "write the report as HTML");
+  AddCount(c, "--split-seed", args->options.split_seed,
+           "seed of the campaign split");
+  AddLaw(c, args->model, "wear law of the baseline");
   AddCount(c, "--threads", args->options.num_threads, "threads");
   return {c, [args] { return RunDiagnose(*args); }};
 }
@@ -302,12 +319,14 @@ int RunCli(int argc, char** argv, const std::string& version) {
                "rollwear");
   app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   app.get_formatter()->column_width(36);
-  app.set_version_flag("--version", version, "print the version and the git commit");
+  app.set_version_flag("--version", version,
+                       "print the version and the git commit");
   app.allow_extras();
   app.footer("Run 'rollwear COMMAND --help' for the options of a command.");
-  const std::vector<Command> commands = {
-      AddSimulate(&app), AddCalibrate(&app), AddStudy(&app), AddAnn(&app),
-      AddServe(&app),    AddImport(&app),    AddReplay(&app), AddDiagnose(&app)};
+  const std::vector<Command> commands = {AddSimulate(&app), AddCalibrate(&app),
+                                         AddStudy(&app),    AddAnn(&app),
+                                         AddServe(&app),    AddImport(&app),
+                                         AddReplay(&app),   AddDiagnose(&app)};
 
   std::string parse_error;
   try {
@@ -323,8 +342,8 @@ int RunCli(int argc, char** argv, const std::string& version) {
   const CLI::App* command = chosen == nullptr ? nullptr : chosen->app;
   // An unknown option explains a missing or malformed one better than the
   // other way round, so it is reported first.
-  const std::string extra = FirstExtra(command == nullptr ? app : *command,
-                                       command != nullptr);
+  const std::string extra =
+      FirstExtra(command == nullptr ? app : *command, command != nullptr);
   if (!extra.empty()) return UsageError(command, extra);
   if (!parse_error.empty()) return UsageError(command, parse_error);
   if (chosen == nullptr) {

@@ -23,10 +23,10 @@ namespace rollwear::cli {
 
 struct SimulateArgs {
   std::string out;
-  std::string truth;                  // empty: DIR.truth.json beside DIR
-  std::vector<std::string> effects;   // --effect values (comma lists)
+  std::string truth;                 // empty: DIR.truth.json beside DIR
+  std::vector<std::string> effects;  // --effect values (comma lists)
   bool list_effects = false;
-  SimulatorOptions options;           // seed, campaigns, coils, missing
+  SimulatorOptions options;  // seed, campaigns, coils, missing
 };
 int RunSimulate(const SimulateArgs& args);
 
@@ -45,8 +45,8 @@ int RunCalibrate(const CalibrateArgs& args);
 
 struct StudyArgs {
   std::string data;
-  std::string out;      // empty: Markdown on stdout only
-  std::string figures;  // empty: no figures
+  std::string out;       // empty: Markdown on stdout only
+  std::string figures;   // empty: no figures
   StudyOptions options;  // split_seed, random_start_seed
 };
 int RunStudy(const StudyArgs& args);
@@ -91,7 +91,7 @@ struct ReplayArgs {
   std::string token;  // empty: $ROLLWEAR_TOKEN, if set
   std::string json;
   int clients = 8;
-  double speed = 0;       // 0 = as fast as possible
+  double speed = 0;  // 0 = as fast as possible
   double retry_for_s = 60;
   double show_wear_s = 0;  // 0 = never
   bool leave_last_open = false;

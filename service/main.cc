@@ -11,7 +11,7 @@
 #endif
 
 int main(int argc, char** argv) {
-  return rollwear::cli::RunCli(
-      argc, argv,
-      "rollwear " ROLLWEAR_VERSION " (commit " ROLLWEAR_GIT_COMMIT ")");
+  return rollwear::cli::RunCli(argc, argv,
+                               "rollwear " ROLLWEAR_VERSION
+                               " (commit " ROLLWEAR_GIT_COMMIT ")");
 }
