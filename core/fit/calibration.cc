@@ -302,10 +302,11 @@ StatusOr<CalibrationResult> Calibrate(const WearStatistics& stats,
                                      " does not exist or has no measurement");
     }
   }
-  StatusOr<KStructure> ks = KStructure::ForOption(options.option, stats.positions,
-                                                  stats.roll_types, stats.grades);
-  if (!ks.ok()) return ks.status();
-  Fit fit(stats, train, options, *ks);
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      const KStructure ks,
+      KStructure::ForOption(options.option, stats.positions, stats.roll_types,
+                            stats.grades));
+  Fit fit(stats, train, options, ks);
   const Layout& layout = fit.layout();
   const KStructure& structure = fit.structure();
   const std::vector<FactorGroup>& groups = structure.groups();
@@ -321,9 +322,9 @@ StatusOr<CalibrationResult> Calibrate(const WearStatistics& stats,
     pre.initial_set = InitialSet::kEmpirical;
     pre.derivatives = DerivativeMode::kExact;
     pre.compute_covariance = false;
-    StatusOr<CalibrationResult> r = Calibrate(stats, train, pre);
-    if (!r.ok()) return r.status();
-    prefit = std::make_unique<CalibrationResult>(std::move(r).value());
+    ROLLWEAR_ASSIGN_OR_RETURN(CalibrationResult r,
+                              Calibrate(stats, train, pre));
+    prefit = std::make_unique<CalibrationResult>(std::move(r));
     const int dof = std::max(1, static_cast<int>(train.size()) -
                                     prefit->summary.num_free_parameters);
     const double sigma_w = std::sqrt(prefit->summary.final_cost / dof);
