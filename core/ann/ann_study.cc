@@ -181,15 +181,8 @@ void MemberGapSpread(const AnnComparison& c, bool validation, double* mean,
 }
 
 std::string AnnComparisonMarkdown(const AnnComparison& c) {
-  std::string out;
+  std::string out = StudyDatasetMarkdown(c);
   char buf[512];
-  std::snprintf(buf, sizeof(buf),
-                "Dataset: %d campaigns, %d coils; split seed %llu: %d training "
-                "and %d validation measurements (2/3-1/3 by campaign).\n\n",
-                c.n_campaigns, c.n_coils,
-                static_cast<unsigned long long>(c.split_seed), c.n_train,
-                c.n_val);
-  out += buf;
   out += "Table 4 - classical calibration vs recurrent ANN (Wang's law)\n\n";
   out +=
       "| model | params | gap train µm | gap val µm | val/train | "

@@ -2,16 +2,15 @@
 #include "core/diagnosis/diagnosis.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <set>
-#include <thread>
 #include <unordered_set>
 
 #include "core/model/aggregation.h"
 #include "core/diagnosis/diagnosis_internal.h"
 #include "core/base/distributions.h"
+#include "core/base/parallel.h"
 #include "core/model/k_structure.h"
 #include "core/model/metrics.h"
 #include "core/base/random.h"
@@ -85,19 +84,6 @@ Fitted FitCandidate(const TermData& td, const std::vector<int>& subset,
     if (f.usable && (!best.usable || f.rss < best.rss)) best = std::move(f);
   }
   return best;
-}
-
-// Runs fn(i) for i in [0, n) on up to `threads` threads.
-template <typename Fn>
-void ParallelFor(int n, int threads, Fn fn) {
-  std::atomic<int> next{0};
-  auto worker = [&]() {
-    for (int i = next++; i < n; i = next++) fn(i);
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < std::min(threads, n); ++t) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
 }
 
 struct CvResult {

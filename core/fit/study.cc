@@ -123,15 +123,18 @@ std::string Fmt(const char* format, double v) {
 
 }  // namespace
 
-std::string StudyMarkdown(const StudyReport& r) {
-  std::string out;
+std::string StudyDatasetMarkdown(const StudyDataset& d) {
   char buf[512];
   std::snprintf(buf, sizeof(buf),
                 "Dataset: %d campaigns, %d coils; split seed %llu: %d training "
                 "and %d validation measurements (2/3-1/3 by campaign).\n\n",
-                r.n_campaigns, r.n_coils,
-                static_cast<unsigned long long>(r.split_seed), r.n_train, r.n_val);
-  out += buf;
+                d.n_campaigns, d.n_coils,
+                static_cast<unsigned long long>(d.split_seed), d.n_train, d.n_val);
+  return buf;
+}
+
+std::string StudyMarkdown(const StudyReport& r) {
+  std::string out = StudyDatasetMarkdown(r);
   auto table = [&out](const char* caption, const std::vector<StudyRow>& rows) {
     out += caption;
     out += "\n\n| law | option | start | derivatives | params | cost start µm² | "
