@@ -129,7 +129,8 @@ std::string StudyDatasetMarkdown(const StudyDataset& d) {
                 "Dataset: %d campaigns, %d coils; split seed %llu: %d training "
                 "and %d validation measurements (2/3-1/3 by campaign).\n\n",
                 d.n_campaigns, d.n_coils,
-                static_cast<unsigned long long>(d.split_seed), d.n_train, d.n_val);
+                static_cast<unsigned long long>(d.split_seed), d.n_train,
+                d.n_val);
   return buf;
 }
 
