@@ -14,6 +14,7 @@
 #include "core/ann/ann_study.h"
 #include "core/ann/ann_train.h"
 #include "core/sim/simulator.h"
+#include "tests/core/test_size.h"
 
 namespace rollwear {
 namespace {
@@ -294,9 +295,16 @@ TEST(AnnTrainingTest, AnnTrainingIsDeterministicForASeed) {
 // a concealed effect and 0.92-0.96 with campaign_growth; the member-to-
 // member spread of the validation gap is about 0.3 µm (1.5 %). The bounds
 // below sit about 3 sd of that spread away from the worst case seen.
+// Under the sanitizers (test_size.h) the mill stays paper-size (the ANN
+// needs its 1,052 training measurements) and the ensemble is one member,
+// a third of the training: the same bounds hold for each of the three
+// members alone (Release, seeds 31/32: ratios 1.005-1.050 without effect,
+// 0.947-0.967 with growth, training gap below classical for each).
+constexpr int kStudyMembers = test_size::FullOr(3, 1);
+
 AnnComparison Compare(const Simulation& sim) {
   AnnComparisonOptions o;
-  o.training.members = 3;
+  o.training.members = kStudyMembers;
   StatusOr<AnnComparison> c = CompareAnnWithClassical(sim.data, o);
   EXPECT_TRUE(c.ok()) << c.status().ToString();
   return std::move(c).value();
@@ -311,7 +319,7 @@ TEST(AnnStudyTest, AnnIsNotBetterThanClassicalWithoutAConcealedEffect) {
   EXPECT_GT(c.ann_val.gap_um, 0.97 * c.classical_val.gap_um);
   // ... but it is a working estimator, not a broken one.
   EXPECT_LT(c.ann_val.gap_um, 1.15 * c.classical_val.gap_um);
-  EXPECT_EQ(c.members.size(), 3u);
+  EXPECT_EQ(c.members.size(), static_cast<size_t>(kStudyMembers));
   for (const AnnMemberFigures& f : c.members) {
     EXPECT_GE(f.training.best_epoch, 1);
     EXPECT_LE(f.training.best_epoch, f.training.epochs);
