@@ -1,5 +1,5 @@
 // Internal to storage: the MillStore implementation (declared here, defined
-// in mill_store.cc (opening, admission, reads), mill_store_writer.cc (the
+// in mill_store_impl.cc (opening, admission, reads), mill_store_writer.cc (the
 // group-commit writer and publishing), mill_store_calibration.cc (models and
 // calibration runs)).
 //
@@ -144,7 +144,7 @@ class MillStoreImpl final : public MillStore {
  private:
   using ItemPtr = std::shared_ptr<WriteItem>;
 
-  // ---- mill_store.cc
+  // ---- mill_store_impl.cc
   // Validates `item` against spec_ and records it there. *immediate: an
   // idempotent repeat of something already committed (answer at once).
   Status AdmitLocked(WriteItem* item, bool* immediate);
