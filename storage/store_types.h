@@ -18,6 +18,7 @@
 
 #include "core/base/status.h"
 #include "core/dataset/dataset.h"
+#include "core/fit/candidate_model.h"
 #include "core/model/wear_model.h"
 
 namespace rollwear::storage {
@@ -112,8 +113,9 @@ struct WearSnapshot {
   std::vector<PositionWear> positions;  // ordered by stand, top first
 };
 
-// Model name of the recurrent network in runs and model versions.
-inline constexpr char kAnnModelName[] = "ann";
+// Model name of the recurrent network in runs and model versions
+// (core/fit/candidate_model.h).
+using ::rollwear::kAnnModelName;
 
 struct ModelVersion {
   int64_t version = 0;
