@@ -79,10 +79,11 @@ class MillStore {
   virtual std::vector<ModelVersion> ListModels() const = 0;
 
   // Calibration runs: Enqueue records a queued run and returns its id;
-  // RunCalibration executes a queued run (called by the job worker):
-  // calibrates on the stored data with the seeded 2/3-1/3 split, compares
-  // with the active model on the same validation campaigns, promotes
-  // atomically when no worse, and re-predicts open campaigns.
+  // RunCalibration executes a queued run (called by the calibration
+  // worker, service/jobs/scheduler.h): has core (core/fit/candidate_model.h)
+  // fit the candidate on the stored data with the seeded 2/3-1/3 split and
+  // compare it with the active model on the same validation campaigns,
+  // promotes atomically when no worse, and re-predicts open campaigns.
   // RunCalibration returns OK once the run is recorded, done or failed
   // (see GetCalibration); NotFound for an unknown id, FailedPrecondition
   // when the run is not queued, the database error when it could not be
