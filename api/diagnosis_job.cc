@@ -15,14 +15,14 @@ std::string EncodeDiagnosisJob(const DiagnosisJob& job) {
   if (!job.message.empty()) j["message"] = job.message;
   if (job.adoption.has_value()) {
     const storage::CalibrationRecord& r = *job.adoption;
-    j["adoption"] = {
-        {"calibration_id", r.id},
-        {"promoted", r.promoted},
-        {"gap_val_um", r.gap_val_um},
-        {"active_gap_val_um", r.active_gap_val_um},
-        {"model_version", r.model_version == 0 ? nlohmann::json(nullptr)
-                                               : nlohmann::json(r.model_version)},
-        {"message", r.message}};
+    j["adoption"] = {{"calibration_id", r.id},
+                     {"promoted", r.promoted},
+                     {"gap_val_um", r.gap_val_um},
+                     {"active_gap_val_um", r.active_gap_val_um},
+                     {"model_version", r.model_version == 0
+                                           ? nlohmann::json(nullptr)
+                                           : nlohmann::json(r.model_version)},
+                     {"message", r.message}};
   }
   return j.dump();
 }

@@ -18,8 +18,8 @@ namespace {
 
 // The recurrent network of a run with model "ann" (core/fit sits below
 // core/ann, so FitCandidate is handed the trainer).
-StatusOr<FittedCandidate> TrainNetwork(const Dataset& data,
-                                       const std::vector<int>& train_campaigns) {
+StatusOr<FittedCandidate> TrainNetwork(
+    const Dataset& data, const std::vector<int>& train_campaigns) {
   const AnnTrainingOptions options;
   StatusOr<WearModel> ann = TrainServableAnn(data, train_campaigns, options);
   if (!ann.ok()) return ann.status();
@@ -54,7 +54,8 @@ StatusOr<int64_t> MillStoreImpl::EnqueueCalibration(const std::string& trigger,
   return InsertRun(trigger, WearLawName(law), option, /*claim=*/false);
 }
 
-StatusOr<int64_t> MillStoreImpl::EnqueueAnnTraining(const std::string& trigger) {
+StatusOr<int64_t> MillStoreImpl::EnqueueAnnTraining(
+    const std::string& trigger) {
   return InsertRun(trigger, kAnnModelName, 0, /*claim=*/false);
 }
 
@@ -68,13 +69,14 @@ StatusOr<int64_t> MillStoreImpl::InsertRun(const std::string& trigger,
   rec.option = option;
   rec.queued_at = NowSeconds();
   int64_t id = 0;
-  StatusOr<bool> claimed = ClaimTask([&rec, &id, claim](Db* db) -> StatusOr<bool> {
-    StatusOr<int64_t> row = InsertCalibration(db, rec);
-    if (!row.ok()) return row.status();
-    id = *row;
-    if (!claim) return false;
-    return ClaimCalibration(db, id, rec.queued_at);
-  });
+  StatusOr<bool> claimed =
+      ClaimTask([&rec, &id, claim](Db* db) -> StatusOr<bool> {
+        StatusOr<int64_t> row = InsertCalibration(db, rec);
+        if (!row.ok()) return row.status();
+        id = *row;
+        if (!claim) return false;
+        return ClaimCalibration(db, id, rec.queued_at);
+      });
   if (!claimed.ok()) return claimed.status();
   return id;
 }
@@ -97,12 +99,9 @@ StatusOr<bool> MillStoreImpl::ClaimTask(
   return claimed;
 }
 
-StatusOr<CalibrationRecord> MillStoreImpl::ProposeModel(const std::string& trigger,
-                                                        const std::string& model,
-                                                        int option,
-                                                        const WearModel& candidate,
-                                                        const Dataset& data,
-                                                        uint64_t split_seed) {
+StatusOr<CalibrationRecord> MillStoreImpl::ProposeModel(
+    const std::string& trigger, const std::string& model, int option,
+    const WearModel& candidate, const Dataset& data, uint64_t split_seed) {
   std::lock_guard<std::mutex> runs(calibration_mu_);
   // Recorded as a run that is already running (claimed in the same
   // transaction), so the job worker never picks it up as a queued one.
@@ -189,9 +188,9 @@ std::shared_ptr<const ModelVersion> MillStoreImpl::ActiveVersion() const {
   return model_;
 }
 
-Status MillStoreImpl::FinishRun(CandidateEvaluation result,
-                                const std::shared_ptr<const ModelVersion>& active,
-                                CalibrationRecord* run) {
+Status MillStoreImpl::FinishRun(
+    CandidateEvaluation result,
+    const std::shared_ptr<const ModelVersion>& active, CalibrationRecord* run) {
   CalibrationRecord& rec = *run;
   const CandidateScore& score = result.score;
   rec.cost = score.cost;

@@ -67,12 +67,14 @@ void Fit(const Dataset& data, const DatasetIndex& index,
   }
   WearLaw law = WearLaw::kWang;
   if (!ParseWearLaw(request.model, &law)) {
-    out->error = Status::Internal("stored law '" + request.model + "' is unknown");
+    out->error =
+        Status::Internal("stored law '" + request.model + "' is unknown");
     return;
   }
   if (!active.is_ann() && !active.terms.empty() && active.law == law &&
       request.option == 1) {
-    StatusOr<WearModel> refit = RefitWithTerms(data, law, active.terms, split.train);
+    StatusOr<WearModel> refit =
+        RefitWithTerms(data, law, active.terms, split.train);
     if (!refit.ok()) {
       out->error = refit.status();
       return;
