@@ -10,18 +10,12 @@
 #include <gtest/gtest.h>
 
 #include "core/sim/simulator.h"
+#include "tests/core/simulator_test_util.h"
 
 namespace rollwear {
 namespace {
 
-Simulation SmallMill(uint64_t seed, int campaigns) {
-  SimulatorOptions o;
-  o.seed = seed;
-  o.num_campaigns = campaigns;
-  StatusOr<Simulation> s = Simulate(o);
-  EXPECT_TRUE(s.ok()) << s.status().ToString();
-  return std::move(s).value();
-}
+using simulator_test::Simulated;
 
 CandidateScore Scored(double gap_val, double active_gap_val, int n_val) {
   CandidateScore s;
@@ -65,7 +59,7 @@ TEST(CandidateModelTest, NothingToCompareOnIsNotComparable) {
 }
 
 TEST(CandidateModelTest, ClassicalCandidateIsScoredWithTheActiveOnOneSplit) {
-  const Simulation mill = SmallMill(5, 60);
+  const Simulation mill = Simulated(5, 60);
   CandidateRequest request;
   request.model = "wang";
   request.option = 1;
@@ -94,7 +88,7 @@ TEST(CandidateModelTest, ClassicalCandidateIsScoredWithTheActiveOnOneSplit) {
 }
 
 TEST(CandidateModelTest, NetworkNeedsItsTrainerAndUnknownLawsFail) {
-  const Simulation mill = SmallMill(6, 30);
+  const Simulation mill = Simulated(6, 30);
   CandidateRequest request;
   request.model = kAnnModelName;
   CandidateEvaluation out = FitCandidate(mill.data, request, WearModel());
