@@ -19,7 +19,6 @@
 #include "core/dataset/dataset_io.h"
 #include "core/report/study_figures.h"
 #include "service/commands.h"
-#include "service/flags.h"
 
 namespace rollwear::cli {
 namespace {
@@ -43,65 +42,38 @@ int Fail(const std::string& message, int code) {
 
 }  // namespace
 
-int RunAnn(const Args& args) {
-  Flags flags;
-  std::string error;
-  if (!flags.Parse(args,
-                   {"data", "json", "seeds", "split-seed", "seed", "select",
-                    "max-epochs", "threads", "model-out", "weight-decay",
-                    "no-early-stopping", "linear-skip", "with-diagnosis", "figures"},
-                   {"no-early-stopping", "linear-skip", "with-diagnosis"}, &error)) {
-    return Fail(error, 2);
-  }
-  if (!flags.Has("data")) return Fail("--data DIR is required", 2);
-  AnnComparisonOptions options;
-  long long seeds = 5, split_seed = 1, seed = 1, max_epochs = 0, threads = 2;
-  if (!flags.GetInt("seeds", 5, &seeds, &error) ||
-      !flags.GetInt("split-seed", 1, &split_seed, &error) ||
-      !flags.GetInt("seed", 1, &seed, &error) ||
-      !flags.GetInt("max-epochs", options.training.max_epochs, &max_epochs,
-                    &error) ||
-      !flags.GetInt("threads", 2, &threads, &error) ||
-      !flags.GetDouble("weight-decay", options.training.weight_decay,
-                       &options.training.weight_decay, &error)) {
-    return Fail(error, 2);
-  }
-  options.training.early_stopping = !flags.Has("no-early-stopping");
-  options.training.linear_skip = flags.Has("linear-skip");
-  options.compare_adopted = flags.Has("with-diagnosis");
-  options.split_seed = static_cast<uint64_t>(split_seed);
-  options.training.members = static_cast<int>(seeds);
-  options.training.seed = static_cast<uint64_t>(seed);
-  options.training.max_epochs = static_cast<int>(max_epochs);
-  options.training.threads = static_cast<int>(threads);
-  const std::string select = flags.Get("select", "mean");
+int RunAnn(const AnnArgs& args) {
+  AnnComparisonOptions options = args.options;
+  options.training.early_stopping = !args.no_early_stopping;
+  const std::string& select = args.select;
   if (select == "best") {
     options.training.ensemble = AnnEnsembleMode::kBestOnHoldout;
   } else if (select != "mean") {
     return Fail("--select must be mean or best", 2);
   }
+  std::string error;
   if (!options.training.IsValid(&error)) return Fail(error, 2);
 
-  StatusOr<Dataset> data = ReadDataset(flags.Get("data"));
+  StatusOr<Dataset> data = ReadDataset(args.data);
   if (!data.ok()) return Fail(data.status().message(), 1);
   StatusOr<AnnComparison> c = CompareAnnWithClassical(*data, options);
   if (!c.ok()) return Fail(c.status().message(), 1);
   std::printf("%s", AnnComparisonMarkdown(*c).c_str());
 
-  if (flags.Has("figures")) {
+  if (!args.figures.empty()) {
     StatusOr<SvgFigure> figure = AnnFigure(*data, options, *c);
     const Status written =
-        figure.ok() ? WriteFigures(flags.Get("figures"), {*figure}) : figure.status();
+        figure.ok() ? WriteFigures(args.figures, {*figure}) : figure.status();
     if (!written.ok()) return Fail(written.message(), 1);
-    std::printf("wrote %s/%s\n", flags.Get("figures").c_str(), figure->file_name.c_str());
+    std::printf("wrote %s/%s\n", args.figures.c_str(), figure->file_name.c_str());
   }
 
-  if (flags.Has("model-out")) {
-    std::ofstream out(flags.Get("model-out"));
+  if (!args.model_out.empty()) {
+    std::ofstream out(args.model_out);
     out << SerializeAnnModel(c->model);
-    if (!out) return Fail("cannot write " + flags.Get("model-out"), 1);
+    if (!out) return Fail("cannot write " + args.model_out, 1);
   }
-  if (flags.Has("json")) {
+  if (!args.json.empty()) {
     nlohmann::json j;
     j["classical"] = Gaps(c->classical_train, c->classical_val);
     j["classical"]["model"] = "wang";
@@ -152,14 +124,14 @@ int RunAnn(const Args& args) {
                          {"gap_val_um", Num(f.validation.gap_um)}});
     }
     j["members"] = members;
-    j["split_seed"] = split_seed;
+    j["split_seed"] = options.split_seed;
     j["n_train"] = c->n_train;
     j["n_val"] = c->n_val;
     j["n_above_300"] = c->n_above_300;
     j["seconds"] = c->seconds;
-    std::ofstream out(flags.Get("json"));
+    std::ofstream out(args.json);
     out << j.dump(2) << "\n";
-    if (!out) return Fail("cannot write " + flags.Get("json"), 1);
+    if (!out) return Fail("cannot write " + args.json, 1);
   }
   return 0;
 }

@@ -18,7 +18,6 @@
 #include "core/report/study_figures.h"
 #include "service/calibrate_terms.h"
 #include "service/commands.h"
-#include "service/flags.h"
 
 namespace rollwear::cli {
 namespace {
@@ -71,58 +70,38 @@ Status WriteCalibrationFigure(const std::string& dir, const CalibrationOptions& 
 
 }  // namespace
 
-int RunCalibrate(const Args& args) {
-  Flags flags;
-  std::string error;
-  if (!flags.Parse(args, {"data", "model", "option", "json", "start", "protocol",
-                          "split-seed", "seed", "terms", "figures"},
-                   {}, &error)) {
-    std::fprintf(stderr, "rollwear calibrate: %s\n", error.c_str());
-    return 2;
-  }
-  if (!flags.Has("data")) {
-    std::fprintf(stderr, "rollwear calibrate: --data DIR is required\n");
-    return 2;
-  }
-  CalibrationOptions options;
-  long long option = 1, split_seed = 1, seed = 1;
-  if (!ParseWearLaw(flags.Get("model", "wang"), &options.law)) {
+int RunCalibrate(const CalibrateArgs& args) {
+  CalibrationOptions options = args.options;
+  if (!ParseWearLaw(args.model, &options.law)) {
     std::fprintf(stderr, "rollwear calibrate: --model must be wang, nikitenko or cao\n");
     return 2;
   }
-  if (!flags.GetInt("option", 1, &option, &error) ||
-      !flags.GetInt("split-seed", 1, &split_seed, &error) ||
-      !flags.GetInt("seed", 1, &seed, &error)) {
-    std::fprintf(stderr, "rollwear calibrate: %s\n", error.c_str());
-    return 2;
-  }
-  options.option = static_cast<int>(option);
-  options.seed = static_cast<uint64_t>(seed);
-  if (flags.Has("terms")) {
+  if (!args.terms.empty()) {
     if (options.law != WearLaw::kWang || options.option != 1) {
       std::fprintf(stderr, "rollwear calibrate: --terms refits Wang's law, option 1\n");
       return 2;
     }
-    return RunCalibrateWithTerms(flags.Get("data"), flags.Get("terms"),
-                                 static_cast<uint64_t>(split_seed), flags.Get("json"));
+    return RunCalibrateWithTerms(args.data, args.terms, args.split_seed,
+                                 args.json);
   }
-  if (!ParseStart(flags.Get("start", "empirical"), &options.initial_set)) {
+  if (!ParseStart(args.start, &options.initial_set)) {
     std::fprintf(stderr, "rollwear calibrate: --start must be ones, random or empirical\n");
     return 2;
   }
-  const std::string protocol = flags.Get("protocol", "exact");
+  const std::string& protocol = args.protocol;
   if (protocol == "paper") {
     options.derivatives = DerivativeMode::kPaperForwardDifference;
   } else if (protocol != "exact") {
     std::fprintf(stderr, "rollwear calibrate: --protocol must be exact or paper\n");
     return 2;
   }
+  std::string error;
   if (!options.IsValid(&error)) {
     std::fprintf(stderr, "rollwear calibrate: %s\n", error.c_str());
     return 2;
   }
 
-  StatusOr<Dataset> data = ReadDataset(flags.Get("data"));
+  StatusOr<Dataset> data = ReadDataset(args.data);
   if (!data.ok()) {
     std::fprintf(stderr, "rollwear calibrate: %s\n", data.status().message().c_str());
     return 1;
@@ -134,7 +113,7 @@ int RunCalibrate(const Args& args) {
     return 1;
   }
   const CampaignSplit split =
-      SplitCampaigns(*stats, 2.0 / 3.0, static_cast<uint64_t>(split_seed));
+      SplitCampaigns(*stats, 2.0 / 3.0, args.split_seed);
   StatusOr<SplitCalibration> run = CalibrateOnSplit(*stats, split, options);
   if (!run.ok()) {
     std::fprintf(stderr, "rollwear calibrate: %s\n", run.status().message().c_str());
@@ -161,13 +140,13 @@ int RunCalibrate(const Args& args) {
   std::printf("noise model: sd %.1f µm + %.1f %% of wear\n", m.noise_sd_um,
               100 * m.noise_rel);
 
-  if (flags.Has("json")) {
+  if (!args.json.empty()) {
     nlohmann::json j;
     j["model"] = WearLawName(options.law);
     j["option"] = options.option;
     j["start"] = InitialSetName(options.initial_set);
     j["protocol"] = protocol;
-    j["split_seed"] = split_seed;
+    j["split_seed"] = args.split_seed;
     nlohmann::json coef = nlohmann::json::object(), se = nlohmann::json::object();
     for (size_t i = 0; i < named.size(); ++i) {
       coef[named[i].first] = named[i].second;
@@ -188,16 +167,16 @@ int RunCalibrate(const Args& args) {
     j["usable"] = r.summary.usable;
     j["noise"] = {{"sd_um", m.noise_sd_um}, {"rel", m.noise_rel}};
     j["bias_above_300_um"] = Number(run->bias_above_300_um);
-    std::ofstream out(flags.Get("json"));
+    std::ofstream out(args.json);
     out << j.dump(2) << "\n";
     if (!out) {
-      std::fprintf(stderr, "rollwear calibrate: cannot write %s\n", flags.Get("json").c_str());
+      std::fprintf(stderr, "rollwear calibrate: cannot write %s\n", args.json.c_str());
       return 1;
     }
   }
-  if (flags.Has("figures")) {
+  if (!args.figures.empty()) {
     const Status written =
-        WriteCalibrationFigure(flags.Get("figures"), options, *stats, split, *run);
+        WriteCalibrationFigure(args.figures, options, *stats, split, *run);
     if (!written.ok()) {
       std::fprintf(stderr, "rollwear calibrate: %s\n", written.message().c_str());
       return 1;

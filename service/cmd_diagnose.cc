@@ -10,36 +10,16 @@
 #include "core/diagnosis/diagnosis.h"
 #include "core/report/diagnosis_report.h"
 #include "service/commands.h"
-#include "service/flags.h"
 
 namespace rollwear::cli {
 
-int RunDiagnose(const Args& args) {
-  Flags flags;
-  std::string error;
-  if (!flags.Parse(args, {"data", "json", "html", "split-seed", "model", "threads"}, {},
-                   &error)) {
-    std::fprintf(stderr, "rollwear diagnose: %s\n", error.c_str());
-    return 2;
-  }
-  if (!flags.Has("data")) {
-    std::fprintf(stderr, "rollwear diagnose: --data DIR is required\n");
-    return 2;
-  }
-  DiagnosisOptions options;
-  long long split_seed = 1, threads = 2;
-  if (!flags.GetInt("split-seed", 1, &split_seed, &error) ||
-      !flags.GetInt("threads", 2, &threads, &error)) {
-    std::fprintf(stderr, "rollwear diagnose: %s\n", error.c_str());
-    return 2;
-  }
-  options.split_seed = static_cast<uint64_t>(split_seed);
-  options.num_threads = static_cast<int>(threads);
-  if (!ParseWearLaw(flags.Get("model", "wang"), &options.law)) {
+int RunDiagnose(const DiagnoseArgs& args) {
+  DiagnosisOptions options = args.options;
+  if (!ParseWearLaw(args.model, &options.law)) {
     std::fprintf(stderr, "rollwear diagnose: --model must be wang, nikitenko or cao\n");
     return 2;
   }
-  StatusOr<Dataset> data = ReadDataset(flags.Get("data"));
+  StatusOr<Dataset> data = ReadDataset(args.data);
   if (!data.ok()) {
     std::fprintf(stderr, "rollwear diagnose: %s\n", data.status().message().c_str());
     return 1;
@@ -62,19 +42,19 @@ int RunDiagnose(const Args& args) {
   }
   std::printf("with adopted terms: gap training %.1f µm, validation %.1f µm (%.1f s)\n",
               r.final_gap_train_um, r.final_gap_val_um, r.seconds);
-  if (flags.Has("json")) {
-    std::ofstream out(flags.Get("json"));
+  if (!args.json.empty()) {
+    std::ofstream out(args.json);
     out << api::DiagnosisJsonText(r, 2) << "\n";
     if (!out) {
-      std::fprintf(stderr, "rollwear diagnose: cannot write %s\n", flags.Get("json").c_str());
+      std::fprintf(stderr, "rollwear diagnose: cannot write %s\n", args.json.c_str());
       return 1;
     }
   }
-  if (flags.Has("html")) {
-    std::ofstream out(flags.Get("html"));
+  if (!args.html.empty()) {
+    std::ofstream out(args.html);
     out << DiagnosisHtml(r);
     if (!out) {
-      std::fprintf(stderr, "rollwear diagnose: cannot write %s\n", flags.Get("html").c_str());
+      std::fprintf(stderr, "rollwear diagnose: cannot write %s\n", args.html.c_str());
       return 1;
     }
   }

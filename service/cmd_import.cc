@@ -9,25 +9,12 @@
 
 #include "core/dataset/dataset_io.h"
 #include "service/commands.h"
-#include "service/flags.h"
 #include "storage/mill_store.h"
 
 namespace rollwear::cli {
 
-int RunImport(const Args& args) {
-  constexpr const char* kUsage = "usage: rollwear import --db FILE DIR";
-  Flags flags;
-  std::string error;
-  if (!flags.Parse(args, {"db"}, {}, &error)) {
-    std::fprintf(stderr, "rollwear import: %s\n%s\n", error.c_str(), kUsage);
-    return 2;
-  }
-  if (!flags.Has("db") || flags.positional().size() != 1) {
-    std::fprintf(stderr, "rollwear import: needs --db FILE and one DIR\n%s\n",
-                 kUsage);
-    return 2;
-  }
-  const std::string dir = flags.positional()[0];
+int RunImport(const ImportArgs& args) {
+  const std::string& dir = args.dir;
   const auto start = std::chrono::steady_clock::now();
   StatusOr<Dataset> data = ReadDataset(dir);
   if (!data.ok()) {
@@ -36,9 +23,9 @@ int RunImport(const Args& args) {
     return 1;
   }
   StatusOr<std::unique_ptr<storage::MillStore>> store =
-      storage::MillStore::Open(flags.Get("db"), storage::StoreOptions());
+      storage::MillStore::Open(args.db, storage::StoreOptions());
   if (!store.ok()) {
-    std::fprintf(stderr, "rollwear import: %s: %s\n", flags.Get("db").c_str(),
+    std::fprintf(stderr, "rollwear import: %s: %s\n", args.db.c_str(),
                  store.status().message().c_str());
     return 1;
   }
@@ -56,7 +43,7 @@ int RunImport(const Args& args) {
       "imported %s into %s: %zu campaigns, %zu coils, %zu measurements "
       "(%.1f s); the database now holds %lld campaigns, %lld coils, %lld "
       "measurements\n",
-      dir.c_str(), flags.Get("db").c_str(), data->campaigns.size(),
+      dir.c_str(), args.db.c_str(), data->campaigns.size(),
       data->coil_ids.size(), data->measurements.size(), seconds,
       static_cast<long long>(c.campaigns), static_cast<long long>(c.coils),
       static_cast<long long>(c.measurements));

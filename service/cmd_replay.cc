@@ -37,18 +37,12 @@
 #include "api/request_encode.h"
 #include "core/dataset/dataset_io.h"
 #include "service/commands.h"
-#include "service/flags.h"
 
 namespace rollwear::cli {
 namespace {
 
 using Json = nlohmann::json;
 using Clock = std::chrono::steady_clock;
-
-constexpr const char* kUsage =
-    "usage: rollwear replay --data DIR --url URL [--token T] [--clients N] "
-    "[--speed X] [--retry-for SECONDS] [--show-wear SECONDS] [--json FILE] "
-    "[--leave-last-open] [--quiet]";
 
 enum class Kind { kRollChange, kCoil, kEnd, kMeasurement };
 
@@ -325,42 +319,15 @@ void PrintWear(const std::string& url, double elapsed) {
 
 }  // namespace
 
-int RunReplay(const Args& args) {
-  Flags flags;
-  std::string error;
-  if (!flags.Parse(args,
-                   {"data", "url", "token", "clients", "speed", "retry-for",
-                    "show-wear", "json"},
-                   {"quiet", "leave-last-open"}, &error)) {
-    std::fprintf(stderr, "rollwear replay: %s\n%s\n", error.c_str(), kUsage);
-    return 2;
-  }
-  if (!flags.Has("data") || !flags.Has("url")) {
-    std::fprintf(stderr, "rollwear replay: --data and --url are required\n%s\n",
-                 kUsage);
-    return 2;
-  }
-  long long clients = 8;
-  double speed = 0, show_wear = 0;
+int RunReplay(const ReplayArgs& args) {
+  const long long clients = args.clients;
+  const double speed = args.speed, show_wear = args.show_wear_s;
   ReplayOptions options;
-  options.url = flags.Get("url");
-  options.token = flags.Get("token");
+  options.url = args.url;
+  options.token = args.token;
+  options.retry_for_s = args.retry_for_s;
   if (options.token.empty() && std::getenv("ROLLWEAR_TOKEN") != nullptr) {
     options.token = std::getenv("ROLLWEAR_TOKEN");
-  }
-  if (!flags.GetInt("clients", 8, &clients, &error) ||
-      !flags.GetDouble("speed", 0, &speed, &error) ||
-      !flags.GetDouble("retry-for", 60, &options.retry_for_s, &error) ||
-      !flags.GetDouble("show-wear", 0, &show_wear, &error)) {
-    std::fprintf(stderr, "rollwear replay: %s\n", error.c_str());
-    return 2;
-  }
-  if (clients < 1 || clients > 256 || speed < 0 || options.retry_for_s < 0 ||
-      show_wear < 0) {
-    std::fprintf(stderr,
-                 "rollwear replay: --clients must be in [1, 256]; --speed, "
-                 "--retry-for and --show-wear must be >= 0\n");
-    return 2;
   }
   if (options.url.rfind("http://", 0) != 0) {
     std::fprintf(stderr, "rollwear replay: --url must start with http://\n");
@@ -370,7 +337,7 @@ int RunReplay(const Args& args) {
     options.url.pop_back();
   signal(SIGPIPE, SIG_IGN);
 
-  StatusOr<Dataset> data = ReadDataset(flags.Get("data"));
+  StatusOr<Dataset> data = ReadDataset(args.data);
   if (!data.ok()) {
     std::fprintf(stderr, "rollwear replay: %s\n",
                  data.status().message().c_str());
@@ -378,8 +345,8 @@ int RunReplay(const Args& args) {
   }
   const Requests requests(*data);
   const std::vector<Event> timeline =
-      requests.Timeline(flags.Has("leave-last-open"));
-  const bool quiet = flags.Has("quiet");
+      requests.Timeline(args.leave_last_open);
+  const bool quiet = args.quiet;
   const auto total_coils = static_cast<int64_t>(data->coil_ids.size());
   if (!quiet) {
     std::printf(
@@ -468,7 +435,7 @@ int RunReplay(const Args& args) {
       static_cast<long long>(counters.errors.load()),
       static_cast<long long>(counters.retries.load()));
   std::fflush(stdout);
-  if (flags.Has("json")) {
+  if (!args.json.empty()) {
     const Json summary{{"coils", coils},
                        {"coils_repeated", counters.repeated[1].load()},
                        {"roll_changes", counters.sent[0].load()},
@@ -479,7 +446,7 @@ int RunReplay(const Args& args) {
                        {"retries", counters.retries.load()},
                        {"seconds", seconds},
                        {"coils_per_second", rate}};
-    std::ofstream out(flags.Get("json"));
+    std::ofstream out(args.json);
     out << summary.dump(2) << "\n";
   }
   return counters.conflicts.load() == 0 && counters.errors.load() == 0 ? 0 : 1;

@@ -5,6 +5,7 @@
 // background worker, and stops gracefully on SIGINT/SIGTERM (stop accepting,
 // finish in-flight requests and the running calibration, close the
 // database). Prints the URL it listens on as its first line on stdout.
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -19,17 +20,12 @@
 #include "service/commands.h"
 #include "service/config.h"
 #include "service/cpu_latency.h"
-#include "service/flags.h"
 #include "service/jobs/diagnosis_jobs.h"
 #include "service/jobs/scheduler.h"
 #include "storage/mill_store.h"
 
 namespace rollwear::cli {
 namespace {
-
-constexpr const char* kUsage =
-    "usage: rollwear serve --db FILE [--port N] [--config FILE] "
-    "[--bind ADDR] [--log-level LEVEL] [--threads N]";
 
 // How long the CPU wake-up limit stays held after the last request: long
 // enough that a steady stream (one wear read every few seconds) keeps it,
@@ -45,26 +41,20 @@ void SetUpLogging(const std::string& level) {
 }
 
 // Defaults, then the config file, then ROLLWEAR_* variables, then flags.
-bool BuildConfig(const Flags& flags, service::ServeConfig* config) {
-  if (flags.Has("config")) {
-    const Status s = service::LoadConfigFile(flags.Get("config"), config);
+bool BuildConfig(const ServeArgs& args, service::ServeConfig* config) {
+  if (!args.config.empty()) {
+    const Status s = service::LoadConfigFile(args.config, config);
     if (!s.ok()) {
       std::fprintf(stderr, "rollwear serve: %s\n", s.message().c_str());
       return false;
     }
   }
   Status s = service::ApplyEnvironment(config);
-  static constexpr const char* kFlagKeys[][2] = {{"db", "db"},
-                                                 {"port", "port"},
-                                                 {"bind", "bind"},
-                                                 {"log-level", "log_level"},
-                                                 {"threads", "threads"}};
-  for (const auto& [flag, key] : kFlagKeys) {
+  for (const auto& [key, value] : args.settings) {
     if (!s.ok()) break;
-    if (flags.Has(flag)) {
-      s = service::SetConfigValue(key, flags.Get(flag),
-                                  std::string("--") + flag, config);
-    }
+    std::string flag = "--" + key;
+    std::replace(flag.begin(), flag.end(), '_', '-');  // log_level
+    s = service::SetConfigValue(key, value, flag, config);
   }
   std::string error;
   if (s.ok() && !config->IsValid(&error)) s = Status::InvalidArgument(error);
@@ -77,19 +67,9 @@ bool BuildConfig(const Flags& flags, service::ServeConfig* config) {
 
 }  // namespace
 
-int RunServe(const Args& args) {
-  Flags flags;
-  std::string error;
-  if (!flags.Parse(args,
-                   {"db", "port", "config", "bind", "log-level", "threads"}, {},
-                   &error) ||
-      !flags.positional().empty()) {
-    std::fprintf(stderr, "rollwear serve: %s\n%s\n",
-                 error.empty() ? "unexpected argument" : error.c_str(), kUsage);
-    return 2;
-  }
+int RunServe(const ServeArgs& args) {
   service::ServeConfig config;
-  if (!BuildConfig(flags, &config)) return 2;
+  if (!BuildConfig(args, &config)) return 2;
   SetUpLogging(config.log_level);
 
   // Block the stop signals in every thread (the store's writer, the HTTP

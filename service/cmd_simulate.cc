@@ -4,7 +4,6 @@
 // unless --truth says otherwise, never inside the dataset folder), the
 // simulator's ground truth; prints a one-paragraph summary.
 #include <algorithm>
-#include <charconv>
 #include <cstdio>
 #include <filesystem>
 #include <set>
@@ -15,15 +14,9 @@
 #include "core/sim/simulator.h"
 #include "service/commands.h"
 #include "service/sim_truth_json.h"
-#include "service/flags.h"
 
 namespace rollwear::cli {
 namespace {
-
-constexpr const char* kUsage =
-    "usage: rollwear simulate --out DIR [--seed N] [--effect NAME[,NAME]]... "
-    "[--campaigns N] [--coils-per-campaign X] [--missing F] [--truth FILE] "
-    "[--list-effects]";
 
 std::string ValidEffectNames() {
   std::string out;
@@ -58,12 +51,6 @@ bool ParseEffects(const std::vector<std::string>& values,
     }
   }
   return true;
-}
-
-bool ParseSeed(const std::string& text, uint64_t* out) {
-  const auto [p, ec] =
-      std::from_chars(text.data(), text.data() + text.size(), *out);
-  return ec == std::errc() && p == text.data() + text.size() && !text.empty();
 }
 
 // DIR without trailing separators, made absolute when it names no folder
@@ -131,69 +118,28 @@ void PrintSummary(const Simulation& sim, const std::string& out_dir,
 
 }  // namespace
 
-int RunSimulate(const Args& args) {
-  Flags flags;
-  std::string error;
-  if (!flags.Parse(args,
-                   {"out", "seed", "effect", "campaigns", "coils-per-campaign",
-                    "missing", "truth"},
-                   {"list-effects"}, &error)) {
-    std::fprintf(stderr, "rollwear simulate: %s\n%s\n", error.c_str(), kUsage);
-    return 2;
-  }
-  if (flags.Has("list-effects")) {
+int RunSimulate(const SimulateArgs& args) {
+  if (args.list_effects) {
     for (const auto& [name, description] : SimulatorEffects()) {
       std::printf("%-18s %s\n", name.c_str(), description.c_str());
     }
     return 0;
   }
-  if (!flags.positional().empty()) {
-    std::fprintf(stderr, "rollwear simulate: unexpected argument '%s'\n%s\n",
-                 flags.positional().front().c_str(), kUsage);
+  if (args.out.empty()) {
+    std::fprintf(stderr, "rollwear simulate: --out DIR is required\n");
     return 2;
   }
-  if (!flags.Has("out") || flags.Get("out").empty()) {
-    std::fprintf(stderr, "rollwear simulate: --out DIR is required\n%s\n",
-                 kUsage);
-    return 2;
-  }
-  const std::string out_dir = flags.Get("out");
-
-  SimulatorOptions options;
-  if (flags.Has("seed") && !ParseSeed(flags.Get("seed"), &options.seed)) {
-    std::fprintf(stderr,
-                 "rollwear simulate: --seed needs a non-negative integer, got "
-                 "'%s'\n",
-                 flags.Get("seed").c_str());
-    return 2;
-  }
-  long long campaigns = options.num_campaigns;
-  if (!flags.GetInt("campaigns", campaigns, &campaigns, &error) ||
-      !flags.GetDouble("coils-per-campaign", options.coils_per_campaign,
-                       &options.coils_per_campaign, &error) ||
-      !flags.GetDouble("missing", options.missing_measurement_fraction,
-                       &options.missing_measurement_fraction, &error)) {
-    std::fprintf(stderr, "rollwear simulate: %s\n", error.c_str());
-    return 2;
-  }
-  if (campaigns < 1 || campaigns > 100000) {
-    std::fprintf(stderr,
-                 "rollwear simulate: --campaigns must be in 1..100000\n");
-    return 2;
-  }
-  options.num_campaigns = static_cast<int>(campaigns);
-  if (!ParseEffects(flags.GetAll("effect"), &options.effects, &error)) {
-    std::fprintf(stderr, "rollwear simulate: %s\n", error.c_str());
-    return 2;
-  }
-  if (!options.IsValid(&error)) {
+  const std::string& out_dir = args.out;
+  SimulatorOptions options = args.options;
+  std::string error;
+  if (!ParseEffects(args.effects, &options.effects, &error) ||
+      !options.IsValid(&error)) {
     std::fprintf(stderr, "rollwear simulate: %s\n", error.c_str());
     return 2;
   }
 
-  const std::string truth_path = flags.Has("truth")
-                                     ? flags.Get("truth")
-                                     : DefaultTruthPath(out_dir).string();
+  const std::string truth_path =
+      args.truth.empty() ? DefaultTruthPath(out_dir).string() : args.truth;
   if (IsInside(truth_path, out_dir)) {
     std::fprintf(stderr,
                  "rollwear simulate: the truth file %s must not be inside the "

@@ -13,7 +13,6 @@
 #include "core/fit/study.h"
 #include "core/report/study_figures.h"
 #include "service/commands.h"
-#include "service/flags.h"
 
 namespace rollwear::cli {
 namespace {
@@ -42,27 +41,9 @@ nlohmann::json RowJson(const StudyRow& r) {
 
 }  // namespace
 
-int RunStudy(const Args& args) {
-  Flags flags;
-  std::string error;
-  if (!flags.Parse(args, {"data", "out", "figures", "split-seed", "seed"}, {}, &error)) {
-    std::fprintf(stderr, "rollwear study: %s\n", error.c_str());
-    return 2;
-  }
-  if (!flags.Has("data")) {
-    std::fprintf(stderr, "rollwear study: --data DIR is required\n");
-    return 2;
-  }
-  StudyOptions options;
-  long long split_seed = 1, seed = 1;
-  if (!flags.GetInt("split-seed", 1, &split_seed, &error) ||
-      !flags.GetInt("seed", 1, &seed, &error)) {
-    std::fprintf(stderr, "rollwear study: %s\n", error.c_str());
-    return 2;
-  }
-  options.split_seed = static_cast<uint64_t>(split_seed);
-  options.random_start_seed = static_cast<uint64_t>(seed);
-  StatusOr<Dataset> data = ReadDataset(flags.Get("data"));
+int RunStudy(const StudyArgs& args) {
+  const StudyOptions& options = args.options;
+  StatusOr<Dataset> data = ReadDataset(args.data);
   if (!data.ok()) {
     std::fprintf(stderr, "rollwear study: %s\n", data.status().message().c_str());
     return 1;
@@ -74,8 +55,8 @@ int RunStudy(const Args& args) {
   }
   const std::string md = StudyMarkdown(*report);
   std::fputs(md.c_str(), stdout);
-  if (flags.Has("out")) {
-    const std::filesystem::path out = flags.Get("out");
+  if (!args.out.empty()) {
+    const std::filesystem::path out = args.out;
     std::error_code ec;
     std::filesystem::create_directories(out, ec);
     nlohmann::json j;
@@ -99,16 +80,16 @@ int RunStudy(const Args& args) {
     std::printf("wrote %s and %s\n", (out / "study.md").c_str(),
                 (out / "study.json").c_str());
   }
-  if (flags.Has("figures")) {
+  if (!args.figures.empty()) {
     StatusOr<std::vector<SvgFigure>> figures = StudyFigures(*data, options);
-    Status written = figures.ok() ? WriteFigures(flags.Get("figures"), *figures)
+    Status written = figures.ok() ? WriteFigures(args.figures, *figures)
                                   : figures.status();
     if (!written.ok()) {
       std::fprintf(stderr, "rollwear study: %s\n", written.message().c_str());
       return 1;
     }
     for (const SvgFigure& f : *figures) {
-      std::printf("wrote %s/%s\n", flags.Get("figures").c_str(), f.file_name.c_str());
+      std::printf("wrote %s/%s\n", args.figures.c_str(), f.file_name.c_str());
     }
   }
   return 0;

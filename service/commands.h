@@ -1,26 +1,103 @@
-// Entry points of the `rollwear` CLI sub-commands. Each takes the arguments
-// after the sub-command name and returns the process exit code (0 ok,
-// 1 failure, 2 usage error). Errors go to stderr as one clear sentence.
+// The `rollwear` CLI sub-commands: each one's parsed arguments and its entry
+// point. service/cli.cc declares every option (CLI11) and fills these
+// structs; the defaults below are the defaults `rollwear COMMAND --help`
+// shows. Each Run* returns the process exit code (0 ok, 1 failure, 2 usage
+// error); errors go to stderr as one clear sentence.
 //
 // Thread-safety: called once from main().
 #ifndef ROLLWEAR_SERVICE_COMMANDS_H_
 #define ROLLWEAR_SERVICE_COMMANDS_H_
 
+#include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
+
+#include "core/ann/ann_study.h"
+#include "core/diagnosis/diagnosis.h"
+#include "core/fit/calibration.h"
+#include "core/fit/study.h"
+#include "core/sim/simulator.h"
 
 namespace rollwear::cli {
 
-using Args = std::vector<std::string>;
+struct SimulateArgs {
+  std::string out;
+  std::string truth;                 // empty: DIR.truth.json beside DIR
+  std::vector<std::string> effects;  // --effect values (comma lists)
+  bool list_effects = false;
+  SimulatorOptions options;  // seed, campaigns, coils, missing
+};
+int RunSimulate(const SimulateArgs& args);
 
-int RunSimulate(const Args& args);
-int RunCalibrate(const Args& args);
-int RunStudy(const Args& args);
-int RunServe(const Args& args);
-int RunImport(const Args& args);
-int RunReplay(const Args& args);
-int RunAnn(const Args& args);
-int RunDiagnose(const Args& args);
+struct CalibrateArgs {
+  std::string data;
+  std::string model = "wang";
+  std::string start = "empirical";
+  std::string protocol = "exact";
+  std::string json;     // empty: no JSON file
+  std::string figures;  // empty: no figures
+  std::string terms;    // non-empty: service/calibrate_terms.h
+  uint64_t split_seed = kDefaultSplitSeed;
+  CalibrationOptions options;  // option, seed
+};
+int RunCalibrate(const CalibrateArgs& args);
+
+struct StudyArgs {
+  std::string data;
+  std::string out;       // empty: Markdown on stdout only
+  std::string figures;   // empty: no figures
+  StudyOptions options;  // split_seed, random_start_seed
+};
+int RunStudy(const StudyArgs& args);
+
+struct AnnArgs {
+  std::string data;
+  std::string json;
+  std::string figures;
+  std::string model_out;
+  std::string select = "mean";
+  bool no_early_stopping = false;
+  AnnComparisonOptions options;  // split seed, training, compare_adopted
+};
+int RunAnn(const AnnArgs& args);
+
+struct DiagnoseArgs {
+  std::string data;
+  std::string json;
+  std::string html;
+  std::string model = "wang";
+  DiagnosisOptions options;  // split_seed, num_threads
+};
+int RunDiagnose(const DiagnoseArgs& args);
+
+struct ServeArgs {
+  std::string config;  // empty: no config file
+  // (config key, value) of each --db/--port/--bind/--log-level/--threads
+  // flag given; they override the file and the environment.
+  std::vector<std::pair<std::string, std::string>> settings;
+};
+int RunServe(const ServeArgs& args);
+
+struct ImportArgs {
+  std::string db;
+  std::string dir;
+};
+int RunImport(const ImportArgs& args);
+
+struct ReplayArgs {
+  std::string data;
+  std::string url;
+  std::string token;  // empty: $ROLLWEAR_TOKEN, if set
+  std::string json;
+  int clients = 8;
+  double speed = 0;  // 0 = as fast as possible
+  double retry_for_s = 60;
+  double show_wear_s = 0;  // 0 = never
+  bool leave_last_open = false;
+  bool quiet = false;
+};
+int RunReplay(const ReplayArgs& args);
 
 }  // namespace rollwear::cli
 

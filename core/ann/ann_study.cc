@@ -49,14 +49,14 @@ StatusOr<AnnComparison> CompareAnnWithClassical(
         "ANN does");
   }
   const DatasetIndex index(data);
-  StatusOr<WearStatistics> stats = Aggregate(data, index, WearLaw::kWang);
-  if (!stats.ok()) return stats.status();
+  ROLLWEAR_ASSIGN_OR_RETURN(WearStatistics stats,
+                            Aggregate(data, index, WearLaw::kWang));
   const CampaignSplit split =
-      SplitCampaigns(*stats, 2.0 / 3.0, options.split_seed);
+      SplitCampaigns(stats, 2.0 / 3.0, options.split_seed);
   // Observation indices double as sequence indices (BuildAnnInputs keeps the
   // order of stats.observations).
-  const std::vector<int> train = stats->MeasuredObservations(split.train);
-  const std::vector<int> val = stats->MeasuredObservations(split.validation);
+  const std::vector<int> train = stats.MeasuredObservations(split.train);
+  const std::vector<int> val = stats.MeasuredObservations(split.validation);
 
   AnnComparison c;
   c.n_campaigns = static_cast<int>(data.campaigns.size());
@@ -65,29 +65,28 @@ StatusOr<AnnComparison> CompareAnnWithClassical(
   c.n_val = static_cast<int>(val.size());
   c.split_seed = options.split_seed;
 
-  StatusOr<SplitCalibration> classical =
-      CalibrateOnSplit(*stats, split, options.classical);
-  if (!classical.ok()) return classical.status();
-  c.classical_train = classical->train;
-  c.classical_val = classical->validation;
-  c.classical_bias_above_300_um = classical->bias_above_300_um;
-  c.n_above_300 = classical->n_above_300;
-  c.classical_parameters = classical->result.summary.num_free_parameters;
-  c.classical_seconds = classical->result.summary.seconds;
+  ROLLWEAR_ASSIGN_OR_RETURN(SplitCalibration classical,
+                            CalibrateOnSplit(stats, split, options.classical));
+  c.classical_train = classical.train;
+  c.classical_val = classical.validation;
+  c.classical_bias_above_300_um = classical.bias_above_300_um;
+  c.n_above_300 = classical.n_above_300;
+  c.classical_parameters = classical.result.summary.num_free_parameters;
+  c.classical_seconds = classical.result.summary.seconds;
 
   const AnnTrainingOptions& to = options.training;
-  StatusOr<AnnModel> skeleton =
-      FitAnnScaling(data, index, *stats, split.train, to.hidden1, to.hidden2);
-  if (!skeleton.ok()) return skeleton.status();
-  const AnnInputs inputs = BuildAnnInputs(*skeleton, data, index, *stats);
-  StatusOr<AnnTrainingResult> trained = TrainAnn(*skeleton, inputs, train, to);
-  if (!trained.ok()) return trained.status();
-  c.ann_seconds = trained->seconds;
-  c.model = trained->model;
-  c.best_member = trained->best_member;
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      AnnModel skeleton,
+      FitAnnScaling(data, index, stats, split.train, to.hidden1, to.hidden2));
+  const AnnInputs inputs = BuildAnnInputs(skeleton, data, index, stats);
+  ROLLWEAR_ASSIGN_OR_RETURN(AnnTrainingResult trained,
+                            TrainAnn(skeleton, inputs, train, to));
+  c.ann_seconds = trained.seconds;
+  c.model = trained.model;
+  c.best_member = trained.best_member;
   // Trained weights per member (q is frozen at 0 without the skip path).
-  c.ann_parameters = trained->all_members[0].num_parameters() -
-                     (to.linear_skip ? 0 : skeleton->num_inputs());
+  c.ann_parameters = trained.all_members[0].num_parameters() -
+                     (to.linear_skip ? 0 : skeleton.num_inputs());
   c.ann_mode = to.ensemble == AnnEnsembleMode::kMean
                    ? "ensemble mean of " +
                          std::to_string(c.model.members.size()) + " members" +
@@ -99,11 +98,11 @@ StatusOr<AnnComparison> CompareAnnWithClassical(
   c.ann_train = AnnMetrics(inputs, train, pred_train);
   c.ann_val = AnnMetrics(inputs, val, pred_val);
   c.ann_bias_above_300_um = BiasAbove300(inputs, val, pred_val);
-  for (size_t m = 0; m < trained->all_members.size(); ++m) {
-    AnnModel single = *skeleton;
-    single.members = {trained->all_members[m]};
+  for (size_t m = 0; m < trained.all_members.size(); ++m) {
+    AnnModel single = skeleton;
+    single.members = {trained.all_members[m]};
     AnnMemberFigures f;
-    f.training = trained->members[m];
+    f.training = trained.members[m];
     f.train = AnnMetrics(inputs, train, PredictAnn(single, inputs, train));
     f.validation = AnnMetrics(inputs, val, PredictAnn(single, inputs, val));
     c.members.push_back(f);
@@ -111,17 +110,17 @@ StatusOr<AnnComparison> CompareAnnWithClassical(
   if (options.compare_adopted) {
     DiagnosisOptions d;
     d.split_seed = options.split_seed;
-    StatusOr<DiagnosisReport> r = Diagnose(data, d);
-    if (!r.ok()) return r.status();
+    ROLLWEAR_ASSIGN_OR_RETURN(DiagnosisReport r, Diagnose(data, d));
     c.has_adopted = true;
-    c.adopted_seconds = r->seconds;
+    c.adopted_seconds = r.seconds;
     c.adopted_train = MetricsOfPredictions(
-        PredictMeasured(r->adopted_model, data, index, split.train));
+        PredictMeasured(r.adopted_model, data, index, split.train));
     c.adopted_val = MetricsOfPredictions(
-        PredictMeasured(r->adopted_model, data, index, split.validation));
-    c.adopted_parameters = static_cast<int>(r->coefficients.size());
-    for (const ModelTerm& t : r->adopted_model.terms) c.adopted_parameters += t.NumParams();
-    for (const Finding& f : r->findings) {
+        PredictMeasured(r.adopted_model, data, index, split.validation));
+    c.adopted_parameters = static_cast<int>(r.coefficients.size());
+    for (const ModelTerm& t : r.adopted_model.terms)
+      c.adopted_parameters += t.NumParams();
+    for (const Finding& f : r.findings) {
       c.adopted_findings.push_back(f.covariate + " (" + f.mechanism + ")");
     }
   }
@@ -135,21 +134,21 @@ StatusOr<WearModel> TrainServableAnn(const Dataset& data,
                                      const std::vector<int>& train_campaigns,
                                      const AnnTrainingOptions& options) {
   const DatasetIndex index(data);
-  StatusOr<WearStatistics> stats = Aggregate(data, index, WearLaw::kWang);
-  if (!stats.ok()) return stats.status();
-  const std::vector<int> train = stats->MeasuredObservations(train_campaigns);
+  ROLLWEAR_ASSIGN_OR_RETURN(WearStatistics stats,
+                            Aggregate(data, index, WearLaw::kWang));
+  const std::vector<int> train = stats.MeasuredObservations(train_campaigns);
   if (train.empty()) {
     return Status::FailedPrecondition("no measured roll in the training campaigns");
   }
-  StatusOr<AnnModel> skeleton = FitAnnScaling(data, index, *stats, train_campaigns,
-                                              options.hidden1, options.hidden2);
-  if (!skeleton.ok()) return skeleton.status();
-  const AnnInputs inputs = BuildAnnInputs(*skeleton, data, index, *stats);
-  StatusOr<AnnTrainingResult> trained = TrainAnn(*skeleton, inputs, train, options);
-  if (!trained.ok()) return trained.status();
+  ROLLWEAR_ASSIGN_OR_RETURN(AnnModel skeleton,
+                            FitAnnScaling(data, index, stats, train_campaigns,
+                                          options.hidden1, options.hidden2));
+  const AnnInputs inputs = BuildAnnInputs(skeleton, data, index, stats);
+  ROLLWEAR_ASSIGN_OR_RETURN(AnnTrainingResult trained,
+                            TrainAnn(skeleton, inputs, train, options));
   WearModel model;
   model.law = WearLaw::kWang;
-  model.ann = std::make_shared<const AnnModel>(std::move(trained->model));
+  model.ann = std::make_shared<const AnnModel>(std::move(trained.model));
   const std::vector<MeasuredPrediction> fit =
       PredictMeasured(model, data, index, train_campaigns);
   std::vector<double> pred, err;
@@ -182,15 +181,8 @@ void MemberGapSpread(const AnnComparison& c, bool validation, double* mean,
 }
 
 std::string AnnComparisonMarkdown(const AnnComparison& c) {
-  std::string out;
+  std::string out = StudyDatasetMarkdown(c);
   char buf[512];
-  std::snprintf(buf, sizeof(buf),
-                "Dataset: %d campaigns, %d coils; split seed %llu: %d training "
-                "and %d validation measurements (2/3-1/3 by campaign).\n\n",
-                c.n_campaigns, c.n_coils,
-                static_cast<unsigned long long>(c.split_seed), c.n_train,
-                c.n_val);
-  out += buf;
   out += "Table 4 - classical calibration vs recurrent ANN (Wang's law)\n\n";
   out +=
       "| model | params | gap train µm | gap val µm | val/train | "

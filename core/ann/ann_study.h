@@ -23,6 +23,7 @@
 #include "core/model/ann_model.h"
 #include "core/ann/ann_train.h"
 #include "core/fit/calibration.h"
+#include "core/fit/study.h"
 #include "core/dataset/dataset.h"
 #include "core/model/metrics.h"
 #include "core/base/status.h"
@@ -46,12 +47,8 @@ struct AnnMemberFigures {
   FitMetrics validation;
 };
 
-struct AnnComparison {
-  int n_campaigns = 0;
-  int n_coils = 0;
-  int n_train = 0;  // training measurements
-  int n_val = 0;    // validation measurements
-  uint64_t split_seed = 0;
+// The dataset and split (StudyDataset, study.h), then the figures.
+struct AnnComparison : StudyDataset {
   // Classical calibration.
   FitMetrics classical_train, classical_val;
   double classical_bias_above_300_um = 0;  // mean (meas - pred), val > 300 µm

@@ -1,29 +1,21 @@
 #include "core/ann/ann_train.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <map>
-#include <thread>
 
 #include "core/ann/ann_bptt.h"
+#include "core/base/parallel.h"
 #include "core/base/random.h"
 
 namespace rollwear {
 namespace {
 
-// SplitMix64 finaliser (Steele, Lea & Flood, OOPSLA 2014): member seeds.
-uint64_t Mix(uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
-
+// Member seeds: SplitMix64 (random.h) of the seed and the member.
 uint64_t MemberSeed(uint64_t seed, int member) {
-  return Mix(Mix(seed) ^ static_cast<uint64_t>(member + 1));
+  return SplitMix64(SplitMix64(seed) ^ static_cast<uint64_t>(member + 1));
 }
 
 // Eq. 9 weights 1 / (P n_p) of the sequences `seqs`, times `scale`.
@@ -199,7 +191,7 @@ bool AnnTrainingOptions::IsValid(std::string* error) const {
 
 AnnNetwork InitialAnnNetwork(const AnnModel& model, uint64_t seed,
                              double log_k0) {
-  Random rng(Mix(seed ^ 0x5eedULL));
+  Random rng(SplitMix64(seed ^ 0x5eedULL));
   const int d = model.num_inputs();
   AnnNetwork n = AnnNetwork::Zero(d, model.hidden1, model.hidden2);
   const double sd_a = 1 / std::sqrt(static_cast<double>(d));  // LeCun
@@ -243,17 +235,9 @@ StatusOr<AnnTrainingResult> TrainAnn(const AnnModel& skeleton,
   }
   const auto start = std::chrono::steady_clock::now();
   std::vector<MemberOutcome> outcomes(options.members);
-  std::atomic<int> next{0};
-  auto worker = [&]() {
-    for (int m = next++; m < options.members; m = next++) {
-      outcomes[m] = TrainMember(skeleton, inputs, train, options, m);
-    }
-  };
-  const int nthreads = std::min(options.threads, options.members);
-  std::vector<std::thread> pool;
-  for (int t = 1; t < nthreads; ++t) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
+  ParallelFor(options.members, options.threads, [&](int m) {
+    outcomes[m] = TrainMember(skeleton, inputs, train, options, m);
+  });
 
   AnnTrainingResult r;
   r.model = skeleton;

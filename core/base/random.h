@@ -1,9 +1,11 @@
 // Reproducible random numbers for splits, initial sets and training: a
 // std::mt19937_64 engine (its output sequence is fixed by the C++ standard)
 // with explicit transforms, so results do not depend on how a standard
-// library implements its distributions.
+// library implements its distributions; and SplitMix64 to derive
+// independent seeds (per simulated campaign, per ensemble member).
 //
 // Thread-safety: a Random object is not thread-safe; use one per thread.
+// SplitMix64 is a pure function.
 #ifndef ROLLWEAR_CORE_BASE_RANDOM_H_
 #define ROLLWEAR_CORE_BASE_RANDOM_H_
 
@@ -14,6 +16,18 @@
 #include <vector>
 
 namespace rollwear {
+
+// The SplitMix64 finaliser (Steele, Lea & Flood, "Fast splittable
+// pseudorandom number generators", OOPSLA 2014): a bijective 64-bit mix,
+//   x += 0x9e3779b97f4a7c15; x = (x ^ x>>30) * 0xbf58476d1ce4e5b9;
+//   x = (x ^ x>>27) * 0x94d049bb133111eb; return x ^ x>>31,
+// used to turn (seed, stream, index) into a well-spread engine seed.
+constexpr uint64_t SplitMix64(uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
 
 class Random {
  public:

@@ -98,11 +98,43 @@ class StatusOr {
 
 }  // namespace rollwear
 
-// Returns early from the enclosing function when `expr` is not OK.
-#define ROLLWEAR_RETURN_IF_ERROR(expr)           \
+// Early-return helpers (after Abseil's RETURN_IF_ERROR / ASSIGN_OR_RETURN
+// and Arrow's ARROW_ASSIGN_OR_RAISE). Usable in any function that returns
+// Status or StatusOr<U>; the Status is returned unchanged (same code, same
+// message).
+//
+//   ROLLWEAR_RETURN_IF_ERROR(WriteHeader(out));
+//   ROLLWEAR_ASSIGN_OR_RETURN(WearStatistics stats, BuildStatistics(ds));
+//   ROLLWEAR_ASSIGN_OR_RETURN(existing_value, Parse(text));  // assigns
+//
+// ROLLWEAR_RETURN_IF_ERROR(expr): `expr` yields a Status; returns it when it
+// is not OK.
+// ROLLWEAR_ASSIGN_OR_RETURN(lhs, expr): `expr` yields a StatusOr<T>; returns
+// its Status when it is not OK, otherwise moves the value into `lhs` (a
+// declaration or an existing variable; move-only T is fine). `lhs` may not
+// contain an unparenthesised comma (`expr` may). It expands to several
+// statements, so it cannot be the lone body of an unbraced if/else/for.
+// Each expansion names its temporary after __COUNTER__, so several uses in
+// one scope, or an `expr` naming another temporary, do not collide.
+#define ROLLWEAR_STATUS_CONCAT_INNER_(a, b) a##b
+#define ROLLWEAR_STATUS_CONCAT_(a, b) ROLLWEAR_STATUS_CONCAT_INNER_(a, b)
+
+#define ROLLWEAR_RETURN_IF_ERROR(...) \
+  ROLLWEAR_RETURN_IF_ERROR_IMPL_(     \
+      ROLLWEAR_STATUS_CONCAT_(rollwear_status_, __COUNTER__), __VA_ARGS__)
+#define ROLLWEAR_RETURN_IF_ERROR_IMPL_(tmp, ...) \
   do {                                           \
-    ::rollwear::Status rollwear_status_ = (expr); \
-    if (!rollwear_status_.ok()) return rollwear_status_; \
+    ::rollwear::Status tmp = (__VA_ARGS__);      \
+    if (!tmp.ok()) return tmp;                   \
   } while (0)
+
+#define ROLLWEAR_ASSIGN_OR_RETURN(lhs, ...)                          \
+  ROLLWEAR_ASSIGN_OR_RETURN_IMPL_(                                   \
+      ROLLWEAR_STATUS_CONCAT_(rollwear_statusor_, __COUNTER__), lhs, \
+      __VA_ARGS__)
+#define ROLLWEAR_ASSIGN_OR_RETURN_IMPL_(tmp, lhs, ...) \
+  auto tmp = (__VA_ARGS__);                            \
+  if (!tmp.ok()) return tmp.status();                  \
+  lhs = std::move(tmp).value()
 
 #endif  // ROLLWEAR_CORE_BASE_STATUS_H_

@@ -277,10 +277,10 @@ StatusOr<Dataset> ParseDataset(std::string (&texts)[kNumDatasetFiles]) {
   std::vector<csv::Table> tables;
   tables.reserve(kNumDatasetFiles);
   for (int i = 0; i < kNumDatasetFiles; ++i) {
-    StatusOr<csv::Table> t =
-        csv::Table::Parse(std::move(texts[i]), kDatasetFileNames[i]);
-    if (!t.ok()) return t.status();
-    tables.push_back(std::move(t).value());
+    ROLLWEAR_ASSIGN_OR_RETURN(
+        csv::Table t,
+        csv::Table::Parse(std::move(texts[i]), kDatasetFileNames[i]));
+    tables.push_back(std::move(t));
   }
   std::vector<FileView> files;
   files.reserve(kNumDatasetFiles);

@@ -2,16 +2,15 @@
 #include "core/diagnosis/diagnosis.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <set>
-#include <thread>
 #include <unordered_set>
 
 #include "core/model/aggregation.h"
 #include "core/diagnosis/diagnosis_internal.h"
 #include "core/base/distributions.h"
+#include "core/base/parallel.h"
 #include "core/model/k_structure.h"
 #include "core/model/metrics.h"
 #include "core/base/random.h"
@@ -87,19 +86,6 @@ Fitted FitCandidate(const TermData& td, const std::vector<int>& subset,
   return best;
 }
 
-// Runs fn(i) for i in [0, n) on up to `threads` threads.
-template <typename Fn>
-void ParallelFor(int n, int threads, Fn fn) {
-  std::atomic<int> next{0};
-  auto worker = [&]() {
-    for (int i = next++; i < n; i = next++) fn(i);
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < std::min(threads, n); ++t) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
-}
-
 struct CvResult {
   double mse = 0, gap = 0;
 };
@@ -147,25 +133,25 @@ StatusOr<DiagnosisReport> Diagnose(const Dataset& data, const DiagnosisOptions& 
 
   // 1. Baseline.
   const DatasetIndex index(data);
-  StatusOr<WearStatistics> stats = Aggregate(data, index, options.law);
-  if (!stats.ok()) return stats.status();
-  const CampaignSplit split = SplitCampaigns(*stats, 2.0 / 3.0, options.split_seed);
+  ROLLWEAR_ASSIGN_OR_RETURN(WearStatistics stats,
+                            Aggregate(data, index, options.law));
+  const CampaignSplit split =
+      SplitCampaigns(stats, 2.0 / 3.0, options.split_seed);
   CalibrationOptions co;
   co.law = options.law;
   co.option = 1;
-  StatusOr<SplitCalibration> base = CalibrateOnSplit(*stats, split, co);
-  if (!base.ok()) return base.status();
-  if (!base->result.summary.usable) {
+  ROLLWEAR_ASSIGN_OR_RETURN(SplitCalibration base,
+                            CalibrateOnSplit(stats, split, co));
+  if (!base.result.summary.usable) {
     return Status::NumericalFailure("baseline calibration failed: " +
-                                    base->result.summary.BriefReport());
+                                    base.result.summary.BriefReport());
   }
-  report.baseline_gap_train_um = base->train.gap_um;
-  report.baseline_gap_val_um = base->validation.gap_um;
+  report.baseline_gap_train_um = base.train.gap_um;
+  report.baseline_gap_val_um = base.validation.gap_um;
   phase("baseline");
 
-  StatusOr<TermData> tdr = BuildTermData(data, options.law);
-  if (!tdr.ok()) return tdr.status();
-  const TermData& td = *tdr;
+  ROLLWEAR_ASSIGN_OR_RETURN(const TermData td,
+                            BuildTermData(data, options.law));
   const std::unordered_set<int> train_campaigns(split.train.begin(), split.train.end());
   std::vector<int> train, val, all;
   for (int o = 0; o < static_cast<int>(td.obs.size()); ++o) {
@@ -175,7 +161,7 @@ StatusOr<DiagnosisReport> Diagnose(const Dataset& data, const DiagnosisOptions& 
   report.n_train = static_cast<int>(train.size());
   report.n_val = static_cast<int>(val.size());
   Fitted current;
-  for (double k : base->result.model.k) current.log_k.push_back(std::log(k));
+  for (double k : base.result.model.k) current.log_k.push_back(std::log(k));
   const std::vector<double> before_all = PredictTerms(td, all, current.log_k, {});
   phase("data");
 

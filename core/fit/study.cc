@@ -11,10 +11,8 @@ StatusOr<SplitCalibration> CalibrateOnSplit(const WearStatistics& stats,
                                             const CalibrationOptions& options) {
   const std::vector<int> train = stats.MeasuredObservations(split.train);
   const std::vector<int> val = stats.MeasuredObservations(split.validation);
-  StatusOr<CalibrationResult> r = Calibrate(stats, train, options);
-  if (!r.ok()) return r.status();
   SplitCalibration out;
-  out.result = std::move(r).value();
+  ROLLWEAR_ASSIGN_OR_RETURN(out.result, Calibrate(stats, train, options));
   out.train = Evaluate(out.result.model, stats, train);
   out.validation = Evaluate(out.result.model, stats, val);
   const std::vector<double> pred = PredictAll(out.result.model, stats, val);
@@ -36,9 +34,9 @@ namespace {
 
 StatusOr<StudyRow> Row(const WearStatistics& stats, const CampaignSplit& split,
                        const CalibrationOptions& options) {
-  StatusOr<SplitCalibration> run = CalibrateOnSplit(stats, split, options);
-  if (!run.ok()) return run.status();
-  const CalibrationSummary& s = run->result.summary;
+  ROLLWEAR_ASSIGN_OR_RETURN(const SplitCalibration run,
+                            CalibrateOnSplit(stats, split, options));
+  const CalibrationSummary& s = run.result.summary;
   StudyRow row;
   row.law = WearLawName(options.law);
   row.option = options.option;
@@ -48,10 +46,10 @@ StatusOr<StudyRow> Row(const WearStatistics& stats, const CampaignSplit& split,
   row.num_parameters = s.num_free_parameters;
   row.initial_cost = s.initial_cost;
   row.cost = s.final_cost;
-  row.gap_train_um = run->train.gap_um;
-  row.gap_val_um = run->validation.gap_um;
-  row.bias_above_300_um = run->bias_above_300_um;
-  row.n_above_300 = run->n_above_300;
+  row.gap_train_um = run.train.gap_um;
+  row.gap_val_um = run.validation.gap_um;
+  row.bias_above_300_um = run.bias_above_300_um;
+  row.n_above_300 = run.n_above_300;
   row.iterations = s.iterations;
   row.evaluations = s.evaluations;
   row.seconds = s.seconds;
@@ -72,11 +70,14 @@ StatusOr<StudyReport> RunStudy(const Dataset& data, const StudyOptions& options)
   const InitialSet sets[] = {InitialSet::kOnes, InitialSet::kRandom,
                              InitialSet::kEmpirical};
   for (WearLaw law : laws) {
-    StatusOr<WearStatistics> stats = Aggregate(data, index, law);
-    if (!stats.ok()) return stats.status();
-    const CampaignSplit split = SplitCampaigns(*stats, 2.0 / 3.0, options.split_seed);
-    report.n_train = static_cast<int>(stats->MeasuredObservations(split.train).size());
-    report.n_val = static_cast<int>(stats->MeasuredObservations(split.validation).size());
+    ROLLWEAR_ASSIGN_OR_RETURN(const WearStatistics stats,
+                              Aggregate(data, index, law));
+    const CampaignSplit split =
+        SplitCampaigns(stats, 2.0 / 3.0, options.split_seed);
+    report.n_train =
+        static_cast<int>(stats.MeasuredObservations(split.train).size());
+    report.n_val =
+        static_cast<int>(stats.MeasuredObservations(split.validation).size());
     CalibrationOptions o;
     o.law = law;
     o.seed = options.random_start_seed;
@@ -84,9 +85,8 @@ StatusOr<StudyReport> RunStudy(const Dataset& data, const StudyOptions& options)
       o.option = 1;
       o.initial_set = set;
       o.derivatives = DerivativeMode::kExact;
-      StatusOr<StudyRow> row = Row(*stats, split, o);
-      if (!row.ok()) return row.status();
-      report.table1.push_back(*row);
+      ROLLWEAR_ASSIGN_OR_RETURN(StudyRow row, Row(stats, split, o));
+      report.table1.push_back(std::move(row));
     }
     std::vector<int> options_for_law = {1};
     if (law == WearLaw::kWang) options_for_law = {1, 2, 3};
@@ -95,9 +95,8 @@ StatusOr<StudyReport> RunStudy(const Dataset& data, const StudyOptions& options)
       if (law == WearLaw::kWang) {
         o.initial_set = InitialSet::kEmpirical;
         o.derivatives = DerivativeMode::kExact;
-        StatusOr<StudyRow> row = Row(*stats, split, o);
-        if (!row.ok()) return row.status();
-        report.table2.push_back(*row);
+        ROLLWEAR_ASSIGN_OR_RETURN(StudyRow row, Row(stats, split, o));
+        report.table2.push_back(std::move(row));
       }
       // The protocols compared from the all-ones start, where the study's
       // evaluation budget matters.
@@ -105,9 +104,8 @@ StatusOr<StudyReport> RunStudy(const Dataset& data, const StudyOptions& options)
       for (DerivativeMode mode :
            {DerivativeMode::kExact, DerivativeMode::kPaperForwardDifference}) {
         o.derivatives = mode;
-        StatusOr<StudyRow> row = Row(*stats, split, o);
-        if (!row.ok()) return row.status();
-        report.table3.push_back(*row);
+        ROLLWEAR_ASSIGN_OR_RETURN(StudyRow row, Row(stats, split, o));
+        report.table3.push_back(std::move(row));
       }
     }
   }
@@ -125,15 +123,19 @@ std::string Fmt(const char* format, double v) {
 
 }  // namespace
 
-std::string StudyMarkdown(const StudyReport& r) {
-  std::string out;
+std::string StudyDatasetMarkdown(const StudyDataset& d) {
   char buf[512];
   std::snprintf(buf, sizeof(buf),
                 "Dataset: %d campaigns, %d coils; split seed %llu: %d training "
                 "and %d validation measurements (2/3-1/3 by campaign).\n\n",
-                r.n_campaigns, r.n_coils,
-                static_cast<unsigned long long>(r.split_seed), r.n_train, r.n_val);
-  out += buf;
+                d.n_campaigns, d.n_coils,
+                static_cast<unsigned long long>(d.split_seed), d.n_train,
+                d.n_val);
+  return buf;
+}
+
+std::string StudyMarkdown(const StudyReport& r) {
+  std::string out = StudyDatasetMarkdown(r);
   auto table = [&out](const char* caption, const std::vector<StudyRow>& rows) {
     out += caption;
     out += "\n\n| law | option | start | derivatives | params | cost start µm² | "

@@ -45,12 +45,21 @@ struct StudyRow {
   std::string termination;
 };
 
-struct StudyReport {
+// The dataset and split a study (and the ANN comparison, ann_study.h) ran on.
+struct StudyDataset {
   int n_campaigns = 0;
   int n_coils = 0;
-  int n_train = 0;  // training observations
+  int n_train = 0;  // training observations (measured rolls)
   int n_val = 0;    // validation observations
   uint64_t split_seed = 0;
+};
+
+// The Markdown paragraph that opens a study's report: "Dataset: N campaigns,
+// M coils; split seed S: T training and V validation measurements (2/3-1/3
+// by campaign).", then a blank line.
+std::string StudyDatasetMarkdown(const StudyDataset& d);
+
+struct StudyReport : StudyDataset {
   std::vector<StudyRow> table1, table2, table3;
 };
 

@@ -27,72 +27,54 @@ StatusOr<TermData> BuildTermData(const Dataset& data, WearLaw law) {
   td.roll_types = data.roll_types;
   td.grades = data.grades;
   td.catalog = CovariateCatalog(data);
-  std::vector<int> slot_level(kNumRollPositionSlots, -1);
-  for (int slot : index.slots()) {
-    slot_level[slot] = static_cast<int>(td.positions.size());
-    td.positions.push_back(RollPositionName(SlotStand(slot), SlotPosition(slot)));
-  }
+  td.positions = PositionLevelNames(index);
   const UnixSeconds origin = 0;  // started_at in days since 1970 (covariates.h)
   td.z.resize(td.catalog.size());
   td.obs_z.resize(td.catalog.size());
-  for (int c = 0; c < static_cast<int>(data.campaigns.size()); ++c) {
-    for (int slot : index.slots()) {
-      const int m = index.MountOf(c, slot);
-      const int meas = index.MeasurementOf(c, slot);
-      if (m < 0 || meas < 0) continue;
-      const Mount& mount = data.mounts[m];
-      TermObservation o;
-      o.campaign = c;
-      o.slot = slot;
-      o.position = slot_level[slot];
-      o.roll_type = mount.roll_type;
-      o.mount = m;
-      o.measurement = meas;
-      o.measured_um = data.measurements[meas].wear_center_um;
-      o.pass_begin = static_cast<int>(td.load.size());
-      PassContext ctx;
-      ctx.mount = &mount;
-      ctx.mount_row = m;
-      ctx.campaign = &data.campaigns[c];
-      ctx.campaign_row = c;
-      ctx.measurement_row = meas;
-      for (int pi : index.PassesOf(c, mount.stand)) {
-        const Pass& pass = data.passes[pi];
-        ctx.pass = &pass;
-        ctx.pass_row = pi;
-        const PassLoadInput in{pass.force_kn,          pass.width_mm,
-                               pass.length_m,          pass.entry_thickness_mm,
-                               pass.exit_thickness_mm, mount.diameter_mm,
-                               mount.hardness_hb};
-        const double load = BaseLoad(law, in);
-        if (!std::isfinite(load) || load < 0) {
-          return Status::InvalidArgument("coil " + data.coil_ids[pass.coil] +
-                                         ": wear load is not finite");
-        }
-        td.load.push_back(load);
-        td.grade.push_back(pass.grade);
-        for (size_t k = 0; k < td.catalog.size(); ++k) {
-          td.z[k].push_back(CovariateValue(td.catalog[k], data, ctx, origin));
-        }
-        ctx.length_before_m += pass.length_m;
-        ctx.coils_before += 1;
+  for (const MountedRoll& roll : MountedRolls(data, index)) {
+    if (roll.measurement < 0) continue;
+    const Mount& mount = data.mounts[roll.mount];
+    TermObservation o;
+    static_cast<MountedRoll&>(o) = roll;
+    o.pass_begin = static_cast<int>(td.load.size());
+    PassContext ctx;
+    ctx.mount = &mount;
+    ctx.mount_row = roll.mount;
+    ctx.campaign = &data.campaigns[roll.campaign];
+    ctx.campaign_row = roll.campaign;
+    ctx.measurement_row = roll.measurement;
+    for (int pi : index.PassesOf(roll.campaign, mount.stand)) {
+      const Pass& pass = data.passes[pi];
+      ctx.pass = &pass;
+      ctx.pass_row = pi;
+      const double load = BaseLoad(law, MakeLoadInput(pass, mount));
+      if (!std::isfinite(load) || load < 0) {
+        return Status::InvalidArgument("coil " + data.coil_ids[pass.coil] +
+                                       ": wear load is not finite");
       }
-      o.pass_end = static_cast<int>(td.load.size());
+      td.load.push_back(load);
+      td.grade.push_back(pass.grade);
       for (size_t k = 0; k < td.catalog.size(); ++k) {
-        double num = 0, den = 0, first = std::numeric_limits<double>::quiet_NaN();
-        for (int i = o.pass_begin; i < o.pass_end; ++i) {
-          const double v = td.z[k][i];
-          if (std::isnan(v)) continue;
-          if (std::isnan(first)) first = v;
-          num += td.load[i] * v;
-          den += td.load[i];
-        }
-        double agg = first;
-        if (td.catalog[k].level == CovariateLevel::kPass && den > 0) agg = num / den;
-        td.obs_z[k].push_back(agg);
+        td.z[k].push_back(CovariateValue(td.catalog[k], data, ctx, origin));
       }
-      td.obs.push_back(o);
+      ctx.length_before_m += pass.length_m;
+      ctx.coils_before += 1;
     }
+    o.pass_end = static_cast<int>(td.load.size());
+    for (size_t k = 0; k < td.catalog.size(); ++k) {
+      double num = 0, den = 0, first = std::numeric_limits<double>::quiet_NaN();
+      for (int i = o.pass_begin; i < o.pass_end; ++i) {
+        const double v = td.z[k][i];
+        if (std::isnan(v)) continue;
+        if (std::isnan(first)) first = v;
+        num += td.load[i] * v;
+        den += td.load[i];
+      }
+      double agg = first;
+      if (td.catalog[k].level == CovariateLevel::kPass && den > 0) agg = num / den;
+      td.obs_z[k].push_back(agg);
+    }
+    td.obs.push_back(o);
   }
   return td;
 }

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "core/model/aggregation.h"
 #include "core/model/covariates.h"
 #include "core/dataset/dataset.h"
 #include "core/model/model_terms.h"
@@ -27,14 +28,8 @@
 
 namespace rollwear {
 
-struct TermObservation {
-  int campaign = -1;
-  int slot = -1;
-  int position = -1;   // level
-  int roll_type = -1;  // level
-  int mount = -1;
-  int measurement = -1;
-  double measured_um = 0;
+// A measured roll (MountedRoll, aggregation.h) and its passes.
+struct TermObservation : MountedRoll {
   int pass_begin = 0, pass_end = 0;  // range into the per-pass arrays
 };
 

@@ -55,19 +55,18 @@ void Bounds(const ModelTerm& t, std::vector<double>* lo,
 StatusOr<WearModel> RefitWithTerms(const Dataset& data, WearLaw law,
                                    const std::vector<ModelTerm>& terms,
                                    const std::vector<int>& train_campaigns) {
-  StatusOr<TermData> td = BuildTermData(data, law);
-  if (!td.ok()) return td.status();
+  ROLLWEAR_ASSIGN_OR_RETURN(const TermData td, BuildTermData(data, law));
   std::vector<TermSpec> specs;
   for (const ModelTerm& t : terms) {
     TermSpec s;
     s.term = t;
-    s.covariate = td->CovariateIndex(t.covariate);
+    s.covariate = td.CovariateIndex(t.covariate);
     if (s.covariate < 0) {
       return Status::InvalidArgument("terms: covariate '" + t.covariate +
                                      "' is not in the data");
     }
     const bool on_measurement =
-        td->catalog[s.covariate].level == CovariateLevel::kMeasurement;
+        td.catalog[s.covariate].level == CovariateLevel::kMeasurement;
     if (t.IsMeasurementTerm() != on_measurement) {
       return Status::InvalidArgument(
           "terms: '" + t.covariate + "' is a " +
@@ -89,8 +88,8 @@ StatusOr<WearModel> RefitWithTerms(const Dataset& data, WearLaw law,
   }
   const std::set<int> train(train_campaigns.begin(), train_campaigns.end());
   std::vector<int> subset;
-  for (int o = 0; o < static_cast<int>(td->obs.size()); ++o) {
-    if (train.count(td->obs[o].campaign) > 0) subset.push_back(o);
+  for (int o = 0; o < static_cast<int>(td.obs.size()); ++o) {
+    if (train.count(td.obs[o].campaign) > 0) subset.push_back(o);
   }
   if (subset.empty()) {
     return Status::FailedPrecondition(
@@ -100,22 +99,21 @@ StatusOr<WearModel> RefitWithTerms(const Dataset& data, WearLaw law,
   // Pass 1: unit weights; pass 2: weights from the noise model of pass 1.
   WearModel model;
   model.law = law;
-  std::vector<double> sd(td->obs.size(), 1.0);
+  std::vector<double> sd(td.obs.size(), 1.0);
   std::vector<double> log_k;
   for (int pass = 0; pass < 2; ++pass) {
-    StatusOr<TermFitResult> fit = FitTerms(*td, subset, sd, log_k, specs);
-    if (!fit.ok()) return fit.status();
-    if (!fit->usable) {
+    ROLLWEAR_ASSIGN_OR_RETURN(TermFitResult fit,
+                              FitTerms(td, subset, sd, log_k, specs));
+    if (!fit.usable) {
       return Status::NumericalFailure("refit with terms did not converge");
     }
-    log_k = fit->log_k;
-    specs = fit->terms;
-    sd = TermNoiseSd(*td, subset, log_k, specs, &model);
+    log_k = std::move(fit.log_k);
+    specs = std::move(fit.terms);
+    sd = TermNoiseSd(td, subset, log_k, specs, &model);
   }
-  StatusOr<KStructure> ks =
-      KStructure::ForOption(1, td->positions, td->roll_types, td->grades);
-  if (!ks.ok()) return ks.status();
-  model.structure = std::move(ks).value();
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      model.structure,
+      KStructure::ForOption(1, td.positions, td.roll_types, td.grades));
   model.k.clear();
   for (double lk : log_k) model.k.push_back(std::exp(lk));
   model.terms.clear();

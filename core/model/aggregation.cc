@@ -34,73 +34,92 @@ std::vector<int> WearStatistics::MeasuredObservations() const {
   return out;
 }
 
+std::vector<std::string> PositionLevelNames(const DatasetIndex& index) {
+  std::vector<std::string> names;
+  for (int slot : index.slots()) {
+    names.push_back(RollPositionName(SlotStand(slot), SlotPosition(slot)));
+  }
+  return names;
+}
+
+std::vector<MountedRoll> MountedRolls(const Dataset& data,
+                                      const DatasetIndex& index) {
+  std::vector<int> slot_level(kNumRollPositionSlots, -1);
+  for (size_t l = 0; l < index.slots().size(); ++l) {
+    slot_level[index.slots()[l]] = static_cast<int>(l);
+  }
+  std::vector<MountedRoll> rolls;
+  for (int c = 0; c < static_cast<int>(data.campaigns.size()); ++c) {
+    for (int slot : index.slots()) {
+      const int m = index.MountOf(c, slot);
+      if (m < 0) continue;
+      MountedRoll r;
+      r.campaign = c;
+      r.slot = slot;
+      r.position = slot_level[slot];
+      r.roll_type = data.mounts[m].roll_type;
+      r.mount = m;
+      r.measurement = index.MeasurementOf(c, slot);
+      if (r.measurement >= 0) {
+        r.measured_um = data.measurements[r.measurement].wear_center_um;
+      }
+      rolls.push_back(r);
+    }
+  }
+  return rolls;
+}
+
 StatusOr<WearStatistics> Aggregate(const Dataset& data,
                                    const DatasetIndex& index, WearLaw law) {
   WearStatistics st;
   st.law = law;
   st.roll_types = data.roll_types;
   st.grades = data.grades;
-  std::vector<int> slot_level(kNumRollPositionSlots, -1);
-  for (int slot : index.slots()) {
-    slot_level[slot] = static_cast<int>(st.positions.size());
-    st.positions.push_back(RollPositionName(SlotStand(slot), SlotPosition(slot)));
-    st.position_slots.push_back(slot);
-  }
+  st.positions = PositionLevelNames(index);
+  st.position_slots = index.slots();
   const int num_grades = static_cast<int>(data.grades.size());
   std::vector<double> grade_load(num_grades);
   std::vector<std::vector<std::pair<double, double>>> grade_passes(
       law == WearLaw::kCao ? num_grades : 0);
-  for (int c = 0; c < static_cast<int>(data.campaigns.size()); ++c) {
-    for (int slot : index.slots()) {
-      const int m = index.MountOf(c, slot);
-      if (m < 0) continue;
-      const Mount& mount = data.mounts[m];
-      Observation obs;
-      obs.campaign = c;
-      obs.slot = slot;
-      obs.position = slot_level[slot];
-      obs.roll_type = mount.roll_type;
-      obs.mount = m;
-      obs.measurement = index.MeasurementOf(c, slot);
-      if (obs.measurement >= 0) {
-        obs.measured_um = data.measurements[obs.measurement].wear_center_um;
+  for (const MountedRoll& roll : MountedRolls(data, index)) {
+    const Mount& mount = data.mounts[roll.mount];
+    Observation obs;
+    static_cast<MountedRoll&>(obs) = roll;
+    std::fill(grade_load.begin(), grade_load.end(), 0.0);
+    for (auto& v : grade_passes) v.clear();
+    for (int pi : index.PassesOf(roll.campaign, mount.stand)) {
+      const Pass& pass = data.passes[pi];
+      const PassLoadInput in = MakeLoadInput(pass, mount);
+      const double base = BaseLoad(law, in);
+      if (!std::isfinite(base) || base < 0) {
+        return Status::InvalidArgument(
+            "coil " + data.coil_ids[pass.coil] + " at " +
+            RollPositionName(mount.stand, mount.position) +
+            ": wear load is not a finite non-negative number");
       }
-      std::fill(grade_load.begin(), grade_load.end(), 0.0);
-      for (auto& v : grade_passes) v.clear();
-      for (int pi : index.PassesOf(c, mount.stand)) {
-        const Pass& pass = data.passes[pi];
-        const PassLoadInput in = MakeLoadInput(pass, mount);
-        const double base = BaseLoad(law, in);
-        if (!std::isfinite(base) || base < 0) {
-          return Status::InvalidArgument(
-              "coil " + data.coil_ids[pass.coil] + " at " +
-              RollPositionName(mount.stand, mount.position) +
-              ": wear load is not a finite non-negative number");
-        }
-        grade_load[pass.grade] += base;
-        if (law == WearLaw::kCao) {
-          grade_passes[pass.grade].emplace_back(base, std::log(CaoStress(in)));
-        }
-        ++obs.coils;
-        obs.rolled_length_m += pass.length_m;
+      grade_load[pass.grade] += base;
+      if (law == WearLaw::kCao) {
+        grade_passes[pass.grade].emplace_back(base, std::log(CaoStress(in)));
       }
-      for (int s = 0; s < num_grades; ++s) {
-        if (grade_load[s] <= 0) continue;
-        CellLoad cell;
-        cell.grade = s;
-        cell.load = grade_load[s];
-        if (law == WearLaw::kCao) {
-          cell.pass_begin = static_cast<int>(st.cao_base.size());
-          for (const auto& [b, ls] : grade_passes[s]) {
-            st.cao_base.push_back(b);
-            st.cao_log_stress.push_back(ls);
-          }
-          cell.pass_end = static_cast<int>(st.cao_base.size());
-        }
-        obs.cells.push_back(cell);
-      }
-      st.observations.push_back(std::move(obs));
+      ++obs.coils;
+      obs.rolled_length_m += pass.length_m;
     }
+    for (int s = 0; s < num_grades; ++s) {
+      if (grade_load[s] <= 0) continue;
+      CellLoad cell;
+      cell.grade = s;
+      cell.load = grade_load[s];
+      if (law == WearLaw::kCao) {
+        cell.pass_begin = static_cast<int>(st.cao_base.size());
+        for (const auto& [b, ls] : grade_passes[s]) {
+          st.cao_base.push_back(b);
+          st.cao_log_stress.push_back(ls);
+        }
+        cell.pass_end = static_cast<int>(st.cao_base.size());
+      }
+      obs.cells.push_back(cell);
+    }
+    st.observations.push_back(std::move(obs));
   }
   return st;
 }

@@ -30,14 +30,28 @@ struct CellLoad {
   int pass_end = 0;
 };
 
-struct Observation {
+// A roll mounted for a campaign at one roll-position slot: what Aggregate's
+// Observation and the term fit's TermObservation (term_fit.h) start from.
+struct MountedRoll {
   int campaign = -1;  // index into Dataset::campaigns
   int slot = -1;      // roll position slot (dataset.h)
   int position = -1;  // position level (index into WearStatistics::positions)
   int roll_type = -1; // roll type level
   int mount = -1;     // index into Dataset::mounts
   int measurement = -1;  // index into Dataset::measurements, -1 = unmeasured
-  double measured_um = 0;
+  double measured_um = 0;  // the measurement's centre wear, 0 if unmeasured
+};
+
+// The position levels of `index`: one per slot with a mounted roll, in slot
+// order (index.slots()), labelled "F6/top".
+std::vector<std::string> PositionLevelNames(const DatasetIndex& index);
+
+// Every mounted roll of `data`, campaign by campaign and slot by slot: the
+// order of WearStatistics::observations and of the term fit's observations.
+std::vector<MountedRoll> MountedRolls(const Dataset& data,
+                                      const DatasetIndex& index);
+
+struct Observation : MountedRoll {
   int coils = 0;
   double rolled_length_m = 0;
   std::vector<CellLoad> cells;

@@ -42,10 +42,8 @@ struct LawRun {
 
 StatusOr<LawRun> Prepare(const Dataset& data, const DatasetIndex& index,
                          WearLaw law, uint64_t split_seed) {
-  StatusOr<WearStatistics> stats = Aggregate(data, index, law);
-  if (!stats.ok()) return stats.status();
   LawRun run;
-  run.stats = std::move(stats).value();
+  ROLLWEAR_ASSIGN_OR_RETURN(run.stats, Aggregate(data, index, law));
   const CampaignSplit split = SplitCampaigns(run.stats, 2.0 / 3.0, split_seed);
   run.train = run.stats.MeasuredObservations(split.train);
   run.val = run.stats.MeasuredObservations(split.validation);
@@ -61,9 +59,9 @@ StatusOr<WearModel> Fit(const LawRun& run, WearLaw law, int option,
   o.derivatives = DerivativeMode::kExact;
   o.compute_covariance = false;
   o.seed = seed;
-  StatusOr<CalibrationResult> r = Calibrate(run.stats, run.train, o);
-  if (!r.ok()) return r.status();
-  return std::move(r->model);
+  ROLLWEAR_ASSIGN_OR_RETURN(CalibrationResult r,
+                            Calibrate(run.stats, run.train, o));
+  return std::move(r.model);
 }
 
 // Predictions of `model` (over `run`'s levels) at the observations `keys`.
@@ -144,13 +142,12 @@ StatusOr<std::vector<SvgFigure>> StudyFigures(const Dataset& data,
                                               const StudyOptions& options) {
   const DatasetIndex index(data);
   const uint64_t seed = options.random_start_seed;
-  StatusOr<LawRun> wang =
-      Prepare(data, index, WearLaw::kWang, options.split_seed);
-  if (!wang.ok()) return wang.status();
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      LawRun wang, Prepare(data, index, WearLaw::kWang, options.split_seed));
   std::vector<int> keys, stands;
   std::vector<double> measured;
-  for (int o : wang->val) {
-    const Observation& obs = wang->stats.observations[o];
+  for (int o : wang.val) {
+    const Observation& obs = wang.stats.observations[o];
     keys.push_back(obs.campaign * kNumRollPositionSlots + obs.slot);
     stands.push_back(SlotStand(obs.slot));
     measured.push_back(obs.measured_um);
@@ -162,17 +159,16 @@ StatusOr<std::vector<SvgFigure>> StudyFigures(const Dataset& data,
   std::vector<SvgFigure> figures;
 
   // Wang option 1: the empirical start, then calibrated.
-  StatusOr<WearModel> wang1 = Fit(*wang, WearLaw::kWang, 1, seed);
-  if (!wang1.ok()) return wang1.status();
-  WearModel initial = *wang1;
+  ROLLWEAR_ASSIGN_OR_RETURN(WearModel wang1,
+                            Fit(wang, WearLaw::kWang, 1, seed));
+  WearModel initial = wang1;
   std::fill(initial.k.begin(), initial.k.end(), 1.0);
   {
     std::map<int, std::pair<double, double>> sums;  // position level
-    for (int o : wang->train) {
-      const Observation& obs = wang->stats.observations[o];
+    for (int o : wang.train) {
+      const Observation& obs = wang.stats.observations[o];
       sums[obs.position].first += obs.measured_um;
-      sums[obs.position].second +=
-          PredictObservation(initial, wang->stats, obs);
+      sums[obs.position].second += PredictObservation(initial, wang.stats, obs);
     }
     for (const auto& [p, s] : sums) {
       if (s.second > 0) initial.k[p] = s.first / s.second;
@@ -180,10 +176,10 @@ StatusOr<std::vector<SvgFigure>> StudyFigures(const Dataset& data,
   }
   {
     std::vector<ParitySeries> series(2);
-    series[0].calculated_um = PredictAt(initial, *wang, keys);
+    series[0].calculated_um = PredictAt(initial, wang, keys);
     series[0].name =
         GapLabel("initial (empirical kF)", measured, series[0].calculated_um);
-    series[1].calculated_um = PredictAt(*wang1, *wang, keys);
+    series[1].calculated_um = PredictAt(wang1, wang, keys);
     series[1].name = GapLabel("optimised", measured, series[1].calculated_um);
     figures.push_back(
         {"measured_vs_calculated_initial_vs_optimised.svg",
@@ -197,13 +193,12 @@ StatusOr<std::vector<SvgFigure>> StudyFigures(const Dataset& data,
     for (WearLaw law : {WearLaw::kWang, WearLaw::kNikitenko, WearLaw::kCao}) {
       ParitySeries s;
       if (law == WearLaw::kWang) {
-        s.calculated_um = PredictAt(*wang1, *wang, keys);
+        s.calculated_um = PredictAt(wang1, wang, keys);
       } else {
-        StatusOr<LawRun> run = Prepare(data, index, law, options.split_seed);
-        if (!run.ok()) return run.status();
-        StatusOr<WearModel> m = Fit(*run, law, 1, seed);
-        if (!m.ok()) return m.status();
-        s.calculated_um = PredictAt(*m, *run, keys);
+        ROLLWEAR_ASSIGN_OR_RETURN(
+            LawRun run, Prepare(data, index, law, options.split_seed));
+        ROLLWEAR_ASSIGN_OR_RETURN(WearModel m, Fit(run, law, 1, seed));
+        s.calculated_um = PredictAt(m, run, keys);
       }
       s.name = GapLabel(WearLawName(law), measured, s.calculated_um);
       series.push_back(std::move(s));
@@ -219,11 +214,11 @@ StatusOr<std::vector<SvgFigure>> StudyFigures(const Dataset& data,
     for (int option : {1, 2, 3}) {
       ParitySeries s;
       if (option == 1) {
-        s.calculated_um = PredictAt(*wang1, *wang, keys);
+        s.calculated_um = PredictAt(wang1, wang, keys);
       } else {
-        StatusOr<WearModel> m = Fit(*wang, WearLaw::kWang, option, seed);
-        if (!m.ok()) return m.status();
-        s.calculated_um = PredictAt(*m, *wang, keys);
+        ROLLWEAR_ASSIGN_OR_RETURN(WearModel m,
+                                  Fit(wang, WearLaw::kWang, option, seed));
+        s.calculated_um = PredictAt(m, wang, keys);
       }
       s.name = GapLabel("option " + std::to_string(option), measured,
                         s.calculated_um);
@@ -243,20 +238,18 @@ StatusOr<SvgFigure> AnnFigure(const Dataset& data,
   // The comparison's split and models again: the classical fit is
   // deterministic and the network is evaluated as trained.
   const DatasetIndex index(data);
-  StatusOr<WearStatistics> stats = Aggregate(data, index, WearLaw::kWang);
-  if (!stats.ok()) return stats.status();
+  ROLLWEAR_ASSIGN_OR_RETURN(WearStatistics stats,
+                            Aggregate(data, index, WearLaw::kWang));
   const CampaignSplit split =
-      SplitCampaigns(*stats, 2.0 / 3.0, options.split_seed);
-  const std::vector<int> val = stats->MeasuredObservations(split.validation);
-  StatusOr<SplitCalibration> classical =
-      CalibrateOnSplit(*stats, split, options.classical);
-  if (!classical.ok()) return classical.status();
-  const AnnInputs inputs =
-      BuildAnnInputs(comparison.model, data, index, *stats);
+      SplitCampaigns(stats, 2.0 / 3.0, options.split_seed);
+  const std::vector<int> val = stats.MeasuredObservations(split.validation);
+  ROLLWEAR_ASSIGN_OR_RETURN(SplitCalibration classical,
+                            CalibrateOnSplit(stats, split, options.classical));
+  const AnnInputs inputs = BuildAnnInputs(comparison.model, data, index, stats);
   std::vector<double> measured;
-  for (int o : val) measured.push_back(stats->observations[o].measured_um);
+  for (int o : val) measured.push_back(stats.observations[o].measured_um);
   ParitySeries cl, ann;
-  cl.calculated_um = PredictAll(classical->result.model, *stats, val);
+  cl.calculated_um = PredictAll(classical.result.model, stats, val);
   cl.name = GapLabel("classical (Wang, option " +
                          std::to_string(options.classical.option) + ")",
                      measured, cl.calculated_um);
@@ -268,7 +261,7 @@ StatusOr<SvgFigure> AnnFigure(const Dataset& data,
                 val.size(),
                 static_cast<unsigned long long>(options.split_seed));
   return SvgFigure{"measured_vs_calculated_classical_vs_ann.svg",
-                   ParityFigureSvg(title, *stats, val, {cl, ann})};
+                   ParityFigureSvg(title, stats, val, {cl, ann})};
 }
 
 Status WriteFigures(const std::string& dir,

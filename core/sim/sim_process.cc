@@ -12,17 +12,6 @@ namespace rollwear::sim {
 // ---------------------------------------------------------------------------
 // Random helpers.
 
-namespace {
-// SplitMix64 finaliser (Steele, Lea & Flood, "Fast splittable pseudorandom
-// number generators", OOPSLA 2014).
-uint64_t SplitMix64(uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
-}  // namespace
-
 Random MakeRandom(uint64_t seed, Stream stream, uint64_t index) {
   uint64_t s = SplitMix64(seed);
   s = SplitMix64(s ^ static_cast<uint64_t>(stream));

@@ -40,7 +40,8 @@ TempDir::~TempDir() {
 
 Subprocess::Subprocess(const std::vector<std::string>& argv,
                        const std::string& log_path,
-                       const std::vector<std::string>& env) {
+                       const std::vector<std::string>& env,
+                       const std::string& stderr_path) {
   // Everything the child needs is prepared before fork(): between fork and
   // exec only async-signal-safe calls are allowed.
   std::vector<std::string> env_strings;
@@ -61,13 +62,15 @@ Subprocess::Subprocess(const std::vector<std::string>& argv,
   for (std::string& s : argv_copy) args.push_back(s.data());
   args.push_back(nullptr);
   const int fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+  const int err_fd =
+      stderr_path.empty()
+          ? fd
+          : open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
 
   pid_ = fork();
   if (pid_ == 0) {
-    if (fd >= 0) {
-      dup2(fd, STDOUT_FILENO);
-      dup2(fd, STDERR_FILENO);
-    }
+    if (fd >= 0) dup2(fd, STDOUT_FILENO);
+    if (err_fd >= 0) dup2(err_fd, STDERR_FILENO);
     const int null_fd = open("/dev/null", O_RDONLY);
     if (null_fd >= 0) dup2(null_fd, STDIN_FILENO);
     // Undo signal masks the test runner may have set.
@@ -78,6 +81,7 @@ Subprocess::Subprocess(const std::vector<std::string>& argv,
     _exit(127);
   }
   if (fd >= 0) close(fd);
+  if (err_fd >= 0 && err_fd != fd) close(err_fd);
 }
 
 Subprocess::~Subprocess() {
@@ -135,6 +139,18 @@ int RunRollwear(const std::vector<std::string>& args, std::string* output,
   Subprocess p(argv, log);
   const int code = p.Wait(timeout_s);
   if (output != nullptr) *output = ReadFile(log);
+  return code;
+}
+
+int RunRollwear(const std::vector<std::string>& args, std::string* out,
+                std::string* err, double timeout_s) {
+  TempDir dir;
+  std::vector<std::string> argv = {ROLLWEAR_BINARY};
+  argv.insert(argv.end(), args.begin(), args.end());
+  Subprocess p(argv, dir / "out.log", {}, dir / "err.log");
+  const int code = p.Wait(timeout_s);
+  *out = ReadFile(dir / "out.log");
+  *err = ReadFile(dir / "err.log");
   return code;
 }
 

@@ -41,8 +41,10 @@ class TempDir {
 class Subprocess {
  public:
   // `env` entries "NAME=value" are added to (or override) the environment.
+  // With `stderr_path`, stderr goes there instead of to `log_path`.
   Subprocess(const std::vector<std::string>& argv, const std::string& log_path,
-             const std::vector<std::string>& env = {});
+             const std::vector<std::string>& env = {},
+             const std::string& stderr_path = "");
   ~Subprocess();  // SIGKILLs and reaps a child still running
 
   pid_t pid() const { return pid_; }
@@ -62,6 +64,10 @@ class Subprocess {
 // its output in *output.
 int RunRollwear(const std::vector<std::string>& args, std::string* output,
                 double timeout_s = 600);
+
+// The same with stdout and stderr kept apart.
+int RunRollwear(const std::vector<std::string>& args, std::string* out,
+                std::string* err, double timeout_s = 600);
 
 // Reads a whole file ("" when missing).
 std::string ReadFile(const std::string& path);
