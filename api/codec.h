@@ -18,7 +18,7 @@
 
 #include "core/dataset/dataset.h"
 #include "core/model/wear_law.h"
-#include "storage/mill_store.h"
+#include "storage/store_types.h"
 
 namespace rollwear::api {
 

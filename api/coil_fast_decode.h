@@ -19,7 +19,7 @@
 
 #include <string_view>
 
-#include "storage/mill_store.h"
+#include "storage/store_types.h"
 
 namespace rollwear::api {
 

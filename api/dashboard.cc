@@ -22,7 +22,7 @@ constexpr int kParityCampaigns = 20;
 // Calibration runs listed.
 constexpr int kCalibrationRows = 5;
 // Diagnosis jobs looked back through for the latest finished one
-// (DiagnosisJobs keeps the last 50).
+// (service::DiagnosisJobs keeps the last 50).
 constexpr int kDiagnosisLookback = 50;
 
 std::string UtcTime(int64_t unix_seconds, bool with_seconds) {
@@ -149,9 +149,10 @@ HttpResponse Router::GetDashboard() {
     d.calibrations.push_back(std::move(row));
   }
 
+  // Only queued diagnoses set last_diagnosis_id_ (so diagnoses is set).
   const int64_t last = last_diagnosis_id_.load(std::memory_order_relaxed);
   for (int64_t id = last; id > 0 && id > last - kDiagnosisLookback; --id) {
-    std::optional<DiagnosisJob> job = diagnoses_->Get(id);
+    std::optional<DiagnosisJob> job = options_.diagnoses->Get(id);
     if (!job || job->status != "done") continue;
     d.diagnosis = FindingOf(id, job->report);
     if (d.diagnosis) break;

@@ -24,55 +24,13 @@
 #ifndef ROLLWEAR_API_HTTP_SERVER_H_
 #define ROLLWEAR_API_HTTP_SERVER_H_
 
-#include <cstddef>
-#include <functional>
 #include <memory>
-#include <string>
 
+#include "api/http_server_options.h"
 #include "api/router.h"
 #include "core/base/status.h"
 
 namespace rollwear::api {
-
-// One answered request, for the access log.
-struct RequestLogEntry {
-  std::string method;
-  std::string path;
-  std::string remote_addr;
-  int status = 0;
-  double seconds = 0;
-  size_t request_bytes = 0;
-  size_t response_bytes = 0;
-};
-
-struct HttpServerOptions {
-  std::string bind_address = "127.0.0.1";
-  int port = 0;  // 0 = ephemeral
-  // Worker threads for the requests that may wait on SQLite or a
-  // calibration (everything but coils and wear reads).
-  int threads = 32;
-  // Open connections; one more is accepted and closed at once.
-  int max_connections = 1000;
-  int keep_alive_max_count = 10000;  // requests per connection
-  int keep_alive_timeout_s = 5;      // idle seconds before closing
-  int read_timeout_s = 5;
-  int write_timeout_s = 5;
-  size_t payload_max_bytes = 1 << 20;
-  // Request header limits: a request with more header lines or more header
-  // bytes than these is answered 431 before its body is read. The request
-  // line is capped at 8 KiB (414).
-  size_t max_header_count = 64;
-  size_t max_header_bytes = 32 * 1024;
-  bool tcp_nodelay = true;
-  // Called after every request on the serving thread; may be empty.
-  std::function<void(const RequestLogEntry&)> on_request;
-  // Called on the I/O thread each time it wakes up with work (input,
-  // a new connection, a completion), before handling it; may be empty.
-  // Must be cheap: it runs ahead of every batch of requests.
-  std::function<void()> on_activity;
-
-  bool IsValid(std::string* error) const;
-};
 
 class HttpServer {
  public:

@@ -1,8 +1,7 @@
 // The socket-level pieces of the epoll HTTP server (api/http_server.cc):
 // the listening socket, peer address text, status reason phrases, the
 // error answers the server gives before any handler runs, and the worker
-// pool for requests that may block; HttpServerOptions::IsValid is defined
-// in http_wire.cc too.
+// pool for requests that may block.
 //
 // Thread-safety: the functions are pure or act on the descriptors they are
 // given; WorkerPool::Post may be called from any thread.

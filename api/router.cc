@@ -223,9 +223,7 @@ int HttpStatusFor(StatusCode code) {
 }
 
 Router::Router(storage::MillStore* store, ApiOptions options)
-    : store_(store),
-      options_(std::move(options)),
-      diagnoses_(std::make_unique<DiagnosisJobs>(store)) {}
+    : store_(store), options_(std::move(options)) {}
 
 HttpResponse Router::Handle(const HttpRequest& request) {
   try {
@@ -532,7 +530,10 @@ HttpResponse Router::PostDiagnosis(const HttpRequest& request) {
                               &error)) {
     return Error(error);
   }
-  const int64_t id = diagnoses_->Enqueue(in.adopt);
+  if (options_.diagnoses == nullptr) {
+    return Error(503, "unavailable", "diagnoses are not run by this server");
+  }
+  const int64_t id = options_.diagnoses->Enqueue(in.adopt);
   last_diagnosis_id_.store(id, std::memory_order_relaxed);
   return Answer(202,
                 "{\"id\":" + std::to_string(id) + ",\"status\":\"queued\"}");
@@ -541,7 +542,9 @@ HttpResponse Router::PostDiagnosis(const HttpRequest& request) {
 HttpResponse Router::GetDiagnosis(const std::string& id_text) {
   int64_t id = 0;
   std::optional<DiagnosisJob> job;
-  if (ParseInt64(id_text, &id) && id > 0) job = diagnoses_->Get(id);
+  if (options_.diagnoses != nullptr && ParseInt64(id_text, &id) && id > 0) {
+    job = options_.diagnoses->Get(id);
+  }
   if (!job) {
     return Error(404, "not_found",
                  "unknown diagnosis '" + id_text.substr(0, 40) + "'");

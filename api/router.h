@@ -18,13 +18,12 @@
 #include <cstdint>
 #include <functional>
 #include <map>
-#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include "api/diagnosis_jobs.h"
+#include "api/diagnosis_job.h"
 #include "api/metrics.h"
 #include "core/base/status.h"
 #include "core/model/wear_law.h"
@@ -64,6 +63,10 @@ struct ApiOptions {
   // Called with the id of every calibration queued through the API, so the
   // job worker runs it; may be empty (the run then stays queued).
   std::function<void(int64_t)> on_calibration_queued;
+  // Runs POST /v1/diagnoses (the daemon's service::DiagnosisJobs); not
+  // owned, must outlive the router. Null: no diagnoses here (POST answers
+  // 503 "unavailable", GET 404).
+  DiagnosisRunner* diagnoses = nullptr;
 
   bool IsValid(std::string* error) const;
 };
@@ -151,7 +154,6 @@ class Router {
   storage::MillStore* store_;
   ApiOptions options_;
   Metrics metrics_;
-  std::unique_ptr<DiagnosisJobs> diagnoses_;
   // Id of the last diagnosis queued (0: none), for the dashboard.
   std::atomic<int64_t> last_diagnosis_id_{0};
 };

@@ -20,7 +20,8 @@
 #include "service/commands.h"
 #include "service/config.h"
 #include "service/cpu_latency.h"
-#include "service/scheduler.h"
+#include "service/jobs/diagnosis_jobs.h"
+#include "service/jobs/scheduler.h"
 #include "storage/mill_store.h"
 
 namespace rollwear::cli {
@@ -147,6 +148,8 @@ int RunServe(const ServeArgs& args) {
         }
       });
 
+  service::DiagnosisJobs diagnoses(store.get());
+
   api::ApiOptions api_options;
   api_options.token = config.token;
   api_options.body_limit_bytes = config.body_limit_bytes;
@@ -156,6 +159,7 @@ int RunServe(const ServeArgs& args) {
     spdlog::info("calibration id={} queued trigger=api", id);
     scheduler.Submit(id);
   };
+  api_options.diagnoses = &diagnoses;
   api::Router router(store.get(), api_options);
   router_ptr = &router;
 
@@ -209,6 +213,7 @@ int RunServe(const ServeArgs& args) {
   server.Stop();
   spdlog::info("HTTP server stopped; waiting for the calibration worker");
   scheduler.Stop();
+  diagnoses.Stop();
   router_ptr = nullptr;
   store.reset();
   spdlog::info("database closed; bye");

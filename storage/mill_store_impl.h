@@ -1,5 +1,5 @@
 // Internal to storage: the MillStore implementation (declared here, defined
-// in mill_store.cc (opening, admission, reads), mill_store_writer.cc (the
+// in mill_store_impl.cc (opening, admission, reads), mill_store_writer.cc (the
 // group-commit writer and publishing), mill_store_calibration.cc (models and
 // calibration runs)).
 //
@@ -38,6 +38,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/fit/candidate_model.h"
 #include "core/model/predictor.h"
 #include "storage/coil_id_filter.h"
 #include "storage/import_plan.h"
@@ -144,7 +145,7 @@ class MillStoreImpl final : public MillStore {
  private:
   using ItemPtr = std::shared_ptr<WriteItem>;
 
-  // ---- mill_store.cc
+  // ---- mill_store_impl.cc
   // Validates `item` against spec_ and records it there. *immediate: an
   // idempotent repeat of something already committed (answer at once).
   Status AdmitLocked(WriteItem* item, bool* immediate);
@@ -172,9 +173,15 @@ class MillStoreImpl final : public MillStore {
   // Records a calibration run (claimed at once when `claim`); returns its id.
   StatusOr<int64_t> InsertRun(const std::string& trigger,
                               const std::string& model, int option, bool claim);
-  // Records the outcome of a claimed run and promotes `candidate` when the
-  // run succeeded and its validation gap is no worse than the active one's.
-  Status FinishRun(Status error, WearModel candidate,
+  // Runs `claim` in a write transaction; it returns whether it claimed a
+  // run, and once that has committed the count of measurements since the
+  // last calibration restarts. Returns what `claim` returned.
+  StatusOr<bool> ClaimTask(const std::function<StatusOr<bool>(Db*)>& claim);
+  std::shared_ptr<const ModelVersion> ActiveVersion() const;
+  // Records the outcome of a claimed run: failed with `result`'s error, or
+  // its figures, and promotes its candidate when DecidePromotion
+  // (core/fit/candidate_model.h) says so against `active`.
+  Status FinishRun(CandidateEvaluation result,
                    const std::shared_ptr<const ModelVersion>& active,
                    CalibrationRecord* run);
 

@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "storage/mill_store.h"
+#include "storage/store_types.h"
 
 namespace rollwear::storage {
 namespace {

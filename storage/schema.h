@@ -7,7 +7,7 @@
 // as it was. A file whose version is newer than the last migration this
 // build knows is refused (FailedPrecondition) and left untouched. Adding
 // a version means appending one Migration to SchemaMigrations() and bumping
-// kSchemaVersion in mill_store.h.
+// kSchemaVersion in store_types.h.
 //
 // Version 1 tables (see docs/architecture.md, "Storage"):
 //   campaigns, mounts, coils, passes (one row per coil per stand),

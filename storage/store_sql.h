@@ -16,14 +16,14 @@
 #include <string_view>
 #include <vector>
 
+#include "core/base/status.h"
 #include "core/dataset/dataset.h"
 #include "core/model/predictor.h"
-#include "core/base/status.h"
 #include "core/model/wear_model.h"
 #include "storage/import_plan.h"
-#include "storage/mill_store.h"
 #include "storage/sqlite_db.h"
 #include "storage/store_state.h"
+#include "storage/store_types.h"
 
 namespace rollwear::storage::internal {
 

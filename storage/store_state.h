@@ -21,7 +21,7 @@
 
 #include "core/dataset/dataset.h"
 #include "core/model/predictor.h"
-#include "storage/mill_store.h"
+#include "storage/store_types.h"
 
 namespace rollwear::storage::internal {
 

@@ -19,8 +19,8 @@
 #include <string>
 
 #include "core/base/status.h"
-#include "storage/mill_store.h"
 #include "storage/store_state.h"
+#include "storage/store_types.h"
 
 namespace rollwear::storage::internal {
 

@@ -1,5 +1,6 @@
 // Test fixture of api_test: a Router over the real MillStore on a fresh
-// SQLite file in a temporary folder, with one open campaign (C1, rolls at
+// SQLite file in a temporary folder, with the daemon's diagnosis jobs
+// (service/jobs/diagnosis_jobs.h) and one open campaign (C1, rolls at
 // F6/F7 top and bottom), and helpers that build valid request bodies and
 // check error answers.
 //
@@ -17,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/router.h"
+#include "service/jobs/diagnosis_jobs.h"
 #include "storage/mill_store.h"
 
 namespace rollwear::api::testing {
@@ -101,12 +103,18 @@ class RouterTest : public ::testing::Test {
 
   void TearDown() override {
     router_.reset();
+    diagnoses_.reset();
     store_.reset();
     std::error_code ec;
     std::filesystem::remove_all(dir_, ec);
   }
 
+  // A router over store_ with fresh diagnosis jobs (unless `options`
+  // brings its own runner).
   void MakeRouter(ApiOptions options) {
+    router_.reset();
+    diagnoses_ = std::make_unique<service::DiagnosisJobs>(store_.get());
+    if (options.diagnoses == nullptr) options.diagnoses = diagnoses_.get();
     router_ = std::make_unique<Router>(store_.get(), std::move(options));
   }
 
@@ -166,6 +174,7 @@ class RouterTest : public ::testing::Test {
 
   std::string dir_;
   std::unique_ptr<storage::MillStore> store_;
+  std::unique_ptr<service::DiagnosisJobs> diagnoses_;
   std::unique_ptr<Router> router_;
 };
 

@@ -1,7 +1,7 @@
-// service/scheduler: the local-time due computation, the nightly trigger
+// service/jobs/scheduler: the local-time due computation, the nightly trigger
 // (only when measurements arrived since the last run) with an injected
 // clock, and the job worker running queued calibrations on the real store.
-#include "service/scheduler.h"
+#include "service/jobs/scheduler.h"
 
 #include <stdlib.h>
 #include <time.h>

@@ -1,49 +1,17 @@
 // MillStore: opening, admission of writes (validation against the
 // speculative catalog), the write entry points, and the read side.
-#include "storage/mill_store.h"
+#include "storage/mill_store_impl.h"
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <utility>
 
-#include "storage/mill_store_impl.h"
 #include "storage/model_levels.h"
 #include "storage/schema.h"
 #include "storage/store_sql.h"
 #include "storage/validation.h"
 
 namespace rollwear::storage {
-
-bool StoreOptions::IsValid(std::string* error) const {
-  if (max_batch < 1) {
-    *error = "max_batch must be >= 1";
-    return false;
-  }
-  if (default_option < 1 || default_option > 3) {
-    *error = "default_option must be 1, 2 or 3";
-    return false;
-  }
-  if (!std::isfinite(initial_k) || !(initial_k > 0)) {
-    *error = "initial_k must be a finite number > 0";
-    return false;
-  }
-  return true;
-}
-
-const char* CalibrationStatusName(CalibrationStatus s) {
-  switch (s) {
-    case CalibrationStatus::kQueued:
-      return "queued";
-    case CalibrationStatus::kRunning:
-      return "running";
-    case CalibrationStatus::kDone:
-      return "done";
-    case CalibrationStatus::kFailed:
-      return "failed";
-  }
-  return "unknown";
-}
 
 StatusOr<std::unique_ptr<MillStore>> MillStore::Open(
     const std::string& path, const StoreOptions& options) {

@@ -1,4 +1,4 @@
-#include "service/scheduler.h"
+#include "service/jobs/scheduler.h"
 
 #include <algorithm>
 #include <ctime>

@@ -12,8 +12,8 @@
 // running calibration to finish (a run cannot be interrupted) and abandons
 // the queued ones, which stay queued in the store and are picked up by
 // Start() of the next process.
-#ifndef ROLLWEAR_SERVICE_SCHEDULER_H_
-#define ROLLWEAR_SERVICE_SCHEDULER_H_
+#ifndef ROLLWEAR_SERVICE_JOBS_SCHEDULER_H_
+#define ROLLWEAR_SERVICE_JOBS_SCHEDULER_H_
 
 #include <chrono>
 #include <condition_variable>
@@ -105,4 +105,4 @@ class Scheduler {
 
 }  // namespace rollwear::service
 
-#endif  // ROLLWEAR_SERVICE_SCHEDULER_H_
+#endif  // ROLLWEAR_SERVICE_JOBS_SCHEDULER_H_

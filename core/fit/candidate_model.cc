@@ -1,0 +1,175 @@
+#include "core/fit/candidate_model.h"
+
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <utility>
+
+#include "core/fit/study.h"
+#include "core/fit/term_refit.h"
+#include "core/model/aggregation.h"
+#include "core/model/model_eval.h"
+
+namespace rollwear {
+namespace {
+
+// The seeded training/validation split of `data` (the one `rollwear
+// calibrate` uses).
+StatusOr<CampaignSplit> SplitOf(const Dataset& data, const DatasetIndex& index,
+                                uint64_t split_seed) {
+  StatusOr<WearStatistics> stats = Aggregate(data, index, WearLaw::kWang);
+  if (!stats.ok()) return stats.status();
+  return SplitCampaigns(*stats, 2.0 / 3.0, split_seed);
+}
+
+FitMetrics MetricsOn(const WearModel& m, const Dataset& data,
+                     const DatasetIndex& index,
+                     const std::vector<int>& campaigns) {
+  return MetricsOfPredictions(PredictMeasured(m, data, index, campaigns));
+}
+
+// Fills the figures of `out` for its candidate and `active` on `split`
+// (keeps a cost the fit already set).
+void Score(const WearModel& active, const Dataset& data,
+           const DatasetIndex& index, const CampaignSplit& split,
+           CandidateEvaluation* out) {
+  const WearModel& candidate = out->candidate;
+  CandidateScore& s = out->score;
+  const FitMetrics train = MetricsOn(candidate, data, index, split.train);
+  const FitMetrics val = MetricsOn(candidate, data, index, split.validation);
+  s.gap_train_um = train.gap_um;
+  s.gap_val_um = val.gap_um;
+  s.n_train = train.n;
+  s.n_val = val.n;
+  if (s.cost == 0) s.cost = train.cost;
+  s.active_gap_val_um = MetricsOn(active, data, index, split.validation).gap_um;
+  if (!candidate.is_ann()) s.coefficients = candidate.NamedCoefficients();
+}
+
+// Fits the candidate of `request` on split.train into `out` (model and
+// summary), or sets out->error.
+void Fit(const Dataset& data, const DatasetIndex& index,
+         const CampaignSplit& split, const CandidateRequest& request,
+         const WearModel& active, CandidateEvaluation* out) {
+  if (request.model == kAnnModelName) {
+    if (!request.train_network) {
+      out->error = Status::Internal("no trainer for the recurrent network");
+      return;
+    }
+    StatusOr<FittedCandidate> ann = request.train_network(data, split.train);
+    if (!ann.ok()) {
+      out->error = ann.status();
+      return;
+    }
+    out->candidate = std::move(ann->model);
+    out->summary = std::move(ann->summary);
+    return;
+  }
+  WearLaw law = WearLaw::kWang;
+  if (!ParseWearLaw(request.model, &law)) {
+    out->error =
+        Status::Internal("stored law '" + request.model + "' is unknown");
+    return;
+  }
+  if (!active.is_ann() && !active.terms.empty() && active.law == law &&
+      request.option == 1) {
+    StatusOr<WearModel> refit =
+        RefitWithTerms(data, law, active.terms, split.train);
+    if (!refit.ok()) {
+      out->error = refit.status();
+      return;
+    }
+    out->candidate = std::move(refit).value();
+    out->summary = "option 1 with " + std::to_string(active.terms.size()) +
+                   " adopted term(s) refitted";
+    return;
+  }
+  StatusOr<WearStatistics> stats = Aggregate(data, index, law);
+  if (!stats.ok()) {
+    out->error = stats.status();
+    return;
+  }
+  CalibrationOptions co;
+  co.law = law;
+  co.option = request.option;
+  StatusOr<SplitCalibration> run = CalibrateOnSplit(*stats, split, co);
+  if (!run.ok()) {
+    out->error = run.status();
+    return;
+  }
+  const CalibrationSummary& summary = run->result.summary;
+  out->score.cost = summary.final_cost;
+  out->summary = summary.BriefReport();
+  if (!summary.usable) {
+    out->error = Status::NumericalFailure("calibration unusable: " +
+                                          summary.BriefReport());
+    return;
+  }
+  out->candidate = std::move(run->result.model);
+}
+
+}  // namespace
+
+CandidateEvaluation FitCandidate(const Dataset& data,
+                                 const CandidateRequest& request,
+                                 const WearModel& active) {
+  CandidateEvaluation out;
+  try {
+    const DatasetIndex index(data);
+    StatusOr<CampaignSplit> split = SplitOf(data, index, request.split_seed);
+    if (!split.ok()) {
+      out.error = split.status();
+      return out;
+    }
+    Fit(data, index, *split, request, active, &out);
+    if (out.error.ok()) Score(active, data, index, *split, &out);
+  } catch (const std::exception& e) {
+    out.error = Status::Internal(std::string("calibration threw: ") + e.what());
+  }
+  return out;
+}
+
+CandidateEvaluation ScoreCandidate(WearModel candidate, const WearModel& active,
+                                   const Dataset& data, uint64_t split_seed) {
+  CandidateEvaluation out;
+  out.candidate = std::move(candidate);
+  try {
+    const DatasetIndex index(data);
+    StatusOr<CampaignSplit> split = SplitOf(data, index, split_seed);
+    if (!split.ok()) {
+      out.error = split.status();
+      return out;
+    }
+    Score(active, data, index, *split, &out);
+  } catch (const std::exception& e) {
+    out.error = Status::Internal(std::string("proposal threw: ") + e.what());
+  }
+  return out;
+}
+
+PromotionDecision DecidePromotion(const CandidateScore& score,
+                                  int64_t active_version) {
+  PromotionDecision d;
+  if (score.n_val <= 0) {
+    d.reason = "; no measured validation campaign: nothing to compare on";
+    return d;
+  }
+  if (!std::isfinite(score.gap_val_um)) {
+    d.reason = "; the validation gap is not finite";
+    return d;
+  }
+  d.comparable = true;
+  d.promote = !std::isfinite(score.active_gap_val_um) ||
+              score.gap_val_um <= score.active_gap_val_um;
+  char gaps[160];
+  std::snprintf(gaps, sizeof(gaps),
+                "; validation gap %.2f um vs %.2f um for active model "
+                "version %lld: %s",
+                score.gap_val_um, score.active_gap_val_um,
+                static_cast<long long>(active_version),
+                d.promote ? "promoted" : "kept the active model");
+  d.reason = gaps;
+  return d;
+}
+
+}  // namespace rollwear

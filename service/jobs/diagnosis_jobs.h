@@ -1,0 +1,61 @@
+// DiagnosisJobs: runs diagnoses (core/diagnosis/diagnosis.h) of everything
+// the store holds, one at a time on a background worker, for POST
+// /v1/diagnoses and GET /v1/diagnoses/{id} (it is the router's
+// api::DiagnosisRunner). Reports are kept in memory (the last 50); a
+// diagnosis can always be run again from the stored data, so they are not
+// persisted across restarts. A diagnosis queued with `adopt` that finds
+// missing physics proposes its adopted model (option 1 plus the fitted
+// terms) to the store, which promotes it when its validation gap is no
+// worse than the active model's (MillStore::ProposeModel); the job then
+// carries that run's record.
+//
+// Thread-safety: all methods are thread-safe. Stop() (and the destructor)
+// waits for a running diagnosis to finish; queued ones are dropped.
+#ifndef ROLLWEAR_SERVICE_JOBS_DIAGNOSIS_JOBS_H_
+#define ROLLWEAR_SERVICE_JOBS_DIAGNOSIS_JOBS_H_
+
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+#include "api/diagnosis_job.h"
+#include "storage/mill_store.h"
+
+namespace rollwear::service {
+
+class DiagnosisJobs final : public api::DiagnosisRunner {
+ public:
+  // `store` must outlive the worker (this object, or until Stop()).
+  explicit DiagnosisJobs(storage::MillStore* store);
+  ~DiagnosisJobs() override;  // Stop()s
+  DiagnosisJobs(const DiagnosisJobs&) = delete;
+  DiagnosisJobs& operator=(const DiagnosisJobs&) = delete;
+
+  // Queues a diagnosis and returns its id.
+  int64_t Enqueue(bool adopt) override;
+  std::optional<api::DiagnosisJob> Get(int64_t id) const override;
+  // Stops the worker; idempotent.
+  void Stop();
+
+ private:
+  void Work();
+  // Runs diagnosis `id` on the stored data (worker thread, no lock held).
+  api::DiagnosisJob Run(int64_t id, bool adopt);
+
+  storage::MillStore* store_;
+  mutable std::mutex mu_;
+  std::condition_variable cv_;
+  std::deque<int64_t> queue_;
+  std::map<int64_t, api::DiagnosisJob> jobs_;
+  int64_t next_id_ = 1;
+  bool stop_ = false;
+  std::thread worker_;
+};
+
+}  // namespace rollwear::service
+
+#endif  // ROLLWEAR_SERVICE_JOBS_DIAGNOSIS_JOBS_H_

@@ -1,0 +1,186 @@
+// The value types of the storage layer: what MillStore's writes take
+// (RollChangeIn, CoilIn, MeasurementIn), what its reads answer (WearSnapshot,
+// ModelVersion, CalibrationRecord, CampaignWearHistory, ...), and the store's
+// options. Apart from the facade (storage/mill_store.h) so that a file that
+// needs only the structs (the JSON codec, the repositories, the catalog)
+// does not include the facade, and storage's units do not include each
+// other in a loop through it.
+//
+// Thread-safety: plain values.
+#ifndef ROLLWEAR_STORAGE_STORE_TYPES_H_
+#define ROLLWEAR_STORAGE_STORE_TYPES_H_
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/base/status.h"
+#include "core/dataset/dataset.h"
+#include "core/fit/candidate_model.h"
+#include "core/model/wear_model.h"
+
+namespace rollwear::storage {
+
+// Schema version this build writes; older files are migrated on Open, newer
+// ones are refused.
+constexpr int kSchemaVersion = 3;
+
+struct StoreOptions {
+  // Maximum coils committed in one group-commit transaction.
+  int max_batch = 512;
+  // Law and K structure of calibrations when the request names none.
+  WearLaw default_law = WearLaw::kWang;
+  int default_option = 1;
+  // Before the first calibration (or import of a calibrated model)
+  // predictions use a prior model of `default_law`/`default_option` with
+  // every kF = initial_k and all other factors 1 (version 0, not stored).
+  double initial_k = 0.3;
+  // Seed of the 2/3-1/3 campaign split used by calibration runs.
+  uint64_t split_seed = 1;
+  bool IsValid(std::string* error) const;
+};
+
+struct MountedRollIn {
+  int stand = 0;
+  Position position = Position::kTop;
+  std::string roll_id;
+  std::string roll_type;
+  double diameter_mm = 0;
+  double hardness_hb = 0;
+};
+
+struct RollChangeIn {
+  std::string campaign_id;
+  UnixSeconds started_at = 0;
+  std::vector<MountedRollIn> rolls;
+};
+
+// One pass of a coil body: a coils.csv row's measured quantities.
+using PassIn = PassMeasures;
+
+struct CoilIn {
+  std::string coil_id;
+  std::string campaign_id;
+  int seq = 0;
+  UnixSeconds rolled_at = 0;
+  std::string grade;
+  std::vector<PassIn> passes;
+};
+
+struct MeasurementIn {
+  std::string campaign_id;
+  int stand = 0;
+  Position position = Position::kTop;
+  std::string roll_id;
+  UnixSeconds measured_at = 0;
+  double wear_center_um = 0;
+};
+
+enum class WriteOutcome { kCreated, kUnchanged };
+
+// Predicted state of one mounted roll.
+struct PositionWear {
+  int stand = 0;
+  Position position = Position::kTop;
+  std::string roll_id;
+  std::string roll_type;
+  std::string campaign_id;
+  int coils = 0;
+  double rolled_length_m = 0;
+  double predicted_wear_um = 0;
+  double interval_lo_um = 0;
+  double interval_hi_um = 0;
+};
+
+struct CoilOutcome {
+  WriteOutcome outcome = WriteOutcome::kCreated;
+  // Wear this coil added to each roll position it passed (empty passes of a
+  // stand with no roll are refused, so every pass appears here).
+  struct Added {
+    int stand = 0;
+    Position position = Position::kTop;
+    std::string roll_id;
+    double wear_um = 0;
+    double predicted_wear_um = 0;  // roll total after this coil
+  };
+  std::vector<Added> added;
+};
+
+struct WearSnapshot {
+  int64_t model_version = 0;
+  std::vector<PositionWear> positions;  // ordered by stand, top first
+};
+
+// Model name of the recurrent network in runs and model versions
+// (core/fit/candidate_model.h).
+using ::rollwear::kAnnModelName;
+
+struct ModelVersion {
+  int64_t version = 0;
+  UnixSeconds created_at = 0;
+  std::string model;  // law name, or kAnnModelName
+  int option = 0;
+  bool active = false;
+  double gap_val_um = 0;  // validation gap when it was calibrated
+  WearModel wear_model;
+};
+
+enum class CalibrationStatus { kQueued, kRunning, kDone, kFailed };
+const char* CalibrationStatusName(CalibrationStatus s);
+
+struct CalibrationRecord {
+  int64_t id = 0;
+  CalibrationStatus status = CalibrationStatus::kQueued;
+  std::string trigger;  // "nightly", "api", "cli"
+  std::string model;    // law
+  int option = 1;
+  UnixSeconds queued_at = 0, started_at = 0, finished_at = 0;
+  std::vector<std::pair<std::string, double>> coefficients;
+  double cost = 0;
+  double gap_train_um = 0;
+  double gap_val_um = 0;
+  double active_gap_val_um = 0;  // the active model on the same campaigns
+  int n_train = 0, n_val = 0;
+  bool promoted = false;
+  int64_t model_version = 0;  // version created (0 if none)
+  std::string message;        // failure reason or summary
+};
+
+struct StoreCounters {
+  int64_t coils = 0;
+  int64_t campaigns = 0;
+  int64_t measurements = 0;
+  // Measurements committed since the last calibration run started.
+  int64_t measurements_since_last_calibration = 0;
+  int64_t commits = 0;  // group-commit transactions
+};
+
+// Predicted wear of one roll along a campaign (MillStore::RecentWear).
+struct RollWearHistory {
+  int stand = 0;
+  Position position = Position::kTop;
+  std::string roll_id;
+  // Open campaign only: after each coil the roll rolled, the rolled length
+  // so far and the predicted wear (the last point equals Wear()'s).
+  std::vector<double> rolled_length_m;
+  std::vector<double> predicted_wear_um;
+  double final_predicted_um = 0;      // under the active model
+  std::optional<double> measured_um;  // grinder's centre wear, if measured
+  // Measured rolls: what the grinder is expected to read, the final
+  // predicted wear plus the active model's measurement terms (cooling_h;
+  // a term on a measurement's extra column adds 0 here, the API carries no
+  // extra columns). Equals final_predicted_um without measurement terms.
+  double expected_reading_um = 0;
+};
+struct CampaignWearHistory {
+  std::string campaign_id;
+  UnixSeconds started_at = 0;
+  bool open = false;
+  std::vector<RollWearHistory> rolls;  // by stand, top first
+};
+
+}  // namespace rollwear::storage
+
+#endif  // ROLLWEAR_STORAGE_STORE_TYPES_H_
