@@ -91,10 +91,10 @@ Status CheckPasses(const Dataset& d) {
     }
     const std::string where = " (coil " + d.coil_ids[p.coil] + " at F" +
                               std::to_string(p.stand) + ")";
-    ROLLWEAR_RETURN_IF_ERROR(FirstBroken(
-        CoilKeyRules(d.coil_ids[p.coil], d.campaigns[p.campaign].id, p.seq,
-                     d.grades[p.grade]),
-        at, where));
+    ROLLWEAR_RETURN_IF_ERROR(
+        FirstBroken(CoilKeyRules(d.coil_ids[p.coil], d.campaigns[p.campaign].id,
+                                 p.seq, d.grades[p.grade]),
+                    at, where));
     ROLLWEAR_RETURN_IF_ERROR(FirstBroken(PassRules(p), at, where));
     CoilInfo& info = coils[p.coil];
     if (info.first_row < 0) {
@@ -136,9 +136,9 @@ Status CheckDataset(const Dataset& d) {
   for (size_t i = 0; i < d.campaigns.size(); ++i) {
     const Campaign& c = d.campaigns[i];
     const std::string at = Row("campaigns", i) + ".";
-    ROLLWEAR_RETURN_IF_ERROR(FirstBroken(
-        CampaignRules(c.id, c.started_at, c.ended_at), at,
-        c.id.empty() ? "" : " (campaign " + c.id + ")"));
+    ROLLWEAR_RETURN_IF_ERROR(
+        FirstBroken(CampaignRules(c.id, c.started_at, c.ended_at), at,
+                    c.id.empty() ? "" : " (campaign " + c.id + ")"));
     if (!ids.insert(c.id).second) {
       return Bad(at + "campaign_id", "duplicate campaign_id " + c.id);
     }
@@ -189,10 +189,10 @@ Status CheckDataset(const Dataset& d) {
     if (!InRange(m.campaign, d.campaigns.size())) {
       return Bad(at + "campaign_id", "unknown campaign (index out of range)");
     }
-    ROLLWEAR_RETURN_IF_ERROR(FirstBroken(
-        MeasurementRules(d.campaigns[m.campaign].id, m.stand, m.position,
-                         m.roll_id, m.wear_center_um),
-        at));
+    ROLLWEAR_RETURN_IF_ERROR(
+        FirstBroken(MeasurementRules(d.campaigns[m.campaign].id, m.stand,
+                                     m.position, m.roll_id, m.wear_center_um),
+                    at));
     const size_t key = m.campaign * kNumRollPositionSlots +
                        RollPositionSlot(m.stand, m.position);
     const std::string where = RollPositionName(m.stand, m.position) +

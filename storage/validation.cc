@@ -14,10 +14,10 @@ namespace {
 Status FirstBroken(const RuleViolations& broken, const char* list) {
   if (broken.empty()) return Status::Ok();
   const RuleViolation& v = broken.front();
-  std::string path = v.element < 0 ? v.field
-                                   : std::string(list) + "[" +
-                                         std::to_string(v.element) + "]." +
-                                         v.field;
+  std::string path = v.element < 0
+                         ? v.field
+                         : std::string(list) + "[" + std::to_string(v.element) +
+                               "]." + v.field;
   return Status::InvalidArgument(path + ": " + RuleMessage(v));
 }
 

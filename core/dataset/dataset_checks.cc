@@ -90,9 +90,9 @@ Status FileView::Check(size_t r, const RuleViolations& broken) const {
   for (size_t k = 0; k < columns_.size(); ++k) {
     if (v.field != columns_[k]) continue;
     const int column = static_cast<int>(k);
-    return Error(r, column,
-                 v.cites_value ? v.rule + ", got " + Quote(Raw(r, column))
-                               : v.rule);
+    return Error(
+        r, column,
+        v.cites_value ? v.rule + ", got " + Quote(Raw(r, column)) : v.rule);
   }
   return Fail(line(r), 0, v.field, RuleMessage(v));  // not a column
 }

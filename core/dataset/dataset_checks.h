@@ -17,10 +17,10 @@
 #include <vector>
 
 #include "core/base/csv.h"
+#include "core/base/status.h"
 #include "core/dataset/dataset.h"
 #include "core/dataset/dataset_columns.h"
 #include "core/dataset/input_rules.h"
-#include "core/base/status.h"
 
 namespace rollwear {
 

@@ -15,9 +15,9 @@
 #include <ostream>
 #include <string>
 
+#include "core/base/status.h"
 #include "core/dataset/dataset.h"
 #include "core/dataset/timestamp.h"  // ParseTimestamp, FormatTimestamp
-#include "core/base/status.h"
 
 namespace rollwear {
 
