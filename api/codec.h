@@ -3,7 +3,9 @@
 // without exceptions, check every field's presence and JSON type (integers
 // are told apart from other numbers), then the record's rules
 // (core/dataset/input_rules.h), and name a bad field by its JSON path
-// ("passes[1].force_kn"). Unknown extra fields are ignored.
+// ("passes[1].force_kn"). In a data body (roll change, campaign end, coil,
+// measurement) unknown extra fields are ignored; a control body
+// (calibration, diagnosis) refuses them.
 // Encoders produce the answer bodies of docs/api.md. nlohmann/json.hpp is
 // included by .cc files only.
 //

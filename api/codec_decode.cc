@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <initializer_list>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -209,6 +210,27 @@ class ObjectReader {
     return v;
   }
 
+  // Control bodies: every member must be one of `known`; the first other
+  // one is refused as unknown_field (a typo must not select a default).
+  bool OnlyKnown(std::initializer_list<std::string_view> known) {
+    for (auto it = object_.begin(); it != object_.end(); ++it) {
+      if (std::find(known.begin(), known.end(), it.key()) != known.end()) {
+        continue;
+      }
+      std::string names;
+      for (std::string_view name : known) {
+        names += (names.empty() ? "" : ", ") + std::string(name);
+      }
+      const std::string field = Join(path_, it.key().c_str());
+      *error_ = BadRequest(
+          "unknown_field", field,
+          "'" + Short(field) +
+              "' is not a field of this body (known: " + names + ")");
+      return false;
+    }
+    return true;
+  }
+
   const std::string& path() const { return path_; }
 
  private:
@@ -393,11 +415,11 @@ bool DecodeMeasurement(std::string_view body, int max_depth,
       !r.Number("wear_center_um", &out->wear_center_um)) {
     return false;
   }
-  return Admissible(j, "",
-                    MeasurementRules(out->campaign_id, out->stand,
-                                     out->position, out->roll_id,
-                                     out->wear_center_um),
-                    error);
+  return Admissible(
+      j, "",
+      MeasurementRules(out->campaign_id, out->stand, out->position,
+                       out->roll_id, out->wear_center_um),
+      error);
 }
 
 bool DecodeCalibrationRequest(std::string_view body, int max_depth,
@@ -407,6 +429,7 @@ bool DecodeCalibrationRequest(std::string_view body, int max_depth,
   Json j;
   if (!ParseObject(body, max_depth, &j, error)) return false;
   ObjectReader r(j, "", error);
+  if (!r.OnlyKnown({"model", "option"})) return false;
   if (j.contains("model")) {
     std::string model;
     if (!r.Text("model", &model)) return false;
@@ -431,6 +454,7 @@ bool DecodeDiagnosisRequest(std::string_view body, int max_depth,
   Json j;
   if (!ParseObject(body, max_depth, &j, error)) return false;
   ObjectReader r(j, "", error);
+  if (!r.OnlyKnown({"adopt"})) return false;
   if (j.contains("adopt") && !r.Flag("adopt", &out->adopt)) return false;
   return true;
 }
