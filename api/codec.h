@@ -1,8 +1,11 @@
 // Internal to the api layer (included by api/*.cc only): JSON <-> storage
 // types. Decoders check the body's nesting depth before parsing, parse
-// without exceptions, check every field's presence, JSON type (integers are
-// told apart from other numbers) and range, and name a bad field by its
-// JSON path ("passes[1].force_kn"). Unknown extra fields are ignored.
+// without exceptions, check every field's presence and JSON type (integers
+// are told apart from other numbers), then the record's rules
+// (core/dataset/input_rules.h), and name a bad field by its JSON path
+// ("passes[1].force_kn"). In a data body (roll change, campaign end, coil,
+// measurement) unknown extra fields are ignored; a control body
+// (calibration, diagnosis) refuses them.
 // Encoders produce the answer bodies of docs/api.md. nlohmann/json.hpp is
 // included by .cc files only.
 //
@@ -27,8 +30,6 @@ namespace rollwear::api {
 inline constexpr size_t kMaxIdLength = 200;
 // A coil passes each stand at most once.
 inline constexpr size_t kMaxPasses = kMaxStand;
-// Largest sequence number of a coil in its campaign.
-inline constexpr int64_t kMaxCoilSeq = 1'000'000'000;
 
 // One error answer: HTTP status, snake_case code, one sentence, and the
 // JSON path of the offending field (empty = null).

@@ -1,14 +1,19 @@
 // Request bodies: nesting check, parsing and field validation (see
 // codec.h).
+#include <algorithm>
 #include <cmath>
-#include <set>
+#include <cstdint>
+#include <initializer_list>
+#include <string_view>
 #include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "api/codec.h"
 #include "api/coil_fast_decode.h"
 #include "core/dataset/dataset_io.h"
+#include "core/dataset/input_rules.h"
 
 namespace rollwear::api {
 namespace {
@@ -17,8 +22,6 @@ namespace {
 // order.
 using Json = nlohmann::ordered_json;
 
-// The dataset reader's rule: only grinder noise may go slightly negative.
-constexpr double kMinWearUm = -50;
 constexpr size_t kMaxRolls = kNumRollPositionSlots;
 
 std::string Dump(const Json& j) {
@@ -98,13 +101,12 @@ class ObjectReader {
     return false;
   }
 
-  // A non-empty string of at most kMaxIdLength bytes.
+  // A string of at most kMaxIdLength bytes.
   bool Text(const char* key, std::string* out) {
     const Json* v = Get(key);
     if (v == nullptr) return false;
     if (!v->is_string()) return WrongType(key, "a string", *v);
     const auto& s = v->get_ref<const std::string&>();
-    if (s.empty()) return OutOfRange(key, "must not be empty");
     if (s.size() > kMaxIdLength) {
       return OutOfRange(
           key, "must be at most " + std::to_string(kMaxIdLength) + " bytes");
@@ -113,19 +115,12 @@ class ObjectReader {
     return true;
   }
 
-  // A finite JSON number (integer or not).
+  // A JSON number (integer or not).
   bool Number(const char* key, double* out) {
     const Json* v = Get(key);
     if (v == nullptr) return false;
     if (!v->is_number()) return WrongType(key, "a number", *v);
     *out = v->get<double>();
-    if (!std::isfinite(*out)) return OutOfRange(key, "must be finite");
-    return true;
-  }
-
-  bool Positive(const char* key, double* out) {
-    if (!Number(key, out)) return false;
-    if (!(*out > 0)) return OutOfRange(key, "must be > 0, got " + Num(*out));
     return true;
   }
 
@@ -199,16 +194,12 @@ class ObjectReader {
     return true;
   }
 
-  // A non-empty array of at most `max` elements.
+  // An array of at most `max` elements.
   const Json* Array(const char* key, size_t max) {
     const Json* v = Get(key);
     if (v == nullptr) return nullptr;
     if (!v->is_array()) {
       WrongType(key, "an array", *v);
-      return nullptr;
-    }
-    if (v->empty()) {
-      OutOfRange(key, "must not be empty");
       return nullptr;
     }
     if (v->size() > max) {
@@ -219,13 +210,30 @@ class ObjectReader {
     return v;
   }
 
+  // Control bodies: every member must be one of `known`; the first other
+  // one is refused as unknown_field (a typo must not select a default).
+  bool OnlyKnown(std::initializer_list<std::string_view> known) {
+    for (auto it = object_.begin(); it != object_.end(); ++it) {
+      if (std::find(known.begin(), known.end(), it.key()) != known.end()) {
+        continue;
+      }
+      std::string names;
+      for (std::string_view name : known) {
+        names += (names.empty() ? "" : ", ") + std::string(name);
+      }
+      const std::string field = Join(path_, it.key().c_str());
+      *error_ = BadRequest(
+          "unknown_field", field,
+          "'" + Short(field) +
+              "' is not a field of this body (known: " + names + ")");
+      return false;
+    }
+    return true;
+  }
+
   const std::string& path() const { return path_; }
 
  private:
-  static std::string Num(double v) {
-    Json j = v;
-    return Dump(j);
-  }
   static std::string Short(const std::string& s) {
     return s.size() <= 40 ? s : s.substr(0, 37) + "...";
   }
@@ -247,6 +255,34 @@ bool ElementObject(const Json& array, const char* key, size_t i,
 
 std::string ElementPath(const char* key, size_t i) {
   return std::string(key) + "[" + std::to_string(i) + "]";
+}
+
+// The first of `broken` (core/dataset/input_rules.h) as a 400 naming its
+// JSON path (elements of `list`): invalid_value for a stand or roll position
+// twice, out_of_range otherwise; a cited value is quoted as sent. True when
+// `broken` is empty.
+bool Admissible(const Json& body, const char* list,
+                const RuleViolations& broken, ApiError* error) {
+  if (broken.empty()) return true;
+  const RuleViolation& v = broken.front();
+  const Json* object = &body;
+  std::string path = v.field;
+  if (v.element >= 0) {
+    object = &body.at(list).at(static_cast<size_t>(v.element));
+    path = ElementPath(list, static_cast<size_t>(v.element)) + "." + v.field;
+  }
+  std::string message = path + " " + v.rule;
+  if (v.cites_value) {
+    // As sent, unless JSON cannot say it (1e999 reads as infinity).
+    auto it = object->find(v.field);
+    const bool as_sent = it != object->end() &&
+                         (!it->is_number() || std::isfinite(it->get<double>()));
+    message += ", got " + (as_sent ? Dump(*it) : v.value);
+  }
+  *error = BadRequest(
+      v.kind == RuleKind::kDuplicate ? "invalid_value" : "out_of_range", path,
+      std::move(message));
+  return false;
 }
 
 }  // namespace
@@ -289,25 +325,25 @@ bool DecodeRollChange(std::string_view body, int max_depth,
   }
   const Json* rolls = r.Array("rolls", kMaxRolls);
   if (rolls == nullptr) return false;
-  std::set<int> slots;
   for (size_t i = 0; i < rolls->size(); ++i) {
     if (!ElementObject(*rolls, "rolls", i, error)) return false;
     ObjectReader e((*rolls)[i], ElementPath("rolls", i), error);
     storage::MountedRollIn m;
     if (!e.Stand("stand", &m.stand) || !e.PositionOf("position", &m.position) ||
         !e.Text("roll_id", &m.roll_id) || !e.Text("roll_type", &m.roll_type) ||
-        !e.Positive("diameter_mm", &m.diameter_mm) ||
-        !e.Positive("hardness_hb", &m.hardness_hb)) {
+        !e.Number("diameter_mm", &m.diameter_mm) ||
+        !e.Number("hardness_hb", &m.hardness_hb)) {
       return false;
-    }
-    if (!slots.insert(RollPositionSlot(m.stand, m.position)).second) {
-      return e.Invalid("stand", "duplicates the roll position " +
-                                    RollPositionName(m.stand, m.position) +
-                                    " of an earlier element");
     }
     out->rolls.push_back(std::move(m));
   }
-  return true;
+  std::vector<MountRecord> records;
+  for (const storage::MountedRollIn& m : out->rolls) {
+    records.push_back(MountRecord{m.stand, m.position, m.roll_id, m.roll_type,
+                                  m.diameter_mm, m.hardness_hb});
+  }
+  return Admissible(j, "rolls", RollChangeRules(out->campaign_id, records),
+                    error);
 }
 
 bool DecodeCampaignEnd(std::string_view body, int max_depth,
@@ -332,42 +368,37 @@ bool DecodeCoilDom(std::string_view body, int max_depth, storage::CoilIn* out,
   int64_t seq = 0;
   if (!r.Text("coil_id", &out->coil_id) ||
       !r.Text("campaign_id", &out->campaign_id) ||
-      !r.Integer("seq", 1, kMaxCoilSeq, &seq) ||
+      !r.Integer("seq", INT64_MIN, INT64_MAX, &seq) ||
       !r.Timestamp("rolled_at", &out->rolled_at) ||
       !r.Text("grade", &out->grade)) {
     return false;
   }
-  out->seq = static_cast<int>(seq);
   const Json* passes = r.Array("passes", kMaxPasses);
   if (passes == nullptr) return false;
-  bool seen[kMaxStand + 1] = {};
   for (size_t i = 0; i < passes->size(); ++i) {
     if (!ElementObject(*passes, "passes", i, error)) return false;
     ObjectReader e((*passes)[i], ElementPath("passes", i), error);
     storage::PassIn p;
-    if (!e.Stand("stand", &p.stand) || !e.Positive("force_kn", &p.force_kn) ||
-        !e.Positive("width_mm", &p.width_mm) ||
-        !e.Positive("length_m", &p.length_m) ||
-        !e.Positive("entry_thickness_mm", &p.entry_thickness_mm) ||
-        !e.Positive("exit_thickness_mm", &p.exit_thickness_mm)) {
-      return false;
-    }
-    if (p.exit_thickness_mm >= p.entry_thickness_mm) {
-      return e.OutOfRange("exit_thickness_mm", "must be < entry_thickness_mm");
-    }
-    if (!e.Number("temperature_c", &p.temperature_c) ||
-        !e.Positive("speed_mps", &p.speed_mps) ||
+    if (!e.Stand("stand", &p.stand) || !e.Number("force_kn", &p.force_kn) ||
+        !e.Number("width_mm", &p.width_mm) ||
+        !e.Number("length_m", &p.length_m) ||
+        !e.Number("entry_thickness_mm", &p.entry_thickness_mm) ||
+        !e.Number("exit_thickness_mm", &p.exit_thickness_mm) ||
+        !e.Number("temperature_c", &p.temperature_c) ||
+        !e.Number("speed_mps", &p.speed_mps) ||
         !e.Flag("lubrication", &p.lubrication) ||
         !e.Number("shift_mm", &p.shift_mm)) {
       return false;
     }
-    if (seen[p.stand]) {
-      return e.Invalid("stand", StandName(p.stand) +
-                                    " appears in an earlier pass of the coil");
-    }
-    seen[p.stand] = true;
     out->passes.push_back(p);
   }
+  if (!Admissible(j, "passes",
+                  CoilRules(out->coil_id, out->campaign_id, seq, out->grade,
+                            out->passes),
+                  error)) {
+    return false;
+  }
+  out->seq = static_cast<int>(seq);
   return true;
 }
 
@@ -384,12 +415,11 @@ bool DecodeMeasurement(std::string_view body, int max_depth,
       !r.Number("wear_center_um", &out->wear_center_um)) {
     return false;
   }
-  if (out->wear_center_um < kMinWearUm) {
-    return r.OutOfRange("wear_center_um",
-                        "must be >= -50 um (wear is positive radius loss; "
-                        "only grinder noise may go slightly negative)");
-  }
-  return true;
+  return Admissible(
+      j, "",
+      MeasurementRules(out->campaign_id, out->stand, out->position,
+                       out->roll_id, out->wear_center_um),
+      error);
 }
 
 bool DecodeCalibrationRequest(std::string_view body, int max_depth,
@@ -399,6 +429,7 @@ bool DecodeCalibrationRequest(std::string_view body, int max_depth,
   Json j;
   if (!ParseObject(body, max_depth, &j, error)) return false;
   ObjectReader r(j, "", error);
+  if (!r.OnlyKnown({"model", "option"})) return false;
   if (j.contains("model")) {
     std::string model;
     if (!r.Text("model", &model)) return false;
@@ -423,6 +454,7 @@ bool DecodeDiagnosisRequest(std::string_view body, int max_depth,
   Json j;
   if (!ParseObject(body, max_depth, &j, error)) return false;
   ObjectReader r(j, "", error);
+  if (!r.OnlyKnown({"adopt"})) return false;
   if (j.contains("adopt") && !r.Flag("adopt", &out->adopt)) return false;
   return true;
 }

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstring>
 #include <iterator>
+#include <span>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -12,6 +13,7 @@
 #include "api/codec.h"
 #include "core/dataset/dataset.h"
 #include "core/dataset/dataset_io.h"
+#include "core/dataset/input_rules.h"
 
 namespace rollwear::api {
 namespace {
@@ -57,7 +59,7 @@ int MemberIndex(const std::string_view (&names)[N], std::string_view key) {
 struct ScannedCoil {
   std::string_view coil_id;
   std::string_view campaign_id;
-  int seq = 0;
+  int64_t seq = 0;
   UnixSeconds rolled_at = 0;
   std::string_view grade;
   storage::PassIn passes[kMaxPasses];
@@ -156,9 +158,9 @@ class CoilScanner {
     return member;
   }
 
-  // ObjectReader::Text: 1..kMaxIdLength bytes.
+  // ObjectReader::Text: at most kMaxIdLength bytes.
   bool Id(std::string_view* out) {
-    return PlainString(out) && !out->empty() && out->size() <= kMaxIdLength;
+    return PlainString(out) && out->size() <= kMaxIdLength;
   }
 
   bool Timestamp(UnixSeconds* out) {
@@ -173,8 +175,9 @@ class CoilScanner {
     return *out != 0;
   }
 
-  // An integer in [1, kMaxCoilSeq], digits only.
-  bool Seq(int* out) {
+  // A positive integer of at most 10 digits, digits only (its range is
+  // CoilRules').
+  bool Seq(int64_t* out) {
     SkipSpace();
     const char* start = p_;
     int64_t value = 0;
@@ -182,8 +185,8 @@ class CoilScanner {
       value = value * 10 + (*p_ - '0');
       ++p_;
     }
-    if (p_ == start || *start == '0' || value > kMaxCoilSeq) return false;
-    *out = static_cast<int>(value);
+    if (p_ == start || *start == '0') return false;
+    *out = value;
     return true;
   }
 
@@ -231,8 +234,6 @@ class CoilScanner {
     return p_ > start;
   }
 
-  bool Positive(double* out) { return Number(out) && *out > 0; }
-
   // ObjectReader::Flag: true, false, 0 or 1 (spelt exactly so).
   bool Flag(bool* out) {
     SkipSpace();
@@ -247,15 +248,12 @@ class CoilScanner {
     return false;
   }
 
-  // 1..kMaxPasses pass objects, each stand once.
+  // 1..kMaxPasses pass objects.
   bool Passes(ScannedCoil* coil) {
     if (!Next('[')) return false;
-    unsigned stands = 0;
     do {
       if (coil->num_passes == kMaxPasses) return false;
-      storage::PassIn* pass = &coil->passes[coil->num_passes++];
-      if (!Pass(pass) || (stands & (1u << pass->stand)) != 0) return false;
-      stands |= 1u << pass->stand;
+      if (!Pass(&coil->passes[coil->num_passes++])) return false;
     } while (Next(','));
     return Next(']');
   }
@@ -271,25 +269,25 @@ class CoilScanner {
           ok = Stand(&p->stand);
           break;
         case kForce:
-          ok = Positive(&p->force_kn);
+          ok = Number(&p->force_kn);
           break;
         case kWidth:
-          ok = Positive(&p->width_mm);
+          ok = Number(&p->width_mm);
           break;
         case kLength:
-          ok = Positive(&p->length_m);
+          ok = Number(&p->length_m);
           break;
         case kEntryThickness:
-          ok = Positive(&p->entry_thickness_mm);
+          ok = Number(&p->entry_thickness_mm);
           break;
         case kExitThickness:
-          ok = Positive(&p->exit_thickness_mm);
+          ok = Number(&p->exit_thickness_mm);
           break;
         case kTemperature:
           ok = Number(&p->temperature_c);
           break;
         case kSpeed:
-          ok = Positive(&p->speed_mps);
+          ok = Number(&p->speed_mps);
           break;
         case kLubrication:
           ok = Flag(&p->lubrication);
@@ -302,8 +300,7 @@ class CoilScanner {
       }
       if (!ok) return false;
     } while (Next(','));
-    return Next('}') && seen == kAllMembers<std::size(kPassMembers)> &&
-           p->exit_thickness_mm < p->entry_thickness_mm;
+    return Next('}') && seen == kAllMembers<std::size(kPassMembers)>;
   }
 
   const char* p_;
@@ -316,10 +313,15 @@ bool TryDecodeCoilFast(std::string_view body, int max_depth,
                        storage::CoilIn* out) {
   if (max_depth < kCoilDepth) return false;
   ScannedCoil coil;
-  if (!CoilScanner(body).Coil(&coil)) return false;
+  if (!CoilScanner(body).Coil(&coil) ||
+      !CoilRules(coil.coil_id, coil.campaign_id, coil.seq, coil.grade,
+                 std::span(coil.passes, coil.num_passes))
+           .empty()) {
+    return false;
+  }
   out->coil_id.assign(coil.coil_id);
   out->campaign_id.assign(coil.campaign_id);
-  out->seq = coil.seq;
+  out->seq = static_cast<int>(coil.seq);
   out->rolled_at = coil.rolled_at;
   out->grade.assign(coil.grade);
   out->passes.insert(out->passes.end(), coil.passes,

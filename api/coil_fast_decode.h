@@ -4,10 +4,10 @@
 //
 // It accepts only the usual body: one object holding exactly the documented
 // members, each once, with the expected JSON types, strings of plain
-// printable ASCII (no escape sequences), and values that pass every rule of
-// the DOM path (DecodeCoilDom: id lengths, seq range, timestamp, stand
-// names, one pass per stand, 1..7 passes, finite and positive numbers,
-// exit < entry thickness, nesting within max_depth). On anything else, an
+// printable ASCII (no escape sequences), and values that pass every check
+// of the DOM path (DecodeCoilDom: id lengths, timestamp, stand names, 1..7
+// passes, nesting within max_depth, and the same CoilRules of
+// core/dataset/input_rules.h). On anything else, an
 // unknown or repeated member included, it gives up, and DecodeCoil falls
 // back to the DOM path, which then accepts or names the error exactly as
 // before. Whatever it accepts, the DOM path accepts with an identical

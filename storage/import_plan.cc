@@ -1,22 +1,15 @@
 #include "storage/import_plan.h"
 
 #include <algorithm>
-#include <charconv>
-#include <cmath>
 #include <unordered_map>
 #include <unordered_set>
 
 #include "core/dataset/dataset_io.h"
+#include "core/dataset/input_rules.h"
 #include "storage/validation.h"
 
 namespace rollwear::storage::internal {
 namespace {
-
-std::string Num(double v) {
-  char buf[64];
-  auto r = std::to_chars(buf, buf + sizeof(buf), v);
-  return std::string(buf, r.ptr);
-}
 
 std::string Row(const char* table, size_t i) {
   return std::string(table) + "[" + std::to_string(i) + "]";
@@ -28,12 +21,11 @@ Status Bad(const std::string& path, const std::string& rule) {
 
 bool InRange(int i, size_t n) { return i >= 0 && static_cast<size_t>(i) < n; }
 
-Status CheckPositive(const std::string& path, double v,
-                     const std::string& where = "") {
-  if (!std::isfinite(v) || !(v > 0)) {
-    return Bad(path, "must be > 0, got " + Num(v) + where);
-  }
-  return Status::Ok();
+// The first broken rule of row `at` ("passes[12]."), `where` appended.
+Status FirstBroken(const RuleViolations& broken, const std::string& at,
+                   const std::string& where = "") {
+  if (broken.empty()) return Status::Ok();
+  return Bad(at + broken.front().field, RuleMessage(broken.front()) + where);
 }
 
 Status CheckExtras(const ExtraColumns& e, size_t rows, const char* table) {
@@ -99,33 +91,11 @@ Status CheckPasses(const Dataset& d) {
     }
     const std::string where = " (coil " + d.coil_ids[p.coil] + " at F" +
                               std::to_string(p.stand) + ")";
-    if (p.seq < 1 || p.seq > kMaxSeq) {
-      return Bad(at + "seq", "must be an integer >= 1" + where);
-    }
-    if (p.stand < kMinStand || p.stand > kMaxStand) {
-      return Bad(at + "stand",
-                 "unknown stand " + std::to_string(p.stand) + " (want F1..F7)");
-    }
-    ROLLWEAR_RETURN_IF_ERROR(CheckPositive(at + "force_kn", p.force_kn, where));
-    ROLLWEAR_RETURN_IF_ERROR(CheckPositive(at + "width_mm", p.width_mm, where));
-    ROLLWEAR_RETURN_IF_ERROR(CheckPositive(at + "length_m", p.length_m, where));
     ROLLWEAR_RETURN_IF_ERROR(
-        CheckPositive(at + "entry_thickness_mm", p.entry_thickness_mm, where));
-    ROLLWEAR_RETURN_IF_ERROR(
-        CheckPositive(at + "exit_thickness_mm", p.exit_thickness_mm, where));
-    if (p.exit_thickness_mm >= p.entry_thickness_mm) {
-      return Bad(at + "exit_thickness_mm",
-                 "must be < entry_thickness_mm (" + Num(p.entry_thickness_mm) +
-                     "), got " + Num(p.exit_thickness_mm) + where);
-    }
-    if (!std::isfinite(p.temperature_c)) {
-      return Bad(at + "temperature_c", "must be a finite number" + where);
-    }
-    ROLLWEAR_RETURN_IF_ERROR(
-        CheckPositive(at + "speed_mps", p.speed_mps, where));
-    if (!std::isfinite(p.shift_mm)) {
-      return Bad(at + "shift_mm", "must be a finite number" + where);
-    }
+        FirstBroken(CoilKeyRules(d.coil_ids[p.coil], d.campaigns[p.campaign].id,
+                                 p.seq, d.grades[p.grade]),
+                    at, where));
+    ROLLWEAR_RETURN_IF_ERROR(FirstBroken(PassRules(p), at, where));
     CoilInfo& info = coils[p.coil];
     if (info.first_row < 0) {
       info = CoilInfo{p.campaign, p.seq, p.grade, static_cast<int>(i), 0};
@@ -166,13 +136,11 @@ Status CheckDataset(const Dataset& d) {
   for (size_t i = 0; i < d.campaigns.size(); ++i) {
     const Campaign& c = d.campaigns[i];
     const std::string at = Row("campaigns", i) + ".";
-    if (c.id.empty()) return Bad(at + "campaign_id", "must not be empty");
+    ROLLWEAR_RETURN_IF_ERROR(
+        FirstBroken(CampaignRules(c.id, c.started_at, c.ended_at), at,
+                    c.id.empty() ? "" : " (campaign " + c.id + ")"));
     if (!ids.insert(c.id).second) {
       return Bad(at + "campaign_id", "duplicate campaign_id " + c.id);
-    }
-    if (c.ended_at < c.started_at) {
-      return Bad(at + "ended_at",
-                 "must not be before started_at (campaign " + c.id + ")");
     }
   }
   for (const auto& label : d.roll_types) {
@@ -195,18 +163,13 @@ Status CheckDataset(const Dataset& d) {
     if (!InRange(m.campaign, d.campaigns.size())) {
       return Bad(at + "campaign_id", "unknown campaign (index out of range)");
     }
-    if (m.stand < kMinStand || m.stand > kMaxStand) {
-      return Bad(at + "stand", "unknown stand " + std::to_string(m.stand));
-    }
-    if (m.position != Position::kTop && m.position != Position::kBottom) {
-      return Bad(at + "position", "unknown position");
-    }
-    if (m.roll_id.empty()) return Bad(at + "roll_id", "must not be empty");
     if (!InRange(m.roll_type, d.roll_types.size())) {
       return Bad(at + "roll_type", "unknown roll type (index out of range)");
     }
-    ROLLWEAR_RETURN_IF_ERROR(CheckPositive(at + "diameter_mm", m.diameter_mm));
-    ROLLWEAR_RETURN_IF_ERROR(CheckPositive(at + "hardness_hb", m.hardness_hb));
+    ROLLWEAR_RETURN_IF_ERROR(FirstBroken(
+        MountRules({m.stand, m.position, m.roll_id, d.roll_types[m.roll_type],
+                    m.diameter_mm, m.hardness_hb}),
+        at));
     int& slot = mount_of[m.campaign * kNumRollPositionSlots +
                          RollPositionSlot(m.stand, m.position)];
     if (slot >= 0) {
@@ -226,17 +189,10 @@ Status CheckDataset(const Dataset& d) {
     if (!InRange(m.campaign, d.campaigns.size())) {
       return Bad(at + "campaign_id", "unknown campaign (index out of range)");
     }
-    if (m.stand < kMinStand || m.stand > kMaxStand) {
-      return Bad(at + "stand", "unknown stand " + std::to_string(m.stand));
-    }
-    if (m.position != Position::kTop && m.position != Position::kBottom) {
-      return Bad(at + "position", "unknown position");
-    }
-    if (m.roll_id.empty()) return Bad(at + "roll_id", "must not be empty");
-    if (!std::isfinite(m.wear_center_um) || m.wear_center_um < kMinWearUm) {
-      return Bad(at + "wear_center_um",
-                 "must be a number >= -50, got " + Num(m.wear_center_um));
-    }
+    ROLLWEAR_RETURN_IF_ERROR(
+        FirstBroken(MeasurementRules(d.campaigns[m.campaign].id, m.stand,
+                                     m.position, m.roll_id, m.wear_center_um),
+                    at));
     const size_t key = m.campaign * kNumRollPositionSlots +
                        RollPositionSlot(m.stand, m.position);
     const std::string where = RollPositionName(m.stand, m.position) +

@@ -1,55 +1,24 @@
 #include "storage/validation.h"
 
 #include <algorithm>
-#include <charconv>
-#include <cmath>
+#include <vector>
 
 #include "core/dataset/dataset_io.h"
+#include "core/dataset/input_rules.h"
 
 namespace rollwear::storage::internal {
 namespace {
 
-// Shortest text that reads back as `v`.
-std::string Num(double v) {
-  char buf[64];
-  auto r = std::to_chars(buf, buf + sizeof(buf), v);
-  return std::string(buf, r.ptr);
-}
-
-Status Field(const std::string& path, const std::string& rule) {
-  return Status::InvalidArgument(path + ": " + rule);
-}
-
-Status NonEmpty(const std::string& path, const std::string& v) {
-  if (v.empty()) return Field(path, "must not be empty");
-  return Status::Ok();
-}
-
-Status Finite(const std::string& path, double v) {
-  if (!std::isfinite(v)) return Field(path, "must be a finite number");
-  return Status::Ok();
-}
-
-Status Positive(const std::string& path, double v) {
-  if (!std::isfinite(v) || !(v > 0)) {
-    return Field(path, "must be > 0, got " + Num(v));
-  }
-  return Status::Ok();
-}
-
-Status StandOk(const std::string& path, int stand) {
-  if (stand < kMinStand || stand > kMaxStand) {
-    return Field(path,
-                 "unknown stand " + std::to_string(stand) + " (want F1..F7)");
-  }
-  return Status::Ok();
-}
-
-Status PositionOk(const std::string& path, Position p) {
-  if (p != Position::kTop && p != Position::kBottom) {
-    return Field(path, "unknown position (want top or bottom)");
-  }
-  return Status::Ok();
+// The first broken rule as InvalidArgument "<path>: <rule>", the path
+// made of the list's name and the element's index.
+Status FirstBroken(const RuleViolations& broken, const char* list) {
+  if (broken.empty()) return Status::Ok();
+  const RuleViolation& v = broken.front();
+  std::string path = v.element < 0
+                         ? v.field
+                         : std::string(list) + "[" + std::to_string(v.element) +
+                               "]." + v.field;
+  return Status::InvalidArgument(path + ": " + RuleMessage(v));
 }
 
 const CampaignRec* FindCampaign(const Catalog& c, const std::string& id) {
@@ -108,89 +77,30 @@ std::vector<std::string> PositionLabels(uint32_t mask) {
 // ------------------------------------------------------------- field rules
 
 Status CheckRollChangeFields(const RollChangeIn& in) {
-  ROLLWEAR_RETURN_IF_ERROR(NonEmpty("campaign_id", in.campaign_id));
-  if (in.rolls.empty()) return Field("rolls", "must not be empty");
-  int first[kNumRollPositionSlots];
-  std::fill(std::begin(first), std::end(first), -1);
-  for (size_t i = 0; i < in.rolls.size(); ++i) {
-    const MountedRollIn& r = in.rolls[i];
-    const std::string at = "rolls[" + std::to_string(i) + "].";
-    ROLLWEAR_RETURN_IF_ERROR(StandOk(at + "stand", r.stand));
-    ROLLWEAR_RETURN_IF_ERROR(PositionOk(at + "position", r.position));
-    ROLLWEAR_RETURN_IF_ERROR(NonEmpty(at + "roll_id", r.roll_id));
-    ROLLWEAR_RETURN_IF_ERROR(NonEmpty(at + "roll_type", r.roll_type));
-    ROLLWEAR_RETURN_IF_ERROR(Positive(at + "diameter_mm", r.diameter_mm));
-    ROLLWEAR_RETURN_IF_ERROR(Positive(at + "hardness_hb", r.hardness_hb));
-    const int slot = RollPositionSlot(r.stand, r.position);
-    if (first[slot] >= 0) {
-      return Field(at + "position", "duplicate roll position " +
-                                        RollPositionName(r.stand, r.position) +
-                                        " (also rolls[" +
-                                        std::to_string(first[slot]) + "])");
-    }
-    first[slot] = static_cast<int>(i);
+  std::vector<MountRecord> rolls;
+  rolls.reserve(in.rolls.size());
+  for (const MountedRollIn& r : in.rolls) {
+    rolls.push_back(MountRecord{r.stand, r.position, r.roll_id, r.roll_type,
+                                r.diameter_mm, r.hardness_hb});
   }
-  return Status::Ok();
+  return FirstBroken(RollChangeRules(in.campaign_id, rolls), "rolls");
 }
 
 Status CheckEndFields(const std::string& campaign_id, UnixSeconds) {
-  return NonEmpty("campaign_id", campaign_id);
+  // started_at is in the catalog: AdmitEnd checks ended_at against it.
+  return FirstBroken(CampaignRules(campaign_id, 0, std::nullopt), "");
 }
 
 Status CheckCoilFields(const CoilIn& in) {
-  ROLLWEAR_RETURN_IF_ERROR(NonEmpty("coil_id", in.coil_id));
-  ROLLWEAR_RETURN_IF_ERROR(NonEmpty("campaign_id", in.campaign_id));
-  if (in.seq < 1 || in.seq > kMaxSeq) {
-    return Field("seq",
-                 "must be an integer >= 1, got " + std::to_string(in.seq));
-  }
-  ROLLWEAR_RETURN_IF_ERROR(NonEmpty("grade", in.grade));
-  if (in.passes.empty()) return Field("passes", "must not be empty");
-  int first[kMaxStand + 1];
-  std::fill(std::begin(first), std::end(first), -1);
-  for (size_t i = 0; i < in.passes.size(); ++i) {
-    const PassIn& p = in.passes[i];
-    const std::string at = "passes[" + std::to_string(i) + "].";
-    ROLLWEAR_RETURN_IF_ERROR(StandOk(at + "stand", p.stand));
-    if (first[p.stand] >= 0) {
-      return Field(at + "stand", "duplicate stand " + StandName(p.stand) +
-                                     " (also passes[" +
-                                     std::to_string(first[p.stand]) + "])");
-    }
-    first[p.stand] = static_cast<int>(i);
-    ROLLWEAR_RETURN_IF_ERROR(Positive(at + "force_kn", p.force_kn));
-    ROLLWEAR_RETURN_IF_ERROR(Positive(at + "width_mm", p.width_mm));
-    ROLLWEAR_RETURN_IF_ERROR(Positive(at + "length_m", p.length_m));
-    ROLLWEAR_RETURN_IF_ERROR(
-        Positive(at + "entry_thickness_mm", p.entry_thickness_mm));
-    ROLLWEAR_RETURN_IF_ERROR(
-        Positive(at + "exit_thickness_mm", p.exit_thickness_mm));
-    if (p.exit_thickness_mm >= p.entry_thickness_mm) {
-      return Field(at + "exit_thickness_mm", "must be < entry_thickness_mm (" +
-                                                 Num(p.entry_thickness_mm) +
-                                                 "), got " +
-                                                 Num(p.exit_thickness_mm));
-    }
-    ROLLWEAR_RETURN_IF_ERROR(Finite(at + "temperature_c", p.temperature_c));
-    ROLLWEAR_RETURN_IF_ERROR(Positive(at + "speed_mps", p.speed_mps));
-    ROLLWEAR_RETURN_IF_ERROR(Finite(at + "shift_mm", p.shift_mm));
-  }
-  return Status::Ok();
+  return FirstBroken(
+      CoilRules(in.coil_id, in.campaign_id, in.seq, in.grade, in.passes),
+      "passes");
 }
 
 Status CheckMeasurementFields(const MeasurementIn& in) {
-  ROLLWEAR_RETURN_IF_ERROR(NonEmpty("campaign_id", in.campaign_id));
-  ROLLWEAR_RETURN_IF_ERROR(StandOk("stand", in.stand));
-  ROLLWEAR_RETURN_IF_ERROR(PositionOk("position", in.position));
-  ROLLWEAR_RETURN_IF_ERROR(NonEmpty("roll_id", in.roll_id));
-  ROLLWEAR_RETURN_IF_ERROR(Finite("wear_center_um", in.wear_center_um));
-  if (in.wear_center_um < kMinWearUm) {
-    return Field("wear_center_um",
-                 "must be >= -50 (wear is positive radius loss; only grinder "
-                 "noise may go slightly negative), got " +
-                     Num(in.wear_center_um));
-  }
-  return Status::Ok();
+  return FirstBroken(MeasurementRules(in.campaign_id, in.stand, in.position,
+                                      in.roll_id, in.wear_center_um),
+                     "");
 }
 
 // ----------------------------------------------------------- catalog rules
@@ -259,11 +169,8 @@ Status AdmitEnd(const Catalog& c, const std::string& campaign_id,
                                  " already ended at " +
                                  FormatTimestamp(*rec->ended_at));
   }
-  if (ended_at < rec->started_at) {
-    return Status::InvalidArgument("ended_at: must not be before started_at (" +
-                                   FormatTimestamp(rec->started_at) +
-                                   "), got " + FormatTimestamp(ended_at));
-  }
+  ROLLWEAR_RETURN_IF_ERROR(
+      FirstBroken(CampaignRules(campaign_id, rec->started_at, ended_at), ""));
   return Status::Ok();
 }
 

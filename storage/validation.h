@@ -1,9 +1,9 @@
 // Internal to storage: the rules every write must pass (api.md and
 // data-format.md), in two steps.
 //
-// 1. Check*Fields: the request on its own. InvalidArgument whose message
-//    starts with the JSON path of the field: "passes[1].force_kn: must be
-//    > 0, got -3".
+// 1. Check*Fields: the request on its own, by the rules of
+//    core/dataset/input_rules.h. InvalidArgument whose message starts with
+//    the JSON path of the field: "passes[1].force_kn: must be > 0, got -3".
 // 2. Admit*: against the catalog (committed state plus queued writes).
 //    A stored key with equal content sets *unchanged; with other content it
 //    is AlreadyExists; an unknown campaign is NotFound; a state that does
@@ -23,11 +23,6 @@
 #include "storage/store_types.h"
 
 namespace rollwear::storage::internal {
-
-// Lowest accepted centre wear (as the dataset reader): grinder noise on a
-// barely worn roll may read a few tens of µm below zero.
-constexpr double kMinWearUm = -50.0;
-constexpr int kMaxSeq = 1'000'000'000;
 
 Status CheckRollChangeFields(const RollChangeIn& in);
 Status CheckEndFields(const std::string& campaign_id, UnixSeconds ended_at);

@@ -84,12 +84,17 @@ Status FileView::Number(size_t r, int k, double* out) const {
   return Status::Ok();
 }
 
-Status FileView::Positive(size_t r, int k, double* out) const {
-  ROLLWEAR_RETURN_IF_ERROR(Number(r, k, out));
-  if (!(*out > 0)) {
-    return Error(r, k, "must be > 0, got " + Quote(Raw(r, k)));
+Status FileView::Check(size_t r, const RuleViolations& broken) const {
+  if (broken.empty()) return Status::Ok();
+  const RuleViolation& v = broken.front();
+  for (size_t k = 0; k < columns_.size(); ++k) {
+    if (v.field != columns_[k]) continue;
+    const int column = static_cast<int>(k);
+    return Error(
+        r, column,
+        v.cites_value ? v.rule + ", got " + Quote(Raw(r, column)) : v.rule);
   }
-  return Status::Ok();
+  return Fail(line(r), 0, v.field, RuleMessage(v));  // not a column
 }
 
 Status FileView::Integer(size_t r, int k, int64_t* out) const {

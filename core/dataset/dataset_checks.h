@@ -17,9 +17,10 @@
 #include <vector>
 
 #include "core/base/csv.h"
+#include "core/base/status.h"
 #include "core/dataset/dataset.h"
 #include "core/dataset/dataset_columns.h"
-#include "core/base/status.h"
+#include "core/dataset/input_rules.h"
 
 namespace rollwear {
 
@@ -90,12 +91,14 @@ class FileView {
   Status Text(size_t r, int k, std::string_view* out) const;
   // Finite number.
   Status Number(size_t r, int k, double* out) const;
-  // Finite number > 0.
-  Status Positive(size_t r, int k, double* out) const;
   Status Integer(size_t r, int k, int64_t* out) const;
   Status Time(size_t r, int k, UnixSeconds* out) const;
   Status Stand(size_t r, int k, int* out) const;
   Status PositionOf(size_t r, int k, Position* out) const;
+  // The first of `broken` (input_rules.h) as the error of record r, at the
+  // column the violation names, citing the field's text as written; Ok
+  // when `broken` is empty.
+  Status Check(size_t r, const RuleViolations& broken) const;
   // A campaign_id present in `campaigns`.
   Status Campaign(size_t r, int k, LabelIndex* campaigns, int* out) const;
 

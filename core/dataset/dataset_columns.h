@@ -1,9 +1,8 @@
 // Internal to core's dataset reader/writer (dataset_io.cc,
 // dataset_write.cc): the four file names and the columns the format defines
-// for each, in canonical order (the order WriteDataset writes them), plus
-// the string_view form of the timestamp parser.
+// for each, in canonical order (the order WriteDataset writes them).
 //
-// Thread-safety: constants and a pure function.
+// Thread-safety: constants.
 #ifndef ROLLWEAR_CORE_DATASET_DATASET_COLUMNS_H_
 #define ROLLWEAR_CORE_DATASET_DATASET_COLUMNS_H_
 
@@ -11,6 +10,7 @@
 #include <string_view>
 
 #include "core/dataset/dataset.h"
+#include "core/dataset/timestamp.h"  // ParseTimestampView
 
 namespace rollwear {
 
@@ -83,9 +83,6 @@ inline constexpr const char* kMeasurementColumns[] = {
 using ColumnList = std::span<const char* const>;
 inline constexpr ColumnList kDatasetColumns[kNumDatasetFiles] = {
     kCampaignColumns, kMountColumns, kCoilColumns, kMeasurementColumns};
-
-// ParseTimestamp without the std::string (dataset_write.cc).
-bool ParseTimestampView(std::string_view text, UnixSeconds* out);
 
 }  // namespace rollwear
 

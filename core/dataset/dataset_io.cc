@@ -1,6 +1,7 @@
 // Reading a dataset folder: file access, CSV parsing (core/base/csv.h) and the
-// rules of the format's bad-input section, file by file (field-level checks
-// in dataset_checks.cc). Writing and the timestamp codec live in
+// rules of the format's bad-input section, file by file (field syntax in
+// dataset_checks.cc, the rules of one record in input_rules.cc, the keys
+// across rows here). Writing and the timestamp codec live in
 // dataset_write.cc.
 #include "core/dataset/dataset_io.h"
 
@@ -17,16 +18,10 @@
 #include "core/base/csv.h"
 #include "core/dataset/dataset_checks.h"
 #include "core/dataset/dataset_columns.h"
+#include "core/dataset/input_rules.h"
 
 namespace rollwear {
 namespace {
-
-// Lowest accepted centre wear: wear is radius loss (positive); a few tens of
-// µm below zero is grinder noise on a barely worn roll.
-constexpr double kMinWearUm = -50.0;
-
-// Largest accepted seq (keeps seq in an int with room to spare).
-constexpr int64_t kMaxSeq = 1'000'000'000;
 
 // Interns `label` into `table` through `index` (views into stable buffers).
 int InternView(std::string_view label, LabelIndex* index,
@@ -49,10 +44,8 @@ Status ReadCampaigns(const FileView& f, Dataset* d, LabelIndex* ids) {
     ROLLWEAR_RETURN_IF_ERROR(f.Text(r, col::kId, &id));
     ROLLWEAR_RETURN_IF_ERROR(f.Time(r, col::kStartedAt, &c.started_at));
     ROLLWEAR_RETURN_IF_ERROR(f.Time(r, col::kEndedAt, &c.ended_at));
-    if (c.ended_at < c.started_at) {
-      return f.Error(r, col::kEndedAt,
-                     "ended_at must not be before started_at");
-    }
+    ROLLWEAR_RETURN_IF_ERROR(
+        f.Check(r, CampaignRules(id, c.started_at, c.ended_at)));
     bool added = false;
     const int index =
         ids->Insert(id, static_cast<int>(d->campaigns.size()), &added);
@@ -85,8 +78,11 @@ Status ReadMounts(const FileView& f, LabelIndex* campaigns, Dataset* d,
     std::string_view roll_id, roll_type;
     ROLLWEAR_RETURN_IF_ERROR(f.Text(r, col::kRollId, &roll_id));
     ROLLWEAR_RETURN_IF_ERROR(f.Text(r, col::kRollType, &roll_type));
-    ROLLWEAR_RETURN_IF_ERROR(f.Positive(r, col::kDiameter, &m.diameter_mm));
-    ROLLWEAR_RETURN_IF_ERROR(f.Positive(r, col::kHardness, &m.hardness_hb));
+    ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kDiameter, &m.diameter_mm));
+    ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kHardness, &m.hardness_hb));
+    ROLLWEAR_RETURN_IF_ERROR(
+        f.Check(r, MountRules({m.stand, m.position, roll_id, roll_type,
+                               m.diameter_mm, m.hardness_hb})));
     int& slot = (*mount_of)[m.campaign * kNumRollPositionSlots +
                             RollPositionSlot(m.stand, m.position)];
     if (slot >= 0) {
@@ -134,29 +130,19 @@ Status ReadCoils(const FileView& f, LabelIndex* campaigns, Dataset* d) {
         f.Campaign(r, col::kCampaign, campaigns, &p.campaign));
     ROLLWEAR_RETURN_IF_ERROR(f.Text(r, col::kCoil, &coil_id));
     ROLLWEAR_RETURN_IF_ERROR(f.Integer(r, col::kSeq, &seq));
-    if (seq < 1 || seq > kMaxSeq) {
-      return f.Error(r, col::kSeq,
-                     std::string(seq < 1 ? "must be an integer >= 1"
-                                         : "must be <= 1000000000") +
-                         ", got " + Quote(f.Raw(r, col::kSeq)));
-    }
-    p.seq = static_cast<int>(seq);
     ROLLWEAR_RETURN_IF_ERROR(f.Time(r, col::kRolledAt, &p.rolled_at));
     ROLLWEAR_RETURN_IF_ERROR(f.Text(r, col::kGrade, &grade));
+    ROLLWEAR_RETURN_IF_ERROR(f.Check(
+        r, CoilKeyRules(coil_id, f.Raw(r, col::kCampaign), seq, grade)));
+    p.seq = static_cast<int>(seq);
     ROLLWEAR_RETURN_IF_ERROR(f.Stand(r, col::kStand, &p.stand));
-    ROLLWEAR_RETURN_IF_ERROR(f.Positive(r, col::kForce, &p.force_kn));
-    ROLLWEAR_RETURN_IF_ERROR(f.Positive(r, col::kWidth, &p.width_mm));
-    ROLLWEAR_RETURN_IF_ERROR(f.Positive(r, col::kLength, &p.length_m));
-    ROLLWEAR_RETURN_IF_ERROR(f.Positive(r, col::kEntry, &p.entry_thickness_mm));
-    ROLLWEAR_RETURN_IF_ERROR(f.Positive(r, col::kExit, &p.exit_thickness_mm));
-    if (p.exit_thickness_mm >= p.entry_thickness_mm) {
-      return f.Error(r, col::kExit,
-                     "must be < entry_thickness_mm (" +
-                         std::string(csv::Trim(f.Raw(r, col::kEntry))) +
-                         "), got " + Quote(f.Raw(r, col::kExit)));
-    }
+    ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kForce, &p.force_kn));
+    ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kWidth, &p.width_mm));
+    ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kLength, &p.length_m));
+    ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kEntry, &p.entry_thickness_mm));
+    ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kExit, &p.exit_thickness_mm));
     ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kTemperature, &p.temperature_c));
-    ROLLWEAR_RETURN_IF_ERROR(f.Positive(r, col::kSpeed, &p.speed_mps));
+    ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kSpeed, &p.speed_mps));
     const std::string_view lub = csv::Trim(f.Raw(r, col::kLubrication));
     if (lub.empty()) {
       return f.Error(r, col::kLubrication, "required field is empty");
@@ -166,6 +152,7 @@ Status ReadCoils(const FileView& f, LabelIndex* campaigns, Dataset* d) {
     }
     p.lubrication = lub == "1";
     ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kShift, &p.shift_mm));
+    ROLLWEAR_RETURN_IF_ERROR(f.Check(r, PassRules(p)));
     p.grade = InternView(grade, &grades, &d->grades);
 
     bool added = false;
@@ -236,12 +223,9 @@ Status ReadMeasurements(const FileView& f, LabelIndex* campaigns,
     ROLLWEAR_RETURN_IF_ERROR(f.Text(r, col::kRollId, &roll_id));
     ROLLWEAR_RETURN_IF_ERROR(f.Time(r, col::kMeasuredAt, &m.measured_at));
     ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kWear, &m.wear_center_um));
-    if (m.wear_center_um < kMinWearUm) {
-      return f.Error(r, col::kWear,
-                     "must be >= -50 um (wear is positive radius loss; only "
-                     "grinder noise may go slightly negative), got " +
-                         Quote(f.Raw(r, col::kWear)));
-    }
+    ROLLWEAR_RETURN_IF_ERROR(
+        f.Check(r, MeasurementRules(f.Raw(r, col::kCampaign), m.stand,
+                                    m.position, roll_id, m.wear_center_um)));
     const size_t key = m.campaign * kNumRollPositionSlots +
                        RollPositionSlot(m.stand, m.position);
     const std::string where = RollPositionName(m.stand, m.position) +

@@ -15,8 +15,9 @@
 #include <ostream>
 #include <string>
 
-#include "core/dataset/dataset.h"
 #include "core/base/status.h"
+#include "core/dataset/dataset.h"
+#include "core/dataset/timestamp.h"  // ParseTimestamp, FormatTimestamp
 
 namespace rollwear {
 
@@ -35,12 +36,6 @@ StatusOr<Dataset> ReadDatasetStreams(const DatasetStreams& in);
 
 // Writes the four CSV files into `dir` (created if missing).
 Status WriteDataset(const Dataset& data, const std::string& dir);
-
-// ISO 8601 with offset or Z ("2026-03-01T06:12:00Z",
-// "2026-03-01T07:12:00+01:00", fractional seconds accepted and truncated).
-bool ParseTimestamp(const std::string& text, UnixSeconds* out);
-// Always "YYYY-MM-DDTHH:MM:SSZ".
-std::string FormatTimestamp(UnixSeconds t);
 
 }  // namespace rollwear
 

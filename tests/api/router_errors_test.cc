@@ -248,6 +248,76 @@ TEST_F(RouterTest, BadCalibrationRequestIs400) {
   EXPECT_TRUE(store_->ListCalibrations(10).empty());
 }
 
+// A control body is options only: a misspelt option must not silently run
+// with the default (issue 14: {"modle": "cao"} ran a Wang calibration).
+TEST_F(RouterTest, ControlBodiesRefuseUnknownFields) {
+  const std::string before = State();
+  const HttpResponse typo = Post("/v1/calibrations", {{"modle", "cao"}});
+  ExpectRejected(typo, 400, "unknown_field", "modle", before);
+  EXPECT_NE(Parse(typo)["error"]["message"].get<std::string>().find(
+                "known: model, option"),
+            std::string::npos)
+      << typo.body;
+  ExpectRejected(Post("/v1/calibrations", {{"model", "cao"}, {"optoin", 2}}),
+                 400, "unknown_field", "optoin", before);
+  // The unknown member is named even when a known one is bad too.
+  ExpectRejected(Post("/v1/calibrations", {{"option", 9}, {"modle", "cao"}}),
+                 400, "unknown_field", "modle", before);
+  EXPECT_TRUE(store_->ListCalibrations(10).empty());
+
+  ExpectRejected(Post("/v1/diagnoses", {{"adpot", true}}), 400, "unknown_field",
+                 "adpot", before);
+  ExpectRejected(Post("/v1/diagnoses", {{"adopt", false}, {"model", "cao"}}),
+                 400, "unknown_field", "model", before);
+  EXPECT_EQ(Get("/v1/diagnoses/1").status, 404) << "a diagnosis was queued";
+
+  // The known fields alone are still accepted.
+  const HttpResponse ok =
+      Post("/v1/calibrations", {{"model", "cao"}, {"option", 3}});
+  ASSERT_EQ(ok.status, 202) << ok.body;
+  const json rec = Parse(Get("/v1/calibrations/" +
+                             std::to_string(Parse(ok)["id"].get<int64_t>())));
+  EXPECT_EQ(rec["model"], "cao");
+  EXPECT_EQ(rec["option"], 3);
+}
+
+// A data body may carry fields the format does not define (the mill's own
+// columns): they are accepted and are not part of the stored content.
+TEST_F(RouterTest, DataBodiesAcceptExtraFields) {
+  json rc = RollChangeBody("C2", "2026-03-02T06:00:00Z");
+  rc["crew"] = "B";
+  rc["rolls"][0]["supplier"] = "Gontermann";
+  rc["rolls"][1]["grind_count"] = 3;
+  HttpResponse r = Post("/v1/roll-changes", rc);
+  ASSERT_EQ(r.status, 201) << r.body;
+  EXPECT_EQ(
+      Post("/v1/roll-changes", RollChangeBody("C2", "2026-03-02T06:00:00Z"))
+          .status,
+      200);
+
+  const std::string at = "2026-03-02T07:00:00Z";
+  json coil = CoilBody("K1", "C2", 1, at);
+  coil["operator_note"] = "night shift";
+  coil["passes"][0]["water_flow_m3h"] = 120.5;
+  coil["passes"][1]["bender"] = json{{"kn", 400}};
+  r = Post("/v1/coils", coil);
+  ASSERT_EQ(r.status, 201) << r.body;
+  r = Post("/v1/coils", CoilBody("K1", "C2", 1, at));
+  EXPECT_EQ(r.status, 200) << r.body;
+  EXPECT_EQ(Parse(r).value("outcome", ""), "unchanged");
+  EXPECT_EQ(store_->Counters().coils, 1);
+
+  json end = {{"ended_at", "2026-03-02T20:00:00Z"}, {"reason", "planned"}};
+  r = Post("/v1/campaigns/C2/end", end);
+  ASSERT_EQ(r.status, 200) << r.body;
+
+  json m = MeasurementBody("C2", "F6", "top", "R-F6-top", 120);
+  m["grinder"] = "G2";
+  r = Post("/v1/measurements", m);
+  EXPECT_EQ(r.status, 201) << r.body;
+  EXPECT_EQ(store_->Counters().measurements, 1);
+}
+
 TEST_F(RouterTest, UnknownRoutesAre404AndWrongMethods405) {
   const std::string before = State();
   ExpectRejected(Get("/v1/nothing"), 404, "not_found", nullptr, before);

@@ -282,8 +282,8 @@ TEST_F(DatasetRejects, EndedBeforeStarted) {
   ExpectAccepted();
   SetField(&t_.campaigns, 3, "ended_at", "2026-03-01T14:59:59+01:00");
   Expect(
-      {"campaigns.csv:3:3 ended_at: ended_at must not be before "
-       "started_at"});
+      {"campaigns.csv:3:3 ended_at: must not be before started_at "
+       "(2026-03-01T14:00:00Z), got '2026-03-01T14:59:59+01:00'"});
 }
 
 TEST_F(DatasetRejects, UnknownCampaign) {

@@ -145,7 +145,7 @@ TEST_F(StoreValidationTest, RollChangeRules) {
          });
        },
        StatusCode::kInvalidArgument,
-       "rolls[3].position: duplicate roll position F6/top (also rolls[0])"},
+       "rolls[3].stand: duplicate roll position F6/top (also rolls[0])"},
       {"before open start",
        [](MillStore* s) {
          return RollChange(s, [](RollChangeIn* in) { in->started_at = 999; });

@@ -1,0 +1,28 @@
+// The timestamps of the data format and the API: ISO 8601 with a UTC
+// offset or Z on input, always UTC Z on output, held as seconds since
+// 1970-01-01T00:00:00Z (UnixSeconds). Date arithmetic after H. Hinnant,
+// "chrono-Compatible Low-Level Date Algorithms" (2013,
+// http://howardhinnant.github.io/date_algorithms.html).
+//
+// Thread-safety: pure functions.
+#ifndef ROLLWEAR_CORE_DATASET_TIMESTAMP_H_
+#define ROLLWEAR_CORE_DATASET_TIMESTAMP_H_
+
+#include <string>
+#include <string_view>
+
+#include "core/dataset/dataset.h"
+
+namespace rollwear {
+
+// ISO 8601 with offset or Z ("2026-03-01T06:12:00Z",
+// "2026-03-01T07:12:00+01:00", fractional seconds accepted and truncated).
+bool ParseTimestamp(const std::string& text, UnixSeconds* out);
+// The same without the std::string.
+bool ParseTimestampView(std::string_view text, UnixSeconds* out);
+// Always "YYYY-MM-DDTHH:MM:SSZ".
+std::string FormatTimestamp(UnixSeconds t);
+
+}  // namespace rollwear
+
+#endif  // ROLLWEAR_CORE_DATASET_TIMESTAMP_H_
