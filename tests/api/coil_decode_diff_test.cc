@@ -543,11 +543,11 @@ TEST(CoilDecodeDiffTest, ByteMutationsAnswerAsTheDomPath) {
 }
 
 TEST(CoilDecodeDiffTest, FuzzCorpusAnswersAsTheDomPath) {
-  const std::filesystem::path corpus = std::filesystem::path(__FILE__)
-                                           .parent_path()
-                                           .parent_path()
-                                           .parent_path() /
-                                       "fuzz" / "corpus" / "api_decode";
+  // From the source tree CMake names (not __FILE__, which a compiler
+  // launcher such as ccache with base_dir may make relative).
+  const std::filesystem::path corpus =
+      std::filesystem::path(ROLLWEAR_SOURCE_DIR) / "fuzz" / "corpus" /
+      "api_decode";
   ASSERT_TRUE(std::filesystem::is_directory(corpus)) << corpus;
   Rng rng(4);
   Tally tally;
