@@ -126,9 +126,8 @@ struct HttpServer::Impl {
 
   // ------------------------------------------------------------ setup
   Status Bind() {
-    StatusOr<int> fd = ListenOn(options.bind_address, options.port, &port);
-    if (!fd.ok()) return fd.status();
-    listen_fd = *fd;
+    ROLLWEAR_ASSIGN_OR_RETURN(
+        listen_fd, ListenOn(options.bind_address, options.port, &port));
     return Status::Ok();
   }
 

@@ -21,11 +21,11 @@ namespace {
 StatusOr<FittedCandidate> TrainNetwork(
     const Dataset& data, const std::vector<int>& train_campaigns) {
   const AnnTrainingOptions options;
-  StatusOr<WearModel> ann = TrainServableAnn(data, train_campaigns, options);
-  if (!ann.ok()) return ann.status();
-  return FittedCandidate{std::move(ann).value(),
-                         "recurrent network, ensemble of " +
-                             std::to_string(options.members) + " members"};
+  ROLLWEAR_ASSIGN_OR_RETURN(WearModel ann,
+                            TrainServableAnn(data, train_campaigns, options));
+  return FittedCandidate{std::move(ann), "recurrent network, ensemble of " +
+                                             std::to_string(options.members) +
+                                             " members"};
 }
 
 }  // namespace
@@ -71,9 +71,7 @@ StatusOr<int64_t> MillStoreImpl::InsertRun(const std::string& trigger,
   int64_t id = 0;
   StatusOr<bool> claimed =
       ClaimTask([&rec, &id, claim](Db* db) -> StatusOr<bool> {
-        StatusOr<int64_t> row = InsertCalibration(db, rec);
-        if (!row.ok()) return row.status();
-        id = *row;
+        ROLLWEAR_ASSIGN_OR_RETURN(id, InsertCalibration(db, rec));
         if (!claim) return false;
         return ClaimCalibration(db, id, rec.queued_at);
       });
@@ -86,9 +84,7 @@ StatusOr<bool> MillStoreImpl::ClaimTask(
   bool claimed = false;
   ROLLWEAR_RETURN_IF_ERROR(RunTask(
       [&](Db* db) -> Status {
-        StatusOr<bool> ok = claim(db);
-        if (!ok.ok()) return ok.status();
-        claimed = *ok;
+        ROLLWEAR_ASSIGN_OR_RETURN(claimed, claim(db));
         return Status::Ok();
       },
       [&](Db*) {
@@ -105,11 +101,9 @@ StatusOr<CalibrationRecord> MillStoreImpl::ProposeModel(
   std::lock_guard<std::mutex> runs(calibration_mu_);
   // Recorded as a run that is already running (claimed in the same
   // transaction), so the job worker never picks it up as a queued one.
-  StatusOr<int64_t> id = InsertRun(trigger, model, option, /*claim=*/true);
-  if (!id.ok()) return id.status();
-  StatusOr<CalibrationRecord> claimed = GetCalibration(*id);
-  if (!claimed.ok()) return claimed.status();
-  CalibrationRecord rec = *claimed;
+  ROLLWEAR_ASSIGN_OR_RETURN(const int64_t id,
+                            InsertRun(trigger, model, option, /*claim=*/true));
+  ROLLWEAR_ASSIGN_OR_RETURN(CalibrationRecord rec, GetCalibration(id));
   const std::shared_ptr<const ModelVersion> active = ActiveVersion();
   CandidateEvaluation result =
       ScoreCandidate(candidate, active->wear_model, data, split_seed);
@@ -121,14 +115,13 @@ StatusOr<CalibrationRecord> MillStoreImpl::ProposeModel(
 
 StatusOr<CalibrationRecord> MillStoreImpl::GetCalibration(int64_t id) const {
   std::lock_guard<std::mutex> lock(read_mu_);
-  StatusOr<std::optional<CalibrationRecord>> rec =
-      LoadCalibration(read_db_.get(), id);
-  if (!rec.ok()) return rec.status();
-  if (!rec->has_value()) {
+  ROLLWEAR_ASSIGN_OR_RETURN(std::optional<CalibrationRecord> rec,
+                            LoadCalibration(read_db_.get(), id));
+  if (!rec.has_value()) {
     return Status::NotFound("calibration " + std::to_string(id) +
                             ": unknown calibration");
   }
-  return std::move(**rec);
+  return std::move(*rec);
 }
 
 std::vector<CalibrationRecord> MillStoreImpl::ListCalibrations(
@@ -141,23 +134,21 @@ std::vector<CalibrationRecord> MillStoreImpl::ListCalibrations(
 }
 
 Status MillStoreImpl::RunCalibration(int64_t id) {
-  StatusOr<CalibrationRecord> queued = GetCalibration(id);
-  if (!queued.ok()) return queued.status();
-  if (queued->status != CalibrationStatus::kQueued) {
+  ROLLWEAR_ASSIGN_OR_RETURN(CalibrationRecord rec, GetCalibration(id));
+  if (rec.status != CalibrationStatus::kQueued) {
     return Status::FailedPrecondition(
         "calibration " + std::to_string(id) + " is " +
-        CalibrationStatusName(queued->status) + ", not queued");
+        CalibrationStatusName(rec.status) + ", not queued");
   }
-  CalibrationRecord rec = *queued;
 
   // 1. Claim the run; the measurements committed so far are the ones it
   //    sees ("since last calibration" restarts from here).
   rec.started_at = NowSeconds();
-  StatusOr<bool> claimed = ClaimTask([&](Db* db) -> StatusOr<bool> {
-    return ClaimCalibration(db, id, rec.started_at);
-  });
-  if (!claimed.ok()) return claimed.status();
-  if (!*claimed) {
+  ROLLWEAR_ASSIGN_OR_RETURN(const bool claimed,
+                            ClaimTask([&](Db* db) -> StatusOr<bool> {
+                              return ClaimCalibration(db, id, rec.started_at);
+                            }));
+  if (!claimed) {
     return Status::FailedPrecondition("calibration " + std::to_string(id) +
                                       " is no longer queued");
   }
@@ -225,10 +216,10 @@ Status MillStoreImpl::FinishRun(
   promoted->wear_model = std::move(result.candidate);
   return RunTask(
       [&rec, promoted](Db* db) -> Status {
-        StatusOr<int64_t> version = InsertActiveModel(db, *promoted, rec.id);
-        if (!version.ok()) return version.status();
-        promoted->version = *version;
-        rec.model_version = *version;
+        ROLLWEAR_ASSIGN_OR_RETURN(const int64_t version,
+                                  InsertActiveModel(db, *promoted, rec.id));
+        promoted->version = version;
+        rec.model_version = version;
         return UpdateCalibration(db, rec);
       },
       [this, promoted](Db*) { InstallModel(promoted); });

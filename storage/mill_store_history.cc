@@ -43,32 +43,32 @@ Status ReplayInto(Db* db, const CampaignRec& rec, const WearModel& model,
     index[slot] = static_cast<int>(out->rolls.size());
     out->rolls.push_back(std::move(h));
   }
-  StatusOr<Statement> st = db->Prepare(
-      "SELECT c.grade, p.stand, p.rolled_at, p.force_kn, "
-      "p.width_mm, p.length_m, p.entry_thickness_mm, p.exit_thickness_mm, "
-      "p.temperature_c, p.speed_mps, p.lubrication, p.shift_mm "
-      "FROM passes p JOIN coils c ON c.id = p.coil "
-      "WHERE c.campaign = (SELECT id FROM campaigns WHERE campaign_id = ?) "
-      "ORDER BY c.id, p.id");
-  if (!st.ok()) return st.status();
-  st->BindText(1, rec.id);
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      Statement st,
+      db->Prepare(
+          "SELECT c.grade, p.stand, p.rolled_at, p.force_kn, "
+          "p.width_mm, p.length_m, p.entry_thickness_mm, p.exit_thickness_mm, "
+          "p.temperature_c, p.speed_mps, p.lubrication, p.shift_mm "
+          "FROM passes p JOIN coils c ON c.id = p.coil "
+          "WHERE c.campaign = (SELECT id FROM campaigns WHERE campaign_id = ?) "
+          "ORDER BY c.id, p.id"));
+  st.BindText(1, rec.id);
   StoredPass pass;
   while (true) {
-    StatusOr<bool> row = st->Step();
-    if (!row.ok()) return row.status();
-    if (!*row) break;
-    pass.stand = static_cast<int>(st->ColumnInt(1));
-    pass.rolled_at = st->ColumnInt(2);
-    pass.force_kn = st->ColumnDouble(3);
-    pass.width_mm = st->ColumnDouble(4);
-    pass.length_m = st->ColumnDouble(5);
-    pass.entry_thickness_mm = st->ColumnDouble(6);
-    pass.exit_thickness_mm = st->ColumnDouble(7);
-    pass.temperature_c = st->ColumnDouble(8);
-    pass.speed_mps = st->ColumnDouble(9);
-    pass.lubrication = st->ColumnInt(10) != 0;
-    pass.shift_mm = st->ColumnDouble(11);
-    const PassInput in = ToPassInput(st->ColumnText(0), pass);
+    ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
+    if (!row) break;
+    pass.stand = static_cast<int>(st.ColumnInt(1));
+    pass.rolled_at = st.ColumnInt(2);
+    pass.force_kn = st.ColumnDouble(3);
+    pass.width_mm = st.ColumnDouble(4);
+    pass.length_m = st.ColumnDouble(5);
+    pass.entry_thickness_mm = st.ColumnDouble(6);
+    pass.exit_thickness_mm = st.ColumnDouble(7);
+    pass.temperature_c = st.ColumnDouble(8);
+    pass.speed_mps = st.ColumnDouble(9);
+    pass.lubrication = st.ColumnInt(10) != 0;
+    pass.shift_mm = st.ColumnDouble(11);
+    const PassInput in = ToPassInput(st.ColumnText(0), pass);
     for (Position p : {Position::kTop, Position::kBottom}) {
       const int slot = RollPositionSlot(pass.stand, p);
       auto& s = states[slot];

@@ -34,52 +34,43 @@ UnixSeconds NowSeconds() {
 
 Status MillStoreImpl::Init(const std::string& path) {
   path_ = path;
-  StatusOr<std::unique_ptr<Db>> db = Db::Open(path);
-  if (!db.ok()) return db.status();
-  writer_db_ = std::move(db).value();
+  ROLLWEAR_ASSIGN_OR_RETURN(writer_db_, Db::Open(path));
   ROLLWEAR_RETURN_IF_ERROR(MigrateSchema(writer_db_.get()));
   ROLLWEAR_RETURN_IF_ERROR(
       FailInterruptedCalibrations(writer_db_.get(), NowSeconds()));
-  db = Db::Open(path);
-  if (!db.ok()) return db.status();
-  lookup_db_ = std::move(db).value();
-  db = Db::Open(path);
-  if (!db.ok()) return db.status();
-  read_db_ = std::move(db).value();
+  ROLLWEAR_ASSIGN_OR_RETURN(lookup_db_, Db::Open(path));
+  ROLLWEAR_ASSIGN_OR_RETURN(read_db_, Db::Open(path));
 
-  StatusOr<Catalog> catalog = LoadCatalog(writer_db_.get());
-  if (!catalog.ok()) return catalog.status();
-  committed_ = std::move(catalog).value();
+  ROLLWEAR_ASSIGN_OR_RETURN(committed_, LoadCatalog(writer_db_.get()));
   spec_ = committed_;
-  StatusOr<StoredCounts> counts = LoadCounts(writer_db_.get());
-  if (!counts.ok()) return counts.status();
-  counters_.campaigns = counts->campaigns;
-  counters_.coils = counts->coils;
-  counters_.measurements = counts->measurements;
+  ROLLWEAR_ASSIGN_OR_RETURN(const StoredCounts counts,
+                            LoadCounts(writer_db_.get()));
+  counters_.campaigns = counts.campaigns;
+  counters_.coils = counts.coils;
+  counters_.measurements = counts.measurements;
   counters_.measurements_since_last_calibration =
-      counts->measurements_since_last_calibration;
-  committed_coil_ids_.Reserve(static_cast<size_t>(counts->coils));
+      counts.measurements_since_last_calibration;
+  committed_coil_ids_.Reserve(static_cast<size_t>(counts.coils));
   ROLLWEAR_RETURN_IF_ERROR(ForEachCoilId(
       writer_db_.get(),
       [this](const std::string& id) { committed_coil_ids_.Insert(id); }));
 
-  StatusOr<std::optional<ModelVersion>> active =
-      LoadActiveModel(writer_db_.get());
-  if (!active.ok()) return active.status();
+  ROLLWEAR_ASSIGN_OR_RETURN(std::optional<ModelVersion> active,
+                            LoadActiveModel(writer_db_.get()));
   std::shared_ptr<const ModelVersion> model =
-      active->has_value()
-          ? std::make_shared<const ModelVersion>(std::move(**active))
+      active.has_value()
+          ? std::make_shared<const ModelVersion>(std::move(*active))
           : MakePrior(committed_.positions_seen);
   // Coils without a stored answer (from a version-1 file, or an import
   // interrupted before schema version 2) get one, under the active model.
   {
-    StatusOr<Transaction> txn = Transaction::Begin(writer_db_.get());
-    if (!txn.ok()) return txn.status();
-    StatusOr<int> filled =
-        BackfillCoilWear(writer_db_.get(), committed_, model->wear_model);
-    if (!filled.ok()) return filled.status();
-    if (*filled > 0) {
-      ROLLWEAR_RETURN_IF_ERROR(txn->Commit());
+    ROLLWEAR_ASSIGN_OR_RETURN(Transaction txn,
+                              Transaction::Begin(writer_db_.get()));
+    ROLLWEAR_ASSIGN_OR_RETURN(
+        const int filled,
+        BackfillCoilWear(writer_db_.get(), committed_, model->wear_model));
+    if (filled > 0) {
+      ROLLWEAR_RETURN_IF_ERROR(txn.Commit());
     }
   }
   InstallModel(std::move(model));
@@ -162,11 +153,10 @@ Status MillStoreImpl::AdmitLocked(WriteItem* item, bool* immediate) {
     }
     case WriteKind::kCoil: {
       bool pending = false;
-      StatusOr<std::optional<StoredCoil>> stored =
-          FindCoilLocked(item->coil.coil_id, &pending);
-      if (!stored.ok()) return stored.status();
+      ROLLWEAR_ASSIGN_OR_RETURN(const std::optional<StoredCoil> stored,
+                                FindCoilLocked(item->coil.coil_id, &pending));
       ROLLWEAR_RETURN_IF_ERROR(
-          AdmitCoil(spec_, item->coil_in, item->coil, *stored, &unchanged));
+          AdmitCoil(spec_, item->coil_in, item->coil, stored, &unchanged));
       if (!unchanged) {
         ApplyCoil(item->coil, /*speculative=*/true, &spec_);
       } else {
@@ -195,10 +185,9 @@ Status MillStoreImpl::AdmitLocked(WriteItem* item, bool* immediate) {
       auto lookup_seq = [this](const std::string& campaign, int seq) {
         return LookupSeq(lookup_db_.get(), campaign, seq);
       };
-      StatusOr<ImportPlan> plan = PlanImport(
-          *item->dataset, item->dataset_coils, spec_, lookup_coil, lookup_seq);
-      if (!plan.ok()) return plan.status();
-      item->plan = std::move(plan).value();
+      ROLLWEAR_ASSIGN_OR_RETURN(
+          item->plan, PlanImport(*item->dataset, item->dataset_coils, spec_,
+                                 lookup_coil, lookup_seq));
       ApplyImport(*item->dataset, item->dataset_coils, item->plan,
                   /*speculative=*/true, &spec_);
       break;
@@ -281,12 +270,11 @@ StatusOr<MillStoreImpl::ItemPtr> MillStoreImpl::CoilItem(
 }
 
 StatusOr<CoilOutcome> MillStoreImpl::AddCoil(const CoilIn& in) {
-  StatusOr<ItemPtr> item = CoilItem(in);
-  if (!item.ok()) return item.status();
+  ROLLWEAR_ASSIGN_OR_RETURN(const ItemPtr item, CoilItem(in));
   bool immediate = false;
-  ROLLWEAR_RETURN_IF_ERROR(Submit(*item, &immediate));
-  if (immediate) return OutcomeForStored((*item)->coil);
-  return (*item)->coil_outcome;
+  ROLLWEAR_RETURN_IF_ERROR(Submit(item, &immediate));
+  if (immediate) return OutcomeForStored(item->coil);
+  return item->coil_outcome;
 }
 
 void MillStoreImpl::AddCoilAsync(const CoilIn& in, CoilDone done,
@@ -438,9 +426,8 @@ StatusOr<Dataset> MillStoreImpl::ExportDataset() const {
   // A connection of its own: a long read must not hold up the small ones.
   DbOptions o;
   o.read_only = true;
-  StatusOr<std::unique_ptr<Db>> db = Db::Open(path_, o);
-  if (!db.ok()) return db.status();
-  return ReadStoredDataset(db->get());
+  ROLLWEAR_ASSIGN_OR_RETURN(const std::unique_ptr<Db> db, Db::Open(path_, o));
+  return ReadStoredDataset(db.get());
 }
 
 StoreCounters MillStoreImpl::Counters() const {

@@ -221,11 +221,11 @@ Status MillStoreImpl::ExecuteItem(WriteItem* item) {
     case WriteKind::kRollChange: {
       const RollChangeIn& in = item->roll_change;
       ROLLWEAR_RETURN_IF_ERROR(EndOpenCampaigns(db, in.started_at));
-      StatusOr<int64_t> row =
-          InsertCampaign(db, in.campaign_id, in.started_at, std::nullopt, "");
-      if (!row.ok()) return row.status();
+      ROLLWEAR_ASSIGN_OR_RETURN(
+          const int64_t row,
+          InsertCampaign(db, in.campaign_id, in.started_at, std::nullopt, ""));
       for (const MountedRollIn& m : in.rolls) {
-        ROLLWEAR_RETURN_IF_ERROR(InsertMount(db, *row, m, ""));
+        ROLLWEAR_RETURN_IF_ERROR(InsertMount(db, row, m, ""));
       }
       return Status::Ok();
     }
@@ -234,9 +234,9 @@ Status MillStoreImpl::ExecuteItem(WriteItem* item) {
     case WriteKind::kCoil:
       return InsertCoilWithPasses(db, item->coil, &item->coil_wear);
     case WriteKind::kMeasurement: {
-      StatusOr<int64_t> row = CampaignRow(db, item->measurement.campaign_id);
-      if (!row.ok()) return row.status();
-      return InsertMeasurement(db, *row, item->measurement, "");
+      ROLLWEAR_ASSIGN_OR_RETURN(const int64_t row,
+                                CampaignRow(db, item->measurement.campaign_id));
+      return InsertMeasurement(db, row, item->measurement, "");
     }
     case WriteKind::kImport: {
       ROLLWEAR_RETURN_IF_ERROR(

@@ -7,12 +7,10 @@ namespace rollwear::storage {
 StatusOr<WearModel> PriorModel(WearLaw law, int option,
                                std::vector<std::string> positions,
                                double initial_k) {
-  StatusOr<KStructure> ks =
-      KStructure::ForOption(option, std::move(positions), {}, {});
-  if (!ks.ok()) return ks.status();
   WearModel m;
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      m.structure, KStructure::ForOption(option, std::move(positions), {}, {}));
   m.law = law;
-  m.structure = std::move(ks).value();
   m.k.assign(m.structure.num_coefficients(), 1.0);
   const FactorGroup& kf = m.structure.groups().front();  // kF comes first
   for (int i = 0; i < kf.size; ++i) m.k[kf.offset + i] = initial_k;
@@ -33,13 +31,12 @@ StatusOr<WearModel> ModelOverLevels(const WearModel& model,
     return Status::InvalidArgument(
         "the recurrent network has no K coefficients to re-express over levels");
   }
-  StatusOr<KStructure> ks =
-      KStructure::ForOption(model.structure.option(), std::move(positions),
-                            std::move(roll_types), std::move(grades));
-  if (!ks.ok()) return ks.status();
   WearModel out;
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      out.structure,
+      KStructure::ForOption(model.structure.option(), std::move(positions),
+                            std::move(roll_types), std::move(grades)));
   out.law = model.law;
-  out.structure = std::move(ks).value();
   out.cao_exponent = model.cao_exponent;
   out.noise_sd_um = model.noise_sd_um;
   out.noise_rel = model.noise_rel;

@@ -136,18 +136,17 @@ DROP INDEX IF EXISTS passes_by_campaign;
 
 // Number of tables in the file (sqlite_% internals excluded).
 StatusOr<int> CountTables(Db* db, bool* has_version_table) {
-  StatusOr<Statement> st = db->Prepare(
-      "SELECT name FROM sqlite_schema WHERE type = 'table' "
-      "AND name NOT LIKE 'sqlite_%'");
-  if (!st.ok()) return st.status();
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      Statement st,
+      db->Prepare("SELECT name FROM sqlite_schema WHERE type = 'table' "
+                  "AND name NOT LIKE 'sqlite_%'"));
   int n = 0;
   *has_version_table = false;
   while (true) {
-    StatusOr<bool> row = st->Step();
-    if (!row.ok()) return row.status();
-    if (!*row) break;
+    ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
+    if (!row) break;
     ++n;
-    if (st->ColumnText(0) == "schema_version") *has_version_table = true;
+    if (st.ColumnText(0) == "schema_version") *has_version_table = true;
   }
   return n;
 }
@@ -167,21 +166,18 @@ const std::vector<Migration>& SchemaMigrations() {
 
 StatusOr<int> ReadSchemaVersion(Db* db) {
   bool has_version = false;
-  StatusOr<int> tables = CountTables(db, &has_version);
-  if (!tables.ok()) return tables.status();
+  ROLLWEAR_ASSIGN_OR_RETURN(const int tables, CountTables(db, &has_version));
   if (!has_version) {
-    if (*tables == 0) return 0;
+    if (tables == 0) return 0;
     return Status::FailedPrecondition(
         "database " + db->path() +
         " is not a rollwear database (it has tables but no schema_version)");
   }
-  StatusOr<Statement> st =
-      db->Prepare("SELECT MAX(version) FROM schema_version");
-  if (!st.ok()) return st.status();
-  StatusOr<bool> row = st->Step();
-  if (!row.ok()) return row.status();
-  if (!*row || st->ColumnIsNull(0)) return 0;
-  return static_cast<int>(st->ColumnInt(0));
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      Statement st, db->Prepare("SELECT MAX(version) FROM schema_version"));
+  ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
+  if (!row || st.ColumnIsNull(0)) return 0;
+  return static_cast<int>(st.ColumnInt(0));
 }
 
 Status MigrateSchema(Db* db, const std::vector<Migration>& migrations) {
@@ -191,19 +187,17 @@ Status MigrateSchema(Db* db, const std::vector<Migration>& migrations) {
     }
   }
   const int target = static_cast<int>(migrations.size());
-  StatusOr<Transaction> txn = Transaction::Begin(db);
-  if (!txn.ok()) return txn.status();
-  StatusOr<int> current = ReadSchemaVersion(db);
-  if (!current.ok()) return current.status();
-  if (*current > target) {
+  ROLLWEAR_ASSIGN_OR_RETURN(Transaction txn, Transaction::Begin(db));
+  ROLLWEAR_ASSIGN_OR_RETURN(const int current, ReadSchemaVersion(db));
+  if (current > target) {
     return Status::FailedPrecondition(
-        "database schema version " + std::to_string(*current) +
+        "database schema version " + std::to_string(current) +
         " is newer than this rollwear (supports up to " +
         std::to_string(target) + "); upgrade rollwear");
   }
-  if (*current == target) return Status::Ok();  // nothing to do
+  if (current == target) return Status::Ok();  // nothing to do
   for (const Migration& m : migrations) {
-    if (m.version <= *current) continue;
+    if (m.version <= current) continue;
     Status s = db->Exec(m.sql);
     if (!s.ok()) {
       return Status(s.code(), "schema migration to version " +
@@ -212,12 +206,12 @@ Status MigrateSchema(Db* db, const std::vector<Migration>& migrations) {
     }
   }
   ROLLWEAR_RETURN_IF_ERROR(db->Exec("DELETE FROM schema_version"));
-  StatusOr<Statement> set =
-      db->Prepare("INSERT INTO schema_version (version) VALUES (?)");
-  if (!set.ok()) return set.status();
-  set->BindInt(1, target);
-  ROLLWEAR_RETURN_IF_ERROR(set->Run());
-  return txn->Commit();
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      Statement set,
+      db->Prepare("INSERT INTO schema_version (version) VALUES (?)"));
+  set.BindInt(1, target);
+  ROLLWEAR_RETURN_IF_ERROR(set.Run());
+  return txn.Commit();
 }
 
 }  // namespace rollwear::storage

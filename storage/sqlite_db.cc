@@ -108,9 +108,8 @@ StatusOr<bool> Statement::Step() {
 }
 
 Status Statement::Run() {
-  StatusOr<bool> row = Step();
-  if (!row.ok()) return row.status();
-  if (*row) {
+  ROLLWEAR_ASSIGN_OR_RETURN(const bool row, Step());
+  if (row) {
     return Status::Internal(std::string("statement returned a row: ") +
                             sqlite3_sql(stmt_));
   }
@@ -179,11 +178,10 @@ StatusOr<std::unique_ptr<Db>> Db::Open(const std::string& path,
                                     std::to_string(options.busy_timeout_ms)));
   if (!options.read_only) {
     // journal_mode answers with a row naming the mode in force.
-    StatusOr<Statement> wal = db->Prepare("PRAGMA journal_mode = WAL");
-    if (!wal.ok()) return wal.status();
-    StatusOr<bool> row = wal->Step();
-    if (!row.ok()) return row.status();
-    if (!*row || wal->ColumnText(0) != "wal") {
+    ROLLWEAR_ASSIGN_OR_RETURN(Statement wal,
+                              db->Prepare("PRAGMA journal_mode = WAL"));
+    ROLLWEAR_ASSIGN_OR_RETURN(const bool row, wal.Step());
+    if (!row || wal.ColumnText(0) != "wal") {
       return Status::IoError("database " + path +
                              ": cannot switch to WAL journal mode");
     }
@@ -223,9 +221,8 @@ StatusOr<Statement> Db::Prepare(std::string_view sql) {
 StatusOr<Statement*> Db::Cached(const char* sql) {
   auto it = cache_.find(sql);
   if (it == cache_.end()) {
-    StatusOr<Statement> s = Prepare(sql);
-    if (!s.ok()) return s.status();
-    it = cache_.emplace(sql, std::move(s).value()).first;
+    ROLLWEAR_ASSIGN_OR_RETURN(Statement s, Prepare(sql));
+    it = cache_.emplace(sql, std::move(s)).first;
   } else {
     it->second.Reset();
   }
@@ -247,10 +244,9 @@ constexpr char kBeginImmediate[] = "BEGIN IMMEDIATE";
 constexpr char kCommit[] = "COMMIT";
 
 Status RunCached(Db* db, const char* sql) {
-  StatusOr<Statement*> st = db->Cached(sql);
-  if (!st.ok()) return st.status();
-  Status s = (*st)->Run();
-  (*st)->Reset();
+  ROLLWEAR_ASSIGN_OR_RETURN(Statement* const st, db->Cached(sql));
+  Status s = st->Run();
+  st->Reset();
   return s;
 }
 

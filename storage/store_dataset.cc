@@ -106,13 +106,11 @@ class ExtraBuilder {
 
 template <typename F>
 Status ForEachRow(Db* db, const char* sql, F&& f) {
-  StatusOr<Statement> st = db->Prepare(sql);
-  if (!st.ok()) return st.status();
+  ROLLWEAR_ASSIGN_OR_RETURN(Statement st, db->Prepare(sql));
   while (true) {
-    StatusOr<bool> row = st->Step();
-    if (!row.ok()) return row.status();
-    if (!*row) return Status::Ok();
-    ROLLWEAR_RETURN_IF_ERROR(f(*st));
+    ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
+    if (!row) return Status::Ok();
+    ROLLWEAR_RETURN_IF_ERROR(f(st));
   }
 }
 
@@ -124,13 +122,12 @@ Status WriteImport(Db* db, const Dataset& d,
   std::vector<int64_t> campaign_rows(d.campaigns.size());
   for (size_t i = 0; i < d.campaigns.size(); ++i) {
     const Campaign& c = d.campaigns[i];
-    StatusOr<int64_t> row =
+    ROLLWEAR_ASSIGN_OR_RETURN(
+        campaign_rows[i],
         plan.new_campaign[i]
             ? InsertCampaign(db, c.id, c.started_at, c.ended_at,
                              ExtraRowJson(d.campaign_extra, i))
-            : CampaignRow(db, c.id);
-    if (!row.ok()) return row.status();
-    campaign_rows[i] = *row;
+            : CampaignRow(db, c.id));
   }
   for (size_t i = 0; i < d.mounts.size(); ++i) {
     if (!plan.new_mount[i]) continue;
@@ -146,10 +143,9 @@ Status WriteImport(Db* db, const Dataset& d,
     const Pass& p = d.passes[i];
     if (!plan.new_coil[p.coil]) continue;
     if (coil_rows[p.coil] < 0) {
-      StatusOr<int64_t> row =
-          InsertCoil(db, campaign_rows[p.campaign], coils[p.coil]);
-      if (!row.ok()) return row.status();
-      coil_rows[p.coil] = *row;
+      ROLLWEAR_ASSIGN_OR_RETURN(
+          coil_rows[p.coil],
+          InsertCoil(db, campaign_rows[p.campaign], coils[p.coil]));
     }
     const StoredPass sp{static_cast<const PassMeasures&>(p), p.rolled_at};
     ROLLWEAR_RETURN_IF_ERROR(InsertPass(db, coil_rows[p.coil],

@@ -23,10 +23,8 @@ class ResetOnExit {
 
 // `var` names the declared variable, so it cannot be parenthesised.
 // NOLINTBEGIN(bugprone-macro-parentheses)
-#define ROLLWEAR_ASSIGN_STMT(var, db, sql)           \
-  StatusOr<Statement*> var##_or = (db)->Cached(sql); \
-  if (!var##_or.ok()) return var##_or.status();      \
-  Statement* var = *var##_or;                        \
+#define ROLLWEAR_ASSIGN_STMT(var, db, sql)                      \
+  ROLLWEAR_ASSIGN_OR_RETURN(Statement* var, (db)->Cached(sql)); \
   ResetOnExit var##_reset(var)
 // NOLINTEND(bugprone-macro-parentheses)
 
@@ -62,9 +60,8 @@ StatusOr<int64_t> CampaignRow(Db* db, const std::string& campaign_id) {
   ROLLWEAR_ASSIGN_STMT(st, db,
                        "SELECT id FROM campaigns WHERE campaign_id = ?");
   st->BindText(1, campaign_id);
-  StatusOr<bool> row = st->Step();
-  if (!row.ok()) return row.status();
-  if (!*row) return Status::NotFound("unknown campaign " + campaign_id);
+  ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st->Step());
+  if (!row) return Status::NotFound("unknown campaign " + campaign_id);
   return st->ColumnInt(0);
 }
 
@@ -151,12 +148,12 @@ Status InsertPass(Db* db, int64_t coil_row, int64_t campaign_row,
 
 Status InsertCoilWithPasses(Db* db, const StoredCoil& coil,
                             const std::string* wear_blob) {
-  StatusOr<int64_t> campaign = CampaignRow(db, coil.campaign_id);
-  if (!campaign.ok()) return campaign.status();
-  StatusOr<int64_t> row = InsertCoil(db, *campaign, coil, wear_blob);
-  if (!row.ok()) return row.status();
+  ROLLWEAR_ASSIGN_OR_RETURN(const int64_t campaign,
+                            CampaignRow(db, coil.campaign_id));
+  ROLLWEAR_ASSIGN_OR_RETURN(const int64_t row,
+                            InsertCoil(db, campaign, coil, wear_blob));
   for (const StoredPass& p : coil.passes) {
-    ROLLWEAR_RETURN_IF_ERROR(InsertPass(db, *row, *campaign, p, ""));
+    ROLLWEAR_RETURN_IF_ERROR(InsertPass(db, row, campaign, p, ""));
   }
   return Status::Ok();
 }
@@ -189,9 +186,8 @@ StatusOr<std::optional<StoredCoil>> LookupCoil(Db* db,
   st->BindText(1, coil_id);
   std::optional<StoredCoil> out;
   while (true) {
-    StatusOr<bool> row = st->Step();
-    if (!row.ok()) return row.status();
-    if (!*row) break;
+    ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st->Step());
+    if (!row) break;
     if (!out.has_value()) {
       out.emplace();
       out->coil_id = coil_id;
@@ -219,13 +215,12 @@ StatusOr<std::optional<StoredCoil>> LookupCoil(Db* db,
 Status ForEachCoilId(Db* db,
                      const std::function<void(const std::string&)>& visit) {
   // Once per open: not cached. Reads the coil_id index, not the table.
-  StatusOr<Statement> st = db->Prepare("SELECT coil_id FROM coils");
-  if (!st.ok()) return st.status();
+  ROLLWEAR_ASSIGN_OR_RETURN(Statement st,
+                            db->Prepare("SELECT coil_id FROM coils"));
   while (true) {
-    StatusOr<bool> row = st->Step();
-    if (!row.ok()) return row.status();
-    if (!*row) return Status::Ok();
-    visit(st->ColumnText(0));
+    ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
+    if (!row) return Status::Ok();
+    visit(st.ColumnText(0));
   }
 }
 
@@ -237,10 +232,9 @@ StatusOr<std::optional<std::string>> LookupSeq(Db* db,
       "SELECT c.coil_id FROM coils c JOIN campaigns g ON "
       "g.id = c.campaign WHERE g.campaign_id = ? AND c.seq = ?");
   st->BindText(1, campaign_id).BindInt(2, seq);
-  StatusOr<bool> row = st->Step();
-  if (!row.ok()) return row.status();
+  ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st->Step());
   std::optional<std::string> out;
-  if (*row) out = st->ColumnText(0);
+  if (row) out = st->ColumnText(0);
   return out;
 }
 
@@ -248,19 +242,19 @@ StatusOr<Catalog> LoadCatalog(Db* db) {
   Catalog c;
   std::unordered_map<int64_t, std::string> by_row;
   {
-    StatusOr<Statement> st = db->Prepare(
-        "SELECT id, campaign_id, started_at, ended_at FROM campaigns "
-        "ORDER BY id");
-    if (!st.ok()) return st.status();
+    ROLLWEAR_ASSIGN_OR_RETURN(
+        Statement st,
+        db->Prepare(
+            "SELECT id, campaign_id, started_at, ended_at FROM campaigns "
+            "ORDER BY id"));
     UnixSeconds open_start = 0;
     while (true) {
-      StatusOr<bool> row = st->Step();
-      if (!row.ok()) return row.status();
-      if (!*row) break;
+      ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
+      if (!row) break;
       CampaignRec rec;
-      rec.id = st->ColumnText(1);
-      rec.started_at = st->ColumnInt(2);
-      if (!st->ColumnIsNull(3)) rec.ended_at = st->ColumnInt(3);
+      rec.id = st.ColumnText(1);
+      rec.started_at = st.ColumnInt(2);
+      if (!st.ColumnIsNull(3)) rec.ended_at = st.ColumnInt(3);
       // At most one campaign is open; should a file hold several, the
       // latest start is the one coils go to.
       if (!rec.ended_at &&
@@ -268,81 +262,79 @@ StatusOr<Catalog> LoadCatalog(Db* db) {
         c.open_campaign = rec.id;
         open_start = rec.started_at;
       }
-      by_row[st->ColumnInt(0)] = rec.id;
+      by_row[st.ColumnInt(0)] = rec.id;
       c.campaigns[rec.id] = std::move(rec);
     }
   }
   {
-    StatusOr<Statement> st = db->Prepare(
-        "SELECT campaign, stand, position, roll_id, roll_type, diameter_mm, "
-        "hardness_hb FROM mounts ORDER BY id");
-    if (!st.ok()) return st.status();
+    ROLLWEAR_ASSIGN_OR_RETURN(
+        Statement st,
+        db->Prepare("SELECT campaign, stand, position, roll_id, roll_type, "
+                    "diameter_mm, hardness_hb FROM mounts ORDER BY id"));
     while (true) {
-      StatusOr<bool> row = st->Step();
-      if (!row.ok()) return row.status();
-      if (!*row) break;
+      ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
+      if (!row) break;
       MountedRollIn m;
-      m.stand = static_cast<int>(st->ColumnInt(1));
-      m.position = static_cast<Position>(st->ColumnInt(2));
-      m.roll_id = st->ColumnText(3);
-      m.roll_type = st->ColumnText(4);
-      m.diameter_mm = st->ColumnDouble(5);
-      m.hardness_hb = st->ColumnDouble(6);
+      m.stand = static_cast<int>(st.ColumnInt(1));
+      m.position = static_cast<Position>(st.ColumnInt(2));
+      m.roll_id = st.ColumnText(3);
+      m.roll_type = st.ColumnText(4);
+      m.diameter_mm = st.ColumnDouble(5);
+      m.hardness_hb = st.ColumnDouble(6);
       const int slot = RollPositionSlot(m.stand, m.position);
       c.positions_seen |= 1u << slot;
-      c.campaigns[by_row[st->ColumnInt(0)]].mounts[slot] = std::move(m);
+      c.campaigns[by_row[st.ColumnInt(0)]].mounts[slot] = std::move(m);
     }
   }
   {
-    StatusOr<Statement> st = db->Prepare(
-        "SELECT campaign, stand, position, roll_id, measured_at, "
-        "wear_center_um FROM measurements ORDER BY id");
-    if (!st.ok()) return st.status();
+    ROLLWEAR_ASSIGN_OR_RETURN(
+        Statement st,
+        db->Prepare("SELECT campaign, stand, position, roll_id, measured_at, "
+                    "wear_center_um FROM measurements ORDER BY id"));
     while (true) {
-      StatusOr<bool> row = st->Step();
-      if (!row.ok()) return row.status();
-      if (!*row) break;
+      ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
+      if (!row) break;
       MeasurementIn m;
-      m.campaign_id = by_row[st->ColumnInt(0)];
-      m.stand = static_cast<int>(st->ColumnInt(1));
-      m.position = static_cast<Position>(st->ColumnInt(2));
-      m.roll_id = st->ColumnText(3);
-      m.measured_at = st->ColumnInt(4);
-      m.wear_center_um = st->ColumnDouble(5);
+      m.campaign_id = by_row[st.ColumnInt(0)];
+      m.stand = static_cast<int>(st.ColumnInt(1));
+      m.position = static_cast<Position>(st.ColumnInt(2));
+      m.roll_id = st.ColumnText(3);
+      m.measured_at = st.ColumnInt(4);
+      m.wear_center_um = st.ColumnDouble(5);
       const int slot = RollPositionSlot(m.stand, m.position);
       c.campaigns[m.campaign_id].measurements[slot] = std::move(m);
     }
   }
   if (!c.open_campaign.empty()) {
-    StatusOr<Statement> st = db->Prepare(
-        "SELECT c.seq, c.coil_id FROM coils c JOIN campaigns g ON "
-        "g.id = c.campaign WHERE g.campaign_id = ?");
-    if (!st.ok()) return st.status();
-    st->BindText(1, c.open_campaign);
+    ROLLWEAR_ASSIGN_OR_RETURN(
+        Statement st,
+        db->Prepare("SELECT c.seq, c.coil_id FROM coils c JOIN campaigns g ON "
+                    "g.id = c.campaign WHERE g.campaign_id = ?"));
+    st.BindText(1, c.open_campaign);
     while (true) {
-      StatusOr<bool> row = st->Step();
-      if (!row.ok()) return row.status();
-      if (!*row) break;
-      c.open_seqs[static_cast<int>(st->ColumnInt(0))] = st->ColumnText(1);
+      ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
+      if (!row) break;
+      c.open_seqs[static_cast<int>(st.ColumnInt(0))] = st.ColumnText(1);
     }
   }
   return c;
 }
 
 StatusOr<StoredCounts> LoadCounts(Db* db) {
-  StatusOr<Statement> st = db->Prepare(
-      "SELECT (SELECT COUNT(*) FROM campaigns), (SELECT COUNT(*) FROM coils), "
-      "(SELECT COUNT(*) FROM measurements), "
-      "(SELECT COUNT(*) FROM measurements WHERE id > "
-      "  (SELECT IFNULL(MAX(measurement_watermark), 0) FROM calibrations))");
-  if (!st.ok()) return st.status();
-  StatusOr<bool> row = st->Step();
-  if (!row.ok()) return row.status();
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      Statement st,
+      db->Prepare(
+          "SELECT (SELECT COUNT(*) FROM campaigns), "
+          "(SELECT COUNT(*) FROM coils), (SELECT COUNT(*) FROM measurements), "
+          "(SELECT COUNT(*) FROM measurements WHERE id > "
+          "  (SELECT IFNULL(MAX(measurement_watermark), 0) "
+          "FROM calibrations))"));
+  ROLLWEAR_RETURN_IF_ERROR(st.Step().status());
   StoredCounts n;
-  n.campaigns = st->ColumnInt(0);
-  n.coils = st->ColumnInt(1);
-  n.measurements = st->ColumnInt(2);
-  n.measurements_since_last_calibration = st->ColumnInt(3);
+  n.campaigns = st.ColumnInt(0);
+  n.coils = st.ColumnInt(1);
+  n.measurements = st.ColumnInt(2);
+  n.measurements_since_last_calibration = st.ColumnInt(3);
   return n;
 }
 
@@ -395,9 +387,8 @@ StatusOr<std::optional<std::string>> LookupCoilWear(
     Db* db, const std::string& coil_id) {
   ROLLWEAR_ASSIGN_STMT(st, db, "SELECT wear FROM coils WHERE coil_id = ?");
   st->BindText(1, coil_id);
-  StatusOr<bool> row = st->Step();
-  if (!row.ok()) return row.status();
-  if (!*row || st->ColumnIsNull(0)) return std::optional<std::string>();
+  ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st->Step());
+  if (!row || st->ColumnIsNull(0)) return std::optional<std::string>();
   return std::optional<std::string>(st->ColumnBlob(0));
 }
 
@@ -412,16 +403,17 @@ StatusOr<RollStates> ReplayCampaignCoils(Db* db, const CampaignRec& campaign,
         MountRoll(model, RollPositionName(m->stand, m->position), m->roll_type,
                   m->diameter_mm, m->hardness_hb, campaign.started_at);
   }
-  StatusOr<Statement> st = db->Prepare(
-      "SELECT c.coil_id, c.grade, p.stand, p.rolled_at, p.force_kn, "
-      "p.width_mm, p.length_m, p.entry_thickness_mm, p.exit_thickness_mm, "
-      "p.temperature_c, p.speed_mps, p.lubrication, p.shift_mm, c.id, "
-      "c.wear IS NULL "
-      "FROM passes p JOIN coils c ON c.id = p.coil "
-      "WHERE c.campaign = (SELECT id FROM campaigns WHERE campaign_id = ?) "
-      "ORDER BY c.id, p.id");
-  if (!st.ok()) return st.status();
-  st->BindText(1, campaign.id);
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      Statement st,
+      db->Prepare(
+          "SELECT c.coil_id, c.grade, p.stand, p.rolled_at, p.force_kn, "
+          "p.width_mm, p.length_m, p.entry_thickness_mm, p.exit_thickness_mm, "
+          "p.temperature_c, p.speed_mps, p.lubrication, p.shift_mm, c.id, "
+          "c.wear IS NULL "
+          "FROM passes p JOIN coils c ON c.id = p.coil "
+          "WHERE c.campaign = (SELECT id FROM campaigns WHERE campaign_id = ?) "
+          "ORDER BY c.id, p.id"));
+  st.BindText(1, campaign.id);
   // A coil's passes are stored together, so a coil ends where the next
   // row's coil differs.
   ReplayedCoil coil;
@@ -435,28 +427,27 @@ StatusOr<RollStates> ReplayCampaignCoils(Db* db, const CampaignRec& campaign,
   };
   StoredPass pass;
   while (true) {
-    StatusOr<bool> row = st->Step();
-    if (!row.ok()) return row.status();
-    if (!*row) break;
-    const int64_t coil_row = st->ColumnInt(13);
+    ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
+    if (!row) break;
+    const int64_t coil_row = st.ColumnInt(13);
     if (coil_row != coil.row) {
       flush();
       coil.row = coil_row;
-      coil.coil_id = st->ColumnText(0);
-      coil.wear_missing = st->ColumnInt(14) != 0;
+      coil.coil_id = st.ColumnText(0);
+      coil.wear_missing = st.ColumnInt(14) != 0;
     }
-    pass.stand = static_cast<int>(st->ColumnInt(2));
-    pass.rolled_at = st->ColumnInt(3);
-    pass.force_kn = st->ColumnDouble(4);
-    pass.width_mm = st->ColumnDouble(5);
-    pass.length_m = st->ColumnDouble(6);
-    pass.entry_thickness_mm = st->ColumnDouble(7);
-    pass.exit_thickness_mm = st->ColumnDouble(8);
-    pass.temperature_c = st->ColumnDouble(9);
-    pass.speed_mps = st->ColumnDouble(10);
-    pass.lubrication = st->ColumnInt(11) != 0;
-    pass.shift_mm = st->ColumnDouble(12);
-    const PassInput in = ToPassInput(st->ColumnText(1), pass);
+    pass.stand = static_cast<int>(st.ColumnInt(2));
+    pass.rolled_at = st.ColumnInt(3);
+    pass.force_kn = st.ColumnDouble(4);
+    pass.width_mm = st.ColumnDouble(5);
+    pass.length_m = st.ColumnDouble(6);
+    pass.entry_thickness_mm = st.ColumnDouble(7);
+    pass.exit_thickness_mm = st.ColumnDouble(8);
+    pass.temperature_c = st.ColumnDouble(9);
+    pass.speed_mps = st.ColumnDouble(10);
+    pass.lubrication = st.ColumnInt(11) != 0;
+    pass.shift_mm = st.ColumnDouble(12);
+    const PassInput in = ToPassInput(st.ColumnText(1), pass);
     for (Position p : {Position::kTop, Position::kBottom}) {
       const int slot = RollPositionSlot(pass.stand, p);
       auto& s = states[slot];
@@ -466,7 +457,7 @@ StatusOr<RollStates> ReplayCampaignCoils(Db* db, const CampaignRec& campaign,
     }
   }
   flush();
-  if (!visit_status.ok()) return visit_status;
+  ROLLWEAR_RETURN_IF_ERROR(visit_status);
   return states;
 }
 
@@ -484,9 +475,8 @@ StatusOr<int> BackfillCoilWear(Db* db, const Catalog& catalog,
         "SELECT DISTINCT k.campaign_id FROM coils c "
         "JOIN campaigns k ON k.id = c.campaign WHERE c.wear IS NULL");
     while (true) {
-      StatusOr<bool> row = st->Step();
-      if (!row.ok()) return row.status();
-      if (!*row) break;
+      ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st->Step());
+      if (!row) break;
       campaigns.push_back(st->ColumnText(0));
     }
   }

@@ -103,86 +103,85 @@ StatusOr<int64_t> InsertActiveModel(Db* db, const ModelVersion& m,
                                     int64_t calibration_id) {
   ROLLWEAR_RETURN_IF_ERROR(
       db->Exec("UPDATE models SET active = 0 WHERE active = 1"));
-  StatusOr<Statement> st = db->Prepare(
-      "INSERT INTO models (created_at, law, k_option, gap_val_um, "
-      "calibration, active, model_json) VALUES (?, ?, ?, ?, ?, 1, ?)");
-  if (!st.ok()) return st.status();
-  st->BindInt(1, m.created_at)
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      Statement st,
+      db->Prepare(
+          "INSERT INTO models (created_at, law, k_option, gap_val_um, "
+          "calibration, active, model_json) VALUES (?, ?, ?, ?, ?, 1, ?)"));
+  st.BindInt(1, m.created_at)
       .BindText(2, m.model)
       .BindInt(3, m.option)
       .BindNullableDouble(4, m.gap_val_um)
       .BindText(6, EncodeWearModel(m.wear_model));
   if (calibration_id > 0) {
-    st->BindInt(5, calibration_id);
+    st.BindInt(5, calibration_id);
   } else {
-    st->BindNull(5);
+    st.BindNull(5);
   }
-  ROLLWEAR_RETURN_IF_ERROR(st->Run());
+  ROLLWEAR_RETURN_IF_ERROR(st.Run());
   return db->LastInsertRowId();
 }
 
 StatusOr<std::optional<ModelVersion>> LoadActiveModel(Db* db) {
-  StatusOr<Statement> st = db->Prepare(std::string("SELECT ") + kModelColumns +
-                                       " FROM models WHERE active = 1");
-  if (!st.ok()) return st.status();
-  StatusOr<bool> row = st->Step();
-  if (!row.ok()) return row.status();
+  ROLLWEAR_ASSIGN_OR_RETURN(Statement st,
+                            db->Prepare(std::string("SELECT ") + kModelColumns +
+                                        " FROM models WHERE active = 1"));
+  ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
   std::optional<ModelVersion> out;
-  if (!*row) return out;
-  StatusOr<ModelVersion> m = ReadModel(*st);
-  if (!m.ok()) return m.status();
-  out = std::move(m).value();
+  if (!row) return out;
+  ROLLWEAR_ASSIGN_OR_RETURN(out, ReadModel(st));
   return out;
 }
 
 StatusOr<std::vector<ModelVersion>> LoadModels(Db* db) {
-  StatusOr<Statement> st = db->Prepare(std::string("SELECT ") + kModelColumns +
-                                       " FROM models ORDER BY version DESC");
-  if (!st.ok()) return st.status();
+  ROLLWEAR_ASSIGN_OR_RETURN(Statement st,
+                            db->Prepare(std::string("SELECT ") + kModelColumns +
+                                        " FROM models ORDER BY version DESC"));
   std::vector<ModelVersion> out;
   while (true) {
-    StatusOr<bool> row = st->Step();
-    if (!row.ok()) return row.status();
-    if (!*row) return out;
-    StatusOr<ModelVersion> m = ReadModel(*st);
-    if (!m.ok()) return m.status();
-    out.push_back(std::move(m).value());
+    ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
+    if (!row) return out;
+    ROLLWEAR_ASSIGN_OR_RETURN(ModelVersion m, ReadModel(st));
+    out.push_back(std::move(m));
   }
 }
 
 StatusOr<int64_t> InsertCalibration(Db* db, const CalibrationRecord& r) {
-  StatusOr<Statement> st = db->Prepare(
-      "INSERT INTO calibrations (status, triggered_by, law, k_option, "
-      "queued_at) VALUES (?, ?, ?, ?, ?)");
-  if (!st.ok()) return st.status();
-  st->BindText(1, CalibrationStatusName(r.status))
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      Statement st,
+      db->Prepare(
+          "INSERT INTO calibrations (status, triggered_by, law, k_option, "
+          "queued_at) VALUES (?, ?, ?, ?, ?)"));
+  st.BindText(1, CalibrationStatusName(r.status))
       .BindText(2, r.trigger)
       .BindText(3, r.model)
       .BindInt(4, r.option)
       .BindInt(5, r.queued_at);
-  ROLLWEAR_RETURN_IF_ERROR(st->Run());
+  ROLLWEAR_RETURN_IF_ERROR(st.Run());
   return db->LastInsertRowId();
 }
 
 StatusOr<bool> ClaimCalibration(Db* db, int64_t id, UnixSeconds started_at) {
-  StatusOr<Statement> st = db->Prepare(
-      "UPDATE calibrations SET status = 'running', started_at = ?, "
-      "measurement_watermark = (SELECT IFNULL(MAX(id), 0) FROM measurements) "
-      "WHERE id = ? AND status = 'queued'");
-  if (!st.ok()) return st.status();
-  st->BindInt(1, started_at).BindInt(2, id);
-  ROLLWEAR_RETURN_IF_ERROR(st->Run());
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      Statement st,
+      db->Prepare("UPDATE calibrations SET status = 'running', started_at = ?, "
+                  "measurement_watermark = "
+                  "(SELECT IFNULL(MAX(id), 0) FROM measurements) "
+                  "WHERE id = ? AND status = 'queued'"));
+  st.BindInt(1, started_at).BindInt(2, id);
+  ROLLWEAR_RETURN_IF_ERROR(st.Run());
   return db->Changes() == 1;
 }
 
 Status UpdateCalibration(Db* db, const CalibrationRecord& r) {
-  StatusOr<Statement> st = db->Prepare(
-      "UPDATE calibrations SET status = ?, started_at = ?, finished_at = ?, "
-      "coefficients_json = ?, cost = ?, gap_train_um = ?, gap_val_um = ?, "
-      "active_gap_val_um = ?, n_train = ?, n_val = ?, promoted = ?, "
-      "model_version = ?, message = ? WHERE id = ?");
-  if (!st.ok()) return st.status();
-  st->BindText(1, CalibrationStatusName(r.status))
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      Statement st,
+      db->Prepare("UPDATE calibrations SET status = ?, started_at = ?, "
+                  "finished_at = ?, coefficients_json = ?, cost = ?, "
+                  "gap_train_um = ?, gap_val_um = ?, active_gap_val_um = ?, "
+                  "n_train = ?, n_val = ?, promoted = ?, model_version = ?, "
+                  "message = ? WHERE id = ?"));
+  st.BindText(1, CalibrationStatusName(r.status))
       .BindInt(2, r.started_at)
       .BindInt(3, r.finished_at)
       .BindText(4, CoefficientsJson(r.coefficients))
@@ -196,11 +195,11 @@ Status UpdateCalibration(Db* db, const CalibrationRecord& r) {
       .BindText(13, r.message)
       .BindInt(14, r.id);
   if (r.model_version > 0) {
-    st->BindInt(12, r.model_version);
+    st.BindInt(12, r.model_version);
   } else {
-    st->BindNull(12);
+    st.BindNull(12);
   }
-  ROLLWEAR_RETURN_IF_ERROR(st->Run());
+  ROLLWEAR_RETURN_IF_ERROR(st.Run());
   if (db->Changes() != 1) {
     return Status::NotFound("calibration " + std::to_string(r.id) +
                             ": unknown calibration");
@@ -209,41 +208,38 @@ Status UpdateCalibration(Db* db, const CalibrationRecord& r) {
 }
 
 StatusOr<std::optional<CalibrationRecord>> LoadCalibration(Db* db, int64_t id) {
-  StatusOr<Statement> st =
-      db->Prepare(std::string("SELECT ") + kCalibrationColumns +
-                  " FROM calibrations WHERE id = ?");
-  if (!st.ok()) return st.status();
-  st->BindInt(1, id);
-  StatusOr<bool> row = st->Step();
-  if (!row.ok()) return row.status();
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      Statement st, db->Prepare(std::string("SELECT ") + kCalibrationColumns +
+                                " FROM calibrations WHERE id = ?"));
+  st.BindInt(1, id);
+  ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
   std::optional<CalibrationRecord> out;
-  if (*row) out = ReadCalibration(*st);
+  if (row) out = ReadCalibration(st);
   return out;
 }
 
 StatusOr<std::vector<CalibrationRecord>> LoadCalibrations(Db* db, int limit) {
-  StatusOr<Statement> st =
-      db->Prepare(std::string("SELECT ") + kCalibrationColumns +
-                  " FROM calibrations ORDER BY id DESC LIMIT ?");
-  if (!st.ok()) return st.status();
-  st->BindInt(1, limit > 0 ? limit : -1);
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      Statement st, db->Prepare(std::string("SELECT ") + kCalibrationColumns +
+                                " FROM calibrations ORDER BY id DESC LIMIT ?"));
+  st.BindInt(1, limit > 0 ? limit : -1);
   std::vector<CalibrationRecord> out;
   while (true) {
-    StatusOr<bool> row = st->Step();
-    if (!row.ok()) return row.status();
-    if (!*row) return out;
-    out.push_back(ReadCalibration(*st));
+    ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
+    if (!row) return out;
+    out.push_back(ReadCalibration(st));
   }
 }
 
 Status FailInterruptedCalibrations(Db* db, UnixSeconds now) {
-  StatusOr<Statement> st = db->Prepare(
-      "UPDATE calibrations SET status = 'failed', finished_at = ?, "
-      "message = 'interrupted: rollwear stopped while the run was in "
-      "progress' WHERE status = 'running'");
-  if (!st.ok()) return st.status();
-  st->BindInt(1, now);
-  return st->Run();
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      Statement st,
+      db->Prepare(
+          "UPDATE calibrations SET status = 'failed', finished_at = ?, "
+          "message = 'interrupted: rollwear stopped while the run was in "
+          "progress' WHERE status = 'running'"));
+  st.BindInt(1, now);
+  return st.Run();
 }
 
 }  // namespace rollwear::storage::internal
