@@ -433,6 +433,8 @@ bool DecodeCalibrationRequest(std::string_view body, int max_depth,
   if (j.contains("model")) {
     std::string model;
     if (!r.Text("model", &model)) return false;
+    // docs/api.md: an empty string is out_of_range, as for every field.
+    if (model.empty()) return r.OutOfRange("model", "must not be empty");
     out->ann = model == storage::kAnnModelName;
     if (!out->ann && !ParseWearLaw(model, &out->law)) {
       return r.Invalid("model", "must be wang, nikitenko, cao or ann, got '" +

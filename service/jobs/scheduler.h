@@ -1,4 +1,5 @@
-// Scheduler: the daemon's background work.
+// Scheduler: the daemon's calibration work (the diagnoses run beside it,
+// in service/jobs/diagnosis_jobs.h).
 //   - a job worker thread that runs queued calibration runs
 //     (MillStore::RunCalibration) one at a time, in submission order;
 //   - a nightly trigger that, at the configured local time of day, queues a

@@ -263,6 +263,11 @@ TEST_F(RouterTest, ControlBodiesRefuseUnknownFields) {
   // The unknown member is named even when a known one is bad too.
   ExpectRejected(Post("/v1/calibrations", {{"option", 9}, {"modle", "cao"}}),
                  400, "unknown_field", "modle", before);
+  // An empty model is out of range (docs/api.md), a misspelt one invalid.
+  ExpectRejected(Post("/v1/calibrations", {{"model", ""}}), 400,
+                 "out_of_range", "model", before);
+  ExpectRejected(Post("/v1/calibrations", {{"model", "wagn"}}), 400,
+                 "invalid_value", "model", before);
   EXPECT_TRUE(store_->ListCalibrations(10).empty());
 
   ExpectRejected(Post("/v1/diagnoses", {{"adpot", true}}), 400, "unknown_field",
