@@ -18,7 +18,7 @@
 
 #include "core/base/status.h"
 #include "core/dataset/dataset.h"
-#include "core/fit/candidate_model.h"
+#include "core/model/ann_model.h"
 #include "core/model/wear_model.h"
 
 namespace rollwear::storage {
@@ -114,7 +114,7 @@ struct WearSnapshot {
 };
 
 // Model name of the recurrent network in runs and model versions
-// (core/fit/candidate_model.h).
+// (core/model/ann_model.h).
 using ::rollwear::kAnnModelName;
 
 struct ModelVersion {

@@ -70,9 +70,9 @@ Fitted Fit(const TermData& td, const std::vector<int>& subset, const std::vector
 }
 
 // Best fit of current + candidate over the candidate's starting points.
-Fitted FitCandidate(const TermData& td, const std::vector<int>& subset,
-                    const std::vector<double>& sd, const Fitted& current,
-                    const Candidate& cand) {
+Fitted FitTermCandidate(const TermData& td, const std::vector<int>& subset,
+                        const std::vector<double>& sd, const Fitted& current,
+                        const Candidate& cand) {
   std::vector<std::vector<double>> starts = cand.starts;
   if (starts.empty()) starts.push_back(cand.spec.term.params);
   Fitted best;
@@ -224,9 +224,11 @@ StatusOr<DiagnosisReport> Diagnose(const Dataset& data, const DiagnosisOptions& 
       to_fit.push_back(i);
     }
     std::vector<Fitted> fits(nc);
-    ParallelFor(static_cast<int>(to_fit.size()), options.num_threads, [&](int j) {
-      fits[to_fit[j]] = FitCandidate(td, train, sd, current, best_start[to_fit[j]]);
-    });
+    ParallelFor(
+        static_cast<int>(to_fit.size()), options.num_threads, [&](int j) {
+          fits[to_fit[j]] =
+              FitTermCandidate(td, train, sd, current, best_start[to_fit[j]]);
+        });
     phase("refit");
     const double n = static_cast<double>(train.size());
     std::vector<CandidateResult> results(nc);

@@ -36,14 +36,11 @@
 
 #include "core/base/status.h"
 #include "core/dataset/dataset.h"
+#include "core/model/ann_model.h"
 #include "core/model/metrics.h"
 #include "core/model/wear_model.h"
 
 namespace rollwear {
-
-// Model name of the recurrent network in runs and model versions (the
-// other models are named by their law, WearLawName).
-inline constexpr char kAnnModelName[] = "ann";
 
 // The figures of a candidate, and of the active model, on one split.
 struct CandidateScore {

@@ -41,6 +41,10 @@
 
 namespace rollwear {
 
+// Model name of the recurrent network in runs and model versions (the
+// other models are named by their law, WearLawName).
+inline constexpr char kAnnModelName[] = "ann";
+
 // selu(z) = lambda * z (z > 0), lambda * alpha * (exp(z) - 1) (z <= 0);
 // constants of Klambauer et al. 2017, Eq. 14.
 constexpr double kAnnSeluLambda = 1.0507009873554804934193349852946;
