@@ -17,9 +17,9 @@ namespace {
 // calibrate` uses).
 StatusOr<CampaignSplit> SplitOf(const Dataset& data, const DatasetIndex& index,
                                 uint64_t split_seed) {
-  StatusOr<WearStatistics> stats = Aggregate(data, index, WearLaw::kWang);
-  if (!stats.ok()) return stats.status();
-  return SplitCampaigns(*stats, 2.0 / 3.0, split_seed);
+  ROLLWEAR_ASSIGN_OR_RETURN(const WearStatistics stats,
+                            Aggregate(data, index, WearLaw::kWang));
+  return SplitCampaigns(stats, 2.0 / 3.0, split_seed);
 }
 
 FitMetrics MetricsOn(const WearModel& m, const Dataset& data,
