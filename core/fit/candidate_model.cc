@@ -46,66 +46,49 @@ void Score(const WearModel& active, const Dataset& data,
   if (!candidate.is_ann()) s.coefficients = candidate.NamedCoefficients();
 }
 
-// Fits the candidate of `request` on split.train into `out` (model and
-// summary), or sets out->error.
-void Fit(const Dataset& data, const DatasetIndex& index,
-         const CampaignSplit& split, const CandidateRequest& request,
-         const WearModel& active, CandidateEvaluation* out) {
+// Fits the candidate of `request` on split.train into `out` (model, summary
+// and, for a calibration, its cost); an error says why there is none.
+Status Fit(const Dataset& data, const DatasetIndex& index,
+           const CampaignSplit& split, const CandidateRequest& request,
+           const WearModel& active, CandidateEvaluation* out) {
   if (request.model == kAnnModelName) {
     if (!request.train_network) {
-      out->error = Status::Internal("no trainer for the recurrent network");
-      return;
+      return Status::Internal("no trainer for the recurrent network");
     }
-    StatusOr<FittedCandidate> ann = request.train_network(data, split.train);
-    if (!ann.ok()) {
-      out->error = ann.status();
-      return;
-    }
-    out->candidate = std::move(ann->model);
-    out->summary = std::move(ann->summary);
-    return;
+    ROLLWEAR_ASSIGN_OR_RETURN(FittedCandidate ann,
+                              request.train_network(data, split.train));
+    out->candidate = std::move(ann.model);
+    out->summary = std::move(ann.summary);
+    return Status::Ok();
   }
   WearLaw law = WearLaw::kWang;
   if (!ParseWearLaw(request.model, &law)) {
-    out->error =
-        Status::Internal("stored law '" + request.model + "' is unknown");
-    return;
+    return Status::Internal("stored law '" + request.model + "' is unknown");
   }
   if (!active.is_ann() && !active.terms.empty() && active.law == law &&
       request.option == 1) {
-    StatusOr<WearModel> refit =
-        RefitWithTerms(data, law, active.terms, split.train);
-    if (!refit.ok()) {
-      out->error = refit.status();
-      return;
-    }
-    out->candidate = std::move(refit).value();
+    ROLLWEAR_ASSIGN_OR_RETURN(
+        out->candidate, RefitWithTerms(data, law, active.terms, split.train));
     out->summary = "option 1 with " + std::to_string(active.terms.size()) +
                    " adopted term(s) refitted";
-    return;
+    return Status::Ok();
   }
-  StatusOr<WearStatistics> stats = Aggregate(data, index, law);
-  if (!stats.ok()) {
-    out->error = stats.status();
-    return;
-  }
+  ROLLWEAR_ASSIGN_OR_RETURN(const WearStatistics stats,
+                            Aggregate(data, index, law));
   CalibrationOptions co;
   co.law = law;
   co.option = request.option;
-  StatusOr<SplitCalibration> run = CalibrateOnSplit(*stats, split, co);
-  if (!run.ok()) {
-    out->error = run.status();
-    return;
-  }
-  const CalibrationSummary& summary = run->result.summary;
+  ROLLWEAR_ASSIGN_OR_RETURN(SplitCalibration run,
+                            CalibrateOnSplit(stats, split, co));
+  const CalibrationSummary& summary = run.result.summary;
   out->score.cost = summary.final_cost;
   out->summary = summary.BriefReport();
   if (!summary.usable) {
-    out->error = Status::NumericalFailure("calibration unusable: " +
-                                          summary.BriefReport());
-    return;
+    return Status::NumericalFailure("calibration unusable: " +
+                                    summary.BriefReport());
   }
-  out->candidate = std::move(run->result.model);
+  out->candidate = std::move(run.result.model);
+  return Status::Ok();
 }
 
 }  // namespace
@@ -121,7 +104,7 @@ CandidateEvaluation FitCandidate(const Dataset& data,
       out.error = split.status();
       return out;
     }
-    Fit(data, index, *split, request, active, &out);
+    out.error = Fit(data, index, *split, request, active, &out);
     if (out.error.ok()) Score(active, data, index, *split, &out);
   } catch (const std::exception& e) {
     out.error = Status::Internal(std::string("calibration threw: ") + e.what());
