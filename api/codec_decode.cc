@@ -337,13 +337,10 @@ bool DecodeRollChange(std::string_view body, int max_depth,
     }
     out->rolls.push_back(std::move(m));
   }
-  std::vector<MountRecord> records;
-  for (const storage::MountedRollIn& m : out->rolls) {
-    records.push_back(MountRecord{m.stand, m.position, m.roll_id, m.roll_type,
-                                  m.diameter_mm, m.hardness_hb});
-  }
-  return Admissible(j, "rolls", RollChangeRules(out->campaign_id, records),
-                    error);
+  return Admissible(
+      j, "rolls",
+      RollChangeRules(out->campaign_id, storage::MountRecords(out->rolls)),
+      error);
 }
 
 bool DecodeCampaignEnd(std::string_view body, int max_depth,

@@ -4,6 +4,16 @@
 
 namespace rollwear::storage {
 
+std::vector<MountRecord> MountRecords(const std::vector<MountedRollIn>& rolls) {
+  std::vector<MountRecord> out;
+  out.reserve(rolls.size());
+  for (const MountedRollIn& r : rolls) {
+    out.push_back(MountRecord{r.stand, r.position, r.roll_id, r.roll_type,
+                              r.diameter_mm, r.hardness_hb});
+  }
+  return out;
+}
+
 bool StoreOptions::IsValid(std::string* error) const {
   if (max_batch < 1) {
     *error = "max_batch must be >= 1";

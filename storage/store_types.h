@@ -18,6 +18,7 @@
 
 #include "core/base/status.h"
 #include "core/dataset/dataset.h"
+#include "core/dataset/input_rules.h"
 #include "core/model/ann_model.h"
 #include "core/model/wear_model.h"
 
@@ -56,6 +57,9 @@ struct RollChangeIn {
   UnixSeconds started_at = 0;
   std::vector<MountedRollIn> rolls;
 };
+
+// Views of `rolls` for core's RollChangeRules (valid while `rolls` lives).
+std::vector<MountRecord> MountRecords(const std::vector<MountedRollIn>& rolls);
 
 // One pass of a coil body: a coils.csv row's measured quantities.
 using PassIn = PassMeasures;

@@ -77,13 +77,8 @@ std::vector<std::string> PositionLabels(uint32_t mask) {
 // ------------------------------------------------------------- field rules
 
 Status CheckRollChangeFields(const RollChangeIn& in) {
-  std::vector<MountRecord> rolls;
-  rolls.reserve(in.rolls.size());
-  for (const MountedRollIn& r : in.rolls) {
-    rolls.push_back(MountRecord{r.stand, r.position, r.roll_id, r.roll_type,
-                                r.diameter_mm, r.hardness_hb});
-  }
-  return FirstBroken(RollChangeRules(in.campaign_id, rolls), "rolls");
+  return FirstBroken(RollChangeRules(in.campaign_id, MountRecords(in.rolls)),
+                     "rolls");
 }
 
 Status CheckEndFields(const std::string& campaign_id, UnixSeconds) {
