@@ -18,6 +18,7 @@
 
 #include "core/base/status.h"
 #include "core/dataset/dataset.h"
+#include "core/dataset/extra_fields.h"
 #include "core/dataset/input_rules.h"
 #include "core/model/ann_model.h"
 #include "core/model/wear_model.h"
@@ -50,19 +51,24 @@ struct MountedRollIn {
   std::string roll_type;
   double diameter_mm = 0;
   double hardness_hb = 0;
+  ExtraFields extra;  // the roll's extra fields: mounts.csv's extra columns
 };
 
 struct RollChangeIn {
   std::string campaign_id;
   UnixSeconds started_at = 0;
   std::vector<MountedRollIn> rolls;
+  ExtraFields extra;  // the campaign's extra fields: campaigns.csv's extra columns
 };
 
 // Views of `rolls` for core's RollChangeRules (valid while `rolls` lives).
 std::vector<MountRecord> MountRecords(const std::vector<MountedRollIn>& rolls);
 
 // One pass of a coil body: a coils.csv row's measured quantities.
-using PassIn = PassMeasures;
+struct PassIn : PassMeasures {
+  ExtraFields extra;  // the pass's own extra fields (coils.csv's extra columns)
+  bool operator==(const PassIn&) const = default;
+};
 
 struct CoilIn {
   std::string coil_id;
@@ -71,6 +77,9 @@ struct CoilIn {
   UnixSeconds rolled_at = 0;
   std::string grade;
   std::vector<PassIn> passes;
+  // Extra fields of the coil as a whole: extra columns of each of its
+  // coils.csv rows (a name may not appear both here and in a pass).
+  ExtraFields extra;
 };
 
 struct MeasurementIn {
@@ -80,6 +89,7 @@ struct MeasurementIn {
   std::string roll_id;
   UnixSeconds measured_at = 0;
   double wear_center_um = 0;
+  ExtraFields extra;  // measurements.csv's extra columns
 };
 
 enum class WriteOutcome { kCreated, kUnchanged };

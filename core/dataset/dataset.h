@@ -71,7 +71,7 @@ struct Mount {
 
 // What one coil brings to one stand: the measured quantities of a
 // coils.csv row, without its keys, time and grade (the pass of an API coil
-// body is exactly this: storage::PassIn).
+// body is this plus its extra fields: storage::PassIn).
 struct PassMeasures {
   int stand = 0;
   double force_kn = 0;

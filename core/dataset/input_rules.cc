@@ -180,17 +180,18 @@ RuleViolations PassRules(const PassMeasures& p) {
   return out;
 }
 
-RuleViolations CoilRules(std::string_view coil_id, std::string_view campaign_id,
-                         int64_t seq, std::string_view grade,
-                         std::span<const PassMeasures> passes) {
+RuleViolations CoilRules(
+    std::string_view coil_id, std::string_view campaign_id, int64_t seq,
+    std::string_view grade, size_t num_passes,
+    const std::function<const PassMeasures&(size_t)>& pass_at) {
   RuleViolations out;
   Rules r(&out);
   AddCoilKeyRules(coil_id, campaign_id, seq, grade, &r);
-  if (passes.empty()) r.Add("passes", "must not be empty");
+  if (num_passes == 0) r.Add("passes", "must not be empty");
   int first[kMaxStand + 1];
   std::fill(std::begin(first), std::end(first), -1);
-  for (size_t i = 0; i < passes.size(); ++i) {
-    const PassMeasures& p = passes[i];
+  for (size_t i = 0; i < num_passes; ++i) {
+    const PassMeasures& p = pass_at(i);
     r.set_element(static_cast<int>(i));
     AddPassRules(p, &r);
     if (p.stand < kMinStand || p.stand > kMaxStand) continue;

@@ -23,6 +23,8 @@
 #define ROLLWEAR_CORE_DATASET_INPUT_RULES_H_
 
 #include <cstdint>
+#include <functional>
+#include <iterator>
 #include <optional>
 #include <span>
 #include <string>
@@ -95,10 +97,22 @@ RuleViolations CoilKeyRules(std::string_view coil_id,
 // temperature and shift finite.
 RuleViolations PassRules(const PassMeasures& p);
 // A whole coil: CoilKeyRules, at least one pass, PassRules for each
-// (element = index), each stand once.
+// (element = index), each stand once. `pass_at(i)` is pass i of `num_passes`.
+RuleViolations CoilRules(
+    std::string_view coil_id, std::string_view campaign_id, int64_t seq,
+    std::string_view grade, size_t num_passes,
+    const std::function<const PassMeasures&(size_t)>& pass_at);
+// The same on any contiguous range of PassMeasures or of a type derived
+// from it (core's PassMeasures, storage's PassIn).
+template <typename PassRange>
 RuleViolations CoilRules(std::string_view coil_id, std::string_view campaign_id,
                          int64_t seq, std::string_view grade,
-                         std::span<const PassMeasures> passes);
+                         const PassRange& passes) {
+  return CoilRules(coil_id, campaign_id, seq, grade, std::size(passes),
+                   [&passes](size_t i) -> const PassMeasures& {
+                     return std::data(passes)[i];
+                   });
+}
 
 // One measurement: non-empty ids, stand F1..F7, position top/bottom, wear
 // finite and >= kMinWearUm.
