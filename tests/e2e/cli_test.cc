@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include "rollwear_build_commit.h"  // generated at every build
 #include "tests/e2e/e2e_util.h"
 
 namespace rollwear::e2e {
