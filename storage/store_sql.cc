@@ -238,84 +238,115 @@ StatusOr<std::optional<std::string>> LookupSeq(Db* db,
   return out;
 }
 
+namespace {
+
+// Row id -> campaign_id, for the rows that refer to campaigns by row id.
+using CampaignByRow = std::unordered_map<int64_t, std::string>;
+
+// The campaigns, and which one is open.
+Status LoadCampaigns(Db* db, Catalog* catalog, CampaignByRow* by_row_out) {
+  Catalog& c = *catalog;
+  CampaignByRow& by_row = *by_row_out;
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      Statement st,
+      db->Prepare("SELECT id, campaign_id, started_at, ended_at FROM campaigns "
+                  "ORDER BY id"));
+  UnixSeconds open_start = 0;
+  while (true) {
+    ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
+    if (!row) break;
+    CampaignRec rec;
+    rec.id = st.ColumnText(1);
+    rec.started_at = st.ColumnInt(2);
+    if (!st.ColumnIsNull(3)) rec.ended_at = st.ColumnInt(3);
+    // At most one campaign is open; should a file hold several, the
+    // latest start is the one coils go to.
+    if (!rec.ended_at &&
+        (c.open_campaign.empty() || rec.started_at >= open_start)) {
+      c.open_campaign = rec.id;
+      open_start = rec.started_at;
+    }
+    by_row[st.ColumnInt(0)] = rec.id;
+    c.campaigns[rec.id] = std::move(rec);
+  }
+  return Status::Ok();
+}
+
+// Each campaign's mounted rolls, and the roll positions seen.
+Status LoadMounts(Db* db, CampaignByRow* by_row_io, Catalog* catalog) {
+  Catalog& c = *catalog;
+  CampaignByRow& by_row = *by_row_io;
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      Statement st,
+      db->Prepare("SELECT campaign, stand, position, roll_id, roll_type, "
+                  "diameter_mm, hardness_hb FROM mounts ORDER BY id"));
+  while (true) {
+    ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
+    if (!row) break;
+    MountedRollIn m;
+    m.stand = static_cast<int>(st.ColumnInt(1));
+    m.position = static_cast<Position>(st.ColumnInt(2));
+    m.roll_id = st.ColumnText(3);
+    m.roll_type = st.ColumnText(4);
+    m.diameter_mm = st.ColumnDouble(5);
+    m.hardness_hb = st.ColumnDouble(6);
+    const int slot = RollPositionSlot(m.stand, m.position);
+    c.positions_seen |= 1u << slot;
+    c.campaigns[by_row[st.ColumnInt(0)]].mounts[slot] = std::move(m);
+  }
+  return Status::Ok();
+}
+
+// Each campaign's grinder measurements.
+Status LoadMeasurements(Db* db, CampaignByRow* by_row_io, Catalog* catalog) {
+  Catalog& c = *catalog;
+  CampaignByRow& by_row = *by_row_io;
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      Statement st,
+      db->Prepare("SELECT campaign, stand, position, roll_id, measured_at, "
+                  "wear_center_um FROM measurements ORDER BY id"));
+  while (true) {
+    ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
+    if (!row) break;
+    MeasurementIn m;
+    m.campaign_id = by_row[st.ColumnInt(0)];
+    m.stand = static_cast<int>(st.ColumnInt(1));
+    m.position = static_cast<Position>(st.ColumnInt(2));
+    m.roll_id = st.ColumnText(3);
+    m.measured_at = st.ColumnInt(4);
+    m.wear_center_um = st.ColumnDouble(5);
+    const int slot = RollPositionSlot(m.stand, m.position);
+    c.campaigns[m.campaign_id].measurements[slot] = std::move(m);
+  }
+  return Status::Ok();
+}
+
+// The coils of the open campaign by sequence number.
+Status LoadOpenSeqs(Db* db, Catalog* catalog) {
+  Catalog& c = *catalog;
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      Statement st,
+      db->Prepare("SELECT c.seq, c.coil_id FROM coils c JOIN campaigns g ON "
+                  "g.id = c.campaign WHERE g.campaign_id = ?"));
+  st.BindText(1, c.open_campaign);
+  while (true) {
+    ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
+    if (!row) break;
+    c.open_seqs[static_cast<int>(st.ColumnInt(0))] = st.ColumnText(1);
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
 StatusOr<Catalog> LoadCatalog(Db* db) {
   Catalog c;
-  std::unordered_map<int64_t, std::string> by_row;
-  {
-    ROLLWEAR_ASSIGN_OR_RETURN(
-        Statement st,
-        db->Prepare(
-            "SELECT id, campaign_id, started_at, ended_at FROM campaigns "
-            "ORDER BY id"));
-    UnixSeconds open_start = 0;
-    while (true) {
-      ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
-      if (!row) break;
-      CampaignRec rec;
-      rec.id = st.ColumnText(1);
-      rec.started_at = st.ColumnInt(2);
-      if (!st.ColumnIsNull(3)) rec.ended_at = st.ColumnInt(3);
-      // At most one campaign is open; should a file hold several, the
-      // latest start is the one coils go to.
-      if (!rec.ended_at &&
-          (c.open_campaign.empty() || rec.started_at >= open_start)) {
-        c.open_campaign = rec.id;
-        open_start = rec.started_at;
-      }
-      by_row[st.ColumnInt(0)] = rec.id;
-      c.campaigns[rec.id] = std::move(rec);
-    }
-  }
-  {
-    ROLLWEAR_ASSIGN_OR_RETURN(
-        Statement st,
-        db->Prepare("SELECT campaign, stand, position, roll_id, roll_type, "
-                    "diameter_mm, hardness_hb FROM mounts ORDER BY id"));
-    while (true) {
-      ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
-      if (!row) break;
-      MountedRollIn m;
-      m.stand = static_cast<int>(st.ColumnInt(1));
-      m.position = static_cast<Position>(st.ColumnInt(2));
-      m.roll_id = st.ColumnText(3);
-      m.roll_type = st.ColumnText(4);
-      m.diameter_mm = st.ColumnDouble(5);
-      m.hardness_hb = st.ColumnDouble(6);
-      const int slot = RollPositionSlot(m.stand, m.position);
-      c.positions_seen |= 1u << slot;
-      c.campaigns[by_row[st.ColumnInt(0)]].mounts[slot] = std::move(m);
-    }
-  }
-  {
-    ROLLWEAR_ASSIGN_OR_RETURN(
-        Statement st,
-        db->Prepare("SELECT campaign, stand, position, roll_id, measured_at, "
-                    "wear_center_um FROM measurements ORDER BY id"));
-    while (true) {
-      ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
-      if (!row) break;
-      MeasurementIn m;
-      m.campaign_id = by_row[st.ColumnInt(0)];
-      m.stand = static_cast<int>(st.ColumnInt(1));
-      m.position = static_cast<Position>(st.ColumnInt(2));
-      m.roll_id = st.ColumnText(3);
-      m.measured_at = st.ColumnInt(4);
-      m.wear_center_um = st.ColumnDouble(5);
-      const int slot = RollPositionSlot(m.stand, m.position);
-      c.campaigns[m.campaign_id].measurements[slot] = std::move(m);
-    }
-  }
+  CampaignByRow by_row;
+  ROLLWEAR_RETURN_IF_ERROR(LoadCampaigns(db, &c, &by_row));
+  ROLLWEAR_RETURN_IF_ERROR(LoadMounts(db, &by_row, &c));
+  ROLLWEAR_RETURN_IF_ERROR(LoadMeasurements(db, &by_row, &c));
   if (!c.open_campaign.empty()) {
-    ROLLWEAR_ASSIGN_OR_RETURN(
-        Statement st,
-        db->Prepare("SELECT c.seq, c.coil_id FROM coils c JOIN campaigns g ON "
-                    "g.id = c.campaign WHERE g.campaign_id = ?"));
-    st.BindText(1, c.open_campaign);
-    while (true) {
-      ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
-      if (!row) break;
-      c.open_seqs[static_cast<int>(st.ColumnInt(0))] = st.ColumnText(1);
-    }
+    ROLLWEAR_RETURN_IF_ERROR(LoadOpenSeqs(db, &c));
   }
   return c;
 }
