@@ -27,9 +27,6 @@ void HttpServer::Impl::Close(Conn* c) {
   conns.erase(c->id);  // destroys *c
 }
 
-// Reads until the socket is empty (edge-triggered) and parses, again
-// while reading stopped at the input cap and the requests read were
-// answered in place. May close `c`.
 void HttpServer::Impl::OnReadable(Conn* c) {
   const uint64_t id = c->id;
   while (true) {
@@ -50,7 +47,6 @@ void HttpServer::Impl::OnReadable(Conn* c) {
   if (c->peer_closed && !c->busy && c->out_sent == c->out.size()) Close(c);
 }
 
-// Reads what the socket has, up to the input cap (then read_pending).
 void HttpServer::Impl::ReadSocket(Conn* c) {
   const size_t cap = MaxRequestBytes(limits) + (64 << 10);
   char buf[64 << 10];
@@ -72,8 +68,6 @@ void HttpServer::Impl::ReadSocket(Conn* c) {
   }
 }
 
-// Parses and dispatches requests until one is with the router or the
-// input is used up. May close `c`.
 void HttpServer::Impl::ProcessInput(Conn* c) {
   const uint64_t id = c->id;
   while (conns.count(id) && !c->busy && !c->close_after_write &&
@@ -132,8 +126,6 @@ void HttpServer::Impl::ProcessInput(Conn* c) {
   }
 }
 
-// Queues the answer (one send for head and body) and flushes it. May
-// close `c`.
 void HttpServer::Impl::WriteAnswer(Conn* c, const HttpResponse& response) {
   std::string& out = c->out;
   if (c->out_sent == out.size()) {
@@ -167,7 +159,6 @@ void HttpServer::Impl::WriteAnswer(Conn* c, const HttpResponse& response) {
   Flush(c);
 }
 
-// Sends what is queued. May close `c`.
 void HttpServer::Impl::Flush(Conn* c) {
   if (c->out_sent == c->out.size()) return;
   while (c->out_sent < c->out.size()) {

@@ -110,7 +110,6 @@ void HttpServer::Impl::Run() {
   conns.clear();
 }
 
-// While stopping: stop accepting, close what has nothing in progress.
 bool HttpServer::Impl::Drained() {
   if (listen_fd >= 0) {
     epoll_ctl(epoll_fd, EPOLL_CTL_DEL, listen_fd, nullptr);
@@ -214,14 +213,6 @@ void HttpServer::Impl::Dispatch(Conn* c, HttpRequest request) {
   }
 }
 
-// From any thread: hands an answer to the I/O thread.
-// The writer answers a group's coils one after the other; one eventfd
-// write per wake-up of the I/O thread serves them all (a wake-up is the
-// dear part on a virtual machine). The I/O thread clears wake_pending
-// after draining the eventfd and before it takes the queue, so a post it
-// does not take finds the flag clear and writes again. The write is made
-// under the lock: the I/O thread cannot take this completion (and let
-// Stop() free the server) before Post is done with it.
 void HttpServer::Impl::Post(Completion completion) {
   std::lock_guard<std::mutex> lock(completions_mu);
   completions.push_back(std::move(completion));
@@ -259,7 +250,6 @@ void HttpServer::Impl::RunCompletions() {
   }
 }
 
-// The router's answer to the request `c` had with it.
 void HttpServer::Impl::Complete(Conn* c, HttpResponse response) {
   c->busy = false;
   const double seconds =
