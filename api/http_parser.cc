@@ -1,6 +1,8 @@
 #include "api/http_parser.h"
 
+#include <algorithm>
 #include <charconv>
+#include <optional>
 #include <utility>
 
 #include <strings.h>
@@ -273,10 +275,7 @@ RequestParser::Result RequestParser::ParseHead(std::string_view head) {
   }
   if (ParseRequestLine(request_line) == Result::kError) return Result::kError;
 
-  bool has_length = false;
-  bool saw_close = false;
-  bool chunked = false;
-  bool has_coding = false;
+  FieldFlags flags;
   size_t header_bytes = 0;
   size_t pos = line_end + 2;
   while (pos < head.size()) {
@@ -292,75 +291,101 @@ RequestParser::Result RequestParser::ParseHead(std::string_view head) {
       return Fail(431, "the header fields are larger than " +
                            std::to_string(limits_.max_header_bytes) + " bytes");
     }
-    if (HasStrayLineBreak(line)) {
-      return Fail(400, "bare CR or LF in a header field");
-    }
-    if (line.front() == ' ' || line.front() == '\t') {
-      return Fail(400, "obsolete line folding in the header fields");
-    }
-    const size_t colon = line.find(':');
-    if (colon == std::string_view::npos || colon == 0) {
-      return Fail(400, "malformed header field");
-    }
-    const std::string_view name = line.substr(0, colon);
-    for (char c : name) {
-      if (!IsTokenChar(c)) {
-        return Fail(400,
-                    "malformed header field name '" + std::string(name) + "'");
-      }
-    }
-    const std::string_view value = TrimOws(line.substr(colon + 1));
-    for (char c : value) {
-      if ((static_cast<unsigned char>(c) < 0x20 && c != '\t') || c == 0x7f) {
-        return Fail(400, "control character in header field '" +
-                             std::string(name) + "'");
-      }
-    }
-    if (EqualsNoCase(name, "Content-Length")) {
-      size_t length = 0;
-      const auto [end, ec] =
-          std::from_chars(value.data(), value.data() + value.size(), length);
-      if (value.empty() || ec != std::errc() ||
-          end != value.data() + value.size()) {
-        return Fail(400, "malformed Content-Length");
-      }
-      if (has_length && length != content_length_) {
-        return Fail(400, "two different Content-Length values");
-      }
-      has_length = true;
-      content_length_ = length;
-    } else if (EqualsNoCase(name, "Transfer-Encoding")) {
-      has_coding = true;
-      if (!EqualsNoCase(value, "chunked") || chunked) {
-        return Fail(501, "transfer coding '" + std::string(value) +
-                             "' is not supported (only chunked)");
-      }
-      chunked = true;
-    } else if (EqualsNoCase(name, "Connection")) {
-      // "close" wins over "keep-alive", in any field line.
-      if (ListHas(value, "close")) saw_close = true;
-      if (ListHas(value, "keep-alive")) keep_alive_ = true;
-    } else if (EqualsNoCase(name, "Expect")) {
-      // RFC 9110 10.1.1: an HTTP/1.0 client's expectation is ignored.
-      expects_continue_ = !http10_ && EqualsNoCase(value, "100-continue");
+    std::string_view name, value;
+    if (ParseFieldLine(line, &name, &value) == Result::kError ||
+        ApplyField(name, value, &flags) == Result::kError) {
+      return Result::kError;
     }
     request_.headers.emplace_back(std::string(name), std::string(value));
   }
-  if (saw_close) keep_alive_ = false;
-  if (chunked && http10_) {
+  return FinishHead(flags);
+}
+
+// One field line: name ":" OWS value OWS, with a token name and no control
+// characters in the value; no line folding.
+RequestParser::Result RequestParser::ParseFieldLine(std::string_view line,
+                                                    std::string_view* name,
+                                                    std::string_view* value) {
+  if (HasStrayLineBreak(line)) {
+    return Fail(400, "bare CR or LF in a header field");
+  }
+  if (line.front() == ' ' || line.front() == '\t') {
+    return Fail(400, "obsolete line folding in the header fields");
+  }
+  const size_t colon = line.find(':');
+  if (colon == std::string_view::npos || colon == 0) {
+    return Fail(400, "malformed header field");
+  }
+  *name = line.substr(0, colon);
+  for (char c : *name) {
+    if (!IsTokenChar(c)) {
+      return Fail(400,
+                  "malformed header field name '" + std::string(*name) + "'");
+    }
+  }
+  *value = TrimOws(line.substr(colon + 1));
+  for (char c : *value) {
+    if ((static_cast<unsigned char>(c) < 0x20 && c != '\t') || c == 0x7f) {
+      return Fail(400, "control character in header field '" +
+                           std::string(*name) + "'");
+    }
+  }
+  return Result::kNeedMore;
+}
+
+// The fields the parser acts on: Content-Length, Transfer-Encoding,
+// Connection and Expect.
+RequestParser::Result RequestParser::ApplyField(std::string_view name,
+                                                std::string_view value,
+                                                FieldFlags* flags) {
+  if (EqualsNoCase(name, "Content-Length")) {
+    size_t length = 0;
+    const auto [end, ec] =
+        std::from_chars(value.data(), value.data() + value.size(), length);
+    if (value.empty() || ec != std::errc() ||
+        end != value.data() + value.size()) {
+      return Fail(400, "malformed Content-Length");
+    }
+    if (flags->has_length && length != content_length_) {
+      return Fail(400, "two different Content-Length values");
+    }
+    flags->has_length = true;
+    content_length_ = length;
+  } else if (EqualsNoCase(name, "Transfer-Encoding")) {
+    flags->has_coding = true;
+    if (!EqualsNoCase(value, "chunked") || flags->chunked) {
+      return Fail(501, "transfer coding '" + std::string(value) +
+                           "' is not supported (only chunked)");
+    }
+    flags->chunked = true;
+  } else if (EqualsNoCase(name, "Connection")) {
+    // "close" wins over "keep-alive", in any field line.
+    if (ListHas(value, "close")) flags->saw_close = true;
+    if (ListHas(value, "keep-alive")) keep_alive_ = true;
+  } else if (EqualsNoCase(name, "Expect")) {
+    // RFC 9110 10.1.1: an HTTP/1.0 client's expectation is ignored.
+    expects_continue_ = !http10_ && EqualsNoCase(value, "100-continue");
+  }
+  return Result::kNeedMore;
+}
+
+// The checks on the fields as a whole, then the body's framing.
+RequestParser::Result RequestParser::FinishHead(const FieldFlags& flags) {
+  if (flags.saw_close) keep_alive_ = false;
+  if (flags.chunked && http10_) {
     // RFC 9112 6.1: chunked framing on HTTP/1.0 is faulty.
     return Fail(400, "Transfer-Encoding on an HTTP/1.0 request");
   }
-  if (has_length && has_coding) {
+  if (flags.has_length && flags.has_coding) {
     return Fail(400, "both Content-Length and Transfer-Encoding");
   }
-  if (has_length && content_length_ > limits_.max_body_bytes) {
+  if (flags.has_length && content_length_ > limits_.max_body_bytes) {
     return Fail(413, "the body is larger than " +
                          std::to_string(limits_.max_body_bytes) + " bytes");
   }
   // RFC 9112 6.3: without either, a request has no body.
-  phase_ = chunked ? Phase::kChunkSize : Phase::kBody;
-  if (!chunked && content_length_ == 0) expects_continue_ = false;
+  phase_ = flags.chunked ? Phase::kChunkSize : Phase::kBody;
+  if (!flags.chunked && content_length_ == 0) expects_continue_ = false;
   return Result::kNeedMore;
 }
 
@@ -372,100 +397,119 @@ RequestParser::Result RequestParser::ParseChunked(std::string_view data) {
   // not depend on how the data is split.
   while (true) {
     if (phase_ == Phase::kChunkSize) {
-      const size_t eol = data.find("\r\n", chunk_pos_);
-      if (eol == std::string_view::npos) {
-        if (data.size() - chunk_pos_ > kMaxChunkLine + 1)
-          return Fail(400, "chunk-size line too long");
-        return Result::kNeedMore;
-      }
-      const std::string_view line = data.substr(chunk_pos_, eol - chunk_pos_);
-      if (line.size() > kMaxChunkLine) {
-        return Fail(400, "chunk-size line too long");
-      }
-      if (HasStrayLineBreak(line)) return Fail(400, "bare CR or LF in a chunk");
-      // Framing counts too: tiny chunks may not make a small body take
-      // more than twice the body limit on the wire.
-      if (eol + 2 - body_start_ > MaxChunkedWireBytes(limits_)) {
-        return Fail(413, "the chunked body takes more than " +
-                             std::to_string(MaxChunkedWireBytes(limits_)) +
-                             " bytes on the wire");
-      }
-      // chunk-size [ BWS ";" chunk-ext ]: after the hex digits only blanks
-      // and then ";" (or the end of the line).
-      const size_t digits_end = line.find_first_of("; \t");
-      const std::string_view digits = line.substr(0, digits_end);
-      if (digits_end != std::string_view::npos) {
-        const size_t after = line.find_first_not_of(" \t", digits_end);
-        if (after != std::string_view::npos && line[after] != ';') {
-          return Fail(400, "malformed chunk size");
-        }
-      }
-      size_t size = 0;
-      const auto [end, ec] = std::from_chars(
-          digits.data(), digits.data() + digits.size(), size, 16);
-      if (digits.empty() || ec != std::errc() ||
-          end != digits.data() + digits.size()) {
-        return Fail(400, "malformed chunk size");
-      }
-      if (size > limits_.max_body_bytes - request_.body.size()) {
-        return Fail(413, "the body is larger than " +
-                             std::to_string(limits_.max_body_bytes) + " bytes");
-      }
-      chunk_pos_ = eol + 2;
-      if (size == 0) {
-        phase_ = Phase::kTrailer;
-        trailer_start_ = chunk_pos_;
-        trailer_scanned_ = chunk_pos_;
-      } else {
-        chunk_left_ = size;
-        phase_ = Phase::kChunkData;
-      }
-      expects_continue_ = false;
+      const std::optional<Result> result = ParseChunkSizeLine(data);
+      if (result.has_value()) return *result;
     }
     if (phase_ == Phase::kChunkData) {
-      const size_t available = data.size() - chunk_pos_;
-      const size_t take = std::min(available, chunk_left_);
-      request_.body.append(data.substr(chunk_pos_, take));
-      chunk_pos_ += take;
-      chunk_left_ -= take;
-      if (chunk_left_ > 0 || data.size() - chunk_pos_ < 2)
-        return Result::kNeedMore;
-      if (data.substr(chunk_pos_, 2) != "\r\n")
-        return Fail(400, "chunk data not followed by CRLF");
-      chunk_pos_ += 2;
-      phase_ = Phase::kChunkSize;
+      const std::optional<Result> result = ReadChunkData(data);
+      if (result.has_value()) return *result;
       continue;
     }
-    if (phase_ == Phase::kTrailer) {
-      // Trailer fields are read and dropped; an empty line ends them.
-      while (true) {
-        // Resume the search where the last call stopped (linear work).
-        const size_t eol =
-            data.find("\r\n", std::max(chunk_pos_, trailer_scanned_));
-        if (eol == std::string_view::npos) {
-          trailer_scanned_ = data.size() - 1;
-          if (data.size() - trailer_start_ > limits_.max_header_bytes + 1)
-            return Fail(431, "trailer fields too large");
-          return Result::kNeedMore;
-        }
-        // Lines and their CRLFs must fit the limit, as in the head; the
-        // final empty line is measured like the others (a partial line is
-        // given one byte of grace for its CR above).
-        if (eol - trailer_start_ > limits_.max_header_bytes) {
-          return Fail(431, "trailer fields too large");
-        }
-        if (eol == chunk_pos_) {
-          consumed_ = eol + 2;
-          phase_ = Phase::kDone;
-          return Result::kDone;
-        }
-        if (HasStrayLineBreak(data.substr(chunk_pos_, eol - chunk_pos_))) {
-          return Fail(400, "bare CR or LF in a trailer field");
-        }
-        chunk_pos_ = eol + 2;
-      }
-    }
+    if (phase_ == Phase::kTrailer) return ParseTrailer(data);
     return Result::kNeedMore;
+  }
+}
+
+// The chunk-size line at chunk_pos_; on success moves to kChunkData, or to
+// kTrailer after the last chunk.
+std::optional<RequestParser::Result> RequestParser::ParseChunkSizeLine(
+    std::string_view data) {
+  const size_t eol = data.find("\r\n", chunk_pos_);
+  if (eol == std::string_view::npos) {
+    if (data.size() - chunk_pos_ > kMaxChunkLine + 1)
+      return Fail(400, "chunk-size line too long");
+    return Result::kNeedMore;
+  }
+  const std::string_view line = data.substr(chunk_pos_, eol - chunk_pos_);
+  if (line.size() > kMaxChunkLine) {
+    return Fail(400, "chunk-size line too long");
+  }
+  if (HasStrayLineBreak(line)) return Fail(400, "bare CR or LF in a chunk");
+  // Framing counts too: tiny chunks may not make a small body take
+  // more than twice the body limit on the wire.
+  if (eol + 2 - body_start_ > MaxChunkedWireBytes(limits_)) {
+    return Fail(413, "the chunked body takes more than " +
+                         std::to_string(MaxChunkedWireBytes(limits_)) +
+                         " bytes on the wire");
+  }
+  // chunk-size [ BWS ";" chunk-ext ]: after the hex digits only blanks
+  // and then ";" (or the end of the line).
+  const size_t digits_end = line.find_first_of("; \t");
+  const std::string_view digits = line.substr(0, digits_end);
+  if (digits_end != std::string_view::npos) {
+    const size_t after = line.find_first_not_of(" \t", digits_end);
+    if (after != std::string_view::npos && line[after] != ';') {
+      return Fail(400, "malformed chunk size");
+    }
+  }
+  size_t size = 0;
+  const auto [end, ec] =
+      std::from_chars(digits.data(), digits.data() + digits.size(), size, 16);
+  if (digits.empty() || ec != std::errc() ||
+      end != digits.data() + digits.size()) {
+    return Fail(400, "malformed chunk size");
+  }
+  if (size > limits_.max_body_bytes - request_.body.size()) {
+    return Fail(413, "the body is larger than " +
+                         std::to_string(limits_.max_body_bytes) + " bytes");
+  }
+  chunk_pos_ = eol + 2;
+  if (size == 0) {
+    phase_ = Phase::kTrailer;
+    trailer_start_ = chunk_pos_;
+    trailer_scanned_ = chunk_pos_;
+  } else {
+    chunk_left_ = size;
+    phase_ = Phase::kChunkData;
+  }
+  expects_continue_ = false;
+  return std::nullopt;
+}
+
+// Copies the current chunk's data; once it and its CRLF are in, moves back
+// to kChunkSize.
+std::optional<RequestParser::Result> RequestParser::ReadChunkData(
+    std::string_view data) {
+  const size_t available = data.size() - chunk_pos_;
+  const size_t take = std::min(available, chunk_left_);
+  request_.body.append(data.substr(chunk_pos_, take));
+  chunk_pos_ += take;
+  chunk_left_ -= take;
+  if (chunk_left_ > 0 || data.size() - chunk_pos_ < 2) return Result::kNeedMore;
+  if (data.substr(chunk_pos_, 2) != "\r\n")
+    return Fail(400, "chunk data not followed by CRLF");
+  chunk_pos_ += 2;
+  phase_ = Phase::kChunkSize;
+  return std::nullopt;
+}
+
+// Trailer fields are read and dropped; an empty line ends them.
+RequestParser::Result RequestParser::ParseTrailer(std::string_view data) {
+  while (true) {
+    // Resume the search where the last call stopped (linear work).
+    const size_t eol =
+        data.find("\r\n", std::max(chunk_pos_, trailer_scanned_));
+    if (eol == std::string_view::npos) {
+      trailer_scanned_ = data.size() - 1;
+      if (data.size() - trailer_start_ > limits_.max_header_bytes + 1)
+        return Fail(431, "trailer fields too large");
+      return Result::kNeedMore;
+    }
+    // Lines and their CRLFs must fit the limit, as in the head; the
+    // final empty line is measured like the others (a partial line is
+    // given one byte of grace for its CR above).
+    if (eol - trailer_start_ > limits_.max_header_bytes) {
+      return Fail(431, "trailer fields too large");
+    }
+    if (eol == chunk_pos_) {
+      consumed_ = eol + 2;
+      phase_ = Phase::kDone;
+      return Result::kDone;
+    }
+    if (HasStrayLineBreak(data.substr(chunk_pos_, eol - chunk_pos_))) {
+      return Fail(400, "bare CR or LF in a trailer field");
+    }
+    chunk_pos_ = eol + 2;
   }
 }
 

@@ -22,6 +22,7 @@
 #define ROLLWEAR_API_HTTP_PARSER_H_
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -79,11 +80,31 @@ class RequestParser {
  private:
   enum class Phase { kHead, kBody, kChunkSize, kChunkData, kTrailer, kDone };
 
+  // What the header fields said so far about the body's framing and the
+  // connection (ParseHead).
+  struct FieldFlags {
+    bool has_length = false;
+    bool saw_close = false;
+    bool chunked = false;
+    bool has_coding = false;
+  };
+
   Result Fail(int status, std::string message);
   size_t ScanHead(std::string_view data);
   Result ParseHead(std::string_view head);
   Result ParseRequestLine(std::string_view line);
+  // The helpers below return kError (after Fail) or kNeedMore (go on).
+  Result ParseFieldLine(std::string_view line, std::string_view* name,
+                        std::string_view* value);
+  Result ApplyField(std::string_view name, std::string_view value,
+                    FieldFlags* flags);
+  Result FinishHead(const FieldFlags& flags);
   Result ParseChunked(std::string_view data);
+  // ParseChunked's phases: nullopt when the phase is complete and parsing
+  // goes on, else the result to return.
+  std::optional<Result> ParseChunkSizeLine(std::string_view data);
+  std::optional<Result> ReadChunkData(std::string_view data);
+  Result ParseTrailer(std::string_view data);
 
   HttpParserLimits limits_;
   Phase phase_ = Phase::kHead;

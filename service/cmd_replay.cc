@@ -317,24 +317,129 @@ void PrintWear(const std::string& url, double elapsed) {
   std::fflush(stdout);
 }
 
+// The replay's settings from the flags (and ROLLWEAR_TOKEN); false, with
+// the message printed, when --url is not an http:// URL.
+bool ReplayOptionsFrom(const ReplayArgs& args, ReplayOptions* options) {
+  options->url = args.url;
+  options->token = args.token;
+  options->retry_for_s = args.retry_for_s;
+  if (options->token.empty() && std::getenv("ROLLWEAR_TOKEN") != nullptr) {
+    options->token = std::getenv("ROLLWEAR_TOKEN");
+  }
+  if (options->url.rfind("http://", 0) != 0) {
+    std::fprintf(stderr, "rollwear replay: --url must start with http://\n");
+    return false;
+  }
+  while (!options->url.empty() && options->url.back() == '/')
+    options->url.pop_back();
+  return true;
+}
+
+// The reporter thread's loop until `done`: a progress line every second
+// (unless quiet) and the wear every `show_wear` seconds (when > 0).
+void ReportWhileRunning(Clock::time_point start, int64_t total_coils,
+                        double show_wear, bool quiet, const std::string& url,
+                        const Counters& counters,
+                        const std::atomic<bool>& done) {
+  auto next_progress = start + std::chrono::seconds(1);
+  auto next_wear =
+      start + std::chrono::milliseconds(static_cast<int64_t>(show_wear * 1000));
+  while (!done.load()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    const auto now = Clock::now();
+    const double elapsed = std::chrono::duration<double>(now - start).count();
+    if (!quiet && now >= next_progress) {
+      next_progress += std::chrono::seconds(1);
+      const int64_t coils = counters.sent[1].load();
+      std::printf(
+          "  %5.1f s: %lld/%lld coils (%.0f coils/s), %lld "
+          "campaigns, %lld measurements, %lld retries\n",
+          elapsed, static_cast<long long>(coils),
+          static_cast<long long>(total_coils),
+          elapsed > 0 ? coils / elapsed : 0.0,
+          static_cast<long long>(counters.sent[0].load()),
+          static_cast<long long>(counters.sent[3].load()),
+          static_cast<long long>(counters.retries.load()));
+      std::fflush(stdout);
+    }
+    if (show_wear > 0 && now >= next_wear) {
+      next_wear +=
+          std::chrono::milliseconds(static_cast<int64_t>(show_wear * 1000));
+      PrintWear(url, elapsed);
+    }
+  }
+}
+
+// Sends the timeline: coils and measurements through the client pool, each
+// roll change and campaign end from this thread once the pool is drained;
+// paced at `speed` times real time when speed > 0.
+void PlayTimeline(const std::vector<Event>& timeline, const Requests& requests,
+                  const ReplayOptions& options, int clients, double speed,
+                  Clock::time_point start, Counters* counters) {
+  Pool pool(clients, requests, options, counters);
+  api::HttpClientOptions client_options;
+  client_options.token = options.token;
+  api::HttpClient main_client(options.url, client_options);
+  const UnixSeconds t0 = timeline.empty() ? 0 : timeline.front().at;
+  for (const Event& e : timeline) {
+    if (speed > 0) {
+      const auto due =
+          start + std::chrono::microseconds(static_cast<int64_t>(
+                      static_cast<double>(e.at - t0) / speed * 1e6));
+      std::this_thread::sleep_until(due);
+    }
+    if (e.kind == Kind::kRollChange || e.kind == Kind::kEnd) {
+      pool.Drain();
+      Send(requests, e, &main_client, options, counters);
+    } else {
+      pool.Push(e);
+    }
+  }
+  pool.Drain();
+}
+
+// The closing summary line, and the summary as JSON into `json_path` (when
+// not empty).
+void PrintSummary(const Counters& counters, double seconds,
+                  const std::string& json_path) {
+  const int64_t coils = counters.sent[1].load();
+  const double rate = seconds > 0 ? coils / seconds : 0;
+  std::printf(
+      "replay: %lld coils (%lld repeated), %lld roll changes, %lld campaign "
+      "ends, %lld measurements in %.2f s: %.0f coils/s; %lld conflicts, %lld "
+      "errors, %lld retries\n",
+      static_cast<long long>(coils),
+      static_cast<long long>(counters.repeated[1].load()),
+      static_cast<long long>(counters.sent[0].load()),
+      static_cast<long long>(counters.sent[2].load()),
+      static_cast<long long>(counters.sent[3].load()), seconds, rate,
+      static_cast<long long>(counters.conflicts.load()),
+      static_cast<long long>(counters.errors.load()),
+      static_cast<long long>(counters.retries.load()));
+  std::fflush(stdout);
+  if (!json_path.empty()) {
+    const Json summary{{"coils", coils},
+                       {"coils_repeated", counters.repeated[1].load()},
+                       {"roll_changes", counters.sent[0].load()},
+                       {"campaign_ends", counters.sent[2].load()},
+                       {"measurements", counters.sent[3].load()},
+                       {"conflicts", counters.conflicts.load()},
+                       {"errors", counters.errors.load()},
+                       {"retries", counters.retries.load()},
+                       {"seconds", seconds},
+                       {"coils_per_second", rate}};
+    std::ofstream out(json_path);
+    out << summary.dump(2) << "\n";
+  }
+}
+
 }  // namespace
 
 int RunReplay(const ReplayArgs& args) {
   const long long clients = args.clients;
   const double speed = args.speed, show_wear = args.show_wear_s;
   ReplayOptions options;
-  options.url = args.url;
-  options.token = args.token;
-  options.retry_for_s = args.retry_for_s;
-  if (options.token.empty() && std::getenv("ROLLWEAR_TOKEN") != nullptr) {
-    options.token = std::getenv("ROLLWEAR_TOKEN");
-  }
-  if (options.url.rfind("http://", 0) != 0) {
-    std::fprintf(stderr, "rollwear replay: --url must start with http://\n");
-    return 2;
-  }
-  while (!options.url.empty() && options.url.back() == '/')
-    options.url.pop_back();
+  if (!ReplayOptionsFrom(args, &options)) return 2;
   signal(SIGPIPE, SIG_IGN);
 
   StatusOr<Dataset> data = ReadDataset(args.data);
@@ -363,92 +468,17 @@ int RunReplay(const ReplayArgs& args) {
   const auto start = Clock::now();
   std::atomic<bool> done{false};
   std::thread reporter([&] {
-    auto next_progress = start + std::chrono::seconds(1);
-    auto next_wear = start + std::chrono::milliseconds(
-                                 static_cast<int64_t>(show_wear * 1000));
-    while (!done.load()) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-      const auto now = Clock::now();
-      const double elapsed = std::chrono::duration<double>(now - start).count();
-      if (!quiet && now >= next_progress) {
-        next_progress += std::chrono::seconds(1);
-        const int64_t coils = counters.sent[1].load();
-        std::printf(
-            "  %5.1f s: %lld/%lld coils (%.0f coils/s), %lld "
-            "campaigns, %lld measurements, %lld retries\n",
-            elapsed, static_cast<long long>(coils),
-            static_cast<long long>(total_coils),
-            elapsed > 0 ? coils / elapsed : 0.0,
-            static_cast<long long>(counters.sent[0].load()),
-            static_cast<long long>(counters.sent[3].load()),
-            static_cast<long long>(counters.retries.load()));
-        std::fflush(stdout);
-      }
-      if (show_wear > 0 && now >= next_wear) {
-        next_wear +=
-            std::chrono::milliseconds(static_cast<int64_t>(show_wear * 1000));
-        PrintWear(options.url, elapsed);
-      }
-    }
+    ReportWhileRunning(start, total_coils, show_wear, quiet, options.url,
+                       counters, done);
   });
-
-  {
-    Pool pool(static_cast<int>(clients), requests, options, &counters);
-    api::HttpClientOptions client_options;
-    client_options.token = options.token;
-    api::HttpClient main_client(options.url, client_options);
-    const UnixSeconds t0 = timeline.empty() ? 0 : timeline.front().at;
-    for (const Event& e : timeline) {
-      if (speed > 0) {
-        const auto due =
-            start + std::chrono::microseconds(static_cast<int64_t>(
-                        static_cast<double>(e.at - t0) / speed * 1e6));
-        std::this_thread::sleep_until(due);
-      }
-      if (e.kind == Kind::kRollChange || e.kind == Kind::kEnd) {
-        pool.Drain();
-        Send(requests, e, &main_client, options, &counters);
-      } else {
-        pool.Push(e);
-      }
-    }
-    pool.Drain();
-  }
+  PlayTimeline(timeline, requests, options, static_cast<int>(clients), speed,
+               start, &counters);
   const double seconds =
       std::chrono::duration<double>(Clock::now() - start).count();
   done.store(true);
   reporter.join();
   if (show_wear > 0) PrintWear(options.url, seconds);
-
-  const int64_t coils = counters.sent[1].load();
-  const double rate = seconds > 0 ? coils / seconds : 0;
-  std::printf(
-      "replay: %lld coils (%lld repeated), %lld roll changes, %lld campaign "
-      "ends, %lld measurements in %.2f s: %.0f coils/s; %lld conflicts, %lld "
-      "errors, %lld retries\n",
-      static_cast<long long>(coils),
-      static_cast<long long>(counters.repeated[1].load()),
-      static_cast<long long>(counters.sent[0].load()),
-      static_cast<long long>(counters.sent[2].load()),
-      static_cast<long long>(counters.sent[3].load()), seconds, rate,
-      static_cast<long long>(counters.conflicts.load()),
-      static_cast<long long>(counters.errors.load()),
-      static_cast<long long>(counters.retries.load()));
-  std::fflush(stdout);
-  if (!args.json.empty()) {
-    const Json summary{{"coils", coils},
-                       {"coils_repeated", counters.repeated[1].load()},
-                       {"roll_changes", counters.sent[0].load()},
-                       {"campaign_ends", counters.sent[2].load()},
-                       {"measurements", counters.sent[3].load()},
-                       {"conflicts", counters.conflicts.load()},
-                       {"errors", counters.errors.load()},
-                       {"retries", counters.retries.load()},
-                       {"seconds", seconds},
-                       {"coils_per_second", rate}};
-    std::ofstream out(args.json);
-    out << summary.dump(2) << "\n";
-  }
+  PrintSummary(counters, seconds, args.json);
   return counters.conflicts.load() == 0 && counters.errors.load() == 0 ? 0 : 1;
 }
 

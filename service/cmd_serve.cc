@@ -65,44 +65,46 @@ bool BuildConfig(const ServeArgs& args, service::ServeConfig* config) {
   return true;
 }
 
-}  // namespace
-
-int RunServe(const ServeArgs& args) {
-  service::ServeConfig config;
-  if (!BuildConfig(args, &config)) return 2;
-  SetUpLogging(config.log_level);
-
-  // Block the stop signals in every thread (the store's writer, the HTTP
-  // pool, the scheduler inherit the mask); the main thread waits for them.
+// Blocks SIGINT and SIGTERM in the calling thread (and the threads it starts
+// later) and ignores SIGPIPE; returns the set to sigwait on.
+sigset_t BlockStopSignals() {
   sigset_t stop_signals;
   sigemptyset(&stop_signals);
   sigaddset(&stop_signals, SIGINT);
   sigaddset(&stop_signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
   signal(SIGPIPE, SIG_IGN);
+  return stop_signals;
+}
 
-  // Opened before the database is touched, so a setting that cannot be
-  // honoured stops the start with nothing done.
-  std::unique_ptr<service::CpuLatencyHold> cpu_latency;
-  if (config.cpu_wakeup_latency_us >= 0) {
-    StatusOr<std::unique_ptr<service::CpuLatencyHold>> hold =
-        service::CpuLatencyHold::Open(config.cpu_wakeup_latency_us,
-                                      kCpuLatencyReleaseAfter);
-    if (!hold.ok()) {
-      spdlog::error("cpu_wakeup_latency_us={}: {}",
-                    config.cpu_wakeup_latency_us, hold.status().message());
-      std::fprintf(stderr, "rollwear serve: cpu_wakeup_latency_us=%d: %s\n",
-                   config.cpu_wakeup_latency_us,
-                   hold.status().message().c_str());
-      return 1;
-    }
-    cpu_latency = std::move(hold).value();
-    spdlog::info(
-        "cpu wake-up latency limit {} us held while traffic arrives, "
-        "released {} s after the last",
-        config.cpu_wakeup_latency_us, kCpuLatencyReleaseAfter.count());
+// The CPU wake-up latency hold the config asks for (none when the setting is
+// negative). False, with the error logged and printed, when it cannot be
+// held.
+bool HoldCpuLatency(const service::ServeConfig& config,
+                    std::unique_ptr<service::CpuLatencyHold>* out) {
+  if (config.cpu_wakeup_latency_us < 0) return true;
+  StatusOr<std::unique_ptr<service::CpuLatencyHold>> hold =
+      service::CpuLatencyHold::Open(config.cpu_wakeup_latency_us,
+                                    kCpuLatencyReleaseAfter);
+  if (!hold.ok()) {
+    spdlog::error("cpu_wakeup_latency_us={}: {}", config.cpu_wakeup_latency_us,
+                  hold.status().message());
+    std::fprintf(stderr, "rollwear serve: cpu_wakeup_latency_us=%d: %s\n",
+                 config.cpu_wakeup_latency_us, hold.status().message().c_str());
+    return false;
   }
+  *out = std::move(hold).value();
+  spdlog::info(
+      "cpu wake-up latency limit {} us held while traffic arrives, "
+      "released {} s after the last",
+      config.cpu_wakeup_latency_us, kCpuLatencyReleaseAfter.count());
+  return true;
+}
 
+// Opens (creating or migrating) the database; null, with the error logged
+// and printed, when it cannot be opened.
+std::unique_ptr<storage::MillStore> OpenStore(
+    const service::ServeConfig& config) {
   storage::StoreOptions store_options;
   store_options.default_law = config.model;
   store_options.default_option = config.option;
@@ -113,56 +115,55 @@ int RunServe(const ServeArgs& args) {
                   opened.status().message());
     std::fprintf(stderr, "rollwear serve: %s\n",
                  opened.status().message().c_str());
-    return 1;
+    return nullptr;
   }
   std::unique_ptr<storage::MillStore> store = std::move(opened).value();
   const storage::StoreCounters counters = store->Counters();
   spdlog::info("database {} open: {} campaigns, {} coils, {} measurements",
                config.db, counters.campaigns, counters.coils,
                counters.measurements);
+  return store;
+}
 
-  api::Router* router_ptr = nullptr;
-  service::SchedulerOptions scheduler_options;
-  scheduler_options.recalibration_minute = config.recalibration_minute;
-  scheduler_options.law = config.model;
-  scheduler_options.option = config.option;
-  service::Scheduler scheduler(
-      store.get(), scheduler_options,
-      [&router_ptr](const storage::CalibrationRecord& r, double seconds) {
-        const bool done = r.status == storage::CalibrationStatus::kDone;
-        if (router_ptr != nullptr) {
-          router_ptr->metrics()->ObserveCalibration(done, seconds);
-        }
-        if (done) {
-          spdlog::info(
-              "calibration id={} trigger={} model={} option={} status=done "
-              "gap_train_um={:.2f} gap_val_um={:.2f} active_gap_val_um={:.2f} "
-              "promoted={} version={} seconds={:.1f}",
-              r.id, r.trigger, r.model, r.option, r.gap_train_um, r.gap_val_um,
-              r.active_gap_val_um, r.promoted, r.model_version, seconds);
-        } else {
-          spdlog::warn(
-              "calibration id={} trigger={} status=failed "
-              "seconds={:.1f}: {}",
-              r.id, r.trigger, seconds, r.message);
-        }
-      });
+// The log line of a finished calibration.
+void LogCalibration(const storage::CalibrationRecord& r, double seconds) {
+  if (r.status == storage::CalibrationStatus::kDone) {
+    spdlog::info(
+        "calibration id={} trigger={} model={} option={} status=done "
+        "gap_train_um={:.2f} gap_val_um={:.2f} active_gap_val_um={:.2f} "
+        "promoted={} version={} seconds={:.1f}",
+        r.id, r.trigger, r.model, r.option, r.gap_train_um, r.gap_val_um,
+        r.active_gap_val_um, r.promoted, r.model_version, seconds);
+  } else {
+    spdlog::warn(
+        "calibration id={} trigger={} status=failed "
+        "seconds={:.1f}: {}",
+        r.id, r.trigger, seconds, r.message);
+  }
+}
 
-  service::DiagnosisJobs diagnoses(store.get());
-
+// The router's settings from the config: calibrations it queues go to
+// `scheduler`, diagnoses to `diagnoses`.
+api::ApiOptions ApiOptionsFor(const service::ServeConfig& config,
+                              service::Scheduler* scheduler,
+                              service::DiagnosisJobs* diagnoses) {
   api::ApiOptions api_options;
   api_options.token = config.token;
   api_options.body_limit_bytes = config.body_limit_bytes;
   api_options.default_law = config.model;
   api_options.default_option = config.option;
-  api_options.on_calibration_queued = [&scheduler](int64_t id) {
+  api_options.on_calibration_queued = [scheduler](int64_t id) {
     spdlog::info("calibration id={} queued trigger=api", id);
-    scheduler.Submit(id);
+    scheduler->Submit(id);
   };
-  api_options.diagnoses = &diagnoses;
-  api::Router router(store.get(), api_options);
-  router_ptr = &router;
+  api_options.diagnoses = diagnoses;
+  return api_options;
+}
 
+// The HTTP server's settings from the config, with the request log (at
+// debug level) and the CPU latency hold's touch (when one is held).
+api::HttpServerOptions HttpOptions(const service::ServeConfig& config,
+                                   service::CpuLatencyHold* cpu_latency) {
   api::HttpServerOptions http;
   http.bind_address = config.bind;
   http.port = config.port;
@@ -179,12 +180,65 @@ int RunServe(const ServeArgs& args) {
           e.response_bytes, e.remote_addr);
     };
   }
-  if (cpu_latency) {
-    // cpu_latency is declared before server, so it outlives the I/O thread
-    // that calls this.
-    http.on_activity = [hold = cpu_latency.get()] { hold->Touch(); };
+  if (cpu_latency != nullptr) {
+    // RunServe declares the hold before the server, so it outlives the I/O
+    // thread that calls this.
+    http.on_activity = [hold = cpu_latency] { hold->Touch(); };
   }
-  api::HttpServer server(&router, http);
+  return http;
+}
+
+// Waits for SIGINT or SIGTERM (blocked by BlockStopSignals) and logs it.
+void WaitForStopSignal(const sigset_t& stop_signals) {
+  int signal_number = 0;
+  sigwait(&stop_signals, &signal_number);
+  spdlog::info(
+      "received {}, stopping: no new connections, finishing "
+      "in-flight requests",
+      signal_number == SIGTERM ? "SIGTERM" : "SIGINT");
+}
+
+}  // namespace
+
+int RunServe(const ServeArgs& args) {
+  service::ServeConfig config;
+  if (!BuildConfig(args, &config)) return 2;
+  SetUpLogging(config.log_level);
+
+  // Block the stop signals in every thread (the store's writer, the HTTP
+  // pool, the scheduler inherit the mask); the main thread waits for them.
+  const sigset_t stop_signals = BlockStopSignals();
+
+  // Opened before the database is touched, so a setting that cannot be
+  // honoured stops the start with nothing done.
+  std::unique_ptr<service::CpuLatencyHold> cpu_latency;
+  if (!HoldCpuLatency(config, &cpu_latency)) return 1;
+
+  std::unique_ptr<storage::MillStore> store = OpenStore(config);
+  if (store == nullptr) return 1;
+
+  api::Router* router_ptr = nullptr;
+  service::SchedulerOptions scheduler_options;
+  scheduler_options.recalibration_minute = config.recalibration_minute;
+  scheduler_options.law = config.model;
+  scheduler_options.option = config.option;
+  service::Scheduler scheduler(
+      store.get(), scheduler_options,
+      [&router_ptr](const storage::CalibrationRecord& r, double seconds) {
+        if (router_ptr != nullptr) {
+          router_ptr->metrics()->ObserveCalibration(
+              r.status == storage::CalibrationStatus::kDone, seconds);
+        }
+        LogCalibration(r, seconds);
+      });
+
+  service::DiagnosisJobs diagnoses(store.get());
+
+  api::Router router(store.get(),
+                     ApiOptionsFor(config, &scheduler, &diagnoses));
+  router_ptr = &router;
+
+  api::HttpServer server(&router, HttpOptions(config, cpu_latency.get()));
   const Status started = server.Start();
   if (!started.ok()) {
     spdlog::error("cannot listen: {}", started.message());
@@ -204,12 +258,7 @@ int RunServe(const ServeArgs& args) {
   std::printf("rollwear: listening on %s\n", url.c_str());
   std::fflush(stdout);
 
-  int signal_number = 0;
-  sigwait(&stop_signals, &signal_number);
-  spdlog::info(
-      "received {}, stopping: no new connections, finishing "
-      "in-flight requests",
-      signal_number == SIGTERM ? "SIGTERM" : "SIGINT");
+  WaitForStopSignal(stop_signals);
   server.Stop();
   spdlog::info("HTTP server stopped; waiting for the calibration worker");
   scheduler.Stop();

@@ -144,26 +144,21 @@ Status DecodeTerms(const Json& doc, std::vector<ModelTerm>* out) {
   return Status::Ok();
 }
 
-StatusOr<WearModel> Decode(const Json& doc) {
-  if (!doc.is_object()) return Bad("(document)", "must be an object");
-  WearModel m;
-  auto law = doc.find("law");
-  if (law == doc.end() || !law->is_string() ||
-      !ParseWearLaw(law->get<std::string>(), &m.law)) {
-    return Bad("law", "must be one of wang, nikitenko, cao");
-  }
-  auto ann = doc.find("ann");
-  if (ann != doc.end()) {
-    // The recurrent network: its own versioned text form.
-    if (!ann->is_string()) return Bad("ann", "must be the network's text form");
-    StatusOr<AnnModel> net = ParseAnnModel(ann->get<std::string>());
-    if (!net.ok()) return Bad("ann", net.status().message());
-    ROLLWEAR_RETURN_IF_ERROR(net->Validate());
-    m.ann = std::make_shared<const AnnModel>(std::move(net).value());
-    ROLLWEAR_RETURN_IF_ERROR(ReadScalar(doc, "noise_sd_um", &m.noise_sd_um));
-    ROLLWEAR_RETURN_IF_ERROR(ReadScalar(doc, "noise_rel", &m.noise_rel));
-    return m;
-  }
+// The recurrent network's model: its own versioned text form under "ann",
+// and the noise model.
+Status DecodeAnn(const Json& doc, const Json& ann, WearModel* m) {
+  if (!ann.is_string()) return Bad("ann", "must be the network's text form");
+  StatusOr<AnnModel> net = ParseAnnModel(ann.get<std::string>());
+  if (!net.ok()) return Bad("ann", net.status().message());
+  ROLLWEAR_RETURN_IF_ERROR(net->Validate());
+  m->ann = std::make_shared<const AnnModel>(std::move(net).value());
+  ROLLWEAR_RETURN_IF_ERROR(ReadScalar(doc, "noise_sd_um", &m->noise_sd_um));
+  ROLLWEAR_RETURN_IF_ERROR(ReadScalar(doc, "noise_rel", &m->noise_rel));
+  return Status::Ok();
+}
+
+// The K structure: "option" and the position, roll-type and grade labels.
+Status DecodeStructure(const Json& doc, WearModel* m) {
   auto option = doc.find("option");
   if (option == doc.end() || !option->is_number_integer()) {
     return Bad("option", "must be 1, 2 or 3");
@@ -176,66 +171,92 @@ StatusOr<WearModel> Decode(const Json& doc) {
       KStructure::ForOption(option->get<int>(), std::move(positions),
                             std::move(roll_types), std::move(grades));
   if (!ks.ok()) return Bad("option", ks.status().message());
-  m.structure = std::move(ks).value();
-  const int n = m.structure.num_coefficients();
-  m.k.assign(n, 0.0);
+  m->structure = std::move(ks).value();
+  return Status::Ok();
+}
 
+// The coefficients: the array "k" in structure order, or else the object
+// "coefficients" by name.
+Status DecodeCoefficients(const Json& doc, WearModel* m) {
+  const int n = m->structure.num_coefficients();
+  m->k.assign(n, 0.0);
   auto k_array = doc.find("k");
   if (k_array != doc.end()) {
     if (!k_array->is_array() || static_cast<int>(k_array->size()) != n) {
       return Bad("k", "must be an array of " + std::to_string(n) + " numbers");
     }
     for (int i = 0; i < n; ++i) {
-      if (!ReadNumber((*k_array)[i], &m.k[i])) {
+      if (!ReadNumber((*k_array)[i], &m->k[i])) {
         return Bad("k", "must hold numbers");
       }
     }
-  } else {
-    auto coefs = doc.find("coefficients");
-    if (coefs == doc.end() || !coefs->is_object()) {
-      return Bad("coefficients", "must be an object of name: value");
+    return Status::Ok();
+  }
+  auto coefs = doc.find("coefficients");
+  if (coefs == doc.end() || !coefs->is_object()) {
+    return Bad("coefficients", "must be an object of name: value");
+  }
+  if (static_cast<int>(coefs->size()) != n) {
+    return Bad("coefficients", "has " + std::to_string(coefs->size()) +
+                                   " entries, the structure needs " +
+                                   std::to_string(n));
+  }
+  for (int i = 0; i < n; ++i) {
+    const std::string& name = m->structure.CoefficientName(i);
+    auto v = coefs->find(name);
+    if (v == coefs->end() || !ReadNumber(*v, &m->k[i])) {
+      return Bad("coefficients." + name, "missing or not a number");
     }
-    if (static_cast<int>(coefs->size()) != n) {
-      return Bad("coefficients", "has " + std::to_string(coefs->size()) +
-                                     " entries, the structure needs " +
-                                     std::to_string(n));
+  }
+  return Status::Ok();
+}
+
+// "covariance": absent, [] or num_parameters() rows of as many numbers.
+Status DecodeCovariance(const Json& doc, WearModel* m) {
+  auto cov = doc.find("covariance");
+  if (cov == doc.end() || cov->empty()) return Status::Ok();
+  const int p = m->num_parameters();
+  if (!cov->is_array() || static_cast<int>(cov->size()) != p) {
+    return Bad("covariance", "must be a " + std::to_string(p) + "x" +
+                                 std::to_string(p) + " array of arrays or []");
+  }
+  m->covariance.resize(p, p);
+  for (int r = 0; r < p; ++r) {
+    const Json& row = (*cov)[r];
+    if (!row.is_array() || static_cast<int>(row.size()) != p) {
+      return Bad("covariance[" + std::to_string(r) + "]",
+                 "must hold " + std::to_string(p) + " numbers");
     }
-    for (int i = 0; i < n; ++i) {
-      const std::string& name = m.structure.CoefficientName(i);
-      auto v = coefs->find(name);
-      if (v == coefs->end() || !ReadNumber(*v, &m.k[i])) {
-        return Bad("coefficients." + name, "missing or not a number");
+    for (int c = 0; c < p; ++c) {
+      if (!ReadNumber(row[c], &m->covariance(r, c))) {
+        return Bad(
+            "covariance[" + std::to_string(r) + "][" + std::to_string(c) + "]",
+            "must be a number");
       }
     }
   }
+  return Status::Ok();
+}
+
+StatusOr<WearModel> Decode(const Json& doc) {
+  if (!doc.is_object()) return Bad("(document)", "must be an object");
+  WearModel m;
+  auto law = doc.find("law");
+  if (law == doc.end() || !law->is_string() ||
+      !ParseWearLaw(law->get<std::string>(), &m.law)) {
+    return Bad("law", "must be one of wang, nikitenko, cao");
+  }
+  auto ann = doc.find("ann");
+  if (ann != doc.end()) {
+    ROLLWEAR_RETURN_IF_ERROR(DecodeAnn(doc, *ann, &m));
+    return m;
+  }
+  ROLLWEAR_RETURN_IF_ERROR(DecodeStructure(doc, &m));
+  ROLLWEAR_RETURN_IF_ERROR(DecodeCoefficients(doc, &m));
   ROLLWEAR_RETURN_IF_ERROR(ReadScalar(doc, "cao_exponent", &m.cao_exponent));
   ROLLWEAR_RETURN_IF_ERROR(ReadScalar(doc, "noise_sd_um", &m.noise_sd_um));
   ROLLWEAR_RETURN_IF_ERROR(ReadScalar(doc, "noise_rel", &m.noise_rel));
-
-  auto cov = doc.find("covariance");
-  if (cov != doc.end() && !cov->empty()) {
-    const int p = m.num_parameters();
-    if (!cov->is_array() || static_cast<int>(cov->size()) != p) {
-      return Bad("covariance", "must be a " + std::to_string(p) + "x" +
-                                   std::to_string(p) +
-                                   " array of arrays or []");
-    }
-    m.covariance.resize(p, p);
-    for (int r = 0; r < p; ++r) {
-      const Json& row = (*cov)[r];
-      if (!row.is_array() || static_cast<int>(row.size()) != p) {
-        return Bad("covariance[" + std::to_string(r) + "]",
-                   "must hold " + std::to_string(p) + " numbers");
-      }
-      for (int c = 0; c < p; ++c) {
-        if (!ReadNumber(row[c], &m.covariance(r, c))) {
-          return Bad("covariance[" + std::to_string(r) + "][" +
-                         std::to_string(c) + "]",
-                     "must be a number");
-        }
-      }
-    }
-  }
+  ROLLWEAR_RETURN_IF_ERROR(DecodeCovariance(doc, &m));
   ROLLWEAR_RETURN_IF_ERROR(DecodeTerms(doc, &m.terms));
   return m;
 }

@@ -2,6 +2,7 @@
 
 #include <bit>
 #include <cstring>
+#include <functional>
 #include <string_view>
 #include <utility>
 
@@ -33,6 +34,16 @@ void BindExtra(Statement* st, int i, const std::string& extra_json) {
     st->BindNull(i);
   } else {
     st->BindText(i, extra_json);
+  }
+}
+
+// Steps `st` to its end, calling `visit` on each row.
+Status ForEachRow(Statement* st,
+                  const std::function<void(const Statement&)>& visit) {
+  while (true) {
+    ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st->Step());
+    if (!row) return Status::Ok();
+    visit(*st);
   }
 }
 
@@ -217,11 +228,8 @@ Status ForEachCoilId(Db* db,
   // Once per open: not cached. Reads the coil_id index, not the table.
   ROLLWEAR_ASSIGN_OR_RETURN(Statement st,
                             db->Prepare("SELECT coil_id FROM coils"));
-  while (true) {
-    ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
-    if (!row) return Status::Ok();
-    visit(st.ColumnText(0));
-  }
+  return ForEachRow(&st,
+                    [&](const Statement& row) { visit(row.ColumnText(0)); });
 }
 
 StatusOr<std::optional<std::string>> LookupSeq(Db* db,
@@ -238,84 +246,98 @@ StatusOr<std::optional<std::string>> LookupSeq(Db* db,
   return out;
 }
 
+namespace {
+
+// Row id -> campaign_id, for the rows that refer to campaigns by row id.
+using CampaignByRow = std::unordered_map<int64_t, std::string>;
+
+// The campaigns, and which one is open.
+Status LoadCampaigns(Db* db, Catalog* catalog, CampaignByRow* by_row_out) {
+  Catalog& c = *catalog;
+  CampaignByRow& by_row = *by_row_out;
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      Statement st,
+      db->Prepare("SELECT id, campaign_id, started_at, ended_at FROM campaigns "
+                  "ORDER BY id"));
+  UnixSeconds open_start = 0;
+  return ForEachRow(&st, [&](const Statement& row) {
+    CampaignRec rec;
+    rec.id = row.ColumnText(1);
+    rec.started_at = row.ColumnInt(2);
+    if (!row.ColumnIsNull(3)) rec.ended_at = row.ColumnInt(3);
+    // At most one campaign is open; should a file hold several, the
+    // latest start is the one coils go to.
+    if (!rec.ended_at &&
+        (c.open_campaign.empty() || rec.started_at >= open_start)) {
+      c.open_campaign = rec.id;
+      open_start = rec.started_at;
+    }
+    by_row[row.ColumnInt(0)] = rec.id;
+    c.campaigns[rec.id] = std::move(rec);
+  });
+}
+
+// Each campaign's mounted rolls, and the roll positions seen.
+Status LoadMounts(Db* db, CampaignByRow* by_row, Catalog* c) {
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      Statement st,
+      db->Prepare("SELECT campaign, stand, position, roll_id, roll_type, "
+                  "diameter_mm, hardness_hb FROM mounts ORDER BY id"));
+  return ForEachRow(&st, [&](const Statement& row) {
+    MountedRollIn m;
+    m.stand = static_cast<int>(row.ColumnInt(1));
+    m.position = static_cast<Position>(row.ColumnInt(2));
+    m.roll_id = row.ColumnText(3);
+    m.roll_type = row.ColumnText(4);
+    m.diameter_mm = row.ColumnDouble(5);
+    m.hardness_hb = row.ColumnDouble(6);
+    const int slot = RollPositionSlot(m.stand, m.position);
+    c->positions_seen |= 1u << slot;
+    c->campaigns[(*by_row)[row.ColumnInt(0)]].mounts[slot] = std::move(m);
+  });
+}
+
+// Each campaign's grinder measurements.
+Status LoadMeasurements(Db* db, CampaignByRow* by_row, Catalog* c) {
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      Statement st,
+      db->Prepare("SELECT campaign, stand, position, roll_id, measured_at, "
+                  "wear_center_um FROM measurements ORDER BY id"));
+  return ForEachRow(&st, [&](const Statement& row) {
+    MeasurementIn m;
+    m.campaign_id = (*by_row)[row.ColumnInt(0)];
+    m.stand = static_cast<int>(row.ColumnInt(1));
+    m.position = static_cast<Position>(row.ColumnInt(2));
+    m.roll_id = row.ColumnText(3);
+    m.measured_at = row.ColumnInt(4);
+    m.wear_center_um = row.ColumnDouble(5);
+    const int slot = RollPositionSlot(m.stand, m.position);
+    c->campaigns[m.campaign_id].measurements[slot] = std::move(m);
+  });
+}
+
+// The coils of the open campaign by sequence number.
+Status LoadOpenSeqs(Db* db, Catalog* c) {
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      Statement st,
+      db->Prepare("SELECT c.seq, c.coil_id FROM coils c JOIN campaigns g ON "
+                  "g.id = c.campaign WHERE g.campaign_id = ?"));
+  st.BindText(1, c->open_campaign);
+  return ForEachRow(&st, [&](const Statement& row) {
+    c->open_seqs[static_cast<int>(row.ColumnInt(0))] = row.ColumnText(1);
+  });
+}
+
+}  // namespace
+
 StatusOr<Catalog> LoadCatalog(Db* db) {
   Catalog c;
-  std::unordered_map<int64_t, std::string> by_row;
-  {
-    ROLLWEAR_ASSIGN_OR_RETURN(
-        Statement st,
-        db->Prepare(
-            "SELECT id, campaign_id, started_at, ended_at FROM campaigns "
-            "ORDER BY id"));
-    UnixSeconds open_start = 0;
-    while (true) {
-      ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
-      if (!row) break;
-      CampaignRec rec;
-      rec.id = st.ColumnText(1);
-      rec.started_at = st.ColumnInt(2);
-      if (!st.ColumnIsNull(3)) rec.ended_at = st.ColumnInt(3);
-      // At most one campaign is open; should a file hold several, the
-      // latest start is the one coils go to.
-      if (!rec.ended_at &&
-          (c.open_campaign.empty() || rec.started_at >= open_start)) {
-        c.open_campaign = rec.id;
-        open_start = rec.started_at;
-      }
-      by_row[st.ColumnInt(0)] = rec.id;
-      c.campaigns[rec.id] = std::move(rec);
-    }
-  }
-  {
-    ROLLWEAR_ASSIGN_OR_RETURN(
-        Statement st,
-        db->Prepare("SELECT campaign, stand, position, roll_id, roll_type, "
-                    "diameter_mm, hardness_hb FROM mounts ORDER BY id"));
-    while (true) {
-      ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
-      if (!row) break;
-      MountedRollIn m;
-      m.stand = static_cast<int>(st.ColumnInt(1));
-      m.position = static_cast<Position>(st.ColumnInt(2));
-      m.roll_id = st.ColumnText(3);
-      m.roll_type = st.ColumnText(4);
-      m.diameter_mm = st.ColumnDouble(5);
-      m.hardness_hb = st.ColumnDouble(6);
-      const int slot = RollPositionSlot(m.stand, m.position);
-      c.positions_seen |= 1u << slot;
-      c.campaigns[by_row[st.ColumnInt(0)]].mounts[slot] = std::move(m);
-    }
-  }
-  {
-    ROLLWEAR_ASSIGN_OR_RETURN(
-        Statement st,
-        db->Prepare("SELECT campaign, stand, position, roll_id, measured_at, "
-                    "wear_center_um FROM measurements ORDER BY id"));
-    while (true) {
-      ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
-      if (!row) break;
-      MeasurementIn m;
-      m.campaign_id = by_row[st.ColumnInt(0)];
-      m.stand = static_cast<int>(st.ColumnInt(1));
-      m.position = static_cast<Position>(st.ColumnInt(2));
-      m.roll_id = st.ColumnText(3);
-      m.measured_at = st.ColumnInt(4);
-      m.wear_center_um = st.ColumnDouble(5);
-      const int slot = RollPositionSlot(m.stand, m.position);
-      c.campaigns[m.campaign_id].measurements[slot] = std::move(m);
-    }
-  }
+  CampaignByRow by_row;
+  ROLLWEAR_RETURN_IF_ERROR(LoadCampaigns(db, &c, &by_row));
+  ROLLWEAR_RETURN_IF_ERROR(LoadMounts(db, &by_row, &c));
+  ROLLWEAR_RETURN_IF_ERROR(LoadMeasurements(db, &by_row, &c));
   if (!c.open_campaign.empty()) {
-    ROLLWEAR_ASSIGN_OR_RETURN(
-        Statement st,
-        db->Prepare("SELECT c.seq, c.coil_id FROM coils c JOIN campaigns g ON "
-                    "g.id = c.campaign WHERE g.campaign_id = ?"));
-    st.BindText(1, c.open_campaign);
-    while (true) {
-      ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
-      if (!row) break;
-      c.open_seqs[static_cast<int>(st.ColumnInt(0))] = st.ColumnText(1);
-    }
+    ROLLWEAR_RETURN_IF_ERROR(LoadOpenSeqs(db, &c));
   }
   return c;
 }

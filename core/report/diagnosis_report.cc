@@ -131,9 +131,8 @@ std::string AmplitudePlot(const DiagnosisReport& r) {
   return "<figure>" + RenderSvg(s) + "</figure>" + caption + "</p>\n";
 }
 
-}  // namespace
-
-std::string DiagnosisHtml(const DiagnosisReport& r) {
+// The page head and style sheet.
+std::string HtmlHead() {
   std::string h;
   h += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
        "<title>rollwear diagnosis</title><style>"
@@ -142,6 +141,12 @@ std::string DiagnosisHtml(const DiagnosisReport& r) {
        "padding:3px 8px;text-align:left}th{background:#f4f4f4}figure{display:inline-block;"
        "margin:0.5em}.verdict{font-size:1.2em;padding:0.6em;border-radius:4px}"
        ".found{background:#fff3cd}.quiet{background:#d4edda}</style></head><body>\n";
+  return h;
+}
+
+// The verdict, the gap table and the observation counts.
+std::string VerdictHtml(const DiagnosisReport& r) {
+  std::string h;
   h += "<h1>Wear model diagnosis</h1>\n";
   const bool found = r.verdict == "missing_physics_found";
   h += std::string("<p class=\"verdict ") + (found ? "found" : "quiet") + "\">";
@@ -167,35 +172,49 @@ std::string DiagnosisHtml(const DiagnosisReport& r) {
   h += "<p>" + std::to_string(r.n_train) + " training and " + std::to_string(r.n_val) +
        " validation measurements (2/3-1/3 split by campaign); the validation campaigns "
        "played no part in choosing or fitting any term.</p>\n";
+  return h;
+}
 
-  int idx = 1;
-  for (const Finding& f : r.findings) {
-    h += "<h2>Finding " + std::to_string(idx++) + ": " + XmlEscape(f.mechanism) + "</h2>\n";
-    h += "<p><b>Covariate:</b> " + XmlEscape(f.covariate) + " (" + XmlEscape(f.level) +
-         " level); <b>shape:</b> " + XmlEscape(f.shape) + "; <b>term:</b> " +
-         XmlEscape(f.form) + ".</p>\n<p>" + XmlEscape(f.explanation) + "</p>\n";
-    h += "<table><tr><th>evidence</th><th>value</th></tr>"
-         "<tr><td>likelihood ratio (df " + std::to_string(f.df) + ")</td><td>" +
-         F("%.1f", f.lr) + "</td></tr><tr><td>p-value, Bonferroni-adjusted over all "
-         "candidates</td><td>" + Sci(f.p_adjusted) + "</td></tr>"
-         "<tr><td>cross-validated gap on training campaigns</td><td>" +
-         F("%.1f", f.cv_gap_before_um) + " → " + F("%.1f", f.cv_gap_after_um) +
-         " µm</td></tr><tr><td>validation gap</td><td>" + F("%.1f", f.gap_val_before_um) +
-         " → " + F("%.1f", f.gap_val_after_um) + " µm</td></tr></table>\n";
-    h += "<table><tr><th>parameter</th><th>value</th></tr>";
-    for (const auto& [k, v] : f.parameters) {
-      h += "<tr><td>" + XmlEscape(k) + "</td><td>" + F("%.5g", v) + "</td></tr>";
-    }
-    h += "</table>\n";
-    if (!f.alternatives.empty()) {
-      h += "<p>Nearly as good a fit with: ";
-      for (const std::string& a : f.alternatives) h += XmlEscape(a) + " ";
-      h += "(correlated quantities; the named covariate fits best).</p>\n";
-    }
-    h += "<figure>" + RenderSvg(ResidualVsCovariate(r, f.covariate)) + "</figure>\n";
+// Finding number `idx`: mechanism, evidence, parameters, alternatives and
+// its residual plot.
+std::string FindingHtml(const DiagnosisReport& r, const Finding& f, int idx) {
+  std::string h;
+  h += "<h2>Finding " + std::to_string(idx) + ": " + XmlEscape(f.mechanism) +
+       "</h2>\n";
+  h += "<p><b>Covariate:</b> " + XmlEscape(f.covariate) + " (" +
+       XmlEscape(f.level) + " level); <b>shape:</b> " + XmlEscape(f.shape) +
+       "; <b>term:</b> " + XmlEscape(f.form) + ".</p>\n<p>" +
+       XmlEscape(f.explanation) + "</p>\n";
+  h += "<table><tr><th>evidence</th><th>value</th></tr>"
+       "<tr><td>likelihood ratio (df " +
+       std::to_string(f.df) + ")</td><td>" + F("%.1f", f.lr) +
+       "</td></tr><tr><td>p-value, Bonferroni-adjusted over all "
+       "candidates</td><td>" +
+       Sci(f.p_adjusted) +
+       "</td></tr>"
+       "<tr><td>cross-validated gap on training campaigns</td><td>" +
+       F("%.1f", f.cv_gap_before_um) + " → " + F("%.1f", f.cv_gap_after_um) +
+       " µm</td></tr><tr><td>validation gap</td><td>" +
+       F("%.1f", f.gap_val_before_um) + " → " + F("%.1f", f.gap_val_after_um) +
+       " µm</td></tr></table>\n";
+  h += "<table><tr><th>parameter</th><th>value</th></tr>";
+  for (const auto& [k, v] : f.parameters) {
+    h += "<tr><td>" + XmlEscape(k) + "</td><td>" + F("%.5g", v) + "</td></tr>";
   }
-  h += "<h2>Measured against predicted, per stand</h2>\n" + ParityPlots(r);
-  h += "<h2>Where the mismatch lives</h2>\n" + AmplitudePlot(r);
+  h += "</table>\n";
+  if (!f.alternatives.empty()) {
+    h += "<p>Nearly as good a fit with: ";
+    for (const std::string& a : f.alternatives) h += XmlEscape(a) + " ";
+    h += "(correlated quantities; the named covariate fits best).</p>\n";
+  }
+  h += "<figure>" + RenderSvg(ResidualVsCovariate(r, f.covariate)) +
+       "</figure>\n";
+  return h;
+}
+
+// The residual breakdowns (at most 12), as a table.
+std::string LocateHtml(const DiagnosisReport& r) {
+  std::string h;
   h += "<p>Baseline residuals broken down by dimension (strongest evidence first; "
        "ANOVA F test for groups, Pearson t test of the relative residual for numeric "
        "covariates). Effect: the largest mean relative residual of a group, or |r|.</p>"
@@ -212,6 +231,12 @@ std::string DiagnosisHtml(const DiagnosisReport& r) {
          Sci(b.p_value) + "</td><td>" + F("%.3f", b.effect_size) + "</td><td>" + groups +
          "</td></tr>";
   }
+  return h;
+}
+
+// The first round's candidates, and the closing line.
+std::string FirstRoundHtml(const DiagnosisReport& r) {
+  std::string h;
   h += "</table>\n<h2>Candidate terms tried first</h2>\n<table><tr><th>covariate</th>"
        "<th>form</th><th>df</th><th>LR</th><th>p adjusted</th><th>CV error ratio</th></tr>";
   for (const CandidateResult& c : r.first_round) {
@@ -222,6 +247,20 @@ std::string DiagnosisHtml(const DiagnosisReport& r) {
   }
   h += "</table>\n<p>Generated by rollwear diagnose in " + F("%.1f", r.seconds) +
        " s.</p></body></html>\n";
+  return h;
+}
+
+}  // namespace
+
+std::string DiagnosisHtml(const DiagnosisReport& r) {
+  std::string h = HtmlHead();
+  h += VerdictHtml(r);
+  int idx = 1;
+  for (const Finding& f : r.findings) h += FindingHtml(r, f, idx++);
+  h += "<h2>Measured against predicted, per stand</h2>\n" + ParityPlots(r);
+  h += "<h2>Where the mismatch lives</h2>\n" + AmplitudePlot(r);
+  h += LocateHtml(r);
+  h += FirstRoundHtml(r);
   return h;
 }
 

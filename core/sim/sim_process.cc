@@ -125,6 +125,108 @@ void StepShift(double step, double stroke, double* pos, double* dir) {
   }
 }
 
+// The running grade block of a campaign's body: coils left in it, its
+// grade and its F7 gauge.
+struct GradeBlock {
+  int left = 0;
+  int grade = 0;
+  double h7 = 3;
+};
+
+// Grade, width and F7 gauge of coil i (in this order of random draws).
+void PlanGradeAndSize(const CampaignPlan& plan, int i, double warm_up_width,
+                      GradeBlock* block, Random* rng, CoilPlan* coil) {
+  const auto& grades = Grades();
+  CoilPlan& c = *coil;
+  if (i < plan.warm_up_coils) {
+    // Warm-up coils: an easy grade, thick, widths ramping up to the
+    // programme's widest coils (the head of the "coffin").
+    c.grade = rng->Uniform() < 0.6 ? 0 : 1;
+    const double ramp = plan.warm_up_coils > 1
+                            ? static_cast<double>(i) / (plan.warm_up_coils - 1)
+                            : 1.0;
+    c.width_mm = warm_up_width +
+                 (plan.width_max_mm - 120 - warm_up_width) * ramp +
+                 rng->Normal(0, 20);
+    c.h7_mm = rng->Uniform(3.2, 5.0);
+  } else {
+    if (block->left == 0) {
+      block->grade = Categorical(rng, plan.grade_weights.data(), kNumGrades);
+      block->left = 3 + static_cast<int>(rng->Below(10));
+      const GradeSpec& g = grades[block->grade];
+      block->h7 =
+          std::exp(rng->Uniform(std::log(g.h_min_mm), std::log(g.h_max_mm)) +
+                   plan.thickness_bias);
+    }
+    --block->left;
+    c.grade = block->grade;
+    // Body of the coffin: widest first, narrowing towards the end as the
+    // roll wear profile deepens.
+    const int body = plan.num_coils - plan.warm_up_coils;
+    const double frac =
+        body > 1 ? static_cast<double>(i - plan.warm_up_coils) / (body - 1)
+                 : 0.0;
+    c.width_mm =
+        plan.width_max_mm -
+        (plan.width_max_mm - plan.width_min_mm) * std::pow(frac, 0.85) +
+        rng->Normal(0, 30);
+    c.h7_mm = block->h7 * std::exp(rng->Normal(0, 0.03));
+  }
+  const GradeSpec& g = grades[c.grade];
+  c.width_mm = std::clamp(c.width_mm, g.w_min_mm + rng->Uniform(0, 60),
+                          g.w_max_mm - rng->Uniform(0, 60));
+  c.width_mm = std::round(std::clamp(c.width_mm, 900.0, 1650.0));
+  c.h7_mm = RoundTo(
+      std::clamp(c.h7_mm, std::max(1.5, g.h_min_mm), std::min(8.0, g.h_max_mm)),
+      3);
+}
+
+// Mass, F6/F5 exit gauges, entry temperatures, roll speeds, forward slips
+// and lubrication of coil i, whose grade, width and F7 gauge are set.
+void PlanPasses(const CampaignPlan& plan, int i, bool warm_up, Random* rng,
+                CoilPlan* coil) {
+  CoilPlan& c = *coil;
+  const GradeSpec& g = Grades()[c.grade];
+  // Coil mass from the specific coil weight (kg per mm of width), 15-30 t.
+  c.mass_t = c.width_mm * rng->Uniform(15, 20) / 1000;
+  if (c.mass_t < 15) c.mass_t = 15 + rng->Uniform(0, 1.5);
+  if (c.mass_t > 30) c.mass_t = 30 - rng->Uniform(0, 1.5);
+
+  // Reductions of the last two stands fall with gauge (thick strip gets
+  // lighter passes): F7 about 14% at 2 mm, 7% at 8 mm; F6 about 22..13%.
+  const double r7 =
+      std::clamp(0.16 - 0.012 * c.h7_mm + rng->Normal(0, 0.015), 0.05, 0.18);
+  const double r6 =
+      std::clamp(0.25 - 0.015 * c.h7_mm + rng->Normal(0, 0.02), 0.10, 0.30);
+  c.h6_mm = RoundTo(c.h7_mm / (1 - r7), 3);
+  c.h5_mm = RoundTo(c.h6_mm / (1 - r6), 3);
+
+  // Entry temperatures: grade aim, campaign level, thick strip holds its
+  // heat; F6 entry is hotter by the interstand loss (larger for thin
+  // strip, ~ 1/h).
+  c.t7_c = g.t7_target_c + plan.temperature_offset_c + 4 * (c.h7_mm - 3) +
+           (warm_up ? 10 : 0) + rng->Normal(0, 7);
+  c.t7_c = RoundTo(std::clamp(c.t7_c, 845.0, 955.0), 1);
+  c.t6_c = RoundTo(
+      std::min(c.t7_c + 12 + 20 / c.h6_mm + rng->Normal(0, 3), 968.0), 1);
+
+  // F7 roll speed: threading/rolling speed falls with gauge (about 15 m/s
+  // at 1.5 mm down to 6 m/s at 8 mm). F6 from volume constancy
+  // h6 * v6_strip = h7 * v7_strip with forward slips f: v_strip = v (1+f).
+  double v7 =
+      (6.0 + 9.0 * std::pow(std::max(0.0, (8.2 - c.h7_mm) / 6.7), 1.5)) *
+      plan.speed_factor * std::exp(rng->Normal(0, 0.03));
+  c.v7_mps = RoundTo(std::clamp(v7, 5.8, 15.5), 3);
+  c.slip7 = rng->Uniform(0.03, 0.07);
+  c.slip6 = rng->Uniform(0.03, 0.07);
+  const double v7_strip = c.v7_mps * (1 + c.slip7);
+  const double v6_strip = v7_strip * c.h7_mm / c.h6_mm;
+  c.v6_mps = RoundTo(v6_strip / (1 + c.slip6), 3);
+
+  c.lubrication = plan.lubrication && i >= plan.lubrication_off_first &&
+                  rng->Uniform() >= 0.04;
+}
+
 }  // namespace
 
 CampaignPlan PlanCampaign(double mean_coils, Random* rng) {
@@ -163,98 +265,18 @@ CampaignPlan PlanCampaign(double mean_coils, Random* rng) {
 }
 
 std::vector<CoilPlan> PlanCoils(const CampaignPlan& plan, Random* rng) {
-  const auto& grades = Grades();
   std::vector<CoilPlan> coils(plan.num_coils);
   double shift6 = rng->Uniform(-40, 40), dir6 = 1;
   double shift7 = rng->Uniform(-40, 40), dir7 = -1;
   const double warm_up_width = rng->Uniform(1000, 1150);
 
-  int block_left = 0, block_grade = 0;
-  double block_h7 = 3;
+  GradeBlock block;
   double f7_length_m = 0;
   for (int i = 0; i < plan.num_coils; ++i) {
     CoilPlan& c = coils[i];
     const bool warm_up = i < plan.warm_up_coils;
-    if (warm_up) {
-      // Warm-up coils: an easy grade, thick, widths ramping up to the
-      // programme's widest coils (the head of the "coffin").
-      c.grade = rng->Uniform() < 0.6 ? 0 : 1;
-      const double ramp = plan.warm_up_coils > 1 ? static_cast<double>(i) /
-                                                       (plan.warm_up_coils - 1)
-                                                 : 1.0;
-      c.width_mm = warm_up_width +
-                   (plan.width_max_mm - 120 - warm_up_width) * ramp +
-                   rng->Normal(0, 20);
-      c.h7_mm = rng->Uniform(3.2, 5.0);
-    } else {
-      if (block_left == 0) {
-        block_grade = Categorical(rng, plan.grade_weights.data(), kNumGrades);
-        block_left = 3 + static_cast<int>(rng->Below(10));
-        const GradeSpec& g = grades[block_grade];
-        block_h7 =
-            std::exp(rng->Uniform(std::log(g.h_min_mm), std::log(g.h_max_mm)) +
-                     plan.thickness_bias);
-      }
-      --block_left;
-      c.grade = block_grade;
-      // Body of the coffin: widest first, narrowing towards the end as the
-      // roll wear profile deepens.
-      const int body = plan.num_coils - plan.warm_up_coils;
-      const double frac =
-          body > 1 ? static_cast<double>(i - plan.warm_up_coils) / (body - 1)
-                   : 0.0;
-      c.width_mm =
-          plan.width_max_mm -
-          (plan.width_max_mm - plan.width_min_mm) * std::pow(frac, 0.85) +
-          rng->Normal(0, 30);
-      c.h7_mm = block_h7 * std::exp(rng->Normal(0, 0.03));
-    }
-    const GradeSpec& g = grades[c.grade];
-    c.width_mm = std::clamp(c.width_mm, g.w_min_mm + rng->Uniform(0, 60),
-                            g.w_max_mm - rng->Uniform(0, 60));
-    c.width_mm = std::round(std::clamp(c.width_mm, 900.0, 1650.0));
-    c.h7_mm = RoundTo(std::clamp(c.h7_mm, std::max(1.5, g.h_min_mm),
-                                 std::min(8.0, g.h_max_mm)),
-                      3);
-
-    // Coil mass from the specific coil weight (kg per mm of width), 15-30 t.
-    c.mass_t = c.width_mm * rng->Uniform(15, 20) / 1000;
-    if (c.mass_t < 15) c.mass_t = 15 + rng->Uniform(0, 1.5);
-    if (c.mass_t > 30) c.mass_t = 30 - rng->Uniform(0, 1.5);
-
-    // Reductions of the last two stands fall with gauge (thick strip gets
-    // lighter passes): F7 about 14% at 2 mm, 7% at 8 mm; F6 about 22..13%.
-    const double r7 =
-        std::clamp(0.16 - 0.012 * c.h7_mm + rng->Normal(0, 0.015), 0.05, 0.18);
-    const double r6 =
-        std::clamp(0.25 - 0.015 * c.h7_mm + rng->Normal(0, 0.02), 0.10, 0.30);
-    c.h6_mm = RoundTo(c.h7_mm / (1 - r7), 3);
-    c.h5_mm = RoundTo(c.h6_mm / (1 - r6), 3);
-
-    // Entry temperatures: grade aim, campaign level, thick strip holds its
-    // heat; F6 entry is hotter by the interstand loss (larger for thin
-    // strip, ~ 1/h).
-    c.t7_c = g.t7_target_c + plan.temperature_offset_c + 4 * (c.h7_mm - 3) +
-             (warm_up ? 10 : 0) + rng->Normal(0, 7);
-    c.t7_c = RoundTo(std::clamp(c.t7_c, 845.0, 955.0), 1);
-    c.t6_c = RoundTo(
-        std::min(c.t7_c + 12 + 20 / c.h6_mm + rng->Normal(0, 3), 968.0), 1);
-
-    // F7 roll speed: threading/rolling speed falls with gauge (about 15 m/s
-    // at 1.5 mm down to 6 m/s at 8 mm). F6 from volume constancy
-    // h6 * v6_strip = h7 * v7_strip with forward slips f: v_strip = v (1+f).
-    double v7 =
-        (6.0 + 9.0 * std::pow(std::max(0.0, (8.2 - c.h7_mm) / 6.7), 1.5)) *
-        plan.speed_factor * std::exp(rng->Normal(0, 0.03));
-    c.v7_mps = RoundTo(std::clamp(v7, 5.8, 15.5), 3);
-    c.slip7 = rng->Uniform(0.03, 0.07);
-    c.slip6 = rng->Uniform(0.03, 0.07);
-    const double v7_strip = c.v7_mps * (1 + c.slip7);
-    const double v6_strip = v7_strip * c.h7_mm / c.h6_mm;
-    c.v6_mps = RoundTo(v6_strip / (1 + c.slip6), 3);
-
-    c.lubrication = plan.lubrication && i >= plan.lubrication_off_first &&
-                    rng->Uniform() >= 0.04;
+    PlanGradeAndSize(plan, i, warm_up_width, &block, rng, &c);
+    PlanPasses(plan, i, warm_up, rng, &c);
 
     const double stroke = ShiftStroke(c.width_mm);
     StepShift(plan.shift_step_mm, stroke, &shift6, &dir6);

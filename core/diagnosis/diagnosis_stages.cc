@@ -1,0 +1,471 @@
+// The stages of Diagnose() (see diagnosis_stages_internal.h): baseline, data,
+// folds, the rounds of screen / refit / test / cross-validate / adopt, and the
+// summary of the final model.
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <unordered_map>
+#include <utility>
+
+#include "core/base/distributions.h"
+#include "core/base/parallel.h"
+#include "core/base/random.h"
+#include "core/diagnosis/diagnosis_stages_internal.h"
+#include "core/model/aggregation.h"
+#include "core/model/k_structure.h"
+#include "core/model/metrics.h"
+
+namespace rollwear::diag {
+namespace {
+
+double Gap(const TermData& td, const std::vector<int>& obs,
+           const std::vector<double>& pred) {
+  if (obs.empty()) return 0;
+  double s = 0;
+  for (size_t i = 0; i < obs.size(); ++i) {
+    s += std::abs(td.obs[obs[i]].measured_um - pred[i]);
+  }
+  return s / static_cast<double>(obs.size());
+}
+
+Fitted Fit(const TermData& td, const std::vector<int>& subset,
+           const std::vector<double>& sd, const std::vector<double>& log_k,
+           std::vector<TermSpec> terms, bool errors = false,
+           std::vector<double>* term_se = nullptr) {
+  Fitted f;
+  StatusOr<TermFitResult> r = FitTerms(td, subset, sd, log_k, terms, errors);
+  if (!r.ok()) return f;
+  f.log_k = r->log_k;
+  f.terms = r->terms;
+  f.rss = r->weighted_rss;
+  f.usable = r->usable;
+  if (term_se != nullptr) *term_se = r->term_std_error;
+  return f;
+}
+
+// Best fit of current + candidate over the candidate's starting points.
+Fitted FitTermCandidate(const TermData& td, const std::vector<int>& subset,
+                        const std::vector<double>& sd, const Fitted& current,
+                        const Candidate& cand) {
+  std::vector<std::vector<double>> starts = cand.starts;
+  if (starts.empty()) starts.push_back(cand.spec.term.params);
+  Fitted best;
+  for (const std::vector<double>& start : starts) {
+    std::vector<TermSpec> terms = current.terms;
+    terms.push_back(cand.spec);
+    terms.back().term.params = start;
+    Fitted f = Fit(td, subset, sd, current.log_k, terms);
+    if (f.usable && (!best.usable || f.rss < best.rss)) best = std::move(f);
+  }
+  return best;
+}
+
+struct CvResult {
+  double mse = 0, gap = 0;
+};
+
+// K-fold cross-validation on training campaigns of the model `start`
+// (refitted on each fold; `start` itself where a fold's fit fails).
+CvResult CrossValidate(const DiagnosisState& st, const std::vector<double>& sd,
+                       const Fitted& start) {
+  const TermData& td = st.td;
+  CvResult cv;
+  int n = 0;
+  for (size_t f = 0; f < st.fit_sets.size(); ++f) {
+    Fitted fold = Fit(td, st.fit_sets[f], sd, start.log_k, start.terms);
+    if (!fold.usable) fold = start;
+    const std::vector<double> pred =
+        PredictTerms(td, st.held_out[f], fold.log_k, fold.terms);
+    for (size_t i = 0; i < pred.size(); ++i) {
+      const int o = st.held_out[f][i];
+      const double e = td.obs[o].measured_um - pred[i];
+      cv.mse += (e / sd[o]) * (e / sd[o]);
+      cv.gap += std::abs(e);
+      ++n;
+    }
+  }
+  if (n > 0) {
+    cv.mse /= n;
+    cv.gap /= n;
+  }
+  return cv;
+}
+
+// The score-test screen of one round: every candidate's smallest p-value
+// over its starts, the candidate with that start only, and the number of
+// tests (for the Bonferroni adjustment).
+struct Screen {
+  int num_tests = 0;
+  std::vector<double> score_p;
+  std::vector<Candidate> best_start;
+};
+
+// Screens every candidate (and every grid start of its non-linear
+// parameter) with the score test.
+Screen ScreenCandidates(const DiagnosisState& st, const std::vector<double>& sd,
+                        const std::vector<Candidate>& cands, int num_threads) {
+  const TermData& td = st.td;
+  const Fitted& current = st.current;
+  const int nc = static_cast<int>(cands.size());
+  Screen screen;
+  for (const Candidate& c : cands) {
+    screen.num_tests += std::max<int>(1, c.starts.size());
+  }
+  screen.score_p.assign(nc, 1.0);
+  screen.best_start = cands;  // each with its best start only
+  std::vector<double>& score_p = screen.score_p;
+  std::vector<Candidate>& best_start = screen.best_start;
+  ParallelFor(nc, num_threads, [&](int i) {
+    std::vector<std::vector<double>> starts = cands[i].starts;
+    if (starts.empty()) starts.push_back(cands[i].spec.term.params);
+    for (const std::vector<double>& start : starts) {
+      TermSpec spec = cands[i].spec;
+      spec.term.params = start;
+      int df = 0;
+      const double s = ScoreStatistic(td, st.train, sd, current.log_k,
+                                      current.terms, spec, &df);
+      const double p = df > 0 ? ChiSquareSurvival(s, df) : 1.0;
+      if (p < score_p[i] || best_start[i].starts.size() > 1) {
+        if (p <= score_p[i]) best_start[i].starts = {start};
+        score_p[i] = std::min(score_p[i], p);
+      }
+    }
+  });
+  return screen;
+}
+
+// Refits only the strongest screened candidates (at most 6, and only while
+// the Bonferroni-adjusted score p-value stays <= 0.5); the others stay
+// unusable.
+std::vector<Fitted> RefitStrongest(const DiagnosisState& st,
+                                   const std::vector<double>& sd,
+                                   const Screen& screen, int num_threads) {
+  const int nc = static_cast<int>(screen.score_p.size());
+  const std::vector<double>& score_p = screen.score_p;
+  std::vector<int> by_score(nc);
+  for (int i = 0; i < nc; ++i) by_score[i] = i;
+  std::sort(by_score.begin(), by_score.end(),
+            [&](int a, int b) { return score_p[a] < score_p[b]; });
+  std::vector<int> to_fit;
+  for (int i : by_score) {
+    if (to_fit.size() >= 6 || score_p[i] * screen.num_tests > 0.5) break;
+    to_fit.push_back(i);
+  }
+  std::vector<Fitted> fits(nc);
+  ParallelFor(static_cast<int>(to_fit.size()), num_threads, [&](int j) {
+    fits[to_fit[j]] = FitTermCandidate(st.td, st.train, sd, st.current,
+                                       screen.best_start[to_fit[j]]);
+  });
+  return fits;
+}
+
+// Each candidate's result: the score test, replaced by the likelihood-ratio
+// test where the candidate was refitted.
+std::vector<CandidateResult> TestCandidates(const DiagnosisState& st,
+                                            const std::vector<Candidate>& cands,
+                                            const Screen& screen,
+                                            const std::vector<Fitted>& fits) {
+  const int nc = static_cast<int>(cands.size());
+  const double n = static_cast<double>(st.train.size());
+  std::vector<CandidateResult> results(nc);
+  for (int i = 0; i < nc; ++i) {
+    CandidateResult& r = results[i];
+    r.covariate = cands[i].spec.term.covariate;
+    r.form = TermFormName(cands[i].spec.term.form);
+    r.df = cands[i].spec.term.NumParams();
+    r.cv_mse_ratio = std::nan("");
+    r.p_value = screen.score_p[i];  // replaced by the LR test if refitted
+    r.p_adjusted = std::min(1.0, r.p_value * screen.num_tests);
+    if (!fits[i].usable) continue;
+    r.lr = std::max(0.0, n * std::log(st.current.rss / fits[i].rss));
+    r.p_value = ChiSquareSurvival(r.lr, r.df);
+    r.p_adjusted = std::min(1.0, r.p_value * screen.num_tests);
+  }
+  return results;
+}
+
+// The cross-validation of one round: candidates by LR (strongest first),
+// the significant ones cross-validated (at most 3), the current model's
+// and each of their CV results.
+struct CvRound {
+  std::vector<int> order, to_cv;
+  CvResult base;
+  std::vector<CvResult> cand;  // aligned with to_cv
+};
+
+CvRound CrossValidateSignificant(const DiagnosisState& st,
+                                 const std::vector<double>& sd,
+                                 const std::vector<Fitted>& fits,
+                                 const std::vector<CandidateResult>& results,
+                                 const DiagnosisOptions& options) {
+  const int nc = static_cast<int>(results.size());
+  CvRound cv;
+  cv.order.resize(nc);
+  for (int i = 0; i < nc; ++i) cv.order[i] = i;
+  std::sort(cv.order.begin(), cv.order.end(),
+            [&](int a, int b) { return results[a].lr > results[b].lr; });
+  for (int i : cv.order) {
+    if (fits[i].usable && results[i].p_adjusted < options.alpha &&
+        cv.to_cv.size() < 3) {
+      cv.to_cv.push_back(i);
+    }
+  }
+  if (!cv.to_cv.empty()) cv.base = CrossValidate(st, sd, st.current);
+  cv.cand.resize(cv.to_cv.size());
+  ParallelFor(
+      static_cast<int>(cv.to_cv.size()), options.num_threads,
+      [&](int j) { cv.cand[j] = CrossValidate(st, sd, fits[cv.to_cv[j]]); });
+  return cv;
+}
+
+// Sets cv_mse_ratio and accepted of the cross-validated results; returns
+// the accepted one with the smallest penalised CV ratio, or -1.
+int PickWinner(const CvRound& cv, const DiagnosisOptions& options,
+               std::vector<CandidateResult>* results) {
+  int winner = -1;
+  for (size_t j = 0; j < cv.to_cv.size(); ++j) {
+    CandidateResult& r = (*results)[cv.to_cv[j]];
+    r.cv_mse_ratio = cv.base.mse > 0 ? cv.cand[j].mse / cv.base.mse : 1.0;
+    r.accepted = r.cv_mse_ratio < 1 - options.min_cv_improvement;
+    auto penalised = [&](const CandidateResult& c) {
+      return c.cv_mse_ratio + options.cv_penalty_per_parameter * c.df;
+    };
+    if (r.accepted &&
+        (winner < 0 || penalised(r) < penalised((*results)[winner]))) {
+      winner = cv.to_cv[j];
+    }
+  }
+  return winner;
+}
+
+// The top 15 candidates of the first round by p-value (ties in LR order).
+void RecordFirstRound(const std::vector<int>& order,
+                      const std::vector<CandidateResult>& results,
+                      DiagnosisReport* report) {
+  std::vector<int> by_p = order;
+  std::stable_sort(by_p.begin(), by_p.end(), [&](int a, int b) {
+    return results[a].p_value < results[b].p_value;
+  });
+  for (size_t i = 0; i < by_p.size() && i < 15; ++i) {
+    report->first_round.push_back(results[by_p[i]]);
+  }
+}
+
+// The winner's test figures and the accepted alternatives that explain the
+// data about as well (CV ratio within 0.01) over another covariate.
+Finding FindingFromTests(const CvRound& cv,
+                         const std::vector<CandidateResult>& results,
+                         int winner) {
+  Finding f;
+  const CandidateResult& wr = results[winner];
+  f.lr = wr.lr;
+  f.df = wr.df;
+  f.p_value = wr.p_value;
+  f.p_adjusted = wr.p_adjusted;
+  f.cv_mse_ratio = wr.cv_mse_ratio;
+  f.cv_gap_before_um = cv.base.gap;
+  for (size_t j = 0; j < cv.to_cv.size(); ++j) {
+    if (cv.to_cv[j] == winner) f.cv_gap_after_um = cv.cand[j].gap;
+  }
+  for (size_t j = 0; j < cv.to_cv.size(); ++j) {
+    const CandidateResult& r = results[cv.to_cv[j]];
+    if (r.accepted && r.covariate != wr.covariate &&
+        r.cv_mse_ratio <= wr.cv_mse_ratio + 0.01 &&
+        std::find(f.alternatives.begin(), f.alternatives.end(), r.covariate) ==
+            f.alternatives.end()) {
+      f.alternatives.push_back(r.covariate);
+    }
+  }
+  return f;
+}
+
+// Stage 5. Refits the winner with standard errors (keeping its round fit
+// if that fails), names it and fills the validation gaps of `f`; returns
+// the adopted model.
+Fitted AdoptWinner(const DiagnosisState& st, const std::vector<double>& sd,
+                   const Fitted& winner_fit, Finding* f) {
+  const TermData& td = st.td;
+  std::vector<double> se;
+  Fitted adopted =
+      Fit(td, st.train, sd, winner_fit.log_k, winner_fit.terms, true, &se);
+  if (!adopted.usable) adopted = winner_fit;
+  const TermSpec& spec = adopted.terms.back();
+  f->term = spec.term;
+  const int offset = static_cast<int>(se.size()) - spec.term.NumParams();
+  if (offset >= 0) {
+    for (int j = 0; j < spec.term.NumParams(); ++j) {
+      f->parameter_std_errors["param" + std::to_string(j)] = se[offset + j];
+    }
+  }
+  NameFinding(td, st.train, spec, f);
+  const Fitted& current = st.current;
+  f->gap_val_before_um =
+      Gap(td, st.val, PredictTerms(td, st.val, current.log_k, current.terms));
+  f->gap_val_after_um =
+      Gap(td, st.val, PredictTerms(td, st.val, adopted.log_k, adopted.terms));
+  return adopted;
+}
+
+// One DiagnosisPoint per observation of `all`, with the final prediction.
+void AddPoints(const Dataset& data, const DiagnosisState& st,
+               const std::vector<double>& after_all, DiagnosisReport* report) {
+  const TermData& td = st.td;
+  for (int o : st.all) {
+    const TermObservation& ob = td.obs[o];
+    DiagnosisPoint p;
+    p.campaign_id = data.campaigns[ob.campaign].id;
+    p.stand = SlotStand(ob.slot);
+    p.position = SlotPosition(ob.slot);
+    p.validation = !st.train_campaigns.count(ob.campaign);
+    p.measured_um = ob.measured_um;
+    p.before_um = st.before_all[o];
+    p.after_um = after_all[o];
+    for (const Finding& f : report->findings) {
+      const int k = td.CovariateIndex(f.covariate);
+      if (k >= 0) p.covariates[f.covariate] = td.obs_z[k][o];
+    }
+    report->points.push_back(std::move(p));
+  }
+}
+
+}  // namespace
+
+StatusOr<Baseline> RunBaseline(const Dataset& data,
+                               const DiagnosisOptions& options,
+                               DiagnosisReport* report) {
+  const DatasetIndex index(data);
+  ROLLWEAR_ASSIGN_OR_RETURN(WearStatistics stats,
+                            Aggregate(data, index, options.law));
+  Baseline base;
+  base.split = SplitCampaigns(stats, 2.0 / 3.0, options.split_seed);
+  CalibrationOptions co;
+  co.law = options.law;
+  co.option = 1;
+  ROLLWEAR_ASSIGN_OR_RETURN(base.calibration,
+                            CalibrateOnSplit(stats, base.split, co));
+  if (!base.calibration.result.summary.usable) {
+    return Status::NumericalFailure(
+        "baseline calibration failed: " +
+        base.calibration.result.summary.BriefReport());
+  }
+  report->baseline_gap_train_um = base.calibration.train.gap_um;
+  report->baseline_gap_val_um = base.calibration.validation.gap_um;
+  return base;
+}
+
+StatusOr<DiagnosisState> BuildState(const Dataset& data,
+                                    const DiagnosisOptions& options,
+                                    const Baseline& base,
+                                    DiagnosisReport* report) {
+  DiagnosisState st;
+  ROLLWEAR_ASSIGN_OR_RETURN(st.td, BuildTermData(data, options.law));
+  st.train_campaigns.insert(base.split.train.begin(), base.split.train.end());
+  for (int o = 0; o < static_cast<int>(st.td.obs.size()); ++o) {
+    (st.train_campaigns.count(st.td.obs[o].campaign) ? st.train : st.val)
+        .push_back(o);
+    st.all.push_back(o);
+  }
+  report->n_train = static_cast<int>(st.train.size());
+  report->n_val = static_cast<int>(st.val.size());
+  for (double k : base.calibration.result.model.k) {
+    st.current.log_k.push_back(std::log(k));
+  }
+  st.before_all = PredictTerms(st.td, st.all, st.current.log_k, {});
+  return st;
+}
+
+void MakeFolds(const DiagnosisOptions& options, const CampaignSplit& split,
+               DiagnosisState* st) {
+  std::vector<int> camps(split.train.begin(), split.train.end());
+  Random rng(options.split_seed * 7919 + 17);
+  rng.Shuffle(&camps);
+  std::unordered_map<int, int> fold_of;
+  for (size_t i = 0; i < camps.size(); ++i) {
+    fold_of[camps[i]] = static_cast<int>(i) % options.cv_folds;
+  }
+  st->fit_sets.assign(options.cv_folds, {});
+  st->held_out.assign(options.cv_folds, {});
+  for (int o : st->train) {
+    const int f = fold_of[st->td.obs[o].campaign];
+    for (int g = 0; g < options.cv_folds; ++g) {
+      (g == f ? st->held_out[g] : st->fit_sets[g]).push_back(o);
+    }
+  }
+}
+
+bool RunRound(int round, const DiagnosisOptions& options, std::set<int>* used,
+              PhaseClock* phase, DiagnosisState* st, DiagnosisReport* report) {
+  const TermData& td = st->td;
+  const std::vector<double> sd =
+      TermNoiseSd(td, st->train, st->current.log_k, st->current.terms);
+  Fitted cur = Fit(td, st->train, sd, st->current.log_k, st->current.terms);
+  if (!cur.usable) return false;
+  st->current = cur;
+  const std::vector<Candidate> cands =
+      MakeCandidates(td, st->train, *used, options);
+  if (cands.empty()) return false;
+  // Screen every candidate with the score test, then refit only the
+  // strongest.
+  phase->Mark("refit");
+  const Screen screen = ScreenCandidates(*st, sd, cands, options.num_threads);
+  phase->Mark("screen");
+  const std::vector<Fitted> fits =
+      RefitStrongest(*st, sd, screen, options.num_threads);
+  phase->Mark("refit");
+  std::vector<CandidateResult> results =
+      TestCandidates(*st, cands, screen, fits);
+  // Cross-validate the significant ones (strongest first).
+  const CvRound cv = CrossValidateSignificant(*st, sd, fits, results, options);
+  phase->Mark("cross_validation");
+  const int winner = PickWinner(cv, options, &results);
+  if (round == 0) RecordFirstRound(cv.order, results, report);
+  if (winner < 0) return false;
+
+  // 5. Adopt the winner.
+  Finding f = FindingFromTests(cv, results, winner);
+  Fitted adopted = AdoptWinner(*st, sd, fits[winner], &f);
+  report->findings.push_back(f);
+  phase->Mark("refit");
+  used->insert(adopted.terms.back().covariate);
+  st->current = adopted;
+  return true;
+}
+
+void Summarise(const Dataset& data, const DiagnosisOptions& options,
+               const DiagnosisState& st, DiagnosisReport* report) {
+  const TermData& td = st.td;
+  const Fitted& current = st.current;
+  report->verdict = report->findings.empty() ? "no_significant_mismatch"
+                                             : "missing_physics_found";
+  const std::vector<double> after_all =
+      PredictTerms(td, st.all, current.log_k, current.terms);
+  std::vector<double> pt, pv;
+  for (int o : st.train) pt.push_back(after_all[o]);
+  for (int o : st.val) pv.push_back(after_all[o]);
+  report->final_gap_train_um = Gap(td, st.train, pt);
+  report->final_gap_val_um = Gap(td, st.val, pv);
+  const StatusOr<KStructure> ks =
+      KStructure::ForOption(1, td.positions, td.roll_types, td.grades);
+  if (ks.ok()) {
+    for (int i = 0; i < ks->num_coefficients(); ++i) {
+      report->coefficients.emplace_back(ks->CoefficientName(i),
+                                        std::exp(current.log_k[i]));
+    }
+  }
+  for (const TermSpec& t : current.terms) report->terms.push_back(t.term);
+  if (ks.ok()) {
+    WearModel& m = report->adopted_model;
+    m.law = options.law;
+    m.structure = *ks;
+    for (double lk : current.log_k) m.k.push_back(std::exp(lk));
+    m.terms = report->terms;
+    std::vector<double> e;
+    for (size_t i = 0; i < st.train.size(); ++i) {
+      e.push_back(td.obs[st.train[i]].measured_um - pt[i]);
+    }
+    FitNoiseModel(pt, e, &m);
+  }
+  AddPoints(data, st, after_all, report);
+}
+
+}  // namespace rollwear::diag

@@ -1,0 +1,107 @@
+// Internal to core/diagnosis: the stages of Diagnose() (diagnosis.h), in
+// the order diagnosis.cc runs them: the baseline calibration, the term data
+// and observation sets, the cross-validation folds, the rounds of
+// hypothesise-test-adopt (screen, refit, likelihood-ratio test,
+// cross-validation, winner, adoption) and the summary of the final model.
+// Include only from core/diagnosis/diagnosis*.cc.
+//
+// Thread-safety: a DiagnosisState and a PhaseClock belong to one Diagnose()
+// call and one thread; the stage functions share no state between calls
+// (ParallelFor inside a stage writes only per-index slots).
+#ifndef ROLLWEAR_CORE_DIAGNOSIS_DIAGNOSIS_STAGES_INTERNAL_H_
+#define ROLLWEAR_CORE_DIAGNOSIS_DIAGNOSIS_STAGES_INTERNAL_H_
+
+#include <chrono>
+#include <set>
+#include <unordered_set>
+#include <vector>
+
+#include "core/base/status.h"
+#include "core/diagnosis/diagnosis.h"
+#include "core/diagnosis/diagnosis_internal.h"
+#include "core/fit/study.h"
+#include "core/fit/term_fit.h"
+
+namespace rollwear::diag {
+
+// Adds the wall time since the last Mark (or construction) to
+// report->phase_seconds[name].
+class PhaseClock {
+ public:
+  explicit PhaseClock(DiagnosisReport* report)
+      : report_(report), mark_(std::chrono::steady_clock::now()) {}
+  void Mark(const char* name) {
+    const auto now = std::chrono::steady_clock::now();
+    report_->phase_seconds[name] +=
+        std::chrono::duration<double>(now - mark_).count();
+    mark_ = now;
+  }
+
+ private:
+  DiagnosisReport* report_;
+  std::chrono::steady_clock::time_point mark_;
+};
+
+// A fit of option-1 log coefficients plus terms (usable = false when the
+// fit failed).
+struct Fitted {
+  std::vector<double> log_k;
+  std::vector<TermSpec> terms;
+  double rss = 0;
+  bool usable = false;
+};
+
+// Stage 1's result: the campaign split and the baseline calibration on it.
+struct Baseline {
+  CampaignSplit split;
+  SplitCalibration calibration;
+};
+
+// What the stages share: the term data, the observation sets (indices into
+// td.obs), the cross-validation folds over the training observations, the
+// baseline predictions and the current model.
+struct DiagnosisState {
+  TermData td;
+  std::unordered_set<int> train_campaigns;
+  std::vector<int> train, val, all;
+  std::vector<std::vector<int>> fit_sets, held_out;  // per fold
+  std::vector<double> before_all;  // baseline prediction of `all`
+  Fitted current;
+};
+
+// Stage 1. Aggregates, splits the campaigns 2:1 and calibrates option 1 on
+// the training part; fills the baseline gaps of `report`.
+StatusOr<Baseline> RunBaseline(const Dataset& data,
+                               const DiagnosisOptions& options,
+                               DiagnosisReport* report);
+
+// The term data, the train/validation/all observation sets and the current
+// model (the baseline's coefficients, no terms) with its predictions; fills
+// n_train and n_val of `report`.
+StatusOr<DiagnosisState> BuildState(const Dataset& data,
+                                    const DiagnosisOptions& options,
+                                    const Baseline& base,
+                                    DiagnosisReport* report);
+
+// Assigns the training campaigns (shuffled by the split seed) to
+// options.cv_folds folds and fills state->fit_sets and state->held_out.
+void MakeFolds(const DiagnosisOptions& options, const CampaignSplit& split,
+               DiagnosisState* state);
+
+// Stages 3-5, one round: refits the current model, screens and tests every
+// candidate over covariates not in `used`, cross-validates the significant
+// ones and adopts the winner (into state->current, report->findings and
+// `used`). Round 0 also fills report->first_round. Returns false when the
+// round adopted nothing, which ends the search.
+bool RunRound(int round, const DiagnosisOptions& options, std::set<int>* used,
+              PhaseClock* phase, DiagnosisState* state,
+              DiagnosisReport* report);
+
+// The verdict, final gaps, coefficients, terms, adopted model and the
+// per-observation points of the final model.
+void Summarise(const Dataset& data, const DiagnosisOptions& options,
+               const DiagnosisState& state, DiagnosisReport* report);
+
+}  // namespace rollwear::diag
+
+#endif  // ROLLWEAR_CORE_DIAGNOSIS_DIAGNOSIS_STAGES_INTERNAL_H_
