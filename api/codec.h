@@ -1,15 +1,23 @@
 // Internal to the api layer (included by api/*.cc only): JSON <-> storage
-// types. Decoders check the body's nesting depth before parsing, parse
-// without exceptions, check every field's presence and JSON type (integers
-// are told apart from other numbers), then the record's rules
-// (core/dataset/input_rules.h), and name a bad field by its JSON path
-// ("passes[1].force_kn"). In a data body (roll change, campaign end, coil,
-// measurement) unknown extra fields are ignored; a control body
-// (calibration, diagnosis) refuses them.
-// Encoders produce the answer bodies of docs/api.md. nlohmann/json.hpp is
-// included by .cc files only.
+// types. Every request body is decoded by one decoder: ScanBody
+// (api/json_scan.h, simdjson On-Demand) reads and validates the whole
+// document as JSON within the nesting limit (malformed JSON is refused
+// before any field is looked at; a member twice in one object is refused);
+// then
+// each field's presence and JSON type are checked (integers are told apart
+// from other numbers), then the record's rules
+// (core/dataset/input_rules.h). A bad field is named by its JSON path
+// ("passes[1].force_kn"). In a data body (roll change, coil and its passes,
+// measurement) the members a body does not define are its extra fields,
+// decoded into the record's ExtraFields (core/dataset/extra_fields.h; the
+// rules are at Decode*); a campaign end ignores them; a control body
+// (calibration, diagnosis) refuses them with unknown_field.
+// Encoders produce the answer bodies of docs/api.md (api/json_writer.h for
+// the hot ones, an nlohmann DOM for the rest; nlohmann/json.hpp and
+// simdjson.h are included by .cc files only).
 //
-// Thread-safety: stateless functions.
+// Thread-safety: stateless functions (the decoders use a thread_local
+// parser, api/json_scan.h).
 #ifndef ROLLWEAR_API_CODEC_H_
 #define ROLLWEAR_API_CODEC_H_
 
@@ -30,6 +38,9 @@ namespace rollwear::api {
 inline constexpr size_t kMaxIdLength = 200;
 // A coil passes each stand at most once.
 inline constexpr size_t kMaxPasses = kMaxStand;
+// Extra fields per JSON object of a data body (a roll change, one of its
+// rolls, a coil, one of its passes, a measurement); more are refused.
+inline constexpr size_t kMaxExtraFields = 64;
 
 // One error answer: HTTP status, snake_case code, one sentence, and the
 // JSON path of the offending field (empty = null).
@@ -44,18 +55,26 @@ struct ApiError {
 std::string EncodeError(const ApiError& error);
 
 // Decoders: true and *out filled, or false and *error (status 400).
+//
+// Extra fields of a data body (each object's members the body does not
+// define) go to that record's `extra` (RollChangeIn::extra: the campaign's;
+// MountedRollIn::extra: the roll's; CoilIn::extra: the coil's own, which
+// apply to each of its passes; PassIn::extra: the pass's;
+// MeasurementIn::extra): a number (finite) is a numeric value, a string (at
+// most kMaxIdLength bytes) or true/false ("true"/"false") a factor level,
+// null an empty cell (not kept). Refused with the extra field's path: an
+// object or array (wrong_type), a name longer than kMaxIdLength bytes or
+// more than kMaxExtraFields extras in one object (out_of_range), a pass
+// field that the coil has as well (invalid_value). Each list is sorted by
+// name (ExtraFields::Sort), so member order does not matter.
 bool DecodeRollChange(std::string_view body, int max_depth,
                       storage::RollChangeIn* out, ApiError* error);
+// Ignores the body's other members (a campaign's extra fields come with its
+// roll change).
 bool DecodeCampaignEnd(std::string_view body, int max_depth,
                        UnixSeconds* ended_at, ApiError* error);
-// TryDecodeCoilFast (api/coil_fast_decode.h) for the usual body, else
-// DecodeCoilDom, which produces every error.
 bool DecodeCoil(std::string_view body, int max_depth, storage::CoilIn* out,
                 ApiError* error);
-// DecodeCoil's general path: the body as an nlohmann DOM, read member by
-// member. Declared for the tests that compare it with the fast path.
-bool DecodeCoilDom(std::string_view body, int max_depth, storage::CoilIn* out,
-                   ApiError* error);
 bool DecodeMeasurement(std::string_view body, int max_depth,
                        storage::MeasurementIn* out, ApiError* error);
 // An empty body (or "{}") selects the defaults.
@@ -97,10 +116,6 @@ std::string EncodeCalibrationList(
 std::string EncodeModel(const storage::ModelVersion& model);
 std::string EncodeModelList(const std::vector<storage::ModelVersion>& models);
 std::string EncodeHealth(bool healthy);
-
-// Maximum nesting depth of arrays and objects in `body` (strings are
-// skipped), without parsing it. Stops counting above `limit`.
-int JsonNestingDepth(std::string_view body, int limit);
 
 }  // namespace rollwear::api
 

@@ -1,283 +1,359 @@
-// Request bodies: nesting check, parsing and field validation (see
-// codec.h).
-#include <algorithm>
+// Request bodies: the members of each body (ScanBody, api/json_scan.h),
+// then each field's presence and JSON type, its extra fields, and the
+// record's rules (core/dataset/input_rules.h) - see codec.h.
 #include <cmath>
 #include <cstdint>
-#include <initializer_list>
+#include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "api/codec.h"
-#include "api/coil_fast_decode.h"
+#include "api/json_scan.h"
 #include "core/dataset/dataset_io.h"
 #include "core/dataset/input_rules.h"
 
 namespace rollwear::api {
 namespace {
 
-// Insertion-ordered objects: answers list their fields in the documented
-// order.
-using Json = nlohmann::ordered_json;
-
 constexpr size_t kMaxRolls = kNumRollPositionSlots;
 
-std::string Dump(const Json& j) {
-  return j.dump(-1, ' ', false, Json::error_handler_t::replace);
-}
+// The members of each body, in the order their errors are reported (a
+// body with two bad fields names the first of this list).
+enum RollMember { kRollStand, kRollPosition, kRollId, kRollType, kDiameter,
+                  kHardness };
+constexpr std::string_view kRollMembers[] = {
+    "stand", "position", "roll_id", "roll_type", "diameter_mm", "hardness_hb"};
+constexpr ObjectShape kRollShape{kRollMembers};
+enum RollChangeMember { kRcCampaignId, kRcStartedAt, kRcRolls };
+constexpr std::string_view kRollChangeMembers[] = {"campaign_id",
+                                                   "started_at", "rolls"};
+constexpr ObjectShape kRollChangeShape{kRollChangeMembers, kRcRolls,
+                                       &kRollShape, kMaxRolls};
+
+constexpr std::string_view kCampaignEndMembers[] = {"ended_at"};
+constexpr ObjectShape kCampaignEndShape{kCampaignEndMembers};
+
+enum PassMember { kStand, kForce, kWidth, kLength, kEntryThickness,
+                  kExitThickness, kTemperature, kSpeed, kLubrication, kShift };
+constexpr std::string_view kPassMembers[] = {
+    "stand",         "force_kn",           "width_mm",
+    "length_m",      "entry_thickness_mm", "exit_thickness_mm",
+    "temperature_c", "speed_mps",          "lubrication",
+    "shift_mm"};
+constexpr ObjectShape kPassShape{kPassMembers};
+enum CoilMember { kCoilId, kCoilCampaignId, kSeq, kRolledAt, kGrade, kPasses };
+constexpr std::string_view kCoilMembers[] = {
+    "coil_id", "campaign_id", "seq", "rolled_at", "grade", "passes"};
+constexpr ObjectShape kCoilShape{kCoilMembers, kPasses, &kPassShape,
+                                 kMaxPasses};
+
+enum MeasurementMember { kMCampaignId, kMStand, kMPosition, kMRollId,
+                         kMeasuredAt, kWear };
+constexpr std::string_view kMeasurementMembers[] = {
+    "campaign_id", "stand", "position", "roll_id", "measured_at",
+    "wear_center_um"};
+constexpr ObjectShape kMeasurementShape{kMeasurementMembers};
+
+enum CalibrationMember { kModel, kOption };
+constexpr std::string_view kCalibrationMembers[] = {"model", "option"};
+constexpr ObjectShape kCalibrationShape{kCalibrationMembers};
+constexpr std::string_view kDiagnosisMembers[] = {"adopt"};
+constexpr ObjectShape kDiagnosisShape{kDiagnosisMembers};
 
 ApiError BadRequest(std::string code, std::string field, std::string message) {
   return ApiError{400, std::move(code), std::move(message), std::move(field)};
 }
 
-// Parses `body` into an object; malformed JSON, too deep nesting and a
-// non-object body are 400s.
-bool ParseObject(std::string_view body, int max_depth, Json* out,
-                 ApiError* error) {
-  if (JsonNestingDepth(body, max_depth) > max_depth) {
-    *error = BadRequest("nesting_too_deep", "",
-                        "the body nests arrays/objects deeper than " +
-                            std::to_string(max_depth) + " levels");
-    return false;
-  }
-  try {
-    *out = Json::parse(body.begin(), body.end());
-  } catch (const Json::exception& e) {
-    std::string what = e.what();
-    const size_t close = what.find("] ");
-    if (close != std::string::npos) what = what.substr(close + 2);
-    *error = BadRequest("malformed_json", "", "malformed JSON: " + what);
-    return false;
-  }
-  if (!out->is_object()) {
-    *error = BadRequest(
-        "wrong_type", "",
-        std::string("the body must be a JSON object, got ") + out->type_name());
-    return false;
-  }
-  return true;
+std::string Short(std::string_view s) {
+  return std::string(s.size() <= 40 ? s : s.substr(0, 37)) +
+         (s.size() <= 40 ? "" : "...");
 }
 
-std::string Join(const std::string& path, const char* key) {
-  return path.empty() ? std::string(key) : path + "." + key;
-}
-
-// Typed, checked access to the members of one JSON object; the first broken
-// rule is kept in *error with the member's JSON path.
+// Typed, checked access to the members of one scanned object; the first
+// broken rule is kept in *error with the member's JSON path. `list` and
+// `element` name an element of the body's list ("passes", 1); element -1
+// is the body itself.
 class ObjectReader {
  public:
-  ObjectReader(const Json& object, std::string path, ApiError* error)
-      : object_(object), path_(std::move(path)), error_(error) {}
+  ObjectReader(const ScannedObject& object, const ObjectShape& shape,
+               ApiError* error, std::string_view list = "", int element = -1)
+      : object_(object),
+        shape_(shape),
+        list_(list),
+        element_(element),
+        error_(error) {}
 
-  // The member, or null (and the error) when missing.
-  const Json* Get(const char* key) {
-    auto it = object_.find(key);
-    if (it == object_.end()) {
-      *error_ = BadRequest("missing_field", Join(path_, key),
-                           Join(path_, key) + " is required");
-      return nullptr;
+  // The JSON path of member `key` of this object.
+  std::string Path(std::string_view key) const {
+    std::string path;
+    if (element_ >= 0) {
+      path = std::string(list_) + "[" + std::to_string(element_) + "].";
     }
-    return &*it;
+    return path += key;
   }
 
-  bool WrongType(const char* key, const char* want, const Json& got) {
-    *error_ = BadRequest(
-        "wrong_type", Join(path_, key),
-        Join(path_, key) + " must be " + want + ", got " + got.type_name());
+  bool Has(int i) const { return object_.members[i].kind != JsonKind::kAbsent; }
+
+  // Member i, or null (and the error) when missing.
+  const JsonValue* Get(int i) {
+    if (Has(i)) return &object_.members[i];
+    const std::string path = Path(shape_.members[i]);
+    *error_ = BadRequest("missing_field", path, path + " is required");
+    return nullptr;
+  }
+
+  bool WrongType(int i, const char* want, const JsonValue& got) {
+    const std::string path = Path(shape_.members[i]);
+    *error_ = BadRequest("wrong_type", path,
+                         path + " must be " + want + ", got " +
+                             JsonKindName(got.kind));
     return false;
   }
 
-  bool OutOfRange(const char* key, const std::string& rule) {
-    *error_ = BadRequest("out_of_range", Join(path_, key),
-                         Join(path_, key) + " " + rule);
+  bool OutOfRange(std::string_view key, const std::string& rule) {
+    const std::string path = Path(key);
+    *error_ = BadRequest("out_of_range", path, path + " " + rule);
     return false;
   }
 
-  bool Invalid(const char* key, const std::string& rule) {
-    *error_ = BadRequest("invalid_value", Join(path_, key),
-                         Join(path_, key) + " " + rule);
+  bool Invalid(std::string_view key, const std::string& rule) {
+    const std::string path = Path(key);
+    *error_ = BadRequest("invalid_value", path, path + " " + rule);
     return false;
   }
 
   // A string of at most kMaxIdLength bytes.
-  bool Text(const char* key, std::string* out) {
-    const Json* v = Get(key);
-    if (v == nullptr) return false;
-    if (!v->is_string()) return WrongType(key, "a string", *v);
-    const auto& s = v->get_ref<const std::string&>();
-    if (s.size() > kMaxIdLength) {
-      return OutOfRange(
-          key, "must be at most " + std::to_string(kMaxIdLength) + " bytes");
+  bool Text(int i, std::string* out) {
+    std::string_view text;
+    if (!String(i, "a string", &text)) return false;
+    if (text.size() > kMaxIdLength) {
+      return OutOfRange(shape_.members[i],
+                        "must be at most " + std::to_string(kMaxIdLength) +
+                            " bytes");
     }
-    *out = s;
+    out->assign(text);
     return true;
   }
 
   // A JSON number (integer or not).
-  bool Number(const char* key, double* out) {
-    const Json* v = Get(key);
+  bool Number(int i, double* out) {
+    const JsonValue* v = Get(i);
     if (v == nullptr) return false;
-    if (!v->is_number()) return WrongType(key, "a number", *v);
-    *out = v->get<double>();
+    if (v->kind != JsonKind::kNumber) return WrongType(i, "a number", *v);
+    *out = v->number;
     return true;
   }
 
   // A JSON integer (not 3.0 or 3.5) within [lo, hi].
-  bool Integer(const char* key, int64_t lo, int64_t hi, int64_t* out) {
-    const Json* v = Get(key);
+  bool Integer(int i, int64_t lo, int64_t hi, int64_t* out) {
+    const JsonValue* v = Get(i);
     if (v == nullptr) return false;
-    if (!v->is_number_integer()) return WrongType(key, "an integer", *v);
-    if (v->is_number_unsigned() &&
-        v->get<uint64_t>() > static_cast<uint64_t>(INT64_MAX)) {
-      return OutOfRange(key, "must be <= " + std::to_string(hi));
+    if (v->kind != JsonKind::kNumber || !v->integer) {
+      return WrongType(i, "an integer", *v);
     }
-    *out = v->get<int64_t>();
+    if (v->above_int64) {
+      return OutOfRange(shape_.members[i], "must be <= " + std::to_string(hi));
+    }
+    *out = v->as_int;
     if (*out < lo || *out > hi) {
-      return OutOfRange(key, "must be an integer in [" + std::to_string(lo) +
-                                 ", " + std::to_string(hi) + "], got " +
-                                 std::to_string(*out));
+      return OutOfRange(shape_.members[i],
+                        "must be an integer in [" + std::to_string(lo) + ", " +
+                            std::to_string(hi) + "], got " +
+                            std::to_string(*out));
     }
     return true;
   }
 
-  bool Timestamp(const char* key, UnixSeconds* out) {
-    const Json* v = Get(key);
-    if (v == nullptr) return false;
-    if (!v->is_string()) return WrongType(key, "an ISO 8601 string", *v);
-    if (!ParseTimestamp(v->get_ref<const std::string&>(), out)) {
-      return Invalid(key,
+  bool Timestamp(int i, UnixSeconds* out) {
+    std::string_view text;
+    if (!String(i, "an ISO 8601 string", &text)) return false;
+    if (!ParseTimestampView(text, out)) {
+      return Invalid(shape_.members[i],
                      "must be an ISO 8601 timestamp with offset or Z, got '" +
-                         Short(v->get_ref<const std::string&>()) + "'");
+                         Short(text) + "'");
     }
     return true;
   }
 
-  bool Stand(const char* key, int* out) {
-    const Json* v = Get(key);
-    if (v == nullptr) return false;
-    if (!v->is_string()) return WrongType(key, "a string (F1..F7)", *v);
-    *out = ParseStand(v->get_ref<const std::string&>());
+  bool Stand(int i, int* out) {
+    std::string_view text;
+    if (!String(i, "a string (F1..F7)", &text)) return false;
+    *out = ParseStand(std::string(text));
     if (*out == 0) {
-      return Invalid(key, "must be a stand F1..F7, got '" +
-                              Short(v->get_ref<const std::string&>()) + "'");
+      return Invalid(shape_.members[i],
+                     "must be a stand F1..F7, got '" + Short(text) + "'");
     }
     return true;
   }
 
-  bool PositionOf(const char* key, Position* out) {
-    const Json* v = Get(key);
-    if (v == nullptr) return false;
-    if (!v->is_string()) return WrongType(key, "a string (top|bottom)", *v);
-    if (!ParsePosition(v->get_ref<const std::string&>(), out)) {
-      return Invalid(key, "must be top or bottom, got '" +
-                              Short(v->get_ref<const std::string&>()) + "'");
+  bool PositionOf(int i, Position* out) {
+    std::string_view text;
+    if (!String(i, "a string (top|bottom)", &text)) return false;
+    if (!ParsePosition(std::string(text), out)) {
+      return Invalid(shape_.members[i],
+                     "must be top or bottom, got '" + Short(text) + "'");
     }
     return true;
   }
 
   // 0 or 1 (true/false accepted as well).
-  bool Flag(const char* key, bool* out) {
-    const Json* v = Get(key);
+  bool Flag(int i, bool* out) {
+    const JsonValue* v = Get(i);
     if (v == nullptr) return false;
-    if (v->is_boolean()) {
-      *out = v->get<bool>();
+    if (v->kind == JsonKind::kBoolean) {
+      *out = v->boolean;
       return true;
     }
-    if (!v->is_number_integer()) return WrongType(key, "0 or 1", *v);
-    const int64_t n = v->get<int64_t>();
-    if (n != 0 && n != 1) {
-      return OutOfRange(key, "must be 0 or 1, got " + std::to_string(n));
+    if (v->kind != JsonKind::kNumber || !v->integer) {
+      return WrongType(i, "0 or 1", *v);
     }
-    *out = n == 1;
+    if (v->above_int64 || (v->as_int != 0 && v->as_int != 1)) {
+      return OutOfRange(shape_.members[i],
+                        "must be 0 or 1, got " + std::string(v->text));
+    }
+    *out = v->as_int == 1;
     return true;
   }
 
-  // An array of at most `max` elements.
-  const Json* Array(const char* key, size_t max) {
-    const Json* v = Get(key);
-    if (v == nullptr) return nullptr;
-    if (!v->is_array()) {
-      WrongType(key, "an array", *v);
-      return nullptr;
-    }
-    if (v->size() > max) {
-      OutOfRange(key, "must have at most " + std::to_string(max) +
-                          " elements, got " + std::to_string(v->size()));
-      return nullptr;
-    }
-    return v;
-  }
-
-  // Control bodies: every member must be one of `known`; the first other
-  // one is refused as unknown_field (a typo must not select a default).
-  bool OnlyKnown(std::initializer_list<std::string_view> known) {
-    for (auto it = object_.begin(); it != object_.end(); ++it) {
-      if (std::find(known.begin(), known.end(), it.key()) != known.end()) {
-        continue;
-      }
-      std::string names;
-      for (std::string_view name : known) {
-        names += (names.empty() ? "" : ", ") + std::string(name);
-      }
-      const std::string field = Join(path_, it.key().c_str());
-      *error_ = BadRequest(
-          "unknown_field", field,
-          "'" + Short(field) +
-              "' is not a field of this body (known: " + names + ")");
-      return false;
+  // The list member: an array of at most shape.max_elements elements.
+  bool List(int i) {
+    const JsonValue* v = Get(i);
+    if (v == nullptr) return false;
+    if (v->kind != JsonKind::kArray) return WrongType(i, "an array", *v);
+    if (v->size > shape_.max_elements) {
+      return OutOfRange(shape_.members[i],
+                        "must have at most " +
+                            std::to_string(shape_.max_elements) +
+                            " elements, got " + std::to_string(v->size));
     }
     return true;
   }
 
-  const std::string& path() const { return path_; }
+  // Element e of the list member is an object.
+  bool ElementIsObject(size_t e) {
+    const JsonKind kind = object_.elements[e].kind;
+    if (kind == JsonKind::kObject) return true;
+    const std::string path =
+        Path(shape_.members[shape_.list_member]) + "[" + std::to_string(e) +
+        "]";
+    *error_ = BadRequest("wrong_type", path,
+                         path + " must be an object, got " +
+                             JsonKindName(kind));
+    return false;
+  }
+
+  // Control bodies: every member must be known; the first other one is
+  // refused as unknown_field (a typo must not select a default).
+  bool OnlyKnown() {
+    if (object_.extras.empty()) return true;
+    std::string names;
+    for (std::string_view name : shape_.members) {
+      names += (names.empty() ? "" : ", ") + std::string(name);
+    }
+    const std::string field = Path(object_.extras.front().first);
+    *error_ = BadRequest("unknown_field", field,
+                         "'" + Short(field) +
+                             "' is not a field of this body (known: " + names +
+                             ")");
+    return false;
+  }
+
+  // Data bodies: the extra members as ExtraFields (codec.h). `outer`: the
+  // coil's, whose names a pass may not repeat.
+  bool Extras(ExtraFields* out, const ExtraFields* outer = nullptr);
+
+  // Member `field` as sent, for a rule's ", got ..." (empty when it is no
+  // finite number).
+  std::string_view AsSent(std::string_view field) const {
+    for (size_t i = 0; i < shape_.members.size(); ++i) {
+      const JsonValue& v = object_.members[i];
+      if (shape_.members[i] == field && v.kind == JsonKind::kNumber &&
+          std::isfinite(v.number)) {
+        return v.text;
+      }
+    }
+    return {};
+  }
 
  private:
-  static std::string Short(const std::string& s) {
-    return s.size() <= 40 ? s : s.substr(0, 37) + "...";
+  bool String(int i, const char* want, std::string_view* out) {
+    const JsonValue* v = Get(i);
+    if (v == nullptr) return false;
+    if (v->kind != JsonKind::kString) return WrongType(i, want, *v);
+    *out = v->text;
+    return true;
   }
 
-  const Json& object_;
-  std::string path_;
+  const ScannedObject& object_;
+  const ObjectShape& shape_;
+  std::string_view list_;
+  int element_;
   ApiError* error_;
 };
 
-// Element i of array `key` as an object reader.
-bool ElementObject(const Json& array, const char* key, size_t i,
-                   ApiError* error) {
-  if (array[i].is_object()) return true;
-  const std::string path = std::string(key) + "[" + std::to_string(i) + "]";
-  *error = BadRequest("wrong_type", path,
-                      path + " must be an object, got " + array[i].type_name());
-  return false;
-}
-
-std::string ElementPath(const char* key, size_t i) {
-  return std::string(key) + "[" + std::to_string(i) + "]";
+bool ObjectReader::Extras(ExtraFields* out, const ExtraFields* outer) {
+  if (object_.extras.size() > kMaxExtraFields) {
+    return OutOfRange(object_.extras[kMaxExtraFields].first,
+                      "is one extra field too many (at most " +
+                          std::to_string(kMaxExtraFields) + " per object)");
+  }
+  for (const auto& [name, v] : object_.extras) {
+    if (name.size() > kMaxIdLength) {
+      return OutOfRange(name, "names an extra field longer than " +
+                                  std::to_string(kMaxIdLength) + " bytes");
+    }
+    if (outer != nullptr &&
+        (outer->Numeric(name) != nullptr || outer->Factor(name) != nullptr)) {
+      return Invalid(name, "is also an extra field of the coil");
+    }
+    switch (v.kind) {
+      case JsonKind::kNumber:
+        if (!std::isfinite(v.number)) return OutOfRange(name, "must be finite");
+        out->numeric.emplace_back(name, v.number);
+        break;
+      case JsonKind::kString:
+        if (v.text.size() > kMaxIdLength) {
+          return OutOfRange(name, "must be at most " +
+                                      std::to_string(kMaxIdLength) + " bytes");
+        }
+        out->factor.emplace_back(name, v.text);
+        break;
+      case JsonKind::kBoolean:
+        out->factor.emplace_back(name, v.boolean ? "true" : "false");
+        break;
+      case JsonKind::kNull:  // an empty cell
+        break;
+      default:
+        *error_ = BadRequest("wrong_type", Path(name),
+                             Path(name) +
+                                 " is an extra field: it must be a number, "
+                                 "string, boolean or null, got " +
+                                 JsonKindName(v.kind));
+        return false;
+    }
+  }
+  out->Sort();
+  return true;
 }
 
 // The first of `broken` (core/dataset/input_rules.h) as a 400 naming its
-// JSON path (elements of `list`): invalid_value for a stand or roll position
-// twice, out_of_range otherwise; a cited value is quoted as sent. True when
-// `broken` is empty.
-bool Admissible(const Json& body, const char* list,
+// JSON path (`readers[element]` for a list element, `body` else):
+// invalid_value for a stand or roll position twice, out_of_range otherwise;
+// a cited value is quoted as sent. True when `broken` is empty.
+bool Admissible(const ObjectReader& body,
+                const std::vector<ObjectReader>& elements,
                 const RuleViolations& broken, ApiError* error) {
   if (broken.empty()) return true;
   const RuleViolation& v = broken.front();
-  const Json* object = &body;
-  std::string path = v.field;
-  if (v.element >= 0) {
-    object = &body.at(list).at(static_cast<size_t>(v.element));
-    path = ElementPath(list, static_cast<size_t>(v.element)) + "." + v.field;
-  }
+  const ObjectReader& at =
+      v.element >= 0 ? elements.at(static_cast<size_t>(v.element)) : body;
+  const std::string path = at.Path(v.field);
   std::string message = path + " " + v.rule;
   if (v.cites_value) {
     // As sent, unless JSON cannot say it (1e999 reads as infinity).
-    auto it = object->find(v.field);
-    const bool as_sent = it != object->end() &&
-                         (!it->is_number() || std::isfinite(it->get<double>()));
-    message += ", got " + (as_sent ? Dump(*it) : v.value);
+    const std::string_view sent = at.AsSent(v.field);
+    message += ", got " + (sent.empty() ? v.value : std::string(sent));
   }
   *error = BadRequest(
       v.kind == RuleKind::kDuplicate ? "invalid_value" : "out_of_range", path,
@@ -285,111 +361,93 @@ bool Admissible(const Json& body, const char* list,
   return false;
 }
 
-}  // namespace
-
-int JsonNestingDepth(std::string_view body, int limit) {
-  int depth = 0, max_depth = 0;
-  bool in_string = false;
-  for (size_t i = 0; i < body.size(); ++i) {
-    const char c = body[i];
-    if (in_string) {
-      if (c == '\\') {
-        ++i;
-      } else if (c == '"') {
-        in_string = false;
-      }
-      continue;
-    }
-    if (c == '"') {
-      in_string = true;
-    } else if (c == '[' || c == '{') {
-      if (++depth > max_depth) {
-        max_depth = depth;
-        if (max_depth > limit) return max_depth;
-      }
-    } else if (c == ']' || c == '}') {
-      --depth;
-    }
-  }
-  return max_depth;
+// A control body may be empty (whitespace only): the defaults.
+bool IsBlank(std::string_view body) {
+  return body.find_first_not_of(" \t\r\n") == std::string_view::npos;
 }
+
+}  // namespace
 
 bool DecodeRollChange(std::string_view body, int max_depth,
                       storage::RollChangeIn* out, ApiError* error) {
-  Json j;
-  if (!ParseObject(body, max_depth, &j, error)) return false;
-  ObjectReader r(j, "", error);
-  if (!r.Text("campaign_id", &out->campaign_id) ||
-      !r.Timestamp("started_at", &out->started_at)) {
+  ScannedObject scanned;
+  if (!ScanBody(body, max_depth, kRollChangeShape, &scanned, error)) {
     return false;
   }
-  const Json* rolls = r.Array("rolls", kMaxRolls);
-  if (rolls == nullptr) return false;
-  for (size_t i = 0; i < rolls->size(); ++i) {
-    if (!ElementObject(*rolls, "rolls", i, error)) return false;
-    ObjectReader e((*rolls)[i], ElementPath("rolls", i), error);
+  ObjectReader r(scanned, kRollChangeShape, error);
+  if (!r.Text(kRcCampaignId, &out->campaign_id) ||
+      !r.Timestamp(kRcStartedAt, &out->started_at) || !r.List(kRcRolls) ||
+      !r.Extras(&out->extra)) {
+    return false;
+  }
+  std::vector<ObjectReader> rolls;
+  rolls.reserve(scanned.elements.size());
+  for (size_t i = 0; i < scanned.elements.size(); ++i) {
+    if (!r.ElementIsObject(i)) return false;
+    ObjectReader& e = rolls.emplace_back(scanned.elements[i], kRollShape,
+                                         error, "rolls", static_cast<int>(i));
     storage::MountedRollIn m;
-    if (!e.Stand("stand", &m.stand) || !e.PositionOf("position", &m.position) ||
-        !e.Text("roll_id", &m.roll_id) || !e.Text("roll_type", &m.roll_type) ||
-        !e.Number("diameter_mm", &m.diameter_mm) ||
-        !e.Number("hardness_hb", &m.hardness_hb)) {
+    if (!e.Stand(kRollStand, &m.stand) ||
+        !e.PositionOf(kRollPosition, &m.position) ||
+        !e.Text(kRollId, &m.roll_id) || !e.Text(kRollType, &m.roll_type) ||
+        !e.Number(kDiameter, &m.diameter_mm) ||
+        !e.Number(kHardness, &m.hardness_hb) || !e.Extras(&m.extra)) {
       return false;
     }
     out->rolls.push_back(std::move(m));
   }
   return Admissible(
-      j, "rolls",
+      r, rolls,
       RollChangeRules(out->campaign_id, storage::MountRecords(out->rolls)),
       error);
 }
 
 bool DecodeCampaignEnd(std::string_view body, int max_depth,
                        UnixSeconds* ended_at, ApiError* error) {
-  Json j;
-  if (!ParseObject(body, max_depth, &j, error)) return false;
-  ObjectReader r(j, "", error);
-  return r.Timestamp("ended_at", ended_at);
+  ScannedObject scanned;
+  if (!ScanBody(body, max_depth, kCampaignEndShape, &scanned, error)) {
+    return false;
+  }
+  // Other members are ignored (docs/api.md): a campaign's extra fields come
+  // with its roll change.
+  return ObjectReader(scanned, kCampaignEndShape, error)
+      .Timestamp(0, ended_at);
 }
 
 bool DecodeCoil(std::string_view body, int max_depth, storage::CoilIn* out,
                 ApiError* error) {
-  return TryDecodeCoilFast(body, max_depth, out) ||
-         DecodeCoilDom(body, max_depth, out, error);
-}
-
-bool DecodeCoilDom(std::string_view body, int max_depth, storage::CoilIn* out,
-                   ApiError* error) {
-  Json j;
-  if (!ParseObject(body, max_depth, &j, error)) return false;
-  ObjectReader r(j, "", error);
+  ScannedObject scanned;
+  if (!ScanBody(body, max_depth, kCoilShape, &scanned, error)) return false;
+  ObjectReader r(scanned, kCoilShape, error);
   int64_t seq = 0;
-  if (!r.Text("coil_id", &out->coil_id) ||
-      !r.Text("campaign_id", &out->campaign_id) ||
-      !r.Integer("seq", INT64_MIN, INT64_MAX, &seq) ||
-      !r.Timestamp("rolled_at", &out->rolled_at) ||
-      !r.Text("grade", &out->grade)) {
+  if (!r.Text(kCoilId, &out->coil_id) ||
+      !r.Text(kCoilCampaignId, &out->campaign_id) ||
+      !r.Integer(kSeq, INT64_MIN, INT64_MAX, &seq) ||
+      !r.Timestamp(kRolledAt, &out->rolled_at) ||
+      !r.Text(kGrade, &out->grade) || !r.List(kPasses) ||
+      !r.Extras(&out->extra)) {
     return false;
   }
-  const Json* passes = r.Array("passes", kMaxPasses);
-  if (passes == nullptr) return false;
-  for (size_t i = 0; i < passes->size(); ++i) {
-    if (!ElementObject(*passes, "passes", i, error)) return false;
-    ObjectReader e((*passes)[i], ElementPath("passes", i), error);
-    storage::PassIn p;
-    if (!e.Stand("stand", &p.stand) || !e.Number("force_kn", &p.force_kn) ||
-        !e.Number("width_mm", &p.width_mm) ||
-        !e.Number("length_m", &p.length_m) ||
-        !e.Number("entry_thickness_mm", &p.entry_thickness_mm) ||
-        !e.Number("exit_thickness_mm", &p.exit_thickness_mm) ||
-        !e.Number("temperature_c", &p.temperature_c) ||
-        !e.Number("speed_mps", &p.speed_mps) ||
-        !e.Flag("lubrication", &p.lubrication) ||
-        !e.Number("shift_mm", &p.shift_mm)) {
+  std::vector<ObjectReader> passes;
+  passes.reserve(scanned.elements.size());
+  out->passes.reserve(scanned.elements.size());
+  for (size_t i = 0; i < scanned.elements.size(); ++i) {
+    if (!r.ElementIsObject(i)) return false;
+    ObjectReader& e = passes.emplace_back(scanned.elements[i], kPassShape,
+                                          error, "passes", static_cast<int>(i));
+    storage::PassIn& p = out->passes.emplace_back();
+    if (!e.Stand(kStand, &p.stand) || !e.Number(kForce, &p.force_kn) ||
+        !e.Number(kWidth, &p.width_mm) || !e.Number(kLength, &p.length_m) ||
+        !e.Number(kEntryThickness, &p.entry_thickness_mm) ||
+        !e.Number(kExitThickness, &p.exit_thickness_mm) ||
+        !e.Number(kTemperature, &p.temperature_c) ||
+        !e.Number(kSpeed, &p.speed_mps) ||
+        !e.Flag(kLubrication, &p.lubrication) ||
+        !e.Number(kShift, &p.shift_mm) || !e.Extras(&p.extra, &out->extra)) {
       return false;
     }
-    out->passes.push_back(p);
   }
-  if (!Admissible(j, "passes",
+  if (!Admissible(r, passes,
                   CoilRules(out->coil_id, out->campaign_id, seq, out->grade,
                             out->passes),
                   error)) {
@@ -401,19 +459,21 @@ bool DecodeCoilDom(std::string_view body, int max_depth, storage::CoilIn* out,
 
 bool DecodeMeasurement(std::string_view body, int max_depth,
                        storage::MeasurementIn* out, ApiError* error) {
-  Json j;
-  if (!ParseObject(body, max_depth, &j, error)) return false;
-  ObjectReader r(j, "", error);
-  if (!r.Text("campaign_id", &out->campaign_id) ||
-      !r.Stand("stand", &out->stand) ||
-      !r.PositionOf("position", &out->position) ||
-      !r.Text("roll_id", &out->roll_id) ||
-      !r.Timestamp("measured_at", &out->measured_at) ||
-      !r.Number("wear_center_um", &out->wear_center_um)) {
+  ScannedObject scanned;
+  if (!ScanBody(body, max_depth, kMeasurementShape, &scanned, error)) {
+    return false;
+  }
+  ObjectReader r(scanned, kMeasurementShape, error);
+  if (!r.Text(kMCampaignId, &out->campaign_id) ||
+      !r.Stand(kMStand, &out->stand) ||
+      !r.PositionOf(kMPosition, &out->position) ||
+      !r.Text(kMRollId, &out->roll_id) ||
+      !r.Timestamp(kMeasuredAt, &out->measured_at) ||
+      !r.Number(kWear, &out->wear_center_um) || !r.Extras(&out->extra)) {
     return false;
   }
   return Admissible(
-      j, "",
+      r, {},
       MeasurementRules(out->campaign_id, out->stand, out->position,
                        out->roll_id, out->wear_center_um),
       error);
@@ -421,15 +481,16 @@ bool DecodeMeasurement(std::string_view body, int max_depth,
 
 bool DecodeCalibrationRequest(std::string_view body, int max_depth,
                               CalibrationRequest* out, ApiError* error) {
-  size_t first = body.find_first_not_of(" \t\r\n");
-  if (first == std::string_view::npos) return true;  // empty: defaults
-  Json j;
-  if (!ParseObject(body, max_depth, &j, error)) return false;
-  ObjectReader r(j, "", error);
-  if (!r.OnlyKnown({"model", "option"})) return false;
-  if (j.contains("model")) {
+  if (IsBlank(body)) return true;
+  ScannedObject scanned;
+  if (!ScanBody(body, max_depth, kCalibrationShape, &scanned, error)) {
+    return false;
+  }
+  ObjectReader r(scanned, kCalibrationShape, error);
+  if (!r.OnlyKnown()) return false;
+  if (r.Has(kModel)) {
     std::string model;
-    if (!r.Text("model", &model)) return false;
+    if (!r.Text(kModel, &model)) return false;
     // docs/api.md: an empty string is out_of_range, as for every field.
     if (model.empty()) return r.OutOfRange("model", "must not be empty");
     out->ann = model == storage::kAnnModelName;
@@ -438,9 +499,9 @@ bool DecodeCalibrationRequest(std::string_view body, int max_depth,
                                     model.substr(0, 40) + "'");
     }
   }
-  if (j.contains("option")) {
+  if (r.Has(kOption)) {
     int64_t option = 0;
-    if (!r.Integer("option", 1, 3, &option)) return false;
+    if (!r.Integer(kOption, 1, 3, &option)) return false;
     out->option = static_cast<int>(option);
   }
   return true;
@@ -448,14 +509,13 @@ bool DecodeCalibrationRequest(std::string_view body, int max_depth,
 
 bool DecodeDiagnosisRequest(std::string_view body, int max_depth,
                             DiagnosisRequest* out, ApiError* error) {
-  size_t first = body.find_first_not_of(" \t\r\n");
-  if (first == std::string_view::npos) return true;  // empty: defaults
-  Json j;
-  if (!ParseObject(body, max_depth, &j, error)) return false;
-  ObjectReader r(j, "", error);
-  if (!r.OnlyKnown({"adopt"})) return false;
-  if (j.contains("adopt") && !r.Flag("adopt", &out->adopt)) return false;
-  return true;
+  if (IsBlank(body)) return true;
+  ScannedObject scanned;
+  if (!ScanBody(body, max_depth, kDiagnosisShape, &scanned, error)) {
+    return false;
+  }
+  ObjectReader r(scanned, kDiagnosisShape, error);
+  return r.OnlyKnown() && (!r.Has(0) || r.Flag(0, &out->adopt));
 }
 
 }  // namespace rollwear::api

@@ -176,12 +176,5 @@ TEST_F(RouterTest, HeadIsAnsweredLikeGet) {
   EXPECT_EQ(Send("HEAD", "/v1/wear", "").status, 200);
 }
 
-TEST(JsonNestingDepth, CountsOutsideStrings) {
-  EXPECT_EQ(JsonNestingDepth("{}", 10), 1);
-  EXPECT_EQ(JsonNestingDepth("{\"a\":[{\"b\":1}]}", 10), 3);
-  EXPECT_EQ(JsonNestingDepth("{\"a\":\"[[[[\\\"[[[\"}", 10), 1);
-  EXPECT_GT(JsonNestingDepth(std::string(1000, '['), 16), 16);
-}
-
 }  // namespace
 }  // namespace rollwear::api::testing
