@@ -159,6 +159,7 @@ class Scanner {
     if (depth + 1 > max_depth_) return simdjson::DEPTH_ERROR;
     od::array array;
     if (error_code e = value.get_array().get(array)) return e;
+    elements->reserve(shape.max_elements);  // no moves while filling
     for (auto item : array) {
       od::value element;
       if (error_code e = std::move(item).get(element)) return e;
