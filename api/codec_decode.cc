@@ -20,22 +20,38 @@ constexpr size_t kMaxRolls = kNumRollPositionSlots;
 
 // The members of each body, in the order their errors are reported (a
 // body with two bad fields names the first of this list).
-enum RollMember { kRollStand, kRollPosition, kRollId, kRollType, kDiameter,
-                  kHardness };
+enum RollMember {
+  kRollStand,
+  kRollPosition,
+  kRollId,
+  kRollType,
+  kDiameter,
+  kHardness
+};
 constexpr std::string_view kRollMembers[] = {
     "stand", "position", "roll_id", "roll_type", "diameter_mm", "hardness_hb"};
 constexpr ObjectShape kRollShape{kRollMembers};
 enum RollChangeMember { kRcCampaignId, kRcStartedAt, kRcRolls };
-constexpr std::string_view kRollChangeMembers[] = {"campaign_id",
-                                                   "started_at", "rolls"};
+constexpr std::string_view kRollChangeMembers[] = {"campaign_id", "started_at",
+                                                   "rolls"};
 constexpr ObjectShape kRollChangeShape{kRollChangeMembers, kRcRolls,
                                        &kRollShape, kMaxRolls};
 
 constexpr std::string_view kCampaignEndMembers[] = {"ended_at"};
 constexpr ObjectShape kCampaignEndShape{kCampaignEndMembers};
 
-enum PassMember { kStand, kForce, kWidth, kLength, kEntryThickness,
-                  kExitThickness, kTemperature, kSpeed, kLubrication, kShift };
+enum PassMember {
+  kStand,
+  kForce,
+  kWidth,
+  kLength,
+  kEntryThickness,
+  kExitThickness,
+  kTemperature,
+  kSpeed,
+  kLubrication,
+  kShift
+};
 constexpr std::string_view kPassMembers[] = {
     "stand",         "force_kn",           "width_mm",
     "length_m",      "entry_thickness_mm", "exit_thickness_mm",
@@ -48,11 +64,17 @@ constexpr std::string_view kCoilMembers[] = {
 constexpr ObjectShape kCoilShape{kCoilMembers, kPasses, &kPassShape,
                                  kMaxPasses};
 
-enum MeasurementMember { kMCampaignId, kMStand, kMPosition, kMRollId,
-                         kMeasuredAt, kWear };
+enum MeasurementMember {
+  kMCampaignId,
+  kMStand,
+  kMPosition,
+  kMRollId,
+  kMeasuredAt,
+  kWear
+};
 constexpr std::string_view kMeasurementMembers[] = {
-    "campaign_id", "stand", "position", "roll_id", "measured_at",
-    "wear_center_um"};
+    "campaign_id", "stand",       "position",
+    "roll_id",     "measured_at", "wear_center_um"};
 constexpr ObjectShape kMeasurementShape{kMeasurementMembers};
 
 enum CalibrationMember { kModel, kOption };
@@ -105,9 +127,9 @@ class ObjectReader {
 
   bool WrongType(int i, const char* want, const JsonValue& got) {
     const std::string path = Path(shape_.members[i]);
-    *error_ = BadRequest("wrong_type", path,
-                         path + " must be " + want + ", got " +
-                             JsonKindName(got.kind));
+    *error_ = BadRequest(
+        "wrong_type", path,
+        path + " must be " + want + ", got " + JsonKindName(got.kind));
     return false;
   }
 
@@ -128,9 +150,9 @@ class ObjectReader {
     std::string_view text;
     if (!String(i, "a string", &text)) return false;
     if (text.size() > kMaxIdLength) {
-      return OutOfRange(shape_.members[i],
-                        "must be at most " + std::to_string(kMaxIdLength) +
-                            " bytes");
+      return OutOfRange(
+          shape_.members[i],
+          "must be at most " + std::to_string(kMaxIdLength) + " bytes");
     }
     out->assign(text);
     return true;
@@ -157,10 +179,10 @@ class ObjectReader {
     }
     *out = v->as_int;
     if (*out < lo || *out > hi) {
-      return OutOfRange(shape_.members[i],
-                        "must be an integer in [" + std::to_string(lo) + ", " +
-                            std::to_string(hi) + "], got " +
-                            std::to_string(*out));
+      return OutOfRange(shape_.members[i], "must be an integer in [" +
+                                               std::to_string(lo) + ", " +
+                                               std::to_string(hi) + "], got " +
+                                               std::to_string(*out));
     }
     return true;
   }
@@ -234,12 +256,11 @@ class ObjectReader {
   bool ElementIsObject(size_t e) {
     const JsonKind kind = object_.elements[e].kind;
     if (kind == JsonKind::kObject) return true;
-    const std::string path =
-        Path(shape_.members[shape_.list_member]) + "[" + std::to_string(e) +
-        "]";
-    *error_ = BadRequest("wrong_type", path,
-                         path + " must be an object, got " +
-                             JsonKindName(kind));
+    const std::string path = Path(shape_.members[shape_.list_member]) + "[" +
+                             std::to_string(e) + "]";
+    *error_ =
+        BadRequest("wrong_type", path,
+                   path + " must be an object, got " + JsonKindName(kind));
     return false;
   }
 
@@ -252,10 +273,10 @@ class ObjectReader {
       names += (names.empty() ? "" : ", ") + std::string(name);
     }
     const std::string field = Path(object_.extras.front().first);
-    *error_ = BadRequest("unknown_field", field,
-                         "'" + Short(field) +
-                             "' is not a field of this body (known: " + names +
-                             ")");
+    *error_ =
+        BadRequest("unknown_field", field,
+                   "'" + Short(field) +
+                       "' is not a field of this body (known: " + names + ")");
     return false;
   }
 
@@ -384,8 +405,8 @@ bool DecodeRollChange(std::string_view body, int max_depth,
   rolls.reserve(scanned.elements.size());
   for (size_t i = 0; i < scanned.elements.size(); ++i) {
     if (!r.ElementIsObject(i)) return false;
-    ObjectReader& e = rolls.emplace_back(scanned.elements[i], kRollShape,
-                                         error, "rolls", static_cast<int>(i));
+    ObjectReader& e = rolls.emplace_back(scanned.elements[i], kRollShape, error,
+                                         "rolls", static_cast<int>(i));
     storage::MountedRollIn m;
     if (!e.Stand(kRollStand, &m.stand) ||
         !e.PositionOf(kRollPosition, &m.position) ||
@@ -410,8 +431,7 @@ bool DecodeCampaignEnd(std::string_view body, int max_depth,
   }
   // Other members are ignored (docs/api.md): a campaign's extra fields come
   // with its roll change.
-  return ObjectReader(scanned, kCampaignEndShape, error)
-      .Timestamp(0, ended_at);
+  return ObjectReader(scanned, kCampaignEndShape, error).Timestamp(0, ended_at);
 }
 
 bool DecodeCoil(std::string_view body, int max_depth, storage::CoilIn* out,

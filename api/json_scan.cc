@@ -1,11 +1,11 @@
 #include "api/json_scan.h"
 
-#include <simdjson.h>
-
 #include <algorithm>
 #include <cstdlib>
 #include <string>
 #include <utility>
+
+#include <simdjson.h>
 
 namespace rollwear::api {
 namespace {
@@ -284,8 +284,7 @@ error_code Scanner::Skip(od::value value, int depth) {
 }
 
 // A root that is not an object: validated (malformed wins), then named.
-error_code ScanOtherRoot(od::document& doc, od::json_type type,
-                         int max_depth) {
+error_code ScanOtherRoot(od::document& doc, od::json_type type, int max_depth) {
   switch (type) {
     case od::json_type::array: {
       od::array array;
@@ -334,35 +333,36 @@ ApiError Malformed(error_code e, std::string_view body, od::document* doc) {
   message += simdjson::error_message(e);
   const char* at = nullptr;
   if (doc != nullptr && doc->current_location().get(at) == SUCCESS) {
-    const size_t offset = std::min(
-        static_cast<size_t>(at - Buffers().input.data()), body.size());
+    const size_t offset =
+        std::min(static_cast<size_t>(at - Buffers().input.data()), body.size());
     const std::string_view before = body.substr(0, offset);
     const size_t line_start = before.rfind('\n');
     const size_t column =
         line_start == std::string_view::npos ? offset + 1 : offset - line_start;
-    message += " at line " +
-               std::to_string(std::count(before.begin(), before.end(), '\n') + 1) +
-               ", column " + std::to_string(column);
+    message +=
+        " at line " +
+        std::to_string(std::count(before.begin(), before.end(), '\n') + 1) +
+        ", column " + std::to_string(column);
   }
   return BadRequest("malformed_json", "", std::move(message));
 }
 
-const char* KindName(od::json_type type) {
+JsonKind KindOf(od::json_type type) {
   switch (type) {
     case od::json_type::array:
-      return "array";
+      return JsonKind::kArray;
     case od::json_type::object:
-      return "object";
+      return JsonKind::kObject;
     case od::json_type::number:
-      return "number";
+      return JsonKind::kNumber;
     case od::json_type::string:
-      return "string";
+      return JsonKind::kString;
     case od::json_type::boolean:
-      return "boolean";
+      return JsonKind::kBoolean;
     case od::json_type::null:
-      return "null";
+      return JsonKind::kNull;
   }
-  return "value";
+  return JsonKind::kAbsent;
 }
 
 // Scans the document: its object into *out, or validates another root
@@ -412,10 +412,10 @@ bool ScanBody(std::string_view body, int max_depth, const ObjectShape& shape,
   buffers.input.reserve(body.size() + simdjson::SIMDJSON_PADDING);
   buffers.input.assign(body);
   od::document doc;
-  error_code e = buffers.parser
-                     .iterate(buffers.input.data(), body.size(),
-                              buffers.input.capacity())
-                     .get(doc);
+  error_code e =
+      buffers.parser
+          .iterate(buffers.input.data(), body.size(), buffers.input.capacity())
+          .get(doc);
   if (e) {
     *error = Malformed(e, body, nullptr);
     return false;
@@ -434,9 +434,9 @@ bool ScanBody(std::string_view body, int max_depth, const ObjectShape& shape,
     return false;
   }
   if (type != od::json_type::object) {
-    *error = BadRequest(
-        "wrong_type", "",
-        std::string("the body must be a JSON object, got ") + KindName(type));
+    *error = BadRequest("wrong_type", "",
+                        std::string("the body must be a JSON object, got ") +
+                            JsonKindName(KindOf(type)));
     return false;
   }
   if (!scanner.duplicate().empty()) {

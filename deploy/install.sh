@@ -36,6 +36,7 @@ readonly PACKAGES=(
   libspdlog-dev
   libcpp-httplib-dev
   nlohmann-json3-dev
+  libsimdjson-dev
   libcli11-dev
   libgtest-dev
   libgmock-dev

@@ -2,7 +2,7 @@
 // written once for every way data comes in: the CSV reader
 // (dataset_io.cc), import (storage/import_plan.cc), the store's writes
 // (storage/validation.cc) and the HTTP request decoders
-// (api/codec_decode.cc, api/coil_fast_decode.cc).
+// (api/codec_decode.cc).
 //
 // Each function checks one record kind on already typed values and returns
 // every broken rule, in the format's column order, as a RuleViolation:

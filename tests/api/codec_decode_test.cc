@@ -45,17 +45,16 @@ TEST(CodecDecodeTest, MalformedJsonIsRefusedBeforeAnyField) {
        {R"({"coil_id": 5, "x": })", R"({"coil_id": "K1"} x)",
         R"({"coil_id": "K1"}})", R"({"a": [1, 2 3]})", R"({"a": nul})",
         R"({"a": truex})", R"({"a": 01})", R"({"a": 1.})", R"({"a": "\x"})",
-        R"({"a": "\ud800"})", "{\"a\": \"tab\there\"}",
-        "{\"a\": \"\xff\"}", "{\"a\": \"\xc3\x28\"}", "", "  ", "not json",
-        R"([1, 2)"}) {
+        R"({"a": "\ud800"})", "{\"a\": \"tab\there\"}", "{\"a\": \"\xff\"}",
+        "{\"a\": \"\xc3\x28\"}", "", "  ", "not json", R"([1, 2)"}) {
     const ApiError error = CoilError(body);
     EXPECT_EQ(error.code, "malformed_json") << body << ": " << error.message;
     EXPECT_EQ(error.field, "") << body;
   }
   // The position, where the parser knows it.
-  EXPECT_NE(CoilError("{\"coil_id\": \"K1\",\n \"seq\": 1 2}")
-                .message.find("line 2"),
-            std::string::npos);
+  EXPECT_NE(
+      CoilError("{\"coil_id\": \"K1\",\n \"seq\": 1 2}").message.find("line 2"),
+      std::string::npos);
 }
 
 TEST(CodecDecodeTest, NestingIsCountedOutsideStrings) {
@@ -94,10 +93,12 @@ TEST(CodecDecodeTest, BodyMustBeAnObject) {
 TEST(CodecDecodeTest, MemberOrderAndEscapesDoNotMatter) {
   const json sorted = CoilBody("K1", "C1", 3);  // members sorted by name
   const storage::CoilIn plain = Coil(sorted.dump());
-  const nlohmann::ordered_json reordered = {
-      {"passes", sorted["passes"]},       {"grade", "DP600"},
-      {"seq", 3},                         {"rolled_at", sorted["rolled_at"]},
-      {"campaign_id", "C1"},              {"coil_id", "K1"}};
+  const nlohmann::ordered_json reordered = {{"passes", sorted["passes"]},
+                                            {"grade", "DP600"},
+                                            {"seq", 3},
+                                            {"rolled_at", sorted["rolled_at"]},
+                                            {"campaign_id", "C1"},
+                                            {"coil_id", "K1"}};
   const storage::CoilIn again = Coil(reordered.dump());
   EXPECT_EQ(again.coil_id, plain.coil_id);
   EXPECT_EQ(again.rolled_at, plain.rolled_at);
@@ -175,8 +176,8 @@ TEST(CodecDecodeTest, DataBodyExtraFieldsAreDecoded) {
   EXPECT_TRUE(in.extra.numeric.empty());
   ASSERT_EQ(in.extra.factor.size(), 3u);  // sorted by name; null not kept
   EXPECT_EQ(in.extra.factor[0].first, "crew");
-  EXPECT_EQ(in.extra.factor[1], std::make_pair(std::string("inspected"),
-                                               std::string("true")));
+  EXPECT_EQ(in.extra.factor[1],
+            std::make_pair(std::string("inspected"), std::string("true")));
   EXPECT_EQ(*in.extra.Factor("operator_note"), "night shift");
   EXPECT_EQ(in.extra.Factor("comment"), nullptr);
   ASSERT_EQ(in.passes[0].extra.numeric.size(), 2u);
@@ -315,8 +316,8 @@ TEST(CodecDecodeTest, ControlBodiesRefuseEveryUnknownMember) {
   EXPECT_EQ(error.code, "invalid_value");
   EXPECT_EQ(error.field, "model");
   DiagnosisRequest diagnosis;
-  EXPECT_TRUE(DecodeDiagnosisRequest(R"({"adopt":1})", kDepth, &diagnosis,
-                                     &error));
+  EXPECT_TRUE(
+      DecodeDiagnosisRequest(R"({"adopt":1})", kDepth, &diagnosis, &error));
   EXPECT_TRUE(diagnosis.adopt);
 }
 
