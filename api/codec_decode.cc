@@ -37,6 +37,7 @@ constexpr std::string_view kRollChangeMembers[] = {"campaign_id", "started_at",
 constexpr ObjectShape kRollChangeShape{kRollChangeMembers, kRcRolls,
                                        &kRollShape, kMaxRolls};
 
+enum CampaignEndMember { kEndedAt };
 constexpr std::string_view kCampaignEndMembers[] = {"ended_at"};
 constexpr ObjectShape kCampaignEndShape{kCampaignEndMembers};
 
@@ -80,6 +81,7 @@ constexpr ObjectShape kMeasurementShape{kMeasurementMembers};
 enum CalibrationMember { kModel, kOption };
 constexpr std::string_view kCalibrationMembers[] = {"model", "option"};
 constexpr ObjectShape kCalibrationShape{kCalibrationMembers};
+enum DiagnosisMember { kAdopt };
 constexpr std::string_view kDiagnosisMembers[] = {"adopt"};
 constexpr ObjectShape kDiagnosisShape{kDiagnosisMembers};
 
@@ -431,7 +433,8 @@ bool DecodeCampaignEnd(std::string_view body, int max_depth,
   }
   // Other members are ignored (docs/api.md): a campaign's extra fields come
   // with its roll change.
-  return ObjectReader(scanned, kCampaignEndShape, error).Timestamp(0, ended_at);
+  return ObjectReader(scanned, kCampaignEndShape, error)
+      .Timestamp(kEndedAt, ended_at);
 }
 
 bool DecodeCoil(std::string_view body, int max_depth, storage::CoilIn* out,
@@ -535,7 +538,7 @@ bool DecodeDiagnosisRequest(std::string_view body, int max_depth,
     return false;
   }
   ObjectReader r(scanned, kDiagnosisShape, error);
-  return r.OnlyKnown() && (!r.Has(0) || r.Flag(0, &out->adopt));
+  return r.OnlyKnown() && (!r.Has(kAdopt) || r.Flag(kAdopt, &out->adopt));
 }
 
 }  // namespace rollwear::api

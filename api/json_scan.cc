@@ -409,12 +409,14 @@ const char* JsonKindName(JsonKind kind) {
 bool ScanBody(std::string_view body, int max_depth, const ObjectShape& shape,
               ScannedObject* out, ApiError* error) {
   ScanBuffers& buffers = Buffers();
-  buffers.input.reserve(body.size() + simdjson::SIMDJSON_PADDING);
+  // The padding is written (zeros), so the parser never reads
+  // uninitialised bytes; the buffer keeps its capacity for the next body.
   buffers.input.assign(body);
+  buffers.input.append(simdjson::SIMDJSON_PADDING, '\0');
   od::document doc;
   error_code e =
       buffers.parser
-          .iterate(buffers.input.data(), body.size(), buffers.input.capacity())
+          .iterate(buffers.input.data(), body.size(), buffers.input.size())
           .get(doc);
   if (e) {
     *error = Malformed(e, body, nullptr);
