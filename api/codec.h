@@ -63,10 +63,13 @@ std::string EncodeError(const ApiError& error);
 // MeasurementIn::extra): a number (finite) is a numeric value, a string (at
 // most kMaxIdLength bytes) or true/false ("true"/"false") a factor level,
 // null an empty cell (not kept). Refused with the extra field's path: an
-// object or array (wrong_type), a name longer than kMaxIdLength bytes or
-// more than kMaxExtraFields extras in one object (out_of_range), a pass
-// field that the coil has as well (invalid_value). Each list is sorted by
-// name (ExtraFields::Sort), so member order does not matter.
+// object or array (wrong_type); an empty name, a name longer than
+// kMaxIdLength bytes, a non-finite number, more than kMaxExtraFields extras
+// in one object (out_of_range); a pass field that the coil has as well, the
+// name of a column of the record's CSV file (a coil's force_kn, a pass's
+// seq, a campaign's ended_at, a roll's campaign_id: invalid_value). Each
+// list is sorted by name (ExtraFields::Sort), so member order does not
+// matter.
 bool DecodeRollChange(std::string_view body, int max_depth,
                       storage::RollChangeIn* out, ApiError* error);
 // Ignores the body's other members (a campaign's extra fields come with its

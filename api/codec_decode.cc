@@ -1,8 +1,10 @@
 // Request bodies: the members of each body (ScanBody, api/json_scan.h),
 // then each field's presence and JSON type, its extra fields, and the
 // record's rules (core/dataset/input_rules.h) - see codec.h.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -34,6 +36,10 @@ constexpr ObjectShape kRollShape{kRollMembers};
 enum RollChangeMember { kRcCampaignId, kRcStartedAt, kRcRolls };
 constexpr std::string_view kRollChangeMembers[] = {"campaign_id", "started_at",
                                                    "rolls"};
+// The columns of campaigns.csv and mounts.csv that these bodies do not
+// carry: not names of extra fields.
+constexpr std::string_view kCampaignOtherColumns[] = {"ended_at"};
+constexpr std::string_view kMountOtherColumns[] = {"campaign_id"};
 constexpr ObjectShape kRollChangeShape{kRollChangeMembers, kRcRolls,
                                        &kRollShape, kMaxRolls};
 
@@ -282,9 +288,12 @@ class ObjectReader {
     return false;
   }
 
-  // Data bodies: the extra members as ExtraFields (codec.h). `outer`: the
-  // coil's, whose names a pass may not repeat.
-  bool Extras(ExtraFields* out, const ExtraFields* outer = nullptr);
+  // Data bodies: the extra members as ExtraFields (codec.h). `columns`:
+  // the data format's other columns of the record's file, which are not
+  // extra (a pass's coil_id, a coil's force_kn); `outer`: the coil's extra
+  // fields, which a pass may not repeat.
+  bool Extras(ExtraFields* out, std::span<const std::string_view> columns = {},
+              const ExtraFields* outer = nullptr);
 
   // Member `field` as sent, for a rule's ", got ..." (empty when it is no
   // finite number).
@@ -315,13 +324,22 @@ class ObjectReader {
   ApiError* error_;
 };
 
-bool ObjectReader::Extras(ExtraFields* out, const ExtraFields* outer) {
+bool ObjectReader::Extras(ExtraFields* out,
+                          std::span<const std::string_view> columns,
+                          const ExtraFields* outer) {
   if (object_.extras.size() > kMaxExtraFields) {
     return OutOfRange(object_.extras[kMaxExtraFields].first,
                       "is one extra field too many (at most " +
                           std::to_string(kMaxExtraFields) + " per object)");
   }
   for (const auto& [name, v] : object_.extras) {
+    if (name.empty()) {
+      return OutOfRange(name, "(an extra field) must have a name");
+    }
+    if (std::find(columns.begin(), columns.end(), name) != columns.end()) {
+      return Invalid(name,
+                     "is a column of the data format, not an extra field");
+    }
     if (name.size() > kMaxIdLength) {
       return OutOfRange(name, "names an extra field longer than " +
                                   std::to_string(kMaxIdLength) + " bytes");
@@ -400,7 +418,7 @@ bool DecodeRollChange(std::string_view body, int max_depth,
   ObjectReader r(scanned, kRollChangeShape, error);
   if (!r.Text(kRcCampaignId, &out->campaign_id) ||
       !r.Timestamp(kRcStartedAt, &out->started_at) || !r.List(kRcRolls) ||
-      !r.Extras(&out->extra)) {
+      !r.Extras(&out->extra, kCampaignOtherColumns)) {
     return false;
   }
   std::vector<ObjectReader> rolls;
@@ -414,7 +432,8 @@ bool DecodeRollChange(std::string_view body, int max_depth,
         !e.PositionOf(kRollPosition, &m.position) ||
         !e.Text(kRollId, &m.roll_id) || !e.Text(kRollType, &m.roll_type) ||
         !e.Number(kDiameter, &m.diameter_mm) ||
-        !e.Number(kHardness, &m.hardness_hb) || !e.Extras(&m.extra)) {
+        !e.Number(kHardness, &m.hardness_hb) ||
+        !e.Extras(&m.extra, kMountOtherColumns)) {
       return false;
     }
     out->rolls.push_back(std::move(m));
@@ -448,7 +467,7 @@ bool DecodeCoil(std::string_view body, int max_depth, storage::CoilIn* out,
       !r.Integer(kSeq, INT64_MIN, INT64_MAX, &seq) ||
       !r.Timestamp(kRolledAt, &out->rolled_at) ||
       !r.Text(kGrade, &out->grade) || !r.List(kPasses) ||
-      !r.Extras(&out->extra)) {
+      !r.Extras(&out->extra, kPassMembers)) {
     return false;
   }
   std::vector<ObjectReader> passes;
@@ -466,7 +485,8 @@ bool DecodeCoil(std::string_view body, int max_depth, storage::CoilIn* out,
         !e.Number(kTemperature, &p.temperature_c) ||
         !e.Number(kSpeed, &p.speed_mps) ||
         !e.Flag(kLubrication, &p.lubrication) ||
-        !e.Number(kShift, &p.shift_mm) || !e.Extras(&p.extra, &out->extra)) {
+        !e.Number(kShift, &p.shift_mm) ||
+        !e.Extras(&p.extra, kCoilMembers, &out->extra)) {
       return false;
     }
   }

@@ -237,6 +237,16 @@ TEST(CodecDecodeTest, ExtraFieldRulesNameTheField) {
   coil["crew"] = "B";
   coil["passes"][1]["crew"] = "C";
   ExpectCoilError(coil, "invalid_value", "passes[1].crew");
+  // A column of coils.csv at the other level, an empty name.
+  coil = CoilBody("K1", "C1", 1);
+  coil["force_kn"] = 1;
+  ExpectCoilError(coil, "invalid_value", "force_kn");
+  coil = CoilBody("K1", "C1", 1);
+  coil["passes"][1]["seq"] = 1;
+  ExpectCoilError(coil, "invalid_value", "passes[1].seq");
+  coil = CoilBody("K1", "C1", 1);
+  coil["passes"][1][""] = 1;
+  ExpectCoilError(coil, "out_of_range", "passes[1].");
   // A name longer than kMaxIdLength.
   coil = CoilBody("K1", "C1", 1);
   const std::string long_name(kMaxIdLength + 1, 'n');
@@ -266,9 +276,19 @@ TEST(CodecDecodeTest, ExtraFieldRulesNameTheField) {
   EXPECT_EQ(error.field, "torque");
 
   json rc = RollChangeBody("C2", "2026-03-02T06:00:00Z");
-  rc["rolls"][2]["chemistry"] = json{{"cr", 1.2}};
+  rc["ended_at"] = "2026-03-03T06:00:00Z";  // campaigns.csv's, not extra
   storage::RollChangeIn change;
   ApiError rc_error;
+  EXPECT_FALSE(DecodeRollChange(rc.dump(), kDepth, &change, &rc_error));
+  EXPECT_EQ(rc_error.code, "invalid_value");
+  EXPECT_EQ(rc_error.field, "ended_at");
+  rc = RollChangeBody("C2", "2026-03-02T06:00:00Z");
+  rc["rolls"][3]["campaign_id"] = "C2";  // mounts.csv's
+  EXPECT_FALSE(DecodeRollChange(rc.dump(), kDepth, &change, &rc_error));
+  EXPECT_EQ(rc_error.code, "invalid_value");
+  EXPECT_EQ(rc_error.field, "rolls[3].campaign_id");
+  rc = RollChangeBody("C2", "2026-03-02T06:00:00Z");
+  rc["rolls"][2]["chemistry"] = json{{"cr", 1.2}};
   EXPECT_FALSE(DecodeRollChange(rc.dump(), kDepth, &change, &rc_error));
   EXPECT_EQ(rc_error.code, "wrong_type");
   EXPECT_EQ(rc_error.field, "rolls[2].chemistry");
