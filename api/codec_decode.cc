@@ -291,9 +291,9 @@ class ObjectReader {
   // Data bodies: the extra members as ExtraFields (codec.h). `columns`:
   // the data format's other columns of the record's file, which are not
   // extra (a pass's coil_id, a coil's force_kn); `outer`: the coil's extra
-  // fields, which a pass may not repeat.
+  // members (null ones included), which a pass may not repeat.
   bool Extras(ExtraFields* out, std::span<const std::string_view> columns = {},
-              const ExtraFields* outer = nullptr);
+              std::span<const ExtraMember> outer = {});
 
   // Member `field` as sent, for a rule's ", got ..." (empty when it is no
   // finite number).
@@ -326,7 +326,7 @@ class ObjectReader {
 
 bool ObjectReader::Extras(ExtraFields* out,
                           std::span<const std::string_view> columns,
-                          const ExtraFields* outer) {
+                          std::span<const ExtraMember> outer) {
   if (object_.extras.size() > kMaxExtraFields) {
     return OutOfRange(object_.extras[kMaxExtraFields].first,
                       "is one extra field too many (at most " +
@@ -344,9 +344,10 @@ bool ObjectReader::Extras(ExtraFields* out,
       return OutOfRange(name, "names an extra field longer than " +
                                   std::to_string(kMaxIdLength) + " bytes");
     }
-    if (outer != nullptr &&
-        (outer->Numeric(name) != nullptr || outer->Factor(name) != nullptr)) {
-      return Invalid(name, "is also an extra field of the coil");
+    for (const auto& [coil_name, unused] : outer) {
+      if (coil_name == name) {
+        return Invalid(name, "is also an extra field of the coil");
+      }
     }
     switch (v.kind) {
       case JsonKind::kNumber:
@@ -486,7 +487,7 @@ bool DecodeCoil(std::string_view body, int max_depth, storage::CoilIn* out,
         !e.Number(kSpeed, &p.speed_mps) ||
         !e.Flag(kLubrication, &p.lubrication) ||
         !e.Number(kShift, &p.shift_mm) ||
-        !e.Extras(&p.extra, kCoilMembers, &out->extra)) {
+        !e.Extras(&p.extra, kCoilMembers, scanned.extras)) {
       return false;
     }
   }

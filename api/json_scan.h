@@ -73,6 +73,8 @@ struct ObjectShape {
   size_t max_elements = 0;
 };
 
+using ExtraMember = std::pair<std::string_view, JsonValue>;
+
 struct ScannedObject {
   // This value's JSON type (an element of a list may be anything).
   JsonKind kind = JsonKind::kObject;
@@ -80,7 +82,7 @@ struct ScannedObject {
   std::array<JsonValue, kMaxShapeMembers> members;
   // Every other member, in body order; at most kMaxExtraFields + 1 are
   // kept (the decoder refuses more than kMaxExtraFields).
-  std::vector<std::pair<std::string_view, JsonValue>> extras;
+  std::vector<ExtraMember> extras;
   // The list member's first max_elements elements (its size is in
   // members[list_member].size).
   std::vector<ScannedObject> elements;

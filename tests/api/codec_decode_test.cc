@@ -237,6 +237,8 @@ TEST(CodecDecodeTest, ExtraFieldRulesNameTheField) {
   coil["crew"] = "B";
   coil["passes"][1]["crew"] = "C";
   ExpectCoilError(coil, "invalid_value", "passes[1].crew");
+  coil["crew"] = nullptr;  // given, if empty
+  ExpectCoilError(coil, "invalid_value", "passes[1].crew");
   // A column of coils.csv at the other level, an empty name.
   coil = CoilBody("K1", "C1", 1);
   coil["force_kn"] = 1;
