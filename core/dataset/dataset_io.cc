@@ -98,6 +98,7 @@ Status ReadMounts(const FileView& f, LabelIndex* campaigns, Dataset* d,
     m.roll_type = InternView(roll_type, &roll_types, &d->roll_types);
     d->mounts.push_back(std::move(m));
     lines.push_back(f.line(r));
+    d->source_lines.mounts.push_back(f.line(r));
   }
   f.CollectExtras(&d->mount_extra);
   return Status::Ok();
@@ -225,7 +226,8 @@ Status ReadMeasurements(const FileView& f, LabelIndex* campaigns,
     ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kWear, &m.wear_center_um));
     ROLLWEAR_RETURN_IF_ERROR(
         f.Check(r, MeasurementRules(f.Raw(r, col::kCampaign), m.stand,
-                                    m.position, roll_id, m.wear_center_um)));
+                                    m.position, roll_id, m.wear_center_um,
+                                    WearFloor::kDataQuality)));
     const size_t key = m.campaign * kNumRollPositionSlots +
                        RollPositionSlot(m.stand, m.position);
     const std::string where = RollPositionName(m.stand, m.position) +
@@ -250,6 +252,7 @@ Status ReadMeasurements(const FileView& f, LabelIndex* campaigns,
     measured[key] = f.line(r);
     m.roll_id = std::string(roll_id);
     d->measurements.push_back(std::move(m));
+    d->source_lines.measurements.push_back(f.line(r));
   }
   f.CollectExtras(&d->measurement_extra);
   return Status::Ok();
