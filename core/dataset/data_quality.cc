@@ -287,7 +287,10 @@ int DataQuality::NumSuspect() const {
       [](const std::string& s) { return !s.empty(); }));
 }
 
-DataQuality AssessDataQuality(const Dataset& data) {
+DataQuality AssessDataQuality(const Dataset& data,
+                              const DatasetSourceLines* source) {
+  const DatasetSourceLines no_lines;
+  const DatasetSourceLines& lines_of = source != nullptr ? *source : no_lines;
   DataQuality q;
   q.suspect.assign(data.measurements.size(), "");
   const DatasetIndex index(data);
@@ -298,7 +301,7 @@ DataQuality AssessDataQuality(const Dataset& data) {
   }
   for (DataQualityIssue& issue : q.issues) {
     issue.file = "measurements.csv";
-    const auto& lines = data.source_lines.measurements;
+    const auto& lines = lines_of.measurements;
     if (static_cast<size_t>(issue.measurement) < lines.size()) {
       issue.line = lines[issue.measurement];
     }
@@ -307,7 +310,7 @@ DataQuality AssessDataQuality(const Dataset& data) {
   FlagUnpassedPositions(data, index, &q);
   for (size_t k = first_mount_issue; k < q.issues.size(); ++k) {
     DataQualityIssue& issue = q.issues[k];
-    const auto& lines = data.source_lines.mounts;
+    const auto& lines = lines_of.mounts;
     if (static_cast<size_t>(issue.mount) < lines.size()) {
       issue.line = lines[issue.mount];
     }
@@ -318,17 +321,12 @@ DataQuality AssessDataQuality(const Dataset& data) {
 Dataset WithoutSuspects(const Dataset& data, const DataQuality& quality) {
   Dataset out = data;
   out.measurements.clear();
-  out.source_lines.measurements.clear();
   ExtraColumns& extra = out.measurement_extra;
   for (auto& column : extra.numeric) column.clear();
   for (auto& column : extra.factor) column.clear();
   for (size_t i = 0; i < data.measurements.size(); ++i) {
     if (i < quality.suspect.size() && !quality.suspect[i].empty()) continue;
     out.measurements.push_back(data.measurements[i]);
-    if (i < data.source_lines.measurements.size()) {
-      out.source_lines.measurements.push_back(
-          data.source_lines.measurements[i]);
-    }
     for (size_t c = 0; c < extra.numeric.size(); ++c) {
       extra.numeric[c].push_back(data.measurement_extra.numeric[c][i]);
     }

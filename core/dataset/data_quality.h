@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "core/dataset/dataset.h"
+#include "core/dataset/dataset_lines.h"
 
 namespace rollwear {
 
@@ -35,7 +36,7 @@ const char* DataQualityKindName(DataQualityKind kind);
 struct DataQualityIssue {
   DataQualityKind kind = DataQualityKind::kNegativeWear;
   std::string file;  // "measurements.csv", "mounts.csv"
-  int line = 0;      // line in `file`; 0 when the data did not come from CSV
+  int line = 0;      // line in `file`; 0 when its line is not known
   int measurement = -1;  // index into Dataset::measurements, or -1
   int mount = -1;        // index into Dataset::mounts, or -1
   std::string where;     // "F6/top of campaign 'C0042'"
@@ -78,8 +79,10 @@ struct DataQuality {
   int NumSuspect() const;
 };
 
-// Checks every measurement and mount of `data`.
-DataQuality AssessDataQuality(const Dataset& data);
+// Checks every measurement and mount of `data`; `lines` (may be null: no
+// line numbers) are where its rows came from (dataset_lines.h).
+DataQuality AssessDataQuality(const Dataset& data,
+                              const DatasetSourceLines* lines = nullptr);
 
 // `data` without its suspect measurements (what fitting sees).
 Dataset WithoutSuspects(const Dataset& data, const DataQuality& quality);

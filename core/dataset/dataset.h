@@ -119,14 +119,6 @@ struct Dataset {
   ExtraColumns pass_extra;
   ExtraColumns measurement_extra;
 
-  // The line of each mounts.csv and measurements.csv row in its file (line
-  // 1 is the header), parallel to `mounts` and `measurements`; empty when
-  // the Dataset was not read from CSV (simulated, exported from a store).
-  struct SourceLines {
-    std::vector<int> mounts;
-    std::vector<int> measurements;
-  } source_lines;
-
   // Interns a label, returning its index (adds it when new).
   static int Intern(std::vector<std::string>* table, const std::string& label);
 };

@@ -18,6 +18,7 @@
 #include "core/base/csv.h"
 #include "core/dataset/dataset_checks.h"
 #include "core/dataset/dataset_columns.h"
+#include "core/dataset/dataset_lines.h"
 #include "core/dataset/input_rules.h"
 
 namespace rollwear {
@@ -98,7 +99,6 @@ Status ReadMounts(const FileView& f, LabelIndex* campaigns, Dataset* d,
     m.roll_type = InternView(roll_type, &roll_types, &d->roll_types);
     d->mounts.push_back(std::move(m));
     lines.push_back(f.line(r));
-    d->source_lines.mounts.push_back(f.line(r));
   }
   f.CollectExtras(&d->mount_extra);
   return Status::Ok();
@@ -210,7 +210,8 @@ Status ReadCoils(const FileView& f, LabelIndex* campaigns, Dataset* d) {
 }
 
 Status ReadMeasurements(const FileView& f, LabelIndex* campaigns,
-                        const std::vector<int>& mount_of, Dataset* d) {
+                        const std::vector<int>& mount_of, Dataset* d,
+                        std::vector<int>* source_lines) {
   namespace col = measurement_col;
   std::vector<int> measured(mount_of.size(), 0);  // line, 0 if none
   for (size_t r = 0; r < f.rows(); ++r) {
@@ -252,14 +253,15 @@ Status ReadMeasurements(const FileView& f, LabelIndex* campaigns,
     measured[key] = f.line(r);
     m.roll_id = std::string(roll_id);
     d->measurements.push_back(std::move(m));
-    d->source_lines.measurements.push_back(f.line(r));
+    if (source_lines != nullptr) source_lines->push_back(f.line(r));
   }
   f.CollectExtras(&d->measurement_extra);
   return Status::Ok();
 }
 
 // Validates and converts the four file contents (in DatasetFile order).
-StatusOr<Dataset> ParseDataset(std::string (&texts)[kNumDatasetFiles]) {
+StatusOr<Dataset> ParseDataset(std::string (&texts)[kNumDatasetFiles],
+                               DatasetSourceLines* lines) {
   // All four tables stay alive until the end: label maps view their buffers.
   std::vector<csv::Table> tables;
   tables.reserve(kNumDatasetFiles);
@@ -284,7 +286,13 @@ StatusOr<Dataset> ParseDataset(std::string (&texts)[kNumDatasetFiles]) {
       ReadMounts(files[kMountsFile], &campaigns, &d, &mount_of));
   ROLLWEAR_RETURN_IF_ERROR(ReadCoils(files[kCoilsFile], &campaigns, &d));
   ROLLWEAR_RETURN_IF_ERROR(
-      ReadMeasurements(files[kMeasurementsFile], &campaigns, mount_of, &d));
+      ReadMeasurements(files[kMeasurementsFile], &campaigns, mount_of, &d,
+                       lines == nullptr ? nullptr : &lines->measurements));
+  if (lines != nullptr) {
+    for (size_t r = 0; r < files[kMountsFile].rows(); ++r) {
+      lines->mounts.push_back(files[kMountsFile].line(r));
+    }
+  }
   return d;
 }
 
@@ -334,6 +342,15 @@ Status MissingFile(int file, const std::string& detail) {
 }  // namespace
 
 StatusOr<Dataset> ReadDataset(const std::string& dir) {
+  return ReadDatasetWithLines(dir, nullptr);
+}
+
+StatusOr<Dataset> ReadDatasetStreams(const DatasetStreams& in) {
+  return ReadDatasetStreamsWithLines(in, nullptr);
+}
+
+StatusOr<Dataset> ReadDatasetWithLines(const std::string& dir,
+                                       DatasetSourceLines* lines) {
   std::string texts[kNumDatasetFiles];
   for (int i = 0; i < kNumDatasetFiles; ++i) {
     const std::string path = dir + "/" + kDatasetFileNames[i];
@@ -349,10 +366,11 @@ StatusOr<Dataset> ReadDataset(const std::string& dir) {
     std::fclose(fp);
     if (!ok) return Status::IoError("cannot read " + path);
   }
-  return ParseDataset(texts);
+  return ParseDataset(texts, lines);
 }
 
-StatusOr<Dataset> ReadDatasetStreams(const DatasetStreams& in) {
+StatusOr<Dataset> ReadDatasetStreamsWithLines(const DatasetStreams& in,
+                                              DatasetSourceLines* lines) {
   std::istream* streams[kNumDatasetFiles] = {in.campaigns, in.mounts, in.coils,
                                              in.measurements};
   std::string texts[kNumDatasetFiles];
@@ -363,7 +381,7 @@ StatusOr<Dataset> ReadDatasetStreams(const DatasetStreams& in) {
                              kDatasetFileNames[i]);
     }
   }
-  return ParseDataset(texts);
+  return ParseDataset(texts, lines);
 }
 
 }  // namespace rollwear
