@@ -23,13 +23,17 @@ namespace {
 // factor for a normal law). A reading with expected wear e then scatters
 // with sd(e) = sqrt(sigma0^2 + (s * e)^2).
 //
-// Gauge noise sigma0. True wear is >= 0, so among the least-worn quarter
-// of the rolls (at least kMinNoiseSample of them) the robust sd of (wear -
-// e) bounds sqrt(sigma0^2 + (s * e_q)^2), e_q their median expected wear;
-// sigma0 is what is left after the relative part is taken out. Below
-// kMinNoiseSample readings sigma0 = kFallbackNoiseSdUm, which makes the
-// limit below the former fixed floor of -50 µm. sigma0 >= kMinNoiseSdUm
-// (the grinder's resolution).
+// Gauge noise sigma0: the robust sd of (wear - e) among the least-worn
+// quarter of the rolls (at least kMinNoiseSample of them), where the
+// relative scatter matters least. It folds in what is left of the
+// roll-to-roll scatter there, so it bounds the gauge's noise from above
+// and the rules below flag less, never more. (Taking the relative part
+// s * median(e) out instead over-corrects: s also holds the spread
+// between stands and grades, and sigma0 collapsed to the grinder's
+// resolution on simulated mills with 8 µm noise.) Below kMinNoiseSample
+// readings sigma0 = kFallbackNoiseSdUm, which makes the limit below the
+// former fixed floor of -50 µm. sigma0 >= kMinNoiseSdUm (the grinder's
+// resolution).
 //
 // negative_wear: wear < -kNoiseSigmas * sigma0 (true wear is >= 0, so such
 // a reading is more than 4 noise sd's from any physical value), or wear <
@@ -139,16 +143,13 @@ bool EstimateBounds(const Dataset& data, const MeasuredLoad& loads,
     q->noise_sd_um = kFallbackNoiseSdUm;
     return false;
   }
-  std::vector<double> residual, expected;
+  std::vector<double> residual;
   for (size_t k = 0; k < n; ++k) {
     const size_t i = loaded[k];
-    expected.push_back(q->wear_rate_um_per_unit * loads.load[i]);
-    residual.push_back(data.measurements[i].wear_center_um - expected.back());
+    residual.push_back(data.measurements[i].wear_center_um -
+                       q->wear_rate_um_per_unit * loads.load[i]);
   }
-  const double total = RobustSd(residual);
-  const double relative = q->log_ratio_scale * Median(expected);
-  q->noise_sd_um = std::max(
-      kMinNoiseSdUm, std::sqrt(std::max(0.0, total * total - relative * relative)));
+  q->noise_sd_um = std::max(kMinNoiseSdUm, RobustSd(residual));
   return true;
 }
 
@@ -218,7 +219,6 @@ void FlagUnpassedPositions(const Dataset& data, const DatasetIndex& index,
     }
     DataQualityIssue issue;
     issue.kind = DataQualityKind::kNoPasses;
-    issue.file = "mounts.csv";
     issue.mount = static_cast<int>(i);
     issue.where = WhereOf(data, m.campaign, m.stand, m.position);
     issue.reason = "roll position " + RollPositionName(m.stand, m.position) +
@@ -299,21 +299,14 @@ DataQuality AssessDataQuality(const Dataset& data,
   if (!FlagMillimetres(data, loads, &q)) {
     FlagReadings(data, loads, spread_known, &q);
   }
-  for (DataQualityIssue& issue : q.issues) {
-    issue.file = "measurements.csv";
-    const auto& lines = lines_of.measurements;
-    if (static_cast<size_t>(issue.measurement) < lines.size()) {
-      issue.line = lines[issue.measurement];
-    }
-  }
-  const size_t first_mount_issue = q.issues.size();
   FlagUnpassedPositions(data, index, &q);
-  for (size_t k = first_mount_issue; k < q.issues.size(); ++k) {
-    DataQualityIssue& issue = q.issues[k];
-    const auto& lines = lines_of.mounts;
-    if (static_cast<size_t>(issue.mount) < lines.size()) {
-      issue.line = lines[issue.mount];
-    }
+  for (DataQualityIssue& issue : q.issues) {
+    const bool on_mount = issue.mount >= 0;
+    issue.file = on_mount ? "mounts.csv" : "measurements.csv";
+    const std::vector<int>& lines =
+        on_mount ? lines_of.mounts : lines_of.measurements;
+    const size_t row = on_mount ? issue.mount : issue.measurement;
+    if (row < lines.size()) issue.line = lines[row];
   }
   return q;
 }

@@ -209,7 +209,7 @@ RuleViolations CoilRules(
 
 RuleViolations MeasurementRules(std::string_view campaign_id, int stand,
                                 Position position, std::string_view roll_id,
-                                double wear_center_um, WearFloor floor) {
+                                double wear_center_um) {
   RuleViolations out;
   Rules r(&out);
   r.NonEmpty("campaign_id", campaign_id);
@@ -217,7 +217,7 @@ RuleViolations MeasurementRules(std::string_view campaign_id, int stand,
   r.PositionOk(position);
   r.NonEmpty("roll_id", roll_id);
   if (r.Finite("wear_center_um", wear_center_um) &&
-      floor == WearFloor::kRefuse && wear_center_um < kMinWearUm) {
+      wear_center_um < kMinWearUm) {
     r.Add("wear_center_um",
           "must be >= -50 um (wear is positive radius loss; only grinder "
           "noise may go slightly negative)",

@@ -37,6 +37,9 @@ namespace rollwear {
 
 // Largest accepted seq (keeps seq in an int with room to spare).
 inline constexpr int64_t kMaxSeq = 1'000'000'000;
+// Lowest accepted centre wear: wear is radius loss (positive); a few tens
+// of µm below zero is grinder noise on a barely worn roll.
+inline constexpr double kMinWearUm = -50.0;
 
 enum class RuleKind {
   kRange,      // a value outside its range, an empty text or list
@@ -111,23 +114,11 @@ RuleViolations CoilRules(std::string_view coil_id, std::string_view campaign_id,
                    });
 }
 
-// Lowest centre wear the store accepts: wear is radius loss (positive); a
-// few tens of µm below zero is grinder noise on a barely worn roll. The
-// CSV tools do not refuse lower readings: they flag them as suspect
-// (core/dataset/data_quality.h); the store keeps this floor until it can
-// keep a measurement flagged.
-inline constexpr double kMinWearUm = -50.0;
-
-// Whether MeasurementRules refuses wear below kMinWearUm (the store and
-// the API) or leaves it to the data-quality check (the CSV reader).
-enum class WearFloor { kRefuse, kDataQuality };
-
 // One measurement: non-empty ids, stand F1..F7, position top/bottom, wear
-// finite and, under WearFloor::kRefuse, >= kMinWearUm.
+// finite and >= kMinWearUm.
 RuleViolations MeasurementRules(std::string_view campaign_id, int stand,
                                 Position position, std::string_view roll_id,
-                                double wear_center_um,
-                                WearFloor floor = WearFloor::kRefuse);
+                                double wear_center_um);
 
 }  // namespace rollwear
 
