@@ -80,6 +80,13 @@ CLI::Option* AddData(CLI::App* app, std::string& value) {
   return AddPath(app, "--data", value, "DIR", "dataset folder")->required();
 }
 
+// --strict: data-quality warnings (core/dataset/data_quality.h) are errors.
+void AddStrict(CLI::App* app, bool& value) {
+  app->add_flag("--strict", value,
+                "refuse the dataset (exit 1) when it has any data-quality "
+                "warning (suspect measurement, roll position without a pass)");
+}
+
 CLI::App* AddCommand(CLI::App* app, const std::string& name,
                      const std::string& help) {
   CLI::App* sub = app->add_subcommand(name, help);
@@ -124,6 +131,7 @@ Command AddCalibrate(CLI::App* app) {
       "by campaign; print the coefficients with standard errors and the "
       "figures of merit.");
   AddData(c, args->data);
+  AddStrict(c, args->strict);
   AddLaw(c, args->model, "wear law");
   AddCount(c, "--option", args->options.option, "K structure option")
       ->check(CLI::IsMember({1, 2, 3}));
@@ -150,6 +158,7 @@ Command AddStudy(CLI::App* app) {
       "The study's Tables 1-3 on a dataset, as Markdown on stdout (and, with "
       "--out, study.md and study.json).");
   AddData(c, args->data);
+  AddStrict(c, args->strict);
   AddPath(c, "--out", args->out, "DIR",
           "write study.md and study.json into DIR");
   AddPath(c, "--figures", args->figures, "DIR",
@@ -169,6 +178,7 @@ Command AddAnn(CLI::App* app) {
       "Train the recurrent K-estimator and compare it with classical "
       "calibration (Wang, option 1) on the same split: the study's Table 4.");
   AddData(c, args->data);
+  AddStrict(c, args->strict);
   AddPath(c, "--json", args->json, "FILE", "write the comparison as JSON");
   AddCount(c, "--seeds", t.members, "ensemble members (training seeds)");
   AddCount(c, "--split-seed", args->options.split_seed,
@@ -239,6 +249,7 @@ Command AddImport(CLI::App* app) {
       "Load a dataset folder into the database, all-or-nothing: the first "
       "broken rule is reported as file:line:column and nothing is stored.");
   AddPath(c, "--db", args->db, "FILE", "SQLite database")->required();
+  AddStrict(c, args->strict);
   c->add_option("DIR", args->dir, "dataset folder (docs/data-format.md)")
       ->type_name("DIR")
       ->required();
@@ -282,6 +293,7 @@ Command AddDiagnose(CLI::App* app) {
       "Locate model-vs-measurement mismatch, name and fit the missing "
       "physics, show the gain on held-out campaigns (docs/diagnosis.md).");
   AddData(c, args->data);
+  AddStrict(c, args->strict);
   AddPath(c, "--json", args->json, "FILE", "write the report as JSON");
   AddPath(c, "--html", args->html, "FILE", "write the report as HTML");
   AddCount(c, "--split-seed", args->options.split_seed,

@@ -19,6 +19,7 @@
 #include "core/dataset/dataset_io.h"
 #include "core/report/study_figures.h"
 #include "service/commands.h"
+#include "service/data_quality_cli.h"
 
 namespace rollwear::cli {
 namespace {
@@ -54,8 +55,11 @@ int RunAnn(const AnnArgs& args) {
   std::string error;
   if (!options.training.IsValid(&error)) return Fail(error, 2);
 
-  StatusOr<Dataset> data = ReadDataset(args.data);
-  if (!data.ok()) return Fail(data.status().message(), 1);
+  CheckedDataset checked;
+  if (int code = ReadCheckedDataset("ann", args.data, args.strict, &checked)) {
+    return code;
+  }
+  const Dataset* data = &checked.fit;
   StatusOr<AnnComparison> c = CompareAnnWithClassical(*data, options);
   if (!c.ok()) return Fail(c.status().message(), 1);
   std::printf("%s", AnnComparisonMarkdown(*c).c_str());
@@ -129,6 +133,7 @@ int RunAnn(const AnnArgs& args) {
     j["n_val"] = c->n_val;
     j["n_above_300"] = c->n_above_300;
     j["seconds"] = c->seconds;
+    j["data_quality"] = DataQualityJson(checked.quality);
     std::ofstream out(args.json);
     out << j.dump(2) << "\n";
     if (!out) return Fail("cannot write " + args.json, 1);

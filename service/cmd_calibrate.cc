@@ -18,6 +18,7 @@
 #include "core/report/study_figures.h"
 #include "service/calibrate_terms.h"
 #include "service/commands.h"
+#include "service/data_quality_cli.h"
 
 namespace rollwear::cli {
 namespace {
@@ -82,7 +83,7 @@ int RunCalibrate(const CalibrateArgs& args) {
       return 2;
     }
     return RunCalibrateWithTerms(args.data, args.terms, args.split_seed,
-                                 args.json);
+                                 args.json, args.strict);
   }
   if (!ParseStart(args.start, &options.initial_set)) {
     std::fprintf(stderr, "rollwear calibrate: --start must be ones, random or empirical\n");
@@ -101,11 +102,11 @@ int RunCalibrate(const CalibrateArgs& args) {
     return 2;
   }
 
-  StatusOr<Dataset> data = ReadDataset(args.data);
-  if (!data.ok()) {
-    std::fprintf(stderr, "rollwear calibrate: %s\n", data.status().message().c_str());
-    return 1;
+  CheckedDataset checked;
+  if (int code = ReadCheckedDataset("calibrate", args.data, args.strict, &checked)) {
+    return code;
   }
+  const Dataset* data = &checked.fit;
   const DatasetIndex index(*data);
   StatusOr<WearStatistics> stats = Aggregate(*data, index, options.law);
   if (!stats.ok()) {
@@ -120,11 +121,18 @@ int RunCalibrate(const CalibrateArgs& args) {
     return 1;
   }
   const CalibrationResult& r = run->result;
+  // Not "usable" on data a calibration cannot stand for (a roll position
+  // without a pass: its measurements compare with a zero prediction).
+  const bool usable = r.summary.usable && !SpoilsCalibration(checked.quality);
   const WearModel& m = r.model;
   std::printf("%s law, option %d, start %s, %s derivatives\n",
               WearLawName(options.law), options.option,
               InitialSetName(options.initial_set), protocol.c_str());
   std::printf("%s\n", r.summary.BriefReport().c_str());
+  if (r.summary.usable && !usable) {
+    std::printf("not usable: a roll position received no pass (see the data "
+                "quality above)\n");
+  }
   std::printf("%-28s %12s %10s\n", "coefficient", "value", "rel. s.e.");
   const auto named = m.NamedCoefficients();
   for (size_t i = 0; i < named.size(); ++i) {
@@ -164,7 +172,8 @@ int RunCalibrate(const CalibrateArgs& args) {
     j["iterations"] = r.summary.iterations;
     j["evaluations"] = r.summary.evaluations;
     j["termination"] = r.summary.termination;
-    j["usable"] = r.summary.usable;
+    j["usable"] = usable;
+    j["data_quality"] = DataQualityJson(checked.quality);
     j["noise"] = {{"sd_um", m.noise_sd_um}, {"rel", m.noise_rel}};
     j["bias_above_300_um"] = Number(run->bias_above_300_um);
     std::ofstream out(args.json);
@@ -182,7 +191,7 @@ int RunCalibrate(const CalibrateArgs& args) {
       return 1;
     }
   }
-  return r.summary.usable ? 0 : 1;
+  return usable ? 0 : 1;
 }
 
 }  // namespace rollwear::cli

@@ -19,13 +19,14 @@
 #include "core/fit/study.h"
 #include "core/fit/term_refit.h"
 #include "service/calibrate_terms.h"
+#include "service/data_quality_cli.h"
 #include "storage/model_codec.h"
 
 namespace rollwear::cli {
 
 int RunCalibrateWithTerms(const std::string& data_dir,
                           const std::string& terms_file, uint64_t split_seed,
-                          const std::string& json_file) {
+                          const std::string& json_file, bool strict) {
   const auto start = std::chrono::steady_clock::now();
   std::ifstream in(terms_file);
   if (!in) {
@@ -42,12 +43,11 @@ int RunCalibrateWithTerms(const std::string& data_dir,
                  terms.status().message().c_str());
     return 1;
   }
-  StatusOr<Dataset> data = ReadDataset(data_dir);
-  if (!data.ok()) {
-    std::fprintf(stderr, "rollwear calibrate: %s\n",
-                 data.status().message().c_str());
-    return 1;
+  CheckedDataset checked;
+  if (int code = ReadCheckedDataset("calibrate", data_dir, strict, &checked)) {
+    return code;
   }
+  const Dataset* data = &checked.fit;
   const DatasetIndex index(*data);
   StatusOr<WearStatistics> stats = Aggregate(*data, index, WearLaw::kWang);
   if (!stats.ok()) {
@@ -107,6 +107,7 @@ int RunCalibrateWithTerms(const std::string& data_dir,
       coef[name] = value;
     j["coefficients"] = coef;
     j["terms"] = nlohmann::json::parse(storage::EncodeTerms(model->terms));
+    j["data_quality"] = DataQualityJson(checked.quality);
     j["cost"] = train.cost;
     j["gap_train_um"] = train.gap_um;
     j["gap_val_um"] = val.gap_um;

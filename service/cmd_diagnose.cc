@@ -10,6 +10,7 @@
 #include "core/diagnosis/diagnosis.h"
 #include "core/report/diagnosis_report.h"
 #include "service/commands.h"
+#include "service/data_quality_cli.h"
 
 namespace rollwear::cli {
 
@@ -19,12 +20,11 @@ int RunDiagnose(const DiagnoseArgs& args) {
     std::fprintf(stderr, "rollwear diagnose: --model must be wang, nikitenko or cao\n");
     return 2;
   }
-  StatusOr<Dataset> data = ReadDataset(args.data);
-  if (!data.ok()) {
-    std::fprintf(stderr, "rollwear diagnose: %s\n", data.status().message().c_str());
-    return 1;
+  CheckedDataset checked;
+  if (int code = ReadCheckedDataset("diagnose", args.data, args.strict, &checked)) {
+    return code;
   }
-  StatusOr<DiagnosisReport> report = Diagnose(*data, options);
+  StatusOr<DiagnosisReport> report = Diagnose(checked.fit, options);
   if (!report.ok()) {
     std::fprintf(stderr, "rollwear diagnose: %s\n", report.status().message().c_str());
     return 1;
@@ -44,7 +44,9 @@ int RunDiagnose(const DiagnoseArgs& args) {
               r.final_gap_train_um, r.final_gap_val_um, r.seconds);
   if (!args.json.empty()) {
     std::ofstream out(args.json);
-    out << api::DiagnosisJsonText(r, 2) << "\n";
+    nlohmann::json j = nlohmann::json::parse(api::DiagnosisJsonText(r, 0));
+    j["data_quality"] = DataQualityJson(checked.quality);
+    out << j.dump(2) << "\n";
     if (!out) {
       std::fprintf(stderr, "rollwear diagnose: cannot write %s\n", args.json.c_str());
       return 1;

@@ -1,14 +1,18 @@
-// `rollwear import --db FILE DIR`
+// `rollwear import --db FILE DIR [--strict]`
 // Loads a dataset folder (docs/data-format.md) into the database,
 // all-or-nothing: the folder is read and validated completely first (the
-// first broken rule is reported as file:line:column), then stored in one
-// transaction; a rejected dataset changes nothing.
+// first broken rule is reported as file:line:column), its data quality is
+// printed (service/data_quality_cli.h), then it is stored in one
+// transaction; a rejected dataset changes nothing. The database cannot keep
+// a measurement flagged as suspect yet, so a folder with a suspect
+// measurement is refused (the other warnings only refuse under --strict).
 #include <chrono>
 #include <cstdio>
 #include <memory>
 
 #include "core/dataset/dataset_io.h"
 #include "service/commands.h"
+#include "service/data_quality_cli.h"
 #include "storage/mill_store.h"
 
 namespace rollwear::cli {
@@ -16,12 +20,21 @@ namespace rollwear::cli {
 int RunImport(const ImportArgs& args) {
   const std::string& dir = args.dir;
   const auto start = std::chrono::steady_clock::now();
-  StatusOr<Dataset> data = ReadDataset(dir);
-  if (!data.ok()) {
-    std::fprintf(stderr, "rollwear import: %s: %s (nothing imported)\n",
-                 dir.c_str(), data.status().message().c_str());
+  CheckedDataset checked;
+  if (ReadCheckedDataset("import", dir, args.strict, &checked) != 0) {
+    std::fprintf(stderr, "rollwear import: %s: nothing imported\n",
+                 dir.c_str());
     return 1;
   }
+  if (const int n = checked.quality.NumSuspect(); n > 0) {
+    std::fprintf(stderr,
+                 "rollwear import: %s: %d suspect measurement(s) (listed "
+                 "above); the database cannot keep them flagged yet: correct "
+                 "or remove them (nothing imported)\n",
+                 dir.c_str(), n);
+    return 1;
+  }
+  const Dataset* data = &checked.all;
   StatusOr<std::unique_ptr<storage::MillStore>> store =
       storage::MillStore::Open(args.db, storage::StoreOptions());
   if (!store.ok()) {

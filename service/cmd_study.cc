@@ -13,6 +13,7 @@
 #include "core/fit/study.h"
 #include "core/report/study_figures.h"
 #include "service/commands.h"
+#include "service/data_quality_cli.h"
 
 namespace rollwear::cli {
 namespace {
@@ -43,11 +44,11 @@ nlohmann::json RowJson(const StudyRow& r) {
 
 int RunStudy(const StudyArgs& args) {
   const StudyOptions& options = args.options;
-  StatusOr<Dataset> data = ReadDataset(args.data);
-  if (!data.ok()) {
-    std::fprintf(stderr, "rollwear study: %s\n", data.status().message().c_str());
-    return 1;
+  CheckedDataset checked;
+  if (int code = ReadCheckedDataset("study", args.data, args.strict, &checked)) {
+    return code;
   }
+  const Dataset* data = &checked.fit;
   StatusOr<StudyReport> report = rollwear::RunStudy(*data, options);
   if (!report.ok()) {
     std::fprintf(stderr, "rollwear study: %s\n", report.status().message().c_str());
@@ -65,6 +66,7 @@ int RunStudy(const StudyArgs& args) {
     j["n_train"] = report->n_train;
     j["n_val"] = report->n_val;
     j["split_seed"] = report->split_seed;
+    j["data_quality"] = DataQualityJson(checked.quality);
     for (const char* name : {"table1", "table2", "table3"}) j[name] = nlohmann::json::array();
     for (const StudyRow& r : report->table1) j["table1"].push_back(RowJson(r));
     for (const StudyRow& r : report->table2) j["table2"].push_back(RowJson(r));

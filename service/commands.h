@@ -31,6 +31,7 @@ struct SimulateArgs {
 int RunSimulate(const SimulateArgs& args);
 
 struct CalibrateArgs {
+  bool strict = false;  // --strict: data-quality warnings are errors
   std::string data;
   std::string model = "wang";
   std::string start = "empirical";
@@ -44,6 +45,7 @@ struct CalibrateArgs {
 int RunCalibrate(const CalibrateArgs& args);
 
 struct StudyArgs {
+  bool strict = false;  // --strict: data-quality warnings are errors
   std::string data;
   std::string out;       // empty: Markdown on stdout only
   std::string figures;   // empty: no figures
@@ -52,6 +54,7 @@ struct StudyArgs {
 int RunStudy(const StudyArgs& args);
 
 struct AnnArgs {
+  bool strict = false;  // --strict: data-quality warnings are errors
   std::string data;
   std::string json;
   std::string figures;
@@ -63,6 +66,7 @@ struct AnnArgs {
 int RunAnn(const AnnArgs& args);
 
 struct DiagnoseArgs {
+  bool strict = false;  // --strict: data-quality warnings are errors
   std::string data;
   std::string json;
   std::string html;
@@ -80,6 +84,7 @@ struct ServeArgs {
 int RunServe(const ServeArgs& args);
 
 struct ImportArgs {
+  bool strict = false;  // --strict: data-quality warnings are errors
   std::string db;
   std::string dir;
 };

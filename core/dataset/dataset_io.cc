@@ -5,6 +5,7 @@
 // dataset_write.cc.
 #include "core/dataset/dataset_io.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -18,6 +19,7 @@
 #include "core/base/csv.h"
 #include "core/dataset/dataset_checks.h"
 #include "core/dataset/dataset_columns.h"
+#include "core/dataset/dataset_lines.h"
 #include "core/dataset/input_rules.h"
 
 namespace rollwear {
@@ -208,8 +210,17 @@ Status ReadCoils(const FileView& f, LabelIndex* campaigns, Dataset* d) {
   return Status::Ok();
 }
 
+// The wear MeasurementRules sees for a CSV row: the store's floor
+// kMinWearUm is not a rule of the CSV tools, which flag a lower finite
+// reading as suspect instead (core/dataset/data_quality.h); a non-finite
+// value stays as read, to be refused.
+double ReadableWear(double wear_um) {
+  return std::isfinite(wear_um) ? std::max(wear_um, kMinWearUm) : wear_um;
+}
+
 Status ReadMeasurements(const FileView& f, LabelIndex* campaigns,
-                        const std::vector<int>& mount_of, Dataset* d) {
+                        const std::vector<int>& mount_of, Dataset* d,
+                        std::vector<int>* source_lines) {
   namespace col = measurement_col;
   std::vector<int> measured(mount_of.size(), 0);  // line, 0 if none
   for (size_t r = 0; r < f.rows(); ++r) {
@@ -225,7 +236,8 @@ Status ReadMeasurements(const FileView& f, LabelIndex* campaigns,
     ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kWear, &m.wear_center_um));
     ROLLWEAR_RETURN_IF_ERROR(
         f.Check(r, MeasurementRules(f.Raw(r, col::kCampaign), m.stand,
-                                    m.position, roll_id, m.wear_center_um)));
+                                    m.position, roll_id,
+                                    ReadableWear(m.wear_center_um))));
     const size_t key = m.campaign * kNumRollPositionSlots +
                        RollPositionSlot(m.stand, m.position);
     const std::string where = RollPositionName(m.stand, m.position) +
@@ -250,13 +262,15 @@ Status ReadMeasurements(const FileView& f, LabelIndex* campaigns,
     measured[key] = f.line(r);
     m.roll_id = std::string(roll_id);
     d->measurements.push_back(std::move(m));
+    if (source_lines != nullptr) source_lines->push_back(f.line(r));
   }
   f.CollectExtras(&d->measurement_extra);
   return Status::Ok();
 }
 
 // Validates and converts the four file contents (in DatasetFile order).
-StatusOr<Dataset> ParseDataset(std::string (&texts)[kNumDatasetFiles]) {
+StatusOr<Dataset> ParseDataset(std::string (&texts)[kNumDatasetFiles],
+                               DatasetSourceLines* lines) {
   // All four tables stay alive until the end: label maps view their buffers.
   std::vector<csv::Table> tables;
   tables.reserve(kNumDatasetFiles);
@@ -281,7 +295,13 @@ StatusOr<Dataset> ParseDataset(std::string (&texts)[kNumDatasetFiles]) {
       ReadMounts(files[kMountsFile], &campaigns, &d, &mount_of));
   ROLLWEAR_RETURN_IF_ERROR(ReadCoils(files[kCoilsFile], &campaigns, &d));
   ROLLWEAR_RETURN_IF_ERROR(
-      ReadMeasurements(files[kMeasurementsFile], &campaigns, mount_of, &d));
+      ReadMeasurements(files[kMeasurementsFile], &campaigns, mount_of, &d,
+                       lines == nullptr ? nullptr : &lines->measurements));
+  if (lines != nullptr) {
+    for (size_t r = 0; r < files[kMountsFile].rows(); ++r) {
+      lines->mounts.push_back(files[kMountsFile].line(r));
+    }
+  }
   return d;
 }
 
@@ -331,6 +351,15 @@ Status MissingFile(int file, const std::string& detail) {
 }  // namespace
 
 StatusOr<Dataset> ReadDataset(const std::string& dir) {
+  return ReadDatasetWithLines(dir, nullptr);
+}
+
+StatusOr<Dataset> ReadDatasetStreams(const DatasetStreams& in) {
+  return ReadDatasetStreamsWithLines(in, nullptr);
+}
+
+StatusOr<Dataset> ReadDatasetWithLines(const std::string& dir,
+                                       DatasetSourceLines* lines) {
   std::string texts[kNumDatasetFiles];
   for (int i = 0; i < kNumDatasetFiles; ++i) {
     const std::string path = dir + "/" + kDatasetFileNames[i];
@@ -346,10 +375,11 @@ StatusOr<Dataset> ReadDataset(const std::string& dir) {
     std::fclose(fp);
     if (!ok) return Status::IoError("cannot read " + path);
   }
-  return ParseDataset(texts);
+  return ParseDataset(texts, lines);
 }
 
-StatusOr<Dataset> ReadDatasetStreams(const DatasetStreams& in) {
+StatusOr<Dataset> ReadDatasetStreamsWithLines(const DatasetStreams& in,
+                                              DatasetSourceLines* lines) {
   std::istream* streams[kNumDatasetFiles] = {in.campaigns, in.mounts, in.coils,
                                              in.measurements};
   std::string texts[kNumDatasetFiles];
@@ -360,7 +390,7 @@ StatusOr<Dataset> ReadDatasetStreams(const DatasetStreams& in) {
                              kDatasetFileNames[i]);
     }
   }
-  return ParseDataset(texts);
+  return ParseDataset(texts, lines);
 }
 
 }  // namespace rollwear

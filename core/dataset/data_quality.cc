@@ -1,0 +1,357 @@
+#include "core/dataset/data_quality.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace rollwear {
+namespace {
+
+// The thresholds, from physical bounds and the data's own spread (never
+// tuned to a known answer):
+//
+// Expected wear. Every wear law of data-format.md is, to first order,
+// proportional to Wang's load sum(force / width * length) of the roll
+// position's passes. The data's own wear rate q = median(wear / load) over
+// the positive readings gives a rough expected wear e = q * load.
+//
+// Spread. s = 1.4826 * MAD of log(wear / load) over the positive readings
+// is the data's relative spread of wear rates (forces, grades, roll types,
+// roll-to-roll scatter; Hampel 1974, JASA 69:383: the MAD's consistency
+// factor for a normal law). A reading with expected wear e then scatters
+// with sd(e) = sqrt(sigma0^2 + (s * e)^2).
+//
+// Gauge noise sigma0: the robust sd of (wear - e) among the least-worn
+// quarter of the rolls (at least kMinNoiseSample of them), where the
+// relative scatter matters least. It folds in what is left of the
+// roll-to-roll scatter there, so it bounds the gauge's noise from above
+// and the rules below flag less, never more. (Taking the relative part
+// s * median(e) out instead over-corrects: s also holds the spread
+// between stands and grades, and sigma0 collapsed to the grinder's
+// resolution on simulated mills with 8 µm noise.) Below kMinNoiseSample
+// readings sigma0 = kFallbackNoiseSdUm, which makes the limit below the
+// former fixed floor of -50 µm. sigma0 >= kMinNoiseSdUm (the grinder's
+// resolution).
+//
+// negative_wear: wear < -kNoiseSigmas * sigma0 (true wear is >= 0, so such
+// a reading is more than 4 noise sd's from any physical value), or wear <
+// 0 and more than kNoiseSigmas * sd(e) below its expected wear e. A normal
+// error that large has probability 3e-5, i.e. 0.05 false flags among 1,500
+// readings.
+//
+// excess_wear: log(wear / e) above kExcessSigmas robust sd's of log(wear /
+// load) (1.4826 * MAD) and wear - e above kNoiseSigmas * sigma0. Six robust
+// sd's is far outside any normal scatter (p ~ 1e-9) yet leaves the whole
+// natural spread of wear rates (forces, grades, roll types) inside. A
+// reading of more than kNoiseSigmas * sigma0 on a roll position without a
+// pass is excess wear too (its campaign produced none).
+//
+// unit_mm: the median reading of the rolls that rolled anything is below
+// kMmMedianUm while their median rolled length is at least kMmMinLengthM.
+// Hot-strip work rolls lose wear of the order of µm per km of strip (the
+// study's rolls hundreds of µm in campaigns of tens of km), so a roll that
+// rolled >= 10 km has lost >= ~10 µm: a median three orders of magnitude
+// smaller is the factor between µm and mm.
+constexpr int kMinNoiseSample = 8;
+constexpr double kFallbackNoiseSdUm = 12.5;  // 4 * 12.5 = the old -50 µm
+constexpr double kMinNoiseSdUm = 1.0;
+constexpr double kNoiseSigmas = kSuspectNoiseSigmas;
+constexpr double kExcessSigmas = 6.0;
+constexpr double kMadToSd = 1.4826;
+constexpr double kMmMedianUm = 1.0;
+constexpr double kMmMinLengthM = 10'000.0;
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return NAN;
+  const size_t n = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + n, v.end());
+  const double hi = v[n];
+  if (v.size() % 2 == 1) return hi;
+  return 0.5 * (hi + *std::max_element(v.begin(), v.begin() + n));
+}
+
+double RobustSd(const std::vector<double>& v) {
+  const double med = Median(v);
+  std::vector<double> dev;
+  dev.reserve(v.size());
+  for (double x : v) dev.push_back(std::fabs(x - med));
+  return kMadToSd * Median(std::move(dev));
+}
+
+std::string Fmt(const char* format, double a, double b = 0, double c = 0) {
+  char buf[256];
+  std::snprintf(buf, sizeof(buf), format, a, b, c);
+  return buf;
+}
+
+// Wang's load and the rolled length of every measurement's roll position.
+struct MeasuredLoad {
+  std::vector<double> load;      // sum force/width*length, kN/mm*m
+  std::vector<double> length_m;  // sum length_m
+};
+
+MeasuredLoad LoadsOf(const Dataset& data, const DatasetIndex& index) {
+  MeasuredLoad out;
+  for (const Measurement& m : data.measurements) {
+    double load = 0, length = 0;
+    for (int p : index.PassesOf(m.campaign, m.stand)) {
+      const Pass& pass = data.passes[p];
+      load += pass.force_kn / pass.width_mm * pass.length_m;
+      length += pass.length_m;
+    }
+    out.load.push_back(load);
+    out.length_m.push_back(length);
+  }
+  return out;
+}
+
+std::string WhereOf(const Dataset& data, int campaign, int stand,
+                    Position position) {
+  return RollPositionName(stand, position) + " of campaign '" +
+         data.campaigns[campaign].id + "'";
+}
+
+// Returns false when there are too few readings to estimate sigma0 (the
+// fallback is used) and with it the spread: only the absolute negative
+// bound and the excess bound apply then.
+bool EstimateBounds(const Dataset& data, const MeasuredLoad& loads,
+                    DataQuality* q) {
+  std::vector<double> log_ratio;
+  std::vector<double> rate;
+  for (size_t i = 0; i < data.measurements.size(); ++i) {
+    const double w = data.measurements[i].wear_center_um;
+    if (w > 0 && loads.load[i] > 0) {
+      rate.push_back(w / loads.load[i]);
+      log_ratio.push_back(std::log(w / loads.load[i]));
+    }
+  }
+  q->wear_rate_um_per_unit = rate.empty() ? 0 : Median(rate);
+  q->log_ratio_scale = log_ratio.size() < 2 ? 0 : RobustSd(log_ratio);
+  q->excess_factor = std::exp(kExcessSigmas * q->log_ratio_scale);
+  // sigma0 from the least-worn quarter of the loaded rolls.
+  std::vector<size_t> loaded;
+  for (size_t i = 0; i < data.measurements.size(); ++i) {
+    if (loads.load[i] > 0) loaded.push_back(i);
+  }
+  std::sort(loaded.begin(), loaded.end(), [&](size_t a, size_t b) {
+    return loads.load[a] < loads.load[b];
+  });
+  const size_t n = std::max<size_t>(loaded.size() / 4, kMinNoiseSample);
+  if (loaded.size() < kMinNoiseSample || q->wear_rate_um_per_unit <= 0) {
+    q->noise_sd_um = kFallbackNoiseSdUm;
+    return false;
+  }
+  std::vector<double> residual;
+  for (size_t k = 0; k < n; ++k) {
+    const size_t i = loaded[k];
+    residual.push_back(data.measurements[i].wear_center_um -
+                       q->wear_rate_um_per_unit * loads.load[i]);
+  }
+  q->noise_sd_um = std::max(kMinNoiseSdUm, RobustSd(residual));
+  return true;
+}
+
+// unit_mm: flags every reading when the file looks like mm.
+bool FlagMillimetres(const Dataset& data, const MeasuredLoad& loads,
+                     DataQuality* q) {
+  std::vector<double> wear, length;
+  for (size_t i = 0; i < data.measurements.size(); ++i) {
+    if (loads.length_m[i] <= 0) continue;
+    wear.push_back(data.measurements[i].wear_center_um);
+    length.push_back(loads.length_m[i]);
+  }
+  if (wear.empty()) return false;
+  const double median_wear = Median(wear), median_length = Median(length);
+  if (!(median_wear < kMmMedianUm && median_length >= kMmMinLengthM)) {
+    return false;
+  }
+  const std::string reason = Fmt(
+      "the file's values look like mm, not µm: median wear %.3g µm while "
+      "the rolls rolled a median %.1f km (expected >= ~10 µm); write wear "
+      "in µm",
+      median_wear, median_length / 1000);
+  for (size_t i = 0; i < data.measurements.size(); ++i) {
+    q->suspect[i] = reason;
+  }
+  for (size_t i = 0; i < data.measurements.size(); ++i) {
+    const Measurement& m = data.measurements[i];
+    DataQualityIssue issue;
+    issue.kind = DataQualityKind::kUnitMm;
+    issue.measurement = static_cast<int>(i);
+    issue.value_um = m.wear_center_um;
+    issue.where = WhereOf(data, m.campaign, m.stand, m.position);
+    issue.reason = reason;
+    q->issues.push_back(std::move(issue));
+  }
+  return true;
+}
+
+void FlagReadings(const Dataset& data, const MeasuredLoad& loads,
+                  bool spread_known, DataQuality* q) {
+  for (size_t i = 0; i < data.measurements.size(); ++i) {
+    const Measurement& m = data.measurements[i];
+    ReadingBounds bounds;
+    bounds.expected_um = q->wear_rate_um_per_unit * loads.load[i];
+    bounds.noise_sd_um = q->noise_sd_um;
+    bounds.excess_factor = q->excess_factor;
+    bounds.relative_sd = spread_known ? q->log_ratio_scale : INFINITY;
+    DataQualityIssue issue;
+    issue.reason = SuspectReading(m.wear_center_um, bounds, &issue.kind);
+    if (issue.reason.empty()) continue;
+    q->suspect[i] = issue.reason;
+    issue.measurement = static_cast<int>(i);
+    issue.value_um = m.wear_center_um;
+    issue.where = WhereOf(data, m.campaign, m.stand, m.position);
+    q->issues.push_back(std::move(issue));
+  }
+}
+
+void FlagUnpassedPositions(const Dataset& data, const DatasetIndex& index,
+                           DataQuality* q) {
+  std::vector<bool> has_coils(data.campaigns.size(), false);
+  for (const Pass& p : data.passes) has_coils[p.campaign] = true;
+  for (size_t i = 0; i < data.mounts.size(); ++i) {
+    const Mount& m = data.mounts[i];
+    if (!has_coils[m.campaign] || !index.PassesOf(m.campaign, m.stand).empty()) {
+      continue;
+    }
+    DataQualityIssue issue;
+    issue.kind = DataQualityKind::kNoPasses;
+    issue.mount = static_cast<int>(i);
+    issue.where = WhereOf(data, m.campaign, m.stand, m.position);
+    issue.reason = "roll position " + RollPositionName(m.stand, m.position) +
+                   " received no pass in a campaign with coils (is its "
+                   "stand named as in coils.csv?)";
+    q->issues.push_back(std::move(issue));
+  }
+}
+
+}  // namespace
+
+const char* DataQualityKindName(DataQualityKind kind) {
+  switch (kind) {
+    case DataQualityKind::kNegativeWear: return "negative_wear";
+    case DataQualityKind::kExcessWear: return "excess_wear";
+    case DataQualityKind::kUnitMm: return "unit_mm";
+    case DataQualityKind::kNoPasses: return "no_passes";
+  }
+  return "unknown";
+}
+
+std::string DataQualityIssue::Location() const {
+  return line > 0 ? file + ":" + std::to_string(line) : file;
+}
+
+std::string SuspectReading(double wear_um, const ReadingBounds& b,
+                           DataQualityKind* kind) {
+  const double noise_limit = kNoiseSigmas * b.noise_sd_um;
+  const double sd = std::hypot(b.noise_sd_um, b.relative_sd * b.expected_um);
+  if (wear_um < -noise_limit) {
+    *kind = DataQualityKind::kNegativeWear;
+    return Fmt("%.1f µm is below -%.1f µm, 4 sd's of the gauge's noise "
+               "(%.1f µm) under zero: wear is positive radius loss",
+               wear_um, noise_limit, b.noise_sd_um);
+  }
+  if (wear_um < 0 && wear_um < b.expected_um - kNoiseSigmas * sd) {
+    *kind = DataQualityKind::kNegativeWear;
+    return Fmt("%.1f µm is negative on a roll expected to have lost ~%.1f "
+               "µm (more than 4 sd's, %.1f µm, below)",
+               wear_um, b.expected_um, sd);
+  }
+  const double limit = b.expected_um * b.excess_factor + noise_limit;
+  if (wear_um > limit) {
+    *kind = DataQualityKind::kExcessWear;
+    if (b.expected_um <= 0) {
+      return Fmt("%.1f µm on a roll position that rolled nothing in its "
+                 "campaign (limit %.1f µm, 4 sd's of the gauge's noise)",
+                 wear_um, limit);
+    }
+    return Fmt("%.1f µm is far beyond what its campaign could produce "
+               "(expected ~%.1f µm, limit %.1f µm)",
+               wear_um, b.expected_um, limit);
+  }
+  return "";
+}
+
+int DataQuality::Count(DataQualityKind kind) const {
+  return static_cast<int>(std::count_if(
+      issues.begin(), issues.end(),
+      [kind](const DataQualityIssue& i) { return i.kind == kind; }));
+}
+
+int DataQuality::NumSuspect() const {
+  return static_cast<int>(std::count_if(
+      suspect.begin(), suspect.end(),
+      [](const std::string& s) { return !s.empty(); }));
+}
+
+DataQuality AssessDataQuality(const Dataset& data,
+                              const DatasetSourceLines* source) {
+  const DatasetSourceLines no_lines;
+  const DatasetSourceLines& lines_of = source != nullptr ? *source : no_lines;
+  DataQuality q;
+  q.suspect.assign(data.measurements.size(), "");
+  const DatasetIndex index(data);
+  const MeasuredLoad loads = LoadsOf(data, index);
+  const bool spread_known = EstimateBounds(data, loads, &q);
+  if (!FlagMillimetres(data, loads, &q)) {
+    FlagReadings(data, loads, spread_known, &q);
+  }
+  FlagUnpassedPositions(data, index, &q);
+  for (DataQualityIssue& issue : q.issues) {
+    const bool on_mount = issue.mount >= 0;
+    issue.file = on_mount ? "mounts.csv" : "measurements.csv";
+    const std::vector<int>& lines =
+        on_mount ? lines_of.mounts : lines_of.measurements;
+    const size_t row = on_mount ? issue.mount : issue.measurement;
+    if (row < lines.size()) issue.line = lines[row];
+  }
+  return q;
+}
+
+Dataset WithoutSuspects(const Dataset& data, const DataQuality& quality) {
+  Dataset out = data;
+  out.measurements.clear();
+  ExtraColumns& extra = out.measurement_extra;
+  for (auto& column : extra.numeric) column.clear();
+  for (auto& column : extra.factor) column.clear();
+  for (size_t i = 0; i < data.measurements.size(); ++i) {
+    if (i < quality.suspect.size() && !quality.suspect[i].empty()) continue;
+    out.measurements.push_back(data.measurements[i]);
+    for (size_t c = 0; c < extra.numeric.size(); ++c) {
+      extra.numeric[c].push_back(data.measurement_extra.numeric[c][i]);
+    }
+    for (size_t c = 0; c < extra.factor.size(); ++c) {
+      extra.factor[c].push_back(data.measurement_extra.factor[c][i]);
+    }
+  }
+  return out;
+}
+
+std::string DataQualitySummary(const DataQuality& q, int max_listed) {
+  if (q.issues.empty()) return "data quality: no warnings\n";
+  std::string out = "data quality: " + std::to_string(q.issues.size()) +
+                    " warning(s), " + std::to_string(q.NumSuspect()) +
+                    " suspect measurement(s) excluded from fitting:";
+  for (int k = 0; k < kNumDataQualityKinds; ++k) {
+    const auto kind = static_cast<DataQualityKind>(k);
+    const int n = q.Count(kind);
+    if (n > 0) out += " " + std::to_string(n) + " " + DataQualityKindName(kind);
+  }
+  out += "\n";
+  const int listed = std::min<int>(max_listed, q.issues.size());
+  for (int i = 0; i < listed; ++i) {
+    const DataQualityIssue& issue = q.issues[i];
+    out += "  " + issue.Location() + " " + issue.where + ": " +
+           DataQualityKindName(issue.kind) + ": " + issue.reason + "\n";
+  }
+  if (listed < static_cast<int>(q.issues.size())) {
+    out += "  ... and " + std::to_string(q.issues.size() - listed) +
+           " more (see the JSON's data_quality)\n";
+  }
+  return out;
+}
+
+}  // namespace rollwear

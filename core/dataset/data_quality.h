@@ -1,0 +1,99 @@
+// Data quality of a mill dataset: the values that are valid numbers but
+// cannot be physical wear (docs/data-format.md, "Implausible values"). They
+// are warnings, not rule breaks: the row is kept, flagged as suspect with
+// its reason, excluded from fitting (WithoutSuspects) and listed by every
+// tool; `--strict` on the CLI turns them into errors.
+//
+// Kinds (name in JSON and in the summary):
+//   negative_wear  a centre wear below -4 sigma0, sigma0 the gauge's noise
+//   excess_wear    far more than the campaign could have produced
+//   unit_mm        a whole measurements.csv whose values look like mm
+//   no_passes      a mounted roll position without a pass in a campaign
+//                  that has coils (a warning; nothing is flagged)
+// The thresholds and why they are what they are: data_quality.cc, top.
+//
+// Thread-safety: pure functions of their arguments.
+#ifndef ROLLWEAR_CORE_DATASET_DATA_QUALITY_H_
+#define ROLLWEAR_CORE_DATASET_DATA_QUALITY_H_
+
+#include <string>
+#include <vector>
+
+#include "core/dataset/dataset.h"
+#include "core/dataset/dataset_lines.h"
+
+namespace rollwear {
+
+// A reading below -kSuspectNoiseSigmas sd's of the gauge's noise is
+// negative_wear (see data_quality.cc for why 4).
+inline constexpr double kSuspectNoiseSigmas = 4.0;
+
+enum class DataQualityKind { kNegativeWear, kExcessWear, kUnitMm, kNoPasses };
+inline constexpr int kNumDataQualityKinds = 4;
+// "negative_wear", "excess_wear", "unit_mm", "no_passes".
+const char* DataQualityKindName(DataQualityKind kind);
+
+struct DataQualityIssue {
+  DataQualityKind kind = DataQualityKind::kNegativeWear;
+  std::string file;  // "measurements.csv", "mounts.csv"
+  int line = 0;      // line in `file`; 0 when its line is not known
+  int measurement = -1;  // index into Dataset::measurements, or -1
+  int mount = -1;        // index into Dataset::mounts, or -1
+  std::string where;     // "F6/top of campaign 'C0042'"
+  double value_um = 0;   // the reading (measurement kinds)
+  std::string reason;    // one sentence, with the threshold it broke
+  // "measurements.csv:17" (or `file` alone when the line is unknown).
+  std::string Location() const;
+};
+
+// The bounds a single reading is judged by (see data_quality.cc).
+struct ReadingBounds {
+  double expected_um = 0;  // rough expected wear of the roll position
+  double noise_sd_um = 0;  // sigma0, the gauge's noise on a barely worn roll
+  // Relative spread of wear about expected_um; INFINITY when unknown (too
+  // few readings to tell): then only the absolute bound applies.
+  double relative_sd = 0;
+  // A reading above expected_um * excess_factor + 4 sigma0 is "far beyond".
+  double excess_factor = 0;
+};
+
+// The reason a single reading is suspect, or "" when it is plausible:
+// negative beyond -4 sigma0 (or negative and 4 sd's below expected_um, sd
+// = hypot(noise_sd_um, relative_sd * expected_um)), or beyond the excess
+// bound. (The mm-for-µm
+// check needs a whole file: AssessDataQuality.) `kind` is set when suspect.
+std::string SuspectReading(double wear_um, const ReadingBounds& bounds,
+                           DataQualityKind* kind);
+
+struct DataQuality {
+  std::vector<DataQualityIssue> issues;  // in file order per kind
+  // Parallel to Dataset::measurements: "" = plausible, else the reason.
+  std::vector<std::string> suspect;
+  // The figures the thresholds were derived from (reported in JSON).
+  double wear_rate_um_per_unit = 0;  // median wear / Wang load (um·mm/kN/m)
+  double noise_sd_um = 0;            // sigma0
+  double log_ratio_scale = 0;        // robust sd of log(wear / load)
+  double excess_factor = 0;
+
+  int Count(DataQualityKind kind) const;
+  int NumSuspect() const;
+};
+
+// Checks every measurement and mount of `data`; `lines` (may be null: no
+// line numbers) are where its rows came from (dataset_lines.h).
+DataQuality AssessDataQuality(const Dataset& data,
+                              const DatasetSourceLines* lines = nullptr);
+
+// `data` without its suspect measurements (what fitting sees).
+Dataset WithoutSuspects(const Dataset& data, const DataQuality& quality);
+
+// A short text: counts by kind and the first `max_listed` issues with their
+// location, e.g.
+//   data quality: 1 suspect measurement (excluded from fitting): 1 negative_wear
+//     measurements.csv:17 F6/top of campaign 'C0042': -62.6 um is below ...
+// "data quality: no warnings" when there is none.
+std::string DataQualitySummary(const DataQuality& quality, int max_listed = 5);
+
+}  // namespace rollwear
+
+#endif  // ROLLWEAR_CORE_DATASET_DATA_QUALITY_H_
