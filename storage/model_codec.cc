@@ -92,6 +92,7 @@ Json EncodeTerm(const ModelTerm& t) {
   j["scale"] = Number(t.scale);
   j["edges"] = Numbers(t.edges);
   j["num_levels"] = t.num_levels;
+  if (!t.levels.empty()) j["levels"] = t.levels;
   return j;
 }
 
@@ -104,6 +105,19 @@ Status ReadNumbers(const Json& obj, const char* key, const std::string& field,
     double x = 0;
     if (!ReadNumber(v, &x)) return Bad(field, "must be an array of numbers");
     out->push_back(x);
+  }
+  return Status::Ok();
+}
+
+// A term's optional "levels": an array of strings (the factor's labels).
+Status ReadLabels(const Json& term, const std::string& field,
+                  std::vector<std::string>* out) {
+  auto it = term.find("levels");
+  if (it == term.end()) return Status::Ok();
+  if (!it->is_array()) return Bad(field, "must be an array of strings");
+  for (const Json& v : *it) {
+    if (!v.is_string()) return Bad(field, "must be an array of strings");
+    out->push_back(v.get<std::string>());
   }
   return Status::Ok();
 }
@@ -139,6 +153,7 @@ Status DecodeTerms(const Json& doc, std::vector<ModelTerm>* out) {
       }
       t.num_levels = levels->get<int>();
     }
+    ROLLWEAR_RETURN_IF_ERROR(ReadLabels(j, at + "levels", &t.levels));
     out->push_back(std::move(t));
   }
   return Status::Ok();
