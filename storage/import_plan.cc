@@ -55,19 +55,25 @@ Status CheckExtras(const ExtraColumns& e, size_t rows, const char* table) {
   return Status::Ok();
 }
 
-MountedRollIn ToMount(const Dataset& d, const Mount& m) {
+// Mount `i` of `d` as the store keeps it (its extra columns as fields).
+MountedRollIn ToMount(const Dataset& d, size_t i) {
+  const Mount& m = d.mounts[i];
   return MountedRollIn{m.stand,       m.position,
                        m.roll_id,     d.roll_types[m.roll_type],
-                       m.diameter_mm, m.hardness_hb};
+                       m.diameter_mm, m.hardness_hb,
+                       ExtraFieldsOfRow(d.mount_extra, i)};
 }
 
-MeasurementIn ToMeasurement(const Dataset& d, const Measurement& m) {
+// Measurement `i` of `d` as the store keeps it.
+MeasurementIn ToMeasurement(const Dataset& d, size_t i) {
+  const Measurement& m = d.measurements[i];
   return MeasurementIn{d.campaigns[m.campaign].id,
                        m.stand,
                        m.position,
                        m.roll_id,
                        m.measured_at,
-                       m.wear_center_um};
+                       m.wear_center_um,
+                       ExtraFieldsOfRow(d.measurement_extra, i)};
 }
 
 Status CheckPasses(const Dataset& d) {
@@ -223,7 +229,8 @@ Status CheckDataset(const Dataset& d) {
 
 std::vector<StoredCoil> DatasetCoils(const Dataset& d) {
   std::vector<StoredCoil> coils(d.coil_ids.size());
-  for (const Pass& p : d.passes) {
+  for (size_t i = 0; i < d.passes.size(); ++i) {
+    const Pass& p = d.passes[i];
     StoredCoil& c = coils[p.coil];
     if (c.coil_id.empty()) {
       c.coil_id = d.coil_ids[p.coil];
@@ -232,7 +239,8 @@ std::vector<StoredCoil> DatasetCoils(const Dataset& d) {
       c.grade = d.grades[p.grade];
     }
     c.passes.push_back(
-        StoredPass{static_cast<const PassMeasures&>(p), p.rolled_at});
+        StoredPass{static_cast<const PassMeasures&>(p), p.rolled_at,
+                   ExtraFieldsOfRow(d.pass_extra, i)});
   }
   for (StoredCoil& c : coils) {
     std::stable_sort(c.passes.begin(), c.passes.end(),
@@ -262,7 +270,8 @@ StatusOr<ImportPlan> PlanImport(const Dataset& d,
     }
     const CampaignRec& rec = it->second;
     if (rec.started_at != c.started_at || !rec.ended_at.has_value() ||
-        *rec.ended_at != c.ended_at) {
+        *rec.ended_at != c.ended_at ||
+        rec.extra != ExtraFieldsOfRow(d.campaign_extra, i)) {
       return Status::AlreadyExists(
           Row("campaigns", i) + ".campaign_id: campaign " + c.id +
           " is already stored with different content (started_at " +
@@ -277,7 +286,7 @@ StatusOr<ImportPlan> PlanImport(const Dataset& d,
     const CampaignRec& rec = catalog.campaigns.at(d.campaigns[m.campaign].id);
     const auto& stored = rec.mounts[RollPositionSlot(m.stand, m.position)];
     if (!stored.has_value()) continue;
-    if (!SameMount(*stored, ToMount(d, m))) {
+    if (!SameMount(*stored, ToMount(d, i))) {
       return Status::AlreadyExists(Row("mounts", i) + ": " +
                                    RollPositionName(m.stand, m.position) +
                                    " of campaign " + rec.id +
@@ -298,7 +307,7 @@ StatusOr<ImportPlan> PlanImport(const Dataset& d,
       ++plan.num_measurements;
       continue;
     }
-    if (!SameMeasurement(*stored, ToMeasurement(d, m))) {
+    if (!SameMeasurement(*stored, ToMeasurement(d, i))) {
       return Status::AlreadyExists(
           Row("measurements", i) + ": " +
           RollPositionName(m.stand, m.position) + " of campaign " + rec.id +
@@ -343,18 +352,19 @@ void ApplyImport(const Dataset& d, const std::vector<StoredCoil>& coils,
     rec.id = d.campaigns[i].id;
     rec.started_at = d.campaigns[i].started_at;
     rec.ended_at = d.campaigns[i].ended_at;
+    rec.extra = ExtraFieldsOfRow(d.campaign_extra, i);
     catalog->campaigns[rec.id] = std::move(rec);
   }
   for (size_t i = 0; i < d.mounts.size(); ++i) {
     if (!plan.new_mount[i]) continue;
     const Mount& m = d.mounts[i];
     const int slot = RollPositionSlot(m.stand, m.position);
-    catalog->campaigns[d.campaigns[m.campaign].id].mounts[slot] = ToMount(d, m);
+    catalog->campaigns[d.campaigns[m.campaign].id].mounts[slot] = ToMount(d, i);
     catalog->positions_seen |= 1u << slot;
   }
   for (size_t i = 0; i < d.measurements.size(); ++i) {
     if (!plan.new_measurement[i]) continue;
-    ApplyMeasurement(ToMeasurement(d, d.measurements[i]), catalog);
+    ApplyMeasurement(ToMeasurement(d, i), catalog);
   }
   if (speculative) {
     for (size_t i = 0; i < coils.size(); ++i) {

@@ -183,9 +183,10 @@ struct RollWearHistory {
   double final_predicted_um = 0;      // under the active model
   std::optional<double> measured_um;  // grinder's centre wear, if measured
   // Measured rolls: what the grinder is expected to read, the final
-  // predicted wear plus the active model's measurement terms (cooling_h;
-  // a term on a measurement's extra column adds 0 here, the API carries no
-  // extra columns). Equals final_predicted_um without measurement terms.
+  // predicted wear plus the active model's measurement terms (cooling_h, or
+  // a measurement's extra field as stored with it; a term whose field the
+  // measurement lacks adds 0). Equals final_predicted_um without
+  // measurement terms.
   double expected_reading_um = 0;
 };
 struct CampaignWearHistory {

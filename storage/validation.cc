@@ -39,7 +39,8 @@ StoredCoil CanonicalCoil(const CoilIn& in) {
   c.seq = in.seq;
   c.grade = in.grade;
   for (const PassIn& p : in.passes) {
-    c.passes.push_back(StoredPass{p, in.rolled_at});
+    c.passes.push_back(
+        StoredPass{p, in.rolled_at, MergedExtraFields(in.extra, p.extra)});
   }
   std::stable_sort(c.passes.begin(), c.passes.end(),
                    [](const StoredPass& a, const StoredPass& b) {
@@ -49,19 +50,23 @@ StoredCoil CanonicalCoil(const CoilIn& in) {
 }
 
 PassInput ToPassInput(const std::string& grade, const StoredPass& p) {
-  return PassInputFromRow(grade, p);
+  PassInput in = PassInputFromRow(grade, p);
+  in.extra = p.extra;
+  return in;
 }
 
 bool SameMount(const MountedRollIn& a, const MountedRollIn& b) {
   return a.stand == b.stand && a.position == b.position &&
          a.roll_id == b.roll_id && a.roll_type == b.roll_type &&
-         a.diameter_mm == b.diameter_mm && a.hardness_hb == b.hardness_hb;
+         a.diameter_mm == b.diameter_mm && a.hardness_hb == b.hardness_hb &&
+         a.extra == b.extra;
 }
 
 bool SameMeasurement(const MeasurementIn& a, const MeasurementIn& b) {
   return a.campaign_id == b.campaign_id && a.stand == b.stand &&
          a.position == b.position && a.roll_id == b.roll_id &&
-         a.measured_at == b.measured_at && a.wear_center_um == b.wear_center_um;
+         a.measured_at == b.measured_at &&
+         a.wear_center_um == b.wear_center_um && a.extra == b.extra;
 }
 
 std::vector<std::string> PositionLabels(uint32_t mask) {
@@ -104,7 +109,7 @@ Status AdmitRollChange(const Catalog& c, const RollChangeIn& in,
                        bool* unchanged) {
   *unchanged = false;
   if (const CampaignRec* rec = FindCampaign(c, in.campaign_id)) {
-    bool same = rec->started_at == in.started_at;
+    bool same = rec->started_at == in.started_at && rec->extra == in.extra;
     int mounted = 0;
     for (const auto& m : rec->mounts) mounted += m.has_value() ? 1 : 0;
     same = same && mounted == static_cast<int>(in.rolls.size());
@@ -140,6 +145,7 @@ void ApplyRollChange(const RollChangeIn& in, Catalog* c) {
   CampaignRec rec;
   rec.id = in.campaign_id;
   rec.started_at = in.started_at;
+  rec.extra = in.extra;
   for (const MountedRollIn& r : in.rolls) {
     const int slot = RollPositionSlot(r.stand, r.position);
     rec.mounts[slot] = r;
