@@ -22,6 +22,7 @@
 #include "service/cpu_latency.h"
 #include "service/jobs/diagnosis_jobs.h"
 #include "service/jobs/scheduler.h"
+#include "storage/db_lock.h"
 #include "storage/mill_store.h"
 
 namespace rollwear::cli {
@@ -103,6 +104,15 @@ int RunServe(const ServeArgs& args) {
         config.cpu_wakeup_latency_us, kCpuLatencyReleaseAfter.count());
   }
 
+  // Held until serve returns: `rollwear import` into this database is
+  // refused meanwhile (storage/db_lock.h).
+  StatusOr<storage::DatabaseLock> db_lock =
+      storage::DatabaseLock::Acquire(config.db, "rollwear serve");
+  if (!db_lock.ok()) {
+    std::fprintf(stderr, "rollwear serve: %s\n",
+                 db_lock.status().message().c_str());
+    return 1;
+  }
   storage::StoreOptions store_options;
   store_options.default_law = config.model;
   store_options.default_option = config.option;

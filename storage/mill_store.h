@@ -31,6 +31,7 @@
 
 #include "core/base/status.h"
 #include "core/dataset/dataset.h"
+#include "core/dataset/dataset_io.h"
 #include "core/model/wear_model.h"
 #include "storage/store_types.h"
 
@@ -71,8 +72,15 @@ class MillStore {
 
   // Everything stored, as a core dataset (for calibration and diagnosis).
   virtual StatusOr<Dataset> ExportDataset() const = 0;
-  // Loads a dataset folder's content all-or-nothing (rollwear import).
-  virtual Status ImportDataset(const Dataset& data) = 0;
+  // Loads a dataset folder's content all-or-nothing (rollwear import). With
+  // `lines` (ReadDataset's, may be null) a conflict with stored content
+  // names the file and line of the row; `counts` (may be null) receives per
+  // table what was added and what was already stored alike.
+  virtual Status ImportDataset(const Dataset& data, const DatasetLines* lines,
+                               ImportCounts* counts) = 0;
+  Status ImportDataset(const Dataset& data) {
+    return ImportDataset(data, nullptr, nullptr);
+  }
 
   // Models.
   virtual StatusOr<ModelVersion> ActiveModel() const = 0;
