@@ -168,6 +168,45 @@ size_t DifferingRow(const Dataset& d, const StoredCoil& mine,
   return first;
 }
 
+// The measurements: rules, campaign end, keys and their mounts (`mount_of`:
+// campaign * kNumRollPositionSlots + slot -> mount index or -1).
+Status CheckMeasurements(const Dataset& d, const std::vector<int>& mount_of) {
+  std::vector<char> measured(mount_of.size(), 0);
+  for (size_t i = 0; i < d.measurements.size(); ++i) {
+    const Measurement& m = d.measurements[i];
+    const std::string at = Row("measurements", i) + ".";
+    if (!InRange(m.campaign, d.campaigns.size())) {
+      return Bad(at + "campaign_id", "unknown campaign (index out of range)");
+    }
+    ROLLWEAR_RETURN_IF_ERROR(
+        FirstBroken(MeasurementRules(d.campaigns[m.campaign].id, m.stand,
+                                     m.position, m.roll_id, m.wear_center_um),
+                    at));
+    const Campaign& campaign = d.campaigns[m.campaign];
+    ROLLWEAR_RETURN_IF_ERROR(FirstBroken(
+        MeasurementTimeRules(campaign.id, m.measured_at, campaign.ended_at),
+        at));
+    const size_t key = m.campaign * kNumRollPositionSlots +
+                       RollPositionSlot(m.stand, m.position);
+    const std::string where = RollPositionName(m.stand, m.position) +
+                              " of campaign " + d.campaigns[m.campaign].id;
+    if (measured[key]) {
+      return Bad(at + "position",
+                 "duplicate key (campaign_id, stand, position): " + where);
+    }
+    measured[key] = 1;
+    if (mount_of[key] < 0) {
+      return Bad(at + "stand", "no mount for " + where);
+    }
+    if (d.mounts[mount_of[key]].roll_id != m.roll_id) {
+      return Bad(at + "roll_id",
+                 "roll_id must match the mount: " + where + " mounted " +
+                     d.mounts[mount_of[key]].roll_id + ", got " + m.roll_id);
+    }
+  }
+  return Status::Ok();
+}
+
 }  // namespace
 
 Status CheckDataset(const Dataset& d) {
@@ -223,39 +262,7 @@ Status CheckDataset(const Dataset& d) {
     mounted[m.campaign] |= 1u << RollPositionSlot(m.stand, m.position);
   }
   ROLLWEAR_RETURN_IF_ERROR(CheckPasses(d, mounted));
-  std::vector<char> measured(mount_of.size(), 0);
-  for (size_t i = 0; i < d.measurements.size(); ++i) {
-    const Measurement& m = d.measurements[i];
-    const std::string at = Row("measurements", i) + ".";
-    if (!InRange(m.campaign, d.campaigns.size())) {
-      return Bad(at + "campaign_id", "unknown campaign (index out of range)");
-    }
-    ROLLWEAR_RETURN_IF_ERROR(
-        FirstBroken(MeasurementRules(d.campaigns[m.campaign].id, m.stand,
-                                     m.position, m.roll_id, m.wear_center_um),
-                    at));
-    const Campaign& campaign = d.campaigns[m.campaign];
-    ROLLWEAR_RETURN_IF_ERROR(FirstBroken(
-        MeasurementTimeRules(campaign.id, m.measured_at, campaign.ended_at),
-        at));
-    const size_t key = m.campaign * kNumRollPositionSlots +
-                       RollPositionSlot(m.stand, m.position);
-    const std::string where = RollPositionName(m.stand, m.position) +
-                              " of campaign " + d.campaigns[m.campaign].id;
-    if (measured[key]) {
-      return Bad(at + "position",
-                 "duplicate key (campaign_id, stand, position): " + where);
-    }
-    measured[key] = 1;
-    if (mount_of[key] < 0) {
-      return Bad(at + "stand", "no mount for " + where);
-    }
-    if (d.mounts[mount_of[key]].roll_id != m.roll_id) {
-      return Bad(at + "roll_id",
-                 "roll_id must match the mount: " + where + " mounted " +
-                     d.mounts[mount_of[key]].roll_id + ", got " + m.roll_id);
-    }
-  }
+  ROLLWEAR_RETURN_IF_ERROR(CheckMeasurements(d, mount_of));
   ROLLWEAR_RETURN_IF_ERROR(
       CheckExtras(d.campaign_extra, d.campaigns.size(), "campaigns"));
   ROLLWEAR_RETURN_IF_ERROR(
@@ -287,6 +294,52 @@ std::vector<StoredCoil> DatasetCoils(const Dataset& d) {
   }
   return coils;
 }
+
+namespace {
+
+// PlanImport's coils: each new, or stored alike (skipped), or a conflict.
+Status PlanCoils(const Dataset& d, const DatasetLines& lines,
+                 const std::vector<StoredCoil>& coils, const Catalog& catalog,
+                 const CoilLookup& lookup_coil, const SeqLookup& lookup_seq,
+                 ImportPlan* out) {
+  ImportPlan& plan = *out;
+  std::vector<size_t> first_pass(coils.size(), 0);  // coil -> its first row
+  for (size_t r = d.passes.size(); r-- > 0;) first_pass[d.passes[r].coil] = r;
+  for (size_t i = 0; i < coils.size(); ++i) {
+    const StoredCoil& coil = coils[i];
+    auto at = [&](const char* field) {
+      return Locate(lines.passes, d.passes.size(), "coils.csv", "passes",
+                    first_pass[i], field);
+    };
+    StatusOr<std::optional<StoredCoil>> stored = lookup_coil(coil.coil_id);
+    if (!stored.ok()) return stored.status();
+    if (stored->has_value()) {
+      if (**stored != coil) {
+        first_pass[i] = DifferingRow(d, coil, **stored, first_pass[i]);
+        return Status::AlreadyExists(at("coil_id") + ": coil " + coil.coil_id +
+                                     " is already stored with different "
+                                     "content");
+      }
+      plan.new_coil[i] = 0;
+      continue;
+    }
+    if (catalog.campaigns.count(coil.campaign_id) > 0) {
+      StatusOr<std::optional<std::string>> owner =
+          lookup_seq(coil.campaign_id, coil.seq);
+      if (!owner.ok()) return owner.status();
+      if (owner->has_value()) {
+        return Status::FailedPrecondition(
+            at("seq") + ": seq " + std::to_string(coil.seq) + " of campaign " +
+            coil.campaign_id + " is already used by coil " + **owner +
+            " (this is coil " + coil.coil_id + ")");
+      }
+    }
+    ++plan.num_coils;
+  }
+  return Status::Ok();
+}
+
+}  // namespace
 
 StatusOr<ImportPlan> PlanImport(const Dataset& d, const DatasetLines* where,
                                 const std::vector<StoredCoil>& coils,
@@ -359,39 +412,8 @@ StatusOr<ImportPlan> PlanImport(const Dataset& d, const DatasetLines* where,
     }
     plan.new_measurement[i] = 0;
   }
-  std::vector<size_t> first_pass(coils.size(), 0);  // coil -> its first row
-  for (size_t r = d.passes.size(); r-- > 0;) first_pass[d.passes[r].coil] = r;
-  for (size_t i = 0; i < coils.size(); ++i) {
-    const StoredCoil& coil = coils[i];
-    auto at = [&](const char* field) {
-      return Locate(lines.passes, d.passes.size(), "coils.csv", "passes",
-                    first_pass[i], field);
-    };
-    StatusOr<std::optional<StoredCoil>> stored = lookup_coil(coil.coil_id);
-    if (!stored.ok()) return stored.status();
-    if (stored->has_value()) {
-      if (**stored != coil) {
-        first_pass[i] = DifferingRow(d, coil, **stored, first_pass[i]);
-        return Status::AlreadyExists(at("coil_id") + ": coil " + coil.coil_id +
-                                     " is already stored with different "
-                                     "content");
-      }
-      plan.new_coil[i] = 0;
-      continue;
-    }
-    if (catalog.campaigns.count(coil.campaign_id) > 0) {
-      StatusOr<std::optional<std::string>> owner =
-          lookup_seq(coil.campaign_id, coil.seq);
-      if (!owner.ok()) return owner.status();
-      if (owner->has_value()) {
-        return Status::FailedPrecondition(
-            at("seq") + ": seq " + std::to_string(coil.seq) + " of campaign " +
-            coil.campaign_id + " is already used by coil " + **owner +
-            " (this is coil " + coil.coil_id + ")");
-      }
-    }
-    ++plan.num_coils;
-  }
+  ROLLWEAR_RETURN_IF_ERROR(
+      PlanCoils(d, lines, coils, catalog, lookup_coil, lookup_seq, &plan));
   return plan;
 }
 
