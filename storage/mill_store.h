@@ -16,7 +16,7 @@
 // model/calibration), AlreadyExists (same key, other content),
 // FailedPrecondition (well-formed but inconsistent: coil for an ended
 // campaign, stand with no mounted roll, measurement for a roll not mounted
-// there), Unavailable (database not writable: disk full, read-only),
+// there, for a campaign still running or taken before its end), Unavailable (database not writable: disk full, read-only),
 // IoError (other database failures).
 //
 // Thread-safety: all methods are thread-safe.
