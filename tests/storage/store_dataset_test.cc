@@ -255,6 +255,28 @@ TEST(StoreDatasetTest, ConflictWithStoredContentNamesTheKey) {
   EXPECT_NE(s.message().find("campaigns.csv:3 campaign_id: campaign C2"),
             std::string::npos)
       << s.message();
+  ExpectUnchanged(store.get(), *before, counters);
+
+  next = ReadTiny();
+  next.mounts[0].diameter_mm += 1;  // R601, C1, F6/top
+  s = store->ImportDataset(next, &lines, nullptr);
+  EXPECT_EQ(s.code(), StatusCode::kAlreadyExists);
+  EXPECT_EQ(s.message(),
+            "mounts.csv:2 stand: F6/top of campaign C1 is already stored with "
+            "different content");
+  ExpectUnchanged(store.get(), *before, counters);
+
+  next = ReadTiny();
+  next.coil_ids[1] = "K9";  // K1003 (seq 3 of C1, first on line 4) renamed
+  s = store->ImportDataset(next, &lines, nullptr);
+  EXPECT_EQ(s.code(), StatusCode::kFailedPrecondition);
+  EXPECT_EQ(s.message(),
+            "coils.csv:4 seq: seq 3 of campaign C1 is already used by coil "
+            "K1003 (this is coil K9)");
+  ExpectUnchanged(store.get(), *before, counters);
+
+  next = ReadTiny();
+  next.campaigns[1].ended_at += 1;
   // Without lines (a dataset built in code) the row is named by index.
   s = store->ImportDataset(next);
   EXPECT_NE(s.message().find("campaigns[1].campaign_id: campaign C2"),
