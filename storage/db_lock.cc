@@ -43,17 +43,16 @@ StatusOr<DatabaseLock> DatabaseLock::Acquire(const std::string& db_path,
     ::close(fd);
     if (err == EWOULDBLOCK) {
       return Status::FailedPrecondition(
-          "database " + db_path + " is in use by " + who +
-          " (lock " + path + "): stop it first, or send the data to the "
+          "database " + db_path + " is in use by " + who + " (lock " + path +
+          "): stop it first, or send the data to the "
           "running daemon through its API (rollwear replay)");
     }
     return Status::IoError("cannot lock " + path + ": " + std::strerror(err));
   }
   const std::string text =
       std::string(holder) + ", pid " + std::to_string(::getpid()) + "\n";
-  if (::ftruncate(fd, 0) != 0 ||
-      ::pwrite(fd, text.data(), text.size(), 0) !=
-          static_cast<ssize_t>(text.size())) {
+  if (::ftruncate(fd, 0) != 0 || ::pwrite(fd, text.data(), text.size(), 0) !=
+                                     static_cast<ssize_t>(text.size())) {
     // The lock holds without its label; messages then say "another process".
   }
   return DatabaseLock(fd);

@@ -18,9 +18,8 @@ std::string Row(const char* table, size_t i) {
 // Field `field` of row i of a table of `rows` rows: "measurements.csv:5
 // wear_center_um" when the dataset was read from files (one line per row
 // known), else "measurements[4].wear_center_um".
-std::string Locate(const std::vector<int>& lines, size_t rows,
-                   const char* file, const char* table, size_t i,
-                   const char* field) {
+std::string Locate(const std::vector<int>& lines, size_t rows, const char* file,
+                   const char* table, size_t i, const char* field) {
   if (lines.size() == rows && i < rows) {
     return std::string(file) + ":" + std::to_string(lines[i]) + " " + field;
   }
@@ -109,10 +108,10 @@ Status CheckPasses(const Dataset& d, const std::vector<uint32_t>& mounted) {
                                  p.seq, d.grades[p.grade]),
                     at, where));
     ROLLWEAR_RETURN_IF_ERROR(FirstBroken(PassRules(p), at, where));
-    ROLLWEAR_RETURN_IF_ERROR(FirstBroken(
-        PassMountRules(p.stand, d.campaigns[p.campaign].id,
-                       mounted[p.campaign]),
-        at, where));
+    ROLLWEAR_RETURN_IF_ERROR(
+        FirstBroken(PassMountRules(p.stand, d.campaigns[p.campaign].id,
+                                   mounted[p.campaign]),
+                    at, where));
     CoilInfo& info = coils[p.coil];
     if (info.first_row < 0) {
       info = CoilInfo{p.campaign, p.seq, p.grade, static_cast<int>(i), 0};
@@ -152,7 +151,8 @@ Status CheckPasses(const Dataset& d, const std::vector<uint32_t>& mounted) {
 size_t DifferingRow(const Dataset& d, const StoredCoil& mine,
                     const StoredCoil& stored, size_t first) {
   if (mine.campaign_id != stored.campaign_id || mine.seq != stored.seq ||
-      mine.grade != stored.grade || mine.passes.size() != stored.passes.size()) {
+      mine.grade != stored.grade ||
+      mine.passes.size() != stored.passes.size()) {
     return first;
   }
   for (size_t k = 0; k < mine.passes.size(); ++k) {
@@ -380,12 +380,11 @@ StatusOr<ImportPlan> PlanImport(const Dataset& d, const DatasetLines* where,
     const auto& stored = rec.mounts[RollPositionSlot(m.stand, m.position)];
     if (!stored.has_value()) continue;
     if (!SameMount(*stored, ToMount(d, m))) {
-      return Status::AlreadyExists(Locate(lines.mounts, d.mounts.size(),
-                                          "mounts.csv", "mounts", i, "stand") +
-                                   ": " +
-                                   RollPositionName(m.stand, m.position) +
-                                   " of campaign " + rec.id +
-                                   " is already stored with different content");
+      return Status::AlreadyExists(
+          Locate(lines.mounts, d.mounts.size(), "mounts.csv", "mounts", i,
+                 "stand") +
+          ": " + RollPositionName(m.stand, m.position) + " of campaign " +
+          rec.id + " is already stored with different content");
     }
     plan.new_mount[i] = 0;
   }
@@ -404,11 +403,10 @@ StatusOr<ImportPlan> PlanImport(const Dataset& d, const DatasetLines* where,
     }
     if (!SameMeasurement(*stored, ToMeasurement(d, m))) {
       return Status::AlreadyExists(
-          Locate(lines.measurements, d.measurements.size(),
-                 "measurements.csv", "measurements", i, "campaign_id") +
-          ": " +
-          RollPositionName(m.stand, m.position) + " of campaign " + rec.id +
-          " is already measured with different content");
+          Locate(lines.measurements, d.measurements.size(), "measurements.csv",
+                 "measurements", i, "campaign_id") +
+          ": " + RollPositionName(m.stand, m.position) + " of campaign " +
+          rec.id + " is already measured with different content");
     }
     plan.new_measurement[i] = 0;
   }

@@ -22,9 +22,9 @@
 #include <string>
 #include <vector>
 
+#include "core/base/status.h"
 #include "core/dataset/dataset.h"
 #include "core/dataset/dataset_io.h"
-#include "core/base/status.h"
 #include "storage/store_state.h"
 
 namespace rollwear::storage::internal {

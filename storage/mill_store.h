@@ -16,8 +16,9 @@
 // model/calibration), AlreadyExists (same key, other content),
 // FailedPrecondition (well-formed but inconsistent: coil for an ended
 // campaign, stand with no mounted roll, measurement for a roll not mounted
-// there, for a campaign still running or taken before its end), Unavailable (database not writable: disk full, read-only),
-// IoError (other database failures).
+// there, for a campaign still running or taken before its end), Unavailable
+// (database not writable: disk full, read-only), IoError (other database
+// failures).
 //
 // Thread-safety: all methods are thread-safe.
 #ifndef ROLLWEAR_STORAGE_MILL_STORE_H_

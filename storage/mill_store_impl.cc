@@ -186,9 +186,9 @@ Status MillStoreImpl::AdmitLocked(WriteItem* item, bool* immediate) {
         return LookupSeq(lookup_db_.get(), campaign, seq);
       };
       ROLLWEAR_ASSIGN_OR_RETURN(
-          item->plan, PlanImport(*item->dataset, item->lines,
-                                 item->dataset_coils, spec_,
-                                 lookup_coil, lookup_seq));
+          item->plan,
+          PlanImport(*item->dataset, item->lines, item->dataset_coils, spec_,
+                     lookup_coil, lookup_seq));
       ApplyImport(*item->dataset, item->dataset_coils, item->plan,
                   /*speculative=*/true, &spec_);
       break;

@@ -208,10 +208,10 @@ Status AdmitCoil(const Catalog& c, const CoilIn& in, const StoredCoil& coil,
     if (rec->mounts[slot].has_value()) mounted |= 1u << slot;
   }
   for (size_t i = 0; i < in.passes.size(); ++i) {
-    ROLLWEAR_RETURN_IF_ERROR(Inconsistent(
-        PassMountRules(in.passes[i].stand, in.campaign_id, mounted,
-                       static_cast<int>(i)),
-        "passes"));
+    ROLLWEAR_RETURN_IF_ERROR(
+        Inconsistent(PassMountRules(in.passes[i].stand, in.campaign_id, mounted,
+                                    static_cast<int>(i)),
+                     "passes"));
   }
   if (c.open_campaign == in.campaign_id) {
     auto owner = c.open_seqs.find(in.seq);

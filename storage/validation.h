@@ -9,8 +9,8 @@
 //    is AlreadyExists; an unknown campaign is NotFound; a state that does
 //    not allow the write (ended campaign, no roll mounted, roll not mounted
 //    there, seq taken, a measurement of a running campaign or before its
-//    end) is FailedPrecondition, its message starting with the field. On success Apply* records the
-//    write in a catalog.
+//    end) is FailedPrecondition, its message starting with the field. On
+//    success Apply* records the write in a catalog.
 //
 // Thread-safety: pure functions of their arguments.
 #ifndef ROLLWEAR_STORAGE_VALIDATION_H_

@@ -245,7 +245,8 @@ Status ReadMeasurements(const FileView& f, LabelIndex* campaigns,
                                     m.position, roll_id, m.wear_center_um)));
     const Campaign& campaign = d->campaigns[m.campaign];
     ROLLWEAR_RETURN_IF_ERROR(f.Check(
-        r, MeasurementTimeRules(campaign.id, m.measured_at, campaign.ended_at)));
+        r,
+        MeasurementTimeRules(campaign.id, m.measured_at, campaign.ended_at)));
     const size_t key = m.campaign * kNumRollPositionSlots +
                        RollPositionSlot(m.stand, m.position);
     const std::string where = RollPositionName(m.stand, m.position) +
@@ -304,8 +305,8 @@ StatusOr<Dataset> ParseDataset(std::string (&texts)[kNumDatasetFiles],
       ReadCampaigns(files[kCampaignsFile], &d, &campaigns, &lines->campaigns));
   ROLLWEAR_RETURN_IF_ERROR(ReadMounts(files[kMountsFile], &campaigns, &d,
                                       &mount_of, &lines->mounts));
-  ROLLWEAR_RETURN_IF_ERROR(ReadCoils(files[kCoilsFile], &campaigns, mount_of,
-                                     &d, &lines->passes));
+  ROLLWEAR_RETURN_IF_ERROR(
+      ReadCoils(files[kCoilsFile], &campaigns, mount_of, &d, &lines->passes));
   ROLLWEAR_RETURN_IF_ERROR(ReadMeasurements(files[kMeasurementsFile],
                                             &campaigns, mount_of, &d,
                                             &lines->measurements));

@@ -135,9 +135,9 @@ RuleViolations PassMountRules(int stand, std::string_view campaign_id,
 // (`campaign_ended_at` is empty while it runs: field campaign_id) and
 // measured_at is not before the end (field measured_at, value cited): the
 // grinder measures a roll after it was taken out.
-RuleViolations MeasurementTimeRules(std::string_view campaign_id,
-                                    UnixSeconds measured_at,
-                                    std::optional<UnixSeconds> campaign_ended_at);
+RuleViolations MeasurementTimeRules(
+    std::string_view campaign_id, UnixSeconds measured_at,
+    std::optional<UnixSeconds> campaign_ended_at);
 
 }  // namespace rollwear
 

@@ -140,9 +140,10 @@ std::string StudyMarkdown(const StudyReport& r) {
   std::string out = StudyDatasetMarkdown(r);
   auto table = [&out](const char* caption, const std::vector<StudyRow>& rows) {
     out += caption;
-    out += "\n\n| law | option | start | derivatives | params | cost start µm² | "
-           "cost µm² | gap train µm | gap val µm | bias pred >300 µm (n) | iter | "
-           "evals | s | status |\n";
+    out +=
+        "\n\n| law | option | start | derivatives | params | cost start µm² | "
+        "cost µm² | gap train µm | gap val µm | bias pred >300 µm (n) | iter | "
+        "evals | s | status |\n";
     out += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const StudyRow& w : rows) {
       char line[512];

@@ -195,9 +195,9 @@ TEST(CalibrationTest, BiasAbove300IsSelectedByPredictedWear) {
       << all_by_pred.mean << " se " << all_by_pred.se;
   EXPECT_GT(all_by_meas.mean, 3 * all_by_meas.se)
       << "selecting by measured wear should show the spurious bias: "
-      << all_by_meas.mean << " se " << all_by_meas.se << " n "
-      << all_by_meas.n << "; by predicted wear " << all_by_pred.mean << " se "
-      << all_by_pred.se << " n " << all_by_pred.n;
+      << all_by_meas.mean << " se " << all_by_meas.se << " n " << all_by_meas.n
+      << "; by predicted wear " << all_by_pred.mean << " se " << all_by_pred.se
+      << " n " << all_by_pred.n;
 }
 
 TEST(CalibrationTest, ReportedGaugeHasUnitGeometricMeans) {

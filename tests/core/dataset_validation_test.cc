@@ -94,8 +94,9 @@ TEST_F(DatasetRejects, MissingRequiredColumn) {
 
 TEST_F(DatasetRejects, EmptyFileSaysItIsEmpty) {
   t_.campaigns = "";
-  Expect({"campaigns.csv:1:1 file: the file is empty; want a header row "
-          "(campaign_id,started_at,ended_at)"});
+  Expect(
+      {"campaigns.csv:1:1 file: the file is empty; want a header row "
+       "(campaign_id,started_at,ended_at)"});
   t_ = TinyTexts();
   t_.measurements = "\n\n";
   Expect({"measurements.csv:1:1 file: the file is empty"});
@@ -115,19 +116,22 @@ std::string AsSpreadsheetExport(std::string text) {
 
 TEST_F(DatasetRejects, SpreadsheetExportIsNamed) {
   t_.mounts = AsSpreadsheetExport(t_.mounts);
-  Expect({"mounts.csv:1:1 file: looks like a spreadsheet export with ';' and "
-          "decimal commas: export as CSV with ',' and '.'"});
+  Expect(
+      {"mounts.csv:1:1 file: looks like a spreadsheet export with ';' and "
+       "decimal commas: export as CSV with ',' and '.'"});
   // Without a decimal in the file, only the separator is named.
   t_ = TinyTexts();
   t_.campaigns = AsSpreadsheetExport(t_.campaigns);
-  Expect({"campaigns.csv:1:1 file: looks like a spreadsheet export with ';': "
-          "export as CSV with ',' and '.'"});
+  Expect(
+      {"campaigns.csv:1:1 file: looks like a spreadsheet export with ';': "
+       "export as CSV with ',' and '.'"});
 }
 
 TEST_F(DatasetRejects, DecimalCommaIsNamed) {
   SetField(&t_.coils, 2, "width_mm", "\"1250,5\"");
-  Expect({"coils.csv:2:8 width_mm: unparsable number '1250,5': decimal comma; "
-          "write numbers with '.'"});
+  Expect(
+      {"coils.csv:2:8 width_mm: unparsable number '1250,5': decimal comma; "
+       "write numbers with '.'"});
 }
 
 TEST_F(DatasetRejects, DuplicateColumnName) {
@@ -389,8 +393,9 @@ TEST_F(DatasetRejects, PassAtStandWithoutMountedRoll) {
   SetField(&t_.mounts, 5, "stand", "F5");  // R702,C1,bottom
   SetField(&t_.measurements, 4, "stand", "F5");
   SetField(&t_.measurements, 5, "stand", "F5");
-  Expect({"coils.csv:3:6 stand: no roll mounted at F7 in campaign C1; its "
-          "rolls are at F5/top, F5/bottom, F6/top, F6/bottom"});
+  Expect(
+      {"coils.csv:3:6 stand: no roll mounted at F7 in campaign C1; its "
+       "rolls are at F5/top, F5/bottom, F6/top, F6/bottom"});
 }
 
 TEST_F(DatasetRejects, OneRollAtTheStandIsEnough) {
@@ -407,9 +412,10 @@ TEST_F(DatasetRejects, MeasurementBeforeCampaignEnd) {
   SetField(&t_.measurements, 2, "measured_at", "2026-03-01T15:00:00+01:00");
   ExpectAccepted();
   SetField(&t_.measurements, 2, "measured_at", "2023-03-01T13:59:59Z");
-  Expect({"measurements.csv:2:5 measured_at: must not be before the end of "
-          "campaign C1 (2026-03-01T14:00:00Z): a roll is measured after it "
-          "is taken out, got '2023-03-01T13:59:59Z'"});
+  Expect(
+      {"measurements.csv:2:5 measured_at: must not be before the end of "
+       "campaign C1 (2026-03-01T14:00:00Z): a roll is measured after it "
+       "is taken out, got '2023-03-01T13:59:59Z'"});
 }
 
 TEST_F(DatasetRejects, MalformedQuoting) {
