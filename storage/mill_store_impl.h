@@ -72,6 +72,7 @@ struct WriteItem {
   std::string coil_wear;                  // kCoil, EncodeCoilWear(answer)
   MeasurementIn measurement;              // kMeasurement
   const Dataset* dataset = nullptr;       // kImport (owned by the caller)
+  const DatasetLines* lines = nullptr;    // kImport (caller's; may be null)
   std::vector<StoredCoil> dataset_coils;  // kImport
   ImportPlan plan;                        // kImport
   std::function<Status(Db*)> task;        // kTask: inside the transaction
@@ -120,7 +121,9 @@ class MillStoreImpl final : public MillStore {
   StatusOr<PositionWear> WearAt(int stand, Position position) const override;
 
   StatusOr<Dataset> ExportDataset() const override;
-  Status ImportDataset(const Dataset& data) override;
+  using MillStore::ImportDataset;
+  Status ImportDataset(const Dataset& data, const DatasetLines* lines,
+                       ImportCounts* counts) override;
 
   StatusOr<ModelVersion> ActiveModel() const override;
   std::vector<ModelVersion> ListModels() const override;

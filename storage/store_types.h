@@ -171,6 +171,16 @@ struct StoreCounters {
   int64_t commits = 0;  // group-commit transactions
 };
 
+// What an import found, per table: rows it added and rows already stored
+// with the same content (MillStore::ImportDataset).
+struct ImportTableCounts {
+  int64_t added = 0;
+  int64_t unchanged = 0;
+};
+struct ImportCounts {
+  ImportTableCounts campaigns, mounts, coils, measurements;
+};
+
 // Predicted wear of one roll along a campaign (MillStore::RecentWear).
 struct RollWearHistory {
   int stand = 0;

@@ -21,6 +21,13 @@ Status FirstBroken(const RuleViolations& broken, const char* list) {
   return Status::InvalidArgument(path + ": " + RuleMessage(v));
 }
 
+// The same as FailedPrecondition: the record is well-formed but does not
+// fit what is stored (api.md: 422).
+Status Inconsistent(const RuleViolations& broken, const char* list) {
+  const Status s = FirstBroken(broken, list);
+  return s.ok() ? s : Status::FailedPrecondition(s.message());
+}
+
 const CampaignRec* FindCampaign(const Catalog& c, const std::string& id) {
   auto it = c.campaigns.find(id);
   return it == c.campaigns.end() ? nullptr : &it->second;
@@ -202,14 +209,15 @@ Status AdmitCoil(const Catalog& c, const CoilIn& in, const StoredCoil& coil,
                                       in.campaign_id + " has ended (at " +
                                       FormatTimestamp(*rec->ended_at) + ")");
   }
+  uint32_t mounted = 0;
+  for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
+    if (rec->mounts[slot].has_value()) mounted |= 1u << slot;
+  }
   for (size_t i = 0; i < in.passes.size(); ++i) {
-    const int stand = in.passes[i].stand;
-    if (!rec->mounts[RollPositionSlot(stand, Position::kTop)] &&
-        !rec->mounts[RollPositionSlot(stand, Position::kBottom)]) {
-      return Status::FailedPrecondition(
-          "passes[" + std::to_string(i) + "].stand: no roll mounted at " +
-          StandName(stand) + " in campaign " + in.campaign_id);
-    }
+    ROLLWEAR_RETURN_IF_ERROR(
+        Inconsistent(PassMountRules(in.passes[i].stand, in.campaign_id, mounted,
+                                    static_cast<int>(i)),
+                     "passes"));
   }
   if (c.open_campaign == in.campaign_id) {
     auto owner = c.open_seqs.find(in.seq);
@@ -254,7 +262,8 @@ Status AdmitMeasurement(const Catalog& c, const MeasurementIn& in,
                                       " was not mounted at " + where +
                                       " (mounted: " + mount->roll_id + ")");
   }
-  return Status::Ok();
+  return Inconsistent(
+      MeasurementTimeRules(in.campaign_id, in.measured_at, rec->ended_at), "");
 }
 
 void ApplyMeasurement(const MeasurementIn& in, Catalog* c) {
