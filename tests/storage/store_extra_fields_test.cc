@@ -204,9 +204,14 @@ TEST(StoreExtraFieldsTest, TermsOnExtraFieldsRunLiveAsInBatchAcrossRestarts) {
   // expected reading = wear + 4 * (36 - 30) / 5.
   ASSERT_TRUE(store->EndCampaign("OPEN", kOpenStart + 7200).ok());
   MeasurementIn me = MakeMeasurement("OPEN", 6, Position::kTop, "R6T", 50);
+  me.measured_at = kOpenStart + 7200 + 3600;  // an hour after the end
   me.extra.numeric = {{"probe_temp_c", 36}};
-  EXPECT_EQ(*store->AddMeasurement(me), WriteOutcome::kCreated);
-  EXPECT_EQ(*store->AddMeasurement(me), WriteOutcome::kUnchanged);
+  StatusOr<WriteOutcome> created = store->AddMeasurement(me);
+  ASSERT_TRUE(created.ok()) << created.status().message();
+  EXPECT_EQ(*created, WriteOutcome::kCreated);
+  StatusOr<WriteOutcome> again = store->AddMeasurement(me);
+  ASSERT_TRUE(again.ok()) << again.status().message();
+  EXPECT_EQ(*again, WriteOutcome::kUnchanged);
   MeasurementIn me2 = me;
   me2.extra.numeric[0].second = 37;
   EXPECT_EQ(store->AddMeasurement(me2).status().code(), StatusCode::kAlreadyExists);
