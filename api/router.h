@@ -6,7 +6,9 @@
 //   {"error": {"code": "...", "message": "...", "field": "passes[1].force_kn"}}
 // HTTP status codes exist in the api layer only; HttpStatusFor() is the one
 // mapping from core's StatusCode. A rejected request never reaches a write
-// of the store, so it changes nothing.
+// of the store, so it changes nothing. router.cc holds the matching, the
+// token check, the dispatch, the asynchronous coil path, measurements and
+// metrics; router_handlers.cc the other endpoints; dashboard.cc the page.
 //
 // Thread-safety: Handle() is thread-safe (the store is; the router's own
 // state is immutable options and the lock-free Metrics).

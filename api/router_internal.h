@@ -1,0 +1,33 @@
+// Internal to the router (router.cc, router_handlers.cc): building answers,
+// the one translation of a store/core Status into an HTTP error, and the
+// parsing of integer path parameters.
+//
+// Thread-safety: stateless functions.
+#ifndef ROLLWEAR_API_ROUTER_INTERNAL_H_
+#define ROLLWEAR_API_ROUTER_INTERNAL_H_
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "api/codec.h"
+#include "api/router.h"
+#include "core/base/status.h"
+
+namespace rollwear::api::router_internal {
+
+// An answer with `status` and a JSON `body`.
+HttpResponse Answer(int status, std::string body);
+// The error answer of `e` (503 adds Retry-After, 401 WWW-Authenticate).
+HttpResponse Error(const ApiError& e);
+HttpResponse Error(int status, std::string code, std::string message,
+                   std::string field = "");
+// The one translation of a store/core error into an HTTP error answer. A
+// bad field (400) and an inconsistent one (422) name it.
+HttpResponse FromStatus(const Status& status);
+// A whole decimal int64 (no sign other than '-', no spaces).
+bool ParseInt64(std::string_view text, int64_t* out);
+
+}  // namespace rollwear::api::router_internal
+
+#endif  // ROLLWEAR_API_ROUTER_INTERNAL_H_
