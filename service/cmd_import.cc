@@ -3,9 +3,10 @@
 // all-or-nothing: the folder is read and validated completely first (the
 // first broken rule is reported as file:line:column), its data quality is
 // printed (service/data_quality_cli.h), then it is stored in one
-// transaction; a rejected dataset changes nothing. The database cannot keep
-// a measurement flagged as suspect yet, so a folder with a suspect
-// measurement is refused (the other warnings only refuse under --strict).
+// transaction; a rejected dataset changes nothing. A suspect measurement is
+// stored flagged (the store judges the folder by the same rules,
+// storage/mill_store.h) and left out of the daemon's fitting; --strict
+// refuses a folder with any warning instead.
 #include <chrono>
 #include <cstdio>
 #include <memory>
@@ -24,14 +25,6 @@ int RunImport(const ImportArgs& args) {
   if (ReadCheckedDataset("import", dir, args.strict, &checked) != 0) {
     std::fprintf(stderr, "rollwear import: %s: nothing imported\n",
                  dir.c_str());
-    return 1;
-  }
-  if (const int n = checked.quality.NumSuspect(); n > 0) {
-    std::fprintf(stderr,
-                 "rollwear import: %s: %d suspect measurement(s) (listed "
-                 "above); the database cannot keep them flagged yet: correct "
-                 "or remove them (nothing imported)\n",
-                 dir.c_str(), n);
     return 1;
   }
   const Dataset* data = &checked.all;
@@ -60,6 +53,12 @@ int RunImport(const ImportArgs& args) {
       data->coil_ids.size(), data->measurements.size(), seconds,
       static_cast<long long>(c.campaigns), static_cast<long long>(c.coils),
       static_cast<long long>(c.measurements));
+  if (const int n = checked.quality.NumSuspect(); n > 0) {
+    std::printf(
+        "%d suspect measurement(s) stored flagged (listed above): "
+        "kept, left out of calibration and diagnosis\n",
+        n);
+  }
   return 0;
 }
 

@@ -62,7 +62,16 @@ class MillStore {
   using Executor = std::function<void(std::function<void()>)>;
   virtual void AddCoilAsync(const CoilIn& in, CoilDone done,
                             const Executor& blocking) = 0;
-  virtual StatusOr<WriteOutcome> AddMeasurement(const MeasurementIn& in) = 0;
+  // A valid number that cannot be physical wear is stored flagged, not
+  // refused: core's rules (core/dataset/data_quality.h) judge it on the
+  // stored data plus it (in.suspect is ignored). `suspect` (may be null)
+  // receives its flag, "<kind>: <reason>" or "" when plausible; for a
+  // repeat, the flag stored with the first post.
+  virtual StatusOr<WriteOutcome> AddMeasurement(const MeasurementIn& in,
+                                                std::string* suspect) = 0;
+  StatusOr<WriteOutcome> AddMeasurement(const MeasurementIn& in) {
+    return AddMeasurement(in, nullptr);
+  }
 
   // The rolls of the open campaign (none once it has ended and no roll
   // change has followed).
@@ -71,7 +80,11 @@ class MillStore {
 
   // Everything stored, as a core dataset (for calibration and diagnosis).
   virtual StatusOr<Dataset> ExportDataset() const = 0;
-  // Loads a dataset folder's content all-or-nothing (rollwear import).
+  // The stored data as calibration and diagnosis fit it: suspects (stored
+  // flags, and core's rules on the stored data) out, with their report.
+  virtual StatusOr<FittingData> ReadFittingData() const = 0;
+  // Loads a dataset folder's content all-or-nothing (rollwear import); the
+  // measurements core's rules flag on `data` are stored flagged.
   virtual Status ImportDataset(const Dataset& data) = 0;
 
   // Models.

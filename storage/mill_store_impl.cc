@@ -8,6 +8,7 @@
 
 #include "storage/model_levels.h"
 #include "storage/schema.h"
+#include "storage/store_quality.h"
 #include "storage/store_sql.h"
 #include "storage/validation.h"
 
@@ -50,6 +51,7 @@ Status MillStoreImpl::Init(const std::string& path) {
   counters_.measurements = counts.measurements;
   counters_.measurements_since_last_calibration =
       counts.measurements_since_last_calibration;
+  counters_.suspect_measurements = counts.suspect_measurements;
   committed_coil_ids_.Reserve(static_cast<size_t>(counts.coils));
   ROLLWEAR_RETURN_IF_ERROR(ForEachCoilId(
       writer_db_.get(),
@@ -307,14 +309,35 @@ void MillStoreImpl::AddCoilAsync(const CoilIn& in, CoilDone done,
   }
 }
 
-StatusOr<WriteOutcome> MillStoreImpl::AddMeasurement(const MeasurementIn& in) {
+StatusOr<WriteOutcome> MillStoreImpl::AddMeasurement(const MeasurementIn& in,
+                                                     std::string* suspect) {
   ROLLWEAR_RETURN_IF_ERROR(CheckMeasurementFields(in));
   auto item = std::make_shared<WriteItem>();
   item->kind = WriteKind::kMeasurement;
   item->measurement = in;
+  // Judged on the stored data (read on a connection of its own, outside
+  // the store's locks: measurements come a few per campaign).
+  ROLLWEAR_ASSIGN_OR_RETURN(Dataset stored, ExportDataset());
+  item->measurement.suspect = JudgeMeasurement(std::move(stored), in);
   bool immediate = false;
   ROLLWEAR_RETURN_IF_ERROR(Submit(item, &immediate));
+  if (suspect != nullptr) {
+    *suspect = item->measurement.suspect;
+    if (item->unchanged) *suspect = StoredSuspect(in);
+  }
   return item->unchanged ? WriteOutcome::kUnchanged : WriteOutcome::kCreated;
+}
+
+std::string MillStoreImpl::StoredSuspect(const MeasurementIn& in) const {
+  std::lock_guard<std::mutex> lock(mu_);
+  for (const Catalog* c : {&committed_, &spec_}) {
+    auto it = c->campaigns.find(in.campaign_id);
+    if (it == c->campaigns.end()) continue;
+    const auto& m =
+        it->second.measurements[RollPositionSlot(in.stand, in.position)];
+    if (m.has_value()) return m->suspect;
+  }
+  return "";
 }
 
 Status MillStoreImpl::ImportDataset(const Dataset& data) {
@@ -323,6 +346,7 @@ Status MillStoreImpl::ImportDataset(const Dataset& data) {
   item->kind = WriteKind::kImport;
   item->dataset = &data;
   item->dataset_coils = DatasetCoils(data);
+  item->dataset_suspect = SuspectFlags(AssessDataQuality(data));
   bool immediate = false;
   return Submit(item, &immediate);
 }
@@ -428,6 +452,15 @@ StatusOr<Dataset> MillStoreImpl::ExportDataset() const {
   o.read_only = true;
   ROLLWEAR_ASSIGN_OR_RETURN(const std::unique_ptr<Db> db, Db::Open(path_, o));
   return ReadStoredDataset(db.get());
+}
+
+StatusOr<FittingData> MillStoreImpl::ReadFittingData() const {
+  DbOptions o;
+  o.read_only = true;
+  ROLLWEAR_ASSIGN_OR_RETURN(const std::unique_ptr<Db> db, Db::Open(path_, o));
+  std::vector<std::string> flags;
+  ROLLWEAR_ASSIGN_OR_RETURN(Dataset all, ReadStoredDataset(db.get(), &flags));
+  return FittingDataOf(std::move(all), flags);
 }
 
 StoreCounters MillStoreImpl::Counters() const {

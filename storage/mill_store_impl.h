@@ -73,6 +73,7 @@ struct WriteItem {
   MeasurementIn measurement;              // kMeasurement
   const Dataset* dataset = nullptr;       // kImport (owned by the caller)
   std::vector<StoredCoil> dataset_coils;  // kImport
+  std::vector<std::string> dataset_suspect;  // kImport, SuspectFlags
   ImportPlan plan;                        // kImport
   std::function<Status(Db*)> task;        // kTask: inside the transaction
   std::function<void(Db*)> after_commit;  // kTask: writer thread, after
@@ -114,12 +115,15 @@ class MillStoreImpl final : public MillStore {
   StatusOr<CoilOutcome> AddCoil(const CoilIn& in) override;
   void AddCoilAsync(const CoilIn& in, CoilDone done,
                     const Executor& blocking) override;
-  StatusOr<WriteOutcome> AddMeasurement(const MeasurementIn& in) override;
+  using MillStore::AddMeasurement;
+  StatusOr<WriteOutcome> AddMeasurement(const MeasurementIn& in,
+                                        std::string* suspect) override;
 
   WearSnapshot Wear() const override;
   StatusOr<PositionWear> WearAt(int stand, Position position) const override;
 
   StatusOr<Dataset> ExportDataset() const override;
+  StatusOr<FittingData> ReadFittingData() const override;
   Status ImportDataset(const Dataset& data) override;
 
   StatusOr<ModelVersion> ActiveModel() const override;
@@ -143,6 +147,9 @@ class MillStoreImpl final : public MillStore {
   bool Healthy() const override;
 
  private:
+  // The flag stored (or queued) with the measurement of `in`'s key.
+  std::string StoredSuspect(const MeasurementIn& in) const;
+
   using ItemPtr = std::shared_ptr<WriteItem>;
 
   // ---- mill_store_impl.cc

@@ -174,7 +174,8 @@ Status InsertMeasurement(Db* db, int64_t campaign_row, const MeasurementIn& m,
   ROLLWEAR_ASSIGN_STMT(
       st, db,
       "INSERT INTO measurements (campaign, stand, position, roll_id, "
-      "measured_at, wear_center_um, extra) VALUES (?, ?, ?, ?, ?, ?, ?)");
+      "measured_at, wear_center_um, extra, suspect) "
+      "VALUES (?, ?, ?, ?, ?, ?, ?, ?)");
   st->BindInt(1, campaign_row)
       .BindInt(2, m.stand)
       .BindInt(3, static_cast<int>(m.position))
@@ -182,6 +183,7 @@ Status InsertMeasurement(Db* db, int64_t campaign_row, const MeasurementIn& m,
       .BindInt(5, m.measured_at)
       .BindDouble(6, m.wear_center_um);
   BindExtra(st, 7, extra_json);
+  BindExtra(st, 8, m.suspect);  // NULL when empty
   return st->Run();
 }
 
@@ -302,7 +304,7 @@ Status LoadMeasurements(Db* db, CampaignByRow* by_row, Catalog* c) {
   ROLLWEAR_ASSIGN_OR_RETURN(
       Statement st,
       db->Prepare("SELECT campaign, stand, position, roll_id, measured_at, "
-                  "wear_center_um FROM measurements ORDER BY id"));
+                  "wear_center_um, suspect FROM measurements ORDER BY id"));
   return ForEachRow(&st, [&](const Statement& row) {
     MeasurementIn m;
     m.campaign_id = (*by_row)[row.ColumnInt(0)];
@@ -311,6 +313,7 @@ Status LoadMeasurements(Db* db, CampaignByRow* by_row, Catalog* c) {
     m.roll_id = row.ColumnText(3);
     m.measured_at = row.ColumnInt(4);
     m.wear_center_um = row.ColumnDouble(5);
+    m.suspect = row.ColumnText(6);  // "" for NULL
     const int slot = RollPositionSlot(m.stand, m.position);
     c->campaigns[m.campaign_id].measurements[slot] = std::move(m);
   });
@@ -350,13 +353,15 @@ StatusOr<StoredCounts> LoadCounts(Db* db) {
           "(SELECT COUNT(*) FROM coils), (SELECT COUNT(*) FROM measurements), "
           "(SELECT COUNT(*) FROM measurements WHERE id > "
           "  (SELECT IFNULL(MAX(measurement_watermark), 0) "
-          "FROM calibrations))"));
+          "FROM calibrations)), "
+          "(SELECT COUNT(*) FROM measurements WHERE suspect IS NOT NULL)"));
   ROLLWEAR_RETURN_IF_ERROR(st.Step().status());
   StoredCounts n;
   n.campaigns = st.ColumnInt(0);
   n.coils = st.ColumnInt(1);
   n.measurements = st.ColumnInt(2);
   n.measurements_since_last_calibration = st.ColumnInt(3);
+  n.suspect_measurements = st.ColumnInt(4);
   return n;
 }
 
