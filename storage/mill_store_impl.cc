@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 #include <utility>
 
 #include "storage/model_levels.h"
@@ -315,20 +316,25 @@ StatusOr<WriteOutcome> MillStoreImpl::AddMeasurement(const MeasurementIn& in,
   auto item = std::make_shared<WriteItem>();
   item->kind = WriteKind::kMeasurement;
   item->measurement = in;
-  // Judged on the stored data (read on a connection of its own, outside
-  // the store's locks: measurements come a few per campaign).
-  ROLLWEAR_ASSIGN_OR_RETURN(Dataset stored, ExportDataset());
-  item->measurement.suspect = JudgeMeasurement(std::move(stored), in);
+  // A new key is judged on the stored data (read on a connection of its
+  // own, outside the store's locks: ~0.15 s on 50,000 coils; measurements
+  // come a few per campaign). A stored key is a repeat or a conflict,
+  // which Submit tells apart: not judged again.
+  if (!StoredSuspect(in).has_value()) {
+    ROLLWEAR_ASSIGN_OR_RETURN(Dataset stored, ExportDataset());
+    item->measurement.suspect = JudgeMeasurement(std::move(stored), in);
+  }
   bool immediate = false;
   ROLLWEAR_RETURN_IF_ERROR(Submit(item, &immediate));
   if (suspect != nullptr) {
     *suspect = item->measurement.suspect;
-    if (item->unchanged) *suspect = StoredSuspect(in);
+    if (item->unchanged) *suspect = StoredSuspect(in).value_or("");
   }
   return item->unchanged ? WriteOutcome::kUnchanged : WriteOutcome::kCreated;
 }
 
-std::string MillStoreImpl::StoredSuspect(const MeasurementIn& in) const {
+std::optional<std::string> MillStoreImpl::StoredSuspect(
+    const MeasurementIn& in) const {
   std::lock_guard<std::mutex> lock(mu_);
   for (const Catalog* c : {&committed_, &spec_}) {
     auto it = c->campaigns.find(in.campaign_id);
@@ -337,7 +343,7 @@ std::string MillStoreImpl::StoredSuspect(const MeasurementIn& in) const {
         it->second.measurements[RollPositionSlot(in.stand, in.position)];
     if (m.has_value()) return m->suspect;
   }
-  return "";
+  return std::nullopt;
 }
 
 Status MillStoreImpl::ImportDataset(const Dataset& data) {

@@ -147,8 +147,9 @@ class MillStoreImpl final : public MillStore {
   bool Healthy() const override;
 
  private:
-  // The flag stored (or queued) with the measurement of `in`'s key.
-  std::string StoredSuspect(const MeasurementIn& in) const;
+  // The flag stored (or queued) with the measurement of `in`'s key, or
+  // nullopt when that key has no measurement yet.
+  std::optional<std::string> StoredSuspect(const MeasurementIn& in) const;
 
   using ItemPtr = std::shared_ptr<WriteItem>;
 
