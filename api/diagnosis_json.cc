@@ -21,6 +21,7 @@ nlohmann::json TermJson(const ModelTerm& t) {
                       {"scale", t.scale}};
   if (!t.edges.empty()) j["edges"] = t.edges;
   if (t.num_levels > 0) j["num_levels"] = t.num_levels;
+  if (!t.levels.empty()) j["levels"] = t.levels;
   return j;
 }
 

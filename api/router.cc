@@ -77,10 +77,12 @@ std::string FieldOf(const std::string& message) {
   return message.substr(0, colon);
 }
 
-// The one translation of a store/core error into an HTTP error answer.
+// The one translation of a store/core error into an HTTP error answer. A
+// bad field (400) and an inconsistent one (422) name it.
 HttpResponse FromStatus(const Status& status) {
   const int http = HttpStatusFor(status.code());
-  std::string field = http == 400 ? FieldOf(status.message()) : "";
+  std::string field =
+      http == 400 || http == 422 ? FieldOf(status.message()) : "";
   return Error(http, ErrorCodeFor(status.code()), status.message(),
                std::move(field));
 }

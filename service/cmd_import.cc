@@ -6,17 +6,43 @@
 // transaction; a rejected dataset changes nothing. A suspect measurement is
 // stored flagged (the store judges the folder by the same rules,
 // storage/mill_store.h) and left out of the daemon's fitting; --strict
-// refuses a folder with any warning instead.
+// refuses a folder with any warning instead. It says per table what
+// was new and what was already stored alike ("0 new, N unchanged" on a
+// second import), names the file and line of a row that conflicts with
+// what is stored, and is refused while a daemon holds the database.
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <string>
+#include <utility>
 
 #include "core/dataset/dataset_io.h"
 #include "service/commands.h"
 #include "service/data_quality_cli.h"
+#include "storage/db_lock.h"
 #include "storage/mill_store.h"
 
 namespace rollwear::cli {
+
+namespace {
+
+// "campaigns 0 new, 6 unchanged; mounts ...".
+std::string Summary(const storage::ImportCounts& c) {
+  std::string out;
+  const std::pair<const char*, const storage::ImportTableCounts*> tables[] = {
+      {"campaigns", &c.campaigns},
+      {"mounts", &c.mounts},
+      {"coils", &c.coils},
+      {"measurements", &c.measurements}};
+  for (const auto& [name, t] : tables) {
+    if (!out.empty()) out += "; ";
+    out += std::string(name) + " " + std::to_string(t->added) + " new, " +
+           std::to_string(t->unchanged) + " unchanged";
+  }
+  return out;
+}
+
+}  // namespace
 
 int RunImport(const ImportArgs& args) {
   const std::string& dir = args.dir;
@@ -27,7 +53,14 @@ int RunImport(const ImportArgs& args) {
                  dir.c_str());
     return 1;
   }
-  const Dataset* data = &checked.all;
+  // A running daemon holds the database: refused (storage/db_lock.h).
+  StatusOr<storage::DatabaseLock> lock =
+      storage::DatabaseLock::Acquire(args.db, "rollwear import");
+  if (!lock.ok()) {
+    std::fprintf(stderr, "rollwear import: %s (nothing imported)\n",
+                 lock.status().message().c_str());
+    return 1;
+  }
   StatusOr<std::unique_ptr<storage::MillStore>> store =
       storage::MillStore::Open(args.db, storage::StoreOptions());
   if (!store.ok()) {
@@ -35,10 +68,11 @@ int RunImport(const ImportArgs& args) {
                  store.status().message().c_str());
     return 1;
   }
-  const Status imported = (*store)->ImportDataset(*data);
+  storage::ImportCounts counts;
+  const Status imported = (*store)->ImportDataset(checked.all, &checked.lines, &counts);
   if (!imported.ok()) {
-    std::fprintf(stderr, "rollwear import: %s (nothing imported)\n",
-                 imported.message().c_str());
+    std::fprintf(stderr, "rollwear import: %s: %s (nothing imported)\n",
+                 dir.c_str(), imported.message().c_str());
     return 1;
   }
   const storage::StoreCounters c = (*store)->Counters();
@@ -46,11 +80,9 @@ int RunImport(const ImportArgs& args) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();
   std::printf(
-      "imported %s into %s: %zu campaigns, %zu coils, %zu measurements "
-      "(%.1f s); the database now holds %lld campaigns, %lld coils, %lld "
-      "measurements\n",
-      dir.c_str(), args.db.c_str(), data->campaigns.size(),
-      data->coil_ids.size(), data->measurements.size(), seconds,
+      "imported %s into %s: %s (%.1f s); the database now holds %lld "
+      "campaigns, %lld coils, %lld measurements\n",
+      dir.c_str(), args.db.c_str(), Summary(counts).c_str(), seconds,
       static_cast<long long>(c.campaigns), static_cast<long long>(c.coils),
       static_cast<long long>(c.measurements));
   if (const int n = checked.quality.NumSuspect(); n > 0) {

@@ -22,6 +22,7 @@
 #include "service/cpu_latency.h"
 #include "service/jobs/diagnosis_jobs.h"
 #include "service/jobs/scheduler.h"
+#include "storage/db_lock.h"
 #include "storage/mill_store.h"
 
 namespace rollwear::cli {
@@ -213,6 +214,15 @@ int RunServe(const ServeArgs& args) {
   // honoured stops the start with nothing done.
   std::unique_ptr<service::CpuLatencyHold> cpu_latency;
   if (!HoldCpuLatency(config, &cpu_latency)) return 1;
+  // Held until serve returns: `rollwear import` into this database is
+  // refused meanwhile (storage/db_lock.h).
+  StatusOr<storage::DatabaseLock> db_lock =
+      storage::DatabaseLock::Acquire(config.db, "rollwear serve");
+  if (!db_lock.ok()) {
+    std::fprintf(stderr, "rollwear serve: %s\n",
+                 db_lock.status().message().c_str());
+    return 1;
+  }
 
   std::unique_ptr<storage::MillStore> store = OpenStore(config);
   if (store == nullptr) return 1;

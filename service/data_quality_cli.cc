@@ -2,14 +2,14 @@
 
 #include <cstdio>
 
-#include "core/dataset/dataset_lines.h"
+#include "core/dataset/dataset_io.h"
 
 namespace rollwear::cli {
 
 int ReadCheckedDataset(const char* tool, const std::string& dir, bool strict,
                        CheckedDataset* out) {
-  DatasetSourceLines lines;
-  StatusOr<Dataset> data = ReadDatasetWithLines(dir, &lines);
+  DatasetLines& lines = out->lines;
+  StatusOr<Dataset> data = ReadDataset(dir, &lines);
   if (!data.ok()) {
     std::fprintf(stderr, "rollwear %s: %s\n", tool,
                  data.status().message().c_str());

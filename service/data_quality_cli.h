@@ -23,6 +23,7 @@ struct CheckedDataset {
   Dataset all;        // every row read, suspects included
   Dataset fit;        // without the suspect measurements
   DataQuality quality;
+  DatasetLines lines;  // where the rows of `all` were read from
 };
 
 // Reads DIR, assesses it and prints the summary. Returns 0 and fills `out`,

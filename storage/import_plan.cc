@@ -15,6 +15,17 @@ std::string Row(const char* table, size_t i) {
   return std::string(table) + "[" + std::to_string(i) + "]";
 }
 
+// Field `field` of row i of a table of `rows` rows: "measurements.csv:5
+// wear_center_um" when the dataset was read from files (one line per row
+// known), else "measurements[4].wear_center_um".
+std::string Locate(const std::vector<int>& lines, size_t rows, const char* file,
+                   const char* table, size_t i, const char* field) {
+  if (lines.size() == rows && i < rows) {
+    return std::string(file) + ":" + std::to_string(lines[i]) + " " + field;
+  }
+  return Row(table, i) + "." + field;
+}
+
 Status Bad(const std::string& path, const std::string& rule) {
   return Status::InvalidArgument(path + ": " + rule);
 }
@@ -55,22 +66,29 @@ Status CheckExtras(const ExtraColumns& e, size_t rows, const char* table) {
   return Status::Ok();
 }
 
-MountedRollIn ToMount(const Dataset& d, const Mount& m) {
+// Mount `i` of `d` as the store keeps it (its extra columns as fields).
+MountedRollIn ToMount(const Dataset& d, size_t i) {
+  const Mount& m = d.mounts[i];
   return MountedRollIn{m.stand,       m.position,
                        m.roll_id,     d.roll_types[m.roll_type],
-                       m.diameter_mm, m.hardness_hb};
+                       m.diameter_mm, m.hardness_hb,
+                       ExtraFieldsOfRow(d.mount_extra, i)};
 }
 
-MeasurementIn ToMeasurement(const Dataset& d, const Measurement& m) {
+// Measurement `i` of `d` as the store keeps it.
+MeasurementIn ToMeasurement(const Dataset& d, size_t i) {
+  const Measurement& m = d.measurements[i];
   return MeasurementIn{d.campaigns[m.campaign].id,
                        m.stand,
                        m.position,
                        m.roll_id,
                        m.measured_at,
-                       m.wear_center_um};
+                       m.wear_center_um,
+                       ExtraFieldsOfRow(d.measurement_extra, i)};
 }
 
-Status CheckPasses(const Dataset& d) {
+// `mounted[c]`: bit per roll position slot campaign c mounts.
+Status CheckPasses(const Dataset& d, const std::vector<uint32_t>& mounted) {
   struct CoilInfo {
     int campaign, seq, grade, first_row;
     uint32_t stands;
@@ -96,6 +114,10 @@ Status CheckPasses(const Dataset& d) {
                                  p.seq, d.grades[p.grade]),
                     at, where));
     ROLLWEAR_RETURN_IF_ERROR(FirstBroken(PassRules(p), at, where));
+    ROLLWEAR_RETURN_IF_ERROR(
+        FirstBroken(PassMountRules(p.stand, d.campaigns[p.campaign].id,
+                                   mounted[p.campaign]),
+                    at, where));
     CoilInfo& info = coils[p.coil];
     if (info.first_row < 0) {
       info = CoilInfo{p.campaign, p.seq, p.grade, static_cast<int>(i), 0};
@@ -129,6 +151,68 @@ Status CheckPasses(const Dataset& d) {
   return Status::Ok();
 }
 
+// The dataset row of the first pass of `mine` (a coil of `d`) that differs
+// from the stored coil; `first` (the coil's first row) when the keys or the
+// stands differ.
+size_t DifferingRow(const Dataset& d, const StoredCoil& mine,
+                    const StoredCoil& stored, size_t first) {
+  if (mine.campaign_id != stored.campaign_id || mine.seq != stored.seq ||
+      mine.grade != stored.grade ||
+      mine.passes.size() != stored.passes.size()) {
+    return first;
+  }
+  for (size_t k = 0; k < mine.passes.size(); ++k) {
+    if (mine.passes[k] == stored.passes[k]) continue;
+    for (size_t r = first; r < d.passes.size(); ++r) {
+      if (d.passes[r].coil == d.passes[first].coil &&
+          d.passes[r].stand == mine.passes[k].stand) {
+        return r;
+      }
+    }
+    break;
+  }
+  return first;
+}
+
+// The measurements: rules, campaign end, keys and their mounts (`mount_of`:
+// campaign * kNumRollPositionSlots + slot -> mount index or -1).
+Status CheckMeasurements(const Dataset& d, const std::vector<int>& mount_of) {
+  std::vector<char> measured(mount_of.size(), 0);
+  for (size_t i = 0; i < d.measurements.size(); ++i) {
+    const Measurement& m = d.measurements[i];
+    const std::string at = Row("measurements", i) + ".";
+    if (!InRange(m.campaign, d.campaigns.size())) {
+      return Bad(at + "campaign_id", "unknown campaign (index out of range)");
+    }
+    ROLLWEAR_RETURN_IF_ERROR(
+        FirstBroken(MeasurementRules(d.campaigns[m.campaign].id, m.stand,
+                                     m.position, m.roll_id, m.wear_center_um),
+                    at));
+    const Campaign& campaign = d.campaigns[m.campaign];
+    ROLLWEAR_RETURN_IF_ERROR(FirstBroken(
+        MeasurementTimeRules(campaign.id, m.measured_at, campaign.ended_at),
+        at));
+    const size_t key = m.campaign * kNumRollPositionSlots +
+                       RollPositionSlot(m.stand, m.position);
+    const std::string where = RollPositionName(m.stand, m.position) +
+                              " of campaign " + d.campaigns[m.campaign].id;
+    if (measured[key]) {
+      return Bad(at + "position",
+                 "duplicate key (campaign_id, stand, position): " + where);
+    }
+    measured[key] = 1;
+    if (mount_of[key] < 0) {
+      return Bad(at + "stand", "no mount for " + where);
+    }
+    if (d.mounts[mount_of[key]].roll_id != m.roll_id) {
+      return Bad(at + "roll_id",
+                 "roll_id must match the mount: " + where + " mounted " +
+                     d.mounts[mount_of[key]].roll_id + ", got " + m.roll_id);
+    }
+  }
+  return Status::Ok();
+}
+
 }  // namespace
 
 Status CheckDataset(const Dataset& d) {
@@ -157,6 +241,7 @@ Status CheckDataset(const Dataset& d) {
     }
   }
   std::vector<int> mount_of(d.campaigns.size() * kNumRollPositionSlots, -1);
+  std::vector<uint32_t> mounted(d.campaigns.size(), 0);
   for (size_t i = 0; i < d.mounts.size(); ++i) {
     const Mount& m = d.mounts[i];
     const std::string at = Row("mounts", i) + ".";
@@ -180,37 +265,10 @@ Status CheckDataset(const Dataset& d) {
                      std::to_string(slot) + "])");
     }
     slot = static_cast<int>(i);
+    mounted[m.campaign] |= 1u << RollPositionSlot(m.stand, m.position);
   }
-  ROLLWEAR_RETURN_IF_ERROR(CheckPasses(d));
-  std::vector<char> measured(mount_of.size(), 0);
-  for (size_t i = 0; i < d.measurements.size(); ++i) {
-    const Measurement& m = d.measurements[i];
-    const std::string at = Row("measurements", i) + ".";
-    if (!InRange(m.campaign, d.campaigns.size())) {
-      return Bad(at + "campaign_id", "unknown campaign (index out of range)");
-    }
-    ROLLWEAR_RETURN_IF_ERROR(
-        FirstBroken(MeasurementRules(d.campaigns[m.campaign].id, m.stand,
-                                     m.position, m.roll_id, m.wear_center_um),
-                    at));
-    const size_t key = m.campaign * kNumRollPositionSlots +
-                       RollPositionSlot(m.stand, m.position);
-    const std::string where = RollPositionName(m.stand, m.position) +
-                              " of campaign " + d.campaigns[m.campaign].id;
-    if (measured[key]) {
-      return Bad(at + "position",
-                 "duplicate key (campaign_id, stand, position): " + where);
-    }
-    measured[key] = 1;
-    if (mount_of[key] < 0) {
-      return Bad(at + "stand", "no mount for " + where);
-    }
-    if (d.mounts[mount_of[key]].roll_id != m.roll_id) {
-      return Bad(at + "roll_id",
-                 "roll_id must match the mount: " + where + " mounted " +
-                     d.mounts[mount_of[key]].roll_id + ", got " + m.roll_id);
-    }
-  }
+  ROLLWEAR_RETURN_IF_ERROR(CheckPasses(d, mounted));
+  ROLLWEAR_RETURN_IF_ERROR(CheckMeasurements(d, mount_of));
   ROLLWEAR_RETURN_IF_ERROR(
       CheckExtras(d.campaign_extra, d.campaigns.size(), "campaigns"));
   ROLLWEAR_RETURN_IF_ERROR(
@@ -223,7 +281,8 @@ Status CheckDataset(const Dataset& d) {
 
 std::vector<StoredCoil> DatasetCoils(const Dataset& d) {
   std::vector<StoredCoil> coils(d.coil_ids.size());
-  for (const Pass& p : d.passes) {
+  for (size_t i = 0; i < d.passes.size(); ++i) {
+    const Pass& p = d.passes[i];
     StoredCoil& c = coils[p.coil];
     if (c.coil_id.empty()) {
       c.coil_id = d.coil_ids[p.coil];
@@ -232,7 +291,8 @@ std::vector<StoredCoil> DatasetCoils(const Dataset& d) {
       c.grade = d.grades[p.grade];
     }
     c.passes.push_back(
-        StoredPass{static_cast<const PassMeasures&>(p), p.rolled_at});
+        StoredPass{static_cast<const PassMeasures&>(p), p.rolled_at,
+                   ExtraFieldsOfRow(d.pass_extra, i)});
   }
   for (StoredCoil& c : coils) {
     std::stable_sort(c.passes.begin(), c.passes.end(),
@@ -243,11 +303,59 @@ std::vector<StoredCoil> DatasetCoils(const Dataset& d) {
   return coils;
 }
 
-StatusOr<ImportPlan> PlanImport(const Dataset& d,
+namespace {
+
+// PlanImport's coils: each new, or stored alike (skipped), or a conflict.
+Status PlanCoils(const Dataset& d, const DatasetLines& lines,
+                 const std::vector<StoredCoil>& coils, const Catalog& catalog,
+                 const CoilLookup& lookup_coil, const SeqLookup& lookup_seq,
+                 ImportPlan* out) {
+  ImportPlan& plan = *out;
+  std::vector<size_t> first_pass(coils.size(), 0);  // coil -> its first row
+  for (size_t r = d.passes.size(); r-- > 0;) first_pass[d.passes[r].coil] = r;
+  for (size_t i = 0; i < coils.size(); ++i) {
+    const StoredCoil& coil = coils[i];
+    auto at = [&](const char* field) {
+      return Locate(lines.passes, d.passes.size(), "coils.csv", "passes",
+                    first_pass[i], field);
+    };
+    StatusOr<std::optional<StoredCoil>> stored = lookup_coil(coil.coil_id);
+    if (!stored.ok()) return stored.status();
+    if (stored->has_value()) {
+      if (**stored != coil) {
+        first_pass[i] = DifferingRow(d, coil, **stored, first_pass[i]);
+        return Status::AlreadyExists(at("coil_id") + ": coil " + coil.coil_id +
+                                     " is already stored with different "
+                                     "content");
+      }
+      plan.new_coil[i] = 0;
+      continue;
+    }
+    if (catalog.campaigns.count(coil.campaign_id) > 0) {
+      StatusOr<std::optional<std::string>> owner =
+          lookup_seq(coil.campaign_id, coil.seq);
+      if (!owner.ok()) return owner.status();
+      if (owner->has_value()) {
+        return Status::FailedPrecondition(
+            at("seq") + ": seq " + std::to_string(coil.seq) + " of campaign " +
+            coil.campaign_id + " is already used by coil " + **owner +
+            " (this is coil " + coil.coil_id + ")");
+      }
+    }
+    ++plan.num_coils;
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+StatusOr<ImportPlan> PlanImport(const Dataset& d, const DatasetLines* where,
                                 const std::vector<StoredCoil>& coils,
                                 const Catalog& catalog,
                                 const CoilLookup& lookup_coil,
                                 const SeqLookup& lookup_seq) {
+  const DatasetLines none;
+  const DatasetLines& lines = where != nullptr ? *where : none;
   ImportPlan plan;
   plan.new_campaign.assign(d.campaigns.size(), 1);
   plan.new_mount.assign(d.mounts.size(), 1);
@@ -262,9 +370,12 @@ StatusOr<ImportPlan> PlanImport(const Dataset& d,
     }
     const CampaignRec& rec = it->second;
     if (rec.started_at != c.started_at || !rec.ended_at.has_value() ||
-        *rec.ended_at != c.ended_at) {
+        *rec.ended_at != c.ended_at ||
+        rec.extra != ExtraFieldsOfRow(d.campaign_extra, i)) {
       return Status::AlreadyExists(
-          Row("campaigns", i) + ".campaign_id: campaign " + c.id +
+          Locate(lines.campaigns, d.campaigns.size(), "campaigns.csv",
+                 "campaigns", i, "campaign_id") +
+          ": campaign " + c.id +
           " is already stored with different content (started_at " +
           FormatTimestamp(rec.started_at) + ", ended_at " +
           (rec.ended_at ? FormatTimestamp(*rec.ended_at) : "open") + ")");
@@ -277,11 +388,12 @@ StatusOr<ImportPlan> PlanImport(const Dataset& d,
     const CampaignRec& rec = catalog.campaigns.at(d.campaigns[m.campaign].id);
     const auto& stored = rec.mounts[RollPositionSlot(m.stand, m.position)];
     if (!stored.has_value()) continue;
-    if (!SameMount(*stored, ToMount(d, m))) {
-      return Status::AlreadyExists(Row("mounts", i) + ": " +
-                                   RollPositionName(m.stand, m.position) +
-                                   " of campaign " + rec.id +
-                                   " is already stored with different content");
+    if (!SameMount(*stored, ToMount(d, i))) {
+      return Status::AlreadyExists(
+          Locate(lines.mounts, d.mounts.size(), "mounts.csv", "mounts", i,
+                 "stand") +
+          ": " + RollPositionName(m.stand, m.position) + " of campaign " +
+          rec.id + " is already stored with different content");
     }
     plan.new_mount[i] = 0;
   }
@@ -298,41 +410,28 @@ StatusOr<ImportPlan> PlanImport(const Dataset& d,
       ++plan.num_measurements;
       continue;
     }
-    if (!SameMeasurement(*stored, ToMeasurement(d, m))) {
+    if (!SameMeasurement(*stored, ToMeasurement(d, i))) {
       return Status::AlreadyExists(
-          Row("measurements", i) + ": " +
-          RollPositionName(m.stand, m.position) + " of campaign " + rec.id +
-          " is already measured with different content");
+          Locate(lines.measurements, d.measurements.size(), "measurements.csv",
+                 "measurements", i, "campaign_id") +
+          ": " + RollPositionName(m.stand, m.position) + " of campaign " +
+          rec.id + " is already measured with different content");
     }
     plan.new_measurement[i] = 0;
   }
-  for (size_t i = 0; i < coils.size(); ++i) {
-    const StoredCoil& coil = coils[i];
-    StatusOr<std::optional<StoredCoil>> stored = lookup_coil(coil.coil_id);
-    if (!stored.ok()) return stored.status();
-    if (stored->has_value()) {
-      if (**stored != coil) {
-        return Status::AlreadyExists("coil_id " + coil.coil_id +
-                                     ": coil already stored with different "
-                                     "content");
-      }
-      plan.new_coil[i] = 0;
-      continue;
-    }
-    if (catalog.campaigns.count(coil.campaign_id) > 0) {
-      StatusOr<std::optional<std::string>> owner =
-          lookup_seq(coil.campaign_id, coil.seq);
-      if (!owner.ok()) return owner.status();
-      if (owner->has_value()) {
-        return Status::FailedPrecondition(
-            "coil_id " + coil.coil_id + ": seq " + std::to_string(coil.seq) +
-            " of campaign " + coil.campaign_id + " is already used by coil " +
-            **owner);
-      }
-    }
-    ++plan.num_coils;
-  }
+  ROLLWEAR_RETURN_IF_ERROR(
+      PlanCoils(d, lines, coils, catalog, lookup_coil, lookup_seq, &plan));
   return plan;
+}
+
+ImportCounts CountImport(const ImportPlan& plan) {
+  auto count = [](const std::vector<char>& is_new) {
+    ImportTableCounts c;
+    for (char n : is_new) ++(n ? c.added : c.unchanged);
+    return c;
+  };
+  return ImportCounts{count(plan.new_campaign), count(plan.new_mount),
+                      count(plan.new_coil), count(plan.new_measurement)};
 }
 
 void ApplyImport(const Dataset& d, const std::vector<StoredCoil>& coils,
@@ -343,18 +442,19 @@ void ApplyImport(const Dataset& d, const std::vector<StoredCoil>& coils,
     rec.id = d.campaigns[i].id;
     rec.started_at = d.campaigns[i].started_at;
     rec.ended_at = d.campaigns[i].ended_at;
+    rec.extra = ExtraFieldsOfRow(d.campaign_extra, i);
     catalog->campaigns[rec.id] = std::move(rec);
   }
   for (size_t i = 0; i < d.mounts.size(); ++i) {
     if (!plan.new_mount[i]) continue;
     const Mount& m = d.mounts[i];
     const int slot = RollPositionSlot(m.stand, m.position);
-    catalog->campaigns[d.campaigns[m.campaign].id].mounts[slot] = ToMount(d, m);
+    catalog->campaigns[d.campaigns[m.campaign].id].mounts[slot] = ToMount(d, i);
     catalog->positions_seen |= 1u << slot;
   }
   for (size_t i = 0; i < d.measurements.size(); ++i) {
     if (!plan.new_measurement[i]) continue;
-    ApplyMeasurement(ToMeasurement(d, d.measurements[i]), catalog);
+    ApplyMeasurement(ToMeasurement(d, i), catalog);
   }
   if (speculative) {
     for (size_t i = 0; i < coils.size(); ++i) {

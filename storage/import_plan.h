@@ -9,7 +9,8 @@
 //
 // PlanImport compares the dataset with the catalog (and stored coils): a
 // row whose key is stored with equal content is skipped, with other content
-// it is AlreadyExists naming the key; everything else is new.
+// it is AlreadyExists naming the key and, for a folder, its file and line;
+// everything else is new.
 //
 // Thread-safety: pure functions; the lookups are called on the caller's
 // thread.
@@ -21,8 +22,9 @@
 #include <string>
 #include <vector>
 
-#include "core/dataset/dataset.h"
 #include "core/base/status.h"
+#include "core/dataset/dataset.h"
+#include "core/dataset/dataset_io.h"
 #include "storage/store_state.h"
 
 namespace rollwear::storage::internal {
@@ -47,12 +49,17 @@ using CoilLookup =
 using SeqLookup = std::function<StatusOr<std::optional<std::string>>(
     const std::string&, int)>;
 
-// `coils` = DatasetCoils(data).
-StatusOr<ImportPlan> PlanImport(const Dataset& data,
+// `coils` = DatasetCoils(data). A conflict names the row as
+// "measurements.csv:5 <field>" when `lines` (where ReadDataset found each
+// row; may be null) has one line per row, else as "measurements[3].<field>".
+StatusOr<ImportPlan> PlanImport(const Dataset& data, const DatasetLines* lines,
                                 const std::vector<StoredCoil>& coils,
                                 const Catalog& catalog,
                                 const CoilLookup& lookup_coil,
                                 const SeqLookup& lookup_seq);
+
+// Per table: the rows the plan adds and those it skips as stored alike.
+ImportCounts CountImport(const ImportPlan& plan);
 
 // Records the plan's new rows in `catalog` (speculative: also the coils as
 // pending).

@@ -16,8 +16,9 @@
 // model/calibration), AlreadyExists (same key, other content),
 // FailedPrecondition (well-formed but inconsistent: coil for an ended
 // campaign, stand with no mounted roll, measurement for a roll not mounted
-// there), Unavailable (database not writable: disk full, read-only),
-// IoError (other database failures).
+// there, for a campaign still running or taken before its end), Unavailable
+// (database not writable: disk full, read-only), IoError (other database
+// failures).
 //
 // Thread-safety: all methods are thread-safe.
 #ifndef ROLLWEAR_STORAGE_MILL_STORE_H_
@@ -31,6 +32,7 @@
 
 #include "core/base/status.h"
 #include "core/dataset/dataset.h"
+#include "core/dataset/dataset_io.h"
 #include "core/model/wear_model.h"
 #include "storage/store_types.h"
 
@@ -83,9 +85,16 @@ class MillStore {
   // The stored data as calibration and diagnosis fit it: suspects (stored
   // flags, and core's rules on the stored data) out, with their report.
   virtual StatusOr<FittingData> ReadFittingData() const = 0;
-  // Loads a dataset folder's content all-or-nothing (rollwear import); the
+  // Loads a dataset folder's content all-or-nothing (rollwear import). With
+  // `lines` (ReadDataset's, may be null) a conflict with stored content
+  // names the file and line of the row; `counts` (may be null) receives per
+  // table what was added and what was already stored alike. The
   // measurements core's rules flag on `data` are stored flagged.
-  virtual Status ImportDataset(const Dataset& data) = 0;
+  virtual Status ImportDataset(const Dataset& data, const DatasetLines* lines,
+                               ImportCounts* counts) = 0;
+  Status ImportDataset(const Dataset& data) {
+    return ImportDataset(data, nullptr, nullptr);
+  }
 
   // Models.
   virtual StatusOr<ModelVersion> ActiveModel() const = 0;

@@ -14,6 +14,7 @@
 
 #include "core/model/covariates.h"
 #include "core/model/model_eval.h"
+#include "storage/extra_json.h"
 #include "storage/mill_store_impl.h"
 #include "storage/store_sql.h"
 
@@ -32,7 +33,8 @@ Status ReplayInto(Db* db, const CampaignRec& rec, const WearModel& model,
     if (!m.has_value()) continue;
     states[slot] =
         MountRoll(model, RollPositionName(m->stand, m->position), m->roll_type,
-                  m->diameter_mm, m->hardness_hb, rec.started_at);
+                  m->diameter_mm, m->hardness_hb, rec.started_at, m->extra,
+                  rec.extra);
     RollWearHistory h;
     h.stand = m->stand;
     h.position = m->position;
@@ -49,7 +51,7 @@ Status ReplayInto(Db* db, const CampaignRec& rec, const WearModel& model,
       db->Prepare(
           "SELECT c.grade, p.stand, p.rolled_at, p.force_kn, "
           "p.width_mm, p.length_m, p.entry_thickness_mm, p.exit_thickness_mm, "
-          "p.temperature_c, p.speed_mps, p.lubrication, p.shift_mm "
+          "p.temperature_c, p.speed_mps, p.lubrication, p.shift_mm, p.extra "
           "FROM passes p JOIN coils c ON c.id = p.coil "
           "WHERE c.campaign = (SELECT id FROM campaigns WHERE campaign_id = ?) "
           "ORDER BY c.id, p.id"));
@@ -69,6 +71,7 @@ Status ReplayInto(Db* db, const CampaignRec& rec, const WearModel& model,
     pass.speed_mps = st.ColumnDouble(9);
     pass.lubrication = st.ColumnInt(10) != 0;
     pass.shift_mm = st.ColumnDouble(11);
+    ROLLWEAR_ASSIGN_OR_RETURN(pass.extra, ParseExtraFields(st.ColumnText(12)));
     const PassInput in = ToPassInput(st.ColumnText(0), pass);
     for (Position p : {Position::kTop, Position::kBottom}) {
       const int slot = RollPositionSlot(pass.stand, p);
@@ -91,9 +94,12 @@ Status ReplayInto(Db* db, const CampaignRec& rec, const WearModel& model,
     if (measured.has_value() && rec.ended_at.has_value()) {
       h.expected_reading_um +=
           MeasurementTermsOffset(model, [&](const std::string& covariate) {
-            return covariate == kCoolingHoursName
-                       ? CoolingHours(measured->measured_at, *rec.ended_at)
-                       : std::numeric_limits<double>::quiet_NaN();
+            if (covariate == kCoolingHoursName) {
+              return CoolingHours(measured->measured_at, *rec.ended_at);
+            }
+            // A term on a measurement's extra column: its stored field.
+            const double* v = measured->extra.Numeric(covariate);
+            return v != nullptr ? *v : std::numeric_limits<double>::quiet_NaN();
           });
     }
   }

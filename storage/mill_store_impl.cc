@@ -189,8 +189,9 @@ Status MillStoreImpl::AdmitLocked(WriteItem* item, bool* immediate) {
         return LookupSeq(lookup_db_.get(), campaign, seq);
       };
       ROLLWEAR_ASSIGN_OR_RETURN(
-          item->plan, PlanImport(*item->dataset, item->dataset_coils, spec_,
-                                 lookup_coil, lookup_seq));
+          item->plan,
+          PlanImport(*item->dataset, item->lines, item->dataset_coils, spec_,
+                     lookup_coil, lookup_seq));
       ApplyImport(*item->dataset, item->dataset_coils, item->plan,
                   /*speculative=*/true, &spec_);
       break;
@@ -346,15 +347,20 @@ std::optional<std::string> MillStoreImpl::StoredSuspect(
   return std::nullopt;
 }
 
-Status MillStoreImpl::ImportDataset(const Dataset& data) {
+Status MillStoreImpl::ImportDataset(const Dataset& data,
+                                    const DatasetLines* lines,
+                                    ImportCounts* counts) {
   ROLLWEAR_RETURN_IF_ERROR(CheckDataset(data));
   auto item = std::make_shared<WriteItem>();
   item->kind = WriteKind::kImport;
   item->dataset = &data;
+  item->lines = lines;
   item->dataset_coils = DatasetCoils(data);
   item->dataset_suspect = SuspectFlags(AssessDataQuality(data));
   bool immediate = false;
-  return Submit(item, &immediate);
+  ROLLWEAR_RETURN_IF_ERROR(Submit(item, &immediate));
+  if (counts != nullptr) *counts = CountImport(item->plan);
+  return Status::Ok();
 }
 
 CoilOutcome MillStoreImpl::OutcomeForStored(const StoredCoil& coil) const {

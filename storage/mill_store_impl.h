@@ -72,6 +72,7 @@ struct WriteItem {
   std::string coil_wear;                  // kCoil, EncodeCoilWear(answer)
   MeasurementIn measurement;              // kMeasurement
   const Dataset* dataset = nullptr;       // kImport (owned by the caller)
+  const DatasetLines* lines = nullptr;    // kImport (caller's; may be null)
   std::vector<StoredCoil> dataset_coils;  // kImport
   std::vector<std::string> dataset_suspect;  // kImport, SuspectFlags
   ImportPlan plan;                        // kImport
@@ -124,7 +125,9 @@ class MillStoreImpl final : public MillStore {
 
   StatusOr<Dataset> ExportDataset() const override;
   StatusOr<FittingData> ReadFittingData() const override;
-  Status ImportDataset(const Dataset& data) override;
+  using MillStore::ImportDataset;
+  Status ImportDataset(const Dataset& data, const DatasetLines* lines,
+                       ImportCounts* counts) override;
 
   StatusOr<ModelVersion> ActiveModel() const override;
   std::vector<ModelVersion> ListModels() const override;

@@ -25,6 +25,7 @@
 #include <optional>
 #include <utility>
 
+#include "storage/extra_json.h"
 #include "storage/mill_store_impl.h"
 #include "storage/store_quality.h"
 #include "storage/store_sql.h"
@@ -173,7 +174,8 @@ void MillStoreImpl::PredictBatch(const std::vector<ItemPtr>& batch,
               LiveRoll{m, MountRoll(state->model->wear_model,
                                     RollPositionName(m.stand, m.position),
                                     m.roll_type, m.diameter_mm, m.hardness_hb,
-                                    item->roll_change.started_at)};
+                                    item->roll_change.started_at, m.extra,
+                                    item->roll_change.extra)};
         }
         break;
       }
@@ -224,9 +226,11 @@ Status MillStoreImpl::ExecuteItem(WriteItem* item) {
       ROLLWEAR_RETURN_IF_ERROR(EndOpenCampaigns(db, in.started_at));
       ROLLWEAR_ASSIGN_OR_RETURN(
           const int64_t row,
-          InsertCampaign(db, in.campaign_id, in.started_at, std::nullopt, ""));
+          InsertCampaign(db, in.campaign_id, in.started_at, std::nullopt,
+                         ExtraFieldsJson(in.extra)));
       for (const MountedRollIn& m : in.rolls) {
-        ROLLWEAR_RETURN_IF_ERROR(InsertMount(db, row, m, ""));
+        ROLLWEAR_RETURN_IF_ERROR(
+            InsertMount(db, row, m, ExtraFieldsJson(m.extra)));
       }
       return Status::Ok();
     }
@@ -237,7 +241,8 @@ Status MillStoreImpl::ExecuteItem(WriteItem* item) {
     case WriteKind::kMeasurement: {
       ROLLWEAR_ASSIGN_OR_RETURN(const int64_t row,
                                 CampaignRow(db, item->measurement.campaign_id));
-      return InsertMeasurement(db, row, item->measurement, "");
+      return InsertMeasurement(db, row, item->measurement,
+                               ExtraFieldsJson(item->measurement.extra));
     }
     case WriteKind::kImport: {
       ROLLWEAR_RETURN_IF_ERROR(WriteImport(db, *item->dataset,
@@ -385,7 +390,8 @@ void MillStoreImpl::InstallModel(std::shared_ptr<const ModelVersion> model) {
         if (!m) continue;
         states[slot] = MountRoll(
             model->wear_model, RollPositionName(m->stand, m->position),
-            m->roll_type, m->diameter_mm, m->hardness_hb, open.started_at);
+            m->roll_type, m->diameter_mm, m->hardness_hb, open.started_at,
+            m->extra, open.extra);
       }
     }
   }

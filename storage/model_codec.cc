@@ -58,13 +58,15 @@ bool ReadNumber(const Json& j, double* out) {
   return false;
 }
 
+// doc[field], optional: an array of strings; an error names `at` + field
+// (`at`: the path of `doc`, e.g. "terms[0].").
 Status ReadLabels(const Json& doc, const char* field,
-                  std::vector<std::string>* out) {
+                  std::vector<std::string>* out, const std::string& at = "") {
   auto it = doc.find(field);
   if (it == doc.end()) return Status::Ok();  // optional: empty
-  if (!it->is_array()) return Bad(field, "must be an array of strings");
+  if (!it->is_array()) return Bad(at + field, "must be an array of strings");
   for (const Json& v : *it) {
-    if (!v.is_string()) return Bad(field, "must be an array of strings");
+    if (!v.is_string()) return Bad(at + field, "must be an array of strings");
     out->push_back(v.get<std::string>());
   }
   return Status::Ok();
@@ -92,6 +94,7 @@ Json EncodeTerm(const ModelTerm& t) {
   j["scale"] = Number(t.scale);
   j["edges"] = Numbers(t.edges);
   j["num_levels"] = t.num_levels;
+  if (!t.levels.empty()) j["levels"] = t.levels;
   return j;
 }
 
@@ -139,6 +142,7 @@ Status DecodeTerms(const Json& doc, std::vector<ModelTerm>* out) {
       }
       t.num_levels = levels->get<int>();
     }
+    ROLLWEAR_RETURN_IF_ERROR(ReadLabels(j, "levels", &t.levels, at));
     out->push_back(std::move(t));
   }
   return Status::Ok();

@@ -10,6 +10,7 @@
 //    "terms": [{"covariate": "campaign_length_before_m",
 //               "form": "saturating", "params": [...], "center": 0,
 //               "scale": 1, "edges": [], "num_levels": 0}, ...]}
+//   (a per-level term also has "levels": its factor's level labels)
 //
 // The recurrent network (WearModel::ann) is stored as
 //   {"format": 1, "law": "wang", "option": 0, "ann": "<SerializeAnnModel

@@ -1,5 +1,7 @@
 #include "storage/store_sql.h"
 
+#include "storage/extra_json.h"
+
 #include <bit>
 #include <cstring>
 #include <functional>
@@ -164,7 +166,8 @@ Status InsertCoilWithPasses(Db* db, const StoredCoil& coil,
   ROLLWEAR_ASSIGN_OR_RETURN(const int64_t row,
                             InsertCoil(db, campaign, coil, wear_blob));
   for (const StoredPass& p : coil.passes) {
-    ROLLWEAR_RETURN_IF_ERROR(InsertPass(db, row, campaign, p, ""));
+    ROLLWEAR_RETURN_IF_ERROR(
+        InsertPass(db, row, campaign, p, ExtraFieldsJson(p.extra)));
   }
   return Status::Ok();
 }
@@ -194,7 +197,7 @@ StatusOr<std::optional<StoredCoil>> LookupCoil(Db* db,
       "SELECT g.campaign_id, c.seq, c.grade, p.stand, p.rolled_at, "
       "p.force_kn, p.width_mm, p.length_m, p.entry_thickness_mm, "
       "p.exit_thickness_mm, p.temperature_c, p.speed_mps, p.lubrication, "
-      "p.shift_mm FROM coils c JOIN campaigns g ON g.id = c.campaign "
+      "p.shift_mm, p.extra FROM coils c JOIN campaigns g ON g.id = c.campaign "
       "JOIN passes p ON p.coil = c.id WHERE c.coil_id = ? ORDER BY p.stand");
   st->BindText(1, coil_id);
   std::optional<StoredCoil> out;
@@ -220,7 +223,8 @@ StatusOr<std::optional<StoredCoil>> LookupCoil(Db* db,
     p.speed_mps = st->ColumnDouble(11);
     p.lubrication = st->ColumnInt(12) != 0;
     p.shift_mm = st->ColumnDouble(13);
-    out->passes.push_back(p);
+    ROLLWEAR_ASSIGN_OR_RETURN(p.extra, ParseExtraFields(st->ColumnText(14)));
+    out->passes.push_back(std::move(p));
   }
   return out;
 }
@@ -250,6 +254,15 @@ StatusOr<std::optional<std::string>> LookupSeq(Db* db,
 
 namespace {
 
+// The fields of a stored `extra`; on a bad one, none, and *bad (when still
+// OK) says why - for the row visitors, which return nothing.
+ExtraFields ExtraOrNote(std::string_view text, Status* bad) {
+  StatusOr<ExtraFields> f = ParseExtraFields(text);
+  if (f.ok()) return std::move(f).value();
+  if (bad->ok()) *bad = f.status();
+  return {};
+}
+
 // Row id -> campaign_id, for the rows that refer to campaigns by row id.
 using CampaignByRow = std::unordered_map<int64_t, std::string>;
 
@@ -259,14 +272,16 @@ Status LoadCampaigns(Db* db, Catalog* catalog, CampaignByRow* by_row_out) {
   CampaignByRow& by_row = *by_row_out;
   ROLLWEAR_ASSIGN_OR_RETURN(
       Statement st,
-      db->Prepare("SELECT id, campaign_id, started_at, ended_at FROM campaigns "
-                  "ORDER BY id"));
+      db->Prepare("SELECT id, campaign_id, started_at, ended_at, extra FROM "
+                  "campaigns ORDER BY id"));
   UnixSeconds open_start = 0;
-  return ForEachRow(&st, [&](const Statement& row) {
+  Status bad;
+  ROLLWEAR_RETURN_IF_ERROR(ForEachRow(&st, [&](const Statement& row) {
     CampaignRec rec;
     rec.id = row.ColumnText(1);
     rec.started_at = row.ColumnInt(2);
     if (!row.ColumnIsNull(3)) rec.ended_at = row.ColumnInt(3);
+    rec.extra = ExtraOrNote(row.ColumnText(4), &bad);
     // At most one campaign is open; should a file hold several, the
     // latest start is the one coils go to.
     if (!rec.ended_at &&
@@ -276,7 +291,8 @@ Status LoadCampaigns(Db* db, Catalog* catalog, CampaignByRow* by_row_out) {
     }
     by_row[row.ColumnInt(0)] = rec.id;
     c.campaigns[rec.id] = std::move(rec);
-  });
+  }));
+  return bad;
 }
 
 // Each campaign's mounted rolls, and the roll positions seen.
@@ -284,8 +300,9 @@ Status LoadMounts(Db* db, CampaignByRow* by_row, Catalog* c) {
   ROLLWEAR_ASSIGN_OR_RETURN(
       Statement st,
       db->Prepare("SELECT campaign, stand, position, roll_id, roll_type, "
-                  "diameter_mm, hardness_hb FROM mounts ORDER BY id"));
-  return ForEachRow(&st, [&](const Statement& row) {
+                  "diameter_mm, hardness_hb, extra FROM mounts ORDER BY id"));
+  Status bad;
+  ROLLWEAR_RETURN_IF_ERROR(ForEachRow(&st, [&](const Statement& row) {
     MountedRollIn m;
     m.stand = static_cast<int>(row.ColumnInt(1));
     m.position = static_cast<Position>(row.ColumnInt(2));
@@ -293,10 +310,12 @@ Status LoadMounts(Db* db, CampaignByRow* by_row, Catalog* c) {
     m.roll_type = row.ColumnText(4);
     m.diameter_mm = row.ColumnDouble(5);
     m.hardness_hb = row.ColumnDouble(6);
+    m.extra = ExtraOrNote(row.ColumnText(7), &bad);
     const int slot = RollPositionSlot(m.stand, m.position);
     c->positions_seen |= 1u << slot;
     c->campaigns[(*by_row)[row.ColumnInt(0)]].mounts[slot] = std::move(m);
-  });
+  }));
+  return bad;
 }
 
 // Each campaign's grinder measurements.
@@ -304,8 +323,10 @@ Status LoadMeasurements(Db* db, CampaignByRow* by_row, Catalog* c) {
   ROLLWEAR_ASSIGN_OR_RETURN(
       Statement st,
       db->Prepare("SELECT campaign, stand, position, roll_id, measured_at, "
-                  "wear_center_um, suspect FROM measurements ORDER BY id"));
-  return ForEachRow(&st, [&](const Statement& row) {
+                  "wear_center_um, extra, suspect FROM measurements "
+                  "ORDER BY id"));
+  Status bad;
+  ROLLWEAR_RETURN_IF_ERROR(ForEachRow(&st, [&](const Statement& row) {
     MeasurementIn m;
     m.campaign_id = (*by_row)[row.ColumnInt(0)];
     m.stand = static_cast<int>(row.ColumnInt(1));
@@ -313,10 +334,12 @@ Status LoadMeasurements(Db* db, CampaignByRow* by_row, Catalog* c) {
     m.roll_id = row.ColumnText(3);
     m.measured_at = row.ColumnInt(4);
     m.wear_center_um = row.ColumnDouble(5);
-    m.suspect = row.ColumnText(6);  // "" for NULL
+    m.extra = ExtraOrNote(row.ColumnText(6), &bad);
+    m.suspect = row.ColumnText(7);  // "" for NULL
     const int slot = RollPositionSlot(m.stand, m.position);
     c->campaigns[m.campaign_id].measurements[slot] = std::move(m);
-  });
+  }));
+  return bad;
 }
 
 // The coils of the open campaign by sequence number.
@@ -428,7 +451,8 @@ StatusOr<RollStates> ReplayCampaignCoils(Db* db, const CampaignRec& campaign,
     if (!m.has_value()) continue;
     states[slot] =
         MountRoll(model, RollPositionName(m->stand, m->position), m->roll_type,
-                  m->diameter_mm, m->hardness_hb, campaign.started_at);
+                  m->diameter_mm, m->hardness_hb, campaign.started_at,
+                  m->extra, campaign.extra);
   }
   ROLLWEAR_ASSIGN_OR_RETURN(
       Statement st,
@@ -436,7 +460,7 @@ StatusOr<RollStates> ReplayCampaignCoils(Db* db, const CampaignRec& campaign,
           "SELECT c.coil_id, c.grade, p.stand, p.rolled_at, p.force_kn, "
           "p.width_mm, p.length_m, p.entry_thickness_mm, p.exit_thickness_mm, "
           "p.temperature_c, p.speed_mps, p.lubrication, p.shift_mm, c.id, "
-          "c.wear IS NULL "
+          "c.wear IS NULL, p.extra "
           "FROM passes p JOIN coils c ON c.id = p.coil "
           "WHERE c.campaign = (SELECT id FROM campaigns WHERE campaign_id = ?) "
           "ORDER BY c.id, p.id"));
@@ -474,6 +498,7 @@ StatusOr<RollStates> ReplayCampaignCoils(Db* db, const CampaignRec& campaign,
     pass.speed_mps = st.ColumnDouble(10);
     pass.lubrication = st.ColumnInt(11) != 0;
     pass.shift_mm = st.ColumnDouble(12);
+    ROLLWEAR_ASSIGN_OR_RETURN(pass.extra, ParseExtraFields(st.ColumnText(15)));
     const PassInput in = ToPassInput(st.ColumnText(1), pass);
     for (Position p : {Position::kTop, Position::kBottom}) {
       const int slot = RollPositionSlot(pass.stand, p);

@@ -25,14 +25,17 @@
 
 namespace rollwear::storage::internal {
 
-// One pass as stored (a row of passes): the pass and its coil's time.
+// One pass as stored (a row of passes): the pass, its coil's time and the
+// extra fields of its row (the coil's and the pass's own, merged).
 struct StoredPass : PassMeasures {
   UnixSeconds rolled_at = 0;
+  ExtraFields extra;
   bool operator==(const StoredPass&) const = default;
 };
 
 // A coil with its passes ordered by stand: the canonical content that
-// idempotent repeats are compared on (numbers compared exactly).
+// idempotent repeats are compared on (numbers compared exactly, extra
+// fields included: a repeat that adds, drops or changes one differs).
 struct StoredCoil {
   std::string coil_id;
   std::string campaign_id;
@@ -63,6 +66,7 @@ struct CampaignRec {
   std::string id;
   UnixSeconds started_at = 0;
   std::optional<UnixSeconds> ended_at;  // empty while open
+  ExtraFields extra;                    // the campaign's extra fields
   std::array<std::optional<MountedRollIn>, kNumRollPositionSlots> mounts;
   std::array<std::optional<MeasurementIn>, kNumRollPositionSlots> measurements;
 };

@@ -187,6 +187,16 @@ struct StoreCounters {
   int64_t commits = 0;  // group-commit transactions
 };
 
+// What an import found, per table: rows it added and rows already stored
+// with the same content (MillStore::ImportDataset).
+struct ImportTableCounts {
+  int64_t added = 0;
+  int64_t unchanged = 0;
+};
+struct ImportCounts {
+  ImportTableCounts campaigns, mounts, coils, measurements;
+};
+
 // Predicted wear of one roll along a campaign (MillStore::RecentWear).
 struct RollWearHistory {
   int stand = 0;
@@ -202,9 +212,10 @@ struct RollWearHistory {
   // or not measured): shown, not fitted.
   std::string measured_suspect;
   // Measured rolls: what the grinder is expected to read, the final
-  // predicted wear plus the active model's measurement terms (cooling_h;
-  // a term on a measurement's extra column adds 0 here, the API carries no
-  // extra columns). Equals final_predicted_um without measurement terms.
+  // predicted wear plus the active model's measurement terms (cooling_h, or
+  // a measurement's extra field as stored with it; a term whose field the
+  // measurement lacks adds 0). Equals final_predicted_um without
+  // measurement terms.
   double expected_reading_um = 0;
 };
 struct CampaignWearHistory {

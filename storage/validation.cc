@@ -21,6 +21,13 @@ Status FirstBroken(const RuleViolations& broken, const char* list) {
   return Status::InvalidArgument(path + ": " + RuleMessage(v));
 }
 
+// The same as FailedPrecondition: the record is well-formed but does not
+// fit what is stored (api.md: 422).
+Status Inconsistent(const RuleViolations& broken, const char* list) {
+  const Status s = FirstBroken(broken, list);
+  return s.ok() ? s : Status::FailedPrecondition(s.message());
+}
+
 const CampaignRec* FindCampaign(const Catalog& c, const std::string& id) {
   auto it = c.campaigns.find(id);
   return it == c.campaigns.end() ? nullptr : &it->second;
@@ -39,7 +46,8 @@ StoredCoil CanonicalCoil(const CoilIn& in) {
   c.seq = in.seq;
   c.grade = in.grade;
   for (const PassIn& p : in.passes) {
-    c.passes.push_back(StoredPass{p, in.rolled_at});
+    c.passes.push_back(
+        StoredPass{p, in.rolled_at, MergedExtraFields(in.extra, p.extra)});
   }
   std::stable_sort(c.passes.begin(), c.passes.end(),
                    [](const StoredPass& a, const StoredPass& b) {
@@ -49,19 +57,23 @@ StoredCoil CanonicalCoil(const CoilIn& in) {
 }
 
 PassInput ToPassInput(const std::string& grade, const StoredPass& p) {
-  return PassInputFromRow(grade, p);
+  PassInput in = PassInputFromRow(grade, p);
+  in.extra = p.extra;
+  return in;
 }
 
 bool SameMount(const MountedRollIn& a, const MountedRollIn& b) {
   return a.stand == b.stand && a.position == b.position &&
          a.roll_id == b.roll_id && a.roll_type == b.roll_type &&
-         a.diameter_mm == b.diameter_mm && a.hardness_hb == b.hardness_hb;
+         a.diameter_mm == b.diameter_mm && a.hardness_hb == b.hardness_hb &&
+         a.extra == b.extra;
 }
 
 bool SameMeasurement(const MeasurementIn& a, const MeasurementIn& b) {
   return a.campaign_id == b.campaign_id && a.stand == b.stand &&
          a.position == b.position && a.roll_id == b.roll_id &&
-         a.measured_at == b.measured_at && a.wear_center_um == b.wear_center_um;
+         a.measured_at == b.measured_at &&
+         a.wear_center_um == b.wear_center_um && a.extra == b.extra;
 }
 
 std::vector<std::string> PositionLabels(uint32_t mask) {
@@ -104,7 +116,7 @@ Status AdmitRollChange(const Catalog& c, const RollChangeIn& in,
                        bool* unchanged) {
   *unchanged = false;
   if (const CampaignRec* rec = FindCampaign(c, in.campaign_id)) {
-    bool same = rec->started_at == in.started_at;
+    bool same = rec->started_at == in.started_at && rec->extra == in.extra;
     int mounted = 0;
     for (const auto& m : rec->mounts) mounted += m.has_value() ? 1 : 0;
     same = same && mounted == static_cast<int>(in.rolls.size());
@@ -140,6 +152,7 @@ void ApplyRollChange(const RollChangeIn& in, Catalog* c) {
   CampaignRec rec;
   rec.id = in.campaign_id;
   rec.started_at = in.started_at;
+  rec.extra = in.extra;
   for (const MountedRollIn& r : in.rolls) {
     const int slot = RollPositionSlot(r.stand, r.position);
     rec.mounts[slot] = r;
@@ -196,14 +209,15 @@ Status AdmitCoil(const Catalog& c, const CoilIn& in, const StoredCoil& coil,
                                       in.campaign_id + " has ended (at " +
                                       FormatTimestamp(*rec->ended_at) + ")");
   }
+  uint32_t mounted = 0;
+  for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
+    if (rec->mounts[slot].has_value()) mounted |= 1u << slot;
+  }
   for (size_t i = 0; i < in.passes.size(); ++i) {
-    const int stand = in.passes[i].stand;
-    if (!rec->mounts[RollPositionSlot(stand, Position::kTop)] &&
-        !rec->mounts[RollPositionSlot(stand, Position::kBottom)]) {
-      return Status::FailedPrecondition(
-          "passes[" + std::to_string(i) + "].stand: no roll mounted at " +
-          StandName(stand) + " in campaign " + in.campaign_id);
-    }
+    ROLLWEAR_RETURN_IF_ERROR(
+        Inconsistent(PassMountRules(in.passes[i].stand, in.campaign_id, mounted,
+                                    static_cast<int>(i)),
+                     "passes"));
   }
   if (c.open_campaign == in.campaign_id) {
     auto owner = c.open_seqs.find(in.seq);
@@ -248,7 +262,8 @@ Status AdmitMeasurement(const Catalog& c, const MeasurementIn& in,
                                       " was not mounted at " + where +
                                       " (mounted: " + mount->roll_id + ")");
   }
-  return Status::Ok();
+  return Inconsistent(
+      MeasurementTimeRules(in.campaign_id, in.measured_at, rec->ended_at), "");
 }
 
 void ApplyMeasurement(const MeasurementIn& in, Catalog* c) {

@@ -8,8 +8,9 @@
 //    A stored key with equal content sets *unchanged; with other content it
 //    is AlreadyExists; an unknown campaign is NotFound; a state that does
 //    not allow the write (ended campaign, no roll mounted, roll not mounted
-//    there, seq taken) is FailedPrecondition. On success Apply* records the
-//    write in a catalog.
+//    there, seq taken, a measurement of a running campaign or before its
+//    end) is FailedPrecondition, its message starting with the field. On
+//    success Apply* records the write in a catalog.
 //
 // Thread-safety: pure functions of their arguments.
 #ifndef ROLLWEAR_STORAGE_VALIDATION_H_

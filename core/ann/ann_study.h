@@ -51,7 +51,7 @@ struct AnnMemberFigures {
 struct AnnComparison : StudyDataset {
   // Classical calibration.
   FitMetrics classical_train, classical_val;
-  double classical_bias_above_300_um = 0;  // mean (meas - pred), val > 300 µm
+  double classical_bias_above_300_um = 0;  // mean (meas - pred), pred > 300 µm
   int n_above_300 = 0;
   int classical_parameters = 0;
   double classical_seconds = 0;

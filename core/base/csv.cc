@@ -193,6 +193,41 @@ int Table::FindColumn(std::string_view name) const {
   return -1;
 }
 
+std::string ForeignLayoutHint(const Table& t) {
+  if (t.header().size() != 1) return "";
+  const std::string& h = t.header()[0];
+  constexpr const char* kAdvice = ": export as CSV with ',' and '.'";
+  if (h.find(';') != std::string::npos) {
+    // With ';' between fields, a comma in a row can only be a decimal one.
+    bool decimal_commas = false;
+    for (size_t r = 0; r < t.num_records() && !decimal_commas; ++r) {
+      decimal_commas = t.num_fields(r) > 1;
+    }
+    return std::string("looks like a spreadsheet export with ';'") +
+           (decimal_commas ? " and decimal commas" : "") + kAdvice;
+  }
+  if (h.find('\t') != std::string::npos) {
+    return std::string("looks tab-separated") + kAdvice;
+  }
+  return "";
+}
+
+bool IsDecimalCommaNumber(std::string_view text) {
+  text = Trim(text);
+  if (!text.empty() && (text[0] == '-' || text[0] == '+')) {
+    text.remove_prefix(1);
+  }
+  const size_t comma = text.find(',');
+  if (comma == std::string_view::npos || comma == 0 ||
+      comma + 1 == text.size()) {
+    return false;
+  }
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (i != comma && (text[i] < '0' || text[i] > '9')) return false;
+  }
+  return true;
+}
+
 NumberResult ParseDouble(std::string_view text, double* out) {
   text = Trim(text);
   if (!text.empty() && text[0] == '+') {

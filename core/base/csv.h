@@ -79,6 +79,16 @@ inline std::string_view Trim(std::string_view text) {
   return text.substr(b, e - b);
 }
 
+// Advice when `t` does not look like comma-separated text: a header that
+// is one field holding ';' (a spreadsheet export in a European locale; when
+// data rows split at commas, those are decimal commas) or tabs. Returns
+// e.g. "looks like a spreadsheet export with ';' and decimal commas: export
+// as CSV with ',' and '.'", or "" when nothing is recognised.
+std::string ForeignLayoutHint(const Table& t);
+// True when `text` (after Trim) is a number written with a decimal comma
+// ("12,5", "-0,25").
+bool IsDecimalCommaNumber(std::string_view text);
+
 enum class NumberResult { kOk, kInvalid, kOutOfRange };
 // Parses the whole of `text` (after Trim) as a decimal floating-point number;
 // one leading '+' is accepted. "nan"/"inf" parse (kOk, non-finite value): the

@@ -292,9 +292,9 @@ int DataQuality::NumSuspect() const {
 }
 
 DataQuality AssessDataQuality(const Dataset& data,
-                              const DatasetSourceLines* source) {
-  const DatasetSourceLines no_lines;
-  const DatasetSourceLines& lines_of = source != nullptr ? *source : no_lines;
+                              const DatasetLines* source) {
+  const DatasetLines no_lines;
+  const DatasetLines& lines_of = source != nullptr ? *source : no_lines;
   DataQuality q;
   q.suspect.assign(data.measurements.size(), "");
   const DatasetIndex index(data);

@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "core/dataset/dataset.h"
-#include "core/dataset/dataset_lines.h"
+#include "core/dataset/dataset_io.h"
 
 namespace rollwear {
 
@@ -80,9 +80,9 @@ struct DataQuality {
 };
 
 // Checks every measurement and mount of `data`; `lines` (may be null: no
-// line numbers) are where its rows came from (dataset_lines.h).
+// line numbers) are where its rows came from (DatasetLines, dataset_io.h).
 DataQuality AssessDataQuality(const Dataset& data,
-                              const DatasetSourceLines* lines = nullptr);
+                              const DatasetLines* lines = nullptr);
 
 // `data` without its suspect measurements (what fitting sees).
 Dataset WithoutSuspects(const Dataset& data, const DataQuality& quality);

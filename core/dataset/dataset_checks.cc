@@ -23,6 +23,16 @@ std::string Quote(std::string_view text) {
 
 Status FileView::Bind() {
   const std::vector<std::string>& header = table_.header();
+  if (header.empty()) {
+    std::string want;
+    for (const char* name : columns_) {
+      want += want.empty() ? "" : ",";
+      want += name;
+    }
+    return Fail(1, 1, "file",
+                "the file is empty; want a header row (" + want +
+                    ") and one row per record");
+  }
   for (size_t c = 0; c < header.size(); ++c) {
     for (size_t e = 0; e < c; ++e) {
       if (header[e] == header[c]) {
@@ -36,6 +46,8 @@ Status FileView::Bind() {
   for (size_t k = 0; k < columns_.size(); ++k) {
     cols_[k] = table_.FindColumn(columns_[k]);
     if (cols_[k] < 0) {
+      const std::string hint = csv::ForeignLayoutHint(table_);
+      if (!hint.empty()) return Fail(table_.header_line(), 1, "file", hint);
       return Fail(1, 0, columns_[k],
                   std::string("missing required column '") + columns_[k] + "'");
     }
@@ -75,6 +87,12 @@ Status FileView::Number(size_t r, int k, double* out) const {
     case NumberResult::kInvalid:
       if (csv::Trim(raw).empty()) {
         return Error(r, k, "required field is empty");
+      }
+      if (csv::IsDecimalCommaNumber(raw)) {
+        return Error(r, k,
+                     "unparsable number " + Quote(raw) +
+                         ": decimal comma; write numbers with '.' (export "
+                         "as CSV with ',' and '.')");
       }
       return Error(r, k, "unparsable number " + Quote(raw));
   }

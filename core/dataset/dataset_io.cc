@@ -19,7 +19,6 @@
 #include "core/base/csv.h"
 #include "core/dataset/dataset_checks.h"
 #include "core/dataset/dataset_columns.h"
-#include "core/dataset/dataset_lines.h"
 #include "core/dataset/input_rules.h"
 
 namespace rollwear {
@@ -34,9 +33,10 @@ int InternView(std::string_view label, LabelIndex* index,
   return i;
 }
 
-Status ReadCampaigns(const FileView& f, Dataset* d, LabelIndex* ids) {
+Status ReadCampaigns(const FileView& f, Dataset* d, LabelIndex* ids,
+                     std::vector<int>* lines) {
   namespace col = campaign_col;
-  std::vector<int> first_line;
+  std::vector<int>& first_line = *lines;
   d->campaigns.reserve(f.rows());
   ids->reserve(f.rows());
   for (size_t r = 0; r < f.rows(); ++r) {
@@ -65,11 +65,11 @@ Status ReadCampaigns(const FileView& f, Dataset* d, LabelIndex* ids) {
 }
 
 Status ReadMounts(const FileView& f, LabelIndex* campaigns, Dataset* d,
-                  std::vector<int>* mount_of) {
+                  std::vector<int>* mount_of, std::vector<int>* mount_lines) {
   namespace col = mount_col;
   LabelIndex roll_types;
   mount_of->assign(d->campaigns.size() * kNumRollPositionSlots, -1);
-  std::vector<int> lines;
+  std::vector<int>& lines = *mount_lines;
   for (size_t r = 0; r < f.rows(); ++r) {
     ROLLWEAR_RETURN_IF_ERROR(f.CheckFieldCount(r));
     Mount m;
@@ -114,7 +114,18 @@ struct CoilInfo {
   int stand_line[kMaxStand + 1];  // line of the pass at each stand, 0 if none
 };
 
-Status ReadCoils(const FileView& f, LabelIndex* campaigns, Dataset* d) {
+// Bit RollPositionSlot(...) set for each roll position campaign c mounts.
+uint32_t MountedMask(const std::vector<int>& mount_of, int c) {
+  uint32_t mask = 0;
+  for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
+    if (mount_of[c * kNumRollPositionSlots + slot] >= 0) mask |= 1u << slot;
+  }
+  return mask;
+}
+
+Status ReadCoils(const FileView& f, LabelIndex* campaigns,
+                 const std::vector<int>& mount_of, Dataset* d,
+                 std::vector<int>* lines) {
   namespace col = coil_col;
   LabelIndex coil_index, grades;
   std::vector<CoilInfo> coils;
@@ -155,6 +166,9 @@ Status ReadCoils(const FileView& f, LabelIndex* campaigns, Dataset* d) {
     p.lubrication = lub == "1";
     ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kShift, &p.shift_mm));
     ROLLWEAR_RETURN_IF_ERROR(f.Check(r, PassRules(p)));
+    ROLLWEAR_RETURN_IF_ERROR(
+        f.Check(r, PassMountRules(p.stand, d->campaigns[p.campaign].id,
+                                  MountedMask(mount_of, p.campaign))));
     p.grade = InternView(grade, &grades, &d->grades);
 
     bool added = false;
@@ -205,6 +219,7 @@ Status ReadCoils(const FileView& f, LabelIndex* campaigns, Dataset* d) {
     }
     coils[p.coil].stand_line[p.stand] = f.line(r);
     d->passes.push_back(p);
+    lines->push_back(f.line(r));
   }
   f.CollectExtras(&d->pass_extra);
   return Status::Ok();
@@ -212,7 +227,7 @@ Status ReadCoils(const FileView& f, LabelIndex* campaigns, Dataset* d) {
 
 Status ReadMeasurements(const FileView& f, LabelIndex* campaigns,
                         const std::vector<int>& mount_of, Dataset* d,
-                        std::vector<int>* source_lines) {
+                        std::vector<int>* lines) {
   namespace col = measurement_col;
   std::vector<int> measured(mount_of.size(), 0);  // line, 0 if none
   for (size_t r = 0; r < f.rows(); ++r) {
@@ -229,6 +244,10 @@ Status ReadMeasurements(const FileView& f, LabelIndex* campaigns,
     ROLLWEAR_RETURN_IF_ERROR(
         f.Check(r, MeasurementRules(f.Raw(r, col::kCampaign), m.stand,
                                     m.position, roll_id, m.wear_center_um)));
+    const Campaign& campaign = d->campaigns[m.campaign];
+    ROLLWEAR_RETURN_IF_ERROR(f.Check(
+        r,
+        MeasurementTimeRules(campaign.id, m.measured_at, campaign.ended_at)));
     const size_t key = m.campaign * kNumRollPositionSlots +
                        RollPositionSlot(m.stand, m.position);
     const std::string where = RollPositionName(m.stand, m.position) +
@@ -253,7 +272,7 @@ Status ReadMeasurements(const FileView& f, LabelIndex* campaigns,
     measured[key] = f.line(r);
     m.roll_id = std::string(roll_id);
     d->measurements.push_back(std::move(m));
-    if (source_lines != nullptr) source_lines->push_back(f.line(r));
+    lines->push_back(f.line(r));
   }
   f.CollectExtras(&d->measurement_extra);
   return Status::Ok();
@@ -261,7 +280,10 @@ Status ReadMeasurements(const FileView& f, LabelIndex* campaigns,
 
 // Validates and converts the four file contents (in DatasetFile order).
 StatusOr<Dataset> ParseDataset(std::string (&texts)[kNumDatasetFiles],
-                               DatasetSourceLines* lines) {
+                               DatasetLines* lines) {
+  DatasetLines unused;
+  if (lines == nullptr) lines = &unused;
+  *lines = DatasetLines();
   // All four tables stay alive until the end: label maps view their buffers.
   std::vector<csv::Table> tables;
   tables.reserve(kNumDatasetFiles);
@@ -281,18 +303,14 @@ StatusOr<Dataset> ParseDataset(std::string (&texts)[kNumDatasetFiles],
   LabelIndex campaigns;
   std::vector<int> mount_of;
   ROLLWEAR_RETURN_IF_ERROR(
-      ReadCampaigns(files[kCampaignsFile], &d, &campaigns));
+      ReadCampaigns(files[kCampaignsFile], &d, &campaigns, &lines->campaigns));
+  ROLLWEAR_RETURN_IF_ERROR(ReadMounts(files[kMountsFile], &campaigns, &d,
+                                      &mount_of, &lines->mounts));
   ROLLWEAR_RETURN_IF_ERROR(
-      ReadMounts(files[kMountsFile], &campaigns, &d, &mount_of));
-  ROLLWEAR_RETURN_IF_ERROR(ReadCoils(files[kCoilsFile], &campaigns, &d));
-  ROLLWEAR_RETURN_IF_ERROR(
-      ReadMeasurements(files[kMeasurementsFile], &campaigns, mount_of, &d,
-                       lines == nullptr ? nullptr : &lines->measurements));
-  if (lines != nullptr) {
-    for (size_t r = 0; r < files[kMountsFile].rows(); ++r) {
-      lines->mounts.push_back(files[kMountsFile].line(r));
-    }
-  }
+      ReadCoils(files[kCoilsFile], &campaigns, mount_of, &d, &lines->passes));
+  ROLLWEAR_RETURN_IF_ERROR(ReadMeasurements(files[kMeasurementsFile],
+                                            &campaigns, mount_of, &d,
+                                            &lines->measurements));
   return d;
 }
 
@@ -341,16 +359,7 @@ Status MissingFile(int file, const std::string& detail) {
 
 }  // namespace
 
-StatusOr<Dataset> ReadDataset(const std::string& dir) {
-  return ReadDatasetWithLines(dir, nullptr);
-}
-
-StatusOr<Dataset> ReadDatasetStreams(const DatasetStreams& in) {
-  return ReadDatasetStreamsWithLines(in, nullptr);
-}
-
-StatusOr<Dataset> ReadDatasetWithLines(const std::string& dir,
-                                       DatasetSourceLines* lines) {
+StatusOr<Dataset> ReadDataset(const std::string& dir, DatasetLines* lines) {
   std::string texts[kNumDatasetFiles];
   for (int i = 0; i < kNumDatasetFiles; ++i) {
     const std::string path = dir + "/" + kDatasetFileNames[i];
@@ -369,8 +378,8 @@ StatusOr<Dataset> ReadDatasetWithLines(const std::string& dir,
   return ParseDataset(texts, lines);
 }
 
-StatusOr<Dataset> ReadDatasetStreamsWithLines(const DatasetStreams& in,
-                                              DatasetSourceLines* lines) {
+StatusOr<Dataset> ReadDatasetStreams(const DatasetStreams& in,
+                                     DatasetLines* lines) {
   std::istream* streams[kNumDatasetFiles] = {in.campaigns, in.mounts, in.coils,
                                              in.measurements};
   std::string texts[kNumDatasetFiles];

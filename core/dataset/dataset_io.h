@@ -14,6 +14,7 @@
 #include <istream>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "core/base/status.h"
 #include "core/dataset/dataset.h"
@@ -21,8 +22,16 @@
 
 namespace rollwear {
 
-// Reads DIR/{campaigns,mounts,coils,measurements}.csv.
-StatusOr<Dataset> ReadDataset(const std::string& dir);
+// Where the rows of a Dataset were read from: the physical line of each row
+// in its file, indexed like the Dataset's rows.
+struct DatasetLines {
+  std::vector<int> campaigns, mounts, passes, measurements;
+};
+
+// Reads DIR/{campaigns,mounts,coils,measurements}.csv; fills `lines` when
+// given.
+StatusOr<Dataset> ReadDataset(const std::string& dir,
+                              DatasetLines* lines = nullptr);
 
 // The same from four streams. Error messages name them by the canonical file
 // names (campaigns.csv, ...); a null stream is reported as a missing file.
@@ -32,7 +41,8 @@ struct DatasetStreams {
   std::istream* coils = nullptr;
   std::istream* measurements = nullptr;
 };
-StatusOr<Dataset> ReadDatasetStreams(const DatasetStreams& in);
+StatusOr<Dataset> ReadDatasetStreams(const DatasetStreams& in,
+                                     DatasetLines* lines = nullptr);
 
 // Writes the four CSV files into `dir` (created if missing).
 Status WriteDataset(const Dataset& data, const std::string& dir);

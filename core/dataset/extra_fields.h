@@ -17,6 +17,8 @@
 #include <utility>
 #include <vector>
 
+#include "core/dataset/dataset.h"
+
 namespace rollwear {
 
 struct ExtraFields {
@@ -46,6 +48,16 @@ struct ExtraFields {
     std::sort(factor.begin(), factor.end());
   }
 };
+
+// Row `row` of a dataset's extra columns as fields: every numeric column
+// with a value (an empty cell, NaN, is left out, as a JSON null is) and every
+// factor column with its level's text (the empty text included: it is a
+// level of the column, data-format.md).
+ExtraFields ExtraFieldsOfRow(const ExtraColumns& columns, size_t row);
+
+// The fields of `a` and of `b` together (a coil's fields and one of its
+// passes'), sorted; a name in both keeps `b`'s value.
+ExtraFields MergedExtraFields(const ExtraFields& a, const ExtraFields& b);
 
 }  // namespace rollwear
 

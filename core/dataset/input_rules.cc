@@ -220,4 +220,46 @@ RuleViolations MeasurementRules(std::string_view campaign_id, int stand,
   return out;
 }
 
+RuleViolations PassMountRules(int stand, std::string_view campaign_id,
+                              uint32_t mounted, int pass) {
+  RuleViolations out;
+  if (stand < kMinStand || stand > kMaxStand) return out;  // PassRules' job
+  const uint32_t at_stand = (1u << RollPositionSlot(stand, Position::kTop)) |
+                            (1u << RollPositionSlot(stand, Position::kBottom));
+  if (mounted & at_stand) return out;
+  std::string rule = "no roll mounted at " + StandName(stand) +
+                     " in campaign " + std::string(campaign_id);
+  std::string rolls;
+  for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
+    if (!(mounted & (1u << slot))) continue;
+    if (!rolls.empty()) rolls += ", ";
+    rolls += RollPositionName(SlotStand(slot), SlotPosition(slot));
+  }
+  rule += rolls.empty() ? " (it has no mounted rolls)"
+                        : "; its rolls are at " + rolls;
+  Rules r(&out);
+  r.set_element(pass);
+  r.Add("stand", std::move(rule));
+  return out;
+}
+
+RuleViolations MeasurementTimeRules(
+    std::string_view campaign_id, UnixSeconds measured_at,
+    std::optional<UnixSeconds> campaign_ended_at) {
+  RuleViolations out;
+  Rules r(&out);
+  if (!campaign_ended_at.has_value()) {
+    r.Add("campaign_id", "campaign " + std::string(campaign_id) +
+                             " has not ended: a roll is measured after its "
+                             "campaign (end it first)");
+  } else if (measured_at < *campaign_ended_at) {
+    r.Add("measured_at",
+          "must not be before the end of campaign " + std::string(campaign_id) +
+              " (" + FormatTimestamp(*campaign_ended_at) +
+              "): a roll is measured after it is taken out",
+          true, FormatTimestamp(measured_at));
+  }
+  return out;
+}
+
 }  // namespace rollwear

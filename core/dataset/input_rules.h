@@ -118,6 +118,25 @@ RuleViolations MeasurementRules(std::string_view campaign_id, int stand,
                                 Position position, std::string_view roll_id,
                                 double wear_center_um);
 
+// Consistency of one record with its campaign (data-format.md, bad input;
+// api.md, 422). `mounted` has bit RollPositionSlot(stand, position) set for
+// each roll position the campaign has a roll mounted at.
+
+// A pass at `stand` (element = `pass` when >= 0, a coil's passes[i]): the
+// campaign has a roll mounted at the stand (top or bottom). The rule names
+// the roll positions the campaign does have, so that a stand named
+// differently in two files shows ("no roll mounted at F7 in campaign C1;
+// its rolls are at F5/top, F5/bottom").
+RuleViolations PassMountRules(int stand, std::string_view campaign_id,
+                              uint32_t mounted, int pass = -1);
+// A measurement (or profile) taken at `measured_at`: its campaign has ended
+// (`campaign_ended_at` is empty while it runs: field campaign_id) and
+// measured_at is not before the end (field measured_at, value cited): the
+// grinder measures a roll after it was taken out.
+RuleViolations MeasurementTimeRules(
+    std::string_view campaign_id, UnixSeconds measured_at,
+    std::optional<UnixSeconds> campaign_ended_at);
+
 }  // namespace rollwear
 
 #endif  // ROLLWEAR_CORE_DATASET_INPUT_RULES_H_

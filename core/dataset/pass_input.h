@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "core/dataset/dataset.h"
+#include "core/dataset/extra_fields.h"
 
 namespace rollwear {
 
@@ -27,6 +28,9 @@ struct PassInput {
   double speed_mps = 0;
   bool lubrication = false;
   double shift_mm = 0;
+  // The pass's extra fields (its coil's and its own): the values of terms
+  // adopted on extra pass columns (predictor.h).
+  ExtraFields extra;
 };
 
 // The pass input of any row type with the coil row's fields (a dataset
@@ -48,7 +52,8 @@ PassInput PassInputFromRow(std::string grade, const Row& p) {
   return in;
 }
 
-// The pass of row `pass` of a dataset.
+// The pass `pass` (an element of data.passes) of a dataset, with its row's
+// extra columns.
 PassInput PassInputOf(const Dataset& data, const Pass& pass);
 
 }  // namespace rollwear

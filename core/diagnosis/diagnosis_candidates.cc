@@ -95,6 +95,8 @@ std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>
                         std::vector<double>(levels - 1, -3.0),
                         std::vector<double>(levels - 1, 3.0));
       s.term.num_levels = levels;
+      s.term.levels.assign(c.levels.begin(),
+                           c.levels.begin() + std::min<size_t>(levels, c.levels.size()));
       out.push_back({s, {}});
       continue;
     }

@@ -34,8 +34,10 @@ struct StudyRow {
   double cost = 0;          // Eq. 9 at the optimum, training
   double gap_train_um = 0;
   double gap_val_um = 0;
-  // Mean (measured - predicted) over validation campaigns with measured
-  // wear > 300 µm; positive = under-prediction. NaN when there are none.
+  // Mean (measured - predicted) over the validation measurements whose
+  // predicted wear is > 300 µm (selected by prediction, not by measurement,
+  // which would show a bias on clean data by regression to the mean);
+  // positive = under-prediction. NaN when there are none.
   double bias_above_300_um = 0;
   int n_above_300 = 0;
   int iterations = 0;

@@ -18,7 +18,7 @@ void AddExtras(const ExtraColumns& extra, CovariateLevel level,
   if (!has_factor) return;
   for (size_t i = 0; i < extra.factor_names.size(); ++i) {
     out->push_back({extra.factor_names[i], factor, level, CovariateKind::kFactor,
-                    static_cast<int>(i)});
+                    static_cast<int>(i), false, extra.factor_levels[i]});
   }
 }
 

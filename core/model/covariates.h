@@ -47,6 +47,8 @@ struct CovariateSpec {
   // length, coils, hours): candidates then include saturating and decaying
   // forms (growth vs run-in).
   bool accumulates = false;
+  // Factors: the level labels (ExtraColumns::factor_levels of the column).
+  std::vector<std::string> levels = {};
 };
 
 // Every covariate the dataset supports, canonical ones first.

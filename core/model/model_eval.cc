@@ -51,7 +51,9 @@ std::vector<MeasuredPrediction> PredictMeasured(
       RollWearState state =
           MountRoll(model, RollPositionName(mount.stand, mount.position),
                     data.roll_types[mount.roll_type], mount.diameter_mm,
-                    mount.hardness_hb, data.campaigns[c].started_at);
+                    mount.hardness_hb, data.campaigns[c].started_at,
+                    ExtraFieldsOfRow(data.mount_extra, mi),
+                    ExtraFieldsOfRow(data.campaign_extra, c));
       for (int pi : index.PassesOf(c, mount.stand)) {
         AddPass(model, PassInputOf(data, data.passes[pi]), &state);
       }

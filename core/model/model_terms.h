@@ -42,6 +42,11 @@ struct ModelTerm {
   double scale = 1;            // s
   std::vector<double> edges;   // binned: upper edges of bins 0..B-2
   int num_levels = 0;          // per-level: number of factor levels
+  // per-level: the factor's level labels, level l = levels[l] (the first
+  // num_levels of the fitted data's levels). The daemon matches a record's
+  // label to them (core/model/predictor.h); empty for a term stored before
+  // labels were kept, which then counts as 1 coil by coil.
+  std::vector<std::string> levels;
 
   bool IsMeasurementTerm() const {
     return form == TermForm::kOffsetDecay || form == TermForm::kOffsetLinear;

@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <limits>
+#include <string_view>
+#include <utility>
 
 #include "core/model/covariates.h"
 
@@ -9,7 +11,8 @@ namespace rollwear {
 
 RollWearState MountRoll(const WearModel& model, const std::string& position_label,
                         const std::string& roll_type, double diameter_mm,
-                        double hardness_hb, UnixSeconds campaign_started_at) {
+                        double hardness_hb, UnixSeconds campaign_started_at,
+                        ExtraFields mount_extra, ExtraFields campaign_extra) {
   RollWearState s;
   s.position = model.structure.PositionLevel(position_label);
   s.roll_type = model.structure.RollTypeLevel(roll_type);
@@ -17,11 +20,44 @@ RollWearState MountRoll(const WearModel& model, const std::string& position_labe
   s.hardness_hb = hardness_hb;
   s.gradient.assign(model.num_parameters(), 0.0);
   s.campaign_started_at = campaign_started_at;
+  s.mount_extra = std::move(mount_extra);
+  s.campaign_extra = std::move(campaign_extra);
   if (model.is_ann()) {
     s.ann = MountRoll(*model.ann, position_label, roll_type, diameter_mm, hardness_hb);
   }
   return s;
 }
+
+namespace {
+
+// The value of a term on an extra column (a name outside the built-in
+// catalog) for this pass: the numeric field, or for a per-level term the
+// index of the factor field's label in the term's levels; NaN (multiplier
+// 1) when there is none.
+double ExtraTermValue(const ModelTerm& t, const PassInput& pass,
+                      const RollWearState& state) {
+  const ExtraFields* records[] = {&pass.extra, &state.mount_extra,
+                                  &state.campaign_extra};
+  if (t.form != TermForm::kPerLevel) {
+    for (const ExtraFields* r : records) {
+      if (const double* v = r->Numeric(t.covariate)) return *v;
+    }
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  std::string_view label;  // no field: the empty cell's level, ""
+  for (const ExtraFields* r : records) {
+    if (const std::string* l = r->Factor(t.covariate)) {
+      label = *l;
+      break;
+    }
+  }
+  for (size_t l = 0; l < t.levels.size(); ++l) {
+    if (t.levels[l] == label) return static_cast<double>(l);
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+}  // namespace
 
 double PassTermMultiplier(const WearModel& model, const PassInput& pass,
                           const RollWearState& state) {
@@ -53,10 +89,13 @@ double PassTermMultiplier(const WearModel& model, const PassInput& pass,
   double multiplier = 1.0;
   for (const ModelTerm& t : model.terms) {
     if (t.IsMeasurementTerm()) continue;
+    bool built_in = false;
     for (const CovariateSpec& spec : kCatalog) {
       if (spec.name != t.covariate || spec.level == CovariateLevel::kMeasurement) continue;
+      built_in = true;
       multiplier *= TermMultiplier(t, CovariateValue(spec, kNoExtras, ctx, 0), nullptr);
     }
+    if (!built_in) multiplier *= TermMultiplier(t, ExtraTermValue(t, pass, state), nullptr);
   }
   return multiplier;
 }

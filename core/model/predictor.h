@@ -9,6 +9,15 @@
 // Labels unknown to the model (a new roll type or grade) use the gauge
 // value 1 for that factor, i.e. the geometric mean of the known levels.
 //
+// Adopted terms on a mill's extra columns take their value from the extra
+// fields of the records (ExtraFields: the pass's and its coil's in
+// PassInput::extra, the roll's and the campaign's in RollWearState), found
+// by the column's name in that order. A field a record lacks is an empty
+// cell, as in the batch path (covariates.h): a numeric term then counts as
+// 1 (NaN), a per-level term takes the empty text's level. A factor level is
+// matched by its label (ModelTerm::levels); a label the fit never saw
+// counts as 1, as a level without training data does in the batch path.
+//
 // When the model is the recurrent network (WearModel::ann), the same calls
 // run the network coil by coil (ann_model.h): the state then carries the
 // network's per-member recurrence and the interval combines the members'
@@ -26,6 +35,7 @@
 
 #include "core/model/ann_model.h"
 #include "core/dataset/dataset.h"
+#include "core/dataset/extra_fields.h"
 #include "core/dataset/pass_input.h"
 #include "core/model/wear_law.h"
 #include "core/model/wear_model.h"
@@ -42,19 +52,23 @@ struct RollWearState {
   double rolled_length_m = 0;
   std::vector<double> gradient;  // d(wear)/d(log k, a)
   UnixSeconds campaign_started_at = 0;  // for hours_since_mount
+  ExtraFields mount_extra;     // the roll's extra fields (mounts.csv)
+  ExtraFields campaign_extra;  // its campaign's (campaigns.csv)
   std::optional<AnnRollState> ann;      // set when the model is the ANN
 };
 
 // A freshly mounted roll at `position_label` ("F6/top").
 RollWearState MountRoll(const WearModel& model, const std::string& position_label,
                         const std::string& roll_type, double diameter_mm,
-                        double hardness_hb, UnixSeconds campaign_started_at = 0);
+                        double hardness_hb, UnixSeconds campaign_started_at = 0,
+                        ExtraFields mount_extra = {},
+                        ExtraFields campaign_extra = {});
 
 // Product of the model's wear-rate terms for this pass on this roll (1 when
 // the model has none): the covariates come from the pass, the roll and the
 // roll's state before the pass (campaign_length_before_m = rolled length so
-// far, campaign_coils_before = coils so far). Terms on extra columns a mill
-// added cannot be evaluated coil by coil and count as 1.
+// far, campaign_coils_before = coils so far), and the extra fields of the
+// pass, the roll and the campaign (see above).
 double PassTermMultiplier(const WearModel& model, const PassInput& pass,
                           const RollWearState& state);
 

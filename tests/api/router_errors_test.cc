@@ -149,7 +149,11 @@ TEST_F(RouterTest, UnknownStandNameIs400AndUnmountedStandIs422) {
                  "passes[1].stand", before);
   // F3 is a valid stand, but no roll is mounted there.
   coil["passes"][0]["stand"] = "F3";
-  ExpectRejected(Post("/v1/coils", coil), 422, "inconsistent", nullptr, before);
+  const HttpResponse r = Post("/v1/coils", coil);
+  ExpectRejected(r, 422, "inconsistent", "passes[0].stand", before);
+  EXPECT_EQ(Parse(r)["error"]["message"],
+            "passes[0].stand: no roll mounted at F3 in campaign C1; its rolls "
+            "are at F6/top, F6/bottom, F7/top, F7/bottom");
 }
 
 TEST_F(RouterTest, CoilForUnknownCampaignIs404) {
@@ -164,7 +168,7 @@ TEST_F(RouterTest, CoilForEndedCampaignIs422) {
             200);
   const std::string before = State();
   ExpectRejected(Post("/v1/coils", CoilBody("K1", "C1", 1)), 422,
-                 "inconsistent", nullptr, before);
+                 "inconsistent", "campaign_id", before);
 }
 
 TEST_F(RouterTest, DuplicateCoilWithOtherContentIs409) {
@@ -321,6 +325,7 @@ TEST_F(RouterTest, DataBodiesAcceptExtraFields) {
   ASSERT_EQ(r.status, 200) << r.body;
 
   json m = MeasurementBody("C2", "F6", "top", "R-F6-top", 120);
+  m["measured_at"] = "2026-03-02T22:00:00Z";  // after C2's end
   m["grinder"] = "G2";
   r = Post("/v1/measurements", m);
   EXPECT_EQ(r.status, 201) << r.body;
@@ -376,7 +381,7 @@ TEST_F(RouterTest, BadMeasurementsAreRejected) {
   const std::string before = State();
   ExpectRejected(Post("/v1/measurements",
                       MeasurementBody("C1", "F6", "top", "R-OTHER", 120)),
-                 422, "inconsistent", nullptr, before);
+                 422, "inconsistent", "roll_id", before);
   ExpectRejected(Post("/v1/measurements",
                       MeasurementBody("C9", "F6", "top", "R-F6-top", 120)),
                  404, "not_found", nullptr, before);
@@ -403,6 +408,35 @@ TEST_F(RouterTest, BadMeasurementsAreRejected) {
   ExpectRejected(Post("/v1/measurements",
                       MeasurementBody("C1", "F6", "top", "R-F6-top", 121)),
                  409, "conflict", nullptr, stored);
+}
+
+TEST_F(RouterTest, MeasurementOfARunningCampaignIs422) {
+  const std::string before = State();
+  const HttpResponse r = Post(
+      "/v1/measurements", MeasurementBody("C1", "F6", "top", "R-F6-top", 120));
+  ExpectRejected(r, 422, "inconsistent", "campaign_id", before);
+  EXPECT_EQ(Parse(r)["error"]["message"],
+            "campaign_id: campaign C1 has not ended: a roll is measured after "
+            "its campaign (end it first)");
+  EXPECT_EQ(store_->Counters().measurements, 0);
+}
+
+TEST_F(RouterTest, MeasurementBeforeItsCampaignEndedIs422) {
+  ASSERT_EQ(Post("/v1/campaigns/C1/end", {{"ended_at", "2026-03-01T20:00:00Z"}})
+                .status,
+            200);
+  const std::string before = State();
+  json m = MeasurementBody("C1", "F6", "top", "R-F6-top", 120);
+  m["measured_at"] = "2023-03-01T19:00:00Z";  // years early
+  const HttpResponse r = Post("/v1/measurements", m);
+  ExpectRejected(r, 422, "inconsistent", "measured_at", before);
+  EXPECT_EQ(Parse(r)["error"]["message"],
+            "measured_at: must not be before the end of campaign C1 "
+            "(2026-03-01T20:00:00Z): a roll is measured after it is taken "
+            "out, got 2023-03-01T19:00:00Z");
+  EXPECT_EQ(store_->Counters().measurements, 0);
+  m["measured_at"] = "2026-03-01T20:00:00Z";  // at the end: fine
+  EXPECT_EQ(Post("/v1/measurements", m).status, 201);
 }
 
 TEST_F(RouterTest, CampaignEndErrors) {

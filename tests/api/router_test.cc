@@ -89,14 +89,19 @@ TEST_F(RouterTest, MeasurementIs201ThenIdempotent200) {
   EXPECT_EQ(store_->Counters().measurements, 1);
 }
 
-TEST_F(RouterTest, UnknownExtraFieldsAreIgnored) {
+TEST_F(RouterTest, ExtraFieldsAreStoredAsPartOfTheContent) {
   json coil = CoilBody("K1", "C1", 1);
   coil["line"] = "HSM-2";
   coil["passes"][0]["roll_gap_mm"] = 3.3;
   EXPECT_EQ(Post("/v1/coils", coil).status, 201);
-  // The extra fields are not part of the stored content: without them the
-  // coil is the same.
-  EXPECT_EQ(Post("/v1/coils", CoilBody("K1", "C1", 1)).status, 200);
+  // The same body again (members in another order would do too): unchanged.
+  EXPECT_EQ(Post("/v1/coils", coil).status, 200);
+  // The extra fields are part of the stored content (docs/api.md "Extra
+  // fields"): without them, or with another value, the coil conflicts.
+  EXPECT_EQ(Post("/v1/coils", CoilBody("K1", "C1", 1)).status, 409);
+  coil["passes"][0]["roll_gap_mm"] = 3.4;
+  EXPECT_EQ(Post("/v1/coils", coil).status, 409);
+  EXPECT_EQ(store_->Counters().coils, 1);
 }
 
 TEST_F(RouterTest, CalibrationIsQueuedWith202AndListed) {

@@ -142,6 +142,64 @@ TEST(CalibrationTest, ValidationGapWithinFivePercentOfNoiseFloor) {
   EXPECT_GT(run->validation.gap_um, 0.9 * floor);
 }
 
+// Mean and standard error of measured - predicted over the validation
+// rows that `select(measured, predicted)` picks.
+struct Bias {
+  double mean = 0, se = 0;
+  int n = 0;
+};
+template <typename Select>
+Bias BiasOf(const WearStatistics& st, const std::vector<int>& val,
+            const std::vector<double>& pred, Select select) {
+  double sum = 0, sum2 = 0;
+  Bias b;
+  for (size_t i = 0; i < val.size(); ++i) {
+    const double meas = st.observations[val[i]].measured_um;
+    if (!select(meas, pred[i])) continue;
+    sum += meas - pred[i];
+    sum2 += (meas - pred[i]) * (meas - pred[i]);
+    ++b.n;
+  }
+  b.mean = sum / b.n;
+  b.se = std::sqrt((sum2 / b.n - b.mean * b.mean) / (b.n - 1));
+  return b;
+}
+
+// The study's "bias above 300 µm" on clean data: selected by predicted
+// wear it is zero within its standard error; selected by measured wear
+// (what it did before issue 16) the same rows over-represent positive noise
+// and show a spurious under-prediction (regression to the mean).
+TEST(CalibrationTest, BiasAbove300IsSelectedByPredictedWear) {
+  const WearStatistics st = Stats(PaperMill().data, WearLaw::kWang);
+  const CampaignSplit split = SplitCampaigns(st);
+  StatusOr<SplitCalibration> run =
+      CalibrateOnSplit(st, split, CalibrationOptions{});
+  ASSERT_TRUE(run.ok()) << run.status().ToString();
+  const std::vector<int> val = st.MeasuredObservations(split.validation);
+  const std::vector<double> pred = PredictAll(run->result.model, st, val);
+  const Bias by_pred =
+      BiasOf(st, val, pred, [](double, double p) { return p > 300; });
+  EXPECT_EQ(run->n_above_300, by_pred.n);
+  EXPECT_NEAR(run->bias_above_300_um, by_pred.mean, 1e-9);
+  ASSERT_GE(by_pred.n, 30);
+  EXPECT_LT(std::abs(run->bias_above_300_um), 3 * by_pred.se)
+      << "bias " << run->bias_above_300_um << " se " << by_pred.se;
+  // The contrast on every measured campaign (more rows, smaller errors).
+  const std::vector<int> all = st.MeasuredObservations();
+  const std::vector<double> pred_all = PredictAll(run->result.model, st, all);
+  const Bias all_by_pred =
+      BiasOf(st, all, pred_all, [](double, double p) { return p > 300; });
+  const Bias all_by_meas =
+      BiasOf(st, all, pred_all, [](double m, double) { return m > 300; });
+  EXPECT_LT(std::abs(all_by_pred.mean), 3 * all_by_pred.se)
+      << all_by_pred.mean << " se " << all_by_pred.se;
+  EXPECT_GT(all_by_meas.mean, 3 * all_by_meas.se)
+      << "selecting by measured wear should show the spurious bias: "
+      << all_by_meas.mean << " se " << all_by_meas.se << " n " << all_by_meas.n
+      << "; by predicted wear " << all_by_pred.mean << " se " << all_by_pred.se
+      << " n " << all_by_pred.n;
+}
+
 TEST(CalibrationTest, ReportedGaugeHasUnitGeometricMeans) {
   const WearStatistics st = Stats(PaperMill().data, WearLaw::kWang);
   for (int option : {1, 2, 3}) {

@@ -25,13 +25,13 @@ using dataset_test::SetField;
 using dataset_test::TinyTexts;
 
 // The tiny dataset's texts read with their lines (kept in `lines`).
-DatasetSourceLines lines;
+DatasetLines lines;
 
 Dataset Read(const dataset_test::DatasetTexts& t) {
   std::istringstream c(t.campaigns), m(t.mounts), p(t.coils),
       s(t.measurements);
   lines = {};
-  StatusOr<Dataset> d = ReadDatasetStreamsWithLines({&c, &m, &p, &s}, &lines);
+  StatusOr<Dataset> d = ReadDatasetStreams({&c, &m, &p, &s}, &lines);
   EXPECT_TRUE(d.ok()) << d.status().ToString();
   return std::move(d).value();
 }
@@ -147,7 +147,7 @@ Dataset SimulatedCsv(int campaigns, const std::string& name) {
           .string();
   EXPECT_TRUE(WriteDataset(sim->data, dir).ok());
   lines = {};
-  StatusOr<Dataset> d = ReadDatasetWithLines(dir, &lines);
+  StatusOr<Dataset> d = ReadDataset(dir, &lines);
   std::filesystem::remove_all(dir);
   EXPECT_TRUE(d.ok()) << d.status().ToString();
   return std::move(d).value();

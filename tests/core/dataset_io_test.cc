@@ -343,17 +343,19 @@ TEST(DatasetRead, ColumnOrderIsFree) {
   ExpectSameDataset(*a, *b);
 }
 
-TEST(DatasetRead, PassAtStandWithoutMountIsKept) {
+// Issue 16 made a pass at a stand without a mounted roll a rule break (it
+// was kept and ignored by the index before): the whole dataset is refused.
+TEST(DatasetRead, PassAtStandWithoutMountIsRejected) {
   DatasetTexts t = TinyTexts();
   AppendLine(&t.coils,
              "C1,K1001,1,2026-03-01T06:09:50Z,S235,F5,21000,1250,600,5.6,4.2,"
              "965,6.5,0,0,121,normal");
   StatusOr<Dataset> r = ReadTexts(t);
-  ASSERT_TRUE(r.ok()) << r.status().ToString();
-  const DatasetIndex index(*r);
-  EXPECT_EQ(index.PassesOf(0, 5), (std::vector<int>{10}));
-  EXPECT_EQ(index.MountOf(0, RollPositionSlot(5, Position::kTop)), -1);
-  EXPECT_EQ(index.slots(), (std::vector<int>{10, 11, 12, 13}));
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(r.status().message(),
+            "coils.csv:12:6 stand: no roll mounted at F5 in campaign C1; its "
+            "rolls are at F6/top, F6/bottom, F7/top, F7/bottom");
 }
 
 TEST(DatasetTimestamp, ParsesZuluAndOffsets) {

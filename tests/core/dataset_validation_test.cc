@@ -92,9 +92,46 @@ TEST_F(DatasetRejects, MissingRequiredColumn) {
   Expect({"coils.csv:1:0 force_kn: missing required column 'force_kn'"});
 }
 
-TEST_F(DatasetRejects, EmptyFileMissesEveryColumn) {
+TEST_F(DatasetRejects, EmptyFileSaysItIsEmpty) {
   t_.campaigns = "";
-  Expect({"campaigns.csv:1:0 campaign_id: missing required column"});
+  Expect(
+      {"campaigns.csv:1:1 file: the file is empty; want a header row "
+       "(campaign_id,started_at,ended_at)"});
+  t_ = TinyTexts();
+  t_.measurements = "\n\n";
+  Expect({"measurements.csv:1:1 file: the file is empty"});
+}
+
+// A European spreadsheet export: ';' between fields, decimal commas.
+std::string AsSpreadsheetExport(std::string text) {
+  for (char& c : text) {
+    if (c == ',') {
+      c = ';';
+    } else if (c == '.') {
+      c = ',';
+    }
+  }
+  return text;
+}
+
+TEST_F(DatasetRejects, SpreadsheetExportIsNamed) {
+  t_.mounts = AsSpreadsheetExport(t_.mounts);
+  Expect(
+      {"mounts.csv:1:1 file: looks like a spreadsheet export with ';' and "
+       "decimal commas: export as CSV with ',' and '.'"});
+  // Without a decimal in the file, only the separator is named.
+  t_ = TinyTexts();
+  t_.campaigns = AsSpreadsheetExport(t_.campaigns);
+  Expect(
+      {"campaigns.csv:1:1 file: looks like a spreadsheet export with ';': "
+       "export as CSV with ',' and '.'"});
+}
+
+TEST_F(DatasetRejects, DecimalCommaIsNamed) {
+  SetField(&t_.coils, 2, "width_mm", "\"1250,5\"");
+  Expect(
+      {"coils.csv:2:8 width_mm: unparsable number '1250,5': decimal comma; "
+       "write numbers with '.'"});
 }
 
 TEST_F(DatasetRejects, DuplicateColumnName) {
@@ -352,6 +389,37 @@ TEST_F(DatasetRejects, MeasurementRollIdMismatch) {
   SetField(&t_.measurements, 3, "roll_id", "R699");
   Expect({"measurements.csv:3:4 roll_id: roll_id must match mounts.csv",
           "'R602'"});
+}
+
+// mounts.csv and measurements.csv name F5 where coils.csv names F7.
+TEST_F(DatasetRejects, PassAtStandWithoutMountedRoll) {
+  SetField(&t_.mounts, 4, "stand", "F5");  // R701,C1,top
+  SetField(&t_.mounts, 5, "stand", "F5");  // R702,C1,bottom
+  SetField(&t_.measurements, 4, "stand", "F5");
+  SetField(&t_.measurements, 5, "stand", "F5");
+  Expect(
+      {"coils.csv:3:6 stand: no roll mounted at F7 in campaign C1; its "
+       "rolls are at F5/top, F5/bottom, F6/top, F6/bottom"});
+}
+
+TEST_F(DatasetRejects, OneRollAtTheStandIsEnough) {
+  EraseLine(&t_.mounts, 5);        // R702,C1,bottom,F7
+  EraseLine(&t_.measurements, 5);  // its measurement
+  ExpectAccepted();
+  EraseLine(&t_.mounts, 4);  // R701,C1,top,F7: now none at F7
+  EraseLine(&t_.measurements, 4);
+  Expect({"coils.csv:3:6 stand: no roll mounted at F7 in campaign C1"});
+}
+
+TEST_F(DatasetRejects, MeasurementBeforeCampaignEnd) {
+  // C1 ended at 2026-03-01T14:00:00Z; measured at its end is fine.
+  SetField(&t_.measurements, 2, "measured_at", "2026-03-01T15:00:00+01:00");
+  ExpectAccepted();
+  SetField(&t_.measurements, 2, "measured_at", "2023-03-01T13:59:59Z");
+  Expect(
+      {"measurements.csv:2:5 measured_at: must not be before the end of "
+       "campaign C1 (2026-03-01T14:00:00Z): a roll is measured after it "
+       "is taken out, got '2023-03-01T13:59:59Z'"});
 }
 
 TEST_F(DatasetRejects, MalformedQuoting) {

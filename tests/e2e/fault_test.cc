@@ -127,10 +127,6 @@ TEST_F(FaultTest, DiskFullAnswers503KeepsServingReadsAndResumes) {
   SetFaultMode(FaultMode::kDiskFull);
   json answer;
   ExpectUnavailable(PostCoil(6, &answer), answer, "full");
-  ExpectUnavailable(
-      Post("/v1/measurements",
-           MeasurementBody("C1", "F6", "top", "R-F6-top", 12.5), &answer),
-      answer, "full");
   ExpectUnavailable(Post("/v1/campaigns/C1/end",
                          json{{"ended_at", "2026-03-01T14:00:00Z"}}, &answer),
                     answer, "full");
@@ -145,6 +141,19 @@ TEST_F(FaultTest, DiskFullAnswers503KeepsServingReadsAndResumes) {
   // Nothing of the failed coil was stored: it is created now.
   EXPECT_EQ(PostCoil(6), 201);
   EXPECT_EQ(PostCoil(7), 201);
+  // A measurement needs its campaign ended (a running one is 422 before any
+  // disk write): end C1, then fill the disk again.
+  ASSERT_EQ(
+      Post("/v1/campaigns/C1/end", json{{"ended_at", "2026-03-01T14:00:00Z"}}),
+      200);
+  const std::string ended = State();
+  SetFaultMode(FaultMode::kDiskFull);
+  ExpectUnavailable(
+      Post("/v1/measurements",
+           MeasurementBody("C1", "F6", "top", "R-F6-top", 12.5), &answer),
+      answer, "full");
+  EXPECT_EQ(State(), ended);
+  SetFaultMode(FaultMode::kNone);
   EXPECT_EQ(Post("/v1/measurements",
                  MeasurementBody("C1", "F6", "top", "R-F6-top", 12.5)),
             201);

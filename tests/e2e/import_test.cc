@@ -15,31 +15,32 @@
 namespace rollwear::e2e {
 namespace {
 
-// Copies the dataset folder `from` to `to`, setting force_kn of the first
-// data row of coils.csv to -5.
-void WriteBrokenCopy(const std::string& from, const std::string& to) {
+// Copies the dataset folder `from` to `to`, setting `column` of data row
+// `row` (1 = the first after the header) of `file` to `value`.
+void WriteEditedCopy(const std::string& from, const std::string& to,
+                     const std::string& file, int row,
+                     const std::string& column, const std::string& value) {
   std::filesystem::create_directories(to);
   for (const char* name :
        {"campaigns.csv", "mounts.csv", "coils.csv", "measurements.csv"}) {
     std::string text = ReadFile(from + "/" + name);
-    if (std::string(name) == "coils.csv") {
+    if (name == file) {
       std::istringstream in(text);
-      std::string header, row, rest, line;
-      std::getline(in, header);
-      std::getline(in, row);
-      while (std::getline(in, line)) rest += line + "\n";
+      std::vector<std::string> lines;
+      for (std::string line; std::getline(in, line);) lines.push_back(line);
       std::vector<std::string> columns, fields;
-      std::stringstream h(header), r(row);
+      std::stringstream h(lines.at(0)), r(lines.at(row));
       for (std::string f; std::getline(h, f, ',');) columns.push_back(f);
       for (std::string f; std::getline(r, f, ',');) fields.push_back(f);
       for (size_t i = 0; i < columns.size() && i < fields.size(); ++i) {
-        if (columns[i] == "force_kn") fields[i] = "-5";
+        if (columns[i] == column) fields[i] = value;
       }
-      row.clear();
+      lines[row].clear();
       for (size_t i = 0; i < fields.size(); ++i) {
-        row += (i ? "," : "") + fields[i];
+        lines[row] += (i ? "," : "") + fields[i];
       }
-      text = header + "\n" + row + "\n" + rest;
+      text.clear();
+      for (const std::string& line : lines) text += line + "\n";
     }
     std::ofstream(to + "/" + name, std::ios::binary) << text;
   }
@@ -51,7 +52,7 @@ TEST(ImportTest, AllOrNothingThenServed) {
   ASSERT_TRUE(Simulate(dir / "data", 6, 2, &error)) << error;
   StatusOr<Dataset> data = ReadDataset(dir / "data");
   ASSERT_TRUE(data.ok());
-  WriteBrokenCopy(dir / "data", dir / "bad");
+  WriteEditedCopy(dir / "data", dir / "bad", "coils.csv", 1, "force_kn", "-5");
 
   // A broken dataset: exit 1, file:line:column and the rule, nothing stored.
   EXPECT_EQ(RunRollwear({"import", "--db", dir / "x.db", dir / "bad"}, &output),
@@ -63,8 +64,38 @@ TEST(ImportTest, AllOrNothingThenServed) {
   EXPECT_EQ(
       RunRollwear({"import", "--db", dir / "x.db", dir / "data"}, &output), 0)
       << output;
-  EXPECT_NE(output.find("imported"), std::string::npos) << output;
+  const std::string n_coils = std::to_string(data->coil_ids.size());
+  const std::string n_meas = std::to_string(data->measurements.size());
+  EXPECT_NE(output.find("campaigns 6 new, 0 unchanged; mounts 24 new, 0 "
+                        "unchanged; coils " +
+                        n_coils + " new, 0 unchanged; measurements " + n_meas +
+                        " new, 0 unchanged"),
+            std::string::npos)
+      << output;
+  // The same folder again: nothing new, every row unchanged.
+  EXPECT_EQ(
+      RunRollwear({"import", "--db", dir / "x.db", dir / "data"}, &output), 0)
+      << output;
+  EXPECT_NE(output.find("campaigns 0 new, 6 unchanged; mounts 0 new, 24 "
+                        "unchanged; coils 0 new, " +
+                        n_coils + " unchanged; measurements 0 new, " + n_meas +
+                        " unchanged"),
+            std::string::npos)
+      << output;
   EXPECT_EQ(RunRollwear({"import", "--db", dir / "x.db"}, &output), 2);
+
+  // A row that conflicts with what is stored is named by file and line.
+  WriteEditedCopy(dir / "data", dir / "changed", "measurements.csv", 2,
+                  "wear_center_um", "999.5");
+  EXPECT_EQ(
+      RunRollwear({"import", "--db", dir / "x.db", dir / "changed"}, &output),
+      1);
+  EXPECT_NE(output.find("measurements.csv:3 campaign_id: "), std::string::npos)
+      << output;
+  EXPECT_NE(output.find("is already measured with different content "
+                        "(nothing imported)"),
+            std::string::npos)
+      << output;
 
   Daemon daemon(dir / "x.db", dir / "serve.log");
   ASSERT_TRUE(daemon.Start(&error)) << error;
@@ -74,6 +105,22 @@ TEST(ImportTest, AllOrNothingThenServed) {
   EXPECT_EQ(metrics.at("rollwear_campaigns_stored"), 6);
   EXPECT_EQ(metrics.at("rollwear_measurements_stored"),
             static_cast<double>(data->measurements.size()));
+  // While the daemon holds the database, import is refused and stores
+  // nothing: the daemon would not see rows written behind its back.
+  ASSERT_TRUE(Simulate(dir / "more", 3, 5, &error)) << error;
+  EXPECT_EQ(
+      RunRollwear({"import", "--db", dir / "x.db", dir / "more"}, &output), 1);
+  EXPECT_NE(output.find("rollwear import: database " + (dir / "x.db") +
+                        " is in use by rollwear serve, pid "),
+            std::string::npos)
+      << output;
+  EXPECT_NE(output.find("stop it first"), std::string::npos) << output;
+  EXPECT_NE(output.find("(nothing imported)"), std::string::npos) << output;
+  const auto after = ScrapeMetrics(daemon.url());
+  for (const char* name : {"rollwear_coils_stored", "rollwear_campaigns_stored",
+                           "rollwear_measurements_stored"}) {
+    EXPECT_EQ(after.at(name), metrics.at(name)) << name;
+  }
   // Imported coils are stored keys: posting one again is a repeat.
   json answer;
   EXPECT_EQ(

@@ -63,6 +63,7 @@ void ExpectSame(const WearModel& a, const WearModel& b) {
     EXPECT_TRUE(BitEqual(x.scale, y.scale));
     EXPECT_EQ(x.edges, y.edges);
     EXPECT_EQ(x.num_levels, y.num_levels);
+    EXPECT_EQ(x.levels, y.levels);
   }
   ASSERT_EQ(a.covariance.rows(), b.covariance.rows());
   ASSERT_EQ(a.covariance.cols(), b.covariance.cols());
@@ -108,6 +109,7 @@ TEST(ModelCodecTest, AdoptedTermsRoundTrip) {
   levels.form = TermForm::kPerLevel;
   levels.params = {0.05};
   levels.num_levels = 2;
+  levels.levels = {"", "checked \"twice\""};  // labels, the empty one too
   m.terms.push_back(levels);
   const std::string json = EncodeWearModel(m);
   EXPECT_NE(json.find("\"form\":\"saturating\""), std::string::npos) << json;
@@ -118,6 +120,18 @@ TEST(ModelCodecTest, AdoptedTermsRoundTrip) {
       ModelOverLevels(m, m.structure.positions(), {}, {});
   ASSERT_TRUE(over.ok());
   EXPECT_EQ(over->terms.size(), 3u);
+  EXPECT_EQ(over->terms[2].levels, levels.levels);
+  // A term stored before labels were kept (no "levels") decodes with none;
+  // labels that are not strings are refused naming the field.
+  StatusOr<std::vector<ModelTerm>> old = DecodeModelTerms(
+      R"({"terms":[{"covariate":"x","form":"per_level","params":[0.1],"num_levels":2}]})");
+  ASSERT_TRUE(old.ok()) << old.status().ToString();
+  EXPECT_TRUE(old->front().levels.empty());
+  StatusOr<std::vector<ModelTerm>> bad = DecodeModelTerms(
+      R"({"terms":[{"covariate":"x","form":"per_level","params":[0.1],"num_levels":2,"levels":["a",1]}]})");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.status().message().find("terms[0].levels"), std::string::npos)
+      << bad.status().message();
 }
 
 TEST(ModelCodecTest, CoefficientsAreListedByName) {

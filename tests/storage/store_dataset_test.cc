@@ -20,8 +20,8 @@ using testing::TempDir;
 
 const std::string kTiny = std::string(ROLLWEAR_TEST_DATA_DIR) + "/tiny";
 
-Dataset ReadTiny() {
-  StatusOr<Dataset> d = ReadDataset(kTiny);
+Dataset ReadTiny(DatasetLines* lines = nullptr) {
+  StatusOr<Dataset> d = ReadDataset(kTiny, lines);
   EXPECT_TRUE(d.ok()) << d.status().ToString();
   return d.ok() ? std::move(d).value() : Dataset{};
 }
@@ -98,13 +98,28 @@ TEST(StoreDatasetTest, ImportIsIdempotentAndMergesNewRows) {
   auto store = OpenStore(dir.File("mill.db"));
   ASSERT_NE(store, nullptr);
   Dataset tiny = ReadTiny();
-  ASSERT_TRUE(store->ImportDataset(tiny).ok());
+  ImportCounts first;
+  ASSERT_TRUE(store->ImportDataset(tiny, nullptr, &first).ok());
+  EXPECT_EQ(first.campaigns.added, 2);
+  EXPECT_EQ(first.mounts.added, 8);
+  EXPECT_EQ(first.coils.added, 5);
+  EXPECT_EQ(first.measurements.added, 6);
+  EXPECT_EQ(first.coils.unchanged + first.measurements.unchanged, 0);
   StatusOr<Dataset> before = store->ExportDataset();
   ASSERT_TRUE(before.ok());
   const StoreCounters counters = store->Counters();
-  // The same content again: nothing new.
-  Status s = store->ImportDataset(tiny);
+  // The same content again: nothing new, everything unchanged.
+  ImportCounts counts;
+  Status s = store->ImportDataset(tiny, nullptr, &counts);
   ASSERT_TRUE(s.ok()) << s.ToString();
+  EXPECT_EQ(counts.campaigns.added, 0);
+  EXPECT_EQ(counts.campaigns.unchanged, 2);
+  EXPECT_EQ(counts.mounts.added, 0);
+  EXPECT_EQ(counts.mounts.unchanged, 8);
+  EXPECT_EQ(counts.coils.added, 0);
+  EXPECT_EQ(counts.coils.unchanged, 5);
+  EXPECT_EQ(counts.measurements.added, 0);
+  EXPECT_EQ(counts.measurements.unchanged, 6);
   EXPECT_EQ(store->Counters().coils, counters.coils);
   EXPECT_EQ(store->Counters().measurements, counters.measurements);
   EXPECT_EQ(store->Counters().campaigns, counters.campaigns);
@@ -121,8 +136,12 @@ TEST(StoreDatasetTest, ImportIsIdempotentAndMergesNewRows) {
   more.campaigns.push_back(Campaign{"C3", 1'780'000'000, 1'780'003'600});
   for (auto& col : more.campaign_extra.numeric) col.push_back(0);
   for (auto& col : more.campaign_extra.factor) col.push_back(0);
-  s = store->ImportDataset(more);
+  s = store->ImportDataset(more, nullptr, &counts);
   ASSERT_TRUE(s.ok()) << s.ToString();
+  EXPECT_EQ(counts.campaigns.added, 1);
+  EXPECT_EQ(counts.campaigns.unchanged, 2);
+  EXPECT_EQ(counts.measurements.added, 0);
+  EXPECT_EQ(counts.measurements.unchanged, 5);
   EXPECT_EQ(store->Counters().campaigns, counters.campaigns + 1);
   EXPECT_EQ(store->Counters().measurements, counters.measurements);
 }
@@ -166,6 +185,38 @@ TEST(StoreDatasetTest, ABrokenRowLeavesTheDatabaseUnchanged) {
   ExpectUnchanged(store.get(), *before, counters);
 }
 
+TEST(StoreDatasetTest, AnInconsistentDatasetLeavesTheDatabaseUnchanged) {
+  TempDir dir;
+  auto store = OpenStore(dir.File("mill.db"));
+  ASSERT_NE(store, nullptr);
+  ASSERT_TRUE(store->ApplyRollChange(MakeRollChange("L1", 1000)).ok());
+  StatusOr<Dataset> before = store->ExportDataset();
+  ASSERT_TRUE(before.ok());
+  const StoreCounters counters = store->Counters();
+
+  // Campaign C1's F7 rolls said to sit at F5: its F7 passes have no roll.
+  Dataset broken = ReadTiny();
+  for (Mount& m : broken.mounts) {
+    if (m.campaign == 0 && m.stand == 7) m.stand = 5;
+  }
+  Status s = store->ImportDataset(broken);
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(s.message(),
+            "passes[1].stand: no roll mounted at F7 in campaign C1; its rolls "
+            "are at F5/top, F5/bottom, F6/top, F6/bottom (coil K1001 at F7)");
+  ExpectUnchanged(store.get(), *before, counters);
+
+  broken = ReadTiny();
+  broken.measurements[2].measured_at = broken.campaigns[0].ended_at - 1;
+  s = store->ImportDataset(broken);
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(s.message(),
+            "measurements[2].measured_at: must not be before the end of "
+            "campaign C1 (2026-03-01T14:00:00Z): a roll is measured after it "
+            "is taken out, got 2026-03-01T13:59:59Z");
+  ExpectUnchanged(store.get(), *before, counters);
+}
+
 TEST(StoreDatasetTest, ConflictWithStoredContentNamesTheKey) {
   TempDir dir;
   auto store = OpenStore(dir.File("mill.db"));
@@ -175,29 +226,62 @@ TEST(StoreDatasetTest, ConflictWithStoredContentNamesTheKey) {
   ASSERT_TRUE(before.ok());
   const StoreCounters counters = store->Counters();
 
-  // A new campaign plus one coil whose stored content differs.
-  Dataset next = ReadTiny();
+  // A new campaign plus one coil whose stored content differs. With the
+  // lines the folder was read with, the conflict names file and line.
+  DatasetLines lines;
+  Dataset next = ReadTiny(&lines);
   next.campaigns.push_back(Campaign{"C3", 1'780'000'000, 1'780'003'600});
-  next.passes[4].force_kn += 0.5;  // K1002 at F7
-  Status s = store->ImportDataset(next);
+  next.passes[4].force_kn += 0.5;  // K1002 at F7, line 6
+  Status s = store->ImportDataset(next, &lines, nullptr);
   EXPECT_EQ(s.code(), StatusCode::kAlreadyExists) << s.ToString();
-  EXPECT_NE(s.message().find("coil_id K1002"), std::string::npos)
-      << s.message();
+  EXPECT_EQ(s.message(),
+            "coils.csv:6 coil_id: coil K1002 is already stored with different "
+            "content");
   ExpectUnchanged(store.get(), *before, counters);
 
   next = ReadTiny();
   next.measurements[0].wear_center_um = 1;
-  s = store->ImportDataset(next);
+  s = store->ImportDataset(next, &lines, nullptr);
   EXPECT_EQ(s.code(), StatusCode::kAlreadyExists);
-  EXPECT_NE(s.message().find("F6/top of campaign C1"), std::string::npos)
-      << s.message();
+  EXPECT_EQ(s.message(),
+            "measurements.csv:2 campaign_id: F6/top of campaign C1 is already "
+            "measured with different content");
   ExpectUnchanged(store.get(), *before, counters);
 
   next = ReadTiny();
   next.campaigns[1].ended_at += 1;
-  s = store->ImportDataset(next);
+  s = store->ImportDataset(next, &lines, nullptr);
   EXPECT_EQ(s.code(), StatusCode::kAlreadyExists);
-  EXPECT_NE(s.message().find("campaign C2"), std::string::npos) << s.message();
+  EXPECT_NE(s.message().find("campaigns.csv:3 campaign_id: campaign C2"),
+            std::string::npos)
+      << s.message();
+  ExpectUnchanged(store.get(), *before, counters);
+
+  next = ReadTiny();
+  next.mounts[0].diameter_mm += 1;  // R601, C1, F6/top
+  s = store->ImportDataset(next, &lines, nullptr);
+  EXPECT_EQ(s.code(), StatusCode::kAlreadyExists);
+  EXPECT_EQ(s.message(),
+            "mounts.csv:2 stand: F6/top of campaign C1 is already stored with "
+            "different content");
+  ExpectUnchanged(store.get(), *before, counters);
+
+  next = ReadTiny();
+  next.coil_ids[1] = "K9";  // K1003 (seq 3 of C1, first on line 4) renamed
+  s = store->ImportDataset(next, &lines, nullptr);
+  EXPECT_EQ(s.code(), StatusCode::kFailedPrecondition);
+  EXPECT_EQ(s.message(),
+            "coils.csv:4 seq: seq 3 of campaign C1 is already used by coil "
+            "K1003 (this is coil K9)");
+  ExpectUnchanged(store.get(), *before, counters);
+
+  next = ReadTiny();
+  next.campaigns[1].ended_at += 1;
+  // Without lines (a dataset built in code) the row is named by index.
+  s = store->ImportDataset(next);
+  EXPECT_NE(s.message().find("campaigns[1].campaign_id: campaign C2"),
+            std::string::npos)
+      << s.message();
   ExpectUnchanged(store.get(), *before, counters);
 
   // An open campaign in the store is not the ended one of a dataset.

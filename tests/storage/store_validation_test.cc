@@ -269,7 +269,8 @@ TEST_F(StoreValidationTest, CoilRules) {
          });
        },
        StatusCode::kFailedPrecondition,
-       "passes[2].stand: no roll mounted at F5 in campaign C1"},
+       "passes[2].stand: no roll mounted at F5 in campaign C1; its rolls are "
+       "at F6/top, F6/bottom, F7/top, F7/bottom"},
       {"seq taken",
        [](MillStore* s) { return Coil(s, [](CoilIn* in) { in->seq = 2; }); },
        StatusCode::kFailedPrecondition,
@@ -319,6 +320,24 @@ TEST_F(StoreValidationTest, MeasurementRules) {
        StatusCode::kFailedPrecondition,
        "roll_id: roll R6B0 was not mounted at F6/top in campaign C0 (mounted: "
        "R6T0)"},
+      {"campaign still running",
+       [](MillStore* s) {
+         return Measure(s, [](MeasurementIn* in) {
+           in->campaign_id = "C1";
+           in->roll_id = "R6T";
+         });
+       },
+       StatusCode::kFailedPrecondition,
+       "campaign_id: campaign C1 has not ended: a roll is measured after its "
+       "campaign (end it first)"},
+      {"before the campaign ended",  // C0 ended at 1000 (C1's roll change)
+       [](MillStore* s) {
+         return Measure(s, [](MeasurementIn* in) { in->measured_at = 999; });
+       },
+       StatusCode::kFailedPrecondition,
+       "measured_at: must not be before the end of campaign C0 "
+       "(1970-01-01T00:16:40Z): a roll is measured after it is taken out, got "
+       "1970-01-01T00:16:39Z"},
   };
   for (const Case& c : cases) Check(c);
 }
