@@ -107,6 +107,7 @@ std::string EncodeCampaignEndAnswer(const std::string& campaign_id,
 std::string EncodeCoilAnswer(const storage::CoilIn& in,
                              const storage::CoilOutcome& outcome,
                              int64_t model_version);
+// "suspect": in.suspect ("<kind>: <reason>"), null when plausible.
 std::string EncodeMeasurementAnswer(const storage::MeasurementIn& in,
                                     storage::WriteOutcome outcome);
 std::string EncodeWear(const storage::WearSnapshot& snapshot);

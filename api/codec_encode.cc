@@ -225,10 +225,12 @@ std::string EncodeCoilAnswer(const storage::CoilIn& in,
 
 std::string EncodeMeasurementAnswer(const storage::MeasurementIn& in,
                                     storage::WriteOutcome outcome) {
-  return Dump(Json{{"campaign_id", in.campaign_id},
-                   {"stand", StandName(in.stand)},
-                   {"position", PositionName(in.position)},
-                   {"outcome", OutcomeName(outcome)}});
+  return Dump(
+      Json{{"campaign_id", in.campaign_id},
+           {"stand", StandName(in.stand)},
+           {"position", PositionName(in.position)},
+           {"outcome", OutcomeName(outcome)},
+           {"suspect", in.suspect.empty() ? Json(nullptr) : Json(in.suspect)}});
 }
 
 std::string EncodeWear(const storage::WearSnapshot& snapshot) {

@@ -126,7 +126,7 @@ HttpResponse Router::GetDashboard() {
         if (!h.measured_um) continue;
         d.parity.push_back(DashboardParityPoint{
             h.stand, PositionName(h.position), c.campaign_id, *h.measured_um,
-            h.expected_reading_um});
+            h.expected_reading_um, h.measured_suspect});
       }
     }
   }

@@ -47,6 +47,9 @@ std::string ColorFor(const DashboardData& d, int stand,
   return PaletteColor(Slot(stand, position));
 }
 
+// Suspect measurements' points: drawn apart from the roll positions'.
+constexpr const char* kSuspectColor = "#7f7f7f";
+
 constexpr const char* kStyle = R"css(
 *{box-sizing:border-box}
 html,body{margin:0;background:#e9edf1;color:#1b1f24;
@@ -265,6 +268,24 @@ std::string GrowthSection(const DashboardData& d) {
   return s + RenderSvg(spec) + "</section>\n";
 }
 
+// The suspect measurements among the parity points, with their reasons
+// ("" when there is none).
+std::string SuspectList(const DashboardData& d) {
+  std::string items;
+  for (const DashboardParityPoint& p : d.parity) {
+    if (p.suspect.empty()) continue;
+    items += "<li>" +
+             XmlEscape(StandName(p.stand) + "/" + p.position + " of campaign " +
+                       p.campaign_id + ": " + Fmt("%.1f", p.measured_um) +
+                       " µm — " + p.suspect) +
+             "</li>\n";
+  }
+  if (items.empty()) return "";
+  return "<div id=\"suspect\"><h3>Suspect measurements <small>stored "
+         "flagged, not fitted</small></h3>\n<ul>\n" +
+         items + "</ul></div>";
+}
+
 std::string ParitySection(const DashboardData& d) {
   std::string s =
       "<section id=\"parity\"><h2>Measured against predicted, last " +
@@ -301,16 +322,25 @@ std::string ParitySection(const DashboardData& d) {
       pts.radius = 4.5;
       pts.opacity = 0.8;
       for (const DashboardParityPoint* p : points) {
-        if (p->position != position) continue;
+        if (p->position != position || !p->suspect.empty()) continue;
         pts.x.push_back(p->measured_um);
         pts.y.push_back(p->predicted_um);
       }
       if (!pts.x.empty()) spec.series.push_back(std::move(pts));
     }
+    PlotSeries suspect =
+        PlotSeries::Make("suspect", kSuspectColor, PlotSeries::Style::kPoints);
+    suspect.radius = 5.5;
+    for (const DashboardParityPoint* p : points) {
+      if (p->suspect.empty()) continue;
+      suspect.x.push_back(p->measured_um);
+      suspect.y.push_back(p->predicted_um);
+    }
+    if (!suspect.x.empty()) spec.series.push_back(std::move(suspect));
     s += "<div class=\"stand\"" + Attr("data-stand", std::to_string(stand)) +
          ">" + RenderSvg(spec) + "</div>\n";
   }
-  return s + "</div></section>\n";
+  return s + "</div>" + SuspectList(d) + "</section>\n";
 }
 
 }  // namespace

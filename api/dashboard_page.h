@@ -52,6 +52,9 @@ struct DashboardParityPoint {
   // Under the active model: the predicted wear plus its measurement terms
   // (what the grinder is expected to read; see parity_reading_terms).
   double predicted_um = 0;
+  // The stored suspect flag ("<kind>: <reason>", "" when plausible): such a
+  // point is drawn apart ("suspect") and listed with its reason.
+  std::string suspect;
 };
 
 struct DashboardCalibration {

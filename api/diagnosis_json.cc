@@ -4,6 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "api/data_quality_json.h"
+
 namespace rollwear::api {
 namespace {
 
@@ -95,8 +97,11 @@ nlohmann::json DiagnosisJson(const DiagnosisReport& r) {
 
 }  // namespace
 
-std::string DiagnosisJsonText(const DiagnosisReport& report, int indent) {
-  return DiagnosisJson(report).dump(indent);
+std::string DiagnosisJsonText(const DiagnosisReport& report, int indent,
+                              const DataQuality* quality) {
+  nlohmann::json j = DiagnosisJson(report);
+  if (quality != nullptr) j["data_quality"] = DataQualityJson(*quality);
+  return j.dump(indent);
 }
 
 }  // namespace rollwear::api

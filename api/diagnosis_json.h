@@ -8,12 +8,16 @@
 
 #include <string>
 
+#include "core/dataset/data_quality.h"
 #include "core/diagnosis/diagnosis.h"
 
 namespace rollwear::api {
 
-// JSON text of the report; `indent` < 0 gives the compact form.
-std::string DiagnosisJsonText(const DiagnosisReport& report, int indent = -1);
+// JSON text of the report; `indent` < 0 gives the compact form. With
+// `quality`, the data quality of the data it diagnosed as "data_quality"
+// (api/data_quality_json.h).
+std::string DiagnosisJsonText(const DiagnosisReport& report, int indent = -1,
+                              const DataQuality* quality = nullptr);
 
 }  // namespace rollwear::api
 

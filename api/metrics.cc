@@ -154,7 +154,7 @@ std::string Metrics::Render(const StoreFigures& store) const {
   Header(&out, "rollwear_group_commits_total", "counter",
          "Group-commit transactions of the store's writer.");
   Sample(&out, "rollwear_group_commits_total", "",
-         std::to_string(store.commits));
+         std::to_string(store.counters.commits));
 
   Header(&out, "rollwear_http_request_duration_seconds", "histogram",
          "Time from request read to answer ready, by route.");
@@ -201,19 +201,24 @@ std::string Metrics::Render(const StoreFigures& store) const {
          std::to_string(store.model_version));
 
   Header(&out, "rollwear_coils_stored", "gauge", "Coils in the database.");
-  Sample(&out, "rollwear_coils_stored", "", std::to_string(store.coils));
+  Sample(&out, "rollwear_coils_stored", "",
+         std::to_string(store.counters.coils));
   Header(&out, "rollwear_campaigns_stored", "gauge",
          "Campaigns in the database.");
   Sample(&out, "rollwear_campaigns_stored", "",
-         std::to_string(store.campaigns));
+         std::to_string(store.counters.campaigns));
   Header(&out, "rollwear_measurements_stored", "gauge",
          "Grinder measurements in the database.");
   Sample(&out, "rollwear_measurements_stored", "",
-         std::to_string(store.measurements));
+         std::to_string(store.counters.measurements));
   Header(&out, "rollwear_measurements_since_last_calibration", "gauge",
          "Measurements stored since the last calibration run.");
   Sample(&out, "rollwear_measurements_since_last_calibration", "",
-         std::to_string(store.measurements_since_last_calibration));
+         std::to_string(store.counters.measurements_since_last_calibration));
+  Header(&out, "rollwear_measurements_suspect_stored", "gauge",
+         "Measurements stored flagged as suspect (kept, not fitted).");
+  Sample(&out, "rollwear_measurements_suspect_stored", "",
+         std::to_string(store.counters.suspect_measurements));
   return out;
 }
 

@@ -9,7 +9,8 @@
 // plus figures read from the store at scrape time (StoreFigures):
 //   rollwear_group_commits_total, rollwear_validation_gap_um,
 //   rollwear_model_version, rollwear_{coils,campaigns,measurements}_stored,
-//   rollwear_measurements_since_last_calibration, rollwear_up.
+//   rollwear_measurements_since_last_calibration,
+//   rollwear_measurements_suspect_stored, rollwear_up.
 //
 // Thread-safety: all methods are thread-safe; the hot path (Observe*,
 // CountCoil) is lock-free (relaxed atomics).
@@ -21,6 +22,8 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+
+#include "storage/store_types.h"
 
 namespace rollwear::api {
 
@@ -54,11 +57,7 @@ const char* RouteMethod(RouteId route);
 // Figures read from the store when /metrics is scraped.
 struct StoreFigures {
   bool healthy = false;
-  int64_t commits = 0;
-  int64_t coils = 0;
-  int64_t campaigns = 0;
-  int64_t measurements = 0;
-  int64_t measurements_since_last_calibration = 0;
+  storage::StoreCounters counters;
   int64_t model_version = 0;
   double validation_gap_um = 0;  // NaN when the active model has none
 };

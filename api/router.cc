@@ -446,7 +446,7 @@ HttpResponse Router::PostMeasurement(const HttpRequest& request) {
   if (!DecodeMeasurement(request.body, options_.max_json_depth, &in, &error)) {
     return Error(error);
   }
-  StatusOr<storage::WriteOutcome> outcome = store_->AddMeasurement(in);
+  auto outcome = store_->AddMeasurement(in, &in.suspect);  // flags `in`
   if (!outcome.ok()) return FromStatus(outcome.status());
   return Answer(*outcome == storage::WriteOutcome::kCreated ? 201 : 200,
                 EncodeMeasurementAnswer(in, *outcome));
@@ -455,13 +455,7 @@ HttpResponse Router::PostMeasurement(const HttpRequest& request) {
 HttpResponse Router::GetMetrics() {
   StoreFigures figures;
   figures.healthy = store_->Healthy();
-  const storage::StoreCounters counters = store_->Counters();
-  figures.commits = counters.commits;
-  figures.coils = counters.coils;
-  figures.campaigns = counters.campaigns;
-  figures.measurements = counters.measurements;
-  figures.measurements_since_last_calibration =
-      counters.measurements_since_last_calibration;
+  figures.counters = store_->Counters();
   figures.validation_gap_um = std::numeric_limits<double>::quiet_NaN();
   StatusOr<storage::ModelVersion> model = store_->ActiveModel();
   if (model.ok()) {

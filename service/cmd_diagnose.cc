@@ -44,9 +44,7 @@ int RunDiagnose(const DiagnoseArgs& args) {
               r.final_gap_train_um, r.final_gap_val_um, r.seconds);
   if (!args.json.empty()) {
     std::ofstream out(args.json);
-    nlohmann::json j = nlohmann::json::parse(api::DiagnosisJsonText(r, 0));
-    j["data_quality"] = DataQualityJson(checked.quality);
-    out << j.dump(2) << "\n";
+    out << api::DiagnosisJsonText(r, 2, &checked.quality) << "\n";
     if (!out) {
       std::fprintf(stderr, "rollwear diagnose: cannot write %s\n", args.json.c_str());
       return 1;

@@ -3,9 +3,10 @@
 // all-or-nothing: the folder is read and validated completely first (the
 // first broken rule is reported as file:line:column), its data quality is
 // printed (service/data_quality_cli.h), then it is stored in one
-// transaction; the database cannot keep a measurement flagged as suspect
-// yet, so a folder with one is refused (the other warnings only refuse
-// under --strict); a rejected dataset changes nothing. It says per table what
+// transaction; a rejected dataset changes nothing. A suspect measurement is
+// stored flagged (the store judges the folder by the same rules,
+// storage/mill_store.h) and left out of the daemon's fitting; --strict
+// refuses a folder with any warning instead. It says per table what
 // was new and what was already stored alike ("0 new, N unchanged" on a
 // second import), names the file and line of a row that conflicts with
 // what is stored, and is refused while a daemon holds the database.
@@ -52,14 +53,6 @@ int RunImport(const ImportArgs& args) {
                  dir.c_str());
     return 1;
   }
-  if (const int n = checked.quality.NumSuspect(); n > 0) {
-    std::fprintf(stderr,
-                 "rollwear import: %s: %d suspect measurement(s) (listed "
-                 "above); the database cannot keep them flagged yet: correct "
-                 "or remove them (nothing imported)\n",
-                 dir.c_str(), n);
-    return 1;
-  }
   // A running daemon holds the database: refused (storage/db_lock.h).
   StatusOr<storage::DatabaseLock> lock =
       storage::DatabaseLock::Acquire(args.db, "rollwear import");
@@ -92,6 +85,12 @@ int RunImport(const ImportArgs& args) {
       dir.c_str(), args.db.c_str(), Summary(counts).c_str(), seconds,
       static_cast<long long>(c.campaigns), static_cast<long long>(c.coils),
       static_cast<long long>(c.measurements));
+  if (const int n = checked.quality.NumSuspect(); n > 0) {
+    std::printf(
+        "%d suspect measurement(s) stored flagged (listed above): "
+        "kept, left out of calibration and diagnosis\n",
+        n);
+  }
   return 0;
 }
 

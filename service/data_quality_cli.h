@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "api/data_quality_json.h"
 #include "core/dataset/data_quality.h"
 #include "core/dataset/dataset.h"
 
@@ -31,10 +32,8 @@ struct CheckedDataset {
 int ReadCheckedDataset(const char* tool, const std::string& dir, bool strict,
                        CheckedDataset* out);
 
-// {"warnings", "suspect_measurements", "counts": {kind: n},
-//  "thresholds": {"noise_sd_um", "excess_factor"},
-//  "issues": [{"kind","file","line","where","value_um","reason"}...]}
-nlohmann::json DataQualityJson(const DataQuality& quality);
+// The `data_quality` object (api/data_quality_json.h).
+using api::DataQualityJson;
 
 // True when the data has a warning that makes a calibration on it not
 // "usable": a roll position without a pass.

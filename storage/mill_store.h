@@ -64,7 +64,16 @@ class MillStore {
   using Executor = std::function<void(std::function<void()>)>;
   virtual void AddCoilAsync(const CoilIn& in, CoilDone done,
                             const Executor& blocking) = 0;
-  virtual StatusOr<WriteOutcome> AddMeasurement(const MeasurementIn& in) = 0;
+  // A valid number that cannot be physical wear is stored flagged, not
+  // refused: core's rules (core/dataset/data_quality.h) judge it on the
+  // stored data plus it (in.suspect is ignored). `suspect` (may be null)
+  // receives its flag, "<kind>: <reason>" or "" when plausible; for a
+  // repeat, the flag stored with the first post.
+  virtual StatusOr<WriteOutcome> AddMeasurement(const MeasurementIn& in,
+                                                std::string* suspect) = 0;
+  StatusOr<WriteOutcome> AddMeasurement(const MeasurementIn& in) {
+    return AddMeasurement(in, nullptr);
+  }
 
   // The rolls of the open campaign (none once it has ended and no roll
   // change has followed).
@@ -73,10 +82,14 @@ class MillStore {
 
   // Everything stored, as a core dataset (for calibration and diagnosis).
   virtual StatusOr<Dataset> ExportDataset() const = 0;
+  // The stored data as calibration and diagnosis fit it: suspects (stored
+  // flags, and core's rules on the stored data) out, with their report.
+  virtual StatusOr<FittingData> ReadFittingData() const = 0;
   // Loads a dataset folder's content all-or-nothing (rollwear import). With
   // `lines` (ReadDataset's, may be null) a conflict with stored content
   // names the file and line of the row; `counts` (may be null) receives per
-  // table what was added and what was already stored alike.
+  // table what was added and what was already stored alike. The
+  // measurements core's rules flag on `data` are stored flagged.
   virtual Status ImportDataset(const Dataset& data, const DatasetLines* lines,
                                ImportCounts* counts) = 0;
   Status ImportDataset(const Dataset& data) {

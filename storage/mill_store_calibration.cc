@@ -159,7 +159,8 @@ Status MillStoreImpl::RunCalibration(int64_t id) {
   std::lock_guard<std::mutex> runs(calibration_mu_);
   const std::shared_ptr<const ModelVersion> active = ActiveVersion();
   CandidateEvaluation result;
-  StatusOr<Dataset> data = ExportDataset();
+  // Suspect measurements (storage/store_quality.h) are not fitted.
+  StatusOr<FittingData> data = ReadFittingData();
   if (!data.ok()) {
     result.error = data.status();
   } else {
@@ -168,7 +169,7 @@ Status MillStoreImpl::RunCalibration(int64_t id) {
     request.option = rec.option;
     request.split_seed = options_.split_seed;
     request.train_network = TrainNetwork;
-    result = FitCandidate(*data, request, active->wear_model);
+    result = FitCandidate(data->fit, request, active->wear_model);
   }
   rec.finished_at = NowSeconds();
   return FinishRun(std::move(result), active, &rec);

@@ -41,6 +41,7 @@ Status ReplayInto(Db* db, const CampaignRec& rec, const WearModel& model,
     h.roll_id = m->roll_id;
     if (rec.measurements[slot].has_value()) {
       h.measured_um = rec.measurements[slot]->wear_center_um;
+      h.measured_suspect = rec.measurements[slot]->suspect;
     }
     index[slot] = static_cast<int>(out->rolls.size());
     out->rolls.push_back(std::move(h));

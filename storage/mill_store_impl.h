@@ -74,6 +74,7 @@ struct WriteItem {
   const Dataset* dataset = nullptr;       // kImport (owned by the caller)
   const DatasetLines* lines = nullptr;    // kImport (caller's; may be null)
   std::vector<StoredCoil> dataset_coils;  // kImport
+  std::vector<std::string> dataset_suspect;  // kImport, SuspectFlags
   ImportPlan plan;                        // kImport
   std::function<Status(Db*)> task;        // kTask: inside the transaction
   std::function<void(Db*)> after_commit;  // kTask: writer thread, after
@@ -115,12 +116,15 @@ class MillStoreImpl final : public MillStore {
   StatusOr<CoilOutcome> AddCoil(const CoilIn& in) override;
   void AddCoilAsync(const CoilIn& in, CoilDone done,
                     const Executor& blocking) override;
-  StatusOr<WriteOutcome> AddMeasurement(const MeasurementIn& in) override;
+  using MillStore::AddMeasurement;
+  StatusOr<WriteOutcome> AddMeasurement(const MeasurementIn& in,
+                                        std::string* suspect) override;
 
   WearSnapshot Wear() const override;
   StatusOr<PositionWear> WearAt(int stand, Position position) const override;
 
   StatusOr<Dataset> ExportDataset() const override;
+  StatusOr<FittingData> ReadFittingData() const override;
   using MillStore::ImportDataset;
   Status ImportDataset(const Dataset& data, const DatasetLines* lines,
                        ImportCounts* counts) override;
@@ -146,6 +150,10 @@ class MillStoreImpl final : public MillStore {
   bool Healthy() const override;
 
  private:
+  // The flag stored (or queued) with the measurement of `in`'s key, or
+  // nullopt when that key has no measurement yet.
+  std::optional<std::string> StoredSuspect(const MeasurementIn& in) const;
+
   using ItemPtr = std::shared_ptr<WriteItem>;
 
   // ---- mill_store_impl.cc

@@ -27,6 +27,7 @@
 
 #include "storage/extra_json.h"
 #include "storage/mill_store_impl.h"
+#include "storage/store_quality.h"
 #include "storage/store_sql.h"
 #include "storage/validation.h"
 
@@ -244,8 +245,9 @@ Status MillStoreImpl::ExecuteItem(WriteItem* item) {
                                ExtraFieldsJson(item->measurement.extra));
     }
     case WriteKind::kImport: {
-      ROLLWEAR_RETURN_IF_ERROR(
-          WriteImport(db, *item->dataset, item->dataset_coils, item->plan));
+      ROLLWEAR_RETURN_IF_ERROR(WriteImport(db, *item->dataset,
+                                           item->dataset_coils, item->plan,
+                                           item->dataset_suspect));
       // The imported coils' answers, in the same transaction, under the
       // model the import leaves active (imports run alone, so the catalog
       // the backfill needs is the committed one plus this import).
@@ -296,6 +298,9 @@ void MillStoreImpl::PublishBatch(const std::vector<ItemPtr>& batch,
           ApplyMeasurement(item->measurement, &committed_);
           ++counters_.measurements;
           ++counters_.measurements_since_last_calibration;
+          if (!item->measurement.suspect.empty()) {
+            ++counters_.suspect_measurements;
+          }
           break;
         case WriteKind::kImport: {
           const uint32_t seen = committed_.positions_seen;
@@ -312,6 +317,8 @@ void MillStoreImpl::PublishBatch(const std::vector<ItemPtr>& batch,
           counters_.measurements += item->plan.num_measurements;
           counters_.measurements_since_last_calibration +=
               item->plan.num_measurements;
+          counters_.suspect_measurements += FlagImported(
+              *item->dataset, item->plan, item->dataset_suspect, &committed_);
           replay_open = replay_open || (model_->version == 0 &&
                                         committed_.positions_seen != seen);
           break;

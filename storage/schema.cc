@@ -134,6 +134,14 @@ constexpr const char* kSchemaV3 = R"sql(
 DROP INDEX IF EXISTS passes_by_campaign;
 )sql";
 
+// Version 4: a measurement may be flagged as suspect (a valid number that
+// cannot be physical wear, docs/data-format.md "Implausible values"): NULL
+// when plausible, else "<kind>: <reason>" (kind as in
+// core/dataset/data_quality.h). Rows of an older file are kept unflagged.
+constexpr const char* kSchemaV4 = R"sql(
+ALTER TABLE measurements ADD COLUMN suspect TEXT;
+)sql";
+
 // Number of tables in the file (sqlite_% internals excluded).
 StatusOr<int> CountTables(Db* db, bool* has_version_table) {
   ROLLWEAR_ASSIGN_OR_RETURN(
@@ -158,8 +166,9 @@ const std::vector<Migration>& SchemaMigrations() {
       {1, "initial schema", kSchemaV1},
       {2, "per-coil wear answers", kSchemaV2},
       {3, "no passes_by_campaign index", kSchemaV3},
+      {4, "suspect measurements", kSchemaV4},
   };
-  static_assert(kSchemaVersion == 3,
+  static_assert(kSchemaVersion == 4,
                 "kSchemaVersion must equal the last migration's version");
   return *migrations;
 }

@@ -117,8 +117,8 @@ Status ForEachRow(Db* db, const char* sql, F&& f) {
 }  // namespace
 
 Status WriteImport(Db* db, const Dataset& d,
-                   const std::vector<StoredCoil>& coils,
-                   const ImportPlan& plan) {
+                   const std::vector<StoredCoil>& coils, const ImportPlan& plan,
+                   const std::vector<std::string>& suspect) {
   std::vector<int64_t> campaign_rows(d.campaigns.size());
   for (size_t i = 0; i < d.campaigns.size(); ++i) {
     const Campaign& c = d.campaigns[i];
@@ -160,7 +160,9 @@ Status WriteImport(Db* db, const Dataset& d,
                            m.position,
                            m.roll_id,
                            m.measured_at,
-                           m.wear_center_um};
+                           m.wear_center_um,
+                           {},
+                           i < suspect.size() ? suspect[i] : ""};
     ROLLWEAR_RETURN_IF_ERROR(
         InsertMeasurement(db, campaign_rows[m.campaign], in,
                           ExtraRowJson(d.measurement_extra, i)));
@@ -168,7 +170,7 @@ Status WriteImport(Db* db, const Dataset& d,
   return Status::Ok();
 }
 
-StatusOr<Dataset> ReadStoredDataset(Db* db) {
+StatusOr<Dataset> ReadStoredDataset(Db* db, std::vector<std::string>* suspect) {
   // One read transaction, so the four tables are read at one instant.
   ROLLWEAR_RETURN_IF_ERROR(db->Exec("BEGIN"));
   struct EndRead {
@@ -259,7 +261,8 @@ StatusOr<Dataset> ReadStoredDataset(Db* db) {
   ROLLWEAR_RETURN_IF_ERROR(
       ForEachRow(db,
                  "SELECT campaign, stand, position, roll_id, measured_at, "
-                 "wear_center_um, extra FROM measurements ORDER BY id",
+                 "wear_center_um, extra, suspect FROM measurements "
+                 "ORDER BY id",
                  [&](Statement& st) {
                    Measurement m;
                    m.campaign = campaign_index.at(st.ColumnInt(0));
@@ -269,6 +272,9 @@ StatusOr<Dataset> ReadStoredDataset(Db* db) {
                    m.measured_at = st.ColumnInt(4);
                    m.wear_center_um = st.ColumnDouble(5);
                    d.measurements.push_back(std::move(m));
+                   if (suspect != nullptr) {
+                     suspect->push_back(st.ColumnText(7));
+                   }
                    return measurement_extra.AddRow(st.ColumnText(6));
                  }));
   d.campaign_extra = campaign_extra.Finish();

@@ -177,7 +177,8 @@ Status InsertMeasurement(Db* db, int64_t campaign_row, const MeasurementIn& m,
   ROLLWEAR_ASSIGN_STMT(
       st, db,
       "INSERT INTO measurements (campaign, stand, position, roll_id, "
-      "measured_at, wear_center_um, extra) VALUES (?, ?, ?, ?, ?, ?, ?)");
+      "measured_at, wear_center_um, extra, suspect) "
+      "VALUES (?, ?, ?, ?, ?, ?, ?, ?)");
   st->BindInt(1, campaign_row)
       .BindInt(2, m.stand)
       .BindInt(3, static_cast<int>(m.position))
@@ -185,6 +186,7 @@ Status InsertMeasurement(Db* db, int64_t campaign_row, const MeasurementIn& m,
       .BindInt(5, m.measured_at)
       .BindDouble(6, m.wear_center_um);
   BindExtra(st, 7, extra_json);
+  BindExtra(st, 8, m.suspect);  // NULL when empty
   return st->Run();
 }
 
@@ -321,7 +323,8 @@ Status LoadMeasurements(Db* db, CampaignByRow* by_row, Catalog* c) {
   ROLLWEAR_ASSIGN_OR_RETURN(
       Statement st,
       db->Prepare("SELECT campaign, stand, position, roll_id, measured_at, "
-                  "wear_center_um, extra FROM measurements ORDER BY id"));
+                  "wear_center_um, extra, suspect FROM measurements "
+                  "ORDER BY id"));
   Status bad;
   ROLLWEAR_RETURN_IF_ERROR(ForEachRow(&st, [&](const Statement& row) {
     MeasurementIn m;
@@ -332,6 +335,7 @@ Status LoadMeasurements(Db* db, CampaignByRow* by_row, Catalog* c) {
     m.measured_at = row.ColumnInt(4);
     m.wear_center_um = row.ColumnDouble(5);
     m.extra = ExtraOrNote(row.ColumnText(6), &bad);
+    m.suspect = row.ColumnText(7);  // "" for NULL
     const int slot = RollPositionSlot(m.stand, m.position);
     c->campaigns[m.campaign_id].measurements[slot] = std::move(m);
   }));
@@ -372,13 +376,15 @@ StatusOr<StoredCounts> LoadCounts(Db* db) {
           "(SELECT COUNT(*) FROM coils), (SELECT COUNT(*) FROM measurements), "
           "(SELECT COUNT(*) FROM measurements WHERE id > "
           "  (SELECT IFNULL(MAX(measurement_watermark), 0) "
-          "FROM calibrations))"));
+          "FROM calibrations)), "
+          "(SELECT COUNT(*) FROM measurements WHERE suspect IS NOT NULL)"));
   ROLLWEAR_RETURN_IF_ERROR(st.Step().status());
   StoredCounts n;
   n.campaigns = st.ColumnInt(0);
   n.coils = st.ColumnInt(1);
   n.measurements = st.ColumnInt(2);
   n.measurements_since_last_calibration = st.ColumnInt(3);
+  n.suspect_measurements = st.ColumnInt(4);
   return n;
 }
 

@@ -72,6 +72,7 @@ struct StoredCounts {
   int64_t coils = 0;
   int64_t measurements = 0;
   int64_t measurements_since_last_calibration = 0;
+  int64_t suspect_measurements = 0;
 };
 StatusOr<StoredCounts> LoadCounts(Db* db);
 
@@ -113,13 +114,18 @@ StatusOr<int> BackfillCoilWear(Db* db, const Catalog& catalog,
 
 // ---- datasets (store_dataset.cc)
 // Writes the new rows of an import plan (inside the caller's transaction).
+// `suspect` is parallel to data.measurements: each one's flag ("" when
+// plausible; MeasurementIn::suspect).
 Status WriteImport(Db* db, const Dataset& data,
-                   const std::vector<StoredCoil>& coils,
-                   const ImportPlan& plan);
+                   const std::vector<StoredCoil>& coils, const ImportPlan& plan,
+                   const std::vector<std::string>& suspect);
 // Everything stored as a Dataset: rows in the order they were stored,
 // labels interned in first-seen order, extra columns rebuilt. An open
 // campaign gets ended_at = max(started_at, last rolled_at of its passes).
-StatusOr<Dataset> ReadStoredDataset(Db* db);
+// `suspect` (may be null) receives each measurement's stored flag ("" when
+// plausible), parallel to the Dataset's measurements.
+StatusOr<Dataset> ReadStoredDataset(
+    Db* db, std::vector<std::string>* suspect = nullptr);
 
 // ---- models and calibrations (store_sql_models.cc)
 // version of a ModelVersion is ignored; returns the new version.

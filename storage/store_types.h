@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/base/status.h"
+#include "core/dataset/data_quality.h"
 #include "core/dataset/dataset.h"
 #include "core/dataset/extra_fields.h"
 #include "core/dataset/input_rules.h"
@@ -27,7 +28,7 @@ namespace rollwear::storage {
 
 // Schema version this build writes; older files are migrated on Open, newer
 // ones are refused.
-constexpr int kSchemaVersion = 3;
+constexpr int kSchemaVersion = 4;
 
 struct StoreOptions {
   // Maximum coils committed in one group-commit transaction.
@@ -90,9 +91,22 @@ struct MeasurementIn {
   UnixSeconds measured_at = 0;
   double wear_center_um = 0;
   ExtraFields extra;  // measurements.csv's extra columns
+  // Empty when plausible, else "<kind>: <reason>" (a valid number that
+  // cannot be physical wear, core/dataset/data_quality.h): set by the store
+  // (MillStore::AddMeasurement), stored, excluded from fitting.
+  std::string suspect;
 };
 
 enum class WriteOutcome { kCreated, kUnchanged };
+
+// The stored data as calibration and diagnosis see it (MillStore::
+// ReadFittingData): everything, its data quality by core's rules plus the
+// flags stored with measurements, and `all` without the suspects.
+struct FittingData {
+  Dataset all;
+  Dataset fit;
+  DataQuality quality;
+};
 
 // Predicted state of one mounted roll.
 struct PositionWear {
@@ -168,6 +182,8 @@ struct StoreCounters {
   int64_t measurements = 0;
   // Measurements committed since the last calibration run started.
   int64_t measurements_since_last_calibration = 0;
+  // Measurements stored flagged as suspect (MeasurementIn::suspect).
+  int64_t suspect_measurements = 0;
   int64_t commits = 0;  // group-commit transactions
 };
 
@@ -192,6 +208,9 @@ struct RollWearHistory {
   std::vector<double> predicted_wear_um;
   double final_predicted_um = 0;      // under the active model
   std::optional<double> measured_um;  // grinder's centre wear, if measured
+  // The measurement's suspect flag ("<kind>: <reason>"; "" when plausible
+  // or not measured): shown, not fitted.
+  std::string measured_suspect;
   // Measured rolls: what the grinder is expected to read, the final
   // predicted wear plus the active model's measurement terms (cooling_h, or
   // a measurement's extra field as stored with it; a term whose field the

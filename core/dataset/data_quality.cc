@@ -48,8 +48,9 @@ namespace {
 // reading of more than kNoiseSigmas * sigma0 on a roll position without a
 // pass is excess wear too (its campaign produced none).
 //
-// unit_mm: the median reading of the rolls that rolled anything is below
-// kMmMedianUm while their median rolled length is at least kMmMinLengthM.
+// unit_mm: the median reading of the rolls that rolled anything is
+// positive and below kMmMedianUm while their median rolled length is at
+// least kMmMinLengthM.
 // Hot-strip work rolls lose wear of the order of µm per km of strip (the
 // study's rolls hundreds of µm in campaigns of tens of km), so a roll that
 // rolled >= 10 km has lost >= ~10 µm: a median three orders of magnitude
@@ -164,7 +165,10 @@ bool FlagMillimetres(const Dataset& data, const MeasuredLoad& loads,
   }
   if (wear.empty()) return false;
   const double median_wear = Median(wear), median_length = Median(length);
-  if (!(median_wear < kMmMedianUm && median_length >= kMmMinLengthM)) {
+  // Values in mm are positive: a negative median is not mm (the daemon
+  // judges a single reading this way: core/dataset/data_quality.h).
+  if (!(median_wear > 0 && median_wear < kMmMedianUm &&
+        median_length >= kMmMinLengthM)) {
     return false;
   }
   const std::string reason = Fmt(

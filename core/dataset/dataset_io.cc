@@ -225,14 +225,6 @@ Status ReadCoils(const FileView& f, LabelIndex* campaigns,
   return Status::Ok();
 }
 
-// The wear MeasurementRules sees for a CSV row: the store's floor
-// kMinWearUm is not a rule of the CSV tools, which flag a lower finite
-// reading as suspect instead (core/dataset/data_quality.h); a non-finite
-// value stays as read, to be refused.
-double ReadableWear(double wear_um) {
-  return std::isfinite(wear_um) ? std::max(wear_um, kMinWearUm) : wear_um;
-}
-
 Status ReadMeasurements(const FileView& f, LabelIndex* campaigns,
                         const std::vector<int>& mount_of, Dataset* d,
                         std::vector<int>* lines) {
@@ -251,8 +243,7 @@ Status ReadMeasurements(const FileView& f, LabelIndex* campaigns,
     ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kWear, &m.wear_center_um));
     ROLLWEAR_RETURN_IF_ERROR(
         f.Check(r, MeasurementRules(f.Raw(r, col::kCampaign), m.stand,
-                                    m.position, roll_id,
-                                    ReadableWear(m.wear_center_um))));
+                                    m.position, roll_id, m.wear_center_um)));
     const Campaign& campaign = d->campaigns[m.campaign];
     ROLLWEAR_RETURN_IF_ERROR(f.Check(
         r,

@@ -216,13 +216,7 @@ RuleViolations MeasurementRules(std::string_view campaign_id, int stand,
   r.Stand(stand);
   r.PositionOk(position);
   r.NonEmpty("roll_id", roll_id);
-  if (r.Finite("wear_center_um", wear_center_um) &&
-      wear_center_um < kMinWearUm) {
-    r.Add("wear_center_um",
-          "must be >= -50 um (wear is positive radius loss; only grinder "
-          "noise may go slightly negative)",
-          true, Num(wear_center_um));
-  }
+  r.Finite("wear_center_um", wear_center_um);
   return out;
 }
 

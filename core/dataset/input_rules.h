@@ -37,9 +37,6 @@ namespace rollwear {
 
 // Largest accepted seq (keeps seq in an int with room to spare).
 inline constexpr int64_t kMaxSeq = 1'000'000'000;
-// Lowest accepted centre wear: wear is radius loss (positive); a few tens
-// of µm below zero is grinder noise on a barely worn roll.
-inline constexpr double kMinWearUm = -50.0;
 
 enum class RuleKind {
   kRange,      // a value outside its range, an empty text or list
@@ -115,7 +112,8 @@ RuleViolations CoilRules(std::string_view coil_id, std::string_view campaign_id,
 }
 
 // One measurement: non-empty ids, stand F1..F7, position top/bottom, wear
-// finite and >= kMinWearUm.
+// finite. (A finite wear that cannot be physical is not a rule break but a
+// warning: core/dataset/data_quality.h.)
 RuleViolations MeasurementRules(std::string_view campaign_id, int stand,
                                 Position position, std::string_view roll_id,
                                 double wear_center_um);

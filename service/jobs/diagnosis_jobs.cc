@@ -76,27 +76,29 @@ api::DiagnosisJob DiagnosisJobs::Run(int64_t id, bool adopt) {
   result.id = id;
   result.status = "failed";
   result.adopt = adopt;
-  StatusOr<Dataset> data = store_->ExportDataset();
+  // Suspect measurements are not diagnosed (storage/store_quality.h); the
+  // report says which ("data_quality").
+  StatusOr<storage::FittingData> data = store_->ReadFittingData();
   if (!data.ok()) {
     result.message = data.status().message();
     return result;
   }
   try {
     const DiagnosisOptions options;
-    StatusOr<DiagnosisReport> report = Diagnose(*data, options);
+    StatusOr<DiagnosisReport> report = Diagnose(data->fit, options);
     if (!report.ok()) {
       result.message = report.status().message();
       return result;
     }
     result.status = "done";
-    result.report = api::DiagnosisJsonText(*report);
+    result.report = api::DiagnosisJsonText(*report, -1, &data->quality);
     if (adopt && !report->findings.empty()) {
       // Scored on the validation campaigns of the data and split the
       // diagnosis fitted on.
       StatusOr<storage::CalibrationRecord> run = store_->ProposeModel(
           "diagnosis " + std::to_string(id),
           WearLawName(report->adopted_model.law), 1, report->adopted_model,
-          *data, options.split_seed);
+          data->fit, options.split_seed);
       if (run.ok()) {
         result.adoption = std::move(run).value();
       } else {

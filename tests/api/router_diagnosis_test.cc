@@ -2,6 +2,7 @@
 // daemon runs the same diagnosis as `rollwear diagnose` on everything it
 // holds and answers with the same JSON.
 #include <chrono>
+#include <optional>
 #include <thread>
 
 #include "core/sim/simulator.h"
@@ -11,10 +12,12 @@ namespace rollwear::api::testing {
 namespace {
 
 // Replaces the fixture's store by a fresh one at `db` holding a simulated
-// mill (240 campaigns) with a concealed lubrication effect.
+// mill (240 campaigns) with a concealed lubrication effect; with a
+// `gauge_fault`, its 8th measurement reads that instead.
 class DiagnosisRouterTest : public RouterTest {
  public:
-  void UseSimulatedMill(const std::string& db, uint64_t seed) {
+  void UseSimulatedMill(const std::string& db, uint64_t seed,
+                        std::optional<double> gauge_fault = std::nullopt) {
     router_.reset();
     store_.reset();
     StatusOr<std::unique_ptr<storage::MillStore>> store =
@@ -27,6 +30,7 @@ class DiagnosisRouterTest : public RouterTest {
     so.effects = {"lubrication"};
     StatusOr<Simulation> sim = Simulate(so);
     ASSERT_TRUE(sim.ok());
+    if (gauge_fault) sim->data.measurements[7].wear_center_um = *gauge_fault;
     ASSERT_TRUE(store_->ImportDataset(sim->data).ok());
     MakeRouter(ApiOptions());
   }
@@ -35,8 +39,9 @@ class DiagnosisRouterTest : public RouterTest {
 TEST_F(DiagnosisRouterTest,
        DiagnosisRunsOnStoredDataAndNamesTheConcealedEffect) {
   // A fresh store holding a simulated mill with a concealed lubrication
-  // effect (the fixture's own open campaign lives in another store).
-  ASSERT_NO_FATAL_FAILURE(UseSimulatedMill("diag.db", 31));
+  // effect (the fixture's own open campaign lives in another store), and
+  // one gauge fault, stored flagged and left out.
+  ASSERT_NO_FATAL_FAILURE(UseSimulatedMill("diag.db", 31, -62.6));
 
   const HttpResponse posted = Post("/v1/diagnoses", json::object());
   ASSERT_EQ(posted.status, 202) << posted.body;
@@ -58,6 +63,11 @@ TEST_F(DiagnosisRouterTest,
   EXPECT_LT(report["findings"][0]["gap_val_after_um"].get<double>(),
             report["findings"][0]["gap_val_before_um"].get<double>());
   EXPECT_TRUE(report["baseline"].contains("gap_val_um"));
+  const json& quality = report["data_quality"];
+  EXPECT_EQ(quality["suspect_measurements"], 1) << quality.dump();
+  EXPECT_EQ(quality["counts"]["negative_wear"], 1);
+  ASSERT_EQ(quality["issues"].size(), 1u);
+  EXPECT_EQ(quality["issues"][0]["value_um"], -62.6);
 }
 
 TEST_F(DiagnosisRouterTest,

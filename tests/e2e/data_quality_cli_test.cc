@@ -1,13 +1,14 @@
 // Data quality in the CLI tools: a gauge fault of -62.6 µm is listed with
 // its file:line and left out of the fit instead of refusing the dataset; a
 // roll position without a pass makes a calibration not usable; --strict
-// turns the warnings into errors (exit 1); import refuses suspect
-// measurements (the database cannot keep them flagged yet).
+// turns the warnings into errors (exit 1); import stores suspect
+// measurements flagged (refused under --strict).
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "core/dataset/dataset_io.h"
+#include "storage/mill_store.h"
 #include "tests/e2e/e2e_util.h"
 
 namespace rollwear::e2e {
@@ -85,24 +86,40 @@ TEST(DataQualityCliTest, DiagnoseRunsAndReportsDataQuality) {
   EXPECT_TRUE(j.contains("verdict"));
 }
 
-TEST(DataQualityCliTest, ImportRefusesSuspectMeasurements) {
+TEST(DataQualityCliTest, ImportStoresSuspectMeasurementsFlagged) {
   TempDir dir;
-  WriteGaugeFault(dir);
+  const Dataset data = WriteGaugeFault(dir);
+  const int n = static_cast<int>(data.measurements.size());
   std::string out, err;
-  EXPECT_EQ(RunRollwear({"import", "--db", dir / "x.db", dir / "fault"}, &out,
-                        &err),
-            1);
-  EXPECT_NE(out.find(kSummary), std::string::npos) << out;
-  EXPECT_NE(err.find("1 suspect measurement(s) (listed above); the database "
-                     "cannot keep them flagged yet"),
-            std::string::npos)
-      << err;
-  EXPECT_NE(err.find("nothing imported"), std::string::npos) << err;
-  EXPECT_EQ(RunRollwear({"import", "--db", dir / "x.db", dir / "clean",
+  // --strict: refused, nothing imported.
+  EXPECT_EQ(RunRollwear({"import", "--db", dir / "strict.db", dir / "fault",
                          "--strict"},
                         &out, &err),
-            0)
-      << err;
+            1);
+  EXPECT_NE(err.find("nothing imported"), std::string::npos) << err;
+  ASSERT_EQ(
+      RunRollwear({"import", "--db", dir / "x.db", dir / "fault"}, &out, &err),
+      0)
+      << out << err;
+  EXPECT_NE(out.find(kSummary), std::string::npos) << out;
+  EXPECT_NE(out.find("\n1 suspect measurement(s) stored flagged (listed "
+                     "above): kept, left out of calibration and diagnosis\n"),
+            std::string::npos)
+      << out;
+  for (const char* db : {"strict.db", "x.db"}) {
+    StatusOr<std::unique_ptr<storage::MillStore>> store =
+        storage::MillStore::Open(dir / db, storage::StoreOptions());
+    ASSERT_TRUE(store.ok()) << store.status().ToString();
+    const bool strict = std::string(db) == "strict.db";
+    EXPECT_EQ((*store)->Counters().measurements, strict ? 0 : n);
+    EXPECT_EQ((*store)->Counters().suspect_measurements, strict ? 0 : 1);
+    if (strict) continue;
+    StatusOr<storage::FittingData> fitting = (*store)->ReadFittingData();
+    ASSERT_TRUE(fitting.ok());
+    EXPECT_EQ(static_cast<int>(fitting->fit.measurements.size()), n - 1);
+    ASSERT_EQ(fitting->quality.issues.size(), 1u);
+    EXPECT_EQ(fitting->quality.issues[0].value_um, -62.6);
+  }
 }
 
 TEST(DataQualityCliTest, PositionWithoutPassMakesCalibrationNotUsable) {

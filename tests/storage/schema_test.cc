@@ -156,7 +156,8 @@ TEST(SchemaTest, VersionTwoFileLosesThePassesByCampaignIndex) {
   {
     auto db = MustOpen(path);
     ASSERT_TRUE(db->Exec("CREATE INDEX passes_by_campaign ON passes "
-                         "(campaign); UPDATE schema_version SET version = 2")
+                         "(campaign); ALTER TABLE measurements DROP COLUMN "
+                         "suspect; UPDATE schema_version SET version = 2")
                     .ok());
   }
   auto store = OpenStore(path);

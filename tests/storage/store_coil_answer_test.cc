@@ -216,6 +216,7 @@ TEST(StoreCoilAnswerTest, VersionOneFileIsUpgradedAndItsCoilsAnswered) {
     ASSERT_TRUE((*db)
                     ->Exec("DROP INDEX coils_without_wear; "
                            "ALTER TABLE coils DROP COLUMN wear; "
+                           "ALTER TABLE measurements DROP COLUMN suspect; "
                            "UPDATE schema_version SET version = 1")
                     .ok());
   }

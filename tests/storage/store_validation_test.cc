@@ -296,11 +296,6 @@ TEST_F(StoreValidationTest, MeasurementRules) {
          return Measure(s, [](MeasurementIn* in) { in->roll_id = ""; });
        },
        StatusCode::kInvalidArgument, "roll_id: must not be empty"},
-      {"wear too negative",
-       [](MillStore* s) {
-         return Measure(s, [](MeasurementIn* in) { in->wear_center_um = -60; });
-       },
-       StatusCode::kInvalidArgument, "wear_center_um: must be >= -50"},
       {"wear nan",
        [](MillStore* s) {
          return Measure(s,
