@@ -41,6 +41,71 @@ int Fail(const std::string& message, int code) {
   return code;
 }
 
+// The spread of the ensemble members' gaps on the training (`validation`
+// false) or validation campaigns.
+nlohmann::json SeedSpread(const AnnComparison& c, bool validation) {
+  double mean, sd, lo, hi;
+  MemberGapSpread(c, validation, &mean, &sd, &lo, &hi);
+  return {{"mean_um", Num(mean)},
+          {"sd_um", Num(sd)},
+          {"min_um", Num(lo)},
+          {"max_um", Num(hi)}};
+}
+
+// --json FILE: the comparison as one JSON object.
+nlohmann::json AnnJson(const AnnComparison& c,
+                       const AnnComparisonOptions& options,
+                       const DataQuality& quality) {
+  nlohmann::json j;
+  j["classical"] = Gaps(c.classical_train, c.classical_val);
+  j["classical"]["model"] = "wang";
+  j["classical"]["option"] = options.classical.option;
+  j["classical"]["parameters"] = c.classical_parameters;
+  j["classical"]["bias_above_300_um"] = Num(c.classical_bias_above_300_um);
+  j["classical"]["seconds"] = c.classical_seconds;
+  j["ann"] = Gaps(c.ann_train, c.ann_val);
+  j["ann"]["mode"] = c.ann_mode;
+  j["ann"]["parameters_per_member"] = c.ann_parameters;
+  j["ann"]["hidden"] = {options.training.hidden1, options.training.hidden2};
+  j["ann"]["weight_decay"] = options.training.weight_decay;
+  j["ann"]["early_stopping"] = options.training.early_stopping;
+  j["ann"]["linear_skip"] = options.training.linear_skip;
+  j["ann"]["max_epochs"] = options.training.max_epochs;
+  j["ann"]["bias_above_300_um"] = Num(c.ann_bias_above_300_um);
+  j["ann"]["seconds"] = c.ann_seconds;
+  j["ann"]["best_member"] = c.best_member;
+  if (c.has_adopted) {
+    j["adopted"] = Gaps(c.adopted_train, c.adopted_val);
+    j["adopted"]["findings"] = c.adopted_findings;
+    j["adopted"]["parameters"] = c.adopted_parameters;
+    j["adopted"]["seconds"] = c.adopted_seconds;
+  }
+  j["delta_percent"] = {
+      {"train", Num(100 * (c.ann_train.gap_um - c.classical_train.gap_um) /
+                    c.classical_train.gap_um)},
+      {"val", Num(100 * (c.ann_val.gap_um - c.classical_val.gap_um) /
+                  c.classical_val.gap_um)}};
+  j["seed_spread"]["train"] = SeedSpread(c, false);
+  j["seed_spread"]["val"] = SeedSpread(c, true);
+  nlohmann::json members = nlohmann::json::array();
+  for (const AnnMemberFigures& f : c.members) {
+    members.push_back({{"seed", f.training.seed},
+                       {"epochs", f.training.epochs},
+                       {"best_epoch", f.training.best_epoch},
+                       {"holdout_gap_um", Num(f.training.holdout_gap_um)},
+                       {"gap_train_um", Num(f.train.gap_um)},
+                       {"gap_val_um", Num(f.validation.gap_um)}});
+  }
+  j["members"] = members;
+  j["split_seed"] = options.split_seed;
+  j["n_train"] = c.n_train;
+  j["n_val"] = c.n_val;
+  j["n_above_300"] = c.n_above_300;
+  j["seconds"] = c.seconds;
+  j["data_quality"] = DataQualityJson(quality);
+  return j;
+}
+
 }  // namespace
 
 int RunAnn(const AnnArgs& args) {
@@ -78,62 +143,7 @@ int RunAnn(const AnnArgs& args) {
     if (!out) return Fail("cannot write " + args.model_out, 1);
   }
   if (!args.json.empty()) {
-    nlohmann::json j;
-    j["classical"] = Gaps(c->classical_train, c->classical_val);
-    j["classical"]["model"] = "wang";
-    j["classical"]["option"] = options.classical.option;
-    j["classical"]["parameters"] = c->classical_parameters;
-    j["classical"]["bias_above_300_um"] = Num(c->classical_bias_above_300_um);
-    j["classical"]["seconds"] = c->classical_seconds;
-    j["ann"] = Gaps(c->ann_train, c->ann_val);
-    j["ann"]["mode"] = c->ann_mode;
-    j["ann"]["parameters_per_member"] = c->ann_parameters;
-    j["ann"]["hidden"] = {options.training.hidden1, options.training.hidden2};
-    j["ann"]["weight_decay"] = options.training.weight_decay;
-    j["ann"]["early_stopping"] = options.training.early_stopping;
-    j["ann"]["linear_skip"] = options.training.linear_skip;
-    j["ann"]["max_epochs"] = options.training.max_epochs;
-    j["ann"]["bias_above_300_um"] = Num(c->ann_bias_above_300_um);
-    j["ann"]["seconds"] = c->ann_seconds;
-    j["ann"]["best_member"] = c->best_member;
-    if (c->has_adopted) {
-      j["adopted"] = Gaps(c->adopted_train, c->adopted_val);
-      j["adopted"]["findings"] = c->adopted_findings;
-      j["adopted"]["parameters"] = c->adopted_parameters;
-      j["adopted"]["seconds"] = c->adopted_seconds;
-    }
-    j["delta_percent"] = {
-        {"train", Num(100 * (c->ann_train.gap_um - c->classical_train.gap_um) /
-                      c->classical_train.gap_um)},
-        {"val", Num(100 * (c->ann_val.gap_um - c->classical_val.gap_um) /
-                    c->classical_val.gap_um)}};
-    double mean, sd, lo, hi;
-    MemberGapSpread(*c, false, &mean, &sd, &lo, &hi);
-    j["seed_spread"]["train"] = {{"mean_um", Num(mean)},
-                                 {"sd_um", Num(sd)},
-                                 {"min_um", Num(lo)},
-                                 {"max_um", Num(hi)}};
-    MemberGapSpread(*c, true, &mean, &sd, &lo, &hi);
-    j["seed_spread"]["val"] = {{"mean_um", Num(mean)},
-                               {"sd_um", Num(sd)},
-                               {"min_um", Num(lo)},
-                               {"max_um", Num(hi)}};
-    nlohmann::json members = nlohmann::json::array();
-    for (const AnnMemberFigures& f : c->members) {
-      members.push_back({{"seed", f.training.seed},
-                         {"epochs", f.training.epochs},
-                         {"best_epoch", f.training.best_epoch},
-                         {"holdout_gap_um", Num(f.training.holdout_gap_um)},
-                         {"gap_train_um", Num(f.train.gap_um)},
-                         {"gap_val_um", Num(f.validation.gap_um)}});
-    }
-    j["members"] = members;
-    j["split_seed"] = options.split_seed;
-    j["n_train"] = c->n_train;
-    j["n_val"] = c->n_val;
-    j["n_above_300"] = c->n_above_300;
-    j["seconds"] = c->seconds;
-    j["data_quality"] = DataQualityJson(checked.quality);
+    const nlohmann::json j = AnnJson(*c, options, checked.quality);
     std::ofstream out(args.json);
     out << j.dump(2) << "\n";
     if (!out) return Fail("cannot write " + args.json, 1);

@@ -69,6 +69,107 @@ Status WriteCalibrationFigure(const std::string& dir, const CalibrationOptions& 
   return Status::Ok();
 }
 
+// --start, --protocol and the options' own check, into `options`; 0, or
+// exit code 2 after the message on stderr.
+int CheckCalibrationOptions(const CalibrateArgs& args,
+                            CalibrationOptions* options) {
+  if (!ParseStart(args.start, &options->initial_set)) {
+    std::fprintf(
+        stderr,
+        "rollwear calibrate: --start must be ones, random or empirical\n");
+    return 2;
+  }
+  const std::string& protocol = args.protocol;
+  if (protocol == "paper") {
+    options->derivatives = DerivativeMode::kPaperForwardDifference;
+  } else if (protocol != "exact") {
+    std::fprintf(stderr,
+                 "rollwear calibrate: --protocol must be exact or paper\n");
+    return 2;
+  }
+  std::string error;
+  if (!options->IsValid(&error)) {
+    std::fprintf(stderr, "rollwear calibrate: %s\n", error.c_str());
+    return 2;
+  }
+  return 0;
+}
+
+// A relative standard error as "12.3%" (at most 5 characters before the
+// '%'), or "n/a" when it is not finite.
+std::string RelativeError(double se) {
+  if (!std::isfinite(se)) return "n/a";
+  return std::to_string(std::lround(se * 1000) / 10.0).substr(0, 5) + "%";
+}
+
+// The report on stdout: settings, brief summary, coefficients with relative
+// standard errors, training and validation figures, noise model.
+void PrintCalibration(const CalibrationOptions& options,
+                      const std::string& protocol, const SplitCalibration& run,
+                      bool usable) {
+  const CalibrationResult& r = run.result;
+  const WearModel& m = r.model;
+  std::printf("%s law, option %d, start %s, %s derivatives\n",
+              WearLawName(options.law), options.option,
+              InitialSetName(options.initial_set), protocol.c_str());
+  std::printf("%s\n", r.summary.BriefReport().c_str());
+  if (r.summary.usable && !usable) {
+    std::printf(
+        "not usable: a roll position received no pass (see the data "
+        "quality above)\n");
+  }
+  std::printf("%-28s %12s %10s\n", "coefficient", "value", "rel. s.e.");
+  const auto named = m.NamedCoefficients();
+  for (size_t i = 0; i < named.size(); ++i) {
+    std::printf("%-28s %12.6g %10s\n", named[i].first.c_str(), named[i].second,
+                RelativeError(r.std_error[i]).c_str());
+  }
+  std::printf("training:   %d measurements, gap %.1f µm, cost %.1f µm²\n",
+              run.train.n, run.train.gap_um, run.train.cost);
+  std::printf("validation: %d measurements, gap %.1f µm, cost %.1f µm²\n",
+              run.validation.n, run.validation.gap_um, run.validation.cost);
+  std::printf("noise model: sd %.1f µm + %.1f %% of wear\n", m.noise_sd_um,
+              100 * m.noise_rel);
+}
+
+// --json FILE: the same figures as one JSON object.
+nlohmann::json CalibrationJson(const CalibrateArgs& args,
+                               const CalibrationOptions& options,
+                               const SplitCalibration& run,
+                               const DataQuality& quality, bool usable) {
+  const CalibrationResult& r = run.result;
+  const WearModel& m = r.model;
+  nlohmann::json j;
+  j["model"] = WearLawName(options.law);
+  j["option"] = options.option;
+  j["start"] = InitialSetName(options.initial_set);
+  j["protocol"] = args.protocol;
+  j["split_seed"] = args.split_seed;
+  nlohmann::json coef = nlohmann::json::object(), se = nlohmann::json::object();
+  const auto named = m.NamedCoefficients();
+  for (size_t i = 0; i < named.size(); ++i) {
+    coef[named[i].first] = named[i].second;
+    se[named[i].first] = Number(r.std_error[i]);
+  }
+  j["coefficients"] = coef;
+  j["std_errors_log"] = se;
+  j["cost"] = run.train.cost;
+  j["cost_val"] = run.validation.cost;
+  j["gap_train_um"] = run.train.gap_um;
+  j["gap_val_um"] = run.validation.gap_um;
+  j["n_train"] = run.train.n;
+  j["n_val"] = run.validation.n;
+  j["seconds"] = r.summary.seconds;
+  j["iterations"] = r.summary.iterations;
+  j["evaluations"] = r.summary.evaluations;
+  j["termination"] = r.summary.termination;
+  j["usable"] = usable;
+  j["data_quality"] = DataQualityJson(quality);
+  j["noise"] = {{"sd_um", m.noise_sd_um}, {"rel", m.noise_rel}};
+  j["bias_above_300_um"] = Number(run.bias_above_300_um);
+  return j;
+}
+
 }  // namespace
 
 int RunCalibrate(const CalibrateArgs& args) {
@@ -85,22 +186,7 @@ int RunCalibrate(const CalibrateArgs& args) {
     return RunCalibrateWithTerms(args.data, args.terms, args.split_seed,
                                  args.json, args.strict);
   }
-  if (!ParseStart(args.start, &options.initial_set)) {
-    std::fprintf(stderr, "rollwear calibrate: --start must be ones, random or empirical\n");
-    return 2;
-  }
-  const std::string& protocol = args.protocol;
-  if (protocol == "paper") {
-    options.derivatives = DerivativeMode::kPaperForwardDifference;
-  } else if (protocol != "exact") {
-    std::fprintf(stderr, "rollwear calibrate: --protocol must be exact or paper\n");
-    return 2;
-  }
-  std::string error;
-  if (!options.IsValid(&error)) {
-    std::fprintf(stderr, "rollwear calibrate: %s\n", error.c_str());
-    return 2;
-  }
+  if (int code = CheckCalibrationOptions(args, &options)) return code;
 
   CheckedDataset checked;
   if (int code = ReadCheckedDataset("calibrate", args.data, args.strict, &checked)) {
@@ -120,62 +206,15 @@ int RunCalibrate(const CalibrateArgs& args) {
     std::fprintf(stderr, "rollwear calibrate: %s\n", run.status().message().c_str());
     return 1;
   }
-  const CalibrationResult& r = run->result;
   // Not "usable" on data a calibration cannot stand for (a roll position
   // without a pass: its measurements compare with a zero prediction).
-  const bool usable = r.summary.usable && !SpoilsCalibration(checked.quality);
-  const WearModel& m = r.model;
-  std::printf("%s law, option %d, start %s, %s derivatives\n",
-              WearLawName(options.law), options.option,
-              InitialSetName(options.initial_set), protocol.c_str());
-  std::printf("%s\n", r.summary.BriefReport().c_str());
-  if (r.summary.usable && !usable) {
-    std::printf("not usable: a roll position received no pass (see the data "
-                "quality above)\n");
-  }
-  std::printf("%-28s %12s %10s\n", "coefficient", "value", "rel. s.e.");
-  const auto named = m.NamedCoefficients();
-  for (size_t i = 0; i < named.size(); ++i) {
-    std::printf("%-28s %12.6g %10s\n", named[i].first.c_str(), named[i].second,
-                std::isfinite(r.std_error[i])
-                    ? (std::to_string(std::lround(r.std_error[i] * 1000) / 10.0).substr(0, 5) + "%").c_str()
-                    : "n/a");
-  }
-  std::printf("training:   %d measurements, gap %.1f µm, cost %.1f µm²\n",
-              run->train.n, run->train.gap_um, run->train.cost);
-  std::printf("validation: %d measurements, gap %.1f µm, cost %.1f µm²\n",
-              run->validation.n, run->validation.gap_um, run->validation.cost);
-  std::printf("noise model: sd %.1f µm + %.1f %% of wear\n", m.noise_sd_um,
-              100 * m.noise_rel);
+  const bool usable =
+      run->result.summary.usable && !SpoilsCalibration(checked.quality);
+  PrintCalibration(options, args.protocol, *run, usable);
 
   if (!args.json.empty()) {
-    nlohmann::json j;
-    j["model"] = WearLawName(options.law);
-    j["option"] = options.option;
-    j["start"] = InitialSetName(options.initial_set);
-    j["protocol"] = protocol;
-    j["split_seed"] = args.split_seed;
-    nlohmann::json coef = nlohmann::json::object(), se = nlohmann::json::object();
-    for (size_t i = 0; i < named.size(); ++i) {
-      coef[named[i].first] = named[i].second;
-      se[named[i].first] = Number(r.std_error[i]);
-    }
-    j["coefficients"] = coef;
-    j["std_errors_log"] = se;
-    j["cost"] = run->train.cost;
-    j["cost_val"] = run->validation.cost;
-    j["gap_train_um"] = run->train.gap_um;
-    j["gap_val_um"] = run->validation.gap_um;
-    j["n_train"] = run->train.n;
-    j["n_val"] = run->validation.n;
-    j["seconds"] = r.summary.seconds;
-    j["iterations"] = r.summary.iterations;
-    j["evaluations"] = r.summary.evaluations;
-    j["termination"] = r.summary.termination;
-    j["usable"] = usable;
-    j["data_quality"] = DataQualityJson(checked.quality);
-    j["noise"] = {{"sd_um", m.noise_sd_um}, {"rel", m.noise_rel}};
-    j["bias_above_300_um"] = Number(run->bias_above_300_um);
+    const nlohmann::json j =
+        CalibrationJson(args, options, *run, checked.quality, usable);
     std::ofstream out(args.json);
     out << j.dump(2) << "\n";
     if (!out) {

@@ -74,7 +74,129 @@ Status SyntaxError(std::string_view file, int line, size_t column,
   return Status::InvalidArgument(std::move(message));
 }
 
+// The parse stages below read the buffer s[0, n) (plus the NUL that
+// std::string keeps after it) from *i on and count physical lines in *line.
+
+// Skips one blank line (LF, CRLF or a lone CR) at *i and counts it; false
+// when *i is not on one.
+bool SkipBlankLine(const char* s, size_t n, size_t* i, uint32_t* line) {
+  if (s[*i] == '\n') {
+    ++*line;
+    ++*i;
+    return true;
+  }
+  if (s[*i] == '\r') {
+    *i += (*i + 1 < n && s[*i + 1] == '\n') ? 2 : 1;
+    ++*line;
+    return true;
+  }
+  return false;
+}
+
+// Reads the quoted field whose opening quote is at *i and leaves *i after
+// its closing quote. Unescapes in place (the write index never passes the
+// read index): the field is s[start, start + *size) with start one past the
+// opening quote. Counts the line breaks inside. False when the buffer ends
+// before the closing quote.
+bool ReadQuotedField(char* s, size_t n, size_t* i, uint32_t* line,
+                     size_t* size) {
+  size_t r = *i + 1;
+  const size_t start = r;
+  size_t w = start;
+  uint32_t breaks = 0;  // a local count: the writes to s may alias *line
+  for (;;) {
+    if (r >= n) return false;
+    const char c = s[r];
+    if (c == '"') {
+      if (r + 1 < n && s[r + 1] == '"') {
+        s[w++] = '"';
+        r += 2;
+        continue;
+      }
+      ++r;
+      break;
+    }
+    if (c == '\n' || (c == '\r' && !(r + 1 < n && s[r + 1] == '\n'))) {
+      ++breaks;
+    }
+    s[w++] = c;
+    ++r;
+  }
+  *i = r;
+  *line += breaks;
+  *size = w - start;
+  return true;
+}
+
+// Moves *i to the end of the unquoted field at it: a ',', CR, LF or the end
+// of the buffer (NUL bytes inside the data are field text).
+void SkipUnquotedField(const char* s, size_t n, size_t* i) {
+  size_t r = *i;
+  for (;;) {
+    while (!kFieldEnd[static_cast<unsigned char>(s[r])]) ++r;
+    if (s[r] != '\0' || r >= n) break;
+    ++r;  // a NUL byte inside the data
+  }
+  *i = r;
+}
+
 }  // namespace
+
+Status Table::ReadRecord(size_t* i, uint32_t* line, std::string_view file,
+                         uint32_t record_line) {
+  char* s = buffer_.data();
+  const size_t n = buffer_.size();
+  const size_t first_field = fields_.size();
+  // Local copies: the stores into fields_ may alias *i and *line.
+  size_t r = *i;
+  uint32_t ln = *line;
+  for (;;) {
+    if (r < n && s[r] == '"') {
+      const size_t start = r + 1;
+      size_t size = 0;
+      if (!ReadQuotedField(s, n, &r, &ln, &size)) {
+        return SyntaxError(file, static_cast<int>(record_line),
+                           fields_.size() - first_field + 1, header_,
+                           "unterminated quoted field");
+      }
+      fields_.push_back(
+          {static_cast<uint32_t>(start), static_cast<uint32_t>(size)});
+      if (r < n && s[r] != ',' && s[r] != '\n' && s[r] != '\r') {
+        return SyntaxError(file, static_cast<int>(ln),
+                           fields_.size() - first_field, header_,
+                           "unexpected character after closing quote");
+      }
+    } else {
+      const size_t start = r;
+      SkipUnquotedField(s, n, &r);
+      fields_.push_back(
+          {static_cast<uint32_t>(start), static_cast<uint32_t>(r - start)});
+    }
+    if (r >= n) break;
+    if (s[r] == ',') {
+      ++r;
+      continue;
+    }
+    // End of line.
+    r += (s[r] == '\r' && r + 1 < n && s[r + 1] == '\n') ? 2 : 1;
+    ++ln;
+    break;
+  }
+  *i = r;
+  *line = ln;
+  return Status::Ok();
+}
+
+void Table::TakeHeader(size_t first_field, uint32_t record_line) {
+  header_line_ = static_cast<int>(record_line);
+  header_.reserve(fields_.size() - first_field);
+  for (size_t f = first_field; f < fields_.size(); ++f) {
+    const Span& sp = fields_[f];
+    header_.emplace_back(
+        Trim(std::string_view(buffer_.data() + sp.begin, sp.size)));
+  }
+  fields_.resize(first_field);
+}
 
 StatusOr<Table> Table::Parse(std::string text, std::string_view file) {
   if (text.size() >= std::numeric_limits<uint32_t>::max()) {
@@ -83,7 +205,7 @@ StatusOr<Table> Table::Parse(std::string text, std::string_view file) {
   }
   Table t;
   t.buffer_ = std::move(text);
-  char* s = t.buffer_.data();
+  const char* s = t.buffer_.data();
   const size_t n = t.buffer_.size();
   size_t i = 0;
   if (n >= 3 && static_cast<unsigned char>(s[0]) == 0xEF &&
@@ -97,89 +219,18 @@ StatusOr<Table> Table::Parse(std::string text, std::string_view file) {
 
   uint32_t line = 1;
   bool have_header = false;
-  std::vector<Span> header_fields;
   while (i < n) {
     // Blank line: skip (keeps counting lines).
-    if (s[i] == '\n') {
-      ++line;
-      ++i;
-      continue;
-    }
-    if (s[i] == '\r') {
-      i += (i + 1 < n && s[i + 1] == '\n') ? 2 : 1;
-      ++line;
-      continue;
-    }
+    if (SkipBlankLine(s, n, &i, &line)) continue;
     const uint32_t record_line = line;
     const size_t first_field = t.fields_.size();
-    for (;;) {
-      if (i < n && s[i] == '"') {
-        // Quoted field: unescape in place (the write index never passes the
-        // read index).
-        const size_t start = ++i;
-        size_t w = start;
-        for (;;) {
-          if (i >= n) {
-            return SyntaxError(file, static_cast<int>(record_line),
-                               t.fields_.size() - first_field + 1, t.header_,
-                               "unterminated quoted field");
-          }
-          const char c = s[i];
-          if (c == '"') {
-            if (i + 1 < n && s[i + 1] == '"') {
-              s[w++] = '"';
-              i += 2;
-              continue;
-            }
-            ++i;
-            break;
-          }
-          if (c == '\n' || (c == '\r' && !(i + 1 < n && s[i + 1] == '\n'))) {
-            ++line;
-          }
-          s[w++] = c;
-          ++i;
-        }
-        t.fields_.push_back(
-            {static_cast<uint32_t>(start), static_cast<uint32_t>(w - start)});
-        if (i < n && s[i] != ',' && s[i] != '\n' && s[i] != '\r') {
-          return SyntaxError(file, static_cast<int>(line),
-                             t.fields_.size() - first_field, t.header_,
-                             "unexpected character after closing quote");
-        }
-      } else {
-        const size_t start = i;
-        for (;;) {
-          while (!kFieldEnd[static_cast<unsigned char>(s[i])]) ++i;
-          if (s[i] != '\0' || i >= n) break;
-          ++i;  // a NUL byte inside the data
-        }
-        t.fields_.push_back(
-            {static_cast<uint32_t>(start), static_cast<uint32_t>(i - start)});
-      }
-      if (i >= n) break;
-      if (s[i] == ',') {
-        ++i;
-        continue;
-      }
-      // End of line.
-      i += (s[i] == '\r' && i + 1 < n && s[i + 1] == '\n') ? 2 : 1;
-      ++line;
-      break;
-    }
-    const auto count = static_cast<uint32_t>(t.fields_.size() - first_field);
+    ROLLWEAR_RETURN_IF_ERROR(t.ReadRecord(&i, &line, file, record_line));
     if (!have_header) {
       have_header = true;
-      t.header_line_ = static_cast<int>(record_line);
-      t.header_.reserve(count);
-      for (size_t f = first_field; f < t.fields_.size(); ++f) {
-        const Span& sp = t.fields_[f];
-        t.header_.emplace_back(
-            Trim(std::string_view(t.buffer_.data() + sp.begin, sp.size)));
-      }
-      t.fields_.resize(first_field);
+      t.TakeHeader(first_field, record_line);
       continue;
     }
+    const auto count = static_cast<uint32_t>(t.fields_.size() - first_field);
     t.records_.push_back(
         {static_cast<uint32_t>(first_field), count, record_line});
   }

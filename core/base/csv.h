@@ -63,6 +63,14 @@ class Table {
     uint32_t line;
   };
 
+  // Parse stages. ReadRecord appends the fields of the record that starts
+  // at buffer_[*i] (on physical line `record_line`), leaves *i after its
+  // line end and counts lines in *line; fails on malformed quoting.
+  // TakeHeader makes the fields from `first_field` on the header.
+  Status ReadRecord(size_t* i, uint32_t* line, std::string_view file,
+                    uint32_t record_line);
+  void TakeHeader(size_t first_field, uint32_t record_line);
+
   std::string buffer_;
   std::vector<Span> fields_;
   std::vector<Record> records_;
