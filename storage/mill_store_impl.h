@@ -124,6 +124,11 @@ class MillStoreImpl final : public MillStore {
   StatusOr<PositionWear> WearAt(int stand, Position position) const override;
 
   StatusOr<Dataset> ExportDataset() const override;
+  // The stored data of the kJudgedCampaigns most recent campaigns (and of
+  // `campaign_id`, if older): what a new measurement is judged on
+  // (storage/store_quality.h).
+  StatusOr<Dataset> RecentDataset(const std::string& campaign_id) const;
+  static constexpr int kJudgedCampaigns = 50;
   StatusOr<FittingData> ReadFittingData() const override;
   using MillStore::ImportDataset;
   Status ImportDataset(const Dataset& data, const DatasetLines* lines,

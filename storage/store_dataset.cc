@@ -105,7 +105,7 @@ class ExtraBuilder {
 };
 
 template <typename F>
-Status ForEachRow(Db* db, const char* sql, F&& f) {
+Status ForEachRow(Db* db, const std::string& sql, F&& f) {
   ROLLWEAR_ASSIGN_OR_RETURN(Statement st, db->Prepare(sql));
   while (true) {
     ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
@@ -170,7 +170,27 @@ Status WriteImport(Db* db, const Dataset& d,
   return Status::Ok();
 }
 
-StatusOr<Dataset> ReadStoredDataset(Db* db, std::vector<std::string>* suspect) {
+StatusOr<int64_t> RecentCampaignsStart(Db* db, const std::string& campaign_id,
+                                       int campaigns) {
+  // The smaller of the campaign's own row and the first of the `campaigns`
+  // newest rows (2^62 stands for "no such campaign").
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      Statement st,
+      db->Prepare("SELECT MIN(COALESCE((SELECT id FROM campaigns WHERE "
+                  "campaign_id = ?1), 4611686018427387904), (SELECT "
+                  "COALESCE(MIN(id), 0) FROM (SELECT id FROM campaigns ORDER "
+                  "BY id DESC LIMIT ?2)))"));
+  st.BindText(1, campaign_id).BindInt(2, campaigns);
+  ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
+  if (!row) return int64_t{0};
+  return st.ColumnInt(0);
+}
+
+StatusOr<Dataset> ReadStoredDataset(Db* db, std::vector<std::string>* suspect,
+                                    int64_t first_campaign_row) {
+  // Rows of the campaigns from `first_campaign_row` on (row ids are
+  // positive: 0 reads everything).
+  const std::string from = std::to_string(first_campaign_row);
   // One read transaction, so the four tables are read at one instant.
   ROLLWEAR_RETURN_IF_ERROR(db->Exec("BEGIN"));
   struct EndRead {
@@ -185,7 +205,7 @@ StatusOr<Dataset> ReadStoredDataset(Db* db, std::vector<std::string>* suspect) {
   ROLLWEAR_RETURN_IF_ERROR(ForEachRow(
       db,
       "SELECT id, campaign_id, started_at, ended_at, extra FROM campaigns "
-      "ORDER BY id",
+      "WHERE id >= " + from + " ORDER BY id",
       [&](Statement& st) {
         Campaign c;
         c.id = st.ColumnText(1);
@@ -204,7 +224,8 @@ StatusOr<Dataset> ReadStoredDataset(Db* db, std::vector<std::string>* suspect) {
   ROLLWEAR_RETURN_IF_ERROR(ForEachRow(
       db,
       "SELECT campaign, stand, position, roll_id, roll_type, diameter_mm, "
-      "hardness_hb, extra FROM mounts ORDER BY id",
+      "hardness_hb, extra FROM mounts WHERE campaign >= " + from +
+          " ORDER BY id",
       [&](Statement& st) {
         Mount m;
         m.campaign = campaign_index.at(st.ColumnInt(0));
@@ -227,7 +248,7 @@ StatusOr<Dataset> ReadStoredDataset(Db* db, std::vector<std::string>* suspect) {
       "p.force_kn, p.width_mm, p.length_m, p.entry_thickness_mm, "
       "p.exit_thickness_mm, p.temperature_c, p.speed_mps, p.lubrication, "
       "p.shift_mm, p.extra FROM passes p JOIN coils c ON c.id = p.coil "
-      "ORDER BY p.id",
+      "WHERE p.campaign >= " + from + " ORDER BY p.id",
       [&](Statement& st) {
         Pass p;
         p.campaign = campaign_index.at(st.ColumnInt(0));
@@ -262,7 +283,7 @@ StatusOr<Dataset> ReadStoredDataset(Db* db, std::vector<std::string>* suspect) {
       ForEachRow(db,
                  "SELECT campaign, stand, position, roll_id, measured_at, "
                  "wear_center_um, extra, suspect FROM measurements "
-                 "ORDER BY id",
+                 "WHERE campaign >= " + from + " ORDER BY id",
                  [&](Statement& st) {
                    Measurement m;
                    m.campaign = campaign_index.at(st.ColumnInt(0));

@@ -123,9 +123,16 @@ Status WriteImport(Db* db, const Dataset& data,
 // labels interned in first-seen order, extra columns rebuilt. An open
 // campaign gets ended_at = max(started_at, last rolled_at of its passes).
 // `suspect` (may be null) receives each measurement's stored flag ("" when
-// plausible), parallel to the Dataset's measurements.
-StatusOr<Dataset> ReadStoredDataset(
-    Db* db, std::vector<std::string>* suspect = nullptr);
+// plausible), parallel to the Dataset's measurements. With
+// `first_campaign_row` > 0, only the campaigns whose row id is at least that
+// (RecentCampaignsStart) and their mounts, passes and measurements.
+StatusOr<Dataset> ReadStoredDataset(Db* db,
+                                    std::vector<std::string>* suspect = nullptr,
+                                    int64_t first_campaign_row = 0);
+// The first campaign row of the `campaigns` most recently stored ones,
+// extended back to `campaign_id`'s own row when that is older.
+StatusOr<int64_t> RecentCampaignsStart(Db* db, const std::string& campaign_id,
+                                       int campaigns);
 
 // ---- models and calibrations (store_sql_models.cc)
 // version of a ModelVersion is ignored; returns the new version.
