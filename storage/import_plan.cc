@@ -319,11 +319,11 @@ Status PlanCoils(const Dataset& d, const DatasetLines& lines,
       return Locate(lines.passes, d.passes.size(), "coils.csv", "passes",
                     first_pass[i], field);
     };
-    StatusOr<std::optional<StoredCoil>> stored = lookup_coil(coil.coil_id);
-    if (!stored.ok()) return stored.status();
-    if (stored->has_value()) {
-      if (**stored != coil) {
-        first_pass[i] = DifferingRow(d, coil, **stored, first_pass[i]);
+    ROLLWEAR_ASSIGN_OR_RETURN(const std::optional<StoredCoil> stored,
+                              lookup_coil(coil.coil_id));
+    if (stored.has_value()) {
+      if (*stored != coil) {
+        first_pass[i] = DifferingRow(d, coil, *stored, first_pass[i]);
         return Status::AlreadyExists(at("coil_id") + ": coil " + coil.coil_id +
                                      " is already stored with different "
                                      "content");
@@ -332,13 +332,12 @@ Status PlanCoils(const Dataset& d, const DatasetLines& lines,
       continue;
     }
     if (catalog.campaigns.count(coil.campaign_id) > 0) {
-      StatusOr<std::optional<std::string>> owner =
-          lookup_seq(coil.campaign_id, coil.seq);
-      if (!owner.ok()) return owner.status();
-      if (owner->has_value()) {
+      ROLLWEAR_ASSIGN_OR_RETURN(const std::optional<std::string> owner,
+                                lookup_seq(coil.campaign_id, coil.seq));
+      if (owner.has_value()) {
         return Status::FailedPrecondition(
             at("seq") + ": seq " + std::to_string(coil.seq) + " of campaign " +
-            coil.campaign_id + " is already used by coil " + **owner +
+            coil.campaign_id + " is already used by coil " + *owner +
             " (this is coil " + coil.coil_id + ")");
       }
     }

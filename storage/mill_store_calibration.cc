@@ -69,13 +69,12 @@ StatusOr<int64_t> MillStoreImpl::InsertRun(const std::string& trigger,
   rec.option = option;
   rec.queued_at = NowSeconds();
   int64_t id = 0;
-  StatusOr<bool> claimed =
+  ROLLWEAR_RETURN_IF_ERROR(
       ClaimTask([&rec, &id, claim](Db* db) -> StatusOr<bool> {
         ROLLWEAR_ASSIGN_OR_RETURN(id, InsertCalibration(db, rec));
         if (!claim) return false;
         return ClaimCalibration(db, id, rec.queued_at);
-      });
-  if (!claimed.ok()) return claimed.status();
+      }).status());
   return id;
 }
 

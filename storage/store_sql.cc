@@ -538,16 +538,15 @@ StatusOr<int> BackfillCoilWear(Db* db, const Catalog& catalog,
     if (it == catalog.campaigns.end()) {
       return Status::Internal("campaign " + id + " is not in the catalog");
     }
-    StatusOr<RollStates> replay = ReplayCampaignCoils(
-        db, it->second, model, [&](const ReplayedCoil& coil) -> Status {
-          if (!coil.wear_missing) return Status::Ok();
-          ROLLWEAR_ASSIGN_STMT(up, db,
-                               "UPDATE coils SET wear = ? WHERE id = ?");
-          up->BindBlob(1, EncodeCoilWear(coil.entries)).BindInt(2, coil.row);
-          ++filled;
-          return up->Run();
-        });
-    if (!replay.ok()) return replay.status();
+    const auto fill = [&](const ReplayedCoil& coil) -> Status {
+      if (!coil.wear_missing) return Status::Ok();
+      ROLLWEAR_ASSIGN_STMT(up, db, "UPDATE coils SET wear = ? WHERE id = ?");
+      up->BindBlob(1, EncodeCoilWear(coil.entries)).BindInt(2, coil.row);
+      ++filled;
+      return up->Run();
+    };
+    ROLLWEAR_RETURN_IF_ERROR(
+        ReplayCampaignCoils(db, it->second, model, fill).status());
   }
   return filled;
 }
