@@ -223,6 +223,19 @@ def exercise(client, data_dir):
     call("POST", "/v1/coils", 422, body=dict(f1, coil_id="OA-K4", seq=2))
     call("POST", "/v1/coils", 413,
          raw=b'{"pad":"' + b"x" * (2 << 20) + b'"}')
+    # Limits and a forecast while OA1 runs.
+    call("GET", "/v1/limits", 200)
+    call("POST", f"/v1/limits/{stand}/{position}", 200,
+         body={"limit_um": 300, "reason": "openapi test"})
+    call("POST", f"/v1/limits/{stand}/{position}", 400, body={"limit_um": -1})
+    call("POST", f"/v1/limits/{stand}/{position}", 401,
+         body={"limit_um": 300}, token=False)
+    call("POST", "/v1/limits/F9/top", 404, body={"limit_um": 300})
+    call("GET", "/v1/wear", 200)
+    planned = [dict(coil, coil_id=f"OA-P{i}", seq=10 + i) for i in range(5)]
+    call("POST", "/v1/forecast", 200, body={"coils": planned})
+    call("POST", "/v1/forecast", 400, body={"coils": []})
+    call("POST", "/v1/forecast", 422, body={"coils": [f1]})
     call("POST", "/v1/campaigns/OA1/end", 200,
          body={"ended_at": "2031-01-02T00:00:00Z"})
     call("POST", "/v1/campaigns/nope/end", 404,
@@ -246,11 +259,35 @@ def exercise(client, data_dir):
     call("GET", "/v1/calibrations/999999", 404)
     call("GET", "/v1/calibrations?limit=5", 200)
     call("GET", "/v1/models/active", 200)
-    call("GET", "/v1/models", 200)
+    models = call("GET", "/v1/models", 200)["models"]
+    if not models:
+        raise AssertionError("no model version was promoted: the test needs "
+                             "one to exercise /v1/models/{version}")
+    version = models[-1]["version"]
+    call("GET", f"/v1/models/{version}", 200)
+    call("GET", "/v1/models/999999", 404)
+    call("POST", f"/v1/models/{version}/activate", 200,
+         body={"reason": "openapi test"})
+    call("POST", f"/v1/models/{version}/activate", 400, body={})
+    call("POST", f"/v1/models/{version}/activate", 401,
+         body={"reason": "x"}, token=False)
+    call("POST", "/v1/models/999999/activate", 404, body={"reason": "x"})
+    call("POST", f"/v1/models/{version}/activate", 200,
+         body={"reason": "openapi test: unpin", "pin": False})
+    call("GET", "/v1/models/history", 200)
+    rolls = call("GET", "/v1/rolls", 200)["rolls"]
+    roll_id = rolls[0]["roll_id"]
+    call("GET", f"/v1/rolls/{roll_id}", 200)
+    call("GET", "/v1/rolls/no-such-roll", 404)
+    call("GET", f"/rolls/{roll_id}", 200)
+    call("GET", "/rolls/no-such-roll", 404)
     dq = call("POST", "/v1/diagnoses", 202, body={})
     call("POST", "/v1/diagnoses", 400, body={"adopt": "yes"})
     wait_done(client, f"/v1/diagnoses/{dq['id']}", 600)
     call("GET", f"/v1/diagnoses/{dq['id']}", 200)
+    call("GET", "/v1/diagnoses", 200)
+    call("GET", f"/v1/diagnoses/{dq['id']}/report", 200)
+    call("GET", "/v1/diagnoses/999999/report", 404)
     call("GET", "/v1/diagnoses/999999", 404)
 
     call("GET", "/healthz", 200)
@@ -272,7 +309,7 @@ def main():
     try:
         data = os.path.join(work, "data")
         subprocess.run([args.rollwear, "simulate", "--out", data, "--seed",
-                        "5", "--campaigns", "8", "--coils-per-campaign",
+                        "5", "--campaigns", "30", "--coils-per-campaign",
                         "25"], check=True, stdout=subprocess.DEVNULL)
         env = dict(os.environ, ROLLWEAR_TOKEN=TOKEN)
         proc, port = start_daemon(args.rollwear, os.path.join(work, "db"),
