@@ -70,6 +70,7 @@ HttpResult HttpClient::Send(const std::string& method, const std::string& path,
   HttpResult out;
   if (!r) {
     out.error = httplib::to_string(r.error());
+    out.not_connected = r.error() == httplib::Error::Connection;
     return out;
   }
   out.status = r->status;
