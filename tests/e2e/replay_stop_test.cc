@@ -58,15 +58,15 @@ TEST(ReplayStopTest, StopsAtOnceOnARefusedConnection) {
   const std::string url = "http://127.0.0.1:" + std::to_string(refusing.port());
   std::string out, err;
   const auto start = Clock::now();
-  const int code = RunRollwear(
-      {"replay", "--data", dir / "data", "--url", url, "--quiet"}, &out, &err,
-      60);
+  const int code =
+      RunRollwear({"replay", "--data", dir / "data", "--url", url, "--quiet"},
+                  &out, &err, 60);
   const double seconds = SecondsSince(start);
   EXPECT_EQ(code, 1) << out << err;
   EXPECT_LT(seconds, 10.0) << out << err;
-  EXPECT_NE(err.find("connection refused at " + url +
-                     ": is the daemon running?"),
-            std::string::npos)
+  EXPECT_NE(
+      err.find("connection refused at " + url + ": is the daemon running?"),
+      std::string::npos)
       << err;
   // Nothing was sent, and the summary says so.
   EXPECT_NE(out.find("replay: 0 coils"), std::string::npos) << out;
@@ -82,9 +82,9 @@ TEST(ReplayStopTest, StopsAtOnceOnA401AndStoresNothing) {
   std::string out, err;
   const auto start = Clock::now();
   // No --token and no ROLLWEAR_TOKEN in the replay's environment.
-  const int code = RunRollwear({"replay", "--data", dir / "data", "--url",
-                                daemon.url(), "--quiet"},
-                               &out, &err, 60);
+  const int code = RunRollwear(
+      {"replay", "--data", dir / "data", "--url", daemon.url(), "--quiet"},
+      &out, &err, 60);
   const double seconds = SecondsSince(start);
   EXPECT_EQ(code, 1) << out << err;
   EXPECT_LT(seconds, 10.0) << out << err;
