@@ -202,8 +202,9 @@ Command AddAnn(CLI::App* app) {
   return {c, [args] { return RunAnn(*args); }};
 }
 
-Command AddServe(CLI::App* app) {
+Command AddServe(CLI::App* app, const BuildVersion& build) {
   auto args = std::make_shared<ServeArgs>();
+  args->build = build;
   const service::ServeConfig defaults;
   CLI::App* c = AddCommand(
       app, "serve",
@@ -326,7 +327,9 @@ std::string FirstExtra(const CLI::App& parser, bool is_command) {
 
 }  // namespace
 
-int RunCli(int argc, char** argv, const std::string& version) {
+int RunCli(int argc, char** argv, const BuildVersion& build) {
+  const std::string version =
+      "rollwear " + build.version + " (commit " + build.commit + ")";
   CLI::App app("rollwear: work-roll wear prediction for a hot strip mill.",
                "rollwear");
   app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
@@ -337,7 +340,7 @@ int RunCli(int argc, char** argv, const std::string& version) {
   app.footer("Run 'rollwear COMMAND --help' for the options of a command.");
   const std::vector<Command> commands = {AddSimulate(&app), AddCalibrate(&app),
                                          AddStudy(&app),    AddAnn(&app),
-                                         AddServe(&app),    AddImport(&app),
+                                         AddServe(&app, build), AddImport(&app),
                                          AddReplay(&app),   AddDiagnose(&app)};
 
   std::string parse_error;
