@@ -54,6 +54,8 @@ HttpResult HttpClient::Send(const std::string& method, const std::string& path,
   httplib::Result r{nullptr, httplib::Error::Unknown};
   if (method == "GET") {
     r = c.Get(path, headers);
+  } else if (method == "HEAD") {
+    r = c.Head(path, headers);
   } else if (method == "POST") {
     r = c.Post(path, headers, body, content_type);
   } else if (method == "PUT") {

@@ -44,7 +44,7 @@ void Append(std::string* out, const char* name, const char* type,
             const char* help, const std::optional<double>& value) {
   if (!value) return;
   char number[64];
-  std::snprintf(number, sizeof(number), "%.17g", *value);
+  std::snprintf(number, sizeof(number), "%.15g", *value);
   *out += std::string("# HELP ") + name + " " + help + "\n# TYPE " + name +
           " " + type + "\n" + name + " " + number + "\n";
 }

@@ -50,9 +50,8 @@ void LogCalibrationFinished(const storage::CalibrationRecord& r,
       "event=calibration_finished id={} trigger={} model={} option={} "
       "status=done gap_train_um={:.2f} gap_val_um={:.2f} "
       "active_gap_val_um={:.2f} promoted={} version={} seconds={:.1f}",
-      r.id, Quoted(r.trigger), r.model, r.option, r.gap_train_um,
-      r.gap_val_um, r.active_gap_val_um, r.promoted, r.model_version,
-      seconds);
+      r.id, Quoted(r.trigger), r.model, r.option, r.gap_train_um, r.gap_val_um,
+      r.active_gap_val_um, r.promoted, r.model_version, seconds);
   if (!r.promoted) return;
   spdlog::info(
       "event=model_promoted version={} previous={} source={} trigger={} "
