@@ -275,7 +275,9 @@ Command AddReplay(CLI::App* app) {
             "pace at X times the dataset's clock (0 = as fast as possible)")
       ->check(CLI::NonNegativeNumber);
   AddNumber(c, "--retry-for", args->retry_for_s,
-            "retry connection errors and 5xx answers for X seconds")
+            "retry lost connections and 502/503/504 answers of a daemon that "
+            "has answered for X seconds (a refused connection before any "
+            "answer, or a 401, stops the replay at once)")
       ->check(CLI::NonNegativeNumber);
   AddNumber(c, "--show-wear", args->show_wear_s,
             "print GET /v1/wear every X seconds (0 = never)")
