@@ -5,8 +5,8 @@
 // error answers (400, 401, 404, 409, 422) pass through nginx unchanged,
 // and nginx's own 413 for a body over the limit is the daemon's 413; the
 // shipped TLS configuration passes `nginx -t` with a self-signed
-// certificate. Skipped when nginx is not installed, unless
-// ROLLWEAR_REQUIRE_EDGE=1 (the CI phase "edge").
+// certificate and serves HTTPS with it (curl). Skipped when nginx is not
+// installed, unless ROLLWEAR_REQUIRE_EDGE=1 (the CI phase "edge").
 #include <memory>
 #include <string>
 
@@ -166,9 +166,9 @@ TEST_F(NginxTest, ErrorAnswersPassThroughUnchanged) {
   EXPECT_EQ(metrics.at("rollwear_coils_stored"), 1);
 }
 
-TEST(NginxTlsTest, ShippedTlsConfigPassesNginxT) {
+TEST(NginxTlsTest, ShippedTlsConfigPassesNginxTAndServesHttps) {
   std::string message;
-  for (const char* tool : {kNginx, "/usr/bin/openssl"}) {
+  for (const char* tool : {kNginx, "/usr/bin/openssl", "/usr/bin/curl"}) {
     if (!EdgeToolPresent(tool, &message)) {
       if (!message.empty()) FAIL() << message;
       GTEST_SKIP() << tool << " is not installed";
@@ -178,19 +178,35 @@ TEST(NginxTlsTest, ShippedTlsConfigPassesNginxT) {
   Subprocess openssl(
       {"/usr/bin/openssl", "req", "-x509", "-newkey", "rsa:2048", "-nodes",
        "-keyout", dir / "rollwear.key", "-out", dir / "rollwear.crt", "-days",
-       "2", "-subj", "/CN=rollwear.mill.example"},
+       "2", "-subj", "/CN=rollwear.mill.example", "-addext",
+       "subjectAltName=DNS:rollwear.mill.example"},
       dir / "openssl.log");
   ASSERT_EQ(openssl.Wait(120), 0) << ReadFile(dir / "openssl.log");
+  Daemon daemon(dir / "rollwear.db", dir / "serve.log");
   std::string error;
-  const std::string site = DeriveEdgeConfig(
-      ShippedConfig(), 8080, FreeLoopbackPort(), FreeLoopbackPort(),
-      dir / "rollwear.crt", dir / "rollwear.key", &error);
+  ASSERT_TRUE(daemon.Start(&error)) << error;
+  const int port = FreeLoopbackPort();
+  const std::string site =
+      DeriveEdgeConfig(ShippedConfig(), daemon.port(), port, FreeLoopbackPort(),
+                       dir / "rollwear.crt", dir / "rollwear.key", &error);
   ASSERT_FALSE(site.empty()) << error;
   EXPECT_NE(site.find(" ssl;"), std::string::npos);
   EdgeNginx nginx(dir.path(), site);
   std::string output;
   EXPECT_EQ(nginx.Test(&output), 0) << output;
   EXPECT_NE(output.find("test is successful"), std::string::npos) << output;
+
+  // HTTPS with the certificate verified against its own name.
+  ASSERT_TRUE(nginx.Start(port, &error)) << error;
+  const std::string host = "rollwear.mill.example:" + std::to_string(port);
+  Subprocess curl({"/usr/bin/curl", "-sS", "--cacert", dir / "rollwear.crt",
+                   "--resolve", host + ":127.0.0.1", "-w", " HTTP=%{http_code}",
+                   "https://" + host + "/healthz"},
+                  dir / "curl.log");
+  ASSERT_EQ(curl.Wait(60), 0) << ReadFile(dir / "curl.log");
+  const std::string answer = ReadFile(dir / "curl.log");
+  EXPECT_NE(answer.find("\"status\":\"ok\""), std::string::npos) << answer;
+  EXPECT_NE(answer.find(" HTTP=200"), std::string::npos) << answer;
 }
 
 }  // namespace
