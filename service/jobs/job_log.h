@@ -1,6 +1,6 @@
 // The log lines of the daemon's background jobs, one spdlog line per event
 // in one key=value format that starts with `event=`:
-//   event=calibration_queued id=12 trigger=api
+//   event=calibration_queued id=12 trigger=api   (or nightly)
 //   event=calibration_finished id=12 trigger=nightly model=wang option=1
 //     status=done gap_train_um=44.10 gap_val_um=45.80
 //     active_gap_val_um=46.20 promoted=true version=5 seconds=2.4
@@ -12,8 +12,8 @@
 //     verdict=missing_physics_found seconds=41.2 adoption_calibration_id=13
 //     promoted=false
 // (each on one line). `source` of a promotion is nightly, calibration
-// (POST /v1/calibrations or `rollwear calibrate`) or diagnosis (the
-// adoption of POST /v1/diagnoses with adopt). A free-text field (message)
+// (POST /v1/calibrations) or diagnosis (the adoption of POST
+// /v1/diagnoses with adopt). A free-text field (message)
 // comes last; a value with a space, " = or \ is quoted (logfmt).
 //
 // Thread-safety: thread-safe (spdlog's default logger).
