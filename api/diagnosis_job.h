@@ -24,6 +24,7 @@ struct DiagnosisJob {
   std::string status;   // "queued", "running", "done", "failed"
   std::string report;   // JSON of api/diagnosis_json.h when done
   std::string message;  // why it failed
+  std::string verdict;  // the report's verdict when done
   bool adopt = false;
   // The run that proposed the adopted model (adopt and missing physics).
   std::optional<storage::CalibrationRecord> adoption;

@@ -236,16 +236,20 @@ int HttpStatusFor(StatusCode code) {
 }
 
 Router::Router(storage::MillStore* store, ApiOptions options)
-    : store_(store), options_(std::move(options)) {}
+    : store_(store), options_(std::move(options)), metrics_(options_.build) {}
 
 HttpResponse Router::Handle(const HttpRequest& request) {
+  HttpResponse response;
   try {
-    return Dispatch(request);
+    response = Dispatch(request);
   } catch (const std::exception& e) {
-    return Error(500, "internal", std::string("internal error: ") + e.what());
+    response =
+        Error(500, "internal", std::string("internal error: ") + e.what());
   } catch (...) {
-    return Error(500, "internal", "internal error");
+    response = Error(500, "internal", "internal error");
   }
+  response.route.method = ParseHttpMethod(request.method);
+  return response;
 }
 
 bool Router::Authorized(const HttpRequest& request) const {
@@ -411,6 +415,8 @@ void Router::HandleAsync(const HttpRequest& request, Done done,
     done(Handle(request));
     return;
   }
+  // Only a POST gets here, and RefusePost/DecodeCoilBody label kCoils,
+  // whose own method is POST.
   std::optional<HttpResponse> refused = RefusePost(request, RouteId::kCoils);
   if (refused) {
     done(std::move(*refused));
@@ -457,6 +463,7 @@ HttpResponse Router::GetMetrics() {
   figures.healthy = store_->Healthy();
   figures.counters = store_->Counters();
   figures.validation_gap_um = std::numeric_limits<double>::quiet_NaN();
+  figures.wear = store_->Wear().positions;
   StatusOr<storage::ModelVersion> model = store_->ActiveModel();
   if (model.ok()) {
     figures.model_version = model->version;

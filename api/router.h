@@ -47,9 +47,10 @@ struct HttpResponse {
   std::string content_type = "application/json";
   std::string body;
   std::vector<std::pair<std::string, std::string>> headers;  // extra headers
-  // Route template that answered ("/v1/coils", "/v1/wear/{stand}/{position}",
-  // "unmatched"), the label of the latency histogram.
-  RouteId route = RouteId::kUnmatched;
+  // The labels of the request metrics: the route template that answered
+  // ("/v1/coils", "/v1/wear/{stand}/{position}", "unmatched") and the
+  // request's method (set by Handle/HandleAsync).
+  RequestLabels route;
 };
 
 struct ApiOptions {
@@ -69,6 +70,8 @@ struct ApiOptions {
   // owned, must outlive the router. Null: no diagnoses here (POST answers
   // 503 "unavailable", GET 404).
   DiagnosisRunner* diagnoses = nullptr;
+  // Version and commit of the build, for rollwear_build_info.
+  BuildInfo build;
 
   bool IsValid(std::string* error) const;
 };

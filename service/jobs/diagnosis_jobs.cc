@@ -1,11 +1,13 @@
 #include "service/jobs/diagnosis_jobs.h"
 
+#include <chrono>
 #include <exception>
 #include <string>
 #include <utility>
 
 #include "api/diagnosis_json.h"
 #include "core/diagnosis/diagnosis.h"
+#include "service/jobs/job_log.h"
 
 namespace rollwear::service {
 namespace {
@@ -14,8 +16,11 @@ constexpr size_t kKeep = 50;  // reports kept in memory
 
 }  // namespace
 
-DiagnosisJobs::DiagnosisJobs(storage::MillStore* store)
-    : store_(store), worker_([this] { Work(); }) {}
+DiagnosisJobs::DiagnosisJobs(storage::MillStore* store,
+                             CalibrationDone on_calibration)
+    : store_(store),
+      on_calibration_(std::move(on_calibration)),
+      worker_([this] { Work(); }) {}
 
 DiagnosisJobs::~DiagnosisJobs() { Stop(); }
 
@@ -64,7 +69,13 @@ void DiagnosisJobs::Work() {
       it->second.status = "running";
       adopt = it->second.adopt;
     }
+    LogDiagnosisStarted(id, adopt);
+    const auto start = std::chrono::steady_clock::now();
     api::DiagnosisJob result = Run(id, adopt);
+    LogDiagnosisFinished(
+        result, std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                              start)
+                    .count());
     std::lock_guard<std::mutex> lock(mu_);
     auto it = jobs_.find(id);
     if (it != jobs_.end()) it->second = std::move(result);
@@ -91,14 +102,30 @@ api::DiagnosisJob DiagnosisJobs::Run(int64_t id, bool adopt) {
       return result;
     }
     result.status = "done";
+    result.verdict = report->verdict;
     result.report = api::DiagnosisJsonText(*report, -1, &data->quality);
     if (adopt && !report->findings.empty()) {
       // Scored on the validation campaigns of the data and split the
       // diagnosis fitted on.
+      const auto start = std::chrono::steady_clock::now();
       StatusOr<storage::CalibrationRecord> run = store_->ProposeModel(
           "diagnosis " + std::to_string(id),
           WearLawName(report->adopted_model.law), 1, report->adopted_model,
           data->fit, options.split_seed);
+      const double seconds = std::chrono::duration<double>(
+                                 std::chrono::steady_clock::now() - start)
+                                 .count();
+      if (on_calibration_) {
+        storage::CalibrationRecord counted;
+        if (run.ok()) {
+          counted = *run;
+        } else {
+          counted.trigger = "diagnosis " + std::to_string(id);
+          counted.status = storage::CalibrationStatus::kFailed;
+          counted.message = run.status().message();
+        }
+        on_calibration_(counted, seconds);
+      }
       if (run.ok()) {
         result.adoption = std::move(run).value();
       } else {
