@@ -135,12 +135,12 @@ HttpResponse Router::GetDiagnosisReport(const std::string& text) {
     std::optional<DiagnosisJob> job;
     if (options_.diagnoses != nullptr) job = options_.diagnoses->Get(id);
     if (!job) return UnknownDiagnosis(text);
-    return Error(409, "not_ready",
+    return Error(422, "not_ready",
                  "diagnosis " + std::to_string(id) + " is " + job->status +
                      "; its report is served once it is done");
   }
   if ((*stored)->report_html.empty()) {
-    return Error(409, "not_ready",
+    return Error(422, "not_ready",
                  "diagnosis " + std::to_string(id) +
                      " failed and has no report: " + (*stored)->message);
   }
