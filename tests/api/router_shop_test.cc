@@ -118,8 +118,15 @@ TEST_F(ShopRouterTest, ModelsAreListedReadAndActivatedWithTokenAndReason) {
   EXPECT_EQ(history[0]["pinned"], true);
   EXPECT_TRUE(history[0]["at"].is_string());
   EXPECT_EQ(history[2]["previous_version"], nullptr);
-  EXPECT_EQ(Parse(Get("/v1/models/history?limit=1"))["history"].size(), 1u);
-  EXPECT_EQ(Get("/v1/models/history?limit=0").status, 400);
+  HttpRequest limited;
+  limited.method = "GET";
+  limited.path = "/v1/models/history";
+  limited.params["limit"] = "1";
+  EXPECT_EQ(Parse(router_->Handle(limited))["history"].size(), 1u);
+  limited.params["limit"] = "0";
+  const HttpResponse bad_limit = router_->Handle(limited);
+  EXPECT_EQ(bad_limit.status, 400);
+  EXPECT_EQ(Parse(bad_limit)["error"]["field"], "limit");
 
   r = Post("/v1/models/1/activate",
            json{{"reason", "trust the nightly run again"}, {"pin", false}},
