@@ -156,11 +156,7 @@ TEST(SchemaTest, VersionTwoFileLosesThePassesByCampaignIndex) {
   {
     auto db = MustOpen(path);
     // Versions 6, 5, 4 and 3 undone.
-    ASSERT_TRUE(db->Exec("DROP TABLE model_history; DROP TABLE diagnoses; "
-                         "DROP INDEX mounts_by_roll; "
-                         "DROP INDEX measurements_by_roll; "
-                         "ALTER TABLE models DROP COLUMN pinned; "
-                         "DROP TABLE wear_limits; "
+    ASSERT_TRUE(db->Exec(std::string(testing::kUndoSchemaSixAndFive) +
                          "CREATE INDEX passes_by_campaign ON passes "
                          "(campaign); ALTER TABLE measurements DROP COLUMN "
                          "suspect; UPDATE schema_version SET version = 2")
