@@ -11,8 +11,8 @@
 #include "api/codec.h"
 #include "api/codec_json_util.h"
 #include "api/json_writer.h"
-#include "core/model/ann_model.h"
 #include "core/dataset/dataset_io.h"
+#include "core/model/ann_model.h"
 #include "storage/model_codec.h"
 
 namespace rollwear::api {

@@ -23,8 +23,9 @@ std::string Num(const char* format, double v) {
 }
 
 std::string Cell(const std::string& text, const char* cls = "") {
-  return std::string("<td") + (*cls != 0 ? std::string(" class=\"") + cls + "\"" : "") +
-         ">" + XmlEscape(text) + "</td>";
+  return std::string("<td") +
+         (*cls != 0 ? std::string(" class=\"") + cls + "\"" : "") + ">" +
+         XmlEscape(text) + "</td>";
 }
 
 std::string MountRow(const storage::RollMountLife& m) {
@@ -57,8 +58,8 @@ std::string WearChart(const storage::RollLife& life) {
   spec.y_label = "wear (µm)";
   spec.fluid = true;
   spec.legend = PlotSpec::Legend::kTopLeft;
-  PlotSeries predicted = PlotSeries::Make("predicted", "#1f77b4",
-                                          PlotSeries::Style::kBars);
+  PlotSeries predicted =
+      PlotSeries::Make("predicted", "#1f77b4", PlotSeries::Style::kBars);
   PlotSeries measured =
       PlotSeries::Make("measured", "#d62728", PlotSeries::Style::kPoints);
   measured.radius = 4;
@@ -81,7 +82,9 @@ std::string WearChart(const storage::RollLife& life) {
 std::string RollHtml(const storage::RollLife& life) {
   std::string h =
       "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
-      "<title>roll " + XmlEscape(life.roll_id) + " · rollwear</title>"
+      "<title>roll " +
+      XmlEscape(life.roll_id) +
+      " · rollwear</title>"
       "<style>body{font-family:sans-serif;margin:1.5em}"
       "table{border-collapse:collapse}td,th{padding:.2em .6em;"
       "border-bottom:1px solid #ddd;text-align:right}"
@@ -91,7 +94,8 @@ std::string RollHtml(const storage::RollLife& life) {
        "</small></h1>\n";
   h += "<p>" + std::to_string(life.mounts.size()) +
        " mounts; predicted wear under model version " +
-       std::to_string(life.model_version) + " (at the end of each mount, now "
+       std::to_string(life.model_version) +
+       " (at the end of each mount, now "
        "for a running one).</p>\n";
   h += "<table id=\"mounts\"><tr><th>campaign</th><th>position</th>"
        "<th>mounted</th><th>ended</th><th>diameter mm</th><th>hardness HB</th>"

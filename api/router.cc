@@ -42,8 +42,8 @@ std::optional<std::string> Segment(std::string_view p, std::string_view prefix,
       p.substr(p.size() - suffix.size()) != suffix) {
     return std::nullopt;
   }
-  const std::string_view mid = p.substr(
-      prefix.size(), p.size() - prefix.size() - suffix.size());
+  const std::string_view mid =
+      p.substr(prefix.size(), p.size() - prefix.size() - suffix.size());
   if (mid.find('/') != std::string_view::npos) return std::nullopt;
   return std::string(mid);
 }
@@ -133,11 +133,13 @@ RouteId MatchRoute(const std::string& path, bool post, std::string* arg1,
     *arg1 = std::move(*a);
     return RouteId::kModel;
   }
-  if (std::optional<std::string> a = Segment(p, kModelsPrefix, kActivateSuffix)) {
+  if (std::optional<std::string> a =
+          Segment(p, kModelsPrefix, kActivateSuffix)) {
     *arg1 = std::move(*a);
     return RouteId::kModelActivate;
   }
-  if (std::optional<std::string> a = Segment(p, kDiagnosesPrefix, kReportSuffix)) {
+  if (std::optional<std::string> a =
+          Segment(p, kDiagnosesPrefix, kReportSuffix)) {
     *arg1 = std::move(*a);
     return RouteId::kDiagnosisReport;
   }
@@ -243,6 +245,18 @@ bool ParseInt64(std::string_view text, int64_t* out) {
   const auto [p, ec] =
       std::from_chars(text.data(), text.data() + text.size(), *out);
   return ec == std::errc() && p == text.data() + text.size();
+}
+
+std::optional<HttpResponse> ReadLimit(const HttpRequest& request,
+                                      int64_t* limit) {
+  *limit = 50;
+  auto it = request.params.find("limit");
+  if (it != request.params.end() &&
+      (!ParseInt64(it->second, limit) || *limit < 1 || *limit > 1000)) {
+    return Error(400, "out_of_range", "limit must be an integer in [1, 1000]",
+                 "limit");
+  }
+  return std::nullopt;
 }
 
 }  // namespace router_internal

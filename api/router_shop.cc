@@ -17,6 +17,7 @@ using router_internal::Answer;
 using router_internal::Error;
 using router_internal::FromStatus;
 using router_internal::ParseInt64;
+using router_internal::ReadLimit;
 
 namespace {
 
@@ -28,19 +29,6 @@ HttpResponse UnknownModel(const std::string& text) {
 HttpResponse UnknownDiagnosis(const std::string& text) {
   return Error(404, "not_found",
                "unknown diagnosis '" + text.substr(0, 40) + "'");
-}
-
-// limit=N (1..1000, default 50) of a list endpoint, or the 400 answer.
-std::optional<HttpResponse> ReadLimit(const HttpRequest& request,
-                                      int64_t* limit) {
-  *limit = 50;
-  auto it = request.params.find("limit");
-  if (it != request.params.end() &&
-      (!ParseInt64(it->second, limit) || *limit < 1 || *limit > 1000)) {
-    return Error(400, "out_of_range", "limit must be an integer in [1, 1000]",
-                 "limit");
-  }
-  return std::nullopt;
 }
 
 }  // namespace

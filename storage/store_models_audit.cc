@@ -46,9 +46,9 @@ StatusOr<ModelVersion> MillStoreImpl::ActivateModel(int64_t version,
   ROLLWEAR_RETURN_IF_ERROR(RunTask(
       [&](Db* db) -> Status {
         ROLLWEAR_RETURN_IF_ERROR(SetActiveModel(db, version, pin));
-        return InsertPromotion(db, ModelPromotion{0, version, previous,
-                                                  "manual", reason,
-                                                  NowSeconds(), pin});
+        return InsertPromotion(
+            db, ModelPromotion{0, version, previous, "manual", reason,
+                               NowSeconds(), pin});
       },
       [this, next](Db*) { InstallModel(next); }));
   return target;

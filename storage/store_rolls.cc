@@ -41,12 +41,11 @@ std::vector<const CampaignRec*> ByStart(const Catalog& catalog) {
   std::vector<const CampaignRec*> out;
   out.reserve(catalog.campaigns.size());
   for (const auto& [id, rec] : catalog.campaigns) out.push_back(&rec);
-  std::sort(out.begin(), out.end(),
-            [](const CampaignRec* a, const CampaignRec* b) {
-              return a->started_at != b->started_at
-                         ? a->started_at < b->started_at
-                         : a->id < b->id;
-            });
+  std::sort(
+      out.begin(), out.end(), [](const CampaignRec* a, const CampaignRec* b) {
+        return a->started_at != b->started_at ? a->started_at < b->started_at
+                                              : a->id < b->id;
+      });
   return out;
 }
 

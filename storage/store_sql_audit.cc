@@ -54,7 +54,8 @@ Status SetActiveModel(Db* db, int64_t version, bool pin) {
       db->Exec("UPDATE models SET active = 0, pinned = 0 WHERE active = 1"));
   ROLLWEAR_ASSIGN_OR_RETURN(
       Statement st,
-      db->Prepare("UPDATE models SET active = 1, pinned = ? WHERE version = ?"));
+      db->Prepare(
+          "UPDATE models SET active = 1, pinned = ? WHERE version = ?"));
   st.BindInt(1, pin ? 1 : 0).BindInt(2, version);
   ROLLWEAR_RETURN_IF_ERROR(st.Run());
   if (db->Changes() != 1) {
@@ -104,10 +105,11 @@ Status UpsertDiagnosis(Db* db, const StoredDiagnosis& d) {
 StatusOr<std::vector<StoredDiagnosis>> LoadDiagnoses(Db* db, int64_t id,
                                                      int limit, bool report) {
   const std::string sql =
-      std::string("SELECT id, status, adopt, queued_at, started_at, "
-                  "finished_at, verdict, message, calibration, ") +
-      (report ? "report_json, report_html" : "NULL, NULL") + " FROM diagnoses " +
-      (id > 0 ? "WHERE id = ? " : "WHERE ? = 0 ") +
+      std::string(
+          "SELECT id, status, adopt, queued_at, started_at, "
+          "finished_at, verdict, message, calibration, ") +
+      (report ? "report_json, report_html" : "NULL, NULL") +
+      " FROM diagnoses " + (id > 0 ? "WHERE id = ? " : "WHERE ? = 0 ") +
       "ORDER BY id DESC LIMIT ?";
   ROLLWEAR_ASSIGN_OR_RETURN(Statement st, db->Prepare(sql));
   st.BindInt(1, id).BindInt(2, limit > 0 ? limit : -1);

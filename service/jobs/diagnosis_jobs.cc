@@ -14,7 +14,6 @@ namespace {
 
 constexpr size_t kKeep = 50;  // reports kept in memory
 
-
 UnixSeconds Now() {
   return std::chrono::duration_cast<std::chrono::seconds>(
              std::chrono::system_clock::now().time_since_epoch())

@@ -42,8 +42,8 @@ class ShopRouterTest : public RouterTest {
     ASSERT_EQ(store_->ActiveModel()->version, 1);
     StatusOr<Dataset> data = store_->ExportDataset();
     ASSERT_TRUE(data.ok());
-    auto run = store_->ProposeModel("diagnosis 1", "wang", 1,
-                                    store_->ActiveModel()->wear_model, *data, 1);
+    auto run = store_->ProposeModel(
+        "diagnosis 1", "wang", 1, store_->ActiveModel()->wear_model, *data, 1);
     ASSERT_TRUE(run.ok());
     ASSERT_TRUE(run->promoted) << run->message;
     ASSERT_EQ(store_->ActiveModel()->version, 2);
@@ -142,9 +142,10 @@ TEST_F(RouterTest, RollsShowEachMountAndTheInventory) {
               201);
   }
   const json end_c1 = Parse(Get("/v1/wear/F6/top"));
-  ASSERT_EQ(Post("/v1/campaigns/C1/end", json{{"ended_at", "2026-03-01T12:00:00Z"}})
-                .status,
-            200);
+  ASSERT_EQ(
+      Post("/v1/campaigns/C1/end", json{{"ended_at", "2026-03-01T12:00:00Z"}})
+          .status,
+      200);
   ASSERT_EQ(Post("/v1/measurements",
                  MeasurementBody("C1", "F6", "top", "R-F6-top", 37.5))
                 .status,
@@ -153,10 +154,9 @@ TEST_F(RouterTest, RollsShowEachMountAndTheInventory) {
       Post("/v1/roll-changes", RollChangeBody("C2", "2026-03-03T06:00:00Z"))
           .status,
       201);
-  ASSERT_EQ(Post("/v1/coils",
-                 CoilBody("B1", "C2", 1, "2026-03-03T07:00:00Z"))
-                .status,
-            201);
+  ASSERT_EQ(
+      Post("/v1/coils", CoilBody("B1", "C2", 1, "2026-03-03T07:00:00Z")).status,
+      201);
 
   HttpResponse r = Get("/v1/rolls/R-F6-top");
   ASSERT_EQ(r.status, 200) << r.body;

@@ -40,9 +40,9 @@ TEST(ShopTest, PinnedModelSurvivesKillNine) {
   TempDir dir;
   std::string error, output;
   ASSERT_TRUE(Simulate(dir / "data", 24, 17, &error)) << error;
-  ASSERT_EQ(RunRollwear({"import", "--db", dir / "mill.db", dir / "data"},
-                        &output),
-            0)
+  ASSERT_EQ(
+      RunRollwear({"import", "--db", dir / "mill.db", dir / "data"}, &output),
+      0)
       << output;
   const std::vector<std::string> env = {"ROLLWEAR_TOKEN=tok"};
   Daemon daemon(dir / "mill.db", dir / "serve.log", 0, {}, env);
@@ -85,8 +85,8 @@ TEST(ShopTest, PinnedModelSurvivesKillNine) {
 }
 
 void ExpectSameFiles(const std::string& a, const std::string& b) {
-  for (const char* name : {"campaigns.csv", "mounts.csv", "coils.csv",
-                           "measurements.csv"}) {
+  for (const char* name :
+       {"campaigns.csv", "mounts.csv", "coils.csv", "measurements.csv"}) {
     const std::string x = ReadFile(a + "/" + name);
     EXPECT_FALSE(x.empty()) << name;
     EXPECT_EQ(x, ReadFile(b + "/" + name)) << name;
@@ -97,9 +97,8 @@ TEST(ShopTest, ExportThenImportGivesTheSameDataAndCalibrateRunsOnIt) {
   TempDir dir;
   std::string error, output;
   ASSERT_TRUE(Simulate(dir / "data", 18, 23, &error)) << error;
-  ASSERT_EQ(RunRollwear({"import", "--db", dir / "a.db", dir / "data"},
-                        &output),
-            0)
+  ASSERT_EQ(
+      RunRollwear({"import", "--db", dir / "a.db", dir / "data"}, &output), 0)
       << output;
   ASSERT_EQ(RunRollwear({"export", "--db", dir / "a.db", "--out", dir / "exp"},
                         &output),
@@ -113,14 +112,13 @@ TEST(ShopTest, ExportThenImportGivesTheSameDataAndCalibrateRunsOnIt) {
             1);
   EXPECT_NE(output.find("not an empty folder"), std::string::npos) << output;
   EXPECT_EQ(ReadFile(dir / "exp/coils.csv"), before);
-  EXPECT_EQ(RunRollwear({"export", "--db", dir / "none.db", "--out",
-                         dir / "none"},
-                        &output),
-            1);
+  EXPECT_EQ(
+      RunRollwear({"export", "--db", dir / "none.db", "--out", dir / "none"},
+                  &output),
+      1);
   EXPECT_NE(output.find("no such file"), std::string::npos) << output;
 
-  ASSERT_EQ(RunRollwear({"import", "--db", dir / "b.db", dir / "exp"},
-                        &output),
+  ASSERT_EQ(RunRollwear({"import", "--db", dir / "b.db", dir / "exp"}, &output),
             0)
       << output;
   ASSERT_EQ(RunRollwear({"export", "--db", dir / "b.db", "--out", dir / "exp2"},
@@ -143,8 +141,7 @@ TEST(ShopTest, ExportThenImportGivesTheSameDataAndCalibrateRunsOnIt) {
             0)
       << output;
   ExpectSameFiles(dir / "exp", dir / "exp3");
-  EXPECT_EQ(RunRollwear({"import", "--db", dir / "b.db", dir / "exp"},
-                        &output),
+  EXPECT_EQ(RunRollwear({"import", "--db", dir / "b.db", dir / "exp"}, &output),
             1);
   EXPECT_EQ(daemon.Terminate(), 0);
 }

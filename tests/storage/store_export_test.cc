@@ -2,6 +2,8 @@
 // files: a database exported to a folder and imported into a new database
 // gives the same stored data, extra fields and suspect flags included,
 // read while the first store is still open.
+#include "storage/store_export.h"
+
 #include <string>
 #include <vector>
 
@@ -9,7 +11,6 @@
 
 #include "core/dataset/dataset_io.h"
 #include "storage/mill_store.h"
-#include "storage/store_export.h"
 #include "tests/storage/store_test_util.h"
 
 namespace rollwear::storage {

@@ -179,11 +179,11 @@ TEST(StoreShopTest, RollLifeListsEachMountAndTheInventorySumsThem) {
   // C2 mounts the same rolls again (it ends C1).
   ASSERT_TRUE(store->ApplyRollChange(MakeRollChange("C2", 1'771'000'000)).ok());
   std::string suspect;
-  ASSERT_TRUE(store
-                  ->AddMeasurement(
-                      MakeMeasurement("C1", 6, Position::kTop, "R6T", 42.5),
-                      &suspect)
-                  .ok());
+  ASSERT_TRUE(
+      store
+          ->AddMeasurement(
+              MakeMeasurement("C1", 6, Position::kTop, "R6T", 42.5), &suspect)
+          .ok());
   double f6_length_c2 = 0;
   for (int i = 0; i < 3; ++i) {
     const CoilIn c = MakeCoil("B" + std::to_string(i), "C2", i + 1, 9000 + i);
@@ -205,9 +205,9 @@ TEST(StoreShopTest, RollLifeListsEachMountAndTheInventorySumsThem) {
   EXPECT_EQ(m1.coils, 5);
   EXPECT_LE(RelDiff(m1.rolled_length_m, f6_length_c1), 1e-12);
   // The replay of the ended mount is the live prediction it ended with.
-  EXPECT_LE(RelDiff(m1.predicted_wear_um,
-                    end_c1.positions.front().predicted_wear_um),
-            1e-12);
+  EXPECT_LE(
+      RelDiff(m1.predicted_wear_um, end_c1.positions.front().predicted_wear_um),
+      1e-12);
   EXPECT_GT(m1.predicted_wear_um, 0);
   ASSERT_TRUE(m1.measured_um.has_value());
   EXPECT_EQ(*m1.measured_um, 42.5);
