@@ -146,5 +146,34 @@ TEST(ShopTest, ExportThenImportGivesTheSameDataAndCalibrateRunsOnIt) {
   EXPECT_EQ(daemon.Terminate(), 0);
 }
 
+// Extra columns (tests/data/tiny: water_flow_m3h and operator_note on
+// coils.csv) survive export, import and export again.
+TEST(ShopTest, ExportKeepsExtraColumns) {
+  TempDir dir;
+  std::string output;
+  ASSERT_EQ(RunRollwear({"import", "--db", dir / "a.db",
+                         ROLLWEAR_SOURCE_DIR "/tests/data/tiny"},
+                        &output),
+            0)
+      << output;
+  ASSERT_EQ(RunRollwear({"export", "--db", dir / "a.db", "--out", dir / "exp"},
+                        &output),
+            0)
+      << output;
+  const std::string coils = ReadFile(dir / "exp/coils.csv");
+  EXPECT_NE(coils.find("water_flow_m3h"), std::string::npos) << coils;
+  EXPECT_NE(coils.find("operator_note"), std::string::npos) << coils;
+  EXPECT_NE(coils.find("120.5"), std::string::npos) << coils;
+  ASSERT_EQ(RunRollwear({"import", "--db", dir / "b.db", dir / "exp"},
+                        &output),
+            0)
+      << output;
+  ASSERT_EQ(RunRollwear({"export", "--db", dir / "b.db", "--out", dir / "exp2"},
+                        &output),
+            0)
+      << output;
+  ExpectSameFiles(dir / "exp", dir / "exp2");
+}
+
 }  // namespace
 }  // namespace rollwear::e2e
