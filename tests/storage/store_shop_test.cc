@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "storage/mill_store.h"
+#include "storage/sqlite_db.h"
 #include "tests/storage/store_test_util.h"
 
 namespace rollwear::storage {
@@ -161,6 +162,40 @@ TEST(StoreShopTest, ActivatedVersionIsPinnedAuditedAndSurvivesRestart) {
   EXPECT_EQ(after.message.find("pinned"), std::string::npos);
   EXPECT_EQ(after.promoted, after.gap_val_um <= after.active_gap_val_um);
   EXPECT_EQ(store->ModelHistory(0)->size(), after.promoted ? 5u : 4u);
+}
+
+// A version-4 file's model versions each get one audit row on upgrade.
+TEST(StoreShopTest, UpgradeGivesStoredVersionsAnAuditRow) {
+  TempDir dir;
+  const std::string path = dir.File("v4.db");
+  {
+    auto store = OpenStore(path);
+    ASSERT_NE(store, nullptr);
+    ASSERT_TRUE(store->ImportDataset(SimulatedMill(5, 24, 50)).ok());
+    StatusOr<int64_t> id =
+        store->EnqueueCalibration("nightly", WearLaw::kWang, 1);
+    ASSERT_TRUE(store->RunCalibration(*id).ok());
+    ASSERT_EQ(store->ActiveModel()->version, 1);
+  }
+  {
+    StatusOr<std::unique_ptr<Db>> db = Db::Open(path);
+    ASSERT_TRUE(db.ok());
+    ASSERT_TRUE((*db)
+                    ->Exec(std::string(testing::kUndoSchemaSixAndFive) +
+                           "UPDATE schema_version SET version = 4")
+                    .ok());
+  }
+  auto store = OpenStore(path);
+  ASSERT_NE(store, nullptr);
+  StatusOr<std::vector<ModelPromotion>> h = store->ModelHistory(0);
+  ASSERT_TRUE(h.ok());
+  ASSERT_EQ(h->size(), 1u);
+  EXPECT_EQ((*h)[0].version, 1);
+  EXPECT_EQ((*h)[0].previous_version, 0);
+  EXPECT_EQ((*h)[0].source, "nightly");
+  EXPECT_EQ((*h)[0].reason, "recorded before the audit trail");
+  EXPECT_EQ((*h)[0].at, store->ActiveModel()->created_at);
+  EXPECT_FALSE(store->ActiveModel()->pinned);
 }
 
 TEST(StoreShopTest, RollLifeListsEachMountAndTheInventorySumsThem) {
