@@ -98,6 +98,16 @@ struct DiagnosisRequest {
 bool DecodeDiagnosisRequest(std::string_view body, int max_depth,
                             DiagnosisRequest* out, ApiError* error);
 
+// POST /v1/models/{version}/activate: {"reason": "<why>", "pin": true|
+// false (default true)}; reason required, not blank, at most kMaxIdLength
+// bytes.
+struct ActivateRequest {
+  std::string reason;
+  bool pin = true;
+};
+bool DecodeActivateRequest(std::string_view body, int max_depth,
+                           ActivateRequest* out, ApiError* error);
+
 // Answer bodies.
 std::string EncodeRollChangeAnswer(const storage::RollChangeIn& in,
                                    storage::WriteOutcome outcome);
@@ -120,6 +130,13 @@ std::string EncodeCalibrationList(
 std::string EncodeModel(const storage::ModelVersion& model);
 std::string EncodeModelList(const std::vector<storage::ModelVersion>& models);
 std::string EncodeHealth(bool healthy);
+// codec_shop.cc: the model audit trail, rolls and stored diagnoses.
+std::string EncodeModelHistory(
+    const std::vector<storage::ModelPromotion>& history);
+std::string EncodeRollLife(const storage::RollLife& life);
+std::string EncodeRollInventory(const std::vector<storage::RollSummary>& rolls);
+std::string EncodeDiagnosisList(
+    const std::vector<storage::StoredDiagnosis>& diagnoses);
 
 }  // namespace rollwear::api
 

@@ -90,6 +90,9 @@ constexpr ObjectShape kCalibrationShape{kCalibrationMembers};
 enum DiagnosisMember { kAdopt };
 constexpr std::string_view kDiagnosisMembers[] = {"adopt"};
 constexpr ObjectShape kDiagnosisShape{kDiagnosisMembers};
+enum ActivateMember { kReason, kPin };
+constexpr std::string_view kActivateMembers[] = {"reason", "pin"};
+constexpr ObjectShape kActivateShape{kActivateMembers};
 
 ApiError BadRequest(std::string code, std::string field, std::string message) {
   return ApiError{400, std::move(code), std::move(message), std::move(field)};
@@ -560,6 +563,21 @@ bool DecodeDiagnosisRequest(std::string_view body, int max_depth,
   }
   ObjectReader r(scanned, kDiagnosisShape, error);
   return r.OnlyKnown() && (!r.Has(kAdopt) || r.Flag(kAdopt, &out->adopt));
+}
+
+bool DecodeActivateRequest(std::string_view body, int max_depth,
+                           ActivateRequest* out, ApiError* error) {
+  ScannedObject scanned;
+  if (!ScanBody(IsBlank(body) ? std::string_view("{}") : body, max_depth,
+                kActivateShape, &scanned, error)) {
+    return false;
+  }
+  ObjectReader r(scanned, kActivateShape, error);
+  if (!r.OnlyKnown() || !r.Text(kReason, &out->reason)) return false;
+  if (out->reason.find_first_not_of(" \t\r\n") == std::string::npos) {
+    return r.OutOfRange("reason", "must not be empty");
+  }
+  return !r.Has(kPin) || r.Flag(kPin, &out->pin);
 }
 
 }  // namespace rollwear::api

@@ -34,6 +34,14 @@ constexpr RouteInfo kRoutes[kNumRoutes] = {
     {"/v1/diagnoses", "POST"},
     {"/v1/diagnoses/{id}", "GET"},
     {"/", "GET"},
+    {"/v1/models/{version}", "GET"},
+    {"/v1/models/{version}/activate", "POST"},
+    {"/v1/models/history", "GET"},
+    {"/v1/rolls", "GET"},
+    {"/v1/rolls/{roll_id}", "GET"},
+    {"/v1/diagnoses", "GET"},
+    {"/v1/diagnoses/{id}/report", "GET"},
+    {"/rolls/{roll_id}", "GET"},
     {"unmatched", ""},
 };
 

@@ -55,6 +55,14 @@ enum class RouteId : int {
   kDiagnosesPost,     // POST /v1/diagnoses
   kDiagnosis,         // GET  /v1/diagnoses/{id}
   kDashboard,         // GET  / (HTML, api/dashboard.cc)
+  kModel,             // GET  /v1/models/{version}
+  kModelActivate,     // POST /v1/models/{version}/activate
+  kModelHistory,      // GET  /v1/models/history
+  kRolls,             // GET  /v1/rolls
+  kRoll,              // GET  /v1/rolls/{roll_id}
+  kDiagnosesList,     // GET  /v1/diagnoses
+  kDiagnosisReport,   // GET  /v1/diagnoses/{id}/report (HTML)
+  kRollPage,          // GET  /rolls/{roll_id} (HTML, api/dashboard_roll.cc)
   kUnmatched,         // anything else (404/405)
   kCount
 };

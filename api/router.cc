@@ -4,6 +4,7 @@
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <optional>
 #include <string_view>
 #include <utility>
 
@@ -26,6 +27,26 @@ constexpr std::string_view kEndSuffix = "/end";
 constexpr std::string_view kWearPrefix = "/v1/wear/";
 constexpr std::string_view kCalibrationsPrefix = "/v1/calibrations/";
 constexpr std::string_view kDiagnosesPrefix = "/v1/diagnoses/";
+constexpr std::string_view kModelsPrefix = "/v1/models/";
+constexpr std::string_view kRollsPrefix = "/v1/rolls/";
+constexpr std::string_view kRollPagePrefix = "/rolls/";
+constexpr std::string_view kActivateSuffix = "/activate";
+constexpr std::string_view kReportSuffix = "/report";
+
+// `p` is prefix + one non-empty segment without '/' (+ suffix): the
+// segment, or nullopt.
+std::optional<std::string> Segment(std::string_view p, std::string_view prefix,
+                                   std::string_view suffix = "") {
+  if (p.size() <= prefix.size() + suffix.size() ||
+      p.substr(0, prefix.size()) != prefix ||
+      p.substr(p.size() - suffix.size()) != suffix) {
+    return std::nullopt;
+  }
+  const std::string_view mid =
+      p.substr(prefix.size(), p.size() - prefix.size() - suffix.size());
+  if (mid.find('/') != std::string_view::npos) return std::nullopt;
+  return std::string(mid);
+}
 
 bool IsPathChar(char c) {
   return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
@@ -76,7 +97,9 @@ HttpResponse MethodNotAllowed(RouteId route, const std::string& method) {
       Error(405, "method_not_allowed",
             "method " + method + " is not allowed on " + RoutePath(route));
   const bool both = route == RouteId::kCalibrationsPost ||
-                    route == RouteId::kCalibrationsList;
+                    route == RouteId::kCalibrationsList ||
+                    route == RouteId::kDiagnosesPost ||
+                    route == RouteId::kDiagnosesList;
   const bool post = std::string_view(RouteMethod(route)) == "POST";
   r.headers.emplace_back("Allow", both   ? "GET, HEAD, POST"
                                   : post ? "POST"
@@ -99,9 +122,38 @@ RouteId MatchRoute(const std::string& path, bool post, std::string* arg1,
   if (path == "/v1/models") return RouteId::kModels;
   if (path == "/healthz") return RouteId::kHealthz;
   if (path == "/metrics") return RouteId::kMetrics;
-  if (path == "/v1/diagnoses") return RouteId::kDiagnosesPost;
+  if (path == "/v1/diagnoses") {
+    return post ? RouteId::kDiagnosesPost : RouteId::kDiagnosesList;
+  }
+  if (path == "/v1/models/history") return RouteId::kModelHistory;
+  if (path == "/v1/rolls") return RouteId::kRolls;
   if (path == "/") return RouteId::kDashboard;
   const std::string_view p(path);
+  if (std::optional<std::string> a = Segment(p, kModelsPrefix)) {
+    *arg1 = std::move(*a);
+    return RouteId::kModel;
+  }
+  if (std::optional<std::string> a =
+          Segment(p, kModelsPrefix, kActivateSuffix)) {
+    *arg1 = std::move(*a);
+    return RouteId::kModelActivate;
+  }
+  if (std::optional<std::string> a =
+          Segment(p, kDiagnosesPrefix, kReportSuffix)) {
+    *arg1 = std::move(*a);
+    return RouteId::kDiagnosisReport;
+  }
+  // A roll id may hold any character, '/' included (sent as %2F).
+  if (p.size() > kRollsPrefix.size() &&
+      p.substr(0, kRollsPrefix.size()) == kRollsPrefix) {
+    *arg1 = path.substr(kRollsPrefix.size());
+    return RouteId::kRoll;
+  }
+  if (p.size() > kRollPagePrefix.size() &&
+      p.substr(0, kRollPagePrefix.size()) == kRollPagePrefix) {
+    *arg1 = path.substr(kRollPagePrefix.size());
+    return RouteId::kRollPage;
+  }
   if (p.size() > kCampaignsPrefix.size() + kEndSuffix.size() &&
       p.substr(0, kCampaignsPrefix.size()) == kCampaignsPrefix &&
       p.substr(p.size() - kEndSuffix.size()) == kEndSuffix) {
@@ -193,6 +245,18 @@ bool ParseInt64(std::string_view text, int64_t* out) {
   const auto [p, ec] =
       std::from_chars(text.data(), text.data() + text.size(), *out);
   return ec == std::errc() && p == text.data() + text.size();
+}
+
+std::optional<HttpResponse> ReadLimit(const HttpRequest& request,
+                                      int64_t* limit) {
+  *limit = 50;
+  auto it = request.params.find("limit");
+  if (it != request.params.end() &&
+      (!ParseInt64(it->second, limit) || *limit < 1 || *limit > 1000)) {
+    return Error(400, "out_of_range", "limit must be an integer in [1, 1000]",
+                 "limit");
+  }
+  return std::nullopt;
 }
 
 }  // namespace router_internal
@@ -339,6 +403,16 @@ HttpResponse Router::Dispatch(const HttpRequest& request) {
       break;
     case RouteId::kDashboard:
       response = GetDashboard();
+      break;
+    case RouteId::kModel:
+    case RouteId::kModelActivate:
+    case RouteId::kModelHistory:
+    case RouteId::kRolls:
+    case RouteId::kRoll:
+    case RouteId::kDiagnosesList:
+    case RouteId::kDiagnosisReport:
+    case RouteId::kRollPage:
+      response = DispatchShop(route, request, arg1);  // router_shop.cc
       break;
     default:
       response = Error(404, "not_found", "no such endpoint: " + path);

@@ -149,6 +149,21 @@ class Router {
   HttpResponse GetMetrics();
   HttpResponse PostDiagnosis(const HttpRequest& request);
   HttpResponse GetDiagnosis(const std::string& id);
+  // router_shop.cc: models under control, rolls, stored diagnoses.
+  HttpResponse DispatchShop(RouteId route, const HttpRequest& request,
+                            const std::string& arg);
+  HttpResponse GetModel(const std::string& version);
+  HttpResponse PostActivate(const HttpRequest& request,
+                            const std::string& version);
+  HttpResponse GetModelHistory(const HttpRequest& request);
+  HttpResponse GetRoll(const std::string& roll_id);
+  HttpResponse GetRolls();
+  HttpResponse ListDiagnoses(const HttpRequest& request);
+  HttpResponse GetDiagnosisReport(const std::string& id);
+  // The stored diagnosis `id` as a job (with its adoption's run), or none.
+  std::optional<DiagnosisJob> StoredDiagnosisJob(int64_t id) const;
+  // dashboard_roll.cc: the roll page (HTML).
+  HttpResponse GetRollPage(const std::string& roll_id);
   // GET /: the HTML dashboard (api/dashboard.cc).
   HttpResponse GetDashboard();
 

@@ -257,6 +257,19 @@ Command AddImport(CLI::App* app) {
   return {c, [args] { return RunImport(*args); }};
 }
 
+Command AddExport(CLI::App* app) {
+  auto args = std::make_shared<ExportArgs>();
+  CLI::App* c = AddCommand(
+      app, "export",
+      "Write what a database holds as a dataset folder (the inverse of "
+      "import); works while a daemon runs on the database.");
+  AddPath(c, "--db", args->db, "FILE", "SQLite database")->required();
+  AddPath(c, "--out", args->out, "DIR",
+          "dataset folder to write (missing or empty)")
+      ->required();
+  return {c, [args] { return RunExport(*args); }};
+}
+
 Command AddReplay(CLI::App* app) {
   auto args = std::make_shared<ReplayArgs>();
   CLI::App* c = AddCommand(
@@ -343,6 +356,7 @@ int RunCli(int argc, char** argv, const BuildVersion& build) {
   const std::vector<Command> commands = {AddSimulate(&app), AddCalibrate(&app),
                                          AddStudy(&app),    AddAnn(&app),
                                          AddServe(&app, build), AddImport(&app),
+                                         AddExport(&app),
                                          AddReplay(&app),   AddDiagnose(&app)};
 
   std::string parse_error;

@@ -98,6 +98,12 @@ struct ImportArgs {
 };
 int RunImport(const ImportArgs& args);
 
+struct ExportArgs {
+  std::string db;
+  std::string out;  // missing or empty folder
+};
+int RunExport(const ExportArgs& args);
+
 struct ReplayArgs {
   std::string data;
   std::string url;

@@ -1,9 +1,11 @@
 // DiagnosisJobs: runs diagnoses (core/diagnosis/diagnosis.h) of everything
 // the store holds, one at a time on a background worker, for POST
 // /v1/diagnoses and GET /v1/diagnoses/{id} (it is the router's
-// api::DiagnosisRunner). Reports are kept in memory (the last 50); a
-// diagnosis can always be run again from the stored data, so they are not
-// persisted across restarts. A diagnosis queued with `adopt` that finds
+// api::DiagnosisRunner). Each finished diagnosis (done or failed, with its
+// JSON and HTML reports) is stored (MillStore::SaveDiagnosis) before it is
+// shown finished, so it outlives a restart; ids go on after the stored
+// ones. Jobs are also kept in memory (the last 50) for queued and running
+// ones. A diagnosis queued with `adopt` that finds
 // missing physics proposes its adopted model (option 1 plus the fitted
 // terms) to the store, which promotes it when its validation gap is no
 // worse than the active model's (MillStore::ProposeModel); the job then

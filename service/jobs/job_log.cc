@@ -54,10 +54,10 @@ void LogCalibrationFinished(const storage::CalibrationRecord& r,
       r.active_gap_val_um, r.promoted, r.model_version, seconds);
   if (!r.promoted) return;
   spdlog::info(
-      "event=model_promoted version={} previous={} source={} trigger={} "
+      "event=model_promoted version={} source={} trigger={} "
       "calibration_id={} model={} option={} gap_val_um={:.2f} "
       "active_gap_val_um={:.2f}",
-      r.model_version, r.model_version - 1, PromotionSource(r.trigger),
+      r.model_version, PromotionSource(r.trigger),
       Quoted(r.trigger), r.id, r.model, r.option, r.gap_val_um,
       r.active_gap_val_um);
 }

@@ -4,14 +4,17 @@
 //   event=calibration_finished id=12 trigger=nightly model=wang option=1
 //     status=done gap_train_um=44.10 gap_val_um=45.80
 //     active_gap_val_um=46.20 promoted=true version=5 seconds=2.4
-//   event=model_promoted version=5 previous=4 source=nightly
+//   event=model_promoted version=5 source=nightly
 //     trigger=nightly calibration_id=12 model=wang option=1
 //     gap_val_um=45.80 active_gap_val_um=46.20
 //   event=diagnosis_started id=3 adopt=true
 //   event=diagnosis_finished id=3 adopt=true status=done
 //     verdict=missing_physics_found seconds=41.2 adoption_calibration_id=13
 //     promoted=false
-// (each on one line). `source` of a promotion is nightly, calibration
+// (each on one line). The version a promotion replaced, and manual
+// activations (POST /v1/models/{version}/activate), are in the audit trail
+// (GET /v1/models/history): versions are not consecutive once a model has
+// been activated by hand. `source` of a promotion is nightly, calibration
 // (POST /v1/calibrations) or diagnosis (the adoption of POST
 // /v1/diagnoses with adopt). A free-text field (message)
 // comes last; a value with a space, " = or \ is quoted (logfmt).

@@ -107,14 +107,14 @@ TEST(ObservabilityTest, PromotionsAndDiagnosesAreLoggedAndEveryRunCounted) {
   const std::vector<std::string> promotions =
       LinesWith(log, "event=model_promoted ");
   ASSERT_EQ(promotions.size(), api_promoted ? 2u : 1u) << log;
-  EXPECT_NE(promotions[0].find("event=model_promoted version=1 previous=0 "
+  EXPECT_NE(promotions[0].find("event=model_promoted version=1 "
                                "source=diagnosis trigger=\"diagnosis 1\" "
                                "calibration_id=" +
                                std::to_string(adoption_run)),
             std::string::npos)
       << promotions[0];
   if (api_promoted) {
-    EXPECT_NE(promotions[1].find("event=model_promoted version=2 previous=1 "
+    EXPECT_NE(promotions[1].find("event=model_promoted version=2 "
                                  "source=calibration trigger=api"),
               std::string::npos)
         << promotions[1];

@@ -216,7 +216,8 @@ TEST(StoreSuspectTest, VersionThreeFileGainsTheColumnAndKeepsItsRows) {
   }
   {
     auto db = MustOpen(path);
-    ASSERT_TRUE(db->Exec("ALTER TABLE measurements DROP COLUMN suspect; "
+    ASSERT_TRUE(db->Exec(std::string(testing::kUndoSchemaSixAndFive) +
+                         "ALTER TABLE measurements DROP COLUMN suspect; "
                          "UPDATE schema_version SET version = 3")
                     .ok());
     EXPECT_EQ(QueryText(db.get(),
@@ -235,7 +236,8 @@ TEST(StoreSuspectTest, VersionThreeFileGainsTheColumnAndKeepsItsRows) {
   EXPECT_EQ(suspect, "");
   store.reset();
   auto db = MustOpen(path);
-  EXPECT_EQ(QueryText(db.get(), "SELECT version FROM schema_version"), "4");
+  EXPECT_EQ(QueryText(db.get(), "SELECT version FROM schema_version"),
+            std::to_string(kSchemaVersion));
   EXPECT_EQ(QueryText(db.get(),
                       "SELECT wear_center_um || ' ' || "
                       "coalesce(suspect, 'null') FROM measurements"),
