@@ -46,7 +46,7 @@ StatusOr<DiagnosisReport> Diagnose(const Dataset& data,
 
   // 2. Locate.
   report.locate = diag::Locate(state.td, data, state.all, state.before_all,
-                               &state.locate_sd);
+                               options.robust ? &state.locate_sd : nullptr);
   phase.Mark("locate");
 
   // 3-5. Hypothesise, test and adopt, round after round.

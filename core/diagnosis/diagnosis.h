@@ -58,6 +58,9 @@ struct DiagnosisOptions {
   int num_bins = 4;                  // quantile bins of the binned form
   int max_factor_levels = 12;
   int num_threads = 2;
+  // Huber's robust loss everywhere (robust.h; docs/diagnosis.md). false:
+  // least squares, for comparison only.
+  bool robust = true;
 
   bool IsValid(std::string* error) const;
 };

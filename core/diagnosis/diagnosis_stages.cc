@@ -362,6 +362,7 @@ StatusOr<Baseline> RunBaseline(const Dataset& data,
   CalibrationOptions co;
   co.law = options.law;
   co.option = 1;
+  co.robust = options.robust;
   ROLLWEAR_ASSIGN_OR_RETURN(base.calibration,
                             CalibrateOnSplit(stats, base.split, co));
   if (!base.calibration.result.summary.usable) {
@@ -398,7 +399,9 @@ StatusOr<DiagnosisState> BuildState(const Dataset& data,
     e.push_back(st.td.obs[o].measured_um - st.before_all[o]);
   }
   const RobustNoise noise = FitRobustNoise(p, e);
-  for (int o : st.all) st.locate_sd.push_back(noise.SdAt(st.before_all[o]));
+  if (options.robust) {
+    for (int o : st.all) st.locate_sd.push_back(noise.SdAt(st.before_all[o]));
+  }
   return st;
 }
 
@@ -424,8 +427,8 @@ void MakeFolds(const DiagnosisOptions& options, const CampaignSplit& split,
 bool RunRound(int round, const DiagnosisOptions& options, std::set<int>* used,
               PhaseClock* phase, DiagnosisState* st, DiagnosisReport* report) {
   const TermData& td = st->td;
-  const std::vector<double> sd =
-      TermNoiseSd(td, st->train, st->current.log_k, st->current.terms);
+  const std::vector<double> sd = TermNoiseSd(
+      td, st->train, st->current.log_k, st->current.terms, nullptr, options.robust);
   Fitted cur = Fit(td, st->train, sd, st->current.log_k, st->current.terms);
   if (!cur.usable) return false;
   st->current = cur;
