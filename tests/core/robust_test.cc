@@ -182,20 +182,26 @@ TEST(RobustTest, CalibrationGapWithGrossErrorsWithin5Percent) {
     const GapRun rb_gross = CleanValidationGap(gross, true);
     // Clean data: the robust fit is least squares to well inside the
     // standard errors, and its gap the same to 1 %.
-    double max_z = 0;
+    double max_z = 0, max_se_change = 0;
     for (size_t i = 0; i < rb_clean.k.size(); ++i) {
       if (!std::isfinite(ls_clean.se[i]) || ls_clean.se[i] <= 0) continue;
       max_z = std::max(max_z, std::abs(std::log(rb_clean.k[i] / ls_clean.k[i])) /
                                   ls_clean.se[i]);
+      max_se_change =
+          std::max(max_se_change, std::abs(rb_clean.se[i] / ls_clean.se[i] - 1));
     }
     std::printf(
         "seed %llu: clean-reading validation gap, clean data LS %.2f robust "
         "%.2f µm (max |dlog k|/se %.2f); 3 %% gross errors LS %.2f robust %.2f "
-        "µm; outliers listed %d, of them gross %d\n",
+        "µm; outliers listed %d, of them gross %d; clean s.e. robust/LS - 1 "
+        "at most %.3f\n",
         static_cast<unsigned long long>(seed), ls_clean.gap_clean_um,
         rb_clean.gap_clean_um, max_z, ls_gross.gap_clean_um,
-        rb_gross.gap_clean_um, rb_gross.outliers, rb_gross.outliers_gross);
+        rb_gross.gap_clean_um, rb_gross.outliers, rb_gross.outliers_gross,
+        max_se_change);
     EXPECT_LT(max_z, 0.5) << seed;
+    // IRLS-weighted standard errors: those of least squares on clean data.
+    EXPECT_LT(max_se_change, 0.05) << seed;
     EXPECT_NEAR(rb_clean.gap_clean_um / ls_clean.gap_clean_um, 1.0, 0.01);
     EXPECT_LT(rb_gross.gap_clean_um, 1.05 * rb_clean.gap_clean_um) << seed;
     EXPECT_GE(rb_gross.outliers_gross, 0.8 * rb_gross.outliers) << seed;
