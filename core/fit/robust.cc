@@ -49,7 +49,8 @@ RobustNoise FitRobustNoise(const std::vector<double>& pred,
   for (int pass = 0; pass < 3; ++pass) {
     std::vector<double> p_in, e_in;
     for (size_t i = 0; i < pred.size(); ++i) {
-      const double sd = std::hypot(noise.noise_sd_um, noise.noise_rel * pred[i]);
+      const double sd =
+          std::hypot(noise.noise_sd_um, noise.noise_rel * pred[i]);
       if (!(sd > 0) || std::abs(err[i]) <= kHuberK * sd) {
         p_in.push_back(pred[i]);
         e_in.push_back(err[i]);
@@ -77,9 +78,11 @@ RobustNoise FitRobustNoise(const std::vector<double>& pred,
   return out;
 }
 
-void NameOutliers(const Dataset& data, std::vector<SuspectedOutlier>* outliers) {
+void NameOutliers(const Dataset& data,
+                  std::vector<SuspectedOutlier>* outliers) {
   for (SuspectedOutlier& o : *outliers) {
-    if (o.campaign >= 0 && o.campaign < static_cast<int>(data.campaigns.size())) {
+    if (o.campaign >= 0 &&
+        o.campaign < static_cast<int>(data.campaigns.size())) {
       o.campaign_id = data.campaigns[o.campaign].id;
     }
     o.stand = SlotStand(o.slot);

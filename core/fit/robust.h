@@ -51,8 +51,8 @@ double HuberWeight(double u, double k = kHuberK);
 // The robust standardisation of errors e_i = measured - predicted at
 // predictions pred_i (see the top of this file).
 struct RobustNoise {
-  double noise_sd_um = 0;  // c * sigma0
-  double noise_rel = 0;    // c * rho
+  double noise_sd_um = 0;      // c * sigma0
+  double noise_rel = 0;        // c * rho
   std::vector<double> sd;      // per reading, floored at 1e-6 µm
   std::vector<double> u;       // e_i / sd_i
   std::vector<double> weight;  // HuberWeight(u_i)
@@ -64,8 +64,8 @@ RobustNoise FitRobustNoise(const std::vector<double>& pred,
 
 // A reading whose standardised robust residual exceeds kOutlierSigmas.
 struct SuspectedOutlier {
-  int campaign = -1;     // index into Dataset::campaigns
-  int slot = -1;         // roll position slot (dataset.h)
+  int campaign = -1;  // index into Dataset::campaigns
+  int slot = -1;      // roll position slot (dataset.h)
   std::string campaign_id;
   int stand = 0;
   Position position = Position::kTop;

@@ -185,10 +185,11 @@ TEST(RobustTest, CalibrationGapWithGrossErrorsWithin5Percent) {
     double max_z = 0, max_se_change = 0;
     for (size_t i = 0; i < rb_clean.k.size(); ++i) {
       if (!std::isfinite(ls_clean.se[i]) || ls_clean.se[i] <= 0) continue;
-      max_z = std::max(max_z, std::abs(std::log(rb_clean.k[i] / ls_clean.k[i])) /
-                                  ls_clean.se[i]);
-      max_se_change =
-          std::max(max_se_change, std::abs(rb_clean.se[i] / ls_clean.se[i] - 1));
+      max_z =
+          std::max(max_z, std::abs(std::log(rb_clean.k[i] / ls_clean.k[i])) /
+                              ls_clean.se[i]);
+      max_se_change = std::max(max_se_change,
+                               std::abs(rb_clean.se[i] / ls_clean.se[i] - 1));
     }
     std::printf(
         "seed %llu: clean-reading validation gap, clean data LS %.2f robust "
@@ -222,19 +223,23 @@ TEST(RobustTest, DiagnosisQuietWithAndWithoutGrossErrors) {
       const Simulation sim =
           Simulated(seed, with_gross ? std::vector<std::string>{"gross_errors"}
                                      : std::vector<std::string>{});
-      StatusOr<DiagnosisReport> r = Diagnose(Fittable(sim.data), DiagnosisOptions{});
+      StatusOr<DiagnosisReport> r =
+          Diagnose(Fittable(sim.data), DiagnosisOptions{});
       ASSERT_TRUE(r.ok()) << r.status().ToString();
       if (r->verdict == "no_significant_mismatch" && r->findings.empty()) {
         ++(with_gross ? quiet_gross : quiet_clean);
       } else {
-        spurious += " seed " + std::to_string(seed) +
-                    (with_gross ? " (gross): " : ": ") +
-                    (r->findings.empty() ? r->verdict : r->findings[0].covariate);
+        spurious +=
+            " seed " + std::to_string(seed) +
+            (with_gross ? " (gross): " : ": ") +
+            (r->findings.empty() ? r->verdict : r->findings[0].covariate);
       }
     }
   }
-  std::printf("diagnosis quiet: %d of %d seeds clean, %d of %d with 3 %% gross errors\n",
-              quiet_clean, num_seeds, quiet_gross, num_seeds);
+  std::printf(
+      "diagnosis quiet: %d of %d seeds clean, %d of %d with 3 %% gross "
+      "errors\n",
+      quiet_clean, num_seeds, quiet_gross, num_seeds);
   EXPECT_GE(quiet_clean, need) << spurious;
   EXPECT_GE(quiet_gross, need) << spurious;
 }
@@ -246,7 +251,8 @@ TEST(RobustTest, RealEffectFoundWithGrossErrors) {
   for (int s = 0; s < num_seeds; ++s) {
     const uint64_t seed = 101 + 101 * s;
     const Simulation sim = Simulated(seed, {"temperature", "gross_errors"});
-    StatusOr<DiagnosisReport> r = Diagnose(Fittable(sim.data), DiagnosisOptions{});
+    StatusOr<DiagnosisReport> r =
+        Diagnose(Fittable(sim.data), DiagnosisOptions{});
     ASSERT_TRUE(r.ok()) << r.status().ToString();
     ASSERT_EQ(r->verdict, "missing_physics_found") << seed;
     EXPECT_EQ(r->findings.size(), 1u) << seed;
@@ -255,13 +261,15 @@ TEST(RobustTest, RealEffectFoundWithGrossErrors) {
     const std::map<Key, double> gross = GrossByKey(sim);
     int listed_gross = 0;
     for (const SuspectedOutlier& o : r->suspected_outliers) {
-      listed_gross += gross.at({o.campaign_id, o.stand, static_cast<int>(o.position)}) != 0;
+      listed_gross +=
+          gross.at({o.campaign_id, o.stand, static_cast<int>(o.position)}) != 0;
       EXPECT_GT(std::abs(o.standardized_residual), kOutlierSigmas);
     }
-    std::printf("seed %llu temperature + gross: %s, %zu outliers listed, %d gross\n",
-                static_cast<unsigned long long>(seed),
-                r->findings.front().covariate.c_str(),
-                r->suspected_outliers.size(), listed_gross);
+    std::printf(
+        "seed %llu temperature + gross: %s, %zu outliers listed, %d gross\n",
+        static_cast<unsigned long long>(seed),
+        r->findings.front().covariate.c_str(), r->suspected_outliers.size(),
+        listed_gross);
     EXPECT_GE(listed_gross, 5);
     EXPECT_GE(listed_gross, 0.8 * r->suspected_outliers.size());
   }
