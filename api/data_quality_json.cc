@@ -2,7 +2,8 @@
 
 namespace rollwear::api {
 
-nlohmann::json DataQualityJson(const DataQuality& q) {
+nlohmann::json DataQualityJson(const DataQuality& q,
+                               const std::vector<SuspectedOutlier>* outliers) {
   nlohmann::json counts = nlohmann::json::object();
   for (int k = 0; k < kNumDataQualityKinds; ++k) {
     const auto kind = static_cast<DataQualityKind>(k);
@@ -20,7 +21,7 @@ nlohmann::json DataQualityJson(const DataQuality& q) {
                                        : nlohmann::json(nullptr);
     issues.push_back(std::move(j));
   }
-  return {{"warnings", q.issues.size()},
+  nlohmann::json out = {{"warnings", q.issues.size()},
           {"suspect_measurements", q.NumSuspect()},
           {"counts", counts},
           {"thresholds",
@@ -28,6 +29,20 @@ nlohmann::json DataQualityJson(const DataQuality& q) {
             {"negative_limit_um", -kSuspectNoiseSigmas * q.noise_sd_um},
             {"excess_factor", q.excess_factor}}},
           {"issues", issues}};
+  if (outliers == nullptr) return out;
+  nlohmann::json list = nlohmann::json::array();
+  for (const SuspectedOutlier& o : *outliers) {
+    list.push_back({{"campaign_id", o.campaign_id},
+                    {"stand", "F" + std::to_string(o.stand)},
+                    {"position", PositionName(o.position)},
+                    {"set", o.training ? "training" : "validation"},
+                    {"measured_um", o.measured_um},
+                    {"predicted_um", o.predicted_um},
+                    {"standardized_residual", o.standardized_residual}});
+  }
+  out["thresholds"]["outlier_threshold_sd"] = kOutlierSigmas;
+  out["suspected_outliers"] = std::move(list);
+  return out;
 }
 
 }  // namespace rollwear::api

@@ -9,14 +9,23 @@
 
 #include <nlohmann/json.hpp>
 
+#include <vector>
+
 #include "core/dataset/data_quality.h"
+#include "core/fit/robust.h"
 
 namespace rollwear::api {
 
 // {"warnings", "suspect_measurements", "counts": {kind: n},
 //  "thresholds": {"noise_sd_um", "negative_limit_um", "excess_factor"},
 //  "issues": [{"kind","file","line","where","value_um","reason"}...]}
-nlohmann::json DataQualityJson(const DataQuality& quality);
+// With `outliers` (a fit's suspected gross errors, core/fit/robust.h) also
+// "outlier_threshold_sd" in "thresholds" and
+//  "suspected_outliers": [{"campaign_id","stand","position","set",
+//    "measured_um","predicted_um","standardized_residual"}...].
+nlohmann::json DataQualityJson(
+    const DataQuality& quality,
+    const std::vector<SuspectedOutlier>* outliers = nullptr);
 
 }  // namespace rollwear::api
 

@@ -100,7 +100,9 @@ nlohmann::json DiagnosisJson(const DiagnosisReport& r) {
 std::string DiagnosisJsonText(const DiagnosisReport& report, int indent,
                               const DataQuality* quality) {
   nlohmann::json j = DiagnosisJson(report);
-  if (quality != nullptr) j["data_quality"] = DataQualityJson(*quality);
+  if (quality != nullptr) {
+    j["data_quality"] = DataQualityJson(*quality, &report.suspected_outliers);
+  }
   return j.dump(indent);
 }
 

@@ -164,7 +164,7 @@ nlohmann::json CalibrationJson(const CalibrateArgs& args,
   j["evaluations"] = r.summary.evaluations;
   j["termination"] = r.summary.termination;
   j["usable"] = usable;
-  j["data_quality"] = DataQualityJson(quality);
+  j["data_quality"] = DataQualityJson(quality, &run.suspected_outliers);
   j["noise"] = {{"sd_um", m.noise_sd_um}, {"rel", m.noise_rel}};
   j["bias_above_300_um"] = Number(run.bias_above_300_um);
   return j;
@@ -210,7 +210,11 @@ int RunCalibrate(const CalibrateArgs& args) {
   // without a pass: its measurements compare with a zero prediction).
   const bool usable =
       run->result.summary.usable && !SpoilsCalibration(checked.quality);
+  NameOutliers(*data, &run->suspected_outliers);
   PrintCalibration(options, args.protocol, *run, usable);
+  if (options.robust && options.derivatives == DerivativeMode::kExact) {
+    PrintSuspectedOutliers(run->suspected_outliers);
+  }
 
   if (!args.json.empty()) {
     const nlohmann::json j =

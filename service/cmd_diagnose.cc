@@ -42,6 +42,7 @@ int RunDiagnose(const DiagnoseArgs& args) {
   }
   std::printf("with adopted terms: gap training %.1f µm, validation %.1f µm (%.1f s)\n",
               r.final_gap_train_um, r.final_gap_val_um, r.seconds);
+  PrintSuspectedOutliers(r.suspected_outliers);
   if (!args.json.empty()) {
     std::ofstream out(args.json);
     out << api::DiagnosisJsonText(r, 2, &checked.quality) << "\n";

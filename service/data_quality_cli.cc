@@ -32,6 +32,24 @@ int ReadCheckedDataset(const char* tool, const std::string& dir, bool strict,
   return 0;
 }
 
+void PrintSuspectedOutliers(const std::vector<SuspectedOutlier>& outliers,
+                            int max_listed) {
+  if (outliers.empty()) {
+    std::printf("suspected outliers: none (no reading more than %.0f sd off)\n",
+                kOutlierSigmas);
+    return;
+  }
+  std::printf(
+      "suspected outliers: %zu reading(s) more than %.0f sd off the fit "
+      "(kept at Huber weight, robust loss)%s\n",
+      outliers.size(), kOutlierSigmas,
+      static_cast<int>(outliers.size()) > max_listed ? ", the largest:" : ":");
+  for (size_t i = 0; i < outliers.size() && static_cast<int>(i) < max_listed;
+       ++i) {
+    std::printf("  %s\n", OutlierLine(outliers[i]).c_str());
+  }
+}
+
 bool SpoilsCalibration(const DataQuality& quality) {
   return quality.Count(DataQualityKind::kNoPasses) > 0;
 }

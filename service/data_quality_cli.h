@@ -10,6 +10,7 @@
 #define ROLLWEAR_SERVICE_DATA_QUALITY_CLI_H_
 
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -34,6 +35,14 @@ int ReadCheckedDataset(const char* tool, const std::string& dir, bool strict,
 
 // The `data_quality` object (api/data_quality_json.h).
 using api::DataQualityJson;
+
+// The fit's suspected gross errors (core/fit/robust.h) on stdout: their
+// count and the first `max_listed`, e.g.
+//   suspected outliers: 3 readings more than 4 sd off (kept at Huber weight)
+//     C0042 F6/top: measured 312.0 µm, predicted 180.2 µm, r/sd = +6.1 (training)
+// "suspected outliers: none (...)" when there is none.
+void PrintSuspectedOutliers(const std::vector<SuspectedOutlier>& outliers,
+                            int max_listed = 5);
 
 // True when the data has a warning that makes a calibration on it not
 // "usable": a roll position without a pass.

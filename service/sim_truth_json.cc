@@ -45,6 +45,11 @@ std::string TruthJson(const SimulationTruth& truth) {
   // missing (older callers fill only the values).
   const bool keyed =
       truth.noise_free_keys.size() == truth.noise_free_wear_um.size();
+  // gross_errors: which readings the grinder got grossly wrong, and by how
+  // much (0 on a clean reading).
+  const bool gross =
+      truth.gross_error_um.size() == truth.noise_free_wear_um.size();
+  int num_gross = 0;
   Json rows = Json::array();
   for (size_t i = 0; i < truth.noise_free_wear_um.size(); ++i) {
     if (!keyed) {
@@ -52,12 +57,18 @@ std::string TruthJson(const SimulationTruth& truth) {
       continue;
     }
     const SimulatedMeasurementKey& k = truth.noise_free_keys[i];
-    rows.push_back({{"campaign_id", k.campaign_id},
-                    {"stand", "F" + std::to_string(k.stand)},
-                    {"position", PositionName(k.position)},
-                    {"noise_free_wear_um", Number(truth.noise_free_wear_um[i])}});
+    Json row = {{"campaign_id", k.campaign_id},
+                {"stand", "F" + std::to_string(k.stand)},
+                {"position", PositionName(k.position)},
+                {"noise_free_wear_um", Number(truth.noise_free_wear_um[i])}};
+    if (gross) {
+      row["gross_error_um"] = Number(truth.gross_error_um[i]);
+      num_gross += truth.gross_error_um[i] != 0;
+    }
+    rows.push_back(std::move(row));
   }
   doc["noise_free_wear_um"] = std::move(rows);
+  if (gross) doc["gross_errors"] = num_gross;
   return doc.dump(2) + "\n";
 }
 

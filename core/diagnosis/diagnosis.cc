@@ -45,7 +45,8 @@ StatusOr<DiagnosisReport> Diagnose(const Dataset& data,
   phase.Mark("data");
 
   // 2. Locate.
-  report.locate = diag::Locate(state.td, data, state.all, state.before_all);
+  report.locate = diag::Locate(state.td, data, state.all, state.before_all,
+                               options.robust ? &state.locate_sd : nullptr);
   phase.Mark("locate");
 
   // 3-5. Hypothesise, test and adopt, round after round.

@@ -32,10 +32,13 @@ std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>
 void NameFinding(const TermData& td, const std::vector<int>& train, const TermSpec& spec,
                  Finding* finding);
 
-// Residual breakdowns of `pred` (aligned with `obs`), strongest first.
+// Residual breakdowns of `pred` (aligned with `obs`), strongest first;
+// with `clip_sd` (aligned with `obs`) each residual is clipped to
+// +-kHuberK * clip_sd first (robust.h).
 std::vector<Breakdown> Locate(const TermData& td, const Dataset& data,
                               const std::vector<int>& obs,
-                              const std::vector<double>& pred);
+                              const std::vector<double>& pred,
+                              const std::vector<double>* clip_sd = nullptr);
 
 // Load-weighted quantile q in [0, 1] of covariate k over the passes of
 // `obs` (or of the aggregated values for non-pass covariates).

@@ -2,7 +2,9 @@
 // 2 of diagnosis.h). Categorical dimensions use a one-way ANOVA F test of the
 // residuals (µm); numeric covariates a Pearson correlation t test of the
 // relative residual (measured - predicted) / predicted against the
-// covariate aggregated as the model aggregates it.
+// covariate aggregated as the model aggregates it. With the robust noise
+// sd's, each residual is first clipped to +-kHuberK sd (Huber's psi,
+// robust.h), so a few gross grinder errors cannot locate a mismatch.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +12,7 @@
 
 #include "core/diagnosis/diagnosis_internal.h"
 #include "core/base/distributions.h"
+#include "core/fit/robust.h"
 
 namespace rollwear::diag {
 namespace {
@@ -88,11 +91,16 @@ std::vector<std::string> Quartiles(const std::vector<double>& x, std::vector<std
 }  // namespace
 
 std::vector<Breakdown> Locate(const TermData& td, const Dataset& data,
-                              const std::vector<int>& obs, const std::vector<double>& pred) {
+                              const std::vector<int>& obs, const std::vector<double>& pred,
+                              const std::vector<double>* clip_sd) {
   const size_t n = obs.size();
   std::vector<double> resid(n), rel(n);
   for (size_t i = 0; i < n; ++i) {
     resid[i] = td.obs[obs[i]].measured_um - pred[i];
+    if (clip_sd != nullptr) {  // Huber's psi: gross errors count as k sd's
+      const double c = kHuberK * (*clip_sd)[i];
+      resid[i] = std::clamp(resid[i], -c, c);
+    }
     rel[i] = pred[i] > 0 ? resid[i] / pred[i] : 0.0;
   }
   std::vector<Breakdown> out;

@@ -328,6 +328,27 @@ void AddPoints(const Dataset& data, const DiagnosisState& st,
   }
 }
 
+// The readings of `all` more than kOutlierSigmas sd's of `noise` off the
+// final prediction, largest first.
+void ListOutliers(const Dataset& data, const DiagnosisState& st,
+                  const std::vector<double>& after_all, const RobustNoise& noise,
+                  DiagnosisReport* report) {
+  for (int o : st.all) {
+    const TermObservation& ob = st.td.obs[o];
+    const double u = (ob.measured_um - after_all[o]) / noise.SdAt(after_all[o]);
+    if (!(std::abs(u) > kOutlierSigmas)) continue;
+    SuspectedOutlier out;
+    out.campaign = ob.campaign;
+    out.slot = ob.slot;
+    out.training = st.train_campaigns.count(ob.campaign) > 0;
+    out.measured_um = ob.measured_um;
+    out.predicted_um = after_all[o];
+    out.standardized_residual = u;
+    report->suspected_outliers.push_back(out);
+  }
+  NameOutliers(data, &report->suspected_outliers);
+}
+
 }  // namespace
 
 StatusOr<Baseline> RunBaseline(const Dataset& data,
@@ -341,6 +362,7 @@ StatusOr<Baseline> RunBaseline(const Dataset& data,
   CalibrationOptions co;
   co.law = options.law;
   co.option = 1;
+  co.robust = options.robust;
   ROLLWEAR_ASSIGN_OR_RETURN(base.calibration,
                             CalibrateOnSplit(stats, base.split, co));
   if (!base.calibration.result.summary.usable) {
@@ -371,6 +393,15 @@ StatusOr<DiagnosisState> BuildState(const Dataset& data,
     st.current.log_k.push_back(std::log(k));
   }
   st.before_all = PredictTerms(st.td, st.all, st.current.log_k, {});
+  std::vector<double> p, e;
+  for (int o : st.train) {
+    p.push_back(st.before_all[o]);
+    e.push_back(st.td.obs[o].measured_um - st.before_all[o]);
+  }
+  const RobustNoise noise = FitRobustNoise(p, e);
+  if (options.robust) {
+    for (int o : st.all) st.locate_sd.push_back(noise.SdAt(st.before_all[o]));
+  }
   return st;
 }
 
@@ -396,8 +427,8 @@ void MakeFolds(const DiagnosisOptions& options, const CampaignSplit& split,
 bool RunRound(int round, const DiagnosisOptions& options, std::set<int>* used,
               PhaseClock* phase, DiagnosisState* st, DiagnosisReport* report) {
   const TermData& td = st->td;
-  const std::vector<double> sd =
-      TermNoiseSd(td, st->train, st->current.log_k, st->current.terms);
+  const std::vector<double> sd = TermNoiseSd(
+      td, st->train, st->current.log_k, st->current.terms, nullptr, options.robust);
   Fitted cur = Fit(td, st->train, sd, st->current.log_k, st->current.terms);
   if (!cur.usable) return false;
   st->current = cur;
@@ -463,7 +494,10 @@ void Summarise(const Dataset& data, const DiagnosisOptions& options,
     for (size_t i = 0; i < st.train.size(); ++i) {
       e.push_back(td.obs[st.train[i]].measured_um - pt[i]);
     }
-    FitNoiseModel(pt, e, &m);
+    const RobustNoise noise = FitRobustNoise(pt, e);
+    m.noise_sd_um = noise.noise_sd_um;
+    m.noise_rel = noise.noise_rel;
+    ListOutliers(data, st, after_all, noise, report);
   }
   AddPoints(data, st, after_all, report);
 }

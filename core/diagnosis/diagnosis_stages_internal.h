@@ -66,6 +66,9 @@ struct DiagnosisState {
   std::vector<int> train, val, all;
   std::vector<std::vector<int>> fit_sets, held_out;  // per fold
   std::vector<double> before_all;  // baseline prediction of `all`
+  // Robust noise sd of the baseline at each of `all` (robust.h): Locate
+  // clips residuals to +-kHuberK of it.
+  std::vector<double> locate_sd;
   Fitted current;
 };
 

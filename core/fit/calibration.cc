@@ -16,6 +16,7 @@
 
 #include "core/fit/calibration_internal.h"
 #include "core/fit/lm_setup.h"
+#include "core/fit/robust.h"
 
 namespace rollwear {
 
@@ -83,9 +84,11 @@ Fit::Fit(const WearStatistics& stats, const std::vector<int>& train,
   std::vector<int> n_per_position(ks.positions().size(), 0);
   for (int o : train) ++n_per_position[stats.observations[o].position];
   for (int o : train) {
-    weight_.push_back(
+    eq9_weight_.push_back(
         1.0 / std::sqrt(n_per_position[stats.observations[o].position]));
   }
+  robust_sqrt_.assign(train.size(), 1.0);
+  weight_ = eq9_weight_;
   // Training load carried by each coefficient (identifiability).
   coef_load_.assign(layout_.n_coef, 0.0);
   for (int o : train) {
@@ -149,8 +152,29 @@ void Fit::Evaluate(const double* theta, double* residuals, double* jac) {
 
 double Fit::DataCost(const std::vector<double>& residuals) const {
   double c = 0;
-  for (size_t i = 0; i < train_.size(); ++i) c += residuals[i] * residuals[i];
+  for (size_t i = 0; i < train_.size(); ++i) {
+    const double r = residuals[i] / robust_sqrt_[i];
+    c += r * r;
+  }
   return c;
+}
+
+void Fit::SetRobustWeights(const std::vector<double>& w) {
+  for (size_t i = 0; i < train_.size(); ++i) {
+    robust_sqrt_[i] = std::sqrt(w[i]);
+    weight_[i] = eq9_weight_[i] * robust_sqrt_[i];
+  }
+}
+
+void Fit::DataErrors(const std::vector<double>& residuals,
+                     std::vector<double>* pred,
+                     std::vector<double>* err) const {
+  pred->resize(train_.size());
+  err->resize(train_.size());
+  for (size_t i = 0; i < train_.size(); ++i) {
+    (*err)[i] = residuals[i] / weight_[i];
+    (*pred)[i] = stats_.observations[train_[i]].measured_um - (*err)[i];
+  }
 }
 
 namespace {
@@ -315,8 +339,8 @@ void Solve(Fit* fit, const std::vector<int>& free, SolverSetup* setup,
   }
   fit->Evaluate(theta->data(), residuals->data(), nullptr);
   s->final_cost = fit->DataCost(*residuals);
-  s->iterations = nf > 0 ? static_cast<int>(summary.iterations.size()) - 1 : 0;
-  s->evaluations = static_cast<int>(fit->evaluations() - evals_before - 1);
+  s->iterations += nf > 0 ? static_cast<int>(summary.iterations.size()) - 1 : 0;
+  s->evaluations += static_cast<int>(fit->evaluations() - evals_before - 1);
   s->termination =
       nf > 0 ? ceres::TerminationTypeToString(summary.termination_type)
              : "NO_FREE_PARAMETERS";
@@ -370,6 +394,41 @@ void EstimateCovariance(const Fit& fit, const std::vector<int>& free,
   }
 }
 
+// The robust loss (calibration.h): IRLS steps with Huber weights from the
+// robust noise model of the current training residuals, each re-solved from
+// the previous optimum; the last step's problem is left in *solver for the
+// covariance. Returns the final weights (empty when a step fails, leaving
+// the least-squares solution).
+std::vector<double> RobustSteps(Fit* fit, const std::vector<int>& free,
+                                const CalibrationOptions& options,
+                                std::unique_ptr<SolverSetup>* solver,
+                                std::vector<double>* theta,
+                                std::vector<double>* residuals,
+                                CalibrationSummary* s) {
+  constexpr int kIrlsSteps = 2;  // the LS fit's scale, iterated once
+  std::vector<double> pred, err, weight;
+  const std::vector<double> ls_theta = *theta;
+  for (int step = 0; step < kIrlsSteps; ++step) {
+    fit->DataErrors(*residuals, &pred, &err);
+    weight = FitRobustNoise(pred, err).weight;
+    fit->SetRobustWeights(weight);
+    auto next = std::make_unique<SolverSetup>();
+    SetUpSolver(fit, *theta, free, options, next.get());
+    CalibrationSummary step_summary = *s;
+    Solve(fit, free, next.get(), theta, residuals, &step_summary);
+    if (!step_summary.usable) {  // keep least squares
+      fit->SetRobustWeights(std::vector<double>(weight.size(), 1.0));
+      *theta = ls_theta;
+      fit->Evaluate(theta->data(), residuals->data(), nullptr);
+      return {};
+    }
+    *s = step_summary;
+    *solver = std::move(next);
+  }
+  fit->DataErrors(*residuals, &pred, &err);
+  return FitRobustNoise(pred, err).weight;
+}
+
 }  // namespace
 }  // namespace calibration_internal
 
@@ -401,9 +460,14 @@ StatusOr<CalibrationResult> Calibrate(const WearStatistics& stats,
   s.num_free_parameters = nf;
   s.num_observations = static_cast<int>(train.size());
 
-  ci::SolverSetup solver;
-  ci::SetUpSolver(&fit, theta, free, options, &solver);
-  ci::Solve(&fit, free, &solver, &theta, &residuals, &s);
+  auto solver = std::make_unique<ci::SolverSetup>();
+  ci::SetUpSolver(&fit, theta, free, options, solver.get());
+  ci::Solve(&fit, free, solver.get(), &theta, &residuals, &s);
+  if (options.robust && s.usable && nf > 0 &&
+      options.derivatives == DerivativeMode::kExact) {
+    result.robust_weight =
+        ci::RobustSteps(&fit, free, options, &solver, &theta, &residuals, &s);
+  }
 
   const Eigen::MatrixXd transform = ci::GaugeTransform(fit);
   WearModel model = ci::ReportedModel(fit, transform, theta);
@@ -414,10 +478,10 @@ StatusOr<CalibrationResult> Calibrate(const WearStatistics& stats,
     result.identified[i] = load[i] > 0;
   result.std_error.assign(n_rep, std::numeric_limits<double>::quiet_NaN());
   if (options.compute_covariance && nf > 0 && s.usable) {
-    ci::EstimateCovariance(fit, free, &solver, residuals, transform, &model,
-                           &result);
+    ci::EstimateCovariance(fit, free, solver.get(), residuals, transform,
+                           &model, &result);
   }
-  ci::FitTrainingNoise(stats, train, &model);
+  ci::FitTrainingNoise(stats, train, options.robust, &model);
   result.model = std::move(model);
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time)
                   .count();

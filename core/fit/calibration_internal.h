@@ -54,8 +54,18 @@ class Fit {
   // Jacobian d(residual)/d(theta) (num_rows x n_full) at theta.
   void Evaluate(const double* theta, double* residuals, double* jac);
 
-  // Eq. 9 cost of the data rows of a residual vector.
+  // Eq. 9 cost of the data rows of a residual vector (without the robust
+  // weights).
   double DataCost(const std::vector<double>& residuals) const;
+
+  // Robust loss: multiplies the residual of each data row by sqrt(w[row])
+  // (w aligned with the training observations; all 1 at construction).
+  void SetRobustWeights(const std::vector<double>& w);
+
+  // The predictions and errors (measured - predicted, µm) of the data rows
+  // behind a residual vector.
+  void DataErrors(const std::vector<double>& residuals,
+                  std::vector<double>* pred, std::vector<double>* err) const;
 
   // The model at the theta of the last Evaluate (every k = 1 before it).
   WearModel& model() { return model_; }
@@ -68,7 +78,9 @@ class Fit {
   WearModel model_;
   Layout layout_;
   int num_rt_ = 0, num_gr_ = 0, num_rows_ = 0;
-  std::vector<double> weight_;
+  std::vector<double> eq9_weight_;    // 1/sqrt(n_p) per data row
+  std::vector<double> robust_sqrt_;  // sqrt(Huber weight) per data row
+  std::vector<double> weight_;       // their product
   std::vector<double> coef_load_;
   std::vector<double> grad_;
   double prior_scale_ = 0;
@@ -109,9 +121,11 @@ Eigen::MatrixXd GaugeTransform(const Fit& fit);
 WearModel ReportedModel(const Fit& fit, const Eigen::MatrixXd& transform,
                         const std::vector<double>& theta);
 
-// Stage 9. The noise model of `model` fitted to its training residuals.
+// Stage 9. The noise model of `model` fitted to its training residuals
+// (robustly, robust.h, when `robust`).
 void FitTrainingNoise(const WearStatistics& stats,
-                      const std::vector<int>& train, WearModel* model);
+                      const std::vector<int>& train, bool robust,
+                      WearModel* model);
 
 }  // namespace calibration_internal
 }  // namespace rollwear

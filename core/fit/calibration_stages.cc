@@ -8,6 +8,7 @@
 
 #include "core/base/random.h"
 #include "core/fit/calibration_internal.h"
+#include "core/fit/robust.h"
 
 namespace rollwear {
 namespace calibration_internal {
@@ -241,14 +242,21 @@ WearModel ReportedModel(const Fit& fit, const Eigen::MatrixXd& transform,
 }
 
 void FitTrainingNoise(const WearStatistics& stats,
-                      const std::vector<int>& train, WearModel* model) {
+                      const std::vector<int>& train, bool robust,
+                      WearModel* model) {
   std::vector<double> pred, err;
   for (int o : train) {
     const Observation& obs = stats.observations[o];
     pred.push_back(PredictObservation(*model, stats, obs));
     err.push_back(obs.measured_um - pred.back());
   }
-  FitNoiseModel(pred, err, model);
+  if (!robust) {
+    FitNoiseModel(pred, err, model);
+    return;
+  }
+  const RobustNoise noise = FitRobustNoise(pred, err);
+  model->noise_sd_um = noise.noise_sd_um;
+  model->noise_rel = noise.noise_rel;
 }
 
 }  // namespace calibration_internal

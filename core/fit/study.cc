@@ -29,6 +29,28 @@ StatusOr<SplitCalibration> CalibrateOnSplit(const WearStatistics& stats,
   out.bias_above_300_um = out.n_above_300 > 0
                               ? sum / out.n_above_300
                               : std::numeric_limits<double>::quiet_NaN();
+  if (options.robust) {
+    const WearModel& m = out.result.model;
+    RobustNoise noise;
+    noise.noise_sd_um = m.noise_sd_um;
+    noise.noise_rel = m.noise_rel;
+    for (const std::vector<int>* set : {&train, &val}) {
+      const std::vector<double> p = PredictAll(m, stats, *set);
+      for (size_t i = 0; i < set->size(); ++i) {
+        const Observation& obs = stats.observations[(*set)[i]];
+        const double u = (obs.measured_um - p[i]) / noise.SdAt(p[i]);
+        if (!(std::abs(u) > kOutlierSigmas)) continue;
+        SuspectedOutlier o;
+        o.campaign = obs.campaign;
+        o.slot = obs.slot;
+        o.training = set == &train;
+        o.measured_um = obs.measured_um;
+        o.predicted_um = p[i];
+        o.standardized_residual = u;
+        out.suspected_outliers.push_back(o);
+      }
+    }
+  }
   return out;
 }
 
@@ -82,6 +104,7 @@ StatusOr<StudyReport> RunStudy(const Dataset& data, const StudyOptions& options)
         static_cast<int>(stats.MeasuredObservations(split.validation).size());
     CalibrationOptions o;
     o.law = law;
+    o.robust = false;  // the paper's least squares (study.h)
     o.seed = options.random_start_seed;
     for (InitialSet set : sets) {
       o.option = 1;

@@ -10,6 +10,7 @@
 #include <ceres/ceres.h>
 
 #include "core/fit/lm_setup.h"
+#include "core/fit/robust.h"
 
 namespace rollwear {
 
@@ -425,7 +426,8 @@ std::vector<double> PredictTerms(const TermData& data, const std::vector<int>& s
 
 std::vector<double> TermNoiseSd(const TermData& td, const std::vector<int>& train,
                                 const std::vector<double>& log_k,
-                                const std::vector<TermSpec>& terms, WearModel* noise_out) {
+                                const std::vector<TermSpec>& terms, WearModel* noise_out,
+                                bool robust) {
   std::vector<int> all(td.obs.size());
   for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
   const std::vector<double> pred = PredictTerms(td, all, log_k, terms);
@@ -434,14 +436,22 @@ std::vector<double> TermNoiseSd(const TermData& td, const std::vector<int>& trai
     p.push_back(pred[o]);
     e.push_back(td.obs[o].measured_um - pred[o]);
   }
-  WearModel noise;
-  FitNoiseModel(p, e, &noise);
+  RobustNoise noise;
+  if (robust) {
+    noise = FitRobustNoise(p, e);
+  } else {
+    WearModel ls;
+    FitNoiseModel(p, e, &ls);
+    noise.noise_sd_um = ls.noise_sd_um;
+    noise.noise_rel = ls.noise_rel;
+  }
   std::vector<double> sd(td.obs.size());
-  double floor = 1e-6;
   for (size_t i = 0; i < sd.size(); ++i) {
-    const double v = noise.noise_sd_um * noise.noise_sd_um +
-                     std::pow(noise.noise_rel * pred[i], 2);
-    sd[i] = std::max(std::sqrt(v), floor);
+    sd[i] = noise.SdAt(pred[i]);
+    // Huber IRLS weight w folded into the sd: residual / (sd / sqrt(w)).
+    if (robust) {
+      sd[i] /= std::sqrt(HuberWeight((td.obs[i].measured_um - pred[i]) / sd[i]));
+    }
   }
   if (noise_out != nullptr) {
     noise_out->noise_sd_um = noise.noise_sd_um;

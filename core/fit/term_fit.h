@@ -92,10 +92,17 @@ std::vector<double> PredictTerms(const TermData& data, const std::vector<int>& s
 // training observations `train` under (log_k, terms); floored at 1e-6 µm.
 // The weights of FitTerms that the diagnosis and the refit of adopted terms
 // use. `noise_out` (optional) receives sigma0 and rho.
+// With `robust` (robust.h): the noise model is fitted robustly and each
+// sd_o is divided by sqrt(w_o), w_o the Huber weight of the observation's
+// standardised residual, so that FitTerms, the score and likelihood-ratio
+// tests and the cross-validation of the diagnosis run one IRLS step of
+// Huber's loss at the current model's residuals (the weights are held fixed
+// within a round, so nested fits stay comparable).
 std::vector<double> TermNoiseSd(const TermData& td, const std::vector<int>& train,
                                 const std::vector<double>& log_k,
                                 const std::vector<TermSpec>& terms,
-                                WearModel* noise_out = nullptr);
+                                WearModel* noise_out = nullptr,
+                                bool robust = true);
 
 // Score (Lagrange-multiplier) test of adding `candidate` (at its start
 // parameters; the parameters tested are those with a non-zero derivative,

@@ -96,12 +96,14 @@ StatusOr<WearModel> RefitWithTerms(const Dataset& data, WearLaw law,
         "no measured roll in the training campaigns");
   }
 
-  // Pass 1: unit weights; pass 2: weights from the noise model of pass 1.
+  // Pass 1: unit weights; passes 2 and 3: the robust noise model and Huber
+  // weights of the previous pass (term_fit.h, TermNoiseSd): least squares,
+  // then Huber IRLS with its scale iterated once.
   WearModel model;
   model.law = law;
   std::vector<double> sd(td.obs.size(), 1.0);
   std::vector<double> log_k;
-  for (int pass = 0; pass < 2; ++pass) {
+  for (int pass = 0; pass < 3; ++pass) {
     ROLLWEAR_ASSIGN_OR_RETURN(TermFitResult fit,
                               FitTerms(td, subset, sd, log_k, specs));
     if (!fit.usable) {

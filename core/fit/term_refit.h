@@ -6,9 +6,10 @@
 // finding has become part of the model, so the adopted physics is not lost
 // when K is updated.
 //
-// Weights: a first fit with unit weights gives residuals whose noise model
-// sigma0^2 + (rho d)^2 (wear_model.h) sets sd_o for a second, weighted fit,
-// the weighting the diagnosis used when it adopted the terms.
+// Weights: a first fit with unit weights gives residuals whose robust noise
+// model sigma0^2 + (rho d)^2 and Huber weights (robust.h, TermNoiseSd) set
+// sd_o for a second, weighted fit, and that fit's for a third: the Huber
+// loss the diagnosis used when it adopted the terms.
 //
 // Thread-safety: pure function of its arguments.
 #ifndef ROLLWEAR_CORE_FIT_TERM_REFIT_H_

@@ -86,6 +86,30 @@ double Diameter(const EffectContext& c, const double* p) {
   return std::pow(p[0] / c.mount->diameter_mm, p[1]);
 }
 
+}  // namespace
+
+// gross_errors: a grinder that now and then reads a plausible-looking but
+// grossly wrong value (a mis-set zero, a reading taken off the centre, a
+// digit typed wrong): a fraction p[0] of the readings is off by a magnitude
+// of two forms, half each: uniform on [min_um, max_um], and heavy-tailed
+// Pareto (tail index 1.2, scale min_um, capped at 3 max_um: median ~1.8
+// min_um, 1 in 10 beyond ~7 min_um), with either sign; a large negative
+// error on a lightly worn roll reads negative.
+double GrossError(Random* rng, const double* p) {
+  if (!(rng->Uniform() < p[0])) return 0;
+  const double sign = rng->Uniform() < 0.5 ? -1.0 : 1.0;
+  double magnitude;
+  if (rng->Uniform() < 0.5) {
+    magnitude = rng->Uniform(p[1], p[2]);
+  } else {
+    const double v = std::max(rng->Uniform(), 1e-12);
+    magnitude = std::min(p[1] * std::pow(v, -1 / 1.2), 3 * p[2]);
+  }
+  return sign * magnitude;
+}
+
+namespace {
+
 const std::vector<EffectSpec>& BuildTable() {
   static const std::vector<EffectSpec> kEffects = {
       {"campaign_growth",
@@ -169,6 +193,16 @@ const std::vector<EffectSpec>& BuildTable() {
        2,
        {{{"d_ref_mm", 700}, {"n", 3}, {"", 0}}},
        &Diameter},
+      {"gross_errors",
+       "",
+       "the grinder reads a fraction of the rolls grossly wrong, either sign: "
+       "half off by uniform [min_um, max_um], half by a heavy-tailed Pareto "
+       "(index 1.2, scale min_um, capped at 3 max_um); acts through no "
+       "recorded quantity",
+       EffectKind::kGrossError,
+       3,
+       {{{"fraction", 0.03}, {"min_um", 30}, {"max_um", 300}}},
+       nullptr},
   };
   return kEffects;
 }

@@ -34,6 +34,7 @@ enum class Stream : uint64_t {
   kMissing = 7,
   kRegrind = 8,
   kTiming = 9,
+  kGross = 10,
 };
 Random MakeRandom(uint64_t seed, Stream stream, uint64_t index);
 // exp(sigma*z - sigma^2/2), z ~ N(0,1): lognormal with mean exactly 1.
@@ -158,6 +159,9 @@ struct EffectContext {
 enum class EffectKind {
   kWearRate,     // Apply returns a multiplier on the pass's wear increment
   kMeasurement,  // Apply returns an additive offset on the measured wear, um
+  // Random gross errors of the grinder on a fraction of the readings
+  // (GrossError draws them; apply is null).
+  kGrossError,
 };
 
 constexpr int kMaxEffectParameters = 3;
@@ -175,6 +179,11 @@ struct EffectSpec {
   std::array<EffectParameter, kMaxEffectParameters> parameters;
   double (*apply)(const EffectContext& ctx, const double* p);
 };
+
+// gross_errors: the error added to one reading, or 0 (most readings), drawn
+// from `rng` with the effect's parameters (fraction, min_um, max_um); see
+// sim_effects.cc.
+double GrossError(Random* rng, const double* p);
 
 // All effects the simulator knows, in a fixed order.
 const std::vector<EffectSpec>& EffectTable();

@@ -155,6 +155,7 @@ class MillRun {
   SimulationTruth& truth_;
   std::vector<ActiveEffect> rate_effects_;
   std::vector<ActiveEffect> measurement_effects_;
+  std::vector<ActiveEffect> gross_effects_;
   std::vector<Roll> rolls_;
   int next_serial_ = 1;
   std::array<int, sim::kNumGrades> grade_index_{};    // -> Dataset::grades
@@ -189,7 +190,9 @@ void MillRun::InitTruthAndEffects() {
       active.parameters[i] = e->parameters[i].value;
       out.parameters[e->parameters[i].name] = e->parameters[i].value;
     }
-    (e->kind == EffectKind::kWearRate ? rate_effects_ : measurement_effects_)
+    (e->kind == EffectKind::kWearRate      ? rate_effects_
+     : e->kind == EffectKind::kMeasurement ? measurement_effects_
+                                           : gross_effects_)
         .push_back(active);
     truth_.effects.push_back(std::move(out));
   }
@@ -350,6 +353,7 @@ void MillRun::MeasureAndRegrind(int campaign,
   Random grinder_rng = MakeRandom(seed, Stream::kGrinder, campaign);
   Random missing_rng = MakeRandom(seed, Stream::kMissing, campaign);
   Random regrind_rng = MakeRandom(seed, Stream::kRegrind, campaign);
+  Random gross_rng = MakeRandom(seed, Stream::kGross, campaign);
   const double backlog_h = 7 * std::exp(cooling_rng.Normal(0, 0.8));
   for (int slot = 0; slot < 4; ++slot) {
     const Mount& m = MountOf(slot);
@@ -373,6 +377,10 @@ void MillRun::MeasureAndRegrind(int campaign,
       offset_um += e.spec->apply(ctx, e.parameters.data());
     }
     const double true_wear_um = scatter * wear_um[slot];
+    double gross_um = 0;
+    for (const ActiveEffect& e : gross_effects_) {
+      gross_um += sim::GrossError(&gross_rng, e.parameters.data());
+    }
     if (!missing) {
       Measurement meas;
       meas.campaign = campaign;
@@ -381,11 +389,13 @@ void MillRun::MeasureAndRegrind(int campaign,
       meas.roll_id = m.roll_id;
       meas.measured_at = measured_at;
       meas.wear_center_um =
-          RoundTo(std::max(1.0, true_wear_um + offset_um + grinder), 1);
+          RoundTo(std::max(1.0, true_wear_um + offset_um + grinder) + gross_um,
+                  1);
       const double noise_free = wear_um[slot] + offset_um;
       abs_noise_sum_ += std::fabs(meas.wear_center_um - noise_free);
       truth_.noise_free_wear_um.push_back(noise_free);
       truth_.noise_free_keys.push_back({cp.id, m.stand, m.position});
+      truth_.gross_error_um.push_back(gross_um);
       data_.measurements.push_back(std::move(meas));
     }
 

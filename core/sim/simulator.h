@@ -38,6 +38,7 @@ struct SimulatorOptions {
 struct SimulatedEffect {
   std::string name;         // e.g. "campaign_growth"
   std::string covariate;    // canonical column/derived name it acts through
+                            // ("" for gross_errors: no recorded quantity)
   std::string description;  // one sentence of physics
   std::map<std::string, double> parameters;
 };
@@ -63,6 +64,9 @@ struct SimulationTruth {
   // floor: mean |measured - noise-free| over all measurements.
   std::vector<double> noise_free_wear_um;
   std::vector<SimulatedMeasurementKey> noise_free_keys;  // same order
+  // Same order: the gross grinder error added to the reading (effect
+  // gross_errors; 0 for a clean reading, and for every reading without it).
+  std::vector<double> gross_error_um;
   double noise_floor_um = 0;
   double grinder_noise_sd_um = 0;
   double roll_scatter_sd = 0;  // relative, per physical roll and campaign

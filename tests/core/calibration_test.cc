@@ -244,6 +244,7 @@ TEST(CalibrationTest, PaperProtocolRespectsItsBudgetAndExactIsNoWorse) {
   const std::vector<int> train = st.MeasuredObservations();
   CalibrationOptions o;
   o.initial_set = InitialSet::kOnes;
+  o.robust = false;  // the same (least-squares) cost as the paper's protocol
   StatusOr<CalibrationResult> exact = Calibrate(st, train, o);
   o.derivatives = DerivativeMode::kPaperForwardDifference;
   StatusOr<CalibrationResult> paper = Calibrate(st, train, o);

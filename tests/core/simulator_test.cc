@@ -425,13 +425,19 @@ TEST(SimulatorTest, EffectsAreListedWithCanonicalCovariates) {
   }
   for (const char* required :
        {"campaign_growth", "run_in", "warm_measurement", "temperature",
-        "lubrication", "hardness", "speed", "supplier_change", "reduction", "diameter"}) {
+        "lubrication", "hardness", "speed", "supplier_change", "reduction", "diameter",
+        "gross_errors"}) {
     EXPECT_NE(std::find(names.begin(), names.end(), required), names.end())
         << required;
   }
   const Simulation sim = Simulated(4, 3, names);
   ASSERT_EQ(sim.truth.effects.size(), names.size());
   for (const SimulatedEffect& e : sim.truth.effects) {
+    if (e.name == "gross_errors") {  // acts through no recorded quantity
+      EXPECT_EQ(e.covariate, "");
+      EXPECT_FALSE(e.parameters.empty());
+      continue;
+    }
     EXPECT_TRUE(canonical.count(e.covariate)) << e.name << ": " << e.covariate;
     EXPECT_FALSE(e.parameters.empty()) << e.name;
   }

@@ -50,6 +50,22 @@ TEST(SimTruthJsonTest, WritesEveryMeasurementAndEffect) {
                    sim.truth.noise_floor_um);
 }
 
+TEST(SimTruthJsonTest, ListsTheGrossErrors) {
+  const Simulation sim = Simulated(5, 60, {"gross_errors"});
+  const nlohmann::json doc = nlohmann::json::parse(TruthJson(sim.truth));
+  const nlohmann::json& rows = doc.at("noise_free_wear_um");
+  ASSERT_EQ(rows.size(), sim.data.measurements.size());
+  int gross = 0;
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const double g = rows[i].at("gross_error_um").get<double>();
+    EXPECT_DOUBLE_EQ(g, sim.truth.gross_error_um[i]);
+    gross += g != 0;
+  }
+  EXPECT_GT(gross, 0);  // 3 % of 240 readings
+  EXPECT_EQ(doc.at("gross_errors").get<int>(), gross);
+  EXPECT_EQ(doc.at("effects")[0].at("covariate").get<std::string>(), "");
+}
+
 TEST(SimTruthJsonTest, NonFiniteNumbersAreNull) {
   SimulationTruth truth;
   truth.noise_floor_um = std::numeric_limits<double>::quiet_NaN();
