@@ -147,7 +147,6 @@ api::DiagnosisJob DiagnosisJobs::Run(int64_t id, bool adopt) {
     result.verdict = report->verdict;
     result.report = api::DiagnosisJsonText(*report, -1, &data->quality);
     result.html = DiagnosisHtml(*report);
-    result.verdict = report->verdict;
     if (adopt && !report->findings.empty()) {
       // Scored on the validation campaigns of the data and split the
       // diagnosis fitted on.
