@@ -4,6 +4,7 @@
 //   rollwear_http_request_duration_seconds{route,method}  histogram
 //   rollwear_http_requests_total{route,method,code_class}  counter
 //   rollwear_coils_ingested_total                          counter
+//   rollwear_http_connections_total{event}                 counter
 //   rollwear_calibration_runs_total{status}                counter
 //   rollwear_calibration_duration_seconds                  histogram
 // plus figures read from the store at scrape time (StoreFigures):
@@ -54,6 +55,22 @@ const char* RoutePath(RouteId route);
 // "GET" or "POST" ("" for kUnmatched).
 const char* RouteMethod(RouteId route);
 
+// What the HTTP server did to a connection outside of answering requests
+// (the event label of rollwear_http_connections_total).
+enum class ConnectionEvent : int {
+  kRefusedGlobalCap = 0,  // at the connection cap: accepting paused
+  kRefusedPerClient,      // over the per-client limit: 503 and closed
+  kTimeoutHead,           // head not in within head_timeout
+  kTimeoutBody,           // body not in within body_timeout (or paused)
+  kTimeoutIdle,           // kept-alive and idle past keep_alive_timeout
+  kTimeoutWrite,          // answer not taken within write_timeout
+  kInputBudget,           // not read: total buffered input over budget
+  kCount
+};
+constexpr int kNumConnectionEvents = static_cast<int>(ConnectionEvent::kCount);
+// "refused_global_cap", "timeout_head", ...
+const char* ConnectionEventName(ConnectionEvent event);
+
 // Figures read from the store when /metrics is scraped.
 struct StoreFigures {
   bool healthy = false;
@@ -74,6 +91,11 @@ class Metrics {
   // One coil newly stored through the API (repeats are not counted).
   void CountCoilIngested() {
     coils_ingested_.fetch_add(1, std::memory_order_relaxed);
+  }
+  // One refused, timed-out or throttled connection.
+  void CountConnection(ConnectionEvent event) {
+    connections_[static_cast<int>(event)].fetch_add(1,
+                                                    std::memory_order_relaxed);
   }
   // One finished calibration run ("done" or "failed") and its duration.
   void ObserveCalibration(bool succeeded, double seconds);
@@ -106,6 +128,7 @@ class Metrics {
   // Requests by route and status class 2xx, 4xx, 5xx (index 0, 1, 2).
   std::array<std::array<std::atomic<uint64_t>, 3>, kNumRoutes> codes_{};
   std::atomic<int64_t> coils_ingested_{0};
+  std::array<std::atomic<uint64_t>, kNumConnectionEvents> connections_{};
   std::atomic<int64_t> calibrations_done_{0};
   std::atomic<int64_t> calibrations_failed_{0};
   Histogram<10> calibration_seconds_;
