@@ -60,12 +60,14 @@ void HttpServer::Impl::ReadSocket(Conn* c) {
   c->read_pending = false;
   while (true) {
     if (!c->lingering &&
-        (c->in.size() - c->in_start >= cap || OverBudget(c))) {
-      c->read_pending = true;  // resumed when the request is answered
+        (c->in.size() - c->in_start >= cap || OverBudget(c) ||
+         TurnOver(c, /*reading=*/true))) {
+      c->read_pending = true;  // resumed when answered, or its next turn
       break;
     }
     const ssize_t n = recv(c->fd, buf, sizeof(buf), 0);
     if (n > 0) {
+      c->turn_bytes += static_cast<size_t>(n);
       if (!c->lingering) {
         c->in.append(buf, static_cast<size_t>(n));
         AccountInput(c);
@@ -96,7 +98,7 @@ void HttpServer::Impl::ParseRequests(Conn* c) {
       c->in_start = 0;
       return;
     }
-    if (TurnOver(c)) return;
+    if (TurnOver(c, /*reading=*/false)) return;
     if (!c->request_started) StartHead(c, now);
     const RequestParser::Result result = c->parser.Parse(data);
     if (result == RequestParser::Result::kNeedMore) {

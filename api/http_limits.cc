@@ -21,6 +21,7 @@ namespace rollwear::api {
 using server_internal::Clock;
 using server_internal::Conn;
 using server_internal::kBudgetExemptBytes;
+using server_internal::kBytesPerTurn;
 using server_internal::kKeepBufferBytes;
 using server_internal::kListenTag;
 using server_internal::kRequestsPerTurn;
@@ -183,12 +184,16 @@ void HttpServer::Impl::OnProgress(Conn* c, Clock::time_point now) {
                          now + std::chrono::seconds(options.read_timeout_s));
 }
 
-bool HttpServer::Impl::TurnOver(Conn* c) {
+bool HttpServer::Impl::TurnOver(Conn* c, bool reading) {
   if (c->turn != turn) {
     c->turn = turn;
     c->turn_requests = 0;
+    c->turn_bytes = 0;
   }
-  if (c->turn_requests < kRequestsPerTurn) return false;
+  if (reading ? c->turn_bytes < kBytesPerTurn
+              : c->turn_requests < kRequestsPerTurn) {
+    return false;
+  }
   if (!c->in_ready) {
     c->in_ready = true;
     ready.push_back(c->id);

@@ -55,6 +55,8 @@ inline constexpr size_t kMaxPendingOut = 1 << 20;
 // Requests a connection may have handled in one turn of the I/O loop
 // before the other ready connections get theirs.
 inline constexpr int kRequestsPerTurn = 8;
+// Bytes a connection may have read in one turn.
+inline constexpr size_t kBytesPerTurn = 256 << 10;
 // Buffers larger than this are given back after each request.
 inline constexpr size_t kKeepBufferBytes = 64 << 10;
 // Over the input budget, a connection with at least this much of a
@@ -83,6 +85,7 @@ struct Conn {
   int served = 0;
   uint64_t turn = 0;  // the loop turn turn_requests counts in
   int turn_requests = 0;
+  size_t turn_bytes = 0;
   size_t in_accounted = 0;  // in.size() as counted in Impl::buffered_in
   Clock::time_point deadline;        // the next one (the sweep closes)
   Clock::time_point phase_deadline;  // head's or body's total deadline
@@ -197,8 +200,9 @@ struct HttpServer::Impl {
   // or body, or the end of the longest pause (read_timeout), if sooner.
   void StartHead(Conn* c, Clock::time_point now);
   void OnProgress(Conn* c, Clock::time_point now);
-  // Whether `c` has used its turn (then it is queued in `ready`).
-  bool TurnOver(Conn* c);
+  // Whether `c` has used its turn, for reading (kBytesPerTurn) or for
+  // requests (kRequestsPerTurn); if so it is queued in `ready`.
+  bool TurnOver(Conn* c, bool reading);
   // Resumes what `c` left: reading, or the requests it has in.
   void Resume(Conn* c);
   void RunReadyTurns();
