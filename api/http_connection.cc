@@ -102,9 +102,12 @@ void HttpServer::Impl::ParseRequests(Conn* c) {
     if (!c->request_started) StartHead(c, now);
     const RequestParser::Result result = c->parser.Parse(data);
     if (result == RequestParser::Result::kNeedMore) {
+      // Only new bytes push the pause deadline back.
+      const bool progress = data.size() > c->parsed_size;
+      c->parsed_size = data.size();
       if (c->parser.headers_done()) {
-        OnHeadIn(c, now);
-      } else {
+        OnHeadIn(c, now, progress);
+      } else if (progress) {
         OnProgress(c, now);
       }
       return;
@@ -136,12 +139,14 @@ void HttpServer::Impl::ParseRequests(Conn* c) {
     c->request_started = false;
     c->continue_sent = false;
     c->prechecked = false;
+    c->parsed_size = 0;
     ++c->turn_requests;
     Dispatch(c, std::move(request));
   }
 }
 
-void HttpServer::Impl::OnHeadIn(Conn* c, Clock::time_point now) {
+void HttpServer::Impl::OnHeadIn(Conn* c, Clock::time_point now,
+                                bool progress) {
   if (!c->prechecked) {
     // The head is in and the body is not: refuse from the head alone
     // (404, 405, 401, 413) before "100 Continue" and before reading the
@@ -165,7 +170,7 @@ void HttpServer::Impl::OnHeadIn(Conn* c, Clock::time_point now) {
       return;
     }
   }
-  OnProgress(c, now);
+  if (progress) OnProgress(c, now);
   if (c->parser.expects_continue() && !c->continue_sent) {
     c->continue_sent = true;
     c->out += "HTTP/1.1 100 Continue\r\n\r\n";

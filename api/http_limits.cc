@@ -232,9 +232,11 @@ void HttpServer::Impl::AccountInput(Conn* c) {
   if (c->in.empty() && c->in.capacity() > kKeepBufferBytes) {
     std::string().swap(c->in);
   }
-  buffered_in += c->in.size();
+  // The bytes received and the body the parser has copied out of them.
+  const size_t held = c->in.capacity() + c->parser.request().body.capacity();
+  buffered_in += held;
   buffered_in -= c->in_accounted;
-  c->in_accounted = c->in.size();
+  c->in_accounted = held;
 }
 
 bool HttpServer::Impl::OverBudget(Conn* c) {

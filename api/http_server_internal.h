@@ -86,7 +86,8 @@ struct Conn {
   uint64_t turn = 0;  // the loop turn turn_requests counts in
   int turn_requests = 0;
   size_t turn_bytes = 0;
-  size_t in_accounted = 0;  // in.size() as counted in Impl::buffered_in
+  size_t in_accounted = 0;  // what Impl::buffered_in counts for this one
+  size_t parsed_size = 0;   // the request's bytes at the last Parse()
   Clock::time_point deadline;        // the next one (the sweep closes)
   Clock::time_point phase_deadline;  // head's or body's total deadline
   // The request with the router.
@@ -142,7 +143,8 @@ struct HttpServer::Impl {
   // Connections whose turn ended with work left, resumed next loop turn.
   std::vector<uint64_t> ready;
   uint64_t turn = 0;
-  // Request bytes buffered across connections, and the connections not
+  // Request bytes buffered across connections (input buffers and bodies
+  // being parsed, by capacity), and the connections not
   // read while it is over options.max_buffered_input_bytes.
   size_t buffered_in = 0;
   std::vector<uint64_t> budget_waiting;
@@ -229,7 +231,7 @@ struct HttpServer::Impl {
   void ParseRequests(Conn* c);
   // A head is in and its body is not: the head's checks (answered and
   // closed when refused), the body's deadlines, "100 Continue".
-  void OnHeadIn(Conn* c, Clock::time_point now);
+  void OnHeadIn(Conn* c, Clock::time_point now, bool progress);
   // Queues the answer (one send for head and body) and flushes it. May
   // close `c`.
   void WriteAnswer(Conn* c, const HttpResponse& response);

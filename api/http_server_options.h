@@ -58,7 +58,7 @@ struct HttpServerOptions {
   int write_timeout_s = 5;
   // Request bytes buffered across all connections; over it, connections
   // with more than 64 KiB of a request in are not read until it drops.
-  size_t max_buffered_input_bytes = size_t{256} << 20;
+  size_t max_buffered_input_bytes = size_t{64} << 20;
   size_t payload_max_bytes = 1 << 20;
   // Request header limits: a request with more header lines or more header
   // bytes than these is answered 431 before its body is read. The request

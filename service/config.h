@@ -24,7 +24,7 @@
 //                        first byte (total)
 //   body_timeout         seconds for a body, from the head's end     60
 //   read_timeout         longest pause within a head or body (s)     5
-//   max_buffered_input_bytes  request bytes buffered in all;         268435456
+//   max_buffered_input_bytes  request bytes buffered in all;         67108864
 //                        over it, big partial requests wait
 //   log_level            trace|debug|info|warn|error|off             info
 //   cpu_wakeup_latency_us  CPU wake-up limit held while traffic        off
@@ -65,7 +65,7 @@ struct ServeConfig {
   int head_timeout_s = 10;
   int body_timeout_s = 60;
   int read_timeout_s = 5;
-  size_t max_buffered_input_bytes = size_t{256} << 20;
+  size_t max_buffered_input_bytes = size_t{64} << 20;
   std::string log_level = "info";
   // Microseconds; -1 = off (no CPU latency QoS request).
   int cpu_wakeup_latency_us = -1;
