@@ -194,11 +194,19 @@ bool HttpServer::Impl::TurnOver(Conn* c, bool reading) {
               : c->turn_requests < kRequestsPerTurn) {
     return false;
   }
-  if (!c->in_ready) {
-    c->in_ready = true;
-    ready.push_back(c->id);
-  }
+  MarkReady(c);
   return true;
+}
+
+void HttpServer::Impl::MarkReady(Conn* c) {
+  if (c->in_ready) return;
+  c->in_ready = true;
+  ready.push_back(c->id);
+}
+
+Conn* HttpServer::Impl::Find(uint64_t id) {
+  auto it = conns.find(id);
+  return it == conns.end() ? nullptr : it->second.get();
 }
 
 void HttpServer::Impl::Resume(Conn* c) {
@@ -219,9 +227,8 @@ void HttpServer::Impl::RunReadyTurns() {
   std::vector<uint64_t> now_ready;
   now_ready.swap(ready);
   for (const uint64_t id : now_ready) {
-    auto it = conns.find(id);
-    if (it == conns.end()) continue;
-    Conn* c = it->second.get();
+    Conn* c = Find(id);
+    if (c == nullptr) continue;
     c->in_ready = false;
     if (c->busy || c->out_sent < c->out.size()) continue;  // resumed later
     Resume(c);
@@ -261,15 +268,11 @@ void HttpServer::Impl::ResumeBudgetWaiting() {
   std::vector<uint64_t> waiting;
   waiting.swap(budget_waiting);
   for (const uint64_t id : waiting) {
-    auto it = conns.find(id);
-    if (it == conns.end()) continue;
-    Conn* c = it->second.get();
+    Conn* c = Find(id);
+    if (c == nullptr) continue;
     c->budget_waiting = false;
     c->read_pending = true;
-    if (!c->in_ready) {
-      c->in_ready = true;
-      ready.push_back(id);
-    }
+    MarkReady(c);
   }
 }
 

@@ -82,9 +82,8 @@ void HttpServer::Impl::Run() {
         }
         wake_pending.store(false);
       } else {
-        auto it = conns.find(tag);
-        if (it == conns.end()) continue;
-        Conn* c = it->second.get();
+        Conn* c = Find(tag);
+        if (c == nullptr) continue;
         if (events[i].events & EPOLLOUT) {
           Flush(c);
           if (!conns.count(tag)) continue;
@@ -237,9 +236,8 @@ void HttpServer::Impl::RunCompletions() {
     }
     for (Completion& done : completions_spare) {
       --in_flight;
-      auto it = conns.find(done.conn_id);
-      if (it == conns.end()) continue;  // the client went away
-      Conn* c = it->second.get();
+      Conn* c = Find(done.conn_id);
+      if (c == nullptr) continue;  // the client went away
       Complete(c, std::move(done.response));
       if (conns.count(done.conn_id)) Resume(c);
     }

@@ -205,6 +205,10 @@ struct HttpServer::Impl {
   // Whether `c` has used its turn, for reading (kBytesPerTurn) or for
   // requests (kRequestsPerTurn); if so it is queued in `ready`.
   bool TurnOver(Conn* c, bool reading);
+  // Queues `c` in `ready` (once).
+  void MarkReady(Conn* c);
+  // The open connection `id`, or null.
+  Conn* Find(uint64_t id);
   // Resumes what `c` left: reading, or the requests it has in.
   void Resume(Conn* c);
   void RunReadyTurns();
