@@ -79,8 +79,7 @@ void HttpServer::Impl::Refuse(int fd, const std::string& addr) {
                "); retry later");
   r.headers.emplace_back("Retry-After", "1");
   std::string out;
-  server_internal::AppendAnswer(&out, r, Date(), "Connection: close\r\n",
-                                true);
+  server_internal::AppendAnswer(&out, r, Date(), "Connection: close\r\n", true);
   // A fresh socket's send buffer takes the small answer at once. Drain
   // what the client sent before closing, so the close is a FIN, not a
   // reset that would throw the answer away.
@@ -99,8 +98,7 @@ void HttpServer::Impl::PauseAcceptAtCap() {
   ev.data.u64 = kListenTag;
   epoll_ctl(epoll_fd, EPOLL_CTL_MOD, listen_fd, &ev);
   accept_at_cap = true;
-  Note(ConnectionEvent::kRefusedGlobalCap, "accept_paused", "global_cap",
-       "-");
+  Note(ConnectionEvent::kRefusedGlobalCap, "accept_paused", "global_cap", "-");
 }
 
 void HttpServer::Impl::ResumeAcceptBelowCap() {
@@ -164,11 +162,11 @@ void HttpServer::Impl::Sweep(Clock::time_point now) {
       Note(ConnectionEvent::kTimeoutIdle, "connection_timeout", "idle",
            c->remote_addr);
     } else if (c->parser.headers_done()) {
-      Note(ConnectionEvent::kTimeoutBody, "connection_timeout",
-           "body_deadline", c->remote_addr);
+      Note(ConnectionEvent::kTimeoutBody, "connection_timeout", "body_deadline",
+           c->remote_addr);
     } else {
-      Note(ConnectionEvent::kTimeoutHead, "connection_timeout",
-           "head_deadline", c->remote_addr);
+      Note(ConnectionEvent::kTimeoutHead, "connection_timeout", "head_deadline",
+           c->remote_addr);
     }
     Close(c);
   }
@@ -254,8 +252,8 @@ bool HttpServer::Impl::OverBudget(Conn* c) {
   if (!c->budget_waiting) {
     c->budget_waiting = true;
     budget_waiting.push_back(c->id);
-    Note(ConnectionEvent::kInputBudget, "connection_throttled",
-         "input_budget", c->remote_addr);
+    Note(ConnectionEvent::kInputBudget, "connection_throttled", "input_budget",
+         c->remote_addr);
   }
   return true;
 }

@@ -20,8 +20,8 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -192,8 +192,8 @@ class SlowClients {
       for (size_t i = 0; i < fds_.size() && !stop_; ++i) {
         int& fd = fds_[i];
         char buf[4096];
-        const bool gone = fd < 0 || recv(fd, buf, sizeof(buf), MSG_DONTWAIT) ==
-                                        0 ||
+        const bool gone = fd < 0 ||
+                          recv(fd, buf, sizeof(buf), MSG_DONTWAIT) == 0 ||
                           send(fd, " ", 1, MSG_NOSIGNAL) < 0;
         if (gone && reconnect_) {
           if (fd >= 0) close(fd);
@@ -265,7 +265,8 @@ TEST_F(AttackTest, SlowClientsFromOneAddressDoNotLockOthersOut) {
 TEST_F(AttackTest, SlowClientsFromFiftyAddressesAreCutByTheDeadlines) {
   StartDaemon({"ROLLWEAR_HEAD_TIMEOUT=2", "ROLLWEAR_BODY_TIMEOUT=2"});
   std::vector<std::string> sources;
-  for (int i = 1; i <= 50; ++i) sources.push_back("127.0.1." + std::to_string(i));
+  for (int i = 1; i <= 50; ++i)
+    sources.push_back("127.0.1." + std::to_string(i));
   const int per_kind = FullOr(1000, 200);
   SlowClients slow(daemon_->port(), sources, per_kind, false);
   const auto start = Clock::now();
@@ -381,8 +382,8 @@ TEST_F(AttackTest, MemoryOfBigFramingIsGivenBackAfterClose) {
   // Connections over the input budget are read no further, so they see
   // their client's close only when a deadline cuts them: a short body
   // deadline keeps the test short.
-  StartDaemon({"ROLLWEAR_MAX_CONNECTIONS_PER_CLIENT=1000",
-               "ROLLWEAR_BODY_TIMEOUT=3"});
+  StartDaemon(
+      {"ROLLWEAR_MAX_CONNECTIONS_PER_CLIENT=1000", "ROLLWEAR_BODY_TIMEOUT=3"});
   const pid_t pid = daemon_->process()->pid();
   double t = 0;
   ASSERT_EQ(TimedGet("127.0.0.2", daemon_->port(), &t), 200);
@@ -466,18 +467,18 @@ TEST_F(AttackTest, PipeliningClientDoesNotStallOthers) {
 // "100 Continue".
 TEST_F(AttackTest, RefusedExpectContinueDrawsNoBody) {
   StartDaemon({"ROLLWEAR_TOKEN=s3cret"});
-  const std::string upload = "Content-Type: application/json\r\n"
-                             "Content-Length: 900000\r\n"
-                             "Expect: 100-continue\r\n\r\n";
+  const std::string upload =
+      "Content-Type: application/json\r\n"
+      "Content-Length: 900000\r\n"
+      "Expect: 100-continue\r\n\r\n";
   struct Case {
     const char* head;
     int status;
   };
-  for (const Case& c :
-       {Case{"POST /v1/coils HTTP/1.1\r\nHost: x\r\n", 401},
-        Case{"POST /v1/nope HTTP/1.1\r\nHost: x\r\n"
-             "Authorization: Bearer s3cret\r\n",
-             404}}) {
+  for (const Case& c : {Case{"POST /v1/coils HTTP/1.1\r\nHost: x\r\n", 401},
+                        Case{"POST /v1/nope HTTP/1.1\r\nHost: x\r\n"
+                             "Authorization: Bearer s3cret\r\n",
+                             404}}) {
     const int fd = Connect("127.0.0.2", daemon_->port());
     ASSERT_GE(fd, 0);
     const auto start = Clock::now();
