@@ -59,9 +59,8 @@ void HttpServer::Impl::ReadSocket(Conn* c) {
   char buf[64 << 10];
   c->read_pending = false;
   while (true) {
-    if (!c->lingering &&
-        (c->in.size() - c->in_start >= cap || OverBudget(c) ||
-         TurnOver(c, /*reading=*/true))) {
+    if (!c->lingering && (c->in.size() - c->in_start >= cap || OverBudget(c) ||
+                          TurnOver(c, /*reading=*/true))) {
       c->read_pending = true;  // resumed when answered, or its next turn
       break;
     }
@@ -145,8 +144,7 @@ void HttpServer::Impl::ParseRequests(Conn* c) {
   }
 }
 
-void HttpServer::Impl::OnHeadIn(Conn* c, Clock::time_point now,
-                                bool progress) {
+void HttpServer::Impl::OnHeadIn(Conn* c, Clock::time_point now, bool progress) {
   if (!c->prechecked) {
     // The head is in and the body is not: refuse from the head alone
     // (404, 405, 401, 413) before "100 Continue" and before reading the
@@ -191,8 +189,9 @@ void HttpServer::Impl::WriteAnswer(Conn* c, const HttpResponse& response) {
     c->close_after_write = true;
   } else {
     if (c->http10) connection = "Connection: keep-alive\r\n";
-    connection += "Keep-Alive: timeout=" +
-                  std::to_string(options.keep_alive_timeout_s) + "\r\n";
+    connection +=
+        "Keep-Alive: timeout=" + std::to_string(options.keep_alive_timeout_s) +
+        "\r\n";
   }
   server_internal::AppendAnswer(&out, response, Date(), connection, !c->head);
   Flush(c);

@@ -15,7 +15,6 @@
 // writing are in http_connection.cc (shared state: http_server_internal.h).
 #include "api/http_server.h"
 
-#include <malloc.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
 #include <sys/epoll.h>
@@ -28,6 +27,8 @@
 #include <exception>
 #include <functional>
 #include <utility>
+
+#include <malloc.h>
 
 #include "api/codec.h"
 #include "api/http_server_internal.h"
@@ -68,9 +69,9 @@ void HttpServer::Impl::Run() {
   while (true) {
     ++turn;
     RunReadyTurns();
-    const int n = epoll_wait(epoll_fd, events.data(),
-                             static_cast<int>(events.size()),
-                             ready.empty() ? kSweepMs : 0);
+    const int n =
+        epoll_wait(epoll_fd, events.data(), static_cast<int>(events.size()),
+                   ready.empty() ? kSweepMs : 0);
     if (n > 0 && options.on_activity) options.on_activity();
     for (int i = 0; i < n; ++i) {
       const uint64_t tag = events[i].data.u64;

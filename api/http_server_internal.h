@@ -86,9 +86,9 @@ struct Conn {
   uint64_t turn = 0;  // the loop turn turn_requests counts in
   int turn_requests = 0;
   size_t turn_bytes = 0;
-  size_t in_accounted = 0;  // what Impl::buffered_in counts for this one
-  size_t parsed_size = 0;   // the request's bytes at the last Parse()
-  Clock::time_point deadline;        // the next one (the sweep closes)
+  size_t in_accounted = 0;     // what Impl::buffered_in counts for this one
+  size_t parsed_size = 0;      // the request's bytes at the last Parse()
+  Clock::time_point deadline;  // the next one (the sweep closes)
   Clock::time_point phase_deadline;  // head's or body's total deadline
   // The request with the router.
   std::string method;

@@ -114,9 +114,9 @@ RouteId MatchRoute(const std::string& path, bool post, std::string* arg1,
       p.substr(0, kCampaignsPrefix.size()) == kCampaignsPrefix &&
       p.substr(p.size() - kEndSuffix.size()) == kEndSuffix) {
     // The id may hold any character, '/' included (sent as %2F).
-    *arg1 = Segment(p.substr(kCampaignsPrefix.size(), p.size() -
-                                                          kCampaignsPrefix.size() -
-                                                          kEndSuffix.size()));
+    *arg1 = Segment(
+        p.substr(kCampaignsPrefix.size(),
+                 p.size() - kCampaignsPrefix.size() - kEndSuffix.size()));
     return RouteId::kCampaignEnd;
   }
   if (p.substr(0, kWearPrefix.size()) == kWearPrefix) {
@@ -276,9 +276,9 @@ bool Router::Authorized(const HttpRequest& request) const {
   return ConstantTimeEquals(presented, options_.token);
 }
 
-std::optional<HttpResponse> Router::PreCheck(
-    const HttpRequest& head, RouteId* route, std::string* arg1,
-    std::string* arg2) const {
+std::optional<HttpResponse> Router::PreCheck(const HttpRequest& head,
+                                             RouteId* route, std::string* arg1,
+                                             std::string* arg2) const {
   const bool get = head.method == "GET" || head.method == "HEAD";
   const bool post = head.method == "POST";
   *route = MatchRoute(head.path, post, arg1, arg2);

@@ -149,8 +149,7 @@ Status SetConfigValue(const std::string& key, const std::string& value,
      : key == "body_timeout" ? c->body_timeout_s
                              : c->read_timeout_s) = static_cast<int>(n);
   } else if (key == "max_buffered_input_bytes") {
-    ROLLWEAR_RETURN_IF_ERROR(
-        SetInt(key, value, where, 1 << 20, 1LL << 36, &n));
+    ROLLWEAR_RETURN_IF_ERROR(SetInt(key, value, where, 1 << 20, 1LL << 36, &n));
     c->max_buffered_input_bytes = static_cast<size_t>(n);
   } else if (key == "log_level") {
     static constexpr const char* kLevels[] = {"trace", "debug", "info",
