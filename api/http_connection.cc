@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -24,7 +25,10 @@ using server_internal::kMaxPendingOut;
 void HttpServer::Impl::Close(Conn* c) {
   epoll_ctl(epoll_fd, EPOLL_CTL_DEL, c->fd, nullptr);
   close(c->fd);
+  buffered_in -= c->in_accounted;
+  ReleaseClient(c->remote_addr);
   conns.erase(c->id);  // destroys *c
+  ResumeAcceptBelowCap();
 }
 
 void HttpServer::Impl::OnReadable(Conn* c) {
@@ -37,14 +41,17 @@ void HttpServer::Impl::OnReadable(Conn* c) {
     }
     ProcessInput(c);
     if (!conns.count(id)) return;
-    if (!c->read_pending || c->busy || c->close_after_write ||
-        c->out.size() - c->out_sent >= kMaxPendingOut) {
+    if (!c->read_pending || c->busy || c->close_after_write || c->in_ready ||
+        c->budget_waiting || c->out.size() - c->out_sent >= kMaxPendingOut) {
       break;
     }
   }
   // A peer that closed its side gets the answers it asked for; then the
   // connection goes.
-  if (c->peer_closed && !c->busy && c->out_sent == c->out.size()) Close(c);
+  if (c->peer_closed && !c->busy && !c->in_ready &&
+      c->out_sent == c->out.size()) {
+    Close(c);
+  }
 }
 
 void HttpServer::Impl::ReadSocket(Conn* c) {
@@ -52,13 +59,18 @@ void HttpServer::Impl::ReadSocket(Conn* c) {
   char buf[64 << 10];
   c->read_pending = false;
   while (true) {
-    if (!c->lingering && c->in.size() - c->in_start >= cap) {
-      c->read_pending = true;  // resumed when the request is answered
+    if (!c->lingering && (c->in.size() - c->in_start >= cap || OverBudget(c) ||
+                          TurnOver(c, /*reading=*/true))) {
+      c->read_pending = true;  // resumed when answered, or its next turn
       break;
     }
     const ssize_t n = recv(c->fd, buf, sizeof(buf), 0);
     if (n > 0) {
-      if (!c->lingering) c->in.append(buf, static_cast<size_t>(n));
+      c->turn_bytes += static_cast<size_t>(n);
+      if (!c->lingering) {
+        c->in.append(buf, static_cast<size_t>(n));
+        AccountInput(c);
+      }
       continue;
     }
     if (n < 0 && errno == EINTR) continue;
@@ -70,6 +82,12 @@ void HttpServer::Impl::ReadSocket(Conn* c) {
 
 void HttpServer::Impl::ProcessInput(Conn* c) {
   const uint64_t id = c->id;
+  ParseRequests(c);
+  if (conns.count(id)) AccountInput(c);
+}
+
+void HttpServer::Impl::ParseRequests(Conn* c) {
+  const uint64_t id = c->id;
   while (conns.count(id) && !c->busy && !c->close_after_write &&
          c->out.size() - c->out_sent < kMaxPendingOut) {
     const std::string_view data = std::string_view(c->in).substr(c->in_start);
@@ -79,20 +97,17 @@ void HttpServer::Impl::ProcessInput(Conn* c) {
       c->in_start = 0;
       return;
     }
-    if (!c->request_started) {
-      // The head must arrive within the read timeout of its first byte.
-      c->request_started = true;
-      c->deadline = now + std::chrono::seconds(options.read_timeout_s);
-    }
+    if (TurnOver(c, /*reading=*/false)) return;
+    if (!c->request_started) StartHead(c, now);
     const RequestParser::Result result = c->parser.Parse(data);
     if (result == RequestParser::Result::kNeedMore) {
+      // Only new bytes push the pause deadline back.
+      const bool progress = data.size() > c->parsed_size;
+      c->parsed_size = data.size();
       if (c->parser.headers_done()) {
-        c->deadline = now + std::chrono::seconds(options.read_timeout_s);
-        if (c->parser.expects_continue() && !c->continue_sent) {
-          c->continue_sent = true;
-          c->out += "HTTP/1.1 100 Continue\r\n\r\n";
-          Flush(c);
-        }
+        OnHeadIn(c, now, progress);
+      } else if (progress) {
+        OnProgress(c, now);
       }
       return;
     }
@@ -122,7 +137,42 @@ void HttpServer::Impl::ProcessInput(Conn* c) {
     c->parser.Reset();
     c->request_started = false;
     c->continue_sent = false;
+    c->prechecked = false;
+    c->parsed_size = 0;
+    ++c->turn_requests;
     Dispatch(c, std::move(request));
+  }
+}
+
+void HttpServer::Impl::OnHeadIn(Conn* c, Clock::time_point now, bool progress) {
+  if (!c->prechecked) {
+    // The head is in and the body is not: refuse from the head alone
+    // (404, 405, 401, 413) before "100 Continue" and before reading the
+    // body, then close.
+    c->prechecked = true;
+    c->phase_deadline = now + std::chrono::seconds(options.body_timeout_s);
+    std::optional<HttpResponse> refused;
+    try {
+      refused = router->PreCheck(c->parser.request());
+    } catch (...) {
+    }
+    if (refused) {
+      c->method = c->parser.request().method;
+      c->path = c->parser.request().path;
+      c->request_bytes = 0;
+      c->started = now;
+      c->head = c->parser.head();
+      c->http10 = c->parser.http10();
+      c->keep_alive = false;
+      Complete(c, std::move(*refused));
+      return;
+    }
+  }
+  if (progress) OnProgress(c, now);
+  if (c->parser.expects_continue() && !c->continue_sent) {
+    c->continue_sent = true;
+    c->out += "HTTP/1.1 100 Continue\r\n\r\n";
+    Flush(c);
   }
 }
 
@@ -132,30 +182,18 @@ void HttpServer::Impl::WriteAnswer(Conn* c, const HttpResponse& response) {
     out.clear();
     c->out_sent = 0;
   }
-  out += "HTTP/1.1 ";
-  out += std::to_string(response.status);
-  out += ' ';
-  out += ReasonPhrase(response.status);
-  out += "\r\nContent-Type: ";
-  out += response.content_type;
-  out += "\r\nContent-Length: ";
-  out += std::to_string(response.body.size());
-  out += "\r\n";
-  for (const auto& [key, value] : response.headers) {
-    out += key;
-    out += ": ";
-    out += value;
-    out += "\r\n";
-  }
   if (stopping.load()) c->keep_alive = false;
+  std::string connection;
   if (!c->keep_alive) {
-    out += "Connection: close\r\n";
+    connection = "Connection: close\r\n";
     c->close_after_write = true;
-  } else if (c->http10) {
-    out += "Connection: keep-alive\r\n";
+  } else {
+    if (c->http10) connection = "Connection: keep-alive\r\n";
+    connection +=
+        "Keep-Alive: timeout=" + std::to_string(options.keep_alive_timeout_s) +
+        "\r\n";
   }
-  out += "\r\n";
-  if (!c->head) out += response.body;
+  server_internal::AppendAnswer(&out, response, Date(), connection, !c->head);
   Flush(c);
 }
 
@@ -179,6 +217,9 @@ void HttpServer::Impl::Flush(Conn* c) {
   }
   c->out.clear();
   c->out_sent = 0;
+  if (c->out.capacity() > server_internal::kKeepBufferBytes) {
+    std::string().swap(c->out);
+  }
   if (c->close_after_write && !c->lingering) {
     // Shut the write side and drain what the client still sends, so that
     // closing with unread input does not reset the answer away.
@@ -186,6 +227,7 @@ void HttpServer::Impl::Flush(Conn* c) {
     c->lingering = true;
     c->in.clear();
     c->in_start = 0;
+    AccountInput(c);
     c->deadline = Clock::now() + kLingerAfterClose;
     if (c->peer_closed) {
       Close(c);

@@ -12,6 +12,9 @@ namespace {
 
 // Longest chunk-size line (size and extensions).
 constexpr size_t kMaxChunkLine = 1024;
+// The chunk extensions of one request, all lines together (RFC 9112 7.1.1:
+// a server ought to limit them); they carry nothing the API reads.
+constexpr size_t kMaxChunkExtBytes = 4096;
 
 // RFC 9110 5.6.2: tchar.
 bool IsTokenChar(char c) {
@@ -111,6 +114,29 @@ bool PercentDecode(std::string_view in, bool plus_is_space, std::string* out) {
   return true;
 }
 
+bool DecodePath(std::string_view in, std::string* out) {
+  out->clear();
+  out->reserve(in.size());
+  for (size_t i = 0; i < in.size(); ++i) {
+    if (in[i] != '%') {
+      out->push_back(in[i]);
+      continue;
+    }
+    if (i + 2 >= in.size()) return false;
+    const int hi = HexValue(in[i + 1]);
+    const int lo = HexValue(in[i + 2]);
+    if (hi < 0 || lo < 0) return false;
+    const char c = static_cast<char>(hi * 16 + lo);
+    if (c == '/' || c == '%') {
+      out->append(c == '/' ? "%2F" : "%25");  // one spelling for routing
+    } else {
+      out->push_back(c);
+    }
+    i += 2;
+  }
+  return true;
+}
+
 RequestParser::RequestParser(HttpParserLimits limits) : limits_(limits) {}
 
 void RequestParser::Reset() {
@@ -123,6 +149,8 @@ void RequestParser::Reset() {
   chunk_left_ = 0;
   trailer_start_ = 0;
   trailer_scanned_ = 0;
+  chunk_ext_bytes_ = 0;
+  host_fields_ = 0;
   http10_ = false;
   first_crlf_ = std::string_view::npos;
   consumed_ = 0;
@@ -200,6 +228,30 @@ size_t RequestParser::ScanHead(std::string_view data) {
   return std::string_view::npos;
 }
 
+// RFC 9112 3.2.2: an absolute-form target ("http://host:port/v1/wear?x")
+// is routed on its path and query ("/v1/wear?x"; "/" when it has none).
+// Other targets are returned as they are.
+std::string_view RequestParser::OriginForm(std::string_view target) {
+  size_t scheme_end = 0;
+  if (target.size() > 7 && EqualsNoCase(target.substr(0, 7), "http://")) {
+    scheme_end = 7;
+  } else if (target.size() > 8 &&
+             EqualsNoCase(target.substr(0, 8), "https://")) {
+    scheme_end = 8;
+  } else {
+    return target;
+  }
+  const size_t path = target.find_first_of("/?#", scheme_end);
+  if (path == scheme_end) return std::string_view();  // no authority
+  if (path == std::string_view::npos) return "/";
+  if (target[path] != '/') {
+    absolute_query_ = "/";
+    absolute_query_.append(target.substr(path));
+    return absolute_query_;
+  }
+  return target.substr(path);
+}
+
 RequestParser::Result RequestParser::ParseRequestLine(std::string_view line) {
   if (line.size() > limits_.max_request_line) {
     return Fail(414, "the request line is longer than " +
@@ -213,7 +265,7 @@ RequestParser::Result RequestParser::ParseRequestLine(std::string_view line) {
     return Fail(400, "malformed request line");
   }
   const std::string_view method = line.substr(0, sp1);
-  const std::string_view target = line.substr(sp1 + 1, sp2 - sp1 - 1);
+  std::string_view target = line.substr(sp1 + 1, sp2 - sp1 - 1);
   const std::string_view version = line.substr(sp2 + 1);
   for (char c : method) {
     if (!IsTokenChar(c)) return Fail(400, "malformed request method");
@@ -228,8 +280,11 @@ RequestParser::Result RequestParser::ParseRequestLine(std::string_view line) {
   }
   http10_ = version == "HTTP/1.0";
   keep_alive_ = !http10_;
+  target = OriginForm(target);
   if (target.empty() || target.front() != '/') {
-    return Fail(400, "the request target must be an absolute path");
+    return Fail(400,
+                "the request target must be an absolute path or an "
+                "absolute URI (http://host/path)");
   }
   for (char c : target) {
     if (static_cast<unsigned char>(c) <= 0x20 || c == 0x7f) {
@@ -238,7 +293,7 @@ RequestParser::Result RequestParser::ParseRequestLine(std::string_view line) {
   }
   request_.method.assign(method);
   const size_t q = target.find('?');
-  if (!PercentDecode(target.substr(0, q), false, &request_.path)) {
+  if (!DecodePath(target.substr(0, q), &request_.path)) {
     return Fail(400, "malformed percent escape in the path");
   }
   if (q != std::string_view::npos) {
@@ -334,7 +389,7 @@ RequestParser::Result RequestParser::ParseFieldLine(std::string_view line,
 }
 
 // The fields the parser acts on: Content-Length, Transfer-Encoding,
-// Connection and Expect.
+// Connection, Host and Expect.
 RequestParser::Result RequestParser::ApplyField(std::string_view name,
                                                 std::string_view value,
                                                 FieldFlags* flags) {
@@ -362,6 +417,8 @@ RequestParser::Result RequestParser::ApplyField(std::string_view name,
     // "close" wins over "keep-alive", in any field line.
     if (ListHas(value, "close")) flags->saw_close = true;
     if (ListHas(value, "keep-alive")) keep_alive_ = true;
+  } else if (EqualsNoCase(name, "Host")) {
+    ++host_fields_;
   } else if (EqualsNoCase(name, "Expect")) {
     // RFC 9110 10.1.1: an HTTP/1.0 client's expectation is ignored.
     expects_continue_ = !http10_ && EqualsNoCase(value, "100-continue");
@@ -372,6 +429,12 @@ RequestParser::Result RequestParser::ApplyField(std::string_view name,
 // The checks on the fields as a whole, then the body's framing.
 RequestParser::Result RequestParser::FinishHead(const FieldFlags& flags) {
   if (flags.saw_close) keep_alive_ = false;
+  // RFC 9112 3.2: an HTTP/1.1 request has exactly one Host field; any
+  // request with more than one is refused.
+  if (host_fields_ > 1) return Fail(400, "more than one Host header field");
+  if (host_fields_ == 0 && !http10_) {
+    return Fail(400, "an HTTP/1.1 request must have a Host header field");
+  }
   if (flags.chunked && http10_) {
     // RFC 9112 6.1: chunked framing on HTTP/1.0 is faulty.
     return Fail(400, "Transfer-Encoding on an HTTP/1.0 request");
@@ -437,6 +500,11 @@ std::optional<RequestParser::Result> RequestParser::ParseChunkSizeLine(
   const size_t digits_end = line.find_first_of("; \t");
   const std::string_view digits = line.substr(0, digits_end);
   if (digits_end != std::string_view::npos) {
+    chunk_ext_bytes_ += line.size() - digits_end;
+    if (chunk_ext_bytes_ > kMaxChunkExtBytes) {
+      return Fail(413, "the chunk extensions take more than " +
+                           std::to_string(kMaxChunkExtBytes) + " bytes");
+    }
     const size_t after = line.find_first_not_of(" \t", digits_end);
     if (after != std::string_view::npos && line[after] != ';') {
       return Fail(400, "malformed chunk size");

@@ -3,11 +3,14 @@
 // drive it with any byte split. It reads the request line, the header
 // fields and a body framed by Content-Length or chunked transfer coding,
 // and enforces the server's limits before the body is read: request line
-// length (414), header count and bytes (431), body size (413). Anything
+// length (414), header count and bytes (431), body size (413), chunk
+// extensions (4 KiB in all) and chunk framing on the wire (413). Anything
 // that could be read two ways by two parsers (request smuggling) is a 400:
 // both Content-Length and Transfer-Encoding, two different Content-Length
 // values, white space before a field's colon, obsolete line folding, a
-// bare LF or CR, chunked framing on HTTP/1.0, junk after a chunk size. A
+// bare LF or CR, chunked framing on HTTP/1.0, junk after a chunk size, an
+// HTTP/1.1 request without a Host field or any with two. Absolute-form
+// targets (http://host/path) are routed on their path. A
 // transfer coding other than chunked is a 501, a version other than
 // HTTP/1.0 or 1.1 a 505. "Connection: close" wins over "keep-alive".
 //
@@ -56,7 +59,10 @@ class RequestParser {
   // Forgets the request, for the next one on the connection.
   void Reset();
 
-  // After kDone: the request (path and parameters percent-decoded).
+  // After kDone: the request. Parameters are percent-decoded; so is the
+  // path, except "%2F" and "%25", which stay encoded (upper case) so that
+  // routing sees the client's segments: "/v1%2Fcalibrations" is not
+  // "/v1/calibrations". Router decodes its path parameters itself.
   HttpRequest& request() { return request_; }
   // After kDone: the bytes of `data` the request took.
   size_t consumed() const { return consumed_; }
@@ -90,6 +96,9 @@ class RequestParser {
   };
 
   Result Fail(int status, std::string message);
+  // The path and query of an absolute-form target (may point into
+  // absolute_query_); other targets unchanged.
+  std::string_view OriginForm(std::string_view target);
   size_t ScanHead(std::string_view data);
   Result ParseHead(std::string_view head);
   Result ParseRequestLine(std::string_view line);
@@ -116,6 +125,9 @@ class RequestParser {
   size_t chunk_left_ = 0;       // bytes of the current chunk not yet copied
   size_t trailer_start_ = 0;    // offset of the trailer fields
   size_t trailer_scanned_ = 0;  // where the search for CRLF resumes
+  size_t chunk_ext_bytes_ = 0;  // chunk extensions so far (capped)
+  int host_fields_ = 0;
+  std::string absolute_query_;  // "/?q" for "http://h?q"
   bool http10_ = false;
   size_t first_crlf_ = std::string_view::npos;  // end of the request line
   size_t consumed_ = 0;
@@ -125,9 +137,9 @@ class RequestParser {
   std::string error_message_;
 };
 
-// Percent-decodes `in` (and '+' to a space when `plus_is_space`, for query
-// strings). Returns false on a malformed escape.
-bool PercentDecode(std::string_view in, bool plus_is_space, std::string* out);
+// PercentDecode (api/router.h) for a request path, except that "%2F" and
+// "%25" (any case) stay encoded, spelled "%2F" and "%25".
+bool DecodePath(std::string_view in, std::string* out);
 
 }  // namespace rollwear::api
 

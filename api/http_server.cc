@@ -28,6 +28,8 @@
 #include <functional>
 #include <utility>
 
+#include <malloc.h>
+
 #include "api/codec.h"
 #include "api/http_server_internal.h"
 
@@ -65,8 +67,11 @@ void HttpServer::Impl::Run() {
   std::vector<epoll_event> events(256);
   auto next_sweep = Clock::now();
   while (true) {
-    const int n = epoll_wait(epoll_fd, events.data(),
-                             static_cast<int>(events.size()), kSweepMs);
+    ++turn;
+    RunReadyTurns();
+    const int n =
+        epoll_wait(epoll_fd, events.data(), static_cast<int>(events.size()),
+                   ready.empty() ? kSweepMs : 0);
     if (n > 0 && options.on_activity) options.on_activity();
     for (int i = 0; i < n; ++i) {
       const uint64_t tag = events[i].data.u64;
@@ -78,20 +83,13 @@ void HttpServer::Impl::Run() {
         }
         wake_pending.store(false);
       } else {
-        auto it = conns.find(tag);
-        if (it == conns.end()) continue;
-        Conn* c = it->second.get();
+        Conn* c = Find(tag);
+        if (c == nullptr) continue;
         if (events[i].events & EPOLLOUT) {
           Flush(c);
           if (!conns.count(tag)) continue;
           // Requests (or input) held back while answers were pending.
-          if (!c->busy && c->out_sent == c->out.size()) {
-            if (c->read_pending) {
-              OnReadable(c);
-            } else {
-              ProcessInput(c);
-            }
-          }
+          if (!c->busy && c->out_sent == c->out.size()) Resume(c);
           if (!conns.count(tag)) continue;
         }
         if (events[i].events & (EPOLLIN | EPOLLRDHUP | EPOLLHUP | EPOLLERR))
@@ -99,6 +97,7 @@ void HttpServer::Impl::Run() {
       }
     }
     RunCompletions();
+    ResumeBudgetWaiting();
     const auto now = Clock::now();
     if (now >= next_sweep) {
       Sweep(now);
@@ -129,6 +128,11 @@ bool HttpServer::Impl::Drained() {
 
 void HttpServer::Impl::Accept() {
   while (true) {
+    if (conns.size() >= static_cast<size_t>(options.max_connections)) {
+      // New connections wait in the kernel's backlog until one closes.
+      PauseAcceptAtCap();
+      return;
+    }
     sockaddr_storage addr{};
     socklen_t len = sizeof(addr);
     const int fd = accept4(listen_fd, reinterpret_cast<sockaddr*>(&addr), &len,
@@ -147,8 +151,9 @@ void HttpServer::Impl::Accept() {
       }
       return;
     }
-    if (conns.size() >= static_cast<size_t>(options.max_connections)) {
-      close(fd);  // the client sees the connection closed; it may retry
+    std::string remote = AddressText(addr);
+    if (!AdmitClient(remote)) {
+      Refuse(fd, remote);
       continue;
     }
     if (options.tcp_nodelay) {
@@ -158,12 +163,13 @@ void HttpServer::Impl::Accept() {
     auto c = std::make_unique<Conn>(limits);
     c->id = next_id++;
     c->fd = fd;
-    c->remote_addr = AddressText(addr);
-    c->deadline = Clock::now() + std::chrono::seconds(options.read_timeout_s);
+    c->remote_addr = std::move(remote);
+    c->deadline = Clock::now() + std::chrono::seconds(options.head_timeout_s);
     epoll_event ev{};
     ev.events = EPOLLIN | EPOLLOUT | EPOLLRDHUP | EPOLLET;
     ev.data.u64 = c->id;
     if (epoll_ctl(epoll_fd, EPOLL_CTL_ADD, fd, &ev) != 0) {
+      ReleaseClient(c->remote_addr);
       close(fd);
       continue;
     }
@@ -231,20 +237,10 @@ void HttpServer::Impl::RunCompletions() {
     }
     for (Completion& done : completions_spare) {
       --in_flight;
-      auto it = conns.find(done.conn_id);
-      if (it == conns.end()) continue;  // the client went away
-      Conn* c = it->second.get();
+      Conn* c = Find(done.conn_id);
+      if (c == nullptr) continue;  // the client went away
       Complete(c, std::move(done.response));
-      if (!conns.count(done.conn_id)) continue;
-      if (c->read_pending) {
-        OnReadable(c);
-      } else {
-        ProcessInput(c);
-        if (conns.count(done.conn_id) && c->peer_closed && !c->busy &&
-            c->out_sent == c->out.size()) {
-          Close(c);
-        }
-      }
+      if (conns.count(done.conn_id)) Resume(c);
     }
     completions_spare.clear();
   }
@@ -266,21 +262,6 @@ void HttpServer::Impl::Complete(Conn* c, HttpResponse response) {
   WriteAnswer(c, response);
 }
 
-void HttpServer::Impl::Sweep(Clock::time_point now) {
-  if (accept_paused && now >= accept_resume && listen_fd >= 0) {
-    epoll_event ev{};
-    ev.events = EPOLLIN;
-    ev.data.u64 = kListenTag;
-    epoll_ctl(epoll_fd, EPOLL_CTL_MOD, listen_fd, &ev);
-    accept_paused = false;
-  }
-  std::vector<Conn*> expired;
-  for (auto& [id, c] : conns) {
-    if (!c->busy && now > c->deadline) expired.push_back(c.get());
-  }
-  for (Conn* c : expired) Close(c);
-}
-
 HttpServer::HttpServer(Router* router, HttpServerOptions options)
     : impl_(std::make_unique<Impl>()) {
   impl_->router = router;
@@ -299,6 +280,14 @@ Status HttpServer::Start() {
   impl->limits.max_header_count = o.max_header_count;
   impl->limits.max_header_bytes = o.max_header_bytes;
   impl->limits.max_body_bytes = o.payload_max_bytes;
+  // glibc raises its mmap threshold after a large mmapped block is freed,
+  // so that later request buffers come from the heap and their pages stay
+  // with the process after the connection closes. A fixed threshold keeps
+  // buffers over 128 KiB mmapped: freeing them gives the memory back.
+  mallopt(M_MMAP_THRESHOLD, 128 * 1024);
+  // Fixing it also stops glibc from raising the trim threshold with it;
+  // keep up to 1 MiB free at a heap's top rather than trim at every free.
+  mallopt(M_TRIM_THRESHOLD, 1024 * 1024);
   ROLLWEAR_RETURN_IF_ERROR(impl->Bind());
   impl->epoll_fd = epoll_create1(EPOLL_CLOEXEC);
   impl->wake_fd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
@@ -316,6 +305,7 @@ Status HttpServer::Start() {
   impl->stopping.store(false);
   impl->wake_pending.store(false);
   impl->accept_paused = false;
+  impl->accept_at_cap = false;
   impl->loop = std::thread([impl] { impl->Run(); });
   impl->started = true;
   return Status::Ok();

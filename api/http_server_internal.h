@@ -4,7 +4,10 @@
 // worker pool, taking their answers back (the completion queue), and
 // Start/Stop; http_connection.cc holds a connection's I/O: reading,
 // parsing, writing and flushing answers, lingering after "Connection:
-// close". Include only from those two files.
+// close"; http_limits.cc the limits: per-client accounting, refusals,
+// pausing accept at the cap, deadlines and the sweep, fair turns, the
+// input budget, the connection log and the Date header. Include only from
+// those three files.
 //
 // Thread-safety: everything here belongs to the I/O thread, except Post()
 // (any thread; it takes completions_mu) and the atomics.
@@ -15,9 +18,11 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <ctime>
 #include <memory>
 #include <mutex>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <unordered_map>
 #include <vector>
@@ -26,6 +31,7 @@
 #include "api/http_server.h"
 #include "api/http_server_options.h"
 #include "api/http_wire.h"
+#include "api/metrics.h"
 #include "api/router.h"
 #include "core/base/status.h"
 
@@ -46,6 +52,16 @@ inline constexpr auto kLingerAfterClose = std::chrono::seconds(2);
 // A client that pipelines requests without reading the answers is not read
 // further while this many answer bytes wait for it.
 inline constexpr size_t kMaxPendingOut = 1 << 20;
+// Requests a connection may have handled in one turn of the I/O loop
+// before the other ready connections get theirs.
+inline constexpr int kRequestsPerTurn = 8;
+// Bytes a connection may have read in one turn.
+inline constexpr size_t kBytesPerTurn = 256 << 10;
+// Buffers larger than this are given back after each request.
+inline constexpr size_t kKeepBufferBytes = 64 << 10;
+// Over the input budget, a connection with at least this much of a
+// request buffered is not read (a head still fits).
+inline constexpr size_t kBudgetExemptBytes = 64 << 10;
 
 struct Conn {
   uint64_t id = 0;
@@ -63,8 +79,17 @@ struct Conn {
   bool close_after_write = false;
   bool lingering = false;  // answered, write side shut, draining
   bool peer_closed = false;
+  bool prechecked = false;      // the head was checked (Router::PreCheck)
+  bool in_ready = false;        // in Impl::ready (turn over, work left)
+  bool budget_waiting = false;  // in Impl::budget_waiting
   int served = 0;
-  Clock::time_point deadline;
+  uint64_t turn = 0;  // the loop turn turn_requests counts in
+  int turn_requests = 0;
+  size_t turn_bytes = 0;
+  size_t in_accounted = 0;     // what Impl::buffered_in counts for this one
+  size_t parsed_size = 0;      // the request's bytes at the last Parse()
+  Clock::time_point deadline;  // the next one (the sweep closes)
+  Clock::time_point phase_deadline;  // head's or body's total deadline
   // The request with the router.
   std::string method;
   std::string path;
@@ -76,6 +101,13 @@ struct Conn {
 
   explicit Conn(const HttpParserLimits& limits) : parser(limits) {}
 };
+
+// Appends an answer: status line, Date, Content-Type, Content-Length, the
+// response's headers, `connection` (header lines, each ending in CRLF, or
+// ""), the blank line, and the body when `with_body`.
+void AppendAnswer(std::string* out, const HttpResponse& response,
+                  const std::string& date, std::string_view connection,
+                  bool with_body);
 
 struct Completion {
   uint64_t conn_id;
@@ -104,7 +136,24 @@ struct HttpServer::Impl {
   bool accept_paused = false;
   Clock::time_point accept_resume;
 
+  bool accept_at_cap = false;  // listener off: max_connections open
+
   std::unordered_map<uint64_t, std::unique_ptr<Conn>> conns;
+  std::unordered_map<std::string, int> per_client;  // open conns by address
+  // Connections whose turn ended with work left, resumed next loop turn.
+  std::vector<uint64_t> ready;
+  uint64_t turn = 0;
+  // Request bytes buffered across connections (input buffers and bodies
+  // being parsed, by capacity), and the connections not
+  // read while it is over options.max_buffered_input_bytes.
+  size_t buffered_in = 0;
+  std::vector<uint64_t> budget_waiting;
+  // The Date header's value, formatted once per second.
+  time_t date_second = 0;
+  std::string date_text;
+  // The connection log's rate limit, per ConnectionEvent.
+  std::vector<Clock::time_point> last_logged;
+  std::vector<uint64_t> suppressed;
   uint64_t next_id = server_internal::kFirstConnId;
   // Requests with the router or a worker whose answer has not come back.
   int in_flight = 0;
@@ -133,7 +182,44 @@ struct HttpServer::Impl {
   void RunCompletions();
   // The router's answer to the request `c` had with it.
   void Complete(Conn* c, HttpResponse response);
+
+  // http_limits.cc: the limits.
+  // Whether `addr` may open one more connection; counts it if so.
+  bool AdmitClient(const std::string& addr);
+  void ReleaseClient(const std::string& addr);
+  // Answers 503 (Retry-After) on a fresh socket and closes it.
+  void Refuse(int fd, const std::string& addr);
+  // Turns the listener off at the cap, and back on below it.
+  void PauseAcceptAtCap();
+  void ResumeAcceptBelowCap();
+  // Counts `event` in the metrics and logs it (rate-limited).
+  void Note(ConnectionEvent event, const char* log_event, const char* reason,
+            const std::string& remote);
+  // Closes connections past their deadline, resumes accepting after EMFILE.
   void Sweep(Clock::time_point now);
+  // Sets the head's total deadline when its first byte comes; after any
+  // bytes of a request come, the next deadline: the total one of the head
+  // or body, or the end of the longest pause (read_timeout), if sooner.
+  void StartHead(Conn* c, Clock::time_point now);
+  void OnProgress(Conn* c, Clock::time_point now);
+  // Whether `c` has used its turn, for reading (kBytesPerTurn) or for
+  // requests (kRequestsPerTurn); if so it is queued in `ready`.
+  bool TurnOver(Conn* c, bool reading);
+  // Queues `c` in `ready` (once).
+  void MarkReady(Conn* c);
+  // The open connection `id`, or null.
+  Conn* Find(uint64_t id);
+  // Resumes what `c` left: reading, or the requests it has in.
+  void Resume(Conn* c);
+  void RunReadyTurns();
+  // Updates buffered_in after `c->in` changed; gives back a large empty
+  // input buffer.
+  void AccountInput(Conn* c);
+  // Whether reading `c` must wait for the input budget (then it is queued).
+  bool OverBudget(Conn* c);
+  void ResumeBudgetWaiting();
+  // "Tue, 24 Nov 2026 03:33:08 GMT", cached for the second.
+  const std::string& Date();
 
   // http_connection.cc: one connection's I/O.
   void Close(Conn* c);
@@ -143,9 +229,13 @@ struct HttpServer::Impl {
   void OnReadable(Conn* c);
   // Reads what the socket has, up to the input cap (then read_pending).
   void ReadSocket(Conn* c);
-  // Parses and dispatches requests until one is with the router or the
-  // input is used up. May close `c`.
+  // Parses and dispatches requests (ParseRequests) until one is with the
+  // router, the input is used up or the turn is over. May close `c`.
   void ProcessInput(Conn* c);
+  void ParseRequests(Conn* c);
+  // A head is in and its body is not: the head's checks (answered and
+  // closed when refused), the body's deadlines, "100 Continue".
+  void OnHeadIn(Conn* c, Clock::time_point now, bool progress);
   // Queues the answer (one send for head and body) and flushes it. May
   // close `c`.
   void WriteAnswer(Conn* c, const HttpResponse& response);

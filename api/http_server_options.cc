@@ -15,11 +15,20 @@ bool HttpServerOptions::IsValid(std::string* error) const {
     *error = "max_connections must be >= 1";
     return false;
   }
+  if (max_connections_per_client < 1) {
+    *error = "max_connections_per_client must be >= 1";
+    return false;
+  }
+  if (max_buffered_input_bytes < (size_t{1} << 20)) {
+    *error = "max_buffered_input_bytes must be >= 1 MiB";
+    return false;
+  }
   if (keep_alive_max_count < 1) {
     *error = "keep_alive_max must be >= 1";
     return false;
   }
-  if (keep_alive_timeout_s < 1 || read_timeout_s < 1 || write_timeout_s < 1) {
+  if (keep_alive_timeout_s < 1 || read_timeout_s < 1 || write_timeout_s < 1 ||
+      head_timeout_s < 1 || body_timeout_s < 1) {
     *error = "timeouts must be >= 1 s";
     return false;
   }

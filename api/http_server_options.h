@@ -8,6 +8,7 @@
 #define ROLLWEAR_API_HTTP_SERVER_OPTIONS_H_
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <string>
 
@@ -24,18 +25,40 @@ struct RequestLogEntry {
   size_t response_bytes = 0;
 };
 
+// A refused, timed-out or throttled connection, for the log (at most one
+// entry per event kind and second; `suppressed` counts the ones not logged
+// since the last entry of that kind).
+struct ConnectionLogEntry {
+  const char* event = "";   // "connection_refused", "connection_timeout"...
+  const char* reason = "";  // "per_client_limit", "head_deadline"...
+  std::string remote_addr;
+  uint64_t suppressed = 0;
+};
+
 struct HttpServerOptions {
   std::string bind_address = "127.0.0.1";
   int port = 0;  // 0 = ephemeral
   // Worker threads for the requests that may wait on SQLite or a
   // calibration (everything but coils and wear reads).
   int threads = 32;
-  // Open connections; one more is accepted and closed at once.
+  // Open connections; at the cap the server stops accepting (new ones wait
+  // in the kernel's backlog) until one closes.
   int max_connections = 1000;
+  // Open connections from one client address; one more is answered 503
+  // (Retry-After) and closed.
+  int max_connections_per_client = 64;
   int keep_alive_max_count = 10000;  // requests per connection
   int keep_alive_timeout_s = 5;      // idle seconds before closing
+  // A request's head must be in within head_timeout_s of its first byte,
+  // and its body within body_timeout_s of the head's end; the body may
+  // also pause at most read_timeout_s. The timeouts restart on nothing.
+  int head_timeout_s = 10;
+  int body_timeout_s = 60;
   int read_timeout_s = 5;
   int write_timeout_s = 5;
+  // Request bytes buffered across all connections; over it, connections
+  // with more than 64 KiB of a request in are not read until it drops.
+  size_t max_buffered_input_bytes = size_t{64} << 20;
   size_t payload_max_bytes = 1 << 20;
   // Request header limits: a request with more header lines or more header
   // bytes than these is answered 431 before its body is read. The request
@@ -49,6 +72,9 @@ struct HttpServerOptions {
   // a new connection, a completion), before handling it; may be empty.
   // Must be cheap: it runs ahead of every batch of requests.
   std::function<void()> on_activity;
+  // Called on the I/O thread for refused, timed-out and throttled
+  // connections (rate-limited, see ConnectionLogEntry); may be empty.
+  std::function<void(const ConnectionLogEntry&)> on_connection_event;
 
   bool IsValid(std::string* error) const;
 };

@@ -242,6 +242,28 @@ void Metrics::ObserveCalibration(bool succeeded, double seconds) {
   calibration_seconds_.Observe(kCalibrationBounds, seconds);
 }
 
+const char* ConnectionEventName(ConnectionEvent event) {
+  switch (event) {
+    case ConnectionEvent::kRefusedGlobalCap:
+      return "refused_global_cap";
+    case ConnectionEvent::kRefusedPerClient:
+      return "refused_per_client_limit";
+    case ConnectionEvent::kTimeoutHead:
+      return "timeout_head_deadline";
+    case ConnectionEvent::kTimeoutBody:
+      return "timeout_body_deadline";
+    case ConnectionEvent::kTimeoutIdle:
+      return "timeout_idle";
+    case ConnectionEvent::kTimeoutWrite:
+      return "timeout_write";
+    case ConnectionEvent::kInputBudget:
+      return "throttled_input_budget";
+    case ConnectionEvent::kCount:
+      break;
+  }
+  return "unknown";
+}
+
 std::string Metrics::Render(const StoreFigures& store) const {
   std::string out;
   out.reserve(16384);
@@ -269,6 +291,16 @@ std::string Metrics::Render(const StoreFigures& store) const {
          "1");
 
   RenderRequests(&out);
+
+  Header(&out, "rollwear_http_connections_total", "counter",
+         "Connections refused, timed out or throttled by the HTTP server, "
+         "by event.");
+  for (int e = 0; e < kNumConnectionEvents; ++e) {
+    Sample(&out, "rollwear_http_connections_total",
+           std::string("event=\"") +
+               ConnectionEventName(static_cast<ConnectionEvent>(e)) + "\"",
+           std::to_string(connections_[e].load(std::memory_order_relaxed)));
+  }
 
   Header(&out, "rollwear_calibration_runs_total", "counter",
          "Finished calibration runs since start, by outcome.");

@@ -4,6 +4,7 @@
 //   rollwear_http_request_duration_seconds{route,method}  histogram
 //   rollwear_http_requests_total{route,method,code}        counter
 //   rollwear_coils_ingested_total                          counter
+//   rollwear_http_connections_total{event}                 counter
 //   rollwear_calibration_runs_total{status}                counter
 //   rollwear_calibration_duration_seconds                  histogram
 //   rollwear_build_info{version,commit}                    gauge, 1
@@ -111,6 +112,22 @@ struct BuildInfo {
   std::string commit;   // git commit of the build, or "unknown"
 };
 
+// What the HTTP server did to a connection outside of answering requests
+// (the event label of rollwear_http_connections_total).
+enum class ConnectionEvent : int {
+  kRefusedGlobalCap = 0,  // at the connection cap: accepting paused
+  kRefusedPerClient,      // over the per-client limit: 503 and closed
+  kTimeoutHead,           // head not in within head_timeout
+  kTimeoutBody,           // body not in within body_timeout (or paused)
+  kTimeoutIdle,           // kept-alive and idle past keep_alive_timeout
+  kTimeoutWrite,          // answer not taken within write_timeout
+  kInputBudget,           // not read: total buffered input over budget
+  kCount
+};
+constexpr int kNumConnectionEvents = static_cast<int>(ConnectionEvent::kCount);
+// "refused_global_cap", "timeout_head", ...
+const char* ConnectionEventName(ConnectionEvent event);
+
 // Figures read from the store when /metrics is scraped.
 struct StoreFigures {
   bool healthy = false;
@@ -133,6 +150,11 @@ class Metrics {
   // One coil newly stored through the API (repeats are not counted).
   void CountCoilIngested() {
     coils_ingested_.fetch_add(1, std::memory_order_relaxed);
+  }
+  // One refused, timed-out or throttled connection.
+  void CountConnection(ConnectionEvent event) {
+    connections_[static_cast<int>(event)].fetch_add(1,
+                                                    std::memory_order_relaxed);
   }
   // One finished calibration run ("done" or "failed") and its duration.
   void ObserveCalibration(bool succeeded, double seconds);
@@ -177,6 +199,7 @@ class Metrics {
   std::array<std::array<Histogram<14>, kNumMethods>, kNumRoutes> requests_;
   std::array<std::array<CodeCounts, kNumMethods>, kNumRoutes> codes_;
   std::atomic<int64_t> coils_ingested_{0};
+  std::array<std::atomic<uint64_t>, kNumConnectionEvents> connections_{};
   std::atomic<int64_t> calibrations_done_{0};
   std::atomic<int64_t> calibrations_failed_{0};
   Histogram<10> calibration_seconds_;

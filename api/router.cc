@@ -108,6 +108,14 @@ HttpResponse MethodNotAllowed(RouteId route, const std::string& method) {
   return r;
 }
 
+// A path parameter: the parser leaves "%2F" and "%25" encoded in the path
+// (api/http_parser.h) so that they do not split segments; decode them here.
+std::string Segment(std::string_view raw) {
+  std::string out;
+  if (!PercentDecode(raw, false, &out)) return std::string(raw);
+  return out;
+}
+
 // The route of `path` (kUnmatched when none) and its path parameters.
 RouteId MatchRoute(const std::string& path, bool post, std::string* arg1,
                    std::string* arg2) {
@@ -158,8 +166,9 @@ RouteId MatchRoute(const std::string& path, bool post, std::string* arg1,
       p.substr(0, kCampaignsPrefix.size()) == kCampaignsPrefix &&
       p.substr(p.size() - kEndSuffix.size()) == kEndSuffix) {
     // The id may hold any character, '/' included (sent as %2F).
-    *arg1 = path.substr(kCampaignsPrefix.size(),
-                        p.size() - kCampaignsPrefix.size() - kEndSuffix.size());
+    *arg1 = Segment(
+        p.substr(kCampaignsPrefix.size(),
+                 p.size() - kCampaignsPrefix.size() - kEndSuffix.size()));
     return RouteId::kCampaignEnd;
   }
   if (p.substr(0, kWearPrefix.size()) == kWearPrefix) {
@@ -170,20 +179,20 @@ RouteId MatchRoute(const std::string& path, bool post, std::string* arg1,
         rest.find('/', slash + 1) != std::string_view::npos) {
       return RouteId::kUnmatched;
     }
-    *arg1 = std::string(rest.substr(0, slash));
-    *arg2 = std::string(rest.substr(slash + 1));
+    *arg1 = Segment(rest.substr(0, slash));
+    *arg2 = Segment(rest.substr(slash + 1));
     return RouteId::kWearAt;
   }
   if (p.substr(0, kCalibrationsPrefix.size()) == kCalibrationsPrefix &&
       p.size() > kCalibrationsPrefix.size() &&
       p.find('/', kCalibrationsPrefix.size()) == std::string_view::npos) {
-    *arg1 = path.substr(kCalibrationsPrefix.size());
+    *arg1 = Segment(p.substr(kCalibrationsPrefix.size()));
     return RouteId::kCalibration;
   }
   if (p.substr(0, kDiagnosesPrefix.size()) == kDiagnosesPrefix &&
       p.size() > kDiagnosesPrefix.size() &&
       p.find('/', kDiagnosesPrefix.size()) == std::string_view::npos) {
-    *arg1 = path.substr(kDiagnosesPrefix.size());
+    *arg1 = Segment(p.substr(kDiagnosesPrefix.size()));
     return RouteId::kDiagnosis;
   }
   return RouteId::kUnmatched;
@@ -335,26 +344,38 @@ bool Router::Authorized(const HttpRequest& request) const {
   return ConstantTimeEquals(presented, options_.token);
 }
 
+std::optional<HttpResponse> Router::PreCheck(const HttpRequest& head,
+                                             RouteId* route, std::string* arg1,
+                                             std::string* arg2) const {
+  const bool get = head.method == "GET" || head.method == "HEAD";
+  const bool post = head.method == "POST";
+  *route = MatchRoute(head.path, post, arg1, arg2);
+  if (*route == RouteId::kUnmatched) {
+    return Error(404, "not_found", "no such endpoint: " + head.path);
+  }
+  const bool wants_post = std::string_view(RouteMethod(*route)) == "POST";
+  if ((wants_post && !post) || (!wants_post && !get)) {
+    return MethodNotAllowed(*route, head.method);
+  }
+  if (post) return RefusePost(head, *route);
+  return std::nullopt;
+}
+
+std::optional<HttpResponse> Router::PreCheck(const HttpRequest& head) const {
+  RouteId route;
+  std::string arg1, arg2;
+  return PreCheck(head, &route, &arg1, &arg2);
+}
+
 HttpResponse Router::Dispatch(const HttpRequest& request) {
   const std::string& path = request.path;
-  const bool get = request.method == "GET" || request.method == "HEAD";
-  const bool post = request.method == "POST";
-
   std::string arg1, arg2;
-  const RouteId route = MatchRoute(path, post, &arg1, &arg2);
-  if (route == RouteId::kUnmatched) {
-    return Error(404, "not_found", "no such endpoint: " + path);
+  RouteId route;
+  if (std::optional<HttpResponse> refused =
+          PreCheck(request, &route, &arg1, &arg2)) {
+    return std::move(*refused);
   }
-  const bool wants_post = std::string_view(RouteMethod(route)) == "POST";
-  if ((wants_post && !post) || (!wants_post && !get)) {
-    return MethodNotAllowed(route, request.method);
-  }
-
   HttpResponse response;
-  if (post) {
-    std::optional<HttpResponse> refused = RefusePost(request, route);
-    if (refused) return std::move(*refused);
-  }
   switch (route) {
     case RouteId::kRollChanges:
       response = PostRollChange(request);

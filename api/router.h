@@ -22,6 +22,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -35,12 +36,18 @@ namespace rollwear::api {
 
 struct HttpRequest {
   std::string method;  // "GET", "POST", ...
-  std::string path;    // decoded path without the query string
+  std::string path;    // path without the query string, decoded but for
+                       // %2F and %25 (api/http_parser.h)
   // Header names as sent; lookups are case-insensitive.
   std::vector<std::pair<std::string, std::string>> headers;
   std::string body;
   std::map<std::string, std::string> params;  // decoded query parameters
 };
+
+// Percent-decodes `in` (and '+' to a space when `plus_is_space`, for query
+// strings). Returns false on a malformed escape. (Defined with the request
+// parser, api/http_parser.cc; the router decodes path parameters with it.)
+bool PercentDecode(std::string_view in, bool plus_is_space, std::string* out);
 
 struct HttpResponse {
   int status = 200;
@@ -104,6 +111,13 @@ class Router {
 
   HttpResponse Handle(const HttpRequest& request);
 
+  // The refusal Handle() would give from the request's head alone - 404
+  // (no route), 405 (method), 401 (token), 413 (body over the limit, for
+  // what is already in) - or nullopt. Cheap and without side effects: the
+  // server asks it as soon as a head is in, before "100 Continue" and
+  // before reading the body.
+  std::optional<HttpResponse> PreCheck(const HttpRequest& head) const;
+
   // Cheap and without side effects: how Handle()/HandleAsync() will run
   // this request.
   Execution Plan(const HttpRequest& request) const;
@@ -133,6 +147,10 @@ class Router {
                                              storage::CoilIn* in) const;
   HttpResponse CoilAnswer(const storage::CoilIn& in,
                           const StatusOr<storage::CoilOutcome>& outcome);
+  // PreCheck, also giving the route and its path parameters.
+  std::optional<HttpResponse> PreCheck(const HttpRequest& head, RouteId* route,
+                                       std::string* arg1,
+                                       std::string* arg2) const;
   // The refusal Dispatch gives before a POST's handler runs (401, 413), or
   // an empty optional.
   std::optional<HttpResponse> RefusePost(const HttpRequest& request,

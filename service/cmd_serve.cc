@@ -5,6 +5,8 @@
 // background worker, and stops gracefully on SIGINT/SIGTERM (stop accepting,
 // finish in-flight requests and the running calibration, close the
 // database). Prints the URL it listens on as its first line on stdout.
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <chrono>
 #include <csignal>
@@ -155,6 +157,17 @@ api::HttpServerOptions HttpOptions(const service::ServeConfig& config,
   http.threads = config.threads;
   http.keep_alive_max_count = config.keep_alive_max;
   http.keep_alive_timeout_s = config.keep_alive_timeout_s;
+  http.max_connections = config.max_connections;
+  http.max_connections_per_client = config.max_connections_per_client;
+  http.head_timeout_s = config.head_timeout_s;
+  http.body_timeout_s = config.body_timeout_s;
+  http.read_timeout_s = config.read_timeout_s;
+  http.max_buffered_input_bytes = config.max_buffered_input_bytes;
+  // Rate-limited by the server (one line per kind and second).
+  http.on_connection_event = [](const api::ConnectionLogEntry& e) {
+    spdlog::warn("event={} reason={} remote={} suppressed={}", e.event,
+                 e.reason, e.remote_addr, e.suppressed);
+  };
   http.payload_max_bytes = config.body_limit_bytes;
   if (spdlog::should_log(spdlog::level::debug)) {
     http.on_request = [](const api::RequestLogEntry& e) {
@@ -234,6 +247,18 @@ int RunServe(const ServeArgs& args) {
   api::Router router(store.get(), std::move(api_options));
   router_ptr = &router;
 
+  // Each connection is a descriptor: take the hard limit, and say so when
+  // even that is below the connection cap.
+  rlimit files{};
+  if (getrlimit(RLIMIT_NOFILE, &files) == 0 &&
+      files.rlim_cur < files.rlim_max) {
+    files.rlim_cur = files.rlim_max;
+    setrlimit(RLIMIT_NOFILE, &files);
+  }
+  if (files.rlim_cur < static_cast<rlim_t>(config.max_connections) + 64) {
+    spdlog::warn("open file limit {} is below max_connections={} + 64",
+                 files.rlim_cur, config.max_connections);
+  }
   api::HttpServer server(&router, HttpOptions(config, cpu_latency.get()));
   const Status started = server.Start();
   if (!started.ok()) {

@@ -81,6 +81,12 @@ const std::vector<std::string>& ConfigKeys() {
                                                  "threads",
                                                  "keep_alive_max",
                                                  "keep_alive_timeout",
+                                                 "max_connections",
+                                                 "max_connections_per_client",
+                                                 "head_timeout",
+                                                 "body_timeout",
+                                                 "read_timeout",
+                                                 "max_buffered_input_bytes",
                                                  "log_level",
                                                  "cpu_wakeup_latency_us"};
   return kKeys;
@@ -130,6 +136,21 @@ Status SetConfigValue(const std::string& key, const std::string& value,
   } else if (key == "keep_alive_timeout") {
     ROLLWEAR_RETURN_IF_ERROR(SetInt(key, value, where, 1, 3600, &n));
     c->keep_alive_timeout_s = static_cast<int>(n);
+  } else if (key == "max_connections") {
+    ROLLWEAR_RETURN_IF_ERROR(SetInt(key, value, where, 1, 1000000, &n));
+    c->max_connections = static_cast<int>(n);
+  } else if (key == "max_connections_per_client") {
+    ROLLWEAR_RETURN_IF_ERROR(SetInt(key, value, where, 1, 1000000, &n));
+    c->max_connections_per_client = static_cast<int>(n);
+  } else if (key == "head_timeout" || key == "body_timeout" ||
+             key == "read_timeout") {
+    ROLLWEAR_RETURN_IF_ERROR(SetInt(key, value, where, 1, 3600, &n));
+    (key == "head_timeout"   ? c->head_timeout_s
+     : key == "body_timeout" ? c->body_timeout_s
+                             : c->read_timeout_s) = static_cast<int>(n);
+  } else if (key == "max_buffered_input_bytes") {
+    ROLLWEAR_RETURN_IF_ERROR(SetInt(key, value, where, 1 << 20, 1LL << 36, &n));
+    c->max_buffered_input_bytes = static_cast<size_t>(n);
   } else if (key == "log_level") {
     static constexpr const char* kLevels[] = {"trace", "debug", "info",
                                               "warn",  "error", "off"};

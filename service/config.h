@@ -18,6 +18,14 @@
 //   threads              HTTP worker threads                         32
 //   keep_alive_max       requests per kept-alive connection          10000
 //   keep_alive_timeout   idle seconds before a connection closes     5
+//   max_connections      open connections (then accepting pauses)    1000
+//   max_connections_per_client  from one address (then 503)          64
+//   head_timeout         seconds for a request's head, from its      10
+//                        first byte (total)
+//   body_timeout         seconds for a body, from the head's end     60
+//   read_timeout         longest pause within a head or body (s)     5
+//   max_buffered_input_bytes  request bytes buffered in all;         67108864
+//                        over it, big partial requests wait
 //   log_level            trace|debug|info|warn|error|off             info
 //   cpu_wakeup_latency_us  CPU wake-up limit held while traffic        off
 //                        arrives (0..1000000 us, or off); needs write
@@ -52,6 +60,12 @@ struct ServeConfig {
   int threads = 32;
   int keep_alive_max = 10000;
   int keep_alive_timeout_s = 5;
+  int max_connections = 1000;
+  int max_connections_per_client = 64;
+  int head_timeout_s = 10;
+  int body_timeout_s = 60;
+  int read_timeout_s = 5;
+  size_t max_buffered_input_bytes = size_t{64} << 20;
   std::string log_level = "info";
   // Microseconds; -1 = off (no CPU latency QoS request).
   int cpu_wakeup_latency_us = -1;

@@ -816,8 +816,10 @@ namespace {
 // "close" in any Connection line wins over "keep-alive" in another.
 TEST(HttpParserReviewTest, CloseWinsAcrossConnectionLines) {
   for (const char* data :
-       {"GET / HTTP/1.1\r\nConnection: close\r\nConnection: keep-alive\r\n\r\n",
-        "GET / HTTP/1.1\r\nConnection: keep-alive\r\nConnection: close\r\n\r\n",
+       {"GET / HTTP/1.1\r\nHost: x\r\nConnection: close\r\n"
+        "Connection: keep-alive\r\n\r\n",
+        "GET / HTTP/1.1\r\nHost: x\r\nConnection: keep-alive\r\n"
+        "Connection: close\r\n\r\n",
         "GET / HTTP/1.0\r\nConnection: keep-alive, close\r\n\r\n"}) {
     RequestParser p;
     ASSERT_EQ(p.Parse(data), RequestParser::Result::kDone) << data;
@@ -869,7 +871,8 @@ TEST(HttpParserReviewTest, TrailerAtTheLimitInEverySplit) {
   limits.max_header_bytes = 1024;
   for (size_t line = 1015; line <= 1026; ++line) {
     const std::string data =
-        "POST /a HTTP/1.1\r\nTransfer-Encoding: chunked\r\n\r\n0\r\nX:" +
+        "POST /a HTTP/1.1\r\nHost: x\r\nTransfer-Encoding: chunked\r\n\r\n"
+        "0\r\nX:" +
         std::string(line - 2, 'a') + "\r\n\r\n";
     const Parsed whole = ParseWhole(data, limits);
     EXPECT_EQ(ParseGrowing(data, limits), whole)

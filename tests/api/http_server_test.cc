@@ -512,6 +512,7 @@ TEST_F(HttpServerTest, UnfinishedHeadIsClosedAfterTheReadTimeout) {
 TEST_F(HttpServerTest, TrickledHeadIsClosedAfterTheReadTimeout) {
   HttpServerOptions options;
   options.read_timeout_s = 1;
+  options.head_timeout_s = 1;  // the total deadline; no pause is 1 s long
   options.keep_alive_timeout_s = 30;
   StartServer(options);
   RawConnection conn(server_->port());
