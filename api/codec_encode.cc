@@ -2,6 +2,7 @@
 // endpoints (errors, coils, wear) go through JsonWriter, which prints what
 // the DOM's dump() would; the rest build an nlohmann DOM.
 #include <charconv>
+#include <optional>
 #include <cmath>
 #include <string_view>
 #include <utility>
@@ -58,6 +59,45 @@ void WriteStand(JsonWriter* w, int stand) {
   w->String(std::string_view(text, static_cast<size_t>(result.ptr - text)));
 }
 
+void OptionalDouble(JsonWriter* w, const std::optional<double>& v) {
+  if (v) {
+    w->Double(*v);
+  } else {
+    w->Null();
+  }
+}
+
+// The wear limit and remaining-life members of a mounted roll (null when
+// there is no limit or the roll has not worn yet; an unbounded interval end
+// is null).
+void WriteRemainingLife(JsonWriter* w, const storage::PositionWear& p) {
+  const std::optional<RemainingLife>& life = p.remaining;
+  w->Key("wear_limit_um");
+  OptionalDouble(w, p.wear_limit_um);
+  w->Key("remaining_length_m");
+  OptionalDouble(w, life ? std::optional<double>(life->length_m) : std::nullopt);
+  w->Key("remaining_coils");
+  OptionalDouble(w, life ? std::optional<double>(life->coils) : std::nullopt);
+  w->Key("remaining_length_interval_m");
+  if (life) {
+    w->BeginArray();
+    w->Double(life->length_lo_m);
+    OptionalDouble(w, life->length_hi_m);
+    w->EndArray();
+  } else {
+    w->Null();
+  }
+  w->Key("remaining_coils_interval");
+  if (life) {
+    w->BeginArray();
+    w->Double(life->coils_lo);
+    OptionalDouble(w, life->coils_hi);
+    w->EndArray();
+  } else {
+    w->Null();
+  }
+}
+
 // The members of one element of GET /v1/wear, inside an open object.
 void WritePositionMembers(JsonWriter* w, const storage::PositionWear& p) {
   w->Key("stand");
@@ -81,10 +121,11 @@ void WritePositionMembers(JsonWriter* w, const storage::PositionWear& p) {
   w->Double(p.interval_lo_um);
   w->Double(p.interval_hi_um);
   w->EndArray();
+  WriteRemainingLife(w, p);
 }
 
 // Room for one position (its strings come on top).
-constexpr size_t kPositionBytes = 200;
+constexpr size_t kPositionBytes = 420;
 
 Json CalibrationJson(const storage::CalibrationRecord& r) {
   Json coefficients = Json::object();

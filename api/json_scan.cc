@@ -449,4 +449,137 @@ bool ScanBody(std::string_view body, int max_depth, const ObjectShape& shape,
   return true;
 }
 
+namespace {
+
+// The members of a list body: the array's elements' text into *elements
+// (at most max_elements + 1), its member name checks into *error.
+error_code ScanListMembers(od::object& object, std::string_view list,
+                           int max_depth, size_t max_elements,
+                           std::vector<std::string>* elements, bool* seen,
+                           ApiError* error) {
+  Scanner scanner(max_depth);
+  for (auto member : object) {
+    od::field field;
+    if (error_code e = std::move(member).get(field)) return e;
+    std::string_view key;
+    if (error_code e = field.unescaped_key().get(key)) return e;
+    od::value value = field.value();
+    // The first refusal is kept; the rest of the body is still scanned, so
+    // malformed JSON anywhere wins.
+    auto refuse = [&](std::string code, std::string message) {
+      if (error->status == 0) {
+        *error = BadRequest(std::move(code), std::string(key),
+                            std::move(message));
+      }
+      return scanner.Skip(value, 1);
+    };
+    if (key != list) {
+      if (error_code e = refuse("unknown_field",
+                                "unknown member '" + std::string(key) +
+                                    "'; the body has only '" +
+                                    std::string(list) + "'")) {
+        return e;
+      }
+      continue;
+    }
+    if (*seen) {
+      if (error_code e = refuse("invalid_value",
+                                std::string(list) +
+                                    " appears twice in its object")) {
+        return e;
+      }
+      continue;
+    }
+    *seen = true;
+    od::json_type type;
+    if (error_code e = value.type().get(type)) return e;
+    if (type != od::json_type::array) {
+      if (error_code e = refuse("wrong_type",
+                                std::string(list) + " must be an array, got " +
+                                    JsonKindName(KindOf(type)))) {
+        return e;
+      }
+      continue;
+    }
+    if (max_depth < 2) return simdjson::DEPTH_ERROR;
+    od::array array;
+    if (error_code e = value.get_array().get(array)) return e;
+    for (auto item : array) {
+      od::value element;
+      if (error_code e = std::move(item).get(element)) return e;
+      std::string_view raw;
+      if (error_code e = element.raw_json().get(raw)) return e;
+      if (elements->size() <= max_elements) elements->emplace_back(raw);
+    }
+  }
+  return SUCCESS;
+}
+
+}  // namespace
+
+bool SplitListBody(std::string_view body, int max_depth, std::string_view list,
+                   size_t max_elements, std::vector<std::string>* elements,
+                   ApiError* error) {
+  elements->clear();
+  *error = ApiError{};
+  ScanBuffers& buffers = Buffers();
+  buffers.input.assign(body);
+  buffers.input.append(simdjson::SIMDJSON_PADDING, '\0');
+  od::document doc;
+  error_code e =
+      buffers.parser
+          .iterate(buffers.input.data(), body.size(), buffers.input.size())
+          .get(doc);
+  od::json_type type = od::json_type::object;
+  if (!e) e = doc.type().get(type);
+  if (!e && type != od::json_type::object) {
+    e = ScanOtherRoot(doc, type, max_depth);
+    if (!e) {
+      *error = BadRequest("wrong_type", "",
+                          std::string("the body must be a JSON object, got ") +
+                              JsonKindName(KindOf(type)));
+      return false;
+    }
+  }
+  bool seen = false;
+  if (!e) {
+    od::object object;
+    e = doc.get_object().get(object);
+    if (!e) {
+      e = ScanListMembers(object, list, max_depth, max_elements, elements,
+                          &seen, error);
+    }
+  }
+  if (!e && error->status == 0) {
+    const char* rest = nullptr;
+    const error_code end = doc.current_location().get(rest);
+    if (end != simdjson::OUT_OF_BOUNDS) e = simdjson::TRAILING_CONTENT;
+  }
+  if (e == simdjson::DEPTH_ERROR) {
+    *error = BadRequest("nesting_too_deep", "",
+                        "the body nests arrays/objects deeper than " +
+                            std::to_string(max_depth) + " levels");
+    return false;
+  }
+  if (e) {
+    *error = Malformed(e, body, &doc);
+    return false;
+  }
+  if (error->status != 0) return false;
+  if (!seen) {
+    *error = BadRequest("missing_field", std::string(list),
+                        std::string(list) + " is required");
+    return false;
+  }
+  if (elements->size() > max_elements) {
+    *error = ApiError{413, "too_many_elements",
+                      std::string(list) + " has more than " +
+                          std::to_string(max_elements) +
+                          " elements; send the schedule in parts",
+                      std::string(list)};
+    return false;
+  }
+  return true;
+}
+
 }  // namespace rollwear::api

@@ -29,6 +29,9 @@ constexpr RouteInfo kRoutes[kNumRoutes] = {
     {"/v1/diagnoses", "POST"},
     {"/v1/diagnoses/{id}", "GET"},
     {"/", "GET"},
+    {"/v1/limits", "GET"},
+    {"/v1/limits/{stand}/{position}", "POST"},
+    {"/v1/forecast", "POST"},
     {"unmatched", ""},
 };
 

@@ -45,6 +45,9 @@ enum class RouteId : int {
   kDiagnosesPost,     // POST /v1/diagnoses
   kDiagnosis,         // GET  /v1/diagnoses/{id}
   kDashboard,         // GET  / (HTML, api/dashboard.cc)
+  kLimits,            // GET  /v1/limits
+  kLimitSet,          // POST /v1/limits/{stand}/{position}
+  kForecast,          // POST /v1/forecast
   kUnmatched,         // anything else (404/405)
   kCount
 };

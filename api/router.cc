@@ -24,6 +24,7 @@ namespace {
 constexpr std::string_view kCampaignsPrefix = "/v1/campaigns/";
 constexpr std::string_view kEndSuffix = "/end";
 constexpr std::string_view kWearPrefix = "/v1/wear/";
+constexpr std::string_view kLimitsPrefix = "/v1/limits/";
 constexpr std::string_view kCalibrationsPrefix = "/v1/calibrations/";
 constexpr std::string_view kDiagnosesPrefix = "/v1/diagnoses/";
 
@@ -85,6 +86,23 @@ HttpResponse MethodNotAllowed(RouteId route, const std::string& method) {
   return r;
 }
 
+// "{a}/{b}" after `prefix` into *arg1, *arg2 (both non-empty, no more
+// slashes); false when `path` is not of that form.
+bool MatchTwoParams(std::string_view path, std::string_view prefix,
+                    std::string* arg1, std::string* arg2) {
+  if (path.substr(0, prefix.size()) != prefix) return false;
+  const std::string_view rest = path.substr(prefix.size());
+  const size_t slash = rest.find('/');
+  if (slash == std::string_view::npos || slash == 0 ||
+      slash + 1 >= rest.size() ||
+      rest.find('/', slash + 1) != std::string_view::npos) {
+    return false;
+  }
+  *arg1 = std::string(rest.substr(0, slash));
+  *arg2 = std::string(rest.substr(slash + 1));
+  return true;
+}
+
 // The route of `path` (kUnmatched when none) and its path parameters.
 RouteId MatchRoute(const std::string& path, bool post, std::string* arg1,
                    std::string* arg2) {
@@ -101,6 +119,8 @@ RouteId MatchRoute(const std::string& path, bool post, std::string* arg1,
   if (path == "/metrics") return RouteId::kMetrics;
   if (path == "/v1/diagnoses") return RouteId::kDiagnosesPost;
   if (path == "/") return RouteId::kDashboard;
+  if (path == "/v1/limits") return RouteId::kLimits;
+  if (path == "/v1/forecast") return RouteId::kForecast;
   const std::string_view p(path);
   if (p.size() > kCampaignsPrefix.size() + kEndSuffix.size() &&
       p.substr(0, kCampaignsPrefix.size()) == kCampaignsPrefix &&
@@ -111,16 +131,12 @@ RouteId MatchRoute(const std::string& path, bool post, std::string* arg1,
     return RouteId::kCampaignEnd;
   }
   if (p.substr(0, kWearPrefix.size()) == kWearPrefix) {
-    const std::string_view rest = p.substr(kWearPrefix.size());
-    const size_t slash = rest.find('/');
-    if (slash == std::string_view::npos || slash == 0 ||
-        slash + 1 >= rest.size() ||
-        rest.find('/', slash + 1) != std::string_view::npos) {
-      return RouteId::kUnmatched;
-    }
-    *arg1 = std::string(rest.substr(0, slash));
-    *arg2 = std::string(rest.substr(slash + 1));
-    return RouteId::kWearAt;
+    return MatchTwoParams(p, kWearPrefix, arg1, arg2) ? RouteId::kWearAt
+                                                      : RouteId::kUnmatched;
+  }
+  if (p.substr(0, kLimitsPrefix.size()) == kLimitsPrefix) {
+    return MatchTwoParams(p, kLimitsPrefix, arg1, arg2) ? RouteId::kLimitSet
+                                                        : RouteId::kUnmatched;
   }
   if (p.substr(0, kCalibrationsPrefix.size()) == kCalibrationsPrefix &&
       p.size() > kCalibrationsPrefix.size() &&
@@ -335,6 +351,15 @@ HttpResponse Router::Dispatch(const HttpRequest& request) {
       break;
     case RouteId::kDashboard:
       response = GetDashboard();
+      break;
+    case RouteId::kLimits:
+      response = GetLimits();
+      break;
+    case RouteId::kLimitSet:
+      response = PostLimit(request, arg1, arg2);
+      break;
+    case RouteId::kForecast:
+      response = PostForecast(request);
       break;
     default:
       response = Error(404, "not_found", "no such endpoint: " + path);

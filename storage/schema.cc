@@ -142,6 +142,13 @@ constexpr const char* kSchemaV4 = R"sql(
 ALTER TABLE measurements ADD COLUMN suspect TEXT;
 )sql";
 
+// Version 5: wear limits set through the API (POST /v1/limits/{stand}/
+// {position}), one per roll position ("F6", "top"); set_at is an ISO 8601
+// UTC timestamp. A limit here wins over the configuration's.
+constexpr const char* kSchemaV5 = R"sql(
+CREATE TABLE IF NOT EXISTS wear_limits (stand TEXT NOT NULL, position TEXT NOT NULL, limit_um REAL NOT NULL, set_at TEXT NOT NULL, reason TEXT, PRIMARY KEY (stand, position));
+)sql";
+
 // Number of tables in the file (sqlite_% internals excluded).
 StatusOr<int> CountTables(Db* db, bool* has_version_table) {
   ROLLWEAR_ASSIGN_OR_RETURN(
@@ -167,8 +174,9 @@ const std::vector<Migration>& SchemaMigrations() {
       {2, "per-coil wear answers", kSchemaV2},
       {3, "no passes_by_campaign index", kSchemaV3},
       {4, "suspect measurements", kSchemaV4},
+      {5, "wear limits", kSchemaV5},
   };
-  static_assert(kSchemaVersion == 4,
+  static_assert(kSchemaVersion == 5,
                 "kSchemaVersion must equal the last migration's version");
   return *migrations;
 }
