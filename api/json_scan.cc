@@ -451,6 +451,25 @@ bool ScanBody(std::string_view body, int max_depth, const ObjectShape& shape,
 
 namespace {
 
+// The exact text of an array element (simdjson 3.0's value has no
+// raw_json(): an object's or array's own, a scalar's token).
+error_code RawElement(od::value& element, std::string_view* raw) {
+  od::json_type type;
+  if (error_code e = element.type().get(type)) return e;
+  if (type == od::json_type::object) {
+    od::object object;
+    if (error_code e = element.get_object().get(object)) return e;
+    return object.raw_json().get(*raw);
+  }
+  if (type == od::json_type::array) {
+    od::array array;
+    if (error_code e = element.get_array().get(array)) return e;
+    return array.raw_json().get(*raw);
+  }
+  *raw = element.raw_json_token();
+  return SUCCESS;
+}
+
 // The members of a list body: the array's elements' text into *elements
 // (at most max_elements + 1), its member name checks into *error.
 error_code ScanListMembers(od::object& object, std::string_view list,
@@ -508,7 +527,7 @@ error_code ScanListMembers(od::object& object, std::string_view list,
       od::value element;
       if (error_code e = std::move(item).get(element)) return e;
       std::string_view raw;
-      if (error_code e = element.raw_json().get(raw)) return e;
+      if (error_code e = RawElement(element, &raw)) return e;
       if (elements->size() <= max_elements) elements->emplace_back(raw);
     }
   }
