@@ -2,8 +2,8 @@
 // endpoints (errors, coils, wear) go through JsonWriter, which prints what
 // the DOM's dump() would; the rest build an nlohmann DOM.
 #include <charconv>
-#include <optional>
 #include <cmath>
+#include <optional>
 #include <string_view>
 #include <utility>
 
@@ -11,8 +11,8 @@
 
 #include "api/codec.h"
 #include "api/json_writer.h"
-#include "core/model/ann_model.h"
 #include "core/dataset/dataset_io.h"
+#include "core/model/ann_model.h"
 #include "storage/model_codec.h"
 
 namespace rollwear::api {
@@ -75,7 +75,8 @@ void WriteRemainingLife(JsonWriter* w, const storage::PositionWear& p) {
   w->Key("wear_limit_um");
   OptionalDouble(w, p.wear_limit_um);
   w->Key("remaining_length_m");
-  OptionalDouble(w, life ? std::optional<double>(life->length_m) : std::nullopt);
+  OptionalDouble(w,
+                 life ? std::optional<double>(life->length_m) : std::nullopt);
   w->Key("remaining_coils");
   OptionalDouble(w, life ? std::optional<double>(life->coils) : std::nullopt);
   w->Key("remaining_length_interval_m");
