@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include "storage/schema.h"
+#include "storage/sqlite_db.h"
 #include "tests/storage/store_test_util.h"
 
 namespace rollwear::storage::testing {
@@ -59,6 +61,41 @@ TEST(StoreLimits, ConfigLimitsThenApiLimitWinsAndSurvivesReopen) {
   EXPECT_EQ(l.reason, "ground last week");
   EXPECT_FALSE(store->WearLimits()[RollPositionSlot(7, Position::kTop)]
                    .limit_um.has_value());
+}
+
+// A version-4 file (before wear limits) is migrated on open: it gains the
+// empty wear_limits table, and a limit set then is stored in it.
+TEST(StoreLimits, VersionFourFileGainsTheTable) {
+  TempDir dir;
+  const std::string path = dir.File("v4.db");
+  {
+    StatusOr<std::unique_ptr<Db>> db = Db::Open(path);
+    ASSERT_TRUE(db.ok()) << db.status().ToString();
+    std::vector<Migration> upto4(SchemaMigrations().begin(),
+                                 SchemaMigrations().begin() + 4);
+    ASSERT_TRUE(MigrateSchema(db->get(), upto4).ok());
+    StatusOr<int> version = ReadSchemaVersion(db->get());
+    ASSERT_TRUE(version.ok());
+    ASSERT_EQ(*version, 4);
+  }
+  {
+    auto store = OpenStore(path);
+    ASSERT_NE(store, nullptr);
+    EXPECT_FALSE(store->WearLimits()[0].limit_um.has_value());
+    ASSERT_TRUE(store->SetWearLimit({1, Position::kBottom, 42, "x"}).ok());
+  }
+  StatusOr<std::unique_ptr<Db>> db = Db::Open(path);
+  ASSERT_TRUE(db.ok());
+  StatusOr<int> version = ReadSchemaVersion(db->get());
+  ASSERT_TRUE(version.ok());
+  EXPECT_EQ(*version, 5);
+  StatusOr<Statement> st = (*db)->Prepare(
+      "SELECT stand || '/' || position || ' ' || limit_um || ' ' || reason "
+      "FROM wear_limits");
+  ASSERT_TRUE(st.ok());
+  StatusOr<bool> row = st->Step();
+  ASSERT_TRUE(row.ok() && *row);
+  EXPECT_EQ(st->ColumnText(0), "F1/bottom 42.0 x");
 }
 
 TEST(StoreLimits, WearAnswersRemainingLifeAtTheCampaignsMix) {

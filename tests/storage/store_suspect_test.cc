@@ -235,7 +235,8 @@ TEST(StoreSuspectTest, VersionThreeFileGainsTheColumnAndKeepsItsRows) {
   EXPECT_EQ(suspect, "");
   store.reset();
   auto db = MustOpen(path);
-  EXPECT_EQ(QueryText(db.get(), "SELECT version FROM schema_version"), "4");
+  EXPECT_EQ(QueryText(db.get(), "SELECT version FROM schema_version"),
+            std::to_string(kSchemaVersion));
   EXPECT_EQ(QueryText(db.get(),
                       "SELECT wear_center_um || ' ' || "
                       "coalesce(suspect, 'null') FROM measurements"),
