@@ -59,44 +59,38 @@ void WriteStand(JsonWriter* w, int stand) {
   w->String(std::string_view(text, static_cast<size_t>(result.ptr - text)));
 }
 
-void OptionalDouble(JsonWriter* w, const std::optional<double>& v) {
-  if (v) {
-    w->Double(*v);
-  } else {
-    w->Null();
-  }
+// [lo, hi] with hi null when unbounded.
+void WriteBounds(JsonWriter* w, double lo, const std::optional<double>& hi) {
+  w->BeginArray();
+  w->Double(lo);
+  w->OptionalDouble(hi);
+  w->EndArray();
 }
 
 // The wear limit and remaining-life members of a mounted roll (null when
-// there is no limit or the roll has not worn yet; an unbounded interval end
-// is null).
+// there is no limit or the roll has not worn yet).
 void WriteRemainingLife(JsonWriter* w, const storage::PositionWear& p) {
   const std::optional<RemainingLife>& life = p.remaining;
   w->Key("wear_limit_um");
-  OptionalDouble(w, p.wear_limit_um);
+  w->OptionalDouble(p.wear_limit_um);
+  if (!life) {
+    for (JsonKey key : {JsonKey("remaining_length_m"),
+                        JsonKey("remaining_coils"),
+                        JsonKey("remaining_length_interval_m"),
+                        JsonKey("remaining_coils_interval")}) {
+      w->Key(key);
+      w->Null();
+    }
+    return;
+  }
   w->Key("remaining_length_m");
-  OptionalDouble(w,
-                 life ? std::optional<double>(life->length_m) : std::nullopt);
+  w->Double(life->length_m);
   w->Key("remaining_coils");
-  OptionalDouble(w, life ? std::optional<double>(life->coils) : std::nullopt);
+  w->Double(life->coils);
   w->Key("remaining_length_interval_m");
-  if (life) {
-    w->BeginArray();
-    w->Double(life->length_lo_m);
-    OptionalDouble(w, life->length_hi_m);
-    w->EndArray();
-  } else {
-    w->Null();
-  }
+  WriteBounds(w, life->length_lo_m, life->length_hi_m);
   w->Key("remaining_coils_interval");
-  if (life) {
-    w->BeginArray();
-    w->Double(life->coils_lo);
-    OptionalDouble(w, life->coils_hi);
-    w->EndArray();
-  } else {
-    w->Null();
-  }
+  WriteBounds(w, life->coils_lo, life->coils_hi);
 }
 
 // The members of one element of GET /v1/wear, inside an open object.

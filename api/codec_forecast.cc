@@ -29,25 +29,13 @@ ApiError InCoil(size_t i, ApiError e) {
   return e;
 }
 
-void WriteStand(JsonWriter* w, int stand) {
-  w->String("F" + std::to_string(stand));
-}
-
-void OptionalDouble(JsonWriter* w, const std::optional<double>& v) {
-  if (v) {
-    w->Double(*v);
-  } else {
-    w->Null();
-  }
-}
-
 void WriteLimitMembers(JsonWriter* w, const storage::WearLimit& l) {
   w->Key("stand");
-  WriteStand(w, l.stand);
+  w->String(StandName(l.stand));
   w->Key("position");
   w->String(PositionName(l.position));
   w->Key("limit_um");
-  OptionalDouble(w, l.limit_um);
+  w->OptionalDouble(l.limit_um);
   w->Key("source");
   if (l.source.empty()) {
     w->Null();
@@ -72,7 +60,7 @@ void WriteForecastPosition(JsonWriter* w, const storage::ForecastPosition& p,
                            const std::vector<std::string>& coil_ids) {
   w->BeginObject();
   w->Key("stand");
-  WriteStand(w, p.stand);
+  w->String(StandName(p.stand));
   w->Key("position");
   w->String(PositionName(p.position));
   w->Key("roll_id");
@@ -80,7 +68,7 @@ void WriteForecastPosition(JsonWriter* w, const storage::ForecastPosition& p,
   w->Key("campaign_id");
   w->String(p.campaign_id);
   w->Key("wear_limit_um");
-  OptionalDouble(w, p.wear_limit_um);
+  w->OptionalDouble(p.wear_limit_um);
   w->Key("predicted_wear_um");
   w->BeginArray();
   for (double d : p.predicted_wear_um) w->Double(d);

@@ -347,6 +347,29 @@ ApiError Malformed(error_code e, std::string_view body, od::document* doc) {
   return BadRequest("malformed_json", "", std::move(message));
 }
 
+// The answer to a scan's syntax error: nesting_too_deep or malformed_json.
+ApiError SyntaxError(error_code e, std::string_view body, od::document* doc,
+                     int max_depth) {
+  if (e == simdjson::DEPTH_ERROR) {
+    return BadRequest("nesting_too_deep", "",
+                      "the body nests arrays/objects deeper than " +
+                          std::to_string(max_depth) + " levels");
+  }
+  return Malformed(e, body, doc);
+}
+
+// Starts the thread's parser on a padded copy of `body`. The padding is
+// written (zeros), so the parser never reads uninitialised bytes; the
+// buffer keeps its capacity for the next body.
+error_code Iterate(std::string_view body, od::document* doc) {
+  ScanBuffers& buffers = Buffers();
+  buffers.input.assign(body);
+  buffers.input.append(simdjson::SIMDJSON_PADDING, '\0');
+  return buffers.parser
+      .iterate(buffers.input.data(), body.size(), buffers.input.size())
+      .get(*doc);
+}
+
 JsonKind KindOf(od::json_type type) {
   switch (type) {
     case od::json_type::array:
@@ -408,16 +431,8 @@ const char* JsonKindName(JsonKind kind) {
 
 bool ScanBody(std::string_view body, int max_depth, const ObjectShape& shape,
               ScannedObject* out, ApiError* error) {
-  ScanBuffers& buffers = Buffers();
-  // The padding is written (zeros), so the parser never reads
-  // uninitialised bytes; the buffer keeps its capacity for the next body.
-  buffers.input.assign(body);
-  buffers.input.append(simdjson::SIMDJSON_PADDING, '\0');
   od::document doc;
-  error_code e =
-      buffers.parser
-          .iterate(buffers.input.data(), body.size(), buffers.input.size())
-          .get(doc);
+  error_code e = Iterate(body, &doc);
   if (e) {
     *error = Malformed(e, body, nullptr);
     return false;
@@ -425,14 +440,8 @@ bool ScanBody(std::string_view body, int max_depth, const ObjectShape& shape,
   Scanner scanner(max_depth);
   od::json_type type = od::json_type::object;
   e = ScanDocument(doc, shape, max_depth, out, &scanner, &type);
-  if (e == simdjson::DEPTH_ERROR) {
-    *error = BadRequest("nesting_too_deep", "",
-                        "the body nests arrays/objects deeper than " +
-                            std::to_string(max_depth) + " levels");
-    return false;
-  }
   if (e) {
-    *error = Malformed(e, body, &doc);
+    *error = SyntaxError(e, body, &doc, max_depth);
     return false;
   }
   if (type != od::json_type::object) {
@@ -541,14 +550,8 @@ bool SplitListBody(std::string_view body, int max_depth, std::string_view list,
                    ApiError* error) {
   elements->clear();
   *error = ApiError{};
-  ScanBuffers& buffers = Buffers();
-  buffers.input.assign(body);
-  buffers.input.append(simdjson::SIMDJSON_PADDING, '\0');
   od::document doc;
-  error_code e =
-      buffers.parser
-          .iterate(buffers.input.data(), body.size(), buffers.input.size())
-          .get(doc);
+  error_code e = Iterate(body, &doc);
   od::json_type type = od::json_type::object;
   if (!e) e = doc.type().get(type);
   if (!e && type != od::json_type::object) {
@@ -574,14 +577,8 @@ bool SplitListBody(std::string_view body, int max_depth, std::string_view list,
     const error_code end = doc.current_location().get(rest);
     if (end != simdjson::OUT_OF_BOUNDS) e = simdjson::TRAILING_CONTENT;
   }
-  if (e == simdjson::DEPTH_ERROR) {
-    *error = BadRequest("nesting_too_deep", "",
-                        "the body nests arrays/objects deeper than " +
-                            std::to_string(max_depth) + " levels");
-    return false;
-  }
   if (e) {
-    *error = Malformed(e, body, &doc);
+    *error = SyntaxError(e, body, &doc, max_depth);
     return false;
   }
   if (error->status != 0) return false;
