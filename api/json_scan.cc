@@ -552,8 +552,12 @@ bool SplitListBody(std::string_view body, int max_depth, std::string_view list,
   *error = ApiError{};
   od::document doc;
   error_code e = Iterate(body, &doc);
+  if (e) {
+    *error = SyntaxError(e, body, nullptr, max_depth);
+    return false;
+  }
   od::json_type type = od::json_type::object;
-  if (!e) e = doc.type().get(type);
+  e = doc.type().get(type);
   if (!e && type != od::json_type::object) {
     e = ScanOtherRoot(doc, type, max_depth);
     if (!e) {
@@ -572,7 +576,7 @@ bool SplitListBody(std::string_view body, int max_depth, std::string_view list,
                           &seen, error);
     }
   }
-  if (!e && error->status == 0) {
+  if (!e) {
     const char* rest = nullptr;
     const error_code end = doc.current_location().get(rest);
     if (end != simdjson::OUT_OF_BOUNDS) e = simdjson::TRAILING_CONTENT;

@@ -201,6 +201,12 @@ TEST_F(RouterForecastTest, ForecastErrorsNameTheCoilAndChangeNothing) {
                  "malformed_json", nullptr, before);
   ExpectRejected(PostRaw("/v1/forecast", R"({"coils": [], "coils": []})"), 400,
                  "invalid_value", "coils", before);
+  ExpectRejected(PostRaw("/v1/forecast", R"({"coils": [], "x": 1} trailing)"),
+                 400, "malformed_json", nullptr, before);
+  ExpectRejected(PostRaw("/v1/forecast", "[1, 2"), 400, "malformed_json",
+                 nullptr, before);
+  ExpectRejected(PostRaw("/v1/forecast", "[1, 2]"), 400, "wrong_type",
+                 nullptr, before);
 
   ApiOptions options;
   options.max_forecast_coils = 4;
