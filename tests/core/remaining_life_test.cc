@@ -99,6 +99,27 @@ std::vector<RollRun> MeasuredRolls(const Dataset& d,
   return out;
 }
 
+// The true law's wear increment of each of the roll's coils, up to the
+// factors constant in its campaign (kF, kR), and each coil's length; returns
+// the increments' sum.
+double TrueIncrements(const Simulation& sim, const RollRun& r,
+                      std::vector<double>* inc, std::vector<double>* len) {
+  const Dataset& d = sim.data;
+  double total = 0;
+  for (int pi : r.passes) {
+    const Pass& p = d.passes[pi];
+    const PassLoadInput in{p.force_kn,          p.width_mm,
+                           p.length_m,          p.entry_thickness_mm,
+                           p.exit_thickness_mm, r.mount->diameter_mm,
+                           r.mount->hardness_hb};
+    inc->push_back(sim.truth.k_grade.at(d.grades[p.grade]) *
+                   Load(WearLaw::kWang, in, 0));
+    len->push_back(p.length_m);
+    total += inc->back();
+  }
+  return total;
+}
+
 TEST(RemainingLife, IntervalCoversTheRestOfSimulatedCampaigns) {
   const Simulation sim = simulator_test::Simulated(61, 240);
   const Dataset& d = sim.data;
@@ -124,20 +145,8 @@ TEST(RemainingLife, IntervalCoversTheRestOfSimulatedCampaigns) {
   std::vector<double> rel_error;
   for (const RollRun& r : rolls) {
     const double lim = limit[r.slot];
-    // True shares of the roll's wear, coil by coil.
     std::vector<double> inc, len;
-    double total = 0;
-    for (int pi : r.passes) {
-      const Pass& p = d.passes[pi];
-      const PassLoadInput in{p.force_kn,          p.width_mm,
-                             p.length_m,          p.entry_thickness_mm,
-                             p.exit_thickness_mm, r.mount->diameter_mm,
-                             r.mount->hardness_hb};
-      inc.push_back(sim.truth.k_grade.at(d.grades[p.grade]) *
-                    Load(WearLaw::kWang, in, 0));
-      len.push_back(p.length_m);
-      total += inc.back();
-    }
+    const double total = TrueIncrements(sim, r, &inc, &len);
     const size_t mid = r.passes.size() / 2;
     RollWearState state = MountRoll(
         model, RollPositionName(SlotStand(r.slot), SlotPosition(r.slot)),
