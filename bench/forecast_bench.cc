@@ -58,17 +58,18 @@ struct Mill {
     if (!opened.ok()) Die(opened.status().ToString());
     store = std::move(opened).value();
     router = std::make_unique<api::Router>(store.get(), api::ApiOptions());
-    Post("/v1/roll-changes",
-         R"({"campaign_id":"C1","started_at":"2030-01-01T05:00:00Z","rolls":[)"
-         R"({"stand":"F6","position":"top","roll_id":"A","roll_type":"ICDP",)"
-         R"("diameter_mm":700,"hardness_hb":550},)"
-         R"({"stand":"F6","position":"bottom","roll_id":"B","roll_type":"ICDP",)"
-         R"("diameter_mm":700,"hardness_hb":550},)"
-         R"({"stand":"F7","position":"top","roll_id":"C","roll_type":"HSS",)"
-         R"("diameter_mm":690,"hardness_hb":600},)"
-         R"({"stand":"F7","position":"bottom","roll_id":"D","roll_type":"HSS",)"
-         R"("diameter_mm":690,"hardness_hb":600}]})",
-         201);
+    Post(
+        "/v1/roll-changes",
+        R"({"campaign_id":"C1","started_at":"2030-01-01T05:00:00Z","rolls":[)"
+        R"({"stand":"F6","position":"top","roll_id":"A","roll_type":"ICDP",)"
+        R"("diameter_mm":700,"hardness_hb":550},)"
+        R"({"stand":"F6","position":"bottom","roll_id":"B","roll_type":"ICDP",)"
+        R"("diameter_mm":700,"hardness_hb":550},)"
+        R"({"stand":"F7","position":"top","roll_id":"C","roll_type":"HSS",)"
+        R"("diameter_mm":690,"hardness_hb":600},)"
+        R"({"stand":"F7","position":"bottom","roll_id":"D","roll_type":"HSS",)"
+        R"("diameter_mm":690,"hardness_hb":600}]})",
+        201);
     for (int seq = 1; seq <= 500; ++seq) Post("/v1/coils", CoilBody(seq), 201);
   }
   ~Mill() {
@@ -80,8 +81,7 @@ struct Mill {
     std::fprintf(stderr, "forecast_bench: %s\n", why.c_str());
     std::abort();
   }
-  api::HttpResponse Post(const std::string& path, std::string body,
-                         int want) {
+  api::HttpResponse Post(const std::string& path, std::string body, int want) {
     api::HttpRequest request;
     request.method = "POST";
     request.path = path;

@@ -205,8 +205,8 @@ TEST_F(RouterForecastTest, ForecastErrorsNameTheCoilAndChangeNothing) {
                  400, "malformed_json", nullptr, before);
   ExpectRejected(PostRaw("/v1/forecast", "[1, 2"), 400, "malformed_json",
                  nullptr, before);
-  ExpectRejected(PostRaw("/v1/forecast", "[1, 2]"), 400, "wrong_type",
-                 nullptr, before);
+  ExpectRejected(PostRaw("/v1/forecast", "[1, 2]"), 400, "wrong_type", nullptr,
+                 before);
 
   ApiOptions options;
   options.max_forecast_coils = 4;
