@@ -110,6 +110,15 @@ bool DecodeWearLimit(std::string_view body, int max_depth,
 // too_many_elements; none: 400 out_of_range (api/codec_forecast.cc).
 bool DecodeForecast(std::string_view body, int max_depth, size_t max_coils,
                     std::vector<storage::CoilIn>* out, ApiError* error);
+// POST /v1/models/{version}/activate: {"reason": "<why>", "pin": true|
+// false (default true)}; reason required, not blank, at most kMaxIdLength
+// bytes.
+struct ActivateRequest {
+  std::string reason;
+  bool pin = true;
+};
+bool DecodeActivateRequest(std::string_view body, int max_depth,
+                           ActivateRequest* out, ApiError* error);
 
 // Answer bodies.
 std::string EncodeRollChangeAnswer(const storage::RollChangeIn& in,
@@ -138,6 +147,13 @@ std::string EncodeHealth(bool healthy);
 std::string EncodeWearLimits(const std::vector<storage::WearLimit>& limits);
 std::string EncodeWearLimit(const storage::WearLimit& limit);
 std::string EncodeForecast(const storage::Forecast& forecast);
+// codec_shop.cc: the model audit trail, rolls and stored diagnoses.
+std::string EncodeModelHistory(
+    const std::vector<storage::ModelPromotion>& history);
+std::string EncodeRollLife(const storage::RollLife& life);
+std::string EncodeRollInventory(const std::vector<storage::RollSummary>& rolls);
+std::string EncodeDiagnosisList(
+    const std::vector<storage::StoredDiagnosis>& diagnoses);
 
 }  // namespace rollwear::api
 

@@ -90,9 +90,12 @@ constexpr ObjectShape kCalibrationShape{kCalibrationMembers};
 enum DiagnosisMember { kAdopt };
 constexpr std::string_view kDiagnosisMembers[] = {"adopt"};
 constexpr ObjectShape kDiagnosisShape{kDiagnosisMembers};
-enum WearLimitMember { kLimitUm, kReason };
+enum WearLimitMember { kLimitUm, kLimitReason };
 constexpr std::string_view kWearLimitMembers[] = {"limit_um", "reason"};
 constexpr ObjectShape kWearLimitShape{kWearLimitMembers};
+enum ActivateMember { kReason, kPin };
+constexpr std::string_view kActivateMembers[] = {"reason", "pin"};
+constexpr ObjectShape kActivateShape{kActivateMembers};
 
 ApiError BadRequest(std::string code, std::string field, std::string message) {
   return ApiError{400, std::move(code), std::move(message), std::move(field)};
@@ -582,7 +585,24 @@ bool DecodeWearLimit(std::string_view body, int max_depth,
                                                         .text.substr(0, 40)));
   }
   out->reason.clear();
-  return !r.Has(kReason) || scanned.members[kReason].kind == JsonKind::kNull || r.Text(kReason, &out->reason);
+  return !r.Has(kLimitReason) ||
+         scanned.members[kLimitReason].kind == JsonKind::kNull ||
+         r.Text(kLimitReason, &out->reason);
+}
+
+bool DecodeActivateRequest(std::string_view body, int max_depth,
+                           ActivateRequest* out, ApiError* error) {
+  ScannedObject scanned;
+  if (!ScanBody(IsBlank(body) ? std::string_view("{}") : body, max_depth,
+                kActivateShape, &scanned, error)) {
+    return false;
+  }
+  ObjectReader r(scanned, kActivateShape, error);
+  if (!r.OnlyKnown() || !r.Text(kReason, &out->reason)) return false;
+  if (out->reason.find_first_not_of(" \t\r\n") == std::string::npos) {
+    return r.OutOfRange("reason", "must not be empty");
+  }
+  return !r.Has(kPin) || r.Flag(kPin, &out->pin);
 }
 
 }  // namespace rollwear::api

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/codec.h"
+#include "api/codec_json_util.h"
 #include "api/json_writer.h"
 #include "core/dataset/dataset_io.h"
 #include "core/model/ann_model.h"
@@ -18,24 +19,13 @@
 namespace rollwear::api {
 namespace {
 
-// Insertion-ordered objects: answers list their fields in the documented
-// order.
-using Json = nlohmann::ordered_json;
-
-std::string Dump(const Json& j) {
-  return j.dump(-1, ' ', false, Json::error_handler_t::replace);
-}
+using codec_internal::Dump;
+using codec_internal::FiniteOrNull;
+using codec_internal::Json;
+using codec_internal::TimeOrNull;
 
 const char* OutcomeName(storage::WriteOutcome o) {
   return o == storage::WriteOutcome::kCreated ? "created" : "unchanged";
-}
-
-Json TimeOrNull(UnixSeconds t) {
-  return t == 0 ? Json(nullptr) : Json(FormatTimestamp(t));
-}
-
-Json FiniteOrNull(double v) {
-  return std::isfinite(v) ? Json(v) : Json(nullptr);
 }
 
 const char* StatusName(storage::CalibrationStatus s) {
@@ -172,7 +162,18 @@ Json ModelJson(const storage::ModelVersion& m) {
        m.version == 0 ? Json(nullptr) : FiniteOrNull(m.gap_val_um)},
       {"noise",
        {{"sd_um", m.wear_model.noise_sd_um}, {"rel", m.wear_model.noise_rel}}},
-      {"created_at", TimeOrNull(m.created_at)}};
+      {"created_at", TimeOrNull(m.created_at)},
+      {"pinned", m.pinned},
+      // The run that made it (null: none recorded, e.g. version 0).
+      {"run", m.calibration_id == 0
+                  ? Json(nullptr)
+                  : Json{{"calibration_id", m.calibration_id},
+                         {"source", m.source},
+                         {"trigger", m.trigger},
+                         {"gap_train_um", FiniteOrNull(m.gap_train_um)},
+                         {"gap_val_um", FiniteOrNull(m.gap_val_um)},
+                         {"n_train", m.n_train},
+                         {"n_val", m.n_val}}}};
   if (m.wear_model.is_ann()) {
     const AnnModel& a = *m.wear_model.ann;
     out["ann"] = {{"members", a.members.size()},

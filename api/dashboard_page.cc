@@ -1,6 +1,7 @@
 #include "api/dashboard_page.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -25,6 +26,22 @@ std::string Fmt(const char* format, double v) {
 
 std::string Attr(const char* name, const std::string& value) {
   return std::string(" ") + name + "=\"" + XmlEscape(value) + "\"";
+}
+
+// `text` as one URL path segment (RFC 3986 unreserved bytes kept, every
+// other byte %XX): the roll page's link.
+std::string PathSegment(const std::string& text) {
+  std::string out;
+  for (const unsigned char c : text) {
+    if (std::isalnum(c) || c == '-' || c == '_' || c == '.' || c == '~') {
+      out += static_cast<char>(c);
+    } else {
+      char buf[4];
+      std::snprintf(buf, sizeof(buf), "%%%02X", c);
+      out += buf;
+    }
+  }
+  return out;
 }
 
 std::string Label(int stand, const std::string& position) {
@@ -176,8 +193,9 @@ std::string RollsSection(const DashboardData& d) {
     s += "<td class=\"pos\"><span class=\"sw\" style=\"background:" +
          std::string(PaletteColor(static_cast<int>(i))) + "\"></span>" +
          XmlEscape(Label(r.stand, r.position)) + "</td>";
-    s += "<td title=\"" + XmlEscape(r.roll_type) + "\">" +
-         XmlEscape(r.roll_id) + "</td>";
+    s += "<td title=\"" + XmlEscape(r.roll_type) + "\"><a href=\"/rolls/" +
+         XmlEscape(PathSegment(r.roll_id)) + "\">" + XmlEscape(r.roll_id) +
+         "</a></td>";
     s += "<td class=\"coils\">" + std::to_string(r.coils) + "</td>";
     s += "<td class=\"length\">" + Fmt("%.1f", r.rolled_length_m / 1000) +
          "</td>";

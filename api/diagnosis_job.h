@@ -24,9 +24,16 @@ struct DiagnosisJob {
   std::string status;   // "queued", "running", "done", "failed"
   std::string report;   // JSON of api/diagnosis_json.h when done
   std::string message;  // why it failed
+  std::string verdict;  // the report's verdict when done
   bool adopt = false;
   // The run that proposed the adopted model (adopt and missing physics).
   std::optional<storage::CalibrationRecord> adoption;
+  // When it was queued, started and finished (0: not yet), its verdict and
+  // the HTML report of `rollwear diagnose --html` (when done): what is
+  // stored once it has finished (MillStore::SaveDiagnosis).
+  UnixSeconds queued_at = 0, started_at = 0, finished_at = 0;
+  std::string verdict;
+  std::string html;
 };
 
 // {"id", "status"} plus, when done, every field of the report (the JSON of

@@ -54,6 +54,8 @@ HttpResult HttpClient::Send(const std::string& method, const std::string& path,
   httplib::Result r{nullptr, httplib::Error::Unknown};
   if (method == "GET") {
     r = c.Get(path, headers);
+  } else if (method == "HEAD") {
+    r = c.Head(path, headers);
   } else if (method == "POST") {
     r = c.Post(path, headers, body, content_type);
   } else if (method == "PUT") {
@@ -70,6 +72,7 @@ HttpResult HttpClient::Send(const std::string& method, const std::string& path,
   HttpResult out;
   if (!r) {
     out.error = httplib::to_string(r.error());
+    out.not_connected = r.error() == httplib::Error::Connection;
     return out;
   }
   out.status = r->status;

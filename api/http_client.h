@@ -28,6 +28,9 @@ struct HttpResult {
   int status = 0;  // 0 = no answer (connection refused, reset, timeout)
   std::string body;
   std::string error;  // set when status is 0
+  // No connection could be made (refused, unreachable, connect timeout),
+  // as opposed to one lost or timed out after it was made.
+  bool not_connected = false;
   bool answered() const { return status != 0; }
 };
 

@@ -1,8 +1,13 @@
 #include "api/metrics.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <utility>
+#include <vector>
+
+#include "api/process_metrics.h"
 
 namespace rollwear::api {
 namespace {
@@ -32,6 +37,14 @@ constexpr RouteInfo kRoutes[kNumRoutes] = {
     {"/v1/limits", "GET"},
     {"/v1/limits/{stand}/{position}", "POST"},
     {"/v1/forecast", "POST"},
+    {"/v1/models/{version}", "GET"},
+    {"/v1/models/{version}/activate", "POST"},
+    {"/v1/models/history", "GET"},
+    {"/v1/rolls", "GET"},
+    {"/v1/rolls/{roll_id}", "GET"},
+    {"/v1/diagnoses", "GET"},
+    {"/v1/diagnoses/{id}/report", "GET"},
+    {"/rolls/{roll_id}", "GET"},
     {"unmatched", ""},
 };
 
@@ -75,9 +88,22 @@ void Sample(std::string* out, std::string_view name, std::string_view labels,
   *out += '\n';
 }
 
-std::string RouteLabels(int r) {
+constexpr const char* kMethods[kNumMethods] = {
+    "GET", "HEAD", "POST", "PUT", "DELETE", "PATCH", "OPTIONS", "OTHER"};
+
+std::string RouteLabels(int r, int m) {
   return std::string("route=\"") + kRoutes[r].path + "\",method=\"" +
-         kRoutes[r].method + "\"";
+         kMethods[m] + "\"";
+}
+
+// A label value with \, " and newline escaped (exposition format 0.0.4).
+std::string Escaped(std::string_view value) {
+  std::string out;
+  for (char c : value) {
+    if (c == '\\' || c == '"') out += '\\';
+    out += c == '\n' ? std::string("\\n") : std::string(1, c);
+  }
+  return out;
 }
 
 }  // namespace
@@ -87,6 +113,65 @@ const char* RoutePath(RouteId route) {
 }
 const char* RouteMethod(RouteId route) {
   return kRoutes[static_cast<int>(route)].method;
+}
+
+HttpMethod ParseHttpMethod(std::string_view method) {
+  for (int m = 0; m < kNumMethods - 1; ++m) {
+    if (method == kMethods[m]) return static_cast<HttpMethod>(m);
+  }
+  return HttpMethod::kOther;
+}
+
+const char* HttpMethodName(HttpMethod method) {
+  return kMethods[static_cast<int>(method)];
+}
+
+RequestLabels::RequestLabels(RouteId route)
+    : route_id(route), method(ParseHttpMethod(RouteMethod(route))) {}
+
+void Metrics::CodeCounts::Count(int status) {
+  if (status < 100 || status > 599) {
+    other.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  for (size_t i = 0; i < kSlots; ++i) {
+    int held = code[i].load(std::memory_order_acquire);
+    if (held == 0) {
+      // Claim the free slot; when another thread claimed it first,
+      // `expected` is its code.
+      int expected = 0;
+      held = code[i].compare_exchange_strong(expected, status,
+                                             std::memory_order_acq_rel)
+                 ? status
+                 : expected;
+    }
+    if (held == status) {
+      n[i].fetch_add(1, std::memory_order_relaxed);
+      return;
+    }
+  }
+  other.fetch_add(1, std::memory_order_relaxed);
+}
+
+void Metrics::CodeCounts::Render(std::string_view labels,
+                                 std::string* out) const {
+  std::vector<std::pair<int, uint64_t>> rows;
+  for (size_t i = 0; i < kSlots; ++i) {
+    const int c = code[i].load(std::memory_order_acquire);
+    const uint64_t count = n[i].load(std::memory_order_relaxed);
+    if (c != 0 && count != 0) rows.emplace_back(c, count);
+  }
+  std::sort(rows.begin(), rows.end());
+  const std::string prefix = std::string(labels) + ",code=\"";
+  for (const auto& [c, count] : rows) {
+    Sample(out, "rollwear_http_requests_total",
+           prefix + std::to_string(c) + "\"", std::to_string(count));
+  }
+  const uint64_t rest = other.load(std::memory_order_relaxed);
+  if (rest != 0) {
+    Sample(out, "rollwear_http_requests_total", prefix + "other\"",
+           std::to_string(rest));
+  }
 }
 
 template <size_t N>
@@ -127,11 +212,31 @@ void Metrics::Histogram<N>::Render(std::string_view name,
   Sample(out, std::string(name) + "_count", labels, std::to_string(total));
 }
 
-void Metrics::ObserveRequest(RouteId route, int status, double seconds) {
-  const int r = static_cast<int>(route);
-  requests_[r].Observe(kRequestBounds, seconds);
-  const int cls = status >= 500 ? 2 : status >= 400 ? 1 : 0;
-  codes_[r][cls].fetch_add(1, std::memory_order_relaxed);
+void Metrics::ObserveRequest(RequestLabels labels, int status,
+                             double seconds) {
+  const int r = static_cast<int>(labels.route_id);
+  const int m = static_cast<int>(labels.method);
+  requests_[r][m].Observe(kRequestBounds, seconds);
+  codes_[r][m].Count(status);
+}
+
+void Metrics::RenderRequests(std::string* out) const {
+  Header(out, "rollwear_http_request_duration_seconds", "histogram",
+         "Time from request read to answer ready, by route and method.");
+  for (int r = 0; r < kNumRoutes; ++r) {
+    for (int m = 0; m < kNumMethods; ++m) {
+      if (requests_[r][m].count.load(std::memory_order_relaxed) == 0) continue;
+      requests_[r][m].Render("rollwear_http_request_duration_seconds",
+                             RouteLabels(r, m), kRequestBounds, out);
+    }
+  }
+  Header(out, "rollwear_http_requests_total", "counter",
+         "Answered requests by route, method and exact status code.");
+  for (int r = 0; r < kNumRoutes; ++r) {
+    for (int m = 0; m < kNumMethods; ++m) {
+      codes_[r][m].Render(RouteLabels(r, m), out);
+    }
+  }
 }
 
 void Metrics::ObserveCalibration(bool succeeded, double seconds) {
@@ -159,26 +264,14 @@ std::string Metrics::Render(const StoreFigures& store) const {
   Sample(&out, "rollwear_group_commits_total", "",
          std::to_string(store.counters.commits));
 
-  Header(&out, "rollwear_http_request_duration_seconds", "histogram",
-         "Time from request read to answer ready, by route.");
-  for (int r = 0; r < kNumRoutes; ++r) {
-    if (requests_[r].count.load(std::memory_order_relaxed) == 0) continue;
-    requests_[r].Render("rollwear_http_request_duration_seconds",
-                        RouteLabels(r), kRequestBounds, &out);
-  }
+  Header(&out, "rollwear_build_info", "gauge",
+         "Always 1; the labels name the build's version and git commit.");
+  Sample(&out, "rollwear_build_info",
+         "version=\"" + Escaped(build_.version) + "\",commit=\"" +
+             Escaped(build_.commit) + "\"",
+         "1");
 
-  Header(&out, "rollwear_http_requests_total", "counter",
-         "Answered requests by route and status class.");
-  static constexpr const char* kClasses[3] = {"2xx", "4xx", "5xx"};
-  for (int r = 0; r < kNumRoutes; ++r) {
-    for (int c = 0; c < 3; ++c) {
-      const uint64_t n = codes_[r][c].load(std::memory_order_relaxed);
-      if (n == 0) continue;
-      Sample(&out, "rollwear_http_requests_total",
-             RouteLabels(r) + ",code=\"" + kClasses[c] + "\"",
-             std::to_string(n));
-    }
-  }
+  RenderRequests(&out);
 
   Header(&out, "rollwear_calibration_runs_total", "counter",
          "Finished calibration runs since start, by outcome.");
@@ -222,6 +315,17 @@ std::string Metrics::Render(const StoreFigures& store) const {
          "Measurements stored flagged as suspect (kept, not fitted).");
   Sample(&out, "rollwear_measurements_suspect_stored", "",
          std::to_string(store.counters.suspect_measurements));
+
+  Header(&out, "rollwear_predicted_wear_um", "gauge",
+         "Predicted centre wear of the roll mounted at each stand and "
+         "position (GET /v1/wear), um.");
+  for (const storage::PositionWear& w : store.wear) {
+    Sample(&out, "rollwear_predicted_wear_um",
+           "stand=\"F" + std::to_string(w.stand) + "\",position=\"" +
+               PositionName(w.position) + "\"",
+           Float(w.predicted_wear_um));
+  }
+  AppendProcessMetrics(&out);
   return out;
 }
 

@@ -2,18 +2,26 @@
 // (format 0.0.4) for GET /metrics.
 //
 //   rollwear_http_request_duration_seconds{route,method}  histogram
-//   rollwear_http_requests_total{route,method,code_class}  counter
+//   rollwear_http_requests_total{route,method,code}        counter
 //   rollwear_coils_ingested_total                          counter
 //   rollwear_calibration_runs_total{status}                counter
 //   rollwear_calibration_duration_seconds                  histogram
+//   rollwear_build_info{version,commit}                    gauge, 1
 // plus figures read from the store at scrape time (StoreFigures):
 //   rollwear_group_commits_total, rollwear_validation_gap_um,
 //   rollwear_model_version, rollwear_{coils,campaigns,measurements}_stored,
 //   rollwear_measurements_since_last_calibration,
-//   rollwear_measurements_suspect_stored, rollwear_up.
+//   rollwear_measurements_suspect_stored, rollwear_up,
+//   rollwear_predicted_wear_um{stand,position},
+// and the process_* figures of /proc/self (api/process_metrics.h).
+// Label rules: `route` is a route template or "unmatched", never "";
+// `method` is the request's own method (GET, HEAD, POST, PUT, DELETE,
+// PATCH, OPTIONS, or OTHER for any other and for requests refused before
+// their request line was read); `code` is the exact status code.
 //
 // Thread-safety: all methods are thread-safe; the hot path (Observe*,
-// CountCoil) is lock-free (relaxed atomics).
+// CountCoil) is lock-free (relaxed atomics, and a compare-and-swap the
+// first time a status code is seen on a route and method).
 #ifndef ROLLWEAR_API_METRICS_H_
 #define ROLLWEAR_API_METRICS_H_
 
@@ -22,6 +30,8 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include "storage/store_types.h"
 
@@ -48,6 +58,14 @@ enum class RouteId : int {
   kLimits,            // GET  /v1/limits
   kLimitSet,          // POST /v1/limits/{stand}/{position}
   kForecast,          // POST /v1/forecast
+  kModel,             // GET  /v1/models/{version}
+  kModelActivate,     // POST /v1/models/{version}/activate
+  kModelHistory,      // GET  /v1/models/history
+  kRolls,             // GET  /v1/rolls
+  kRoll,              // GET  /v1/rolls/{roll_id}
+  kDiagnosesList,     // GET  /v1/diagnoses
+  kDiagnosisReport,   // GET  /v1/diagnoses/{id}/report (HTML)
+  kRollPage,          // GET  /rolls/{roll_id} (HTML, api/dashboard_roll.cc)
   kUnmatched,         // anything else (404/405)
   kCount
 };
@@ -57,23 +75,64 @@ const char* RoutePath(RouteId route);
 // "GET" or "POST" ("" for kUnmatched).
 const char* RouteMethod(RouteId route);
 
+// The method label of the request metrics.
+enum class HttpMethod : int {
+  kGet = 0,
+  kHead,
+  kPost,
+  kPut,
+  kDelete,
+  kPatch,
+  kOptions,
+  kOther,  // any other method, or none read
+  kCount
+};
+constexpr int kNumMethods = static_cast<int>(HttpMethod::kCount);
+// kOther for anything but the seven names (case-sensitive, RFC 9110 9.1).
+HttpMethod ParseHttpMethod(std::string_view method);
+// "GET" ... "OPTIONS", "OTHER".
+const char* HttpMethodName(HttpMethod method);
+
+// The labels of one answered request: the route that answered and the
+// request's method. From a bare RouteId (implicit, for answers given
+// before routing), the method is the route's own, or kOther for
+// kUnmatched.
+struct RequestLabels {
+  RouteId route_id = RouteId::kUnmatched;
+  HttpMethod method = HttpMethod::kOther;
+
+  RequestLabels() = default;
+  RequestLabels(RouteId route);  // NOLINT(google-explicit-constructor)
+  RequestLabels(RouteId route, HttpMethod method)
+      : route_id(route), method(method) {}
+  bool operator==(RouteId route) const { return route_id == route; }
+};
+
+// What GET /metrics says of the build (rollwear_build_info).
+struct BuildInfo {
+  std::string version;  // "1.4.0"
+  std::string commit;   // git commit of the build, or "unknown"
+};
+
 // Figures read from the store when /metrics is scraped.
 struct StoreFigures {
   bool healthy = false;
   storage::StoreCounters counters;
   int64_t model_version = 0;
   double validation_gap_um = 0;  // NaN when the active model has none
+  // Predicted wear of each mounted roll position (GET /v1/wear).
+  std::vector<storage::PositionWear> wear;
 };
 
 class Metrics {
  public:
-  Metrics() = default;
+  explicit Metrics(BuildInfo build = {}) : build_(std::move(build)) {}
   Metrics(const Metrics&) = delete;
   Metrics& operator=(const Metrics&) = delete;
 
   // One answered request: latency from the request read to the answer
-  // ready, and its status code.
-  void ObserveRequest(RouteId route, int status, double seconds);
+  // ready, and its status code (100..599; others count as code "other").
+  void ObserveRequest(RequestLabels labels, int status, double seconds);
   // One coil newly stored through the API (repeats are not counted).
   void CountCoilIngested() {
     coils_ingested_.fetch_add(1, std::memory_order_relaxed);
@@ -105,9 +164,21 @@ class Metrics {
   static constexpr std::array<double, 10> kCalibrationBounds = {
       1, 5, 10, 30, 60, 120, 300, 600, 1800, 3600};
 
-  std::array<Histogram<14>, kNumRoutes> requests_;
-  // Requests by route and status class 2xx, 4xx, 5xx (index 0, 1, 2).
-  std::array<std::array<std::atomic<uint64_t>, 3>, kNumRoutes> codes_{};
+  // Answers of one route and method by exact status code: slot i counts
+  // code[i], claimed (0 -> code) by compare-and-swap on first use.
+  struct CodeCounts {
+    static constexpr size_t kSlots = 24;
+    std::array<std::atomic<int>, kSlots> code{};
+    std::array<std::atomic<uint64_t>, kSlots> n{};
+    std::atomic<uint64_t> other{0};  // slots full, or not 100..599
+    void Count(int status);
+    void Render(std::string_view labels, std::string* out) const;
+  };
+  void RenderRequests(std::string* out) const;
+
+  BuildInfo build_;
+  std::array<std::array<Histogram<14>, kNumMethods>, kNumRoutes> requests_;
+  std::array<std::array<CodeCounts, kNumMethods>, kNumRoutes> codes_;
   std::atomic<int64_t> coils_ingested_{0};
   std::atomic<int64_t> calibrations_done_{0};
   std::atomic<int64_t> calibrations_failed_{0};

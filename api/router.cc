@@ -4,6 +4,7 @@
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <optional>
 #include <string_view>
 #include <utility>
 
@@ -27,6 +28,26 @@ constexpr std::string_view kWearPrefix = "/v1/wear/";
 constexpr std::string_view kLimitsPrefix = "/v1/limits/";
 constexpr std::string_view kCalibrationsPrefix = "/v1/calibrations/";
 constexpr std::string_view kDiagnosesPrefix = "/v1/diagnoses/";
+constexpr std::string_view kModelsPrefix = "/v1/models/";
+constexpr std::string_view kRollsPrefix = "/v1/rolls/";
+constexpr std::string_view kRollPagePrefix = "/rolls/";
+constexpr std::string_view kActivateSuffix = "/activate";
+constexpr std::string_view kReportSuffix = "/report";
+
+// `p` is prefix + one non-empty segment without '/' (+ suffix): the
+// segment, or nullopt.
+std::optional<std::string> Segment(std::string_view p, std::string_view prefix,
+                                   std::string_view suffix = "") {
+  if (p.size() <= prefix.size() + suffix.size() ||
+      p.substr(0, prefix.size()) != prefix ||
+      p.substr(p.size() - suffix.size()) != suffix) {
+    return std::nullopt;
+  }
+  const std::string_view mid =
+      p.substr(prefix.size(), p.size() - prefix.size() - suffix.size());
+  if (mid.find('/') != std::string_view::npos) return std::nullopt;
+  return std::string(mid);
+}
 
 bool IsPathChar(char c) {
   return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
@@ -77,7 +98,9 @@ HttpResponse MethodNotAllowed(RouteId route, const std::string& method) {
       Error(405, "method_not_allowed",
             "method " + method + " is not allowed on " + RoutePath(route));
   const bool both = route == RouteId::kCalibrationsPost ||
-                    route == RouteId::kCalibrationsList;
+                    route == RouteId::kCalibrationsList ||
+                    route == RouteId::kDiagnosesPost ||
+                    route == RouteId::kDiagnosesList;
   const bool post = std::string_view(RouteMethod(route)) == "POST";
   r.headers.emplace_back("Allow", both   ? "GET, HEAD, POST"
                                   : post ? "POST"
@@ -117,11 +140,40 @@ RouteId MatchRoute(const std::string& path, bool post, std::string* arg1,
   if (path == "/v1/models") return RouteId::kModels;
   if (path == "/healthz") return RouteId::kHealthz;
   if (path == "/metrics") return RouteId::kMetrics;
-  if (path == "/v1/diagnoses") return RouteId::kDiagnosesPost;
+  if (path == "/v1/diagnoses") {
+    return post ? RouteId::kDiagnosesPost : RouteId::kDiagnosesList;
+  }
+  if (path == "/v1/models/history") return RouteId::kModelHistory;
+  if (path == "/v1/rolls") return RouteId::kRolls;
   if (path == "/") return RouteId::kDashboard;
   if (path == "/v1/limits") return RouteId::kLimits;
   if (path == "/v1/forecast") return RouteId::kForecast;
   const std::string_view p(path);
+  if (std::optional<std::string> a = Segment(p, kModelsPrefix)) {
+    *arg1 = std::move(*a);
+    return RouteId::kModel;
+  }
+  if (std::optional<std::string> a =
+          Segment(p, kModelsPrefix, kActivateSuffix)) {
+    *arg1 = std::move(*a);
+    return RouteId::kModelActivate;
+  }
+  if (std::optional<std::string> a =
+          Segment(p, kDiagnosesPrefix, kReportSuffix)) {
+    *arg1 = std::move(*a);
+    return RouteId::kDiagnosisReport;
+  }
+  // A roll id may hold any character, '/' included (sent as %2F).
+  if (p.size() > kRollsPrefix.size() &&
+      p.substr(0, kRollsPrefix.size()) == kRollsPrefix) {
+    *arg1 = path.substr(kRollsPrefix.size());
+    return RouteId::kRoll;
+  }
+  if (p.size() > kRollPagePrefix.size() &&
+      p.substr(0, kRollPagePrefix.size()) == kRollPagePrefix) {
+    *arg1 = path.substr(kRollPagePrefix.size());
+    return RouteId::kRollPage;
+  }
   if (p.size() > kCampaignsPrefix.size() + kEndSuffix.size() &&
       p.substr(0, kCampaignsPrefix.size()) == kCampaignsPrefix &&
       p.substr(p.size() - kEndSuffix.size()) == kEndSuffix) {
@@ -211,6 +263,18 @@ bool ParseInt64(std::string_view text, int64_t* out) {
   return ec == std::errc() && p == text.data() + text.size();
 }
 
+std::optional<HttpResponse> ReadLimit(const HttpRequest& request,
+                                      int64_t* limit) {
+  *limit = 50;
+  auto it = request.params.find("limit");
+  if (it != request.params.end() &&
+      (!ParseInt64(it->second, limit) || *limit < 1 || *limit > 1000)) {
+    return Error(400, "out_of_range", "limit must be an integer in [1, 1000]",
+                 "limit");
+  }
+  return std::nullopt;
+}
+
 }  // namespace router_internal
 
 bool ApiOptions::IsValid(std::string* error) const {
@@ -252,16 +316,20 @@ int HttpStatusFor(StatusCode code) {
 }
 
 Router::Router(storage::MillStore* store, ApiOptions options)
-    : store_(store), options_(std::move(options)) {}
+    : store_(store), options_(std::move(options)), metrics_(options_.build) {}
 
 HttpResponse Router::Handle(const HttpRequest& request) {
+  HttpResponse response;
   try {
-    return Dispatch(request);
+    response = Dispatch(request);
   } catch (const std::exception& e) {
-    return Error(500, "internal", std::string("internal error: ") + e.what());
+    response =
+        Error(500, "internal", std::string("internal error: ") + e.what());
   } catch (...) {
-    return Error(500, "internal", "internal error");
+    response = Error(500, "internal", "internal error");
   }
+  response.route.method = ParseHttpMethod(request.method);
+  return response;
 }
 
 bool Router::Authorized(const HttpRequest& request) const {
@@ -361,6 +429,16 @@ HttpResponse Router::Dispatch(const HttpRequest& request) {
     case RouteId::kForecast:
       response = PostForecast(request);
       break;
+    case RouteId::kModel:
+    case RouteId::kModelActivate:
+    case RouteId::kModelHistory:
+    case RouteId::kRolls:
+    case RouteId::kRoll:
+    case RouteId::kDiagnosesList:
+    case RouteId::kDiagnosisReport:
+    case RouteId::kRollPage:
+      response = DispatchShop(route, request, arg1);  // router_shop.cc
+      break;
     default:
       response = Error(404, "not_found", "no such endpoint: " + path);
       break;
@@ -436,6 +514,8 @@ void Router::HandleAsync(const HttpRequest& request, Done done,
     done(Handle(request));
     return;
   }
+  // Only a POST gets here, and RefusePost/DecodeCoilBody label kCoils,
+  // whose own method is POST.
   std::optional<HttpResponse> refused = RefusePost(request, RouteId::kCoils);
   if (refused) {
     done(std::move(*refused));
@@ -482,6 +562,7 @@ HttpResponse Router::GetMetrics() {
   figures.healthy = store_->Healthy();
   figures.counters = store_->Counters();
   figures.validation_gap_um = std::numeric_limits<double>::quiet_NaN();
+  figures.wear = store_->Wear().positions;
   StatusOr<storage::ModelVersion> model = store_->ActiveModel();
   if (model.ok()) {
     figures.model_version = model->version;

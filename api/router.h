@@ -48,9 +48,10 @@ struct HttpResponse {
   std::string content_type = "application/json";
   std::string body;
   std::vector<std::pair<std::string, std::string>> headers;  // extra headers
-  // Route template that answered ("/v1/coils", "/v1/wear/{stand}/{position}",
-  // "unmatched"), the label of the latency histogram.
-  RouteId route = RouteId::kUnmatched;
+  // The labels of the request metrics: the route template that answered
+  // ("/v1/coils", "/v1/wear/{stand}/{position}", "unmatched") and the
+  // request's method (set by Handle/HandleAsync).
+  RequestLabels route;
 };
 
 struct ApiOptions {
@@ -72,6 +73,8 @@ struct ApiOptions {
   // owned, must outlive the router. Null: no diagnoses here (POST answers
   // 503 "unavailable", GET 404).
   DiagnosisRunner* diagnoses = nullptr;
+  // Version and commit of the build, for rollwear_build_info.
+  BuildInfo build;
 
   bool IsValid(std::string* error) const;
 };
@@ -154,6 +157,21 @@ class Router {
   HttpResponse PostLimit(const HttpRequest& request, const std::string& stand,
                          const std::string& position);
   HttpResponse PostForecast(const HttpRequest& request);
+  // router_shop.cc: models under control, rolls, stored diagnoses.
+  HttpResponse DispatchShop(RouteId route, const HttpRequest& request,
+                            const std::string& arg);
+  HttpResponse GetModel(const std::string& version);
+  HttpResponse PostActivate(const HttpRequest& request,
+                            const std::string& version);
+  HttpResponse GetModelHistory(const HttpRequest& request);
+  HttpResponse GetRoll(const std::string& roll_id);
+  HttpResponse GetRolls();
+  HttpResponse ListDiagnoses(const HttpRequest& request);
+  HttpResponse GetDiagnosisReport(const std::string& id);
+  // The stored diagnosis `id` as a job (with its adoption's run), or none.
+  std::optional<DiagnosisJob> StoredDiagnosisJob(int64_t id) const;
+  // dashboard_roll.cc: the roll page (HTML).
+  HttpResponse GetRollPage(const std::string& roll_id);
   // GET /: the HTML dashboard (api/dashboard.cc).
   HttpResponse GetDashboard();
 

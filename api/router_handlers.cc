@@ -121,8 +121,10 @@ HttpResponse Router::PostDiagnosis(const HttpRequest& request) {
 HttpResponse Router::GetDiagnosis(const std::string& id_text) {
   int64_t id = 0;
   std::optional<DiagnosisJob> job;
-  if (options_.diagnoses != nullptr && ParseInt64(id_text, &id) && id > 0) {
-    job = options_.diagnoses->Get(id);
+  if (ParseInt64(id_text, &id) && id > 0) {
+    if (options_.diagnoses != nullptr) job = options_.diagnoses->Get(id);
+    // Finished ones outlive a restart in the store (router_shop.cc).
+    if (!job) job = StoredDiagnosisJob(id);
   }
   if (!job) {
     return Error(404, "not_found",
@@ -132,12 +134,10 @@ HttpResponse Router::GetDiagnosis(const std::string& id_text) {
 }
 
 HttpResponse Router::ListCalibrations(const HttpRequest& request) {
-  int64_t limit = 50;
-  auto it = request.params.find("limit");
-  if (it != request.params.end() &&
-      (!ParseInt64(it->second, &limit) || limit < 1 || limit > 1000)) {
-    return Error(400, "out_of_range", "limit must be an integer in [1, 1000]",
-                 "limit");
+  int64_t limit = 0;
+  if (std::optional<HttpResponse> bad =
+          router_internal::ReadLimit(request, &limit)) {
+    return std::move(*bad);
   }
   return Answer(200, EncodeCalibrationList(
                          store_->ListCalibrations(static_cast<int>(limit))));

@@ -7,6 +7,7 @@
 #define ROLLWEAR_API_ROUTER_INTERNAL_H_
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -27,6 +28,10 @@ HttpResponse Error(int status, std::string code, std::string message,
 HttpResponse FromStatus(const Status& status);
 // A whole decimal int64 (no sign other than '-', no spaces).
 bool ParseInt64(std::string_view text, int64_t* out);
+// The query parameter limit=N (1..1000, default 50) of a list endpoint in
+// *limit, or the 400 answer naming `limit`.
+std::optional<HttpResponse> ReadLimit(const HttpRequest& request,
+                                      int64_t* limit);
 
 }  // namespace rollwear::api::router_internal
 

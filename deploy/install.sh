@@ -42,6 +42,8 @@ readonly PACKAGES=(
   libgmock-dev
   libbenchmark-dev
   chromium
+  python3-yaml
+  python3-jsonschema
 )
 
 usage() {

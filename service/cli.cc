@@ -202,8 +202,9 @@ Command AddAnn(CLI::App* app) {
   return {c, [args] { return RunAnn(*args); }};
 }
 
-Command AddServe(CLI::App* app) {
+Command AddServe(CLI::App* app, const BuildVersion& build) {
   auto args = std::make_shared<ServeArgs>();
+  args->build = build;
   const service::ServeConfig defaults;
   CLI::App* c = AddCommand(
       app, "serve",
@@ -256,6 +257,19 @@ Command AddImport(CLI::App* app) {
   return {c, [args] { return RunImport(*args); }};
 }
 
+Command AddExport(CLI::App* app) {
+  auto args = std::make_shared<ExportArgs>();
+  CLI::App* c = AddCommand(
+      app, "export",
+      "Write what a database holds as a dataset folder (the inverse of "
+      "import); works while a daemon runs on the database.");
+  AddPath(c, "--db", args->db, "FILE", "SQLite database")->required();
+  AddPath(c, "--out", args->out, "DIR",
+          "dataset folder to write (missing or empty)")
+      ->required();
+  return {c, [args] { return RunExport(*args); }};
+}
+
 Command AddReplay(CLI::App* app) {
   auto args = std::make_shared<ReplayArgs>();
   CLI::App* c = AddCommand(
@@ -274,7 +288,9 @@ Command AddReplay(CLI::App* app) {
             "pace at X times the dataset's clock (0 = as fast as possible)")
       ->check(CLI::NonNegativeNumber);
   AddNumber(c, "--retry-for", args->retry_for_s,
-            "retry connection errors and 5xx answers for X seconds")
+            "retry lost connections and 502/503/504 answers of a daemon that "
+            "has answered for X seconds (a refused connection before any "
+            "answer, or a 401, stops the replay at once)")
       ->check(CLI::NonNegativeNumber);
   AddNumber(c, "--show-wear", args->show_wear_s,
             "print GET /v1/wear every X seconds (0 = never)")
@@ -326,7 +342,9 @@ std::string FirstExtra(const CLI::App& parser, bool is_command) {
 
 }  // namespace
 
-int RunCli(int argc, char** argv, const std::string& version) {
+int RunCli(int argc, char** argv, const BuildVersion& build) {
+  const std::string version =
+      "rollwear " + build.version + " (commit " + build.commit + ")";
   CLI::App app("rollwear: work-roll wear prediction for a hot strip mill.",
                "rollwear");
   app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
@@ -337,7 +355,8 @@ int RunCli(int argc, char** argv, const std::string& version) {
   app.footer("Run 'rollwear COMMAND --help' for the options of a command.");
   const std::vector<Command> commands = {AddSimulate(&app), AddCalibrate(&app),
                                          AddStudy(&app),    AddAnn(&app),
-                                         AddServe(&app),    AddImport(&app),
+                                         AddServe(&app, build), AddImport(&app),
+                                         AddExport(&app),
                                          AddReplay(&app),   AddDiagnose(&app)};
 
   std::string parse_error;

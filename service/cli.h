@@ -8,11 +8,13 @@
 
 #include <string>
 
+#include "service/commands.h"
+
 namespace rollwear::cli {
 
 // Parses argv, runs the chosen sub-command and returns the process exit
-// code. `version` is what --version prints.
-int RunCli(int argc, char** argv, const std::string& version);
+// code. --version prints "rollwear VERSION (commit COMMIT)".
+int RunCli(int argc, char** argv, const BuildVersion& build);
 
 }  // namespace rollwear::cli
 

@@ -85,6 +85,14 @@ int RunImport(const ImportArgs& args) {
       dir.c_str(), args.db.c_str(), Summary(counts).c_str(), seconds,
       static_cast<long long>(c.campaigns), static_cast<long long>(c.coils),
       static_cast<long long>(c.measurements));
+  if (const size_t n = checked.all.profile_points.size(); n > 0) {
+    // Said, not dropped silently: the daemon does not store profiles yet.
+    std::printf(
+        "profiles.csv: %zu profile point(s) read and checked but not "
+        "imported: the database does not hold barrel profiles yet (the "
+        "centre measurements are imported)\n",
+        n);
+  }
   if (const int n = checked.quality.NumSuspect(); n > 0) {
     std::printf(
         "%d suspect measurement(s) stored flagged (listed above): "

@@ -10,7 +10,10 @@
 // dataset's own clock (0 = as fast as possible). Connection errors and 5xx
 // answers other than 500 are retried for --retry-for seconds: every POST
 // has an idempotency key, so a retry of a request whose answer was lost is
-// answered 200 and counted once. Prints progress every second, optionally
+// answered 200 and counted once. Two failures stop the replay at once
+// (exit 1, the reason on stderr), since no retry can mend them: no
+// connection to a daemon that has not answered yet ("is the daemon
+// running?"), and a 401 (a missing or wrong token). Prints progress every second, optionally
 // the current wear (GET /v1/wear) every --show-wear seconds, and a summary.
 // --leave-last-open leaves the last campaign running (no end, no
 // measurements), so that its rolls stay mounted and GET /v1/wear shows them.
@@ -194,9 +197,33 @@ struct Counters {
   std::atomic<int64_t> conflicts{0};
   std::atomic<int64_t> errors{0};
   std::atomic<int64_t> retries{0};
+  // Set once the daemon has answered any request: from then on a refused
+  // connection is a restart to wait for, not a wrong URL.
+  std::atomic<bool> answered{false};
+  // Set by Stop(): every further event is skipped.
+  std::atomic<bool> stopped{false};
   std::mutex print_mu;
   int printed_errors = 0;
+  std::string stop_reason;  // guarded by print_mu
 };
+
+// Stops the replay with `reason` (the first reason wins).
+void Stop(Counters* counters, const std::string& reason) {
+  std::lock_guard<std::mutex> lock(counters->print_mu);
+  if (counters->stopped.exchange(true)) return;
+  counters->stop_reason = reason;
+}
+
+// The reason to stop the replay at once for this result, or "".
+std::string FatalReason(const api::HttpResult& r, const std::string& url,
+                        const Counters& counters) {
+  if (r.status == 401)
+    return "401 unauthorized: set --token or ROLLWEAR_TOKEN";
+  if (r.not_connected && !counters.answered.load())
+    return "connection refused at " + url + ": is the daemon running? (" +
+           r.error + ")";
+  return "";
+}
 
 struct ReplayOptions {
   std::string url;
@@ -204,9 +231,11 @@ struct ReplayOptions {
   double retry_for_s = 60;
 };
 
-// Sends one event, retrying connection errors and 502/503/504.
+// Sends one event, retrying connection errors and 502/503/504; stops the
+// replay on a 401 or when no daemon has answered at all.
 void Send(const Requests& requests, const Event& e, api::HttpClient* client,
           const ReplayOptions& options, Counters* counters) {
+  if (counters->stopped.load()) return;
   const std::string path = requests.Path(e);
   const std::string body = requests.Body(e);
   const auto deadline =
@@ -216,6 +245,10 @@ void Send(const Requests& requests, const Event& e, api::HttpClient* client,
   api::HttpResult r;
   for (;;) {
     r = client->Post(path, body);
+    if (r.answered()) counters->answered.store(true);
+    const std::string fatal = FatalReason(r, options.url, *counters);
+    if (!fatal.empty()) return Stop(counters, fatal);
+    if (counters->stopped.load()) return;
     const bool transient =
         !r.answered() || r.status == 502 || r.status == 503 || r.status == 504;
     if (!transient || Clock::now() >= deadline) break;
@@ -382,6 +415,7 @@ void PlayTimeline(const std::vector<Event>& timeline, const Requests& requests,
   api::HttpClient main_client(options.url, client_options);
   const UnixSeconds t0 = timeline.empty() ? 0 : timeline.front().at;
   for (const Event& e : timeline) {
+    if (counters->stopped.load()) break;
     if (speed > 0) {
       const auto due =
           start + std::chrono::microseconds(static_cast<int64_t>(
@@ -479,6 +513,12 @@ int RunReplay(const ReplayArgs& args) {
   reporter.join();
   if (show_wear > 0) PrintWear(options.url, seconds);
   PrintSummary(counters, seconds, args.json);
+  if (counters.stopped.load()) {
+    std::lock_guard<std::mutex> lock(counters.print_mu);
+    std::fprintf(stderr, "rollwear replay: stopped: %s\n",
+                 counters.stop_reason.c_str());
+    return 1;
+  }
   return counters.conflicts.load() == 0 && counters.errors.load() == 0 ? 0 : 1;
 }
 

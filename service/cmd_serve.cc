@@ -21,6 +21,7 @@
 #include "service/config.h"
 #include "service/cpu_latency.h"
 #include "service/jobs/diagnosis_jobs.h"
+#include "service/jobs/job_log.h"
 #include "service/jobs/scheduler.h"
 #include "storage/db_lock.h"
 #include "storage/mill_store.h"
@@ -127,23 +128,6 @@ std::unique_ptr<storage::MillStore> OpenStore(
   return store;
 }
 
-// The log line of a finished calibration.
-void LogCalibration(const storage::CalibrationRecord& r, double seconds) {
-  if (r.status == storage::CalibrationStatus::kDone) {
-    spdlog::info(
-        "calibration id={} trigger={} model={} option={} status=done "
-        "gap_train_um={:.2f} gap_val_um={:.2f} active_gap_val_um={:.2f} "
-        "promoted={} version={} seconds={:.1f}",
-        r.id, r.trigger, r.model, r.option, r.gap_train_um, r.gap_val_um,
-        r.active_gap_val_um, r.promoted, r.model_version, seconds);
-  } else {
-    spdlog::warn(
-        "calibration id={} trigger={} status=failed "
-        "seconds={:.1f}: {}",
-        r.id, r.trigger, seconds, r.message);
-  }
-}
-
 // The router's settings from the config: calibrations it queues go to
 // `scheduler`, diagnoses to `diagnoses`.
 api::ApiOptions ApiOptionsFor(const service::ServeConfig& config,
@@ -155,7 +139,7 @@ api::ApiOptions ApiOptionsFor(const service::ServeConfig& config,
   api_options.default_law = config.model;
   api_options.default_option = config.option;
   api_options.on_calibration_queued = [scheduler](int64_t id) {
-    spdlog::info("calibration id={} queued trigger=api", id);
+    service::LogCalibrationQueued(id, "api");
     scheduler->Submit(id);
   };
   api_options.diagnoses = diagnoses;
@@ -233,20 +217,22 @@ int RunServe(const ServeArgs& args) {
   scheduler_options.recalibration_minute = config.recalibration_minute;
   scheduler_options.law = config.model;
   scheduler_options.option = config.option;
-  service::Scheduler scheduler(
-      store.get(), scheduler_options,
-      [&router_ptr](const storage::CalibrationRecord& r, double seconds) {
-        if (router_ptr != nullptr) {
-          router_ptr->metrics()->ObserveCalibration(
-              r.status == storage::CalibrationStatus::kDone, seconds);
-        }
-        LogCalibration(r, seconds);
-      });
+  // Every calibration run: the scheduler's (API, nightly) and the
+  // adoption of a diagnosis.
+  const auto on_calibration = [&router_ptr](const storage::CalibrationRecord& r,
+                                            double seconds) {
+    if (router_ptr != nullptr) {
+      router_ptr->metrics()->ObserveCalibration(
+          r.status == storage::CalibrationStatus::kDone, seconds);
+    }
+    service::LogCalibrationFinished(r, seconds);
+  };
+  service::Scheduler scheduler(store.get(), scheduler_options, on_calibration);
+  service::DiagnosisJobs diagnoses(store.get(), on_calibration);
 
-  service::DiagnosisJobs diagnoses(store.get());
-
-  api::Router router(store.get(),
-                     ApiOptionsFor(config, &scheduler, &diagnoses));
+  api::ApiOptions api_options = ApiOptionsFor(config, &scheduler, &diagnoses);
+  api_options.build = {args.build.version, args.build.commit};
+  api::Router router(store.get(), std::move(api_options));
   router_ptr = &router;
 
   api::HttpServer server(&router, HttpOptions(config, cpu_latency.get()));

@@ -21,6 +21,13 @@
 
 namespace rollwear::cli {
 
+// The build's version and git commit (only main.cc sees them: a new commit
+// recompiles nothing else); `rollwear --version` and rollwear_build_info.
+struct BuildVersion {
+  std::string version;  // "1.4.0"
+  std::string commit;   // short hash, or "unknown"
+};
+
 struct SimulateArgs {
   std::string out;
   std::string truth;                 // empty: DIR.truth.json beside DIR
@@ -77,6 +84,7 @@ int RunDiagnose(const DiagnoseArgs& args);
 
 struct ServeArgs {
   std::string config;  // empty: no config file
+  BuildVersion build;  // for rollwear_build_info
   // (config key, value) of each --db/--port/--bind/--log-level/--threads
   // flag given; they override the file and the environment.
   std::vector<std::pair<std::string, std::string>> settings;
@@ -89,6 +97,12 @@ struct ImportArgs {
   std::string dir;
 };
 int RunImport(const ImportArgs& args);
+
+struct ExportArgs {
+  std::string db;
+  std::string out;  // missing or empty folder
+};
+int RunExport(const ExportArgs& args);
 
 struct ReplayArgs {
   std::string data;

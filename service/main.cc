@@ -14,6 +14,5 @@
 
 int main(int argc, char** argv) {
   return rollwear::cli::RunCli(argc, argv,
-                               "rollwear " ROLLWEAR_VERSION
-                               " (commit " ROLLWEAR_GIT_COMMIT ")");
+                               {ROLLWEAR_VERSION, ROLLWEAR_GIT_COMMIT});
 }

@@ -119,6 +119,40 @@ class MillStore {
   // Models.
   virtual StatusOr<ModelVersion> ActiveModel() const = 0;
   virtual std::vector<ModelVersion> ListModels() const = 0;
+  // One stored version; NotFound when unknown (version 0, the prior, is
+  // never stored).
+  virtual StatusOr<ModelVersion> GetModel(int64_t version) const = 0;
+  // Makes a stored version active by hand, records it in the audit trail
+  // with `reason` (required), re-predicts the open campaign under it, and,
+  // with `pin`, pins it (calibration runs and diagnosis adoptions then
+  // record their result without promoting); without, it is not pinned
+  // (activating the active version with pin false unpins it). Returns the
+  // version as now active. InvalidArgument "reason: ..." when the reason is empty,
+  // NotFound for an unknown version.
+  virtual StatusOr<ModelVersion> ActivateModel(int64_t version,
+                                               const std::string& reason,
+                                               bool pin) = 0;
+  // The audit trail, newest first (limit <= 0: all).
+  virtual StatusOr<std::vector<ModelPromotion>> ModelHistory(
+      int limit) const = 0;
+
+  // Rolls (storage/store_rolls.cc). A roll's life across campaigns, oldest
+  // mount first, predicted under the active model; NotFound for a roll
+  // never mounted.
+  virtual StatusOr<RollLife> GetRollLife(const std::string& roll_id) const = 0;
+  // Every roll ever mounted, by roll_id.
+  virtual StatusOr<std::vector<RollSummary>> RollInventory() const = 0;
+
+  // Finished diagnoses of the daemon (storage/store_diagnoses.cc). Save
+  // stores `d` under its id (a repeat replaces it); List answers newest
+  // first (limit <= 0: all) without report_json.
+  virtual Status SaveDiagnosis(const StoredDiagnosis& d) = 0;
+  virtual StatusOr<std::optional<StoredDiagnosis>> GetDiagnosis(
+      int64_t id) const = 0;
+  virtual StatusOr<std::vector<StoredDiagnosis>> ListDiagnoses(
+      int limit) const = 0;
+  // The largest stored diagnosis id (0: none), so ids go on after a restart.
+  virtual StatusOr<int64_t> LastDiagnosisId() const = 0;
 
   // Calibration runs: Enqueue records a queued run and returns its id;
   // RunCalibration executes a queued run (called by the calibration

@@ -202,6 +202,14 @@ Status MillStoreImpl::FinishRun(
                                      : CalibrationStatus::kFailed;
     rec.promoted = decision.promote;
     rec.message = result.summary + decision.reason;
+    if (rec.promoted && active->pinned) {
+      // Recorded, not promoted: a version activated by hand stays until
+      // unpinned (MillStore::ActivateModel).
+      rec.promoted = false;
+      rec.message += "; not promoted: model pinned (version " +
+                     std::to_string(active->version) +
+                     " was activated by hand; unpin it to let runs promote)";
+    }
   }
   if (!rec.promoted) {
     return RunTask([&rec](Db* db) { return UpdateCalibration(db, rec); },
@@ -215,11 +223,20 @@ Status MillStoreImpl::FinishRun(
   promoted->gap_val_um = rec.gap_val_um;
   promoted->wear_model = std::move(result.candidate);
   return RunTask(
-      [&rec, promoted](Db* db) -> Status {
+      [&rec, &active, promoted](Db* db) -> Status {
         ROLLWEAR_ASSIGN_OR_RETURN(const int64_t version,
                                   InsertActiveModel(db, *promoted, rec.id));
         promoted->version = version;
         rec.model_version = version;
+        promoted->calibration_id = rec.id;
+        promoted->trigger = rec.trigger;
+        promoted->source = ModelSource(rec.trigger);
+        promoted->gap_train_um = rec.gap_train_um;
+        promoted->n_train = rec.n_train;
+        promoted->n_val = rec.n_val;
+        ROLLWEAR_RETURN_IF_ERROR(InsertPromotion(
+            db, ModelPromotion{0, version, active->version, promoted->source,
+                               rec.message, rec.finished_at, false}));
         return UpdateCalibration(db, rec);
       },
       [this, promoted](Db*) { InstallModel(promoted); });

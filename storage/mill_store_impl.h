@@ -141,6 +141,22 @@ class MillStoreImpl final : public MillStore {
 
   StatusOr<ModelVersion> ActiveModel() const override;
   std::vector<ModelVersion> ListModels() const override;
+  // ---- store_models_audit.cc
+  StatusOr<ModelVersion> GetModel(int64_t version) const override;
+  StatusOr<ModelVersion> ActivateModel(int64_t version,
+                                       const std::string& reason,
+                                       bool pin) override;
+  StatusOr<std::vector<ModelPromotion>> ModelHistory(int limit) const override;
+  // ---- store_rolls.cc
+  StatusOr<RollLife> GetRollLife(const std::string& roll_id) const override;
+  StatusOr<std::vector<RollSummary>> RollInventory() const override;
+  // ---- store_diagnoses.cc
+  Status SaveDiagnosis(const StoredDiagnosis& d) override;
+  StatusOr<std::optional<StoredDiagnosis>> GetDiagnosis(
+      int64_t id) const override;
+  StatusOr<std::vector<StoredDiagnosis>> ListDiagnoses(
+      int limit) const override;
+  StatusOr<int64_t> LastDiagnosisId() const override;
 
   StatusOr<int64_t> EnqueueCalibration(const std::string& trigger, WearLaw law,
                                        int option) override;

@@ -149,6 +149,58 @@ constexpr const char* kSchemaV5 = R"sql(
 CREATE TABLE IF NOT EXISTS wear_limits (stand TEXT NOT NULL, position TEXT NOT NULL, limit_um REAL NOT NULL, set_at TEXT NOT NULL, reason TEXT, PRIMARY KEY (stand, position));
 )sql";
 
+// Version 6: models under control, stored diagnoses, roll look-ups.
+// - models.pinned: 1 on the active row when it was activated by hand
+//   (POST /v1/models/{version}/activate) and not unpinned since; calibration
+//   runs and diagnosis adoptions do not replace a pinned model.
+// - model_history: one row per promotion, automatic or manual (the audit
+//   trail of GET /v1/models/history); `source` is calibration, nightly,
+//   diagnosis or manual. Versions stored before it get one row each,
+//   reason "recorded before the audit trail", at their created_at.
+// - diagnoses: each finished daemon diagnosis, its JSON report and the
+//   HTML report the CLI writes (core/report/diagnosis_report.h).
+// - mounts_by_roll, measurements_by_roll: a roll's mounts and measurements
+//   without a scan (GET /v1/rolls/{roll_id}).
+constexpr const char* kSchemaV6 = R"sql(
+ALTER TABLE models ADD COLUMN pinned INTEGER NOT NULL DEFAULT 0
+  CHECK (pinned IN (0, 1));
+
+CREATE TABLE model_history (
+  id INTEGER PRIMARY KEY,
+  version INTEGER NOT NULL REFERENCES models(version),
+  previous_version INTEGER,
+  source TEXT NOT NULL,
+  reason TEXT NOT NULL,
+  at INTEGER NOT NULL,
+  pinned INTEGER NOT NULL DEFAULT 0 CHECK (pinned IN (0, 1))
+) STRICT;
+INSERT INTO model_history (version, previous_version, source, reason, at)
+  SELECT m.version, LAG(m.version) OVER (ORDER BY m.version),
+         CASE WHEN c.triggered_by = 'nightly' THEN 'nightly'
+              WHEN c.triggered_by LIKE 'diagnosis%' THEN 'diagnosis'
+              ELSE 'calibration' END,
+         'recorded before the audit trail', m.created_at
+  FROM models m LEFT JOIN calibrations c ON c.id = m.calibration
+  ORDER BY m.version;
+
+CREATE TABLE diagnoses (
+  id INTEGER PRIMARY KEY,
+  status TEXT NOT NULL CHECK (status IN ('done', 'failed')),
+  adopt INTEGER NOT NULL DEFAULT 0,
+  queued_at INTEGER NOT NULL,
+  started_at INTEGER,
+  finished_at INTEGER NOT NULL,
+  verdict TEXT,
+  message TEXT NOT NULL DEFAULT '',
+  calibration INTEGER REFERENCES calibrations(id),
+  report_json TEXT,
+  report_html TEXT
+) STRICT;
+
+CREATE INDEX mounts_by_roll ON mounts (roll_id);
+CREATE INDEX measurements_by_roll ON measurements (roll_id);
+)sql";
+
 // Number of tables in the file (sqlite_% internals excluded).
 StatusOr<int> CountTables(Db* db, bool* has_version_table) {
   ROLLWEAR_ASSIGN_OR_RETURN(
@@ -175,8 +227,9 @@ const std::vector<Migration>& SchemaMigrations() {
       {3, "no passes_by_campaign index", kSchemaV3},
       {4, "suspect measurements", kSchemaV4},
       {5, "wear limits", kSchemaV5},
+      {6, "models under control, stored diagnoses", kSchemaV6},
   };
-  static_assert(kSchemaVersion == 5,
+  static_assert(kSchemaVersion == 6,
                 "kSchemaVersion must equal the last migration's version");
   return *migrations;
 }

@@ -140,6 +140,18 @@ StatusOr<int64_t> InsertActiveModel(Db* db, const ModelVersion& m,
                                     int64_t calibration_id);
 StatusOr<std::optional<ModelVersion>> LoadActiveModel(Db* db);
 StatusOr<std::vector<ModelVersion>> LoadModels(Db* db);
+StatusOr<std::optional<ModelVersion>> LoadModel(Db* db, int64_t version);
+
+// ---- model activation, audit trail, diagnoses (store_sql_audit.cc)
+// Appends `p` (id ignored) to model_history.
+Status InsertPromotion(Db* db, const ModelPromotion& p);
+StatusOr<std::vector<ModelPromotion>> LoadPromotions(Db* db, int limit);
+// Makes `version` the active row with pinned = `pin`.
+Status SetActiveModel(Db* db, int64_t version, bool pin);
+Status UpsertDiagnosis(Db* db, const StoredDiagnosis& d);
+// With `report`, report_json is read too.
+StatusOr<std::vector<StoredDiagnosis>> LoadDiagnoses(Db* db, int64_t id,
+                                                     int limit, bool report);
 
 StatusOr<int64_t> InsertCalibration(Db* db, const CalibrationRecord& r);
 // Marks a queued run as running and records the measurement watermark;

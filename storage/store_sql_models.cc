@@ -91,18 +91,29 @@ StatusOr<ModelVersion> ReadModel(const Statement& st) {
                            " cannot be read: " + wm.status().message());
   }
   m.wear_model = std::move(wm).value();
+  m.pinned = st.ColumnInt(7) != 0;
+  m.calibration_id = st.ColumnIsNull(8) ? 0 : st.ColumnInt(8);
+  m.trigger = st.ColumnIsNull(9) ? "" : st.ColumnText(9);
+  m.source = m.calibration_id == 0 ? "" : ModelSource(m.trigger);
+  m.gap_train_um = st.ColumnIsNull(10) ? 0 : st.ColumnDouble(10);
+  m.n_train = static_cast<int>(st.ColumnIsNull(11) ? 0 : st.ColumnInt(11));
+  m.n_val = static_cast<int>(st.ColumnIsNull(12) ? 0 : st.ColumnInt(12));
   return m;
 }
 
+// A model row with the run that made it (models m, calibrations c).
 constexpr const char* kModelColumns =
-    "version, created_at, law, k_option, active, gap_val_um, model_json";
+    "m.version, m.created_at, m.law, m.k_option, m.active, m.gap_val_um, "
+    "m.model_json, m.pinned, m.calibration, c.triggered_by, c.gap_train_um, "
+    "c.n_train, c.n_val FROM models m "
+    "LEFT JOIN calibrations c ON c.id = m.calibration";
 
 }  // namespace
 
 StatusOr<int64_t> InsertActiveModel(Db* db, const ModelVersion& m,
                                     int64_t calibration_id) {
   ROLLWEAR_RETURN_IF_ERROR(
-      db->Exec("UPDATE models SET active = 0 WHERE active = 1"));
+      db->Exec("UPDATE models SET active = 0, pinned = 0 WHERE active = 1"));
   ROLLWEAR_ASSIGN_OR_RETURN(
       Statement st,
       db->Prepare(
@@ -125,7 +136,19 @@ StatusOr<int64_t> InsertActiveModel(Db* db, const ModelVersion& m,
 StatusOr<std::optional<ModelVersion>> LoadActiveModel(Db* db) {
   ROLLWEAR_ASSIGN_OR_RETURN(Statement st,
                             db->Prepare(std::string("SELECT ") + kModelColumns +
-                                        " FROM models WHERE active = 1"));
+                                        " WHERE m.active = 1"));
+  ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
+  std::optional<ModelVersion> out;
+  if (!row) return out;
+  ROLLWEAR_ASSIGN_OR_RETURN(out, ReadModel(st));
+  return out;
+}
+
+StatusOr<std::optional<ModelVersion>> LoadModel(Db* db, int64_t version) {
+  ROLLWEAR_ASSIGN_OR_RETURN(Statement st,
+                            db->Prepare(std::string("SELECT ") + kModelColumns +
+                                        " WHERE m.version = ?"));
+  st.BindInt(1, version);
   ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
   std::optional<ModelVersion> out;
   if (!row) return out;
@@ -136,7 +159,7 @@ StatusOr<std::optional<ModelVersion>> LoadActiveModel(Db* db) {
 StatusOr<std::vector<ModelVersion>> LoadModels(Db* db) {
   ROLLWEAR_ASSIGN_OR_RETURN(Statement st,
                             db->Prepare(std::string("SELECT ") + kModelColumns +
-                                        " FROM models ORDER BY version DESC"));
+                                        " ORDER BY m.version DESC"));
   std::vector<ModelVersion> out;
   while (true) {
     ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());

@@ -45,3 +45,13 @@ const char* CalibrationStatusName(CalibrationStatus s) {
 }
 
 }  // namespace rollwear::storage
+
+namespace rollwear::storage {
+
+std::string ModelSource(const std::string& trigger) {
+  if (trigger == "nightly") return "nightly";
+  if (trigger.rfind("diagnosis", 0) == 0) return "diagnosis";
+  return "calibration";
+}
+
+}  // namespace rollwear::storage

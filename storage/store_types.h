@@ -30,7 +30,7 @@ namespace rollwear::storage {
 
 // Schema version this build writes; older files are migrated on Open, newer
 // ones are refused.
-constexpr int kSchemaVersion = 5;
+constexpr int kSchemaVersion = 6;
 
 struct StoreOptions {
   // Maximum coils committed in one group-commit transaction.
@@ -203,6 +203,86 @@ struct ModelVersion {
   bool active = false;
   double gap_val_um = 0;  // validation gap when it was calibrated
   WearModel wear_model;
+  // Activated by hand and not unpinned since (only the active version can
+  // be): calibration runs and diagnosis adoptions do not replace it.
+  bool pinned = false;
+  // The run that made it (calibration_id 0: none recorded): its trigger
+  // ("nightly", "api", "cli", "diagnosis <id>"), the source that trigger
+  // stands for (ModelSource), and its figures.
+  int64_t calibration_id = 0;
+  std::string trigger;
+  std::string source;
+  double gap_train_um = 0;
+  int n_train = 0, n_val = 0;
+};
+
+// "nightly", "diagnosis" (trigger "diagnosis <id>") or "calibration" (any
+// other trigger: api, cli): where a run's model came from.
+std::string ModelSource(const std::string& trigger);
+
+// One promotion of a model version, automatic (a calibration run or a
+// diagnosis adoption) or by hand (source "manual"): a row of the audit
+// trail (MillStore::ModelHistory).
+struct ModelPromotion {
+  int64_t id = 0;
+  int64_t version = 0;
+  int64_t previous_version = 0;  // 0: none before it (the prior model)
+  std::string source;  // "calibration", "nightly", "diagnosis", "manual"
+  std::string reason;
+  UnixSeconds at = 0;
+  bool pinned = false;  // a manual activation that pinned the version
+};
+
+// A finished diagnosis of the daemon, as stored (MillStore::SaveDiagnosis).
+struct StoredDiagnosis {
+  int64_t id = 0;
+  std::string status;  // "done" or "failed"
+  bool adopt = false;
+  UnixSeconds queued_at = 0, started_at = 0, finished_at = 0;
+  std::string verdict;      // the report's verdict ("" when failed)
+  std::string message;      // why it failed, or why adoption was not recorded
+  int64_t calibration_id = 0;  // the adoption's run (0: none)
+  std::string report_json;  // api/diagnosis_json.h's JSON ("" when failed)
+  std::string report_html;  // core's DiagnosisHtml ("" when failed)
+};
+
+// One mount of a roll (MillStore::RollLife): where and when, what it
+// rolled, its predicted wear at the end of the mount (now, while the
+// campaign runs) under the active model, and what the grinder measured.
+struct RollMountLife {
+  std::string campaign_id;
+  int stand = 0;
+  Position position = Position::kTop;
+  UnixSeconds started_at = 0;
+  std::optional<UnixSeconds> ended_at;  // empty while the campaign runs
+  double diameter_mm = 0;
+  double hardness_hb = 0;
+  int coils = 0;
+  double rolled_length_m = 0;
+  double predicted_wear_um = 0;
+  std::optional<double> measured_um;
+  std::string measured_suspect;  // "" when plausible or not measured
+};
+struct RollLife {
+  std::string roll_id;
+  std::string roll_type;  // of its last mount
+  int64_t model_version = 0;  // the model the predictions are under
+  std::vector<RollMountLife> mounts;  // oldest first
+};
+
+// A roll of the inventory (MillStore::RollInventory).
+struct RollSummary {
+  std::string roll_id;
+  std::string roll_type;        // of its last mount
+  double last_diameter_mm = 0;  // at its last mount
+  int campaigns = 0;
+  double total_rolled_m = 0;
+  std::optional<double> last_measured_um;  // most recent measurement
+  std::string last_measured_suspect;
+  bool mounted = false;  // in the open campaign
+  int stand = 0;         // where, when mounted
+  Position position = Position::kTop;
+  std::string campaign_id;  // the open campaign, when mounted
 };
 
 enum class CalibrationStatus { kQueued, kRunning, kDone, kFailed };

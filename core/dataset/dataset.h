@@ -1,5 +1,6 @@
 // Dataset: the in-memory form of a mill dataset folder (campaigns.csv,
-// mounts.csv, coils.csv, measurements.csv; see docs/data-format.md) and the
+// mounts.csv, coils.csv, measurements.csv and the optional profiles.csv;
+// see docs/data-format.md) and the
 // index that groups its rows the way the wear models aggregate them.
 //
 // Text labels (grades, roll types, coil ids) are interned into per-dataset
@@ -104,11 +105,25 @@ struct Measurement {
   double wear_center_um = 0;
 };
 
+// One point of a grinder's wear profile across the barrel (profiles.csv,
+// optional): wear at barrel coordinate x_mm (mm from the barrel centre,
+// positive towards the drive side) of the roll measured after its campaign.
+struct ProfilePoint {
+  int campaign = -1;
+  int stand = 0;
+  Position position = Position::kTop;
+  std::string roll_id;
+  UnixSeconds measured_at = 0;
+  double x_mm = 0;
+  double wear_um = 0;
+};
+
 struct Dataset {
   std::vector<Campaign> campaigns;
   std::vector<Mount> mounts;
   std::vector<Pass> passes;  // rows of coils.csv in file order
   std::vector<Measurement> measurements;
+  std::vector<ProfilePoint> profile_points;  // empty without profiles.csv
 
   std::vector<std::string> grades;      // grade labels, first-seen order
   std::vector<std::string> roll_types;  // roll type labels, first-seen order

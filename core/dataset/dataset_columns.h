@@ -80,6 +80,15 @@ inline constexpr const char* kMeasurementColumns[] = {
     "campaign_id", "stand",       "position",
     "roll_id",     "measured_at", "wear_center_um"};
 
+// profiles.csv is optional: read when present, written when non-empty.
+inline constexpr const char* kProfilesFileName = "profiles.csv";
+namespace profile_col {
+enum { kCampaign, kStand, kPosition, kRollId, kMeasuredAt, kX, kWear };
+}  // namespace profile_col
+inline constexpr const char* kProfileColumns[] = {
+    "campaign_id", "stand",       "position", "roll_id",
+    "measured_at", "x_mm",        "wear_um"};
+
 using ColumnList = std::span<const char* const>;
 inline constexpr ColumnList kDatasetColumns[kNumDatasetFiles] = {
     kCampaignColumns, kMountColumns, kCoilColumns, kMeasurementColumns};

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 #include <istream>
+#include <map>
 #include <string>
 #include <string_view>
 #include <unordered_map>
@@ -278,9 +279,65 @@ Status ReadMeasurements(const FileView& f, LabelIndex* campaigns,
   return Status::Ok();
 }
 
-// Validates and converts the four file contents (in DatasetFile order).
+// profiles.csv: each point of a roll measured after its campaign, at most
+// one point per barrel coordinate of a roll.
+Status ReadProfiles(const FileView& f, LabelIndex* campaigns,
+                    const std::vector<int>& mount_of, Dataset* d,
+                    std::vector<int>* lines) {
+  namespace col = profile_col;
+  std::map<std::pair<size_t, double>, int> seen;  // (campaign slot, x) -> line
+  for (size_t r = 0; r < f.rows(); ++r) {
+    ROLLWEAR_RETURN_IF_ERROR(f.CheckFieldCount(r));
+    ProfilePoint p;
+    std::string_view roll_id;
+    ROLLWEAR_RETURN_IF_ERROR(
+        f.Campaign(r, col::kCampaign, campaigns, &p.campaign));
+    ROLLWEAR_RETURN_IF_ERROR(f.Stand(r, col::kStand, &p.stand));
+    ROLLWEAR_RETURN_IF_ERROR(f.PositionOf(r, col::kPosition, &p.position));
+    ROLLWEAR_RETURN_IF_ERROR(f.Text(r, col::kRollId, &roll_id));
+    ROLLWEAR_RETURN_IF_ERROR(f.Time(r, col::kMeasuredAt, &p.measured_at));
+    ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kX, &p.x_mm));
+    ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kWear, &p.wear_um));
+    ROLLWEAR_RETURN_IF_ERROR(f.Check(
+        r, ProfilePointRules(f.Raw(r, col::kCampaign), p.stand, p.position,
+                             roll_id, p.x_mm, p.wear_um)));
+    const Campaign& campaign = d->campaigns[p.campaign];
+    ROLLWEAR_RETURN_IF_ERROR(f.Check(
+        r,
+        MeasurementTimeRules(campaign.id, p.measured_at, campaign.ended_at)));
+    const size_t key = p.campaign * kNumRollPositionSlots +
+                       RollPositionSlot(p.stand, p.position);
+    const std::string where = RollPositionName(p.stand, p.position) +
+                              " of campaign " + Quote(f.Raw(r, col::kCampaign));
+    const int mount = mount_of[key];
+    if (mount < 0) {
+      return f.Error(r, col::kStand, "no mount for " + where + " in mounts.csv");
+    }
+    if (d->mounts[mount].roll_id != roll_id) {
+      return f.Error(r, col::kRollId,
+                     "roll_id must match mounts.csv: " + where + " mounted " +
+                         Quote(d->mounts[mount].roll_id) + ", got " +
+                         Quote(roll_id));
+    }
+    auto [it, fresh] = seen.emplace(std::make_pair(key, p.x_mm), f.line(r));
+    if (!fresh) {
+      return f.Error(r, col::kX,
+                     "duplicate key (campaign_id, stand, position, x_mm): " +
+                         where + " has a point at x_mm " +
+                         std::string(f.Raw(r, col::kX)) + " on line " +
+                         std::to_string(it->second));
+    }
+    p.roll_id = std::string(roll_id);
+    d->profile_points.push_back(std::move(p));
+    lines->push_back(f.line(r));
+  }
+  return Status::Ok();
+}
+
+// Validates and converts the four file contents (in DatasetFile order) and
+// profiles.csv's when `profiles` is not null.
 StatusOr<Dataset> ParseDataset(std::string (&texts)[kNumDatasetFiles],
-                               DatasetLines* lines) {
+                               std::string* profiles, DatasetLines* lines) {
   DatasetLines unused;
   if (lines == nullptr) lines = &unused;
   *lines = DatasetLines();
@@ -311,6 +368,14 @@ StatusOr<Dataset> ParseDataset(std::string (&texts)[kNumDatasetFiles],
   ROLLWEAR_RETURN_IF_ERROR(ReadMeasurements(files[kMeasurementsFile],
                                             &campaigns, mount_of, &d,
                                             &lines->measurements));
+  if (profiles != nullptr) {
+    ROLLWEAR_ASSIGN_OR_RETURN(
+        csv::Table t, csv::Table::Parse(std::move(*profiles), kProfilesFileName));
+    FileView f(t, kProfilesFileName, kProfileColumns);
+    ROLLWEAR_RETURN_IF_ERROR(f.Bind());
+    ROLLWEAR_RETURN_IF_ERROR(ReadProfiles(f, &campaigns, mount_of, &d,
+                                          &lines->profile_points));
+  }
   return d;
 }
 
@@ -375,7 +440,20 @@ StatusOr<Dataset> ReadDataset(const std::string& dir, DatasetLines* lines) {
     std::fclose(fp);
     if (!ok) return Status::IoError("cannot read " + path);
   }
-  return ParseDataset(texts, lines);
+  // profiles.csv is optional.
+  const std::string profiles_path = dir + "/" + kProfilesFileName;
+  std::FILE* fp = std::fopen(profiles_path.c_str(), "rb");
+  if (fp == nullptr) {
+    const int err = errno;
+    if (err == ENOENT) return ParseDataset(texts, nullptr, lines);
+    return Status::IoError("cannot open " + profiles_path + ": " +
+                           std::strerror(err));
+  }
+  std::string profiles;
+  const bool ok = ReadAll(fp, &profiles);
+  std::fclose(fp);
+  if (!ok) return Status::IoError("cannot read " + profiles_path);
+  return ParseDataset(texts, &profiles, lines);
 }
 
 StatusOr<Dataset> ReadDatasetStreams(const DatasetStreams& in,
@@ -390,7 +468,12 @@ StatusOr<Dataset> ReadDatasetStreams(const DatasetStreams& in,
                              kDatasetFileNames[i]);
     }
   }
-  return ParseDataset(texts, lines);
+  if (in.profiles == nullptr) return ParseDataset(texts, nullptr, lines);
+  std::string profiles;
+  if (!ReadAll(in.profiles, &profiles)) {
+    return Status::IoError(std::string("cannot read ") + kProfilesFileName);
+  }
+  return ParseDataset(texts, &profiles, lines);
 }
 
 }  // namespace rollwear

@@ -25,11 +25,11 @@ namespace rollwear {
 // Where the rows of a Dataset were read from: the physical line of each row
 // in its file, indexed like the Dataset's rows.
 struct DatasetLines {
-  std::vector<int> campaigns, mounts, passes, measurements;
+  std::vector<int> campaigns, mounts, passes, measurements, profile_points;
 };
 
-// Reads DIR/{campaigns,mounts,coils,measurements}.csv; fills `lines` when
-// given.
+// Reads DIR/{campaigns,mounts,coils,measurements}.csv and, when it exists,
+// DIR/profiles.csv; fills `lines` when given.
 StatusOr<Dataset> ReadDataset(const std::string& dir,
                               DatasetLines* lines = nullptr);
 
@@ -40,11 +40,13 @@ struct DatasetStreams {
   std::istream* mounts = nullptr;
   std::istream* coils = nullptr;
   std::istream* measurements = nullptr;
+  std::istream* profiles = nullptr;  // optional
 };
 StatusOr<Dataset> ReadDatasetStreams(const DatasetStreams& in,
                                      DatasetLines* lines = nullptr);
 
-// Writes the four CSV files into `dir` (created if missing).
+// Writes the four CSV files into `dir` (created if missing), and
+// profiles.csv when the dataset has profile points.
 Status WriteDataset(const Dataset& data, const std::string& dir);
 
 }  // namespace rollwear

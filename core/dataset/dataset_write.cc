@@ -113,6 +113,14 @@ Status CheckRefs(const Dataset& d) {
                                      " has an invalid campaign or stand");
     }
   }
+  for (size_t i = 0; i < d.profile_points.size(); ++i) {
+    const ProfilePoint& p = d.profile_points[i];
+    if (!ValidRef(p.campaign, nc) || !ValidStand(p.stand)) {
+      return Status::InvalidArgument("WriteDataset: profile point " +
+                                     std::to_string(i) +
+                                     " has an invalid campaign or stand");
+    }
+  }
   ROLLWEAR_RETURN_IF_ERROR(CheckExtra(d.campaign_extra, nc, "campaigns.csv"));
   ROLLWEAR_RETURN_IF_ERROR(
       CheckExtra(d.mount_extra, d.mounts.size(), "mounts.csv"));
@@ -230,7 +238,30 @@ Status WriteDataset(const Dataset& data, const std::string& dir) {
     ROLLWEAR_RETURN_IF_ERROR(
         WriteFileAtomically(dir + "/" + kDatasetFileNames[i], texts[i]));
   }
-  return Status::Ok();
+  const std::string profiles_path = dir + "/" + kProfilesFileName;
+  if (d.profile_points.empty()) {
+    // No stale profiles from an earlier write of the same folder.
+    std::filesystem::remove(profiles_path, ec);
+    return Status::Ok();
+  }
+  const ExtraColumns no_extra;
+  const std::string profiles = FormatFile(
+      kProfileColumns, no_extra, d.profile_points.size(),
+      [&](size_t i, std::string* out) {
+        const ProfilePoint& p = d.profile_points[i];
+        csv::AppendField(out, d.campaigns[p.campaign].id);
+        *out += ",F";
+        AppendInt(out, p.stand);
+        *out += ',';
+        *out += PositionName(p.position);
+        *out += ',';
+        csv::AppendField(out, p.roll_id);
+        *out += ',' + FormatTimestamp(p.measured_at) + ',';
+        csv::AppendDouble(out, p.x_mm);
+        *out += ',';
+        csv::AppendDouble(out, p.wear_um);
+      });
+  return WriteFileAtomically(profiles_path, profiles);
 }
 
 }  // namespace rollwear

@@ -220,6 +220,20 @@ RuleViolations MeasurementRules(std::string_view campaign_id, int stand,
   return out;
 }
 
+RuleViolations ProfilePointRules(std::string_view campaign_id, int stand,
+                                 Position position, std::string_view roll_id,
+                                 double x_mm, double wear_um) {
+  RuleViolations out;
+  Rules r(&out);
+  r.NonEmpty("campaign_id", campaign_id);
+  r.Stand(stand);
+  r.PositionOk(position);
+  r.NonEmpty("roll_id", roll_id);
+  r.Finite("x_mm", x_mm);
+  r.Finite("wear_um", wear_um);
+  return out;
+}
+
 RuleViolations PassMountRules(int stand, std::string_view campaign_id,
                               uint32_t mounted, int pass) {
   RuleViolations out;

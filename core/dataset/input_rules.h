@@ -118,6 +118,12 @@ RuleViolations MeasurementRules(std::string_view campaign_id, int stand,
                                 Position position, std::string_view roll_id,
                                 double wear_center_um);
 
+// One point of a grinder profile (profiles.csv): the same ids, x_mm and
+// wear_um finite.
+RuleViolations ProfilePointRules(std::string_view campaign_id, int stand,
+                                 Position position, std::string_view roll_id,
+                                 double x_mm, double wear_um);
+
 // Consistency of one record with its campaign (data-format.md, bad input;
 // api.md, 422). `mounted` has bit RollPositionSlot(stand, position) set for
 // each roll position the campaign has a roll mounted at.

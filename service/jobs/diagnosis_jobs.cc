@@ -1,21 +1,53 @@
 #include "service/jobs/diagnosis_jobs.h"
 
+#include <chrono>
 #include <exception>
 #include <string>
 #include <utility>
 
 #include "api/diagnosis_json.h"
 #include "core/diagnosis/diagnosis.h"
+#include "service/jobs/job_log.h"
+#include "core/report/diagnosis_report.h"
 
 namespace rollwear::service {
 namespace {
 
 constexpr size_t kKeep = 50;  // reports kept in memory
 
+UnixSeconds Now() {
+  return std::chrono::duration_cast<std::chrono::seconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+// What is stored of a finished job.
+storage::StoredDiagnosis ToStored(const api::DiagnosisJob& job) {
+  storage::StoredDiagnosis d;
+  d.id = job.id;
+  d.status = job.status;
+  d.adopt = job.adopt;
+  d.queued_at = job.queued_at;
+  d.started_at = job.started_at;
+  d.finished_at = job.finished_at;
+  d.verdict = job.verdict;
+  d.message = job.message;
+  d.calibration_id = job.adoption ? job.adoption->id : 0;
+  d.report_json = job.report;
+  d.report_html = job.html;
+  return d;
+}
+
 }  // namespace
 
-DiagnosisJobs::DiagnosisJobs(storage::MillStore* store)
-    : store_(store), worker_([this] { Work(); }) {}
+DiagnosisJobs::DiagnosisJobs(storage::MillStore* store,
+                             CalibrationDone on_calibration)
+    : store_(store), on_calibration_(std::move(on_calibration)) {
+  // Ids go on after those stored by an earlier run of the daemon.
+  StatusOr<int64_t> last = store_->LastDiagnosisId();
+  if (last.ok()) next_id_ = *last + 1;
+  worker_ = std::thread([this] { Work(); });
+}
 
 DiagnosisJobs::~DiagnosisJobs() { Stop(); }
 
@@ -35,6 +67,7 @@ int64_t DiagnosisJobs::Enqueue(bool adopt) {
   job.id = id;
   job.status = "queued";
   job.adopt = adopt;
+  job.queued_at = Now();
   jobs_[id] = std::move(job);
   queue_.push_back(id);
   while (jobs_.size() > kKeep) jobs_.erase(jobs_.begin());
@@ -53,6 +86,7 @@ void DiagnosisJobs::Work() {
   for (;;) {
     int64_t id = 0;
     bool adopt = false;
+    UnixSeconds queued_at = 0, started_at = 0;
     {
       std::unique_lock<std::mutex> lock(mu_);
       cv_.wait(lock, [this] { return stop_ || !queue_.empty(); });
@@ -62,9 +96,28 @@ void DiagnosisJobs::Work() {
       auto it = jobs_.find(id);
       if (it == jobs_.end()) continue;  // evicted before it ran
       it->second.status = "running";
+      it->second.started_at = Now();
       adopt = it->second.adopt;
+      queued_at = it->second.queued_at;
+      started_at = it->second.started_at;
     }
+    LogDiagnosisStarted(id, adopt);
+    const auto start = std::chrono::steady_clock::now();
     api::DiagnosisJob result = Run(id, adopt);
+    result.queued_at = queued_at;
+    result.started_at = started_at;
+    result.finished_at = Now();
+    // Stored before it is shown finished, so a finished diagnosis is never
+    // lost by a restart.
+    Status saved = store_->SaveDiagnosis(ToStored(result));
+    if (!saved.ok()) {
+      result.message += (result.message.empty() ? "" : "; ") +
+                        std::string("not stored: ") + saved.message();
+    }
+    LogDiagnosisFinished(
+        result, std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                              start)
+                    .count());
     std::lock_guard<std::mutex> lock(mu_);
     auto it = jobs_.find(id);
     if (it != jobs_.end()) it->second = std::move(result);
@@ -91,14 +144,32 @@ api::DiagnosisJob DiagnosisJobs::Run(int64_t id, bool adopt) {
       return result;
     }
     result.status = "done";
+    result.verdict = report->verdict;
     result.report = api::DiagnosisJsonText(*report, -1, &data->quality);
+    result.html = DiagnosisHtml(*report);
+    result.verdict = report->verdict;
     if (adopt && !report->findings.empty()) {
       // Scored on the validation campaigns of the data and split the
       // diagnosis fitted on.
+      const auto start = std::chrono::steady_clock::now();
       StatusOr<storage::CalibrationRecord> run = store_->ProposeModel(
           "diagnosis " + std::to_string(id),
           WearLawName(report->adopted_model.law), 1, report->adopted_model,
           data->fit, options.split_seed);
+      const double seconds = std::chrono::duration<double>(
+                                 std::chrono::steady_clock::now() - start)
+                                 .count();
+      if (on_calibration_) {
+        storage::CalibrationRecord counted;
+        if (run.ok()) {
+          counted = *run;
+        } else {
+          counted.trigger = "diagnosis " + std::to_string(id);
+          counted.status = storage::CalibrationStatus::kFailed;
+          counted.message = run.status().message();
+        }
+        on_calibration_(counted, seconds);
+      }
       if (run.ok()) {
         result.adoption = std::move(run).value();
       } else {

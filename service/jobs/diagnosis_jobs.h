@@ -1,13 +1,17 @@
 // DiagnosisJobs: runs diagnoses (core/diagnosis/diagnosis.h) of everything
 // the store holds, one at a time on a background worker, for POST
 // /v1/diagnoses and GET /v1/diagnoses/{id} (it is the router's
-// api::DiagnosisRunner). Reports are kept in memory (the last 50); a
-// diagnosis can always be run again from the stored data, so they are not
-// persisted across restarts. A diagnosis queued with `adopt` that finds
+// api::DiagnosisRunner). Each finished diagnosis (done or failed, with its
+// JSON and HTML reports) is stored (MillStore::SaveDiagnosis) before it is
+// shown finished, so it outlives a restart; ids go on after the stored
+// ones. Jobs are also kept in memory (the last 50) for queued and running
+// ones. A diagnosis queued with `adopt` that finds
 // missing physics proposes its adopted model (option 1 plus the fitted
 // terms) to the store, which promotes it when its validation gap is no
 // worse than the active model's (MillStore::ProposeModel); the job then
-// carries that run's record.
+// carries that run's record. Every job logs its start and end
+// (service/jobs/job_log.h); the adoption's run is handed to
+// `on_calibration` like every other calibration run (metrics, log).
 //
 // Thread-safety: all methods are thread-safe. Stop() (and the destructor)
 // waits for a running diagnosis to finish; queued ones are dropped.
@@ -17,6 +21,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -29,8 +34,13 @@ namespace rollwear::service {
 
 class DiagnosisJobs final : public api::DiagnosisRunner {
  public:
+  // The calibration run of an adoption and its wall time, seconds.
+  using CalibrationDone =
+      std::function<void(const storage::CalibrationRecord&, double)>;
   // `store` must outlive the worker (this object, or until Stop()).
-  explicit DiagnosisJobs(storage::MillStore* store);
+  // `on_calibration` (may be empty) runs on the worker thread.
+  explicit DiagnosisJobs(storage::MillStore* store,
+                         CalibrationDone on_calibration = nullptr);
   ~DiagnosisJobs() override;  // Stop()s
   DiagnosisJobs(const DiagnosisJobs&) = delete;
   DiagnosisJobs& operator=(const DiagnosisJobs&) = delete;
@@ -47,6 +57,7 @@ class DiagnosisJobs final : public api::DiagnosisRunner {
   api::DiagnosisJob Run(int64_t id, bool adopt);
 
   storage::MillStore* store_;
+  CalibrationDone on_calibration_;
   mutable std::mutex mu_;
   std::condition_variable cv_;
   std::deque<int64_t> queue_;

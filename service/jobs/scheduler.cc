@@ -5,6 +5,8 @@
 #include <utility>
 #include <vector>
 
+#include "service/jobs/job_log.h"
+
 namespace rollwear::service {
 
 UnixSeconds NextLocalTime(UnixSeconds now, int minute_of_day) {
@@ -111,6 +113,7 @@ int64_t Scheduler::Tick(UnixSeconds now) {
       : terms ? store_->EnqueueCalibration("nightly", active->wear_model.law, 1)
               : store_->EnqueueCalibration("nightly", options_.law, options_.option);
   if (!id.ok()) return 0;
+  LogCalibrationQueued(*id, "nightly");
   Submit(*id);
   return *id;
 }

@@ -49,6 +49,7 @@ const std::vector<CommandSpec>& Commands() {
        {"--db", "--port", "--bind", "--log-level", "--threads", "--config"},
        {}},  // --db may come from the config file or ROLLWEAR_DB
       {"import", {"--db", "--strict"}, {"--db", "DIR"}},
+      {"export", {"--db", "--out"}, {"--db", "--out"}},
       {"replay",
        {"--data", "--url", "--token", "--clients", "--speed", "--retry-for",
         "--show-wear", "--json", "--leave-last-open", "--quiet"},

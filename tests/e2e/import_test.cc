@@ -129,5 +129,39 @@ TEST(ImportTest, AllOrNothingThenServed) {
       << answer.dump();
 }
 
+// profiles.csv is read and checked with the folder (a broken point refuses
+// the import, naming file and line), and what is not stored yet is said.
+TEST(ImportTest, ProfilesAreCheckedAndTheirFateIsSaid) {
+  TempDir dir;
+  std::string error, output;
+  ASSERT_TRUE(Simulate(dir / "data", 3, 2, &error)) << error;
+  StatusOr<Dataset> data = ReadDataset(dir / "data");
+  ASSERT_TRUE(data.ok());
+  const Measurement& m = data->measurements.at(0);
+  const std::string row = data->campaigns[m.campaign].id + "," +
+                          StandName(m.stand) + "," + PositionName(m.position) +
+                          "," + m.roll_id + "," +
+                          FormatTimestamp(m.measured_at);
+  const std::string header =
+      "campaign_id,stand,position,roll_id,measured_at,x_mm,wear_um\n";
+  std::ofstream(dir / "data/profiles.csv")
+      << header << row << ",0,12.5\n" << row << ",100,13\n";
+  EXPECT_EQ(RunRollwear({"import", "--db", dir / "x.db", dir / "data"}, &output),
+            0)
+      << output;
+  EXPECT_NE(output.find("profiles.csv: 2 profile point(s) read and checked "
+                        "but not imported"),
+            std::string::npos)
+      << output;
+  std::ofstream(dir / "data/profiles.csv")
+      << header << row << ",0,12.5\n" << row << ",0,13\n";
+  EXPECT_EQ(
+      RunRollwear({"import", "--db", dir / "y.db", dir / "data"}, &output), 1);
+  EXPECT_NE(output.find("profiles.csv:3:6 x_mm: duplicate key"),
+            std::string::npos)
+      << output;
+  EXPECT_NE(output.find("nothing imported"), std::string::npos) << output;
+}
+
 }  // namespace
 }  // namespace rollwear::e2e

@@ -1,6 +1,7 @@
 // service/jobs/scheduler: the local-time due computation, the nightly trigger
 // (only when measurements arrived since the last run) with an injected
-// clock, and the job worker running queued calibrations on the real store.
+// clock, the job worker running queued calibrations on the real store, and
+// the event= log lines of a nightly run and its promotion.
 #include "service/jobs/scheduler.h"
 
 #include <stdlib.h>
@@ -9,11 +10,16 @@
 #include <atomic>
 #include <filesystem>
 #include <memory>
+#include <sstream>
+#include <string>
 
 #include <gtest/gtest.h>
+#include <spdlog/sinks/ostream_sink.h>
+#include <spdlog/spdlog.h>
 
 #include "core/dataset/dataset_io.h"
 #include "core/sim/simulator.h"
+#include "service/jobs/job_log.h"
 #include "tests/e2e/e2e_util.h"
 
 namespace rollwear::service {
@@ -125,6 +131,55 @@ TEST_F(SchedulerTest, WorkerRunsQueuedCalibrationsAndReportsThem) {
   EXPECT_EQ(last.status, storage::CalibrationStatus::kDone) << last.message;
   EXPECT_EQ(store_->Counters().measurements_since_last_calibration, 0);
   scheduler.Stop();
+}
+
+// The daemon's spdlog default logger replaced by one writing into a
+// string, for the lifetime of this object.
+class CapturedLog {
+ public:
+  CapturedLog() : previous_(spdlog::default_logger()) {
+    auto sink = std::make_shared<spdlog::sinks::ostream_sink_mt>(out_);
+    sink->set_pattern("%l %v");
+    spdlog::set_default_logger(
+        std::make_shared<spdlog::logger>("captured", sink));
+  }
+  ~CapturedLog() { spdlog::set_default_logger(previous_); }
+  std::string text() const { return out_.str(); }
+
+ private:
+  std::ostringstream out_;
+  std::shared_ptr<spdlog::logger> previous_;
+};
+
+TEST_F(SchedulerTest, NightlyRunAndItsPromotionAreLogged) {
+  ImportSimulated(12);
+  CapturedLog log;
+  SchedulerOptions options;
+  options.recalibration_minute = 120;
+  // The daemon's hook (service/cmd_serve.cc) logs every finished run.
+  Scheduler scheduler(store_.get(), options, &LogCalibrationFinished);
+  EXPECT_EQ(scheduler.Tick(At("2026-03-01T00:00:00Z")), 0);  // sets due
+  const int64_t id = scheduler.Tick(At("2026-03-01T02:00:30Z"));
+  ASSERT_GT(id, 0);
+  scheduler.Start();
+  ASSERT_TRUE(scheduler.WaitIdle(std::chrono::seconds(300)));
+  scheduler.Stop();
+  StatusOr<storage::CalibrationRecord> record = store_->GetCalibration(id);
+  ASSERT_TRUE(record.ok());
+  // The prior model is active: the first calibration replaces it.
+  ASSERT_TRUE(record->promoted) << record->message;
+  const std::string n = std::to_string(id);
+  const std::string text = log.text();
+  for (const std::string& line :
+       {"info event=calibration_queued id=" + n + " trigger=nightly\n",
+        "info event=calibration_finished id=" + n +
+            " trigger=nightly model=wang option=1 status=done ",
+        "info event=model_promoted version=" +
+            std::to_string(record->model_version) +
+            " source=nightly trigger=nightly calibration_id=" + n +
+            " model=wang option=1 gap_val_um="}) {
+    EXPECT_NE(text.find(line), std::string::npos) << line << "\n" << text;
+  }
 }
 
 }  // namespace

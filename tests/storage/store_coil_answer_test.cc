@@ -214,7 +214,8 @@ TEST(StoreCoilAnswerTest, VersionOneFileIsUpgradedAndItsCoilsAnswered) {
     StatusOr<std::unique_ptr<Db>> db = Db::Open(path);
     ASSERT_TRUE(db.ok());
     ASSERT_TRUE((*db)
-                    ->Exec("DROP INDEX coils_without_wear; "
+                    ->Exec(std::string(testing::kUndoSchemaSixAndFive) +
+                           "DROP INDEX coils_without_wear; "
                            "ALTER TABLE coils DROP COLUMN wear; "
                            "ALTER TABLE measurements DROP COLUMN suspect; "
                            "UPDATE schema_version SET version = 1")

@@ -88,7 +88,7 @@ TEST(StoreLimits, VersionFourFileGainsTheTable) {
   ASSERT_TRUE(db.ok());
   StatusOr<int> version = ReadSchemaVersion(db->get());
   ASSERT_TRUE(version.ok());
-  EXPECT_EQ(*version, 5);
+  EXPECT_EQ(*version, kSchemaVersion);
   StatusOr<Statement> st = (*db)->Prepare(
       "SELECT stand || '/' || position || ' ' || limit_um || ' ' || reason "
       "FROM wear_limits");

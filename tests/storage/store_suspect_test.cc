@@ -216,7 +216,8 @@ TEST(StoreSuspectTest, VersionThreeFileGainsTheColumnAndKeepsItsRows) {
   }
   {
     auto db = MustOpen(path);
-    ASSERT_TRUE(db->Exec("ALTER TABLE measurements DROP COLUMN suspect; "
+    ASSERT_TRUE(db->Exec(std::string(testing::kUndoSchemaSixAndFive) +
+                         "ALTER TABLE measurements DROP COLUMN suspect; "
                          "UPDATE schema_version SET version = 3")
                     .ok());
     EXPECT_EQ(QueryText(db.get(),

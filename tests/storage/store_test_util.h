@@ -50,6 +50,14 @@ class TempDir {
   std::filesystem::path path_;
 };
 
+// SQL taking a file of this build back to schema version 4 (undoes
+// versions 6 and 5): tests that fake a file of an older rollwear run it
+// before undoing the older versions.
+inline constexpr const char* kUndoSchemaSixAndFive =
+    "DROP TABLE model_history; DROP TABLE diagnoses; "
+    "DROP INDEX mounts_by_roll; DROP INDEX measurements_by_roll; "
+    "ALTER TABLE models DROP COLUMN pinned; DROP TABLE wear_limits; ";
+
 inline std::unique_ptr<MillStore> OpenStore(const std::string& path,
                                             StoreOptions options = {}) {
   StatusOr<std::unique_ptr<MillStore>> store = MillStore::Open(path, options);

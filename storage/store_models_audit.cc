@@ -1,0 +1,63 @@
+// MillStore: models under control. A stored version is made active by hand
+// (ActivateModel: the active flag, the pin and one audit-trail row in one
+// transaction, then the open campaign re-predicted under it through
+// InstallModel, as a promotion does; activating with pin false unpins),
+// and every promotion is read
+// back from the audit trail (model_history, schema version 6). Calibration
+// runs respect the pin in FinishRun (mill_store_calibration.cc).
+#include <memory>
+#include <mutex>
+#include <string>
+#include <utility>
+
+#include "storage/mill_store_impl.h"
+#include "storage/store_sql.h"
+
+namespace rollwear::storage::internal {
+
+StatusOr<ModelVersion> MillStoreImpl::GetModel(int64_t version) const {
+  std::optional<ModelVersion> m;
+  if (version > 0) {
+    std::lock_guard<std::mutex> lock(read_mu_);
+    ROLLWEAR_ASSIGN_OR_RETURN(m, LoadModel(read_db_.get(), version));
+  }
+  if (!m.has_value()) {
+    return Status::NotFound("model version " + std::to_string(version) +
+                            ": unknown model version");
+  }
+  return std::move(*m);
+}
+
+StatusOr<ModelVersion> MillStoreImpl::ActivateModel(int64_t version,
+                                                    const std::string& reason,
+                                                    bool pin) {
+  if (reason.find_first_not_of(" \t\r\n") == std::string::npos) {
+    return Status::InvalidArgument(
+        "reason: required, say why this version is activated");
+  }
+  // One activation, run or proposal at a time, so each promotion names the
+  // version it replaced and a run never promotes over a fresh pin.
+  std::lock_guard<std::mutex> runs(calibration_mu_);
+  ROLLWEAR_ASSIGN_OR_RETURN(ModelVersion target, GetModel(version));
+  const int64_t previous = ActiveVersion()->version;
+  target.active = true;
+  target.pinned = pin;
+  auto next = std::make_shared<const ModelVersion>(target);
+  ROLLWEAR_RETURN_IF_ERROR(RunTask(
+      [&](Db* db) -> Status {
+        ROLLWEAR_RETURN_IF_ERROR(SetActiveModel(db, version, pin));
+        return InsertPromotion(
+            db, ModelPromotion{0, version, previous, "manual", reason,
+                               NowSeconds(), pin});
+      },
+      [this, next](Db*) { InstallModel(next); }));
+  return target;
+}
+
+StatusOr<std::vector<ModelPromotion>> MillStoreImpl::ModelHistory(
+    int limit) const {
+  std::lock_guard<std::mutex> lock(read_mu_);
+  return LoadPromotions(read_db_.get(), limit);
+}
+
+}  // namespace rollwear::storage::internal
