@@ -98,6 +98,18 @@ struct DiagnosisRequest {
 bool DecodeDiagnosisRequest(std::string_view body, int max_depth,
                             DiagnosisRequest* out, ApiError* error);
 
+// POST /v1/limits/{stand}/{position}: {"limit_um": number, "reason":
+// string|null (optional)}; limit_um must be in (0, kMaxWearLimitUm]
+// (out_of_range otherwise, field "limit_um"); other members unknown_field.
+// Sets limit_um and reason only.
+bool DecodeWearLimit(std::string_view body, int max_depth,
+                     storage::WearLimitIn* out, ApiError* error);
+// POST /v1/forecast: {"coils": [coil, ...]}, each coil decoded by
+// DecodeCoil with the same rules; a bad field is named by its path in the
+// body ("coils[3].passes[1].force_kn"). More than max_coils coils: 413
+// too_many_elements; none: 400 out_of_range (api/codec_forecast.cc).
+bool DecodeForecast(std::string_view body, int max_depth, size_t max_coils,
+                    std::vector<storage::CoilIn>* out, ApiError* error);
 // POST /v1/models/{version}/activate: {"reason": "<why>", "pin": true|
 // false (default true)}; reason required, not blank, at most kMaxIdLength
 // bytes.
@@ -130,6 +142,11 @@ std::string EncodeCalibrationList(
 std::string EncodeModel(const storage::ModelVersion& model);
 std::string EncodeModelList(const std::vector<storage::ModelVersion>& models);
 std::string EncodeHealth(bool healthy);
+// api/codec_forecast.cc: GET /v1/limits, one limit (the answer of POST
+// /v1/limits/...), POST /v1/forecast.
+std::string EncodeWearLimits(const std::vector<storage::WearLimit>& limits);
+std::string EncodeWearLimit(const storage::WearLimit& limit);
+std::string EncodeForecast(const storage::Forecast& forecast);
 // codec_shop.cc: the model audit trail, rolls and stored diagnoses.
 std::string EncodeModelHistory(
     const std::vector<storage::ModelPromotion>& history);

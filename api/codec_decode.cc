@@ -90,6 +90,9 @@ constexpr ObjectShape kCalibrationShape{kCalibrationMembers};
 enum DiagnosisMember { kAdopt };
 constexpr std::string_view kDiagnosisMembers[] = {"adopt"};
 constexpr ObjectShape kDiagnosisShape{kDiagnosisMembers};
+enum WearLimitMember { kLimitUm, kLimitReason };
+constexpr std::string_view kWearLimitMembers[] = {"limit_um", "reason"};
+constexpr ObjectShape kWearLimitShape{kWearLimitMembers};
 enum ActivateMember { kReason, kPin };
 constexpr std::string_view kActivateMembers[] = {"reason", "pin"};
 constexpr ObjectShape kActivateShape{kActivateMembers};
@@ -563,6 +566,28 @@ bool DecodeDiagnosisRequest(std::string_view body, int max_depth,
   }
   ObjectReader r(scanned, kDiagnosisShape, error);
   return r.OnlyKnown() && (!r.Has(kAdopt) || r.Flag(kAdopt, &out->adopt));
+}
+
+bool DecodeWearLimit(std::string_view body, int max_depth,
+                     storage::WearLimitIn* out, ApiError* error) {
+  ScannedObject scanned;
+  if (!ScanBody(body, max_depth, kWearLimitShape, &scanned, error)) {
+    return false;
+  }
+  ObjectReader r(scanned, kWearLimitShape, error);
+  if (!r.OnlyKnown() || !r.Number(kLimitUm, &out->limit_um)) return false;
+  if (!(out->limit_um > 0) || !(out->limit_um <= storage::kMaxWearLimitUm)) {
+    return r.OutOfRange("limit_um", "must be > 0 and at most " +
+                                        std::to_string(static_cast<int>(
+                                            storage::kMaxWearLimitUm)) +
+                                        " µm, got " +
+                                        std::string(scanned.members[kLimitUm]
+                                                        .text.substr(0, 40)));
+  }
+  out->reason.clear();
+  return !r.Has(kLimitReason) ||
+         scanned.members[kLimitReason].kind == JsonKind::kNull ||
+         r.Text(kLimitReason, &out->reason);
 }
 
 bool DecodeActivateRequest(std::string_view body, int max_depth,

@@ -3,6 +3,7 @@
 // the DOM's dump() would; the rest build an nlohmann DOM.
 #include <charconv>
 #include <cmath>
+#include <optional>
 #include <string_view>
 #include <utility>
 
@@ -48,6 +49,40 @@ void WriteStand(JsonWriter* w, int stand) {
   w->String(std::string_view(text, static_cast<size_t>(result.ptr - text)));
 }
 
+// [lo, hi] with hi null when unbounded.
+void WriteBounds(JsonWriter* w, double lo, const std::optional<double>& hi) {
+  w->BeginArray();
+  w->Double(lo);
+  w->OptionalDouble(hi);
+  w->EndArray();
+}
+
+// The wear limit and remaining-life members of a mounted roll (null when
+// there is no limit or the roll has not worn yet).
+void WriteRemainingLife(JsonWriter* w, const storage::PositionWear& p) {
+  const std::optional<RemainingLife>& life = p.remaining;
+  w->Key("wear_limit_um");
+  w->OptionalDouble(p.wear_limit_um);
+  if (!life) {
+    for (JsonKey key : {JsonKey("remaining_length_m"),
+                        JsonKey("remaining_coils"),
+                        JsonKey("remaining_length_interval_m"),
+                        JsonKey("remaining_coils_interval")}) {
+      w->Key(key);
+      w->Null();
+    }
+    return;
+  }
+  w->Key("remaining_length_m");
+  w->Double(life->length_m);
+  w->Key("remaining_coils");
+  w->Double(life->coils);
+  w->Key("remaining_length_interval_m");
+  WriteBounds(w, life->length_lo_m, life->length_hi_m);
+  w->Key("remaining_coils_interval");
+  WriteBounds(w, life->coils_lo, life->coils_hi);
+}
+
 // The members of one element of GET /v1/wear, inside an open object.
 void WritePositionMembers(JsonWriter* w, const storage::PositionWear& p) {
   w->Key("stand");
@@ -71,10 +106,11 @@ void WritePositionMembers(JsonWriter* w, const storage::PositionWear& p) {
   w->Double(p.interval_lo_um);
   w->Double(p.interval_hi_um);
   w->EndArray();
+  WriteRemainingLife(w, p);
 }
 
 // Room for one position (its strings come on top).
-constexpr size_t kPositionBytes = 200;
+constexpr size_t kPositionBytes = 420;
 
 Json CalibrationJson(const storage::CalibrationRecord& r) {
   Json coefficients = Json::object();

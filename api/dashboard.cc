@@ -10,8 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "api/router.h"
 #include "api/dashboard_page.h"
+#include "api/router.h"
 #include "core/model/model_eval.h"
 
 namespace rollwear::api {
@@ -101,6 +101,13 @@ HttpResponse Router::GetDashboard() {
     r.predicted_wear_um = p.predicted_wear_um;
     r.interval_lo_um = p.interval_lo_um;
     r.interval_hi_um = p.interval_hi_um;
+    r.wear_limit_um = p.wear_limit_um;
+    if (p.remaining) {
+      r.remaining_length_m = p.remaining->length_m;
+      r.remaining_coils = p.remaining->coils;
+      r.remaining_lo_m = p.remaining->length_lo_m;
+      r.remaining_hi_m = p.remaining->length_hi_m;
+    }
     d.campaign_id = p.campaign_id;
     d.rolls.push_back(std::move(r));
   }

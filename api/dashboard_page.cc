@@ -138,6 +138,36 @@ std::string Header(const DashboardData& d) {
   return h;
 }
 
+// "%.3f" of a value, "" when there is none.
+std::string OptFmt(const std::optional<double>& v) {
+  return v ? Fmt("%.3f", *v) : std::string();
+}
+
+// The limit and remaining-life markers and cells of a roll's row.
+std::string RemainingAttrs(const DashboardRoll& r) {
+  return Attr("data-limit-um", OptFmt(r.wear_limit_um)) +
+         Attr("data-remaining-m", OptFmt(r.remaining_length_m)) +
+         Attr("data-remaining-lo-m", OptFmt(r.remaining_lo_m)) +
+         Attr("data-remaining-hi-m", r.remaining_length_m && !r.remaining_hi_m
+                                         ? std::string("inf")
+                                         : OptFmt(r.remaining_hi_m)) +
+         Attr("data-remaining-coils", OptFmt(r.remaining_coils));
+}
+std::string RemainingCells(const DashboardRoll& r) {
+  std::string s = "<td class=\"limit\">" +
+                  (r.wear_limit_um ? Fmt("%.0f", *r.wear_limit_um) : "–") +
+                  "</td><td class=\"remaining\">";
+  if (r.remaining_length_m) {
+    s += Fmt("%.1f", *r.remaining_length_m / 1000) + " km <small>(" +
+         Fmt("%.1f", *r.remaining_lo_m / 1000) + " – " +
+         (r.remaining_hi_m ? Fmt("%.1f", *r.remaining_hi_m / 1000) : "∞") +
+         ")</small>, " + Fmt("%.0f", *r.remaining_coils) + " coils";
+  } else {
+    s += "–";
+  }
+  return s + "</td>";
+}
+
 std::string RollsSection(const DashboardData& d) {
   std::string s =
       "<section id=\"rolls\"><h2>Mounted work rolls <small>predicted "
@@ -148,7 +178,8 @@ std::string RollsSection(const DashboardData& d) {
            "</section>\n";
   }
   s += "<table><tr><th>position</th><th>roll</th><th>coils</th>"
-       "<th>rolled km</th><th>wear µm</th><th>interval µm</th></tr>\n";
+       "<th>rolled km</th><th>wear µm</th><th>interval µm</th>"
+       "<th>limit µm</th><th>remaining to limit (95 %)</th></tr>\n";
   for (size_t i = 0; i < d.rolls.size(); ++i) {
     const DashboardRoll& r = d.rolls[i];
     s += "<tr class=\"roll\"" + Attr("data-stand", std::to_string(r.stand)) +
@@ -157,7 +188,8 @@ std::string RollsSection(const DashboardData& d) {
          Attr("data-length-m", Fmt("%.3f", r.rolled_length_m)) +
          Attr("data-wear-um", Fmt("%.3f", r.predicted_wear_um)) +
          Attr("data-lo-um", Fmt("%.3f", r.interval_lo_um)) +
-         Attr("data-hi-um", Fmt("%.3f", r.interval_hi_um)) + ">";
+         Attr("data-hi-um", Fmt("%.3f", r.interval_hi_um)) + RemainingAttrs(r) +
+         ">";
     s += "<td class=\"pos\"><span class=\"sw\" style=\"background:" +
          std::string(PaletteColor(static_cast<int>(i))) + "\"></span>" +
          XmlEscape(Label(r.stand, r.position)) + "</td>";
@@ -169,7 +201,8 @@ std::string RollsSection(const DashboardData& d) {
          "</td>";
     s += "<td class=\"wear\">" + Fmt("%.1f", r.predicted_wear_um) + "</td>";
     s += "<td class=\"iv\">" + Fmt("%.1f", r.interval_lo_um) + " – " +
-         Fmt("%.1f", r.interval_hi_um) + "</td></tr>\n";
+         Fmt("%.1f", r.interval_hi_um) + "</td>" + RemainingCells(r) +
+         "</tr>\n";
   }
   return s + "</table></section>\n";
 }
@@ -248,7 +281,8 @@ std::string GrowthSection(const DashboardData& d) {
   std::string s =
       "<section id=\"growth\"><h2>Wear growth along campaign " +
       XmlEscape(d.campaign_id.empty() ? std::string("–") : d.campaign_id) +
-      " <small>predicted, active model</small></h2>\n";
+      " <small>predicted, active model; straight lines: forecast to each "
+      "roll's wear limit at the campaign's mix so far</small></h2>\n";
   PlotSpec spec;
   spec.x_label = "rolled length in this campaign (km)";
   spec.y_label = "predicted centre wear (µm)";
@@ -277,6 +311,18 @@ std::string GrowthSection(const DashboardData& d) {
     }
     any = any || n > 0;
     spec.series.push_back(std::move(line));
+    if (r.wear_limit_um && r.remaining_length_m) {
+      // The forecast at the campaign's mix so far: a straight line from
+      // the current wear to the limit.
+      PlotSeries forecast = PlotSeries::Make(
+          Label(r.stand, r.position) + " to limit",
+          PaletteColor(static_cast<int>(i)), PlotSeries::Style::kLine);
+      forecast.x = {r.rolled_length_m / 1000,
+                    (r.rolled_length_m + *r.remaining_length_m) / 1000};
+      forecast.y = {r.predicted_wear_um,
+                    std::max(r.predicted_wear_um, *r.wear_limit_um)};
+      spec.series.push_back(std::move(forecast));
+    }
   }
   if (!any) {
     return s +

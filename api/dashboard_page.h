@@ -12,8 +12,15 @@
 // Every roll position is a table row carrying machine-readable markers:
 //   data-stand="6" data-position="top" data-roll-id="..." data-coils="123"
 //   data-length-m="45678.900" data-wear-um="123.456" data-lo-um="..."
-//   data-hi-um="..."
-// (numbers with 3 decimals); the visible wear is printed with 1 decimal.
+//   data-hi-um="..." data-limit-um="..." data-remaining-m="..."
+//   data-remaining-lo-m="..." data-remaining-hi-m="..."
+//   data-remaining-coils="..."
+// (numbers with 3 decimals; the limit and remaining-life markers are ""
+// when GET /v1/wear has null, an unbounded interval end "inf"); the visible
+// wear is printed with 1 decimal, the remaining length in km with 1. The
+// growth chart draws, for each roll with a remaining life, a straight
+// forecast line from its current wear to its limit ("F6 top to limit": the
+// campaign's mix so far, as GET /v1/wear's remaining_length_m).
 //
 // Pure: takes plain values and returns a string (no clock, no I/O).
 // Thread-safety: DashboardHtml is a pure function.
@@ -41,6 +48,13 @@ struct DashboardRoll {
   // predicted wear after each coil (may be empty).
   std::vector<double> track_length_m;
   std::vector<double> track_wear_um;
+  // The position's wear limit and the remaining life until it (GET
+  // /v1/wear's fields; empty when null).
+  std::optional<double> wear_limit_um;
+  std::optional<double> remaining_length_m;
+  std::optional<double> remaining_coils;
+  std::optional<double> remaining_lo_m;
+  std::optional<double> remaining_hi_m;  // empty also when unbounded
 };
 
 // One measured roll of a recent ended campaign.

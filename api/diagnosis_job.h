@@ -32,7 +32,6 @@ struct DiagnosisJob {
   // the HTML report of `rollwear diagnose --html` (when done): what is
   // stored once it has finished (MillStore::SaveDiagnosis).
   UnixSeconds queued_at = 0, started_at = 0, finished_at = 0;
-  std::string verdict;
   std::string html;
 };
 

@@ -347,6 +347,29 @@ ApiError Malformed(error_code e, std::string_view body, od::document* doc) {
   return BadRequest("malformed_json", "", std::move(message));
 }
 
+// The answer to a scan's syntax error: nesting_too_deep or malformed_json.
+ApiError SyntaxError(error_code e, std::string_view body, od::document* doc,
+                     int max_depth) {
+  if (e == simdjson::DEPTH_ERROR) {
+    return BadRequest("nesting_too_deep", "",
+                      "the body nests arrays/objects deeper than " +
+                          std::to_string(max_depth) + " levels");
+  }
+  return Malformed(e, body, doc);
+}
+
+// Starts the thread's parser on a padded copy of `body`. The padding is
+// written (zeros), so the parser never reads uninitialised bytes; the
+// buffer keeps its capacity for the next body.
+error_code Iterate(std::string_view body, od::document* doc) {
+  ScanBuffers& buffers = Buffers();
+  buffers.input.assign(body);
+  buffers.input.append(simdjson::SIMDJSON_PADDING, '\0');
+  return buffers.parser
+      .iterate(buffers.input.data(), body.size(), buffers.input.size())
+      .get(*doc);
+}
+
 JsonKind KindOf(od::json_type type) {
   switch (type) {
     case od::json_type::array:
@@ -408,16 +431,8 @@ const char* JsonKindName(JsonKind kind) {
 
 bool ScanBody(std::string_view body, int max_depth, const ObjectShape& shape,
               ScannedObject* out, ApiError* error) {
-  ScanBuffers& buffers = Buffers();
-  // The padding is written (zeros), so the parser never reads
-  // uninitialised bytes; the buffer keeps its capacity for the next body.
-  buffers.input.assign(body);
-  buffers.input.append(simdjson::SIMDJSON_PADDING, '\0');
   od::document doc;
-  error_code e =
-      buffers.parser
-          .iterate(buffers.input.data(), body.size(), buffers.input.size())
-          .get(doc);
+  error_code e = Iterate(body, &doc);
   if (e) {
     *error = Malformed(e, body, nullptr);
     return false;
@@ -425,14 +440,8 @@ bool ScanBody(std::string_view body, int max_depth, const ObjectShape& shape,
   Scanner scanner(max_depth);
   od::json_type type = od::json_type::object;
   e = ScanDocument(doc, shape, max_depth, out, &scanner, &type);
-  if (e == simdjson::DEPTH_ERROR) {
-    *error = BadRequest("nesting_too_deep", "",
-                        "the body nests arrays/objects deeper than " +
-                            std::to_string(max_depth) + " levels");
-    return false;
-  }
   if (e) {
-    *error = Malformed(e, body, &doc);
+    *error = SyntaxError(e, body, &doc, max_depth);
     return false;
   }
   if (type != od::json_type::object) {
@@ -444,6 +453,150 @@ bool ScanBody(std::string_view body, int max_depth, const ObjectShape& shape,
   if (!scanner.duplicate().empty()) {
     *error = BadRequest("invalid_value", scanner.duplicate(),
                         scanner.duplicate() + " appears twice in its object");
+    return false;
+  }
+  return true;
+}
+
+namespace {
+
+// The exact text of an array element (simdjson 3.0's value has no
+// raw_json(): an object's or array's own, a scalar's token).
+error_code RawElement(od::value& element, std::string_view* raw) {
+  od::json_type type;
+  if (error_code e = element.type().get(type)) return e;
+  if (type == od::json_type::object) {
+    od::object object;
+    if (error_code e = element.get_object().get(object)) return e;
+    return object.raw_json().get(*raw);
+  }
+  if (type == od::json_type::array) {
+    od::array array;
+    if (error_code e = element.get_array().get(array)) return e;
+    return array.raw_json().get(*raw);
+  }
+  *raw = element.raw_json_token();
+  return SUCCESS;
+}
+
+// The members of a list body: the array's elements' text into *elements
+// (at most max_elements + 1), its member name checks into *error.
+error_code ScanListMembers(od::object& object, std::string_view list,
+                           int max_depth, size_t max_elements,
+                           std::vector<std::string>* elements, bool* seen,
+                           ApiError* error) {
+  Scanner scanner(max_depth);
+  for (auto member : object) {
+    od::field field;
+    if (error_code e = std::move(member).get(field)) return e;
+    std::string_view key;
+    if (error_code e = field.unescaped_key().get(key)) return e;
+    od::value value = field.value();
+    // The first refusal is kept; the rest of the body is still scanned, so
+    // malformed JSON anywhere wins.
+    auto refuse = [&](std::string code, std::string message) {
+      if (error->status == 0) {
+        *error = BadRequest(std::move(code), std::string(key),
+                            std::move(message));
+      }
+      return scanner.Skip(value, 1);
+    };
+    if (key != list) {
+      if (error_code e = refuse("unknown_field",
+                                "unknown member '" + std::string(key) +
+                                    "'; the body has only '" +
+                                    std::string(list) + "'")) {
+        return e;
+      }
+      continue;
+    }
+    if (*seen) {
+      if (error_code e = refuse("invalid_value",
+                                std::string(list) +
+                                    " appears twice in its object")) {
+        return e;
+      }
+      continue;
+    }
+    *seen = true;
+    od::json_type type;
+    if (error_code e = value.type().get(type)) return e;
+    if (type != od::json_type::array) {
+      if (error_code e = refuse("wrong_type",
+                                std::string(list) + " must be an array, got " +
+                                    JsonKindName(KindOf(type)))) {
+        return e;
+      }
+      continue;
+    }
+    if (max_depth < 2) return simdjson::DEPTH_ERROR;
+    od::array array;
+    if (error_code e = value.get_array().get(array)) return e;
+    for (auto item : array) {
+      od::value element;
+      if (error_code e = std::move(item).get(element)) return e;
+      std::string_view raw;
+      if (error_code e = RawElement(element, &raw)) return e;
+      if (elements->size() <= max_elements) elements->emplace_back(raw);
+    }
+  }
+  return SUCCESS;
+}
+
+}  // namespace
+
+bool SplitListBody(std::string_view body, int max_depth, std::string_view list,
+                   size_t max_elements, std::vector<std::string>* elements,
+                   ApiError* error) {
+  elements->clear();
+  *error = ApiError{};
+  od::document doc;
+  error_code e = Iterate(body, &doc);
+  if (e) {
+    *error = SyntaxError(e, body, nullptr, max_depth);
+    return false;
+  }
+  od::json_type type = od::json_type::object;
+  e = doc.type().get(type);
+  if (!e && type != od::json_type::object) {
+    e = ScanOtherRoot(doc, type, max_depth);
+    if (!e) {
+      *error = BadRequest("wrong_type", "",
+                          std::string("the body must be a JSON object, got ") +
+                              JsonKindName(KindOf(type)));
+      return false;
+    }
+  }
+  bool seen = false;
+  if (!e) {
+    od::object object;
+    e = doc.get_object().get(object);
+    if (!e) {
+      e = ScanListMembers(object, list, max_depth, max_elements, elements,
+                          &seen, error);
+    }
+  }
+  if (!e) {
+    const char* rest = nullptr;
+    const error_code end = doc.current_location().get(rest);
+    if (end != simdjson::OUT_OF_BOUNDS) e = simdjson::TRAILING_CONTENT;
+  }
+  if (e) {
+    *error = SyntaxError(e, body, &doc, max_depth);
+    return false;
+  }
+  if (error->status != 0) return false;
+  if (!seen) {
+    *error = BadRequest("missing_field", std::string(list),
+                        std::string(list) + " is required");
+    return false;
+  }
+  if (elements->size() > max_elements) {
+    *error = ApiError{413, "too_many_elements",
+                      std::string(list) + " has more than " +
+                          std::to_string(max_elements) +
+                          " elements; send the schedule in parts",
+                      std::string(list)};
     return false;
   }
   return true;

@@ -20,6 +20,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -96,6 +97,17 @@ struct ScannedObject {
 // field = its path).
 bool ScanBody(std::string_view body, int max_depth, const ObjectShape& shape,
               ScannedObject* out, ApiError* error);
+
+// Scans `body` as an object whose one member `list` is an array (of any
+// values) and copies the exact JSON text of each element into *elements,
+// to be decoded on its own (POST /v1/forecast's coils with DecodeCoil).
+// False and *error (400): nesting_too_deep, malformed_json, wrong_type (the
+// body is not an object, `list` is not an array), missing_field (no
+// `list`), unknown_field (another member), invalid_value (`list` twice);
+// more than max_elements elements: 413 too_many_elements.
+bool SplitListBody(std::string_view body, int max_depth, std::string_view list,
+                   size_t max_elements, std::vector<std::string>* elements,
+                   ApiError* error);
 
 }  // namespace rollwear::api
 

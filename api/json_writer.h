@@ -26,6 +26,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -102,6 +103,14 @@ class JsonWriter {
     Separate();
     out_.append("null");
     need_comma_ = true;
+  }
+  // The number, or null when there is none.
+  void OptionalDouble(const std::optional<double>& value) {
+    if (value) {
+      Double(*value);
+    } else {
+      Null();
+    }
   }
 
   const std::string& text() const { return out_; }

@@ -56,6 +56,9 @@ enum class RouteId : int {
   kDiagnosesPost,     // POST /v1/diagnoses
   kDiagnosis,         // GET  /v1/diagnoses/{id}
   kDashboard,         // GET  / (HTML, api/dashboard.cc)
+  kLimits,            // GET  /v1/limits
+  kLimitSet,          // POST /v1/limits/{stand}/{position}
+  kForecast,          // POST /v1/forecast
   kModel,             // GET  /v1/models/{version}
   kModelActivate,     // POST /v1/models/{version}/activate
   kModelHistory,      // GET  /v1/models/history

@@ -25,6 +25,7 @@ namespace {
 constexpr std::string_view kCampaignsPrefix = "/v1/campaigns/";
 constexpr std::string_view kEndSuffix = "/end";
 constexpr std::string_view kWearPrefix = "/v1/wear/";
+constexpr std::string_view kLimitsPrefix = "/v1/limits/";
 constexpr std::string_view kCalibrationsPrefix = "/v1/calibrations/";
 constexpr std::string_view kDiagnosesPrefix = "/v1/diagnoses/";
 constexpr std::string_view kModelsPrefix = "/v1/models/";
@@ -35,8 +36,9 @@ constexpr std::string_view kReportSuffix = "/report";
 
 // `p` is prefix + one non-empty segment without '/' (+ suffix): the
 // segment, or nullopt.
-std::optional<std::string> Segment(std::string_view p, std::string_view prefix,
-                                   std::string_view suffix = "") {
+std::optional<std::string> ParamBetween(std::string_view p,
+                                        std::string_view prefix,
+                                        std::string_view suffix = "") {
   if (p.size() <= prefix.size() + suffix.size() ||
       p.substr(0, prefix.size()) != prefix ||
       p.substr(p.size() - suffix.size()) != suffix) {
@@ -116,6 +118,23 @@ std::string Segment(std::string_view raw) {
   return out;
 }
 
+// "{a}/{b}" after `prefix` into *arg1, *arg2 (both non-empty, no more
+// slashes); false when `path` is not of that form.
+bool MatchTwoParams(std::string_view path, std::string_view prefix,
+                    std::string* arg1, std::string* arg2) {
+  if (path.substr(0, prefix.size()) != prefix) return false;
+  const std::string_view rest = path.substr(prefix.size());
+  const size_t slash = rest.find('/');
+  if (slash == std::string_view::npos || slash == 0 ||
+      slash + 1 >= rest.size() ||
+      rest.find('/', slash + 1) != std::string_view::npos) {
+    return false;
+  }
+  *arg1 = Segment(rest.substr(0, slash));
+  *arg2 = Segment(rest.substr(slash + 1));
+  return true;
+}
+
 // The route of `path` (kUnmatched when none) and its path parameters.
 RouteId MatchRoute(const std::string& path, bool post, std::string* arg1,
                    std::string* arg2) {
@@ -136,30 +155,32 @@ RouteId MatchRoute(const std::string& path, bool post, std::string* arg1,
   if (path == "/v1/models/history") return RouteId::kModelHistory;
   if (path == "/v1/rolls") return RouteId::kRolls;
   if (path == "/") return RouteId::kDashboard;
+  if (path == "/v1/limits") return RouteId::kLimits;
+  if (path == "/v1/forecast") return RouteId::kForecast;
   const std::string_view p(path);
-  if (std::optional<std::string> a = Segment(p, kModelsPrefix)) {
+  if (std::optional<std::string> a = ParamBetween(p, kModelsPrefix)) {
     *arg1 = std::move(*a);
     return RouteId::kModel;
   }
   if (std::optional<std::string> a =
-          Segment(p, kModelsPrefix, kActivateSuffix)) {
+          ParamBetween(p, kModelsPrefix, kActivateSuffix)) {
     *arg1 = std::move(*a);
     return RouteId::kModelActivate;
   }
   if (std::optional<std::string> a =
-          Segment(p, kDiagnosesPrefix, kReportSuffix)) {
+          ParamBetween(p, kDiagnosesPrefix, kReportSuffix)) {
     *arg1 = std::move(*a);
     return RouteId::kDiagnosisReport;
   }
   // A roll id may hold any character, '/' included (sent as %2F).
   if (p.size() > kRollsPrefix.size() &&
       p.substr(0, kRollsPrefix.size()) == kRollsPrefix) {
-    *arg1 = path.substr(kRollsPrefix.size());
+    *arg1 = Segment(p.substr(kRollsPrefix.size()));
     return RouteId::kRoll;
   }
   if (p.size() > kRollPagePrefix.size() &&
       p.substr(0, kRollPagePrefix.size()) == kRollPagePrefix) {
-    *arg1 = path.substr(kRollPagePrefix.size());
+    *arg1 = Segment(p.substr(kRollPagePrefix.size()));
     return RouteId::kRollPage;
   }
   if (p.size() > kCampaignsPrefix.size() + kEndSuffix.size() &&
@@ -172,16 +193,12 @@ RouteId MatchRoute(const std::string& path, bool post, std::string* arg1,
     return RouteId::kCampaignEnd;
   }
   if (p.substr(0, kWearPrefix.size()) == kWearPrefix) {
-    const std::string_view rest = p.substr(kWearPrefix.size());
-    const size_t slash = rest.find('/');
-    if (slash == std::string_view::npos || slash == 0 ||
-        slash + 1 >= rest.size() ||
-        rest.find('/', slash + 1) != std::string_view::npos) {
-      return RouteId::kUnmatched;
-    }
-    *arg1 = Segment(rest.substr(0, slash));
-    *arg2 = Segment(rest.substr(slash + 1));
-    return RouteId::kWearAt;
+    return MatchTwoParams(p, kWearPrefix, arg1, arg2) ? RouteId::kWearAt
+                                                      : RouteId::kUnmatched;
+  }
+  if (p.substr(0, kLimitsPrefix.size()) == kLimitsPrefix) {
+    return MatchTwoParams(p, kLimitsPrefix, arg1, arg2) ? RouteId::kLimitSet
+                                                        : RouteId::kUnmatched;
   }
   if (p.substr(0, kCalibrationsPrefix.size()) == kCalibrationsPrefix &&
       p.size() > kCalibrationsPrefix.size() &&
@@ -424,6 +441,15 @@ HttpResponse Router::Dispatch(const HttpRequest& request) {
       break;
     case RouteId::kDashboard:
       response = GetDashboard();
+      break;
+    case RouteId::kLimits:
+      response = GetLimits();
+      break;
+    case RouteId::kLimitSet:
+      response = PostLimit(request, arg1, arg2);
+      break;
+    case RouteId::kForecast:
+      response = PostForecast(request);
       break;
     case RouteId::kModel:
     case RouteId::kModelActivate:

@@ -8,7 +8,8 @@
 // mapping from core's StatusCode. A rejected request never reaches a write
 // of the store, so it changes nothing. router.cc holds the matching, the
 // token check, the dispatch, the asynchronous coil path, measurements and
-// metrics; router_handlers.cc the other endpoints; dashboard.cc the page.
+// metrics; router_handlers.cc the other endpoints; router_forecast.cc the
+// wear limits and the forecast; dashboard.cc the page.
 //
 // Thread-safety: Handle() is thread-safe (the store is; the router's own
 // state is immutable options and the lock-free Metrics).
@@ -67,6 +68,8 @@ struct ApiOptions {
   size_t body_limit_bytes = 1 << 20;
   // Deepest accepted nesting of JSON arrays/objects (a coil needs 3).
   int max_json_depth = 16;
+  // Most coils one POST /v1/forecast may plan (more: 413).
+  size_t max_forecast_coils = 10000;
   // Law and K option of POST /v1/calibrations without a body.
   WearLaw default_law = WearLaw::kWang;
   int default_option = 1;
@@ -167,6 +170,11 @@ class Router {
   HttpResponse GetMetrics();
   HttpResponse PostDiagnosis(const HttpRequest& request);
   HttpResponse GetDiagnosis(const std::string& id);
+  // Wear limits and the forecast (api/router_forecast.cc).
+  HttpResponse GetLimits();
+  HttpResponse PostLimit(const HttpRequest& request, const std::string& stand,
+                         const std::string& position);
+  HttpResponse PostForecast(const HttpRequest& request);
   // router_shop.cc: models under control, rolls, stored diagnoses.
   HttpResponse DispatchShop(RouteId route, const HttpRequest& request,
                             const std::string& arg);

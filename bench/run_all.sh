@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Every performance figure of rollwear in one table: runs core_bench,
-# diagnosis_bench, ann_bench, ingest_bench and load_bench from a build
+# diagnosis_bench, ann_bench, ingest_bench, forecast_bench and load_bench
+# from a build
 # directory (a Release build with ROLLWEAR_BUILD_BENCH=ON) and prints
 # figure, measured, target, beside the machine's fsync-per-commit and
 # loopback limits that load_bench measures in the same run (so each
@@ -8,7 +9,7 @@
 #
 #   bash bench/run_all.sh [BUILD_DIR] [--out FILE]
 #
-# BUILD_DIR defaults to ./build. The raw outputs of the five binaries go to
+# BUILD_DIR defaults to ./build. The raw outputs of the six binaries go to
 # BUILD_DIR/bench-run/ (never commit them); --out also writes the table as
 # Markdown to FILE.
 set -euo pipefail
@@ -23,7 +24,7 @@ while [[ $# -gt 0 ]]; do
   esac
 done
 bin="$build/bench"
-for b in core_bench diagnosis_bench ann_bench ingest_bench load_bench; do
+for b in core_bench diagnosis_bench ann_bench ingest_bench forecast_bench load_bench; do
   if [[ ! -x "$bin/$b" ]]; then
     echo "run_all.sh: $bin/$b not found: build with -DCMAKE_BUILD_TYPE=Release -DROLLWEAR_BUILD_BENCH=ON" >&2
     exit 2
@@ -82,6 +83,12 @@ ips() {
 row "coil request decode (482 B, 2 passes)" "$(bm "$work/ingest_bench.txt" BM_DecodeCoil)" ""
 row "coil answer encode (527 B)" "$(bm "$work/ingest_bench.txt" BM_EncodeCoilAnswer)" ""
 row "MillStore::AddCoil, 16 threads, no HTTP (durable)" "$(ips "$work/ingest_bench.txt" BM_StoreAddCoil/real_time/threads:16)" ""
+
+echo "== forecast_bench" >&2
+"$bin/forecast_bench" --benchmark_color=false \
+  > "$work/forecast_bench.txt" 2> "$work/forecast_bench.err"
+row "POST /v1/forecast, 200 coils, 4 rolls, no HTTP" "$(bm "$work/forecast_bench.txt" BM_ForecastRequest/200)" "milliseconds"
+row "MillStore::ForecastCoils, 200 coils, 4 rolls" "$(bm "$work/forecast_bench.txt" BM_ForecastStore/200)" ""
 
 echo "== load_bench" >&2
 "$bin/load_bench" --tsv "$work/load.tsv" \

@@ -1,6 +1,7 @@
 // libFuzzer target: the JSON request decoder of every POST endpoint
 // (api/codec.h on api/json_scan.h): roll changes, coils, campaign ends,
-// measurements, calibrations, diagnoses. Every input is given to every
+// measurements, calibrations, diagnoses, wear limits, forecasts (a list of
+// coil bodies). Every input is given to every
 // decoder (a valid coil body exercises DecodeCoil in depth and the others'
 // error paths), at the daemon's default nesting limit.
 //
@@ -15,6 +16,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -27,6 +29,8 @@ using namespace rollwear;  // NOLINT(google-build-using-namespace): brevity
 using Json = nlohmann::ordered_json;
 
 constexpr int kMaxDepth = 16;  // ApiOptions::max_json_depth's default
+// ApiOptions::max_forecast_coils, small so that the fuzzer reaches the 413.
+constexpr size_t kMaxForecastCoils = 16;
 
 void Check(bool ok, const api::ApiError& error) {
   if (ok) return;
@@ -171,6 +175,26 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     api::DiagnosisRequest out;
     api::ApiError error;
     Check(api::DecodeDiagnosisRequest(body, kMaxDepth, &out, &error), error);
+  }
+  {
+    storage::WearLimitIn out;
+    api::ApiError error;
+    Check(api::DecodeWearLimit(body, kMaxDepth, &out, &error), error);
+  }
+  {
+    // POST /v1/forecast: each coil as DecodeCoil reads it; beyond the coil
+    // limit the answer is 413 too_many_elements.
+    std::vector<storage::CoilIn> out;
+    api::ApiError error;
+    const bool ok =
+        api::DecodeForecast(body, kMaxDepth, kMaxForecastCoils, &out, &error);
+    if (!ok && error.status == 413 && error.code == "too_many_elements") {
+      return 0;
+    }
+    Check(ok, error);
+    if (ok) {
+      for (const storage::CoilIn& coil : out) RoundTripCoil(coil);
+    }
   }
   return 0;
 }

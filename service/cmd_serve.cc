@@ -112,6 +112,7 @@ std::unique_ptr<storage::MillStore> OpenStore(
   storage::StoreOptions store_options;
   store_options.default_law = config.model;
   store_options.default_option = config.option;
+  store_options.wear_limit_um = config.WearLimits();
   StatusOr<std::unique_ptr<storage::MillStore>> opened =
       storage::MillStore::Open(config.db, store_options);
   if (!opened.ok()) {

@@ -69,26 +69,69 @@ std::string FormatTimeOfDay(int minutes) {
   return buf;
 }
 
+namespace {
+
+// "wear_limit_um_f6_top" for slot 10.
+std::string WearLimitKey(int slot) {
+  return "wear_limit_um_f" + std::to_string(SlotStand(slot)) + "_" +
+         PositionName(SlotPosition(slot));
+}
+
+// A wear limit in µm: (0, 5000], or "off" (0).
+Status SetWearLimit(const std::string& key, const std::string& value,
+                    const std::string& where, double* out) {
+  if (value == "off") {
+    *out = 0;
+    return Status::Ok();
+  }
+  char* end = nullptr;
+  const double v = std::strtod(value.c_str(), &end);
+  if (value.empty() || end != value.c_str() + value.size() || !(v > 0) ||
+      !(v <= 5000)) {
+    return Bad(where, key, "must be a number in (0, 5000] µm or off", value);
+  }
+  *out = v;
+  return Status::Ok();
+}
+
+}  // namespace
+
+std::array<double, kNumRollPositionSlots> ServeConfig::WearLimits() const {
+  std::array<double, kNumRollPositionSlots> out{};
+  for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
+    out[slot] =
+        wear_limit_um_at[slot] > 0 ? wear_limit_um_at[slot] : wear_limit_um;
+  }
+  return out;
+}
+
 const std::vector<std::string>& ConfigKeys() {
-  static const std::vector<std::string> kKeys = {"port",
-                                                 "bind",
-                                                 "db",
-                                                 "token",
-                                                 "body_limit_bytes",
-                                                 "recalibration_time",
-                                                 "model",
-                                                 "option",
-                                                 "threads",
-                                                 "keep_alive_max",
-                                                 "keep_alive_timeout",
-                                                 "max_connections",
-                                                 "max_connections_per_client",
-                                                 "head_timeout",
-                                                 "body_timeout",
-                                                 "read_timeout",
-                                                 "max_buffered_input_bytes",
-                                                 "log_level",
-                                                 "cpu_wakeup_latency_us"};
+  static const std::vector<std::string> kKeys = [] {
+    std::vector<std::string> keys = {"port",
+                                     "bind",
+                                     "db",
+                                     "token",
+                                     "body_limit_bytes",
+                                     "recalibration_time",
+                                     "model",
+                                     "option",
+                                     "threads",
+                                     "keep_alive_max",
+                                     "keep_alive_timeout",
+                                     "max_connections",
+                                     "max_connections_per_client",
+                                     "head_timeout",
+                                     "body_timeout",
+                                     "read_timeout",
+                                     "max_buffered_input_bytes",
+                                     "log_level",
+                                     "cpu_wakeup_latency_us",
+                                     "wear_limit_um"};
+    for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
+      keys.push_back(WearLimitKey(slot));
+    }
+    return keys;
+  }();
   return kKeys;
 }
 
@@ -168,6 +211,18 @@ Status SetConfigValue(const std::string& key, const std::string& value,
                  value);
     } else {
       c->cpu_wakeup_latency_us = static_cast<int>(n);
+    }
+  } else if (key == "wear_limit_um") {
+    ROLLWEAR_RETURN_IF_ERROR(
+        SetWearLimit(key, value, where, &c->wear_limit_um));
+  } else if (key.rfind("wear_limit_um_f", 0) == 0 &&
+             std::find(ConfigKeys().begin(), ConfigKeys().end(), key) !=
+                 ConfigKeys().end()) {
+    for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
+      if (key == WearLimitKey(slot)) {
+        ROLLWEAR_RETURN_IF_ERROR(
+            SetWearLimit(key, value, where, &c->wear_limit_um_at[slot]));
+      }
     }
   } else {
     std::string known;

@@ -30,6 +30,12 @@
 //   cpu_wakeup_latency_us  CPU wake-up limit held while traffic        off
 //                        arrives (0..1000000 us, or off); needs write
 //                        access to /dev/cpu_dma_latency (cpu_latency.h)
+//   wear_limit_um        wear limit of every roll position, µm        off
+//                        (0 < x <= 5000, or off); GET /v1/wear's
+//                        remaining life counts to it
+//   wear_limit_um_f6_top  the limit of one position (f1..f7, top or
+//                        bottom), wins over wear_limit_um; a limit set
+//                        with POST /v1/limits/... wins over both
 // Errors name the place: "rollwear.conf:7: port: must be an integer in
 // [0, 65535], got 'http'" or "ROLLWEAR_PORT: ...".
 //
@@ -37,12 +43,14 @@
 #ifndef ROLLWEAR_SERVICE_CONFIG_H_
 #define ROLLWEAR_SERVICE_CONFIG_H_
 
+#include <array>
 #include <cstddef>
 #include <functional>
 #include <string>
 #include <vector>
 
 #include "core/base/status.h"
+#include "core/dataset/dataset.h"
 #include "core/model/wear_law.h"
 
 namespace rollwear::service {
@@ -69,6 +77,12 @@ struct ServeConfig {
   std::string log_level = "info";
   // Microseconds; -1 = off (no CPU latency QoS request).
   int cpu_wakeup_latency_us = -1;
+  // Wear limits, µm (0 = none): every position's, and per roll position
+  // slot (core/dataset/dataset.h RollPositionSlot) overrides.
+  double wear_limit_um = 0;
+  std::array<double, kNumRollPositionSlots> wear_limit_um_at{};
+  // The limit in force at each slot from the configuration (0 = none).
+  std::array<double, kNumRollPositionSlots> WearLimits() const;
 
   // Checks the whole configuration (db set, ranges).
   bool IsValid(std::string* error) const;

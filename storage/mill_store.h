@@ -80,6 +80,26 @@ class MillStore {
   virtual WearSnapshot Wear() const = 0;
   virtual StatusOr<PositionWear> WearAt(int stand, Position position) const = 0;
 
+  // The predicted wear of every mounted roll after each coil of a planned
+  // schedule, with intervals and the first coil at which each roll's wear
+  // limit is reached (storage/store_forecast.cc). Stores nothing; each coil
+  // is checked as AddCoil checks it (its field rules, a roll mounted at
+  // each stand it passes), except that coil_id and seq need not be new;
+  // every coil must be for the open campaign (FailedPrecondition). Errors
+  // name the coil: "coils[3].passes[1].force_kn: must be > 0". The same
+  // coils posted with AddCoil then leave Wear() at the last values.
+  virtual StatusOr<Forecast> ForecastCoils(
+      const std::vector<CoilIn>& coils) const = 0;
+
+  // Wear limits (storage/store_limits.cc). SetWearLimit stores the limit of
+  // one roll position durably (it wins over the configuration's,
+  // StoreOptions::wear_limit_um) and returns it; InvalidArgument
+  // "limit_um: ..." unless 0 < limit_um <= kMaxWearLimitUm, "stand"/
+  // "position" for a position that does not exist. WearLimits answers the
+  // limit in force at every roll position, by stand, top first.
+  virtual StatusOr<WearLimit> SetWearLimit(const WearLimitIn& in) = 0;
+  virtual std::vector<WearLimit> WearLimits() const = 0;
+
   // Everything stored, as a core dataset (for calibration and diagnosis).
   virtual StatusOr<Dataset> ExportDataset() const = 0;
   // The stored data as calibration and diagnosis fit it: suspects (stored

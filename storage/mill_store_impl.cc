@@ -45,6 +45,7 @@ Status MillStoreImpl::Init(const std::string& path) {
 
   ROLLWEAR_ASSIGN_OR_RETURN(committed_, LoadCatalog(writer_db_.get()));
   spec_ = committed_;
+  ROLLWEAR_RETURN_IF_ERROR(LoadWearLimits(writer_db_.get()));
   ROLLWEAR_ASSIGN_OR_RETURN(const StoredCounts counts,
                             LoadCounts(writer_db_.get()));
   counters_.campaigns = counts.campaigns;
@@ -429,6 +430,11 @@ PositionWear MillStoreImpl::PositionWearLocked(int slot) const {
   const auto [lo, hi] = WearInterval(model_->wear_model, roll.state);
   w.interval_lo_um = lo;
   w.interval_hi_um = hi;
+  w.wear_limit_um = LimitLocked(slot).limit_um;
+  if (w.wear_limit_um) {
+    w.remaining = PredictRemainingLife(model_->wear_model, roll.state,
+                                       *w.wear_limit_um);
+  }
   return w;
 }
 

@@ -123,6 +123,11 @@ class MillStoreImpl final : public MillStore {
   WearSnapshot Wear() const override;
   StatusOr<PositionWear> WearAt(int stand, Position position) const override;
 
+  StatusOr<Forecast> ForecastCoils(
+      const std::vector<CoilIn>& coils) const override;  // store_forecast.cc
+  StatusOr<WearLimit> SetWearLimit(const WearLimitIn& in) override;
+  std::vector<WearLimit> WearLimits() const override;  // store_limits.cc
+
   StatusOr<Dataset> ExportDataset() const override;
   // The stored data of the kJudgedCampaigns most recent campaigns (and of
   // `campaign_id`, if older): what a new measurement is judged on
@@ -201,6 +206,12 @@ class MillStoreImpl final : public MillStore {
   std::shared_ptr<const ModelVersion> MakePrior(uint32_t positions_seen) const;
   PositionWear PositionWearLocked(int slot) const;
 
+  // ---- store_limits.cc
+  // Reads the wear_limits table into api_limits_ (Init).
+  Status LoadWearLimits(Db* db);
+  // The limit in force at `slot`: api_limits_, else the configuration's.
+  WearLimit LimitLocked(int slot) const;
+
   // ---- mill_store_calibration.cc
   // Records a calibration run (claimed at once when `claim`); returns its id.
   StatusOr<int64_t> InsertRun(const std::string& trigger,
@@ -257,6 +268,8 @@ class MillStoreImpl final : public MillStore {
   Catalog spec_;
   std::array<std::optional<LiveRoll>, kNumRollPositionSlots> rolls_;
   std::shared_ptr<const ModelVersion> model_;
+  // Wear limits set through SetWearLimit (mu_), by slot.
+  std::array<std::optional<WearLimit>, kNumRollPositionSlots> api_limits_;
   StoreCounters counters_;
   // Group-commit pacing (mu_): writes queued or being committed, their
   // maximum over the current and the previous window, and the queue length

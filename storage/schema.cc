@@ -142,8 +142,9 @@ constexpr const char* kSchemaV4 = R"sql(
 ALTER TABLE measurements ADD COLUMN suspect TEXT;
 )sql";
 
-// Version 5: a wear limit per roll position (placeholder of the same
-// statement as the remaining-life work; one of the two is kept on merge).
+// Version 5: wear limits set through the API (POST /v1/limits/{stand}/
+// {position}), one per roll position ("F6", "top"); set_at is an ISO 8601
+// UTC timestamp. A limit here wins over the configuration's.
 constexpr const char* kSchemaV5 = R"sql(
 CREATE TABLE IF NOT EXISTS wear_limits (stand TEXT NOT NULL, position TEXT NOT NULL, limit_um REAL NOT NULL, set_at TEXT NOT NULL, reason TEXT, PRIMARY KEY (stand, position));
 )sql";

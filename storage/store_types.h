@@ -10,6 +10,7 @@
 #ifndef ROLLWEAR_STORAGE_STORE_TYPES_H_
 #define ROLLWEAR_STORAGE_STORE_TYPES_H_
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -22,6 +23,7 @@
 #include "core/dataset/extra_fields.h"
 #include "core/dataset/input_rules.h"
 #include "core/model/ann_model.h"
+#include "core/model/remaining_life.h"
 #include "core/model/wear_model.h"
 
 namespace rollwear::storage {
@@ -42,6 +44,9 @@ struct StoreOptions {
   double initial_k = 0.3;
   // Seed of the 2/3-1/3 campaign split used by calibration runs.
   uint64_t split_seed = 1;
+  // Wear limit of each roll position slot from the configuration, µm (0:
+  // none); a limit set through SetWearLimit wins (wear_limits table).
+  std::array<double, kNumRollPositionSlots> wear_limit_um{};
   bool IsValid(std::string* error) const;
 };
 
@@ -120,6 +125,51 @@ struct PositionWear {
   double predicted_wear_um = 0;
   double interval_lo_um = 0;
   double interval_hi_um = 0;
+  // The position's wear limit (WearLimits()), empty when none; the
+  // remaining life until it at the campaign's mix so far
+  // (core/model/remaining_life.h), empty without a limit or before the
+  // roll has worn.
+  std::optional<double> wear_limit_um;
+  std::optional<RemainingLife> remaining;
+};
+
+// Bounds of a wear limit (µm): above 0, at most kMaxWearLimitUm.
+inline constexpr double kMaxWearLimitUm = 5000;
+
+// A wear limit as set through MillStore::SetWearLimit.
+struct WearLimitIn {
+  int stand = 0;
+  Position position = Position::kTop;
+  double limit_um = 0;
+  std::string reason;  // may be empty
+};
+
+// The wear limit in force at one roll position (MillStore::WearLimits).
+struct WearLimit {
+  int stand = 0;
+  Position position = Position::kTop;
+  std::optional<double> limit_um;  // empty: no limit
+  std::string source;              // "api", "config" or "" (none)
+  UnixSeconds set_at = 0;          // "api" only
+  std::string reason;              // "api" only
+};
+
+// Predicted wear of one mounted roll after each coil of a planned schedule
+// (MillStore::ForecastCoils).
+struct ForecastPosition {
+  int stand = 0;
+  Position position = Position::kTop;
+  std::string roll_id;
+  std::string campaign_id;
+  std::optional<double> wear_limit_um;
+  std::vector<double> predicted_wear_um;                  // after coil i
+  std::vector<std::pair<double, double>> interval_um;     // after coil i
+  int first_crossing = -1;  // first i with wear >= limit; -1 none
+};
+struct Forecast {
+  int64_t model_version = 0;
+  std::vector<std::string> coil_ids;  // the schedule's, in order
+  std::vector<ForecastPosition> positions;  // by stand, top first
 };
 
 struct CoilOutcome {

@@ -192,7 +192,8 @@ void ApplyEnd(const std::string& campaign_id, UnixSeconds ended_at,
 }
 
 Status AdmitCoil(const Catalog& c, const CoilIn& in, const StoredCoil& coil,
-                 const std::optional<StoredCoil>& stored, bool* unchanged) {
+                 const std::optional<StoredCoil>& stored, bool* unchanged,
+                 bool check_seq) {
   *unchanged = false;
   if (stored.has_value()) {
     if (*stored == coil) {
@@ -219,7 +220,7 @@ Status AdmitCoil(const Catalog& c, const CoilIn& in, const StoredCoil& coil,
                                     static_cast<int>(i)),
                      "passes"));
   }
-  if (c.open_campaign == in.campaign_id) {
+  if (check_seq && c.open_campaign == in.campaign_id) {
     auto owner = c.open_seqs.find(in.seq);
     if (owner != c.open_seqs.end()) {
       return Status::FailedPrecondition(

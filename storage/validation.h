@@ -39,8 +39,11 @@ Status AdmitEnd(const Catalog& c, const std::string& campaign_id,
 void ApplyEnd(const std::string& campaign_id, UnixSeconds ended_at, Catalog* c);
 
 // `stored` is the coil stored (or queued) under the same coil_id, if any.
+// check_seq = false skips the check that seq is free (a forecast's coils
+// may repeat stored ones).
 Status AdmitCoil(const Catalog& c, const CoilIn& in, const StoredCoil& coil,
-                 const std::optional<StoredCoil>& stored, bool* unchanged);
+                 const std::optional<StoredCoil>& stored, bool* unchanged,
+                 bool check_seq = true);
 // speculative: also remember the coil in pending_coils.
 void ApplyCoil(const StoredCoil& coil, bool speculative, Catalog* c);
 

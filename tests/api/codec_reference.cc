@@ -1,5 +1,6 @@
 #include "tests/api/codec_reference.h"
 
+#include <optional>
 #include <utility>
 
 #include <nlohmann/json.hpp>
@@ -17,8 +18,13 @@ const char* OutcomeName(storage::WriteOutcome o) {
   return o == storage::WriteOutcome::kCreated ? "created" : "unchanged";
 }
 
+Json Optional(const std::optional<double>& v) {
+  return v ? Json(*v) : Json(nullptr);
+}
+
 Json PositionJson(const storage::PositionWear& w) {
-  return Json{
+  const std::optional<RemainingLife>& r = w.remaining;
+  Json j = Json{
       {"stand", "F" + std::to_string(w.stand)},
       {"position", PositionName(w.position)},
       {"roll_id", w.roll_id},
@@ -28,6 +34,15 @@ Json PositionJson(const storage::PositionWear& w) {
       {"rolled_length_m", w.rolled_length_m},
       {"predicted_wear_um", w.predicted_wear_um},
       {"interval_um", Json::array({w.interval_lo_um, w.interval_hi_um})}};
+  j["wear_limit_um"] = Optional(w.wear_limit_um);
+  j["remaining_length_m"] = r ? Json(r->length_m) : Json(nullptr);
+  j["remaining_coils"] = r ? Json(r->coils) : Json(nullptr);
+  j["remaining_length_interval_m"] =
+      r ? Json::array({r->length_lo_m, Optional(r->length_hi_m)})
+        : Json(nullptr);
+  j["remaining_coils_interval"] =
+      r ? Json::array({r->coils_lo, Optional(r->coils_hi)}) : Json(nullptr);
+  return j;
 }
 
 }  // namespace

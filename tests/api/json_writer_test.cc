@@ -326,6 +326,19 @@ storage::PositionWear RandomPositionWear(Rng& rng) {
   w.predicted_wear_um = RandomDouble(rng);
   w.interval_lo_um = RandomDouble(rng);
   w.interval_hi_um = RandomDouble(rng);
+  if (Uniform(rng, 0, 2) > 0) w.wear_limit_um = RandomDouble(rng);
+  if (Uniform(rng, 0, 2) > 0) {
+    RemainingLife life;
+    life.length_m = RandomDouble(rng);
+    life.coils = RandomDouble(rng);
+    life.length_lo_m = RandomDouble(rng);
+    life.coils_lo = RandomDouble(rng);
+    if (Uniform(rng, 0, 1) > 0) {
+      life.length_hi_m = RandomDouble(rng);
+      life.coils_hi = RandomDouble(rng);
+    }
+    w.remaining = life;
+  }
   return w;
 }
 

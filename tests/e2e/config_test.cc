@@ -78,6 +78,30 @@ TEST(ConfigTest, CpuWakeupLatencyIsOffByDefaultAndRangeChecked) {
   }
 }
 
+TEST(ConfigTest, WearLimitsDefaultAndPerPosition) {
+  ServeConfig c;
+  for (double l : c.WearLimits()) EXPECT_EQ(l, 0);  // none by default
+  ASSERT_TRUE(ParseConfigText("wear_limit_um = 350\n"
+                              "wear_limit_um_f7_bottom = 280.5\n",
+                              "a.conf", &c)
+                  .ok());
+  const auto limits = c.WearLimits();
+  EXPECT_EQ(limits[RollPositionSlot(7, Position::kBottom)], 280.5);
+  EXPECT_EQ(limits[RollPositionSlot(7, Position::kTop)], 350);
+  EXPECT_EQ(limits[RollPositionSlot(1, Position::kTop)], 350);
+  for (const char* bad : {"0", "-3", "5000.5", "lots", "1e400"}) {
+    const Status s = ParseConfigText(
+        std::string("\nwear_limit_um_f6_top = ") + bad + "\n", "a.conf", &c);
+    ASSERT_FALSE(s.ok()) << bad;
+    EXPECT_EQ(s.message(),
+              std::string("a.conf:2: wear_limit_um_f6_top: must be a number "
+                          "in (0, 5000] µm or off, got '") +
+                  bad + "'");
+  }
+  EXPECT_FALSE(ParseConfigText("wear_limit_um_f8_top = 100\n", "a.conf", &c)
+                   .ok());
+}
+
 TEST(ConfigTest, ErrorsNameFileLineAndKey) {
   ServeConfig c;
   Status s = ParseConfigText("port = 1\n# ok\nport = http\n", "a.conf", &c);

@@ -18,8 +18,8 @@
 
 #include <gtest/gtest.h>
 
-#include "api/http_client.h"
 #include "api/dashboard_page.h"
+#include "api/http_client.h"
 #include "tests/e2e/e2e_util.h"
 
 namespace rollwear::e2e {
@@ -144,6 +144,19 @@ TEST(DashboardTest, ChromiumShowsTheMountedRollsWithTheApisNumbers) {
   json wear;
   ASSERT_EQ(HttpGet(daemon.url(), "/v1/wear", &wear), 200);
   ASSERT_EQ(wear["positions"].size(), 4u) << wear.dump();
+  // A wear limit at every position but F7/bottom, twice its wear so far:
+  // the page shows it, the remaining life and a forecast line to it.
+  for (const json& p : wear["positions"]) {
+    if (p["stand"] == "F7" && p["position"] == "bottom") continue;
+    const json limit = {{"limit_um", 2 * p["predicted_wear_um"].get<double>()}};
+    ASSERT_EQ(HttpPost(daemon.url(),
+                       "/v1/limits/" + p["stand"].get<std::string>() + "/" +
+                           p["position"].get<std::string>(),
+                       limit.dump(), &answer),
+              200)
+        << answer.dump();
+  }
+  ASSERT_EQ(HttpGet(daemon.url(), "/v1/wear", &wear), 200);
 
   // The page as served: HTML, self-contained (nothing fetched from outside).
   api::HttpClient client(daemon.url());
@@ -192,6 +205,37 @@ TEST(DashboardTest, ChromiumShowsTheMountedRollsWithTheApisNumbers) {
         << key;
     EXPECT_EQ(r.attrs.at("hi-um"), Fixed(p["interval_um"][1].get<double>(), 3))
         << key;
+    // The limit and the remaining life, as GET /v1/wear has them ("" for
+    // null).
+    auto fixed_or_empty = [](const json& v) {
+      return v.is_null() ? std::string() : Fixed(v.get<double>(), 3);
+    };
+    EXPECT_EQ(r.attrs.at("limit-um"), fixed_or_empty(p["wear_limit_um"]))
+        << key;
+    EXPECT_EQ(r.attrs.at("remaining-m"),
+              fixed_or_empty(p["remaining_length_m"]))
+        << key;
+    EXPECT_EQ(r.attrs.at("remaining-coils"),
+              fixed_or_empty(p["remaining_coils"]))
+        << key;
+    const bool limited = key != "F7/bottom";
+    const std::string legend =  // the chart's legend names "F6 top"
+        p["stand"].get<std::string>() + " " + p["position"].get<std::string>();
+    EXPECT_EQ(p["remaining_length_m"].is_null(), !limited) << key;
+    if (limited) {
+      // Twice the wear so far at the same mix: as much again.
+      EXPECT_NEAR(p["remaining_length_m"].get<double>(),
+                  p["rolled_length_m"].get<double>(),
+                  1e-6 * p["rolled_length_m"].get<double>())
+          << key;
+      EXPECT_EQ(r.attrs.at("remaining-lo-m"),
+                Fixed(p["remaining_length_interval_m"][0].get<double>(), 3))
+          << key;
+      EXPECT_NE(dom.find(legend + " to limit"), std::string::npos)
+          << "no forecast line for " << key;
+    } else {
+      EXPECT_EQ(dom.find(legend + " to limit"), std::string::npos) << key;
+    }
   }
   // The calibration row carries the API's gaps; the plots are drawn.
   const std::string cal_row =
