@@ -27,11 +27,12 @@ struct DiagnosisJob {
   bool adopt = false;
   // The run that proposed the adopted model (adopt and missing physics).
   std::optional<storage::CalibrationRecord> adoption;
-  // When it was queued, started and finished (0: not yet), its verdict
-  // (the report's, when done) and
-  // the HTML report of `rollwear diagnose --html` (when done): what is
-  // stored once it has finished (MillStore::SaveDiagnosis).
+  // When it was queued, started and finished (0: not yet), its verdict (the
+  // report's, when done) and the HTML report of `rollwear diagnose --html`
+  // (when done): what is stored once it has finished
+  // (MillStore::SaveDiagnosis).
   UnixSeconds queued_at = 0, started_at = 0, finished_at = 0;
+  std::string verdict;
   std::string html;
 };
 
