@@ -226,6 +226,23 @@ Status ReadCoils(const FileView& f, LabelIndex* campaigns,
   return Status::Ok();
 }
 
+// A measurement or profile point of row r names the roll mounted there
+// (`mount`, -1 when none) in its campaign.
+Status MountedRoll(const FileView& f, size_t r, int stand_col, int roll_col,
+                   const Dataset& d, int mount, std::string_view roll_id,
+                   const std::string& where) {
+  if (mount < 0) {
+    return f.Error(r, stand_col, "no mount for " + where + " in mounts.csv");
+  }
+  if (d.mounts[mount].roll_id != roll_id) {
+    return f.Error(r, roll_col,
+                   "roll_id must match mounts.csv: " + where + " mounted " +
+                       Quote(d.mounts[mount].roll_id) + ", got " +
+                       Quote(roll_id));
+  }
+  return Status::Ok();
+}
+
 Status ReadMeasurements(const FileView& f, LabelIndex* campaigns,
                         const std::vector<int>& mount_of, Dataset* d,
                         std::vector<int>* lines) {
@@ -259,17 +276,8 @@ Status ReadMeasurements(const FileView& f, LabelIndex* campaigns,
                          " already measured on line " +
                          std::to_string(measured[key]));
     }
-    const int mount = mount_of[key];
-    if (mount < 0) {
-      return f.Error(r, col::kStand,
-                     "no mount for " + where + " in mounts.csv");
-    }
-    if (d->mounts[mount].roll_id != roll_id) {
-      return f.Error(r, col::kRollId,
-                     "roll_id must match mounts.csv: " + where + " mounted " +
-                         Quote(d->mounts[mount].roll_id) + ", got " +
-                         Quote(roll_id));
-    }
+    ROLLWEAR_RETURN_IF_ERROR(MountedRoll(f, r, col::kStand, col::kRollId,
+                                         *d, mount_of[key], roll_id, where));
     measured[key] = f.line(r);
     m.roll_id = std::string(roll_id);
     d->measurements.push_back(std::move(m));
@@ -309,16 +317,8 @@ Status ReadProfiles(const FileView& f, LabelIndex* campaigns,
                        RollPositionSlot(p.stand, p.position);
     const std::string where = RollPositionName(p.stand, p.position) +
                               " of campaign " + Quote(f.Raw(r, col::kCampaign));
-    const int mount = mount_of[key];
-    if (mount < 0) {
-      return f.Error(r, col::kStand, "no mount for " + where + " in mounts.csv");
-    }
-    if (d->mounts[mount].roll_id != roll_id) {
-      return f.Error(r, col::kRollId,
-                     "roll_id must match mounts.csv: " + where + " mounted " +
-                         Quote(d->mounts[mount].roll_id) + ", got " +
-                         Quote(roll_id));
-    }
+    ROLLWEAR_RETURN_IF_ERROR(MountedRoll(f, r, col::kStand, col::kRollId,
+                                         *d, mount_of[key], roll_id, where));
     auto [it, fresh] = seen.emplace(std::make_pair(key, p.x_mm), f.line(r));
     if (!fresh) {
       return f.Error(r, col::kX,

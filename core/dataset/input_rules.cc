@@ -207,15 +207,25 @@ RuleViolations CoilRules(
   return out;
 }
 
+namespace {
+
+// What a measurement and a profile point have in common: which roll.
+void MeasuredRollRules(Rules* r, std::string_view campaign_id, int stand,
+                       Position position, std::string_view roll_id) {
+  r->NonEmpty("campaign_id", campaign_id);
+  r->Stand(stand);
+  r->PositionOk(position);
+  r->NonEmpty("roll_id", roll_id);
+}
+
+}  // namespace
+
 RuleViolations MeasurementRules(std::string_view campaign_id, int stand,
                                 Position position, std::string_view roll_id,
                                 double wear_center_um) {
   RuleViolations out;
   Rules r(&out);
-  r.NonEmpty("campaign_id", campaign_id);
-  r.Stand(stand);
-  r.PositionOk(position);
-  r.NonEmpty("roll_id", roll_id);
+  MeasuredRollRules(&r, campaign_id, stand, position, roll_id);
   r.Finite("wear_center_um", wear_center_um);
   return out;
 }
@@ -225,10 +235,7 @@ RuleViolations ProfilePointRules(std::string_view campaign_id, int stand,
                                  double x_mm, double wear_um) {
   RuleViolations out;
   Rules r(&out);
-  r.NonEmpty("campaign_id", campaign_id);
-  r.Stand(stand);
-  r.PositionOk(position);
-  r.NonEmpty("roll_id", roll_id);
+  MeasuredRollRules(&r, campaign_id, stand, position, roll_id);
   r.Finite("x_mm", x_mm);
   r.Finite("wear_um", wear_um);
   return out;
