@@ -118,6 +118,11 @@ Command AddSimulate(CLI::App* app) {
   AddPath(c, "--truth", args->truth, "FILE",
           "ground-truth JSON file (default DIR.truth.json, beside DIR; "
           "never inside it)");
+  c->add_flag("--profiles", args->options.profiles,
+              "also write profiles.csv: the grinder's wear profile across "
+              "the barrel for most measured rolls (every 10 mm)");
+  c->add_flag("--no-shift{false}", args->options.shifting,
+              "no work-roll shifting (every pass at shift_mm 0)");
   c->add_flag("--list-effects", args->list_effects,
               "list the effects the simulator can conceal, and exit");
   return {c, [args] { return RunSimulate(*args); }};

@@ -111,6 +111,12 @@ void PrintSummary(const Simulation& sim, const std::string& out_dir,
         100.0 * above_300 / wear.size(), sim.truth.noise_floor_um,
         sim.truth.grinder_noise_sd_um, 100 * sim.truth.roll_scatter_sd);
   }
+  if (!d.profile_points.empty()) {
+    std::printf(
+        " %zu profile points (profile noise floor %.2f um, point sd %.0f um).",
+        d.profile_points.size(), sim.truth.profile_noise_floor_um,
+        sim.truth.profile_shape.point_noise_sd_um);
+  }
   std::printf(" Concealed effects: %s. Dataset in %s, truth in %s.\n",
               effects.empty() ? "none" : effects.c_str(), out_dir.c_str(),
               truth_path.c_str());

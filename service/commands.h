@@ -33,7 +33,7 @@ struct SimulateArgs {
   std::string truth;                 // empty: DIR.truth.json beside DIR
   std::vector<std::string> effects;  // --effect values (comma lists)
   bool list_effects = false;
-  SimulatorOptions options;  // seed, campaigns, coils, missing
+  SimulatorOptions options;  // seed, campaigns, coils, missing, profiles
 };
 int RunSimulate(const SimulateArgs& args);
 

@@ -69,6 +69,20 @@ std::string TruthJson(const SimulationTruth& truth) {
   }
   doc["noise_free_wear_um"] = std::move(rows);
   if (gross) doc["gross_errors"] = num_gross;
+  if (truth.has_profiles) {
+    // The truth's own distribution across the strip (core/sim/
+    // sim_profiles.cc): g = 1 + beta2 (u/b)^2 + A (exp(-d/lambda) -
+    // exp(-b/lambda)) under the strip.
+    const SimulatedProfileShape& s = truth.profile_shape;
+    doc["profile"] = {
+        {"form", "1 + body_beta2 (u/b)^2 + edge_amplitude (exp(-d/edge_decay_mm)"
+                 " - exp(-b/edge_decay_mm)), d = b - |u|"},
+        {"body_beta2", Number(s.body_beta2)},
+        {"edge_amplitude", Number(s.edge_amplitude)},
+        {"edge_decay_mm", Number(s.edge_decay_mm)},
+        {"point_noise_sd_um", Number(s.point_noise_sd_um)},
+        {"noise_floor_um", Number(truth.profile_noise_floor_um)}};
+  }
   return doc.dump(2) + "\n";
 }
 

@@ -12,10 +12,12 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/dataset/dataset.h"
 #include "core/base/random.h"
+#include "core/sim/simulator.h"
 
 namespace rollwear::sim {
 
@@ -35,12 +37,37 @@ enum class Stream : uint64_t {
   kRegrind = 8,
   kTiming = 9,
   kGross = 10,
+  kProfile = 11,
 };
 Random MakeRandom(uint64_t seed, Stream stream, uint64_t index);
 // exp(sigma*z - sigma^2/2), z ~ N(0,1): lognormal with mean exactly 1.
 double LogNormalMeanOne(Random* rng, double sigma);
 // Index drawn with probability weights[i] / sum(weights) (all >= 0, sum > 0).
 int Categorical(Random* rng, const double* weights, int n);
+
+// ---------------------------------------------------------------------------
+// Wear profiles across the barrel (sim_profiles.cc).
+
+// One pass on one roll, as the profile sees it: the wear it adds at the
+// centre law's rate, where the strip ran and how wide it was.
+struct StripTrace {
+  double wear_um;
+  double centre_mm;
+  double half_width_mm;
+};
+
+// The grinder's points of one roll: x_mm every kProfileSpacingMm over the
+// band the strips covered (and 40 mm beyond), with the noise-free wear.
+inline constexpr double kProfileSpacingMm = 10;
+std::vector<std::pair<double, double>> TrueProfile(
+    const SimulatedProfileShape& shape, const std::vector<StripTrace>& traces);
+// The simulator's own distribution across the strip (not the model's
+// basis): g(u, b) = 1 + beta2 (u/b)^2 + A (exp(-d/lambda) - exp(-b/lambda))
+// under the strip (d = b - |u|), 0 outside: g(0, b) = 1 exactly, so the
+// centre wear is the centre law's.
+double TrueDistribution(const SimulatedProfileShape& shape, double u_mm,
+                        double half_width_mm);
+SimulatedProfileShape DrawProfileShape(uint64_t seed);
 
 // ---------------------------------------------------------------------------
 // Steel grades: chemistry for the flow-stress model, schedule limits, and the

@@ -11,6 +11,7 @@
 #include <set>
 
 #include "core/sim/sim_internal.h"
+#include "core/model/barrel_profile.h"
 #include "core/model/wear_law.h"
 
 namespace rollwear {
@@ -29,6 +30,8 @@ using sim::Stream;
 // kGrinderNoiseSd) (gauge repeatability on the grinder).
 constexpr double kRollScatterSigma = 0.09;
 constexpr double kGrinderNoiseSd = 8.0;
+// Share of the measured rolls that also get a grinder profile.
+constexpr double kProfileShare = 0.85;
 // 2025-01-06T06:00:00Z, start of the first campaign.
 constexpr UnixSeconds kStartTime = 1736143200;
 constexpr int kStands[2] = {6, 7};
@@ -142,6 +145,11 @@ class MillRun {
   Pass MakePass(int campaign, int coil_index, int seq, UnixSeconds t,
                 const sim::CoilPlan& coil, int stand) const;
   void MeasureAndRegrind(int campaign, const std::array<double, 4>& wear_um);
+  // The grinder's profile of the roll in `slot`, measured with the centre
+  // reading (same roll scatter and measurement offset, its own noise per
+  // point).
+  void AddProfile(int campaign, int slot, UnixSeconds measured_at,
+                  double scatter, double offset_um, Random* rng);
 
   const Mount& MountOf(int slot) const {
     return data_.mounts[first_mount_ + slot];
@@ -164,6 +172,11 @@ class MillRun {
   std::array<int, 4> mounted_{};
   size_t first_mount_ = 0;
   double abs_noise_sum_ = 0;
+  // With profiles: this campaign's strips on each sim slot, and the sums
+  // of the profile noise floor.
+  std::array<std::vector<sim::StripTrace>, 4> traces_;
+  double profile_abs_noise_sum_ = 0;
+  size_t profile_points_ = 0;
 };
 
 void MillRun::InitTruthAndEffects() {
@@ -171,6 +184,10 @@ void MillRun::InitTruthAndEffects() {
   truth_.law = WearLawName(WearLaw::kWang);
   truth_.grinder_noise_sd_um = kGrinderNoiseSd;
   truth_.roll_scatter_sd = kRollScatterSigma;
+  if (options_.profiles) {
+    truth_.has_profiles = true;
+    truth_.profile_shape = sim::DrawProfileShape(options_.seed);
+  }
   for (int stand : kStands) {
     for (Position p : {Position::kTop, Position::kBottom}) {
       truth_.k_position[RollPositionName(stand, p)] =
@@ -296,6 +313,7 @@ std::array<double, 4> MillRun::RollCoils(
     UnixSeconds* t) {
   std::array<double, 4> wear_um{};
   std::array<double, 2> length_before_m{};  // per stand
+  for (std::vector<sim::StripTrace>& t : traces_) t.clear();
   for (int i = 0; i < static_cast<int>(coils.size()); ++i) {
     const sim::CoilPlan& coil = coils[i];
     const sim::GradeSpec& grade = sim::Grades()[coil.grade];
@@ -326,7 +344,13 @@ std::array<double, 4> MillRun::RollCoils(
         for (const ActiveEffect& e : rate_effects_) {
           k *= e.spec->apply(ctx, e.parameters.data());
         }
-        wear_um[slot] += k * BaseLoad(WearLaw::kWang, in);
+        const double pass_wear_um = k * BaseLoad(WearLaw::kWang, in);
+        wear_um[slot] += pass_wear_um;
+        if (options_.profiles) {
+          traces_[slot].push_back(
+              {pass_wear_um, StripCentreMm(p == Position::kTop, pass.shift_mm),
+               pass.width_mm / 2});
+        }
       }
       length_before_m[s] += pass.length_m;
       data_.passes.push_back(pass);
@@ -344,6 +368,28 @@ std::array<double, 4> MillRun::RollCoils(
 // Grinder measurements, regrind and scrapping after the campaign. Cooling
 // time before the measurement: a campaign-level backlog (lognormal, median
 // 7 h) times a per-roll factor, kept within 1..48 h.
+void MillRun::AddProfile(int campaign, int slot, UnixSeconds measured_at,
+                         double scatter, double offset_um, Random* rng) {
+  const Mount& m = MountOf(slot);
+  const SimulatedProfileShape& shape = truth_.profile_shape;
+  for (const auto& [x_mm, wear_um] :
+       sim::TrueProfile(shape, traces_[slot])) {
+    ProfilePoint p;
+    p.campaign = campaign;
+    p.stand = m.stand;
+    p.position = m.position;
+    p.roll_id = m.roll_id;
+    p.measured_at = measured_at;
+    p.x_mm = x_mm;
+    p.wear_um = RoundTo(scatter * wear_um + offset_um +
+                            rng->Normal(0, shape.point_noise_sd_um),
+                        1);
+    profile_abs_noise_sum_ += std::fabs(p.wear_um - (wear_um + offset_um));
+    ++profile_points_;
+    data_.profile_points.push_back(std::move(p));
+  }
+}
+
 void MillRun::MeasureAndRegrind(int campaign,
                                 const std::array<double, 4>& wear_um) {
   const uint64_t seed = options_.seed;
@@ -354,6 +400,7 @@ void MillRun::MeasureAndRegrind(int campaign,
   Random missing_rng = MakeRandom(seed, Stream::kMissing, campaign);
   Random regrind_rng = MakeRandom(seed, Stream::kRegrind, campaign);
   Random gross_rng = MakeRandom(seed, Stream::kGross, campaign);
+  Random profile_rng = MakeRandom(seed, Stream::kProfile, campaign + 1);
   const double backlog_h = 7 * std::exp(cooling_rng.Normal(0, 0.8));
   for (int slot = 0; slot < 4; ++slot) {
     const Mount& m = MountOf(slot);
@@ -397,6 +444,10 @@ void MillRun::MeasureAndRegrind(int campaign,
       truth_.noise_free_keys.push_back({cp.id, m.stand, m.position});
       truth_.gross_error_um.push_back(gross_um);
       data_.measurements.push_back(std::move(meas));
+      if (options_.profiles && profile_rng.Uniform() < kProfileShare) {
+        AddProfile(campaign, slot, measured_at, scatter, offset_um,
+                   &profile_rng);
+      }
     }
 
     // Regrind: remove the wear plus a safety stock of 0.2..0.6 mm on the
@@ -430,8 +481,10 @@ void MillRun::Run() {
     Random timing_rng = MakeRandom(options_.seed, Stream::kTiming, c);
     const sim::CampaignPlan plan =
         sim::PlanCampaign(options_.coils_per_campaign, &schedule_rng);
-    const std::vector<sim::CoilPlan> coils =
-        sim::PlanCoils(plan, &schedule_rng);
+    std::vector<sim::CoilPlan> coils = sim::PlanCoils(plan, &schedule_rng);
+    if (!options_.shifting) {
+      for (sim::CoilPlan& coil : coils) coil.shift6_mm = coil.shift7_mm = 0;
+    }
     ChooseRolls(&start, &choice_rng);
     AddMounts(c);
 
@@ -454,6 +507,9 @@ void MillRun::Run() {
   truth_.noise_floor_um = data_.measurements.empty()
                               ? 0
                               : abs_noise_sum_ / data_.measurements.size();
+  if (profile_points_ > 0) {
+    truth_.profile_noise_floor_um = profile_abs_noise_sum_ / profile_points_;
+  }
 }
 
 }  // namespace

@@ -20,6 +20,13 @@
 
 namespace rollwear {
 
+// The truth of the simulated wear profiles (SimulatorOptions::profiles).
+struct SimulatedProfileShape {
+  double body_beta2 = 0;         // (u/b)^2 coefficient of the body
+  double edge_amplitude = 0;     // A: relative rise at the strip edge
+  double edge_decay_mm = 0;      // lambda: width of the edge rise
+  double point_noise_sd_um = 0;  // the grinder's noise per profile point
+};
 struct SimulatorOptions {
   uint64_t seed = 1;
   int num_campaigns = 395;
@@ -30,6 +37,12 @@ struct SimulatorOptions {
   // Fraction of (campaign, position) measurements missing (gauge faults,
   // not yet ground).
   double missing_measurement_fraction = 0.0;
+  // Write profiles.csv: a grinder profile across the barrel for most
+  // measured rolls (kProfileShare of them).
+  bool profiles = false;
+  // Cyclic work-roll shifting (false: every pass at shift 0, same schedule
+  // otherwise).
+  bool shifting = true;
 
   bool IsValid(std::string* error) const;
 };
@@ -67,6 +80,11 @@ struct SimulationTruth {
   // Same order: the gross grinder error added to the reading (effect
   // gross_errors; 0 for a clean reading, and for every reading without it).
   std::vector<double> gross_error_um;
+  // With profiles: the shape they were drawn with and their noise floor
+  // (mean |measured - noise-free| over all points).
+  bool has_profiles = false;
+  SimulatedProfileShape profile_shape;
+  double profile_noise_floor_um = 0;
   double noise_floor_um = 0;
   double grinder_noise_sd_um = 0;
   double roll_scatter_sd = 0;  // relative, per physical roll and campaign

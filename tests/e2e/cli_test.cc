@@ -30,7 +30,7 @@ const std::vector<CommandSpec>& Commands() {
   static const std::vector<CommandSpec> kCommands = {
       {"simulate",
        {"--out", "--seed", "--effect", "--campaigns", "--coils-per-campaign",
-        "--missing", "--truth", "--list-effects"},
+        "--missing", "--truth", "--profiles", "--no-shift", "--list-effects"},
        {"--out"}},
       {"calibrate",
        {"--data", "--model", "--option", "--start", "--protocol",

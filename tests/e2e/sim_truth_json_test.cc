@@ -66,6 +66,23 @@ TEST(SimTruthJsonTest, ListsTheGrossErrors) {
   EXPECT_EQ(doc.at("effects")[0].at("covariate").get<std::string>(), "");
 }
 
+TEST(SimTruthJsonTest, DescribesTheProfilesShape) {
+  SimulationTruth truth;
+  EXPECT_FALSE(nlohmann::json::parse(TruthJson(truth)).contains("profile"));
+  truth.has_profiles = true;
+  truth.profile_shape = {-0.05, 1.2, 30, 4};
+  truth.profile_noise_floor_um = 9.5;
+  const nlohmann::json doc = nlohmann::json::parse(TruthJson(truth));
+  const nlohmann::json& p = doc.at("profile");
+  EXPECT_DOUBLE_EQ(p.at("body_beta2").get<double>(), -0.05);
+  EXPECT_DOUBLE_EQ(p.at("edge_amplitude").get<double>(), 1.2);
+  EXPECT_DOUBLE_EQ(p.at("edge_decay_mm").get<double>(), 30);
+  EXPECT_DOUBLE_EQ(p.at("point_noise_sd_um").get<double>(), 4);
+  EXPECT_DOUBLE_EQ(p.at("noise_floor_um").get<double>(), 9.5);
+  EXPECT_NE(p.at("form").get<std::string>().find("exp(-d/edge_decay_mm)"),
+            std::string::npos);
+}
+
 TEST(SimTruthJsonTest, NonFiniteNumbersAreNull) {
   SimulationTruth truth;
   truth.noise_floor_um = std::numeric_limits<double>::quiet_NaN();
