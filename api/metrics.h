@@ -18,7 +18,8 @@
 // Label rules: `route` is a route template or "unmatched", never "";
 // `method` is the request's own method (GET, HEAD, POST, PUT, DELETE,
 // PATCH, OPTIONS, or OTHER for any other and for requests refused before
-// their request line was read); `code` is the exact status code.
+// their request line was read); `code` is the exact status code ("other"
+// once the table of codes seen is full).
 //
 // Thread-safety: all methods are thread-safe; the hot path (Observe*,
 // CountCoil) is lock-free (relaxed atomics, and a compare-and-swap the

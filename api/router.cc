@@ -34,8 +34,16 @@ constexpr std::string_view kRollPagePrefix = "/rolls/";
 constexpr std::string_view kActivateSuffix = "/activate";
 constexpr std::string_view kReportSuffix = "/report";
 
+// A path parameter: the parser leaves "%2F" and "%25" encoded in the path
+// (api/http_parser.h) so that they do not split segments; decode them here.
+std::string Segment(std::string_view raw) {
+  std::string out;
+  if (!PercentDecode(raw, false, &out)) return std::string(raw);
+  return out;
+}
+
 // `p` is prefix + one non-empty segment without '/' (+ suffix): the
-// segment, or nullopt.
+// segment, decoded, or nullopt.
 std::optional<std::string> ParamBetween(std::string_view p,
                                         std::string_view prefix,
                                         std::string_view suffix = "") {
@@ -47,7 +55,7 @@ std::optional<std::string> ParamBetween(std::string_view p,
   const std::string_view mid =
       p.substr(prefix.size(), p.size() - prefix.size() - suffix.size());
   if (mid.find('/') != std::string_view::npos) return std::nullopt;
-  return std::string(mid);
+  return Segment(mid);
 }
 
 bool IsPathChar(char c) {
@@ -110,13 +118,6 @@ HttpResponse MethodNotAllowed(RouteId route, const std::string& method) {
   return r;
 }
 
-// A path parameter: the parser leaves "%2F" and "%25" encoded in the path
-// (api/http_parser.h) so that they do not split segments; decode them here.
-std::string Segment(std::string_view raw) {
-  std::string out;
-  if (!PercentDecode(raw, false, &out)) return std::string(raw);
-  return out;
-}
 
 // "{a}/{b}" after `prefix` into *arg1, *arg2 (both non-empty, no more
 // slashes); false when `path` is not of that form.

@@ -84,8 +84,10 @@ class MillStore {
   // schedule, with intervals and the first coil at which each roll's wear
   // limit is reached (storage/store_forecast.cc). Stores nothing; each coil
   // is checked as AddCoil checks it (its field rules, a roll mounted at
-  // each stand it passes), except that coil_id and seq need not be new;
-  // every coil must be for the open campaign (FailedPrecondition). Errors
+  // each stand it passes), except that seq need not be new; coil_id must
+  // be new (a stored one is FailedPrecondition, one planned twice
+  // InvalidArgument) and every coil must be for the open campaign
+  // (FailedPrecondition). Errors
   // name the coil: "coils[3].passes[1].force_kn: must be > 0". The same
   // coils posted with AddCoil then leave Wear() at the last values.
   virtual StatusOr<Forecast> ForecastCoils(

@@ -160,7 +160,9 @@ CREATE TABLE IF NOT EXISTS wear_limits (stand TEXT NOT NULL, position TEXT NOT N
 // - diagnoses: each finished daemon diagnosis, its JSON report and the
 //   HTML report the CLI writes (core/report/diagnosis_report.h).
 // - mounts_by_roll, measurements_by_roll: a roll's mounts and measurements
-//   without a scan (GET /v1/rolls/{roll_id}).
+//   by roll_id (GET /v1/rolls/{roll_id} answers from the in-memory catalog
+//   today; the indexes are for SQL readers of the file, such as export and
+//   the roll shop's own queries).
 constexpr const char* kSchemaV6 = R"sql(
 ALTER TABLE models ADD COLUMN pinned INTEGER NOT NULL DEFAULT 0
   CHECK (pinned IN (0, 1));

@@ -5,9 +5,11 @@
 // Thread-safety: as MillStoreImpl; the live state is copied under mu_ and
 // the schedule predicted without the lock.
 #include <string>
+#include <unordered_map>
 #include <utility>
 
 #include "storage/mill_store_impl.h"
+#include "storage/store_sql.h"
 #include "storage/validation.h"
 
 namespace rollwear::storage::internal {
@@ -37,6 +39,30 @@ StatusOr<Forecast> MillStoreImpl::ForecastCoils(
   {
     std::lock_guard<std::mutex> lock(mu_);
     const std::string& open = committed_.open_campaign;
+    // A planned coil is one not yet rolled: posting a stored coil again
+    // adds nothing (200 unchanged), so forecasting it would not equal what
+    // posting gives; a coil planned twice neither.
+    std::unordered_map<std::string, size_t> first;
+    for (size_t i = 0; i < coils.size(); ++i) {
+      const std::string& id = coils[i].coil_id;
+      if (auto [it, fresh] = first.emplace(id, i); !fresh) {
+        return InCoil(i, Status::InvalidArgument(
+                             "coil_id: " + id + " is planned twice (first as "
+                             "coils[" + std::to_string(it->second) + "])"));
+      }
+      bool stored = spec_.pending_coils.count(id) > 0;
+      if (!stored && committed_coil_ids_.MayContain(id)) {
+        ROLLWEAR_ASSIGN_OR_RETURN(std::optional<StoredCoil> found,
+                                  LookupCoil(lookup_db_.get(), id));
+        stored = found.has_value();
+      }
+      if (stored) {
+        return InCoil(i, Status::FailedPrecondition(
+                             "coil_id: coil " + id +
+                             " is already stored: a forecast plans coils not "
+                             "yet rolled (give planned coils new ids)"));
+      }
+    }
     for (size_t i = 0; i < coils.size(); ++i) {
       if (coils[i].campaign_id != open) {
         return InCoil(i, Status::FailedPrecondition(

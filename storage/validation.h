@@ -40,7 +40,7 @@ void ApplyEnd(const std::string& campaign_id, UnixSeconds ended_at, Catalog* c);
 
 // `stored` is the coil stored (or queued) under the same coil_id, if any.
 // check_seq = false skips the check that seq is free (a forecast's coils
-// may repeat stored ones).
+// may repeat stored seqs; their coil ids must be new, store_forecast.cc).
 Status AdmitCoil(const Catalog& c, const CoilIn& in, const StoredCoil& coil,
                  const std::optional<StoredCoil>& stored, bool* unchanged,
                  bool check_seq = true);

@@ -160,6 +160,35 @@ Status WriteFileAtomically(const std::string& path, const std::string& text) {
 
 void AppendInt(std::string* out, int64_t v) { *out += std::to_string(v); }
 
+// profiles.csv when the dataset has profile points; otherwise no such file
+// (a stale one from an earlier write of the same folder is removed).
+Status WriteProfiles(const Dataset& d, const std::string& dir) {
+  std::error_code ec;
+  const std::string profiles_path = dir + "/" + kProfilesFileName;
+  if (d.profile_points.empty()) {
+    std::filesystem::remove(profiles_path, ec);
+    return Status::Ok();
+  }
+  const ExtraColumns no_extra;
+  const std::string profiles = FormatFile(
+      kProfileColumns, no_extra, d.profile_points.size(),
+      [&](size_t i, std::string* out) {
+        const ProfilePoint& p = d.profile_points[i];
+        csv::AppendField(out, d.campaigns[p.campaign].id);
+        *out += ",F";
+        AppendInt(out, p.stand);
+        *out += ',';
+        *out += PositionName(p.position);
+        *out += ',';
+        csv::AppendField(out, p.roll_id);
+        *out += ',' + FormatTimestamp(p.measured_at) + ',';
+        csv::AppendDouble(out, p.x_mm);
+        *out += ',';
+        csv::AppendDouble(out, p.wear_um);
+      });
+  return WriteFileAtomically(profiles_path, profiles);
+}
+
 }  // namespace
 
 Status WriteDataset(const Dataset& data, const std::string& dir) {
@@ -238,30 +267,7 @@ Status WriteDataset(const Dataset& data, const std::string& dir) {
     ROLLWEAR_RETURN_IF_ERROR(
         WriteFileAtomically(dir + "/" + kDatasetFileNames[i], texts[i]));
   }
-  const std::string profiles_path = dir + "/" + kProfilesFileName;
-  if (d.profile_points.empty()) {
-    // No stale profiles from an earlier write of the same folder.
-    std::filesystem::remove(profiles_path, ec);
-    return Status::Ok();
-  }
-  const ExtraColumns no_extra;
-  const std::string profiles = FormatFile(
-      kProfileColumns, no_extra, d.profile_points.size(),
-      [&](size_t i, std::string* out) {
-        const ProfilePoint& p = d.profile_points[i];
-        csv::AppendField(out, d.campaigns[p.campaign].id);
-        *out += ",F";
-        AppendInt(out, p.stand);
-        *out += ',';
-        *out += PositionName(p.position);
-        *out += ',';
-        csv::AppendField(out, p.roll_id);
-        *out += ',' + FormatTimestamp(p.measured_at) + ',';
-        csv::AppendDouble(out, p.x_mm);
-        *out += ',';
-        csv::AppendDouble(out, p.wear_um);
-      });
-  return WriteFileAtomically(profiles_path, profiles);
+  return WriteProfiles(d, dir);
 }
 
 }  // namespace rollwear

@@ -407,7 +407,11 @@ std::vector<double> RobustSteps(Fit* fit, const std::vector<int>& free,
                                 CalibrationSummary* s) {
   constexpr int kIrlsSteps = 2;  // the LS fit's scale, iterated once
   std::vector<double> pred, err, weight;
+  // What a failed step returns to: the least-squares solution, its
+  // problem (for the covariance) and its summary.
   const std::vector<double> ls_theta = *theta;
+  const CalibrationSummary ls_summary = *s;
+  std::unique_ptr<SolverSetup> ls_solver;
   for (int step = 0; step < kIrlsSteps; ++step) {
     fit->DataErrors(*residuals, &pred, &err);
     weight = FitRobustNoise(pred, err).weight;
@@ -420,9 +424,12 @@ std::vector<double> RobustSteps(Fit* fit, const std::vector<int>& free,
       fit->SetRobustWeights(std::vector<double>(weight.size(), 1.0));
       *theta = ls_theta;
       fit->Evaluate(theta->data(), residuals->data(), nullptr);
+      if (ls_solver) *solver = std::move(ls_solver);
+      *s = ls_summary;
       return {};
     }
     *s = step_summary;
+    if (!ls_solver) ls_solver = std::move(*solver);
     *solver = std::move(next);
   }
   fit->DataErrors(*residuals, &pred, &err);

@@ -57,8 +57,8 @@ struct RemainingLife {
 inline constexpr double kMaxLifeFactor = 1e6;
 
 // The state after rolling `factor` times its rolled length at its mix so far
-// (see above): wear, gradient, coils, length and the network members'
-// wear scaled.
+// (see above): wear, gradient, length and the network members' wear scaled
+// (not the coil count: WearInterval does not read it).
 RollWearState ScaledRollState(const RollWearState& state, double factor);
 
 // The remaining life of `state` until `limit_um` (> 0); empty when the

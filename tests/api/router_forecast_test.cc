@@ -167,9 +167,19 @@ TEST_F(RouterForecastTest, ForecastErrorsNameTheCoilAndChangeNothing) {
   const std::string before = State();
   json coils = json::array();
   for (int seq = 1; seq <= 5; ++seq) {
-    coils.push_back(CoilBody("K" + std::to_string(seq), "C1", seq));
+    coils.push_back(CoilBody("P" + std::to_string(seq), "C1", seq));
   }
+  // A planned coil is not yet rolled: one stored already, or planned twice,
+  // is refused (posting it again would add nothing).
   json bad = coils;
+  bad[2]["coil_id"] = "K1";
+  ExpectRejected(Post("/v1/forecast", {{"coils", bad}}), 422, "inconsistent",
+                 "coils[2].coil_id", before);
+  bad = coils;
+  bad[3]["coil_id"] = "P1";
+  ExpectRejected(Post("/v1/forecast", {{"coils", bad}}), 400, "invalid_value",
+                 "coils[3].coil_id", before);
+  bad = coils;
   bad[3]["passes"][1]["force_kn"] = -3.0;
   ExpectRejected(Post("/v1/forecast", {{"coils", bad}}), 400, "out_of_range",
                  "coils[3].passes[1].force_kn", before);

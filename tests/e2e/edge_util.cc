@@ -86,8 +86,8 @@ std::string DeriveEdgeConfig(const std::string& shipped, int daemon_port,
   const std::string listen = "listen 127.0.0.1:" + std::to_string(port);
   const bool tls = !cert.empty();
   const std::vector<std::pair<std::string, std::string>> edits = {
-      {"server 127.0.0.1:8080;",
-       "server 127.0.0.1:" + std::to_string(daemon_port) + ";"},
+      {"server 127.0.0.1:8080 max_conns=512;",
+       "server 127.0.0.1:" + std::to_string(daemon_port) + " max_conns=512;"},
       {"listen 80;", "listen 127.0.0.1:" + std::to_string(redirect_port) + ";"},
       {"listen 443 ssl;", tls ? listen + " ssl;" : listen + ";"},
       {"/etc/nginx/tls/rollwear.crt;", cert + ";"},

@@ -213,10 +213,23 @@ TEST(StoreForecast, RefusesWhatAddCoilRefusesNamingTheCoil) {
   EXPECT_EQ(f.status().message().rfind("coils[1].passes[0]", 0), 0u)
       << f.status().message();
 
-  // Stored coil ids and seqs may be planned again.
+  // A stored coil is refused (posting it again would add nothing), so is a
+  // coil planned twice; a stored seq may be planned again.
   ASSERT_TRUE(store->AddCoil(MakeCoil("A", "C1", 1)).ok());
   plan[1] = MakeCoil("B", "C1", 1);
+  f = store->ForecastCoils(plan);
+  ASSERT_FALSE(f.ok());
+  EXPECT_EQ(f.status().code(), StatusCode::kFailedPrecondition);
+  EXPECT_EQ(f.status().message().rfind("coils[0].coil_id: ", 0), 0u)
+      << f.status().message();
+  plan[0] = MakeCoil("A2", "C1", 1);
   EXPECT_TRUE(store->ForecastCoils(plan).ok());
+  plan[1] = MakeCoil("A2", "C1", 2);
+  f = store->ForecastCoils(plan);
+  ASSERT_FALSE(f.ok());
+  EXPECT_EQ(f.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(f.status().message().rfind("coils[1].coil_id: ", 0), 0u)
+      << f.status().message();
 }
 
 }  // namespace
