@@ -475,6 +475,14 @@ void Summarise(const Dataset& data, const DiagnosisOptions& options,
   for (int o : st.val) pv.push_back(after_all[o]);
   report->final_gap_train_um = Gap(td, st.train, pt);
   report->final_gap_val_um = Gap(td, st.val, pv);
+  if (report->findings.empty()) {
+    // Nothing adopted: the final model is the baseline. (The robust term
+    // refit and the robust calibration stop after the same two reweighting
+    // steps from different starts, so their gaps may differ by a fraction
+    // of a micron; the report must not show a change it did not make.)
+    report->final_gap_train_um = report->baseline_gap_train_um;
+    report->final_gap_val_um = report->baseline_gap_val_um;
+  }
   const StatusOr<KStructure> ks =
       KStructure::ForOption(1, td.positions, td.roll_types, td.grades);
   if (ks.ok()) {
