@@ -382,7 +382,11 @@ std::optional<HttpResponse> Router::PreCheck(const HttpRequest& head,
 std::optional<HttpResponse> Router::PreCheck(const HttpRequest& head) const {
   RouteId route;
   std::string arg1, arg2;
-  return PreCheck(head, &route, &arg1, &arg2);
+  std::optional<HttpResponse> refused = PreCheck(head, &route, &arg1, &arg2);
+  // Labelled with the request's own method, as Handle() labels: a PUT
+  // refused from its head alone is counted as PUT, not as the route's POST.
+  if (refused) refused->route.method = ParseHttpMethod(head.method);
+  return refused;
 }
 
 HttpResponse Router::Dispatch(const HttpRequest& request) {

@@ -259,6 +259,25 @@ TEST_F(HttpConnTest, RefusedHeadDrawsNoContinue) {
   EXPECT_EQ(ok.Read().rfind("HTTP/1.1 100 Continue\r\n\r\n", 0), 0u);
 }
 
+// A request refused from its head alone (the body not yet sent) is
+// counted under its own method: a PUT on the POST-only /v1/coils is
+// method="PUT", as it is when head and body arrive together. (CI once
+// saw method="POST" when the body came in a later segment.)
+TEST_F(HttpConnTest, HeadRefusalIsCountedUnderTheRequestsMethod) {
+  Start();
+  Client c(server_->port());
+  ASSERT_TRUE(
+      c.Send("PUT /v1/coils HTTP/1.1\r\nHost: x\r\nContent-Length: 2\r\n\r\n"));
+  EXPECT_EQ(Status(c.Read()), 405);
+  const std::string metrics = router_->metrics()->Render(StoreFigures{});
+  EXPECT_NE(metrics.find("rollwear_http_requests_total{route=\"/v1/coils\","
+                         "method=\"PUT\",code=\"405\"} 1\n"),
+            std::string::npos)
+      << metrics;
+  EXPECT_EQ(metrics.find("method=\"POST\",code=\"405\""), std::string::npos)
+      << metrics;
+}
+
 TEST(HttpParserRfcTest, HostRuleAbsoluteFormAndEncodedSlash) {
   using Result = RequestParser::Result;
   RequestParser p;
