@@ -14,14 +14,26 @@ double ProfileGrid::x(int j) const {
   return (j - (slices() - 1) / 2) * slice_mm;
 }
 
-double ProfileGrid::Interpolate(const std::vector<double>& values,
-                                double x_mm) const {
+void ProfileGrid::Bracket(double x_mm, int* j, double* t) const {
   const int n = slices();
   const double pos = x_mm / slice_mm + (n - 1) / 2;
-  if (pos <= 0) return values.front();
-  if (pos >= n - 1) return values.back();
-  const int j = static_cast<int>(std::floor(pos));
-  const double t = pos - j;
+  *t = 0;
+  if (pos <= 0) {
+    *j = 0;
+  } else if (pos >= n - 1) {
+    *j = n - 1;
+  } else {
+    *j = static_cast<int>(std::floor(pos));
+    *t = pos - *j;
+  }
+}
+
+double ProfileGrid::Interpolate(const std::vector<double>& values,
+                                double x_mm) const {
+  int j = 0;
+  double t = 0;
+  Bracket(x_mm, &j, &t);
+  if (t == 0) return values[j];
   return values[j] * (1 - t) + values[j + 1] * t;
 }
 
@@ -97,6 +109,18 @@ void ProfileStats::AddPass(double weight, double centre_mm,
     const auto basis = ProfileBasis(grid_.x(j) - centre_mm, half_width_mm);
     for (int i = 0; i < kProfileBasis; ++i) sums_[j][i] += weight * basis[i];
   }
+}
+
+std::array<double, kProfileBasis> ProfileStats::At(double x_mm) const {
+  int j = 0;
+  double t = 0;
+  grid_.Bracket(x_mm, &j, &t);
+  if (t == 0) return sums_[j];
+  std::array<double, kProfileBasis> out{};
+  for (int i = 0; i < kProfileBasis; ++i) {
+    out[i] = sums_[j][i] * (1 - t) + sums_[j + 1][i] * t;
+  }
+  return out;
 }
 
 std::vector<double> ProfileStats::Evaluate(const ProfileShape& shape) const {

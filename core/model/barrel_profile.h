@@ -66,6 +66,9 @@ struct ProfileGrid {
   // Linear interpolation of per-slice values at barrel coordinate x
   // (clamped to the outermost slices).
   double Interpolate(const std::vector<double>& values, double x_mm) const;
+  // The slice j and weight t in [0, 1] that Interpolate reads x_mm from:
+  // value = values[j] (1 - t) + values[j + 1] t (t = 0 at the ends).
+  void Bracket(double x_mm, int* j, double* t) const;
 };
 
 // The shape coefficients of g (all 0: uniform wear under the strip).
@@ -106,6 +109,9 @@ class ProfileStats {
   // sum_i coefficient_i * s_j[i] for every slice.
   std::vector<double> Evaluate(const ProfileShape& shape) const;
   const std::array<double, kProfileBasis>& slice(int j) const { return sums_[j]; }
+  // The six sums at barrel coordinate x_mm, interpolated between slices as
+  // ProfileGrid::Interpolate reads a profile (exact at slice centres).
+  std::array<double, kProfileBasis> At(double x_mm) const;
   const ProfileGrid& grid() const { return grid_; }
 
  private:

@@ -34,6 +34,16 @@ double MeasurementOffset(const WearModel& model, const Dataset& data,
 
 }  // namespace
 
+RollWearState MountedRollState(const WearModel& model, const Dataset& data,
+                               int campaign, int mount) {
+  const Mount& m = data.mounts[mount];
+  return MountRoll(model, RollPositionName(m.stand, m.position),
+                   data.roll_types[m.roll_type], m.diameter_mm, m.hardness_hb,
+                   data.campaigns[campaign].started_at,
+                   ExtraFieldsOfRow(data.mount_extra, mount),
+                   ExtraFieldsOfRow(data.campaign_extra, campaign));
+}
+
 std::vector<MeasuredPrediction> PredictMeasured(
     const WearModel& model, const Dataset& data, const DatasetIndex& index,
     const std::vector<int>& campaigns) {
@@ -48,12 +58,7 @@ std::vector<MeasuredPrediction> PredictMeasured(
       const int me = index.MeasurementOf(c, slot);
       if (mi < 0 || me < 0) continue;
       const Mount& mount = data.mounts[mi];
-      RollWearState state =
-          MountRoll(model, RollPositionName(mount.stand, mount.position),
-                    data.roll_types[mount.roll_type], mount.diameter_mm,
-                    mount.hardness_hb, data.campaigns[c].started_at,
-                    ExtraFieldsOfRow(data.mount_extra, mi),
-                    ExtraFieldsOfRow(data.campaign_extra, c));
+      RollWearState state = MountedRollState(model, data, c, mi);
       for (int pi : index.PassesOf(c, mount.stand)) {
         AddPass(model, PassInputOf(data, data.passes[pi]), &state);
       }

@@ -16,6 +16,7 @@
 
 #include "core/dataset/dataset.h"
 #include "core/model/metrics.h"
+#include "core/model/predictor.h"
 #include "core/model/wear_model.h"
 
 namespace rollwear {
@@ -29,6 +30,12 @@ struct MeasuredPrediction {
   double expected_um = 0;  // wear plus measurement terms: what the grinder
                            // is expected to read
 };
+
+// The fresh predictor state (predictor.h) of the roll of mount `mount`
+// (index into Dataset::mounts) at the start of campaign `campaign`: its
+// position, type, diameter, hardness and extra fields.
+RollWearState MountedRollState(const WearModel& model, const Dataset& data,
+                               int campaign, int mount);
 
 // Every measured roll position of `campaigns` (indices, any order), in
 // campaign then slot order.

@@ -1,0 +1,95 @@
+// The first stage of the profile calibration: the shape of the wear across
+// the barrel (the five free coefficients of g in barrel_profile.h) fitted to
+// the grinder's profile points with K held at the centre calibration, and
+// the profile gap on the training and validation campaigns.
+//
+// For each measured profile (one roll in one campaign) the calibrated
+// centre model gives each pass its wear w_p = K_p Load_p (times any adopted
+// wear-rate terms: the daemon's predictor, predictor.h), and the roll's
+// ProfileStats hold, per slice, the six sums
+//   s_i(x) = sum_p w_p basis_i(x - c_p, b_p),   i = 0..5
+// (basis {1, (u/b)^2, (u/b)^4, ramps 1..3}; c_p by the shift convention). A
+// grinder point at x is read from them by linear interpolation between
+// slices. The predicted profile is s_0(x) + sum_{i>=1} theta_i s_i(x), linear
+// in theta = (beta2, beta4, alpha_1..3), so with K fixed the fit is
+// ordinary least squares on the training campaigns' points,
+//   minimise sum (y - s_0 - S theta)^2,
+// solved by column-pivoted Householder QR (Golub & Van Loan 2013, Matrix
+// Computations, 4th ed., sec. 5.4), with standard errors from
+// sigma^2 (S'S)^-1, sigma^2 = RSS / (n - 5). The points of one roll share
+// its roll-to-roll scatter, so these standard errors treat correlated
+// points as independent and are optimistic on real profiles. The joint
+// Levenberg-Marquardt fit of K and the shape is the next stage (not built).
+//
+// Profile gap: mean |measured - predicted| over the points, in all, and
+// split into the strip-edge zone and the body. The strips of a roll's
+// campaign wear the band [lo, hi] = [min_p(c_p - b_p), max_p(c_p + b_p)]
+// (the widest strips at their outermost shifts). A point is in the edge
+// zone when it lies within `edge_zone_mm` (100 mm) of either end of that
+// band, inside or outside it: where the outer box-wear peaks stand and the
+// worn band ends. It is in the body when it lies inside the band, farther
+// than that from both ends (the inner strips' edges, with a width schedule,
+// fall in the body). Points farther outside the band are in neither zone
+// (they count in the overall gap only).
+//
+// Thread-safety: FitProfileShape is a pure function of its arguments.
+#ifndef ROLLWEAR_CORE_FIT_PROFILE_FIT_H_
+#define ROLLWEAR_CORE_FIT_PROFILE_FIT_H_
+
+#include <array>
+#include <string>
+
+#include "core/base/status.h"
+#include "core/dataset/dataset.h"
+#include "core/model/barrel_profile.h"
+#include "core/model/metrics.h"
+#include "core/model/wear_model.h"
+
+namespace rollwear {
+
+// The fitted coefficients of g, without the fixed 1.
+inline constexpr int kProfileShapeParameters = kProfileBasis - 1;
+// Their names in reports and JSON: beta2, beta4, alpha1, alpha2, alpha3.
+const std::array<std::string, kProfileShapeParameters>& ProfileShapeNames();
+// {beta2, beta4, alpha_1, alpha_2, alpha_3} of `shape`.
+std::array<double, kProfileShapeParameters> ProfileShapeValues(
+    const ProfileShape& shape);
+
+struct ProfileFitOptions {
+  ProfileGrid grid;
+  double edge_zone_mm = 100;  // see the edge zone above
+};
+
+// Mean |measured - predicted| over a set of profile points, in all and by
+// zone (NaN where a set is empty).
+struct ProfileGap {
+  int n_points = 0;
+  int n_edge = 0;  // n_edge + n_body <= n_points (points outside the band)
+  int n_body = 0;
+  int n_profiles = 0;  // rolls
+  double gap_um = 0;
+  double edge_um = 0;
+  double body_um = 0;
+};
+
+struct ProfileFit {
+  ProfileShape shape;
+  // Standard errors of ProfileShapeValues(shape), same order.
+  std::array<double, kProfileShapeParameters> std_error{};
+  double residual_sd_um = 0;  // sigma on the training points
+  ProfileGap train;
+  ProfileGap validation;
+};
+
+// Fits the shape on the profile points of split.train with `model`'s K and
+// measures the gap on both halves. Errors: fewer training points than
+// 2 x 5, or a shape the training profiles do not identify (rank < 5).
+StatusOr<ProfileFit> FitProfileShape(const WearModel& model,
+                                     const Dataset& data,
+                                     const DatasetIndex& index,
+                                     const CampaignSplit& split,
+                                     const ProfileFitOptions& options = {});
+
+}  // namespace rollwear
+
+#endif  // ROLLWEAR_CORE_FIT_PROFILE_FIT_H_
