@@ -6,14 +6,21 @@
 // prints the coefficients with standard errors and the figures of merit.
 // --figures DIR: measured vs calculated wear per stand (training and
 // validation campaigns) as DIR/measured_vs_calculated_<law>_option<N>.svg.
+// With profiles.csv it also fits the shape of the wear across the barrel
+// with the centre's K (core/fit/profile_fit.h) and prints it with the
+// profile gap; --json then holds the "profile" object of api.md. When that
+// fit fails (too few points) it says so on stderr and omits the object.
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <optional>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
 #include "core/dataset/dataset_io.h"
 #include "core/model/metrics.h"
+#include "core/fit/profile_fit.h"
 #include "core/fit/study.h"
 #include "core/report/study_figures.h"
 #include "service/calibrate_terms.h"
@@ -132,6 +139,49 @@ void PrintCalibration(const CalibrationOptions& options,
               100 * m.noise_rel);
 }
 
+// With profiles.csv: the shape of g fitted with the centre's K, with
+// standard errors, and the profile gap on training and validation.
+void PrintProfileFit(const ProfileFit& fit) {
+  std::printf("profile shape (K from the centre fit, linear least squares):\n");
+  std::printf("%-28s %12s %10s\n", "shape", "value", "s.e.");
+  const auto values = ProfileShapeValues(fit.shape);
+  for (int i = 0; i < kProfileShapeParameters; ++i) {
+    std::printf("%-28s %12.4g %10.2g\n", ProfileShapeNames()[i].c_str(),
+                values[i], fit.std_error[i]);
+  }
+  for (const ProfileGap* g : {&fit.train, &fit.validation}) {
+    std::printf(
+        "profile %-10s %d profiles, %d points, gap %.1f µm (edge zone %.1f "
+        "µm over %d points, body %.1f µm over %d)\n",
+        g == &fit.train ? "training:" : "validation:", g->n_profiles,
+        g->n_points, g->gap_um, g->edge_um, g->n_edge, g->body_um, g->n_body);
+  }
+}
+
+// The contract's "profile" object of calibrate --json (api.md).
+nlohmann::json ProfileJson(const ProfileFit& fit) {
+  nlohmann::json shape = nlohmann::json::object();
+  nlohmann::json se = nlohmann::json::object();
+  const auto values = ProfileShapeValues(fit.shape);
+  for (int i = 0; i < kProfileShapeParameters; ++i) {
+    shape[ProfileShapeNames()[i]] = values[i];
+    se[ProfileShapeNames()[i]] = Number(fit.std_error[i]);
+  }
+  return {{"gap_train_um", Number(fit.train.gap_um)},
+          {"gap_val_um", Number(fit.validation.gap_um)},
+          {"n_points_train", fit.train.n_points},
+          {"n_points_val", fit.validation.n_points},
+          {"gap_edge_train_um", Number(fit.train.edge_um)},
+          {"gap_body_train_um", Number(fit.train.body_um)},
+          {"gap_edge_val_um", Number(fit.validation.edge_um)},
+          {"gap_body_val_um", Number(fit.validation.body_um)},
+          {"n_profiles_train", fit.train.n_profiles},
+          {"n_profiles_val", fit.validation.n_profiles},
+          {"residual_sd_um", Number(fit.residual_sd_um)},
+          {"shape", shape},
+          {"standard_errors", se}};
+}
+
 // --json FILE: the same figures as one JSON object.
 nlohmann::json CalibrationJson(const CalibrateArgs& args,
                                const CalibrationOptions& options,
@@ -215,10 +265,24 @@ int RunCalibrate(const CalibrateArgs& args) {
   if (options.robust && options.derivatives == DerivativeMode::kExact) {
     PrintSuspectedOutliers(run->suspected_outliers);
   }
+  // With profiles.csv: the profile's shape and gap (nothing otherwise).
+  std::optional<ProfileFit> profile;
+  if (!data->profile_points.empty()) {
+    StatusOr<ProfileFit> fit =
+        FitProfileShape(run->result.model, *data, index, split);
+    if (fit.ok()) {
+      profile = std::move(*fit);
+      PrintProfileFit(*profile);
+    } else {  // the centre calibration stands; say why there is no profile
+      std::fprintf(stderr, "rollwear calibrate: no profile fit: %s\n",
+                   fit.status().message().c_str());
+    }
+  }
 
   if (!args.json.empty()) {
-    const nlohmann::json j =
+    nlohmann::json j =
         CalibrationJson(args, options, *run, checked.quality, usable);
+    if (profile) j["profile"] = ProfileJson(*profile);
     std::ofstream out(args.json);
     out << j.dump(2) << "\n";
     if (!out) {
