@@ -165,7 +165,8 @@ Status SolveShape(const ProfileRows& rows, ProfileFit* fit) {
   const double rss = (y - s * theta).squaredNorm();
   const double sigma2 = rss / (n - kP);
   const Eigen::MatrixXd cov =
-      sigma2 * (s.transpose() * s).ldlt().solve(Eigen::MatrixXd::Identity(kP, kP));
+      sigma2 *
+      (s.transpose() * s).ldlt().solve(Eigen::MatrixXd::Identity(kP, kP));
   fit->shape.beta2 = theta(0);
   fit->shape.beta4 = theta(1);
   for (int m = 0; m < kEdgeRamps; ++m) fit->shape.alpha[m] = theta(2 + m);
@@ -197,7 +198,8 @@ StatusOr<ProfileFit> FitProfileShape(const WearModel& model,
   std::vector<int> train = split.train, val = split.validation;
   std::sort(train.begin(), train.end());
   std::sort(val.begin(), val.end());
-  const ProfileRows train_rows = RowsOf(model, data, index, rolls, train, options);
+  const ProfileRows train_rows =
+      RowsOf(model, data, index, rolls, train, options);
   ProfileFit fit;
   ROLLWEAR_RETURN_IF_ERROR(SolveShape(train_rows, &fit));
   fit.train = GapOf(fit.shape, train_rows);

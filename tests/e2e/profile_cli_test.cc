@@ -20,10 +20,10 @@ TEST(ProfileCliTest, CalibrateReportsTheProfileShapeAndGap) {
                         &out, &err),
             0)
       << out << err;
-  ASSERT_EQ(RunRollwear({"calibrate", "--data", dir / "d", "--json",
-                         dir / "c.json"},
-                        &out, &err),
-            0)
+  ASSERT_EQ(
+      RunRollwear({"calibrate", "--data", dir / "d", "--json", dir / "c.json"},
+                  &out, &err),
+      0)
       << out << err;
   EXPECT_NE(out.find("profile shape (K from the centre fit"), std::string::npos)
       << out;
@@ -58,10 +58,10 @@ TEST(ProfileCliTest, WithoutProfilesCalibrateSaysNothingOfProfiles) {
   TempDir dir;
   std::string error, out, err;
   ASSERT_TRUE(Simulate(dir / "d", 30, 4, &error)) << error;
-  ASSERT_EQ(RunRollwear({"calibrate", "--data", dir / "d", "--json",
-                         dir / "c.json"},
-                        &out, &err),
-            0)
+  ASSERT_EQ(
+      RunRollwear({"calibrate", "--data", dir / "d", "--json", dir / "c.json"},
+                  &out, &err),
+      0)
       << out << err;
   EXPECT_EQ(out.find("profile"), std::string::npos) << out;
   const json j = json::parse(ReadFile(dir / "c.json"));
