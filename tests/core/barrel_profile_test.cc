@@ -107,6 +107,34 @@ TEST(BarrelProfileTest, SufficientStatisticsEqualThePassByPassUpdate) {
   }
 }
 
+// ProfileStats::At reads the six sums between slices as Interpolate reads
+// a profile: the profile of any shape at x is coefficients . At(x).
+TEST(BarrelProfileTest, SumsBetweenSlicesInterpolateLikeTheProfile) {
+  const ProfileGrid grid;
+  ProfileShape shape;
+  shape.beta2 = -0.05;
+  shape.beta4 = 0.02;
+  shape.alpha = {0.7, 0.2, 0.1};
+  ProfileStats stats(grid);
+  stats.AddPass(2.0, -37, 610);
+  stats.AddPass(1.5, 52, 455);
+  const std::vector<double> profile = stats.Evaluate(shape);
+  const auto coef = shape.Coefficients();
+  for (double x : {-647.0, -606.3, -400.5, 0.0, 3.7, 480.0, 504.9, 2000.0}) {
+    const auto sums = stats.At(x);
+    double w = 0;
+    for (int i = 0; i < kProfileBasis; ++i) w += coef[i] * sums[i];
+    EXPECT_NEAR(w, grid.Interpolate(profile, x), 1e-12) << "x = " << x;
+  }
+  // At a slice centre: that slice's sums, exactly; 5 mm on: the mean of
+  // the two neighbours.
+  EXPECT_EQ(stats.At(-400)[3], stats.slice(60)[3]);
+  EXPECT_DOUBLE_EQ(stats.At(-595)[5],
+                   (stats.slice(40)[5] + stats.slice(41)[5]) / 2);
+  // (a real mean: the 100 mm ramp falls inwards from the edge at -647)
+  EXPECT_GT(stats.slice(40)[5], stats.slice(41)[5] + 0.1);
+}
+
 // Box wear: a campaign of one width wears a flat body with peaks at the
 // strip edges; a shifting cycle spreads the same wear over a wider band and
 // the peaks smear out (the reason mills shift work rolls).

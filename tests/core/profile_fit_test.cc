@@ -232,6 +232,25 @@ TEST(ProfileFitTest, SimulatedValidationGapNearTheProfileNoiseFloor) {
   EXPECT_GT(fit->validation.gap_um, val_floor.all) << "below the noise?";
 }
 
+// Points only over the middle of the barrel, away from every strip edge:
+// the edge ramps are 0 there and the shape is not identified.
+TEST(ProfileFitTest, ProfilesWithoutTheEdgesDoNotIdentifyTheShape) {
+  const CalibratedMill& mill = WithoutProfiles();
+  Dataset data = mill.sim.data;
+  AddModelProfiles(mill.model, ProfileShape{}, 4.0, &data);
+  std::erase_if(data.profile_points,
+                [](const ProfilePoint& p) { return std::abs(p.x_mm) > 200; });
+  ASSERT_GT(data.profile_points.size(), 1000u);
+  const DatasetIndex index(data);
+  StatusOr<ProfileFit> fit =
+      FitProfileShape(mill.model, data, index, mill.split);
+  ASSERT_FALSE(fit.ok());
+  EXPECT_EQ(fit.status().code(), StatusCode::kFailedPrecondition);
+  EXPECT_NE(fit.status().message().find("do not identify the shape"),
+            std::string::npos)
+      << fit.status().message();
+}
+
 TEST(ProfileFitTest, WithoutProfilePointsThereIsNoFit) {
   const CalibratedMill& mill = WithoutProfiles();
   ASSERT_TRUE(mill.sim.data.profile_points.empty());
