@@ -6,10 +6,12 @@
 // prints the coefficients with standard errors and the figures of merit.
 // --figures DIR: measured vs calculated wear per stand (training and
 // validation campaigns) as DIR/measured_vs_calculated_<law>_option<N>.svg.
-// With profiles.csv it also fits the shape of the wear across the barrel
-// with the centre's K (core/fit/profile_fit.h) and prints it with the
-// profile gap; --json then holds the "profile" object of api.md. When that
-// fit fails (too few points) it says so on stderr and omits the object.
+// With profiles.csv it also fits the shape of the wear across the barrel,
+// first with the centre's K (core/fit/profile_fit.h), then jointly with K
+// (core/fit/profile_joint.h), and prints both with the profile gap; --json
+// then holds the "profile" object of api.md (the joint fit's). When the
+// first stage fails (too few points) it says so on stderr and omits the
+// object; when the joint fit fails, the object is the first stage's.
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -21,6 +23,7 @@
 #include "core/dataset/dataset_io.h"
 #include "core/model/metrics.h"
 #include "core/fit/profile_fit.h"
+#include "core/fit/profile_joint.h"
 #include "core/fit/study.h"
 #include "core/report/study_figures.h"
 #include "service/calibrate_terms.h"
@@ -142,7 +145,6 @@ void PrintCalibration(const CalibrationOptions& options,
 // With profiles.csv: the shape of g fitted with the centre's K, with
 // standard errors, and the profile gap on training and validation.
 void PrintProfileFit(const ProfileFit& fit) {
-  std::printf("profile shape (K from the centre fit, linear least squares):\n");
   std::printf("%-28s %12s %10s\n", "shape", "value", "s.e.");
   const auto values = ProfileShapeValues(fit.shape);
   for (int i = 0; i < kProfileShapeParameters; ++i) {
@@ -180,6 +182,55 @@ nlohmann::json ProfileJson(const ProfileFit& fit) {
           {"residual_sd_um", Number(fit.residual_sd_um)},
           {"shape", shape},
           {"standard_errors", se}};
+}
+
+// The profile: the first stage (K from the centre), then the joint LM fit
+// of K and shape (core/fit/profile_joint.h), printed; the "profile" object
+// of --json is the joint fit's, with the first stage inside it. When a
+// stage fails, says why on stderr; nullopt when there is no profile fit.
+std::optional<nlohmann::json> FitProfile(const SplitCalibration& run,
+                                         const Dataset& data,
+                                         const DatasetIndex& index,
+                                         const CampaignSplit& split) {
+  StatusOr<ProfileFit> first =
+      FitProfileShape(run.result.model, data, index, split);
+  if (!first.ok()) {  // the centre calibration stands; say why
+    std::fprintf(stderr, "rollwear calibrate: no profile fit: %s\n",
+                 first.status().message().c_str());
+    return std::nullopt;
+  }
+  std::printf("profile shape (K from the centre fit, linear least squares):\n");
+  PrintProfileFit(*first);
+  StatusOr<JointProfileFit> joint =
+      FitProfileJoint(run.result.model, data, index, split, *first);
+  if (!joint.ok()) {
+    std::fprintf(stderr, "rollwear calibrate: no joint profile fit: %s\n",
+                 joint.status().message().c_str());
+    nlohmann::json j = ProfileJson(*first);
+    j["stage"] = "first";
+    return j;
+  }
+  std::printf(
+      "profile shape (K and shape jointly, Levenberg-Marquardt; roll-clustered "
+      "s.e.; intra-roll correlation %.2f):\n",
+      joint->intra_roll_correlation);
+  PrintProfileFit(joint->profile);
+  std::printf("centre gap under the joint K: training %.1f µm, validation %.1f µm\n",
+              joint->centre_gap_train_um, joint->centre_gap_val_um);
+  if (!joint->at_bound.empty()) {
+    std::printf("at a bound (standard error not meaningful):");
+    for (const std::string& name : joint->at_bound) std::printf(" %s", name.c_str());
+    std::printf("\n");
+  }
+  nlohmann::json j = ProfileJson(joint->profile);
+  j["stage"] = "joint";
+  j["centre_gap_train_um"] = Number(joint->centre_gap_train_um);
+  j["centre_gap_val_um"] = Number(joint->centre_gap_val_um);
+  j["intra_roll_correlation"] = joint->intra_roll_correlation;
+  j["converged"] = joint->converged;
+  j["at_bound"] = joint->at_bound;
+  j["first_stage"] = ProfileJson(*first);
+  return j;
 }
 
 // --json FILE: the same figures as one JSON object.
@@ -266,23 +317,12 @@ int RunCalibrate(const CalibrateArgs& args) {
     PrintSuspectedOutliers(run->suspected_outliers);
   }
   // With profiles.csv: the profile's shape and gap (nothing otherwise).
-  std::optional<ProfileFit> profile;
-  if (!data->profile_points.empty()) {
-    StatusOr<ProfileFit> fit =
-        FitProfileShape(run->result.model, *data, index, split);
-    if (fit.ok()) {
-      profile = std::move(*fit);
-      PrintProfileFit(*profile);
-    } else {  // the centre calibration stands; say why there is no profile
-      std::fprintf(stderr, "rollwear calibrate: no profile fit: %s\n",
-                   fit.status().message().c_str());
-    }
-  }
-
+  std::optional<nlohmann::json> profile;
+  if (!data->profile_points.empty()) profile = FitProfile(*run, *data, index, split);
   if (!args.json.empty()) {
     nlohmann::json j =
         CalibrationJson(args, options, *run, checked.quality, usable);
-    if (profile) j["profile"] = ProfileJson(*profile);
+    if (profile) j["profile"] = *profile;
     std::ofstream out(args.json);
     out << j.dump(2) << "\n";
     if (!out) {

@@ -208,4 +208,12 @@ StatusOr<ProfileFit> FitProfileShape(const WearModel& model,
   return fit;
 }
 
+ProfileGap ProfileGapOf(const WearModel& model, const ProfileShape& shape,
+                        const Dataset& data, const DatasetIndex& index,
+                        const std::vector<int>& campaigns,
+                        const ProfileFitOptions& options) {
+  return GapOf(shape, RowsOf(model, data, index, PointsByRoll(data),
+                             campaigns, options));
+}
+
 }  // namespace rollwear

@@ -19,7 +19,8 @@
 // sigma^2 (S'S)^-1, sigma^2 = RSS / (n - 5). The points of one roll share
 // its roll-to-roll scatter, so these standard errors treat correlated
 // points as independent and are optimistic on real profiles. The joint
-// Levenberg-Marquardt fit of K and the shape is the next stage (not built).
+// Levenberg-Marquardt fit of K and the shape, with roll-clustered standard
+// errors, is the second stage (profile_joint.h).
 //
 // Profile gap: mean |measured - predicted| over the points, in all, and
 // split into the strip-edge zone and the body. The strips of a roll's
@@ -38,6 +39,7 @@
 
 #include <array>
 #include <string>
+#include <vector>
 
 #include "core/base/status.h"
 #include "core/dataset/dataset.h"
@@ -89,6 +91,13 @@ StatusOr<ProfileFit> FitProfileShape(const WearModel& model,
                                      const DatasetIndex& index,
                                      const CampaignSplit& split,
                                      const ProfileFitOptions& options = {});
+
+// The profile gap of `shape` under `model`'s K on the profiles of
+// `campaigns` (ascending campaign indices).
+ProfileGap ProfileGapOf(const WearModel& model, const ProfileShape& shape,
+                        const Dataset& data, const DatasetIndex& index,
+                        const std::vector<int>& campaigns,
+                        const ProfileFitOptions& options = {});
 
 }  // namespace rollwear
 

@@ -21,85 +21,10 @@
 #include "core/model/model_eval.h"
 #include "core/model/predictor.h"
 #include "core/sim/simulator.h"
+#include "tests/core/profile_test_util.h"
 
 namespace rollwear {
 namespace {
-
-// A simulated mill (Wang, option 1 truth) and its centre calibration on
-// the default split.
-struct CalibratedMill {
-  Simulation sim;
-  CampaignSplit split;
-  WearModel model;
-};
-
-CalibratedMill Calibrated(bool profiles) {
-  SimulatorOptions o;
-  o.seed = 11;
-  o.num_campaigns = 120;
-  o.profiles = profiles;
-  StatusOr<Simulation> sim = Simulate(o);
-  EXPECT_TRUE(sim.ok()) << sim.status().ToString();
-  CalibratedMill out{std::move(*sim), {}, {}};
-  const DatasetIndex index(out.sim.data);
-  StatusOr<WearStatistics> st = Aggregate(out.sim.data, index, WearLaw::kWang);
-  EXPECT_TRUE(st.ok()) << st.status().ToString();
-  out.split = SplitCampaigns(*st);
-  StatusOr<SplitCalibration> run =
-      CalibrateOnSplit(*st, out.split, CalibrationOptions{});
-  EXPECT_TRUE(run.ok()) << run.status().ToString();
-  out.model = run->result.model;
-  return out;
-}
-
-const CalibratedMill& WithoutProfiles() {
-  static const CalibratedMill* mill = new CalibratedMill(Calibrated(false));
-  return *mill;
-}
-
-const CalibratedMill& WithProfiles() {
-  static const CalibratedMill* mill = new CalibratedMill(Calibrated(true));
-  return *mill;
-}
-
-// Adds to `data` a profile of every measured roll generated with the
-// model's form: pass wear from `model` (the fit's own K), spread by
-// AddPassProfile with `shape`, read every 10 mm over the band the strips
-// covered plus 40 mm, with N(0, noise_sd) per point.
-void AddModelProfiles(const WearModel& model, const ProfileShape& shape,
-                      double noise_sd, Dataset* data) {
-  const DatasetIndex index(*data);
-  const ProfileGrid grid;
-  std::mt19937_64 rng(5);
-  std::normal_distribution<double> noise(0, noise_sd);
-  for (const Measurement& meas : data->measurements) {
-    const int slot = RollPositionSlot(meas.stand, meas.position);
-    const int mi = index.MountOf(meas.campaign, slot);
-    RollWearState state = MountedRollState(model, *data, meas.campaign, mi);
-    std::vector<double> profile(grid.slices(), 0.0);
-    double reach = 0;
-    for (int pi : index.PassesOf(meas.campaign, meas.stand)) {
-      const Pass& pass = data->passes[pi];
-      const double w = AddPass(model, PassInputOf(*data, pass), &state);
-      const double c =
-          StripCentreMm(meas.position == Position::kTop, pass.shift_mm);
-      AddPassProfile(grid, shape, w, c, pass.width_mm / 2, &profile);
-      reach = std::max(reach, std::abs(c) + pass.width_mm / 2);
-    }
-    for (double x = -std::ceil((reach + 40) / 10) * 10; x <= reach + 40;
-         x += 10) {
-      ProfilePoint p;
-      p.campaign = meas.campaign;
-      p.stand = meas.stand;
-      p.position = meas.position;
-      p.roll_id = meas.roll_id;
-      p.measured_at = meas.measured_at;
-      p.x_mm = x;
-      p.wear_um = grid.Interpolate(profile, x) + noise(rng);
-      data->profile_points.push_back(p);
-    }
-  }
-}
 
 TEST(ProfileFitTest, RecoversTheModelsOwnShapeWithinThreeStandardErrors) {
   const CalibratedMill& mill = WithoutProfiles();
