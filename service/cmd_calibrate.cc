@@ -5,7 +5,9 @@
 // Calibrates on a seeded 2/3 training / 1/3 validation split by campaign and
 // prints the coefficients with standard errors and the figures of merit.
 // --figures DIR: measured vs calculated wear per stand (training and
-// validation campaigns) as DIR/measured_vs_calculated_<law>_option<N>.svg.
+// validation campaigns) as DIR/measured_vs_calculated_<law>_option<N>.svg,
+// and with profiles DIR/profiles_measured_vs_predicted.svg
+// (core/report/profile_figures.h).
 // With profiles.csv it also fits the shape of the wear across the barrel,
 // first with the centre's K (core/fit/profile_fit.h), then jointly with K
 // (core/fit/profile_joint.h), and prints both with the profile gap; --json
@@ -25,6 +27,7 @@
 #include "core/fit/profile_fit.h"
 #include "core/fit/profile_joint.h"
 #include "core/fit/study.h"
+#include "core/report/profile_figures.h"
 #include "core/report/study_figures.h"
 #include "service/calibrate_terms.h"
 #include "service/commands.h"
@@ -191,7 +194,9 @@ nlohmann::json ProfileJson(const ProfileFit& fit) {
 std::optional<nlohmann::json> FitProfile(const SplitCalibration& run,
                                          const Dataset& data,
                                          const DatasetIndex& index,
-                                         const CampaignSplit& split) {
+                                         const CampaignSplit& split,
+                                         WearModel* model,
+                                         ProfileShape* shape) {
   StatusOr<ProfileFit> first =
       FitProfileShape(run.result.model, data, index, split);
   if (!first.ok()) {  // the centre calibration stands; say why
@@ -208,6 +213,8 @@ std::optional<nlohmann::json> FitProfile(const SplitCalibration& run,
                  joint.status().message().c_str());
     nlohmann::json j = ProfileJson(*first);
     j["stage"] = "first";
+    *model = run.result.model;
+    *shape = first->shape;
     return j;
   }
   std::printf(
@@ -230,6 +237,8 @@ std::optional<nlohmann::json> FitProfile(const SplitCalibration& run,
   j["converged"] = joint->converged;
   j["at_bound"] = joint->at_bound;
   j["first_stage"] = ProfileJson(*first);
+  *model = joint->model;
+  *shape = joint->profile.shape;
   return j;
 }
 
@@ -318,7 +327,11 @@ int RunCalibrate(const CalibrateArgs& args) {
   }
   // With profiles.csv: the profile's shape and gap (nothing otherwise).
   std::optional<nlohmann::json> profile;
-  if (!data->profile_points.empty()) profile = FitProfile(*run, *data, index, split);
+  WearModel profile_model;
+  ProfileShape profile_shape;
+  if (!data->profile_points.empty()) {
+    profile = FitProfile(*run, *data, index, split, &profile_model, &profile_shape);
+  }
   if (!args.json.empty()) {
     nlohmann::json j =
         CalibrationJson(args, options, *run, checked.quality, usable);
@@ -331,8 +344,20 @@ int RunCalibrate(const CalibrateArgs& args) {
     }
   }
   if (!args.figures.empty()) {
-    const Status written =
+    Status written =
         WriteCalibrationFigure(args.figures, options, *stats, split, *run);
+    if (written.ok() && profile) {
+      StatusOr<SvgFigure> figure = ProfileFigure(
+          "Measured vs predicted profiles of validation rolls (" +
+              std::string(WearLawName(options.law)) + ", option " +
+              std::to_string(options.option) + ")",
+          profile_model, profile_shape, *data, split);
+      written = figure.ok() ? WriteFigures(args.figures, {*figure})
+                            : figure.status();
+      if (written.ok()) {
+        std::printf("wrote %s/%s\n", args.figures.c_str(), kProfileFigureName);
+      }
+    }
     if (!written.ok()) {
       std::fprintf(stderr, "rollwear calibrate: %s\n", written.message().c_str());
       return 1;

@@ -33,6 +33,8 @@ nlohmann::json RowJson(const StudyRow& r) {
           {"gap_val_um", num(r.gap_val_um)},
           {"bias_above_300_um", num(r.bias_above_300_um)},
           {"n_above_300", r.n_above_300},
+          {"profile_gap_val_um", num(r.profile_gap_val_um)},
+          {"profile_edge_val_um", num(r.profile_edge_val_um)},
           {"iterations", r.iterations},
           {"evaluations", r.evaluations},
           {"seconds", r.seconds},

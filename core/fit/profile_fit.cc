@@ -216,4 +216,15 @@ ProfileGap ProfileGapOf(const WearModel& model, const ProfileShape& shape,
                              campaigns, options));
 }
 
+std::vector<double> PredictRollProfile(const WearModel& model,
+                                       const ProfileShape& shape,
+                                       const Dataset& data,
+                                       const DatasetIndex& index, int campaign,
+                                       int slot,
+                                       const ProfileFitOptions& options) {
+  if (index.MountOf(campaign, slot) < 0) return {};
+  return SumRoll(model, data, index, campaign, slot, options)
+      .stats.Evaluate(shape);
+}
+
 }  // namespace rollwear

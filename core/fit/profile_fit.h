@@ -99,6 +99,16 @@ ProfileGap ProfileGapOf(const WearModel& model, const ProfileShape& shape,
                         const std::vector<int>& campaigns,
                         const ProfileFitOptions& options = {});
 
+// The predicted wear at every slice of options.grid of the roll in `slot`
+// (dataset.h) in `campaign` under `model`'s K and `shape`; empty when no
+// roll is mounted there.
+std::vector<double> PredictRollProfile(const WearModel& model,
+                                       const ProfileShape& shape,
+                                       const Dataset& data,
+                                       const DatasetIndex& index, int campaign,
+                                       int slot,
+                                       const ProfileFitOptions& options = {});
+
 }  // namespace rollwear
 
 #endif  // ROLLWEAR_CORE_FIT_PROFILE_FIT_H_

@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <limits>
 
+#include "core/fit/profile_fit.h"
+
 namespace rollwear {
 
 StatusOr<SplitCalibration> CalibrateOnSplit(const WearStatistics& stats,
@@ -56,7 +58,8 @@ StatusOr<SplitCalibration> CalibrateOnSplit(const WearStatistics& stats,
 
 namespace {
 
-StatusOr<StudyRow> Row(const WearStatistics& stats, const CampaignSplit& split,
+StatusOr<StudyRow> Row(const Dataset& data, const DatasetIndex& index,
+                       const WearStatistics& stats, const CampaignSplit& split,
                        const CalibrationOptions& options) {
   ROLLWEAR_ASSIGN_OR_RETURN(const SplitCalibration run,
                             CalibrateOnSplit(stats, split, options));
@@ -79,6 +82,14 @@ StatusOr<StudyRow> Row(const WearStatistics& stats, const CampaignSplit& split,
   row.seconds = s.seconds;
   row.usable = s.usable;
   row.termination = s.termination;
+  if (!data.profile_points.empty() && s.usable) {
+    StatusOr<ProfileFit> profile =
+        FitProfileShape(run.result.model, data, index, split);
+    if (profile.ok()) {
+      row.profile_gap_val_um = profile->validation.gap_um;
+      row.profile_edge_val_um = profile->validation.edge_um;
+    }
+  }
   return row;
 }
 
@@ -90,6 +101,7 @@ StatusOr<StudyReport> RunStudy(const Dataset& data, const StudyOptions& options)
   report.n_campaigns = static_cast<int>(data.campaigns.size());
   report.n_coils = static_cast<int>(data.coil_ids.size());
   report.split_seed = options.split_seed;
+  report.has_profiles = !data.profile_points.empty();
   const WearLaw laws[] = {WearLaw::kWang, WearLaw::kNikitenko, WearLaw::kCao};
   const InitialSet sets[] = {InitialSet::kOnes, InitialSet::kRandom,
                              InitialSet::kEmpirical};
@@ -110,7 +122,7 @@ StatusOr<StudyReport> RunStudy(const Dataset& data, const StudyOptions& options)
       o.option = 1;
       o.initial_set = set;
       o.derivatives = DerivativeMode::kExact;
-      ROLLWEAR_ASSIGN_OR_RETURN(StudyRow row, Row(stats, split, o));
+      ROLLWEAR_ASSIGN_OR_RETURN(StudyRow row, Row(data, index, stats, split, o));
       report.table1.push_back(std::move(row));
     }
     std::vector<int> options_for_law = {1};
@@ -120,7 +132,7 @@ StatusOr<StudyReport> RunStudy(const Dataset& data, const StudyOptions& options)
       if (law == WearLaw::kWang) {
         o.initial_set = InitialSet::kEmpirical;
         o.derivatives = DerivativeMode::kExact;
-        ROLLWEAR_ASSIGN_OR_RETURN(StudyRow row, Row(stats, split, o));
+        ROLLWEAR_ASSIGN_OR_RETURN(StudyRow row, Row(data, index, stats, split, o));
         report.table2.push_back(std::move(row));
       }
       // The protocols compared from the all-ones start, where the study's
@@ -129,7 +141,7 @@ StatusOr<StudyReport> RunStudy(const Dataset& data, const StudyOptions& options)
       for (DerivativeMode mode :
            {DerivativeMode::kExact, DerivativeMode::kPaperForwardDifference}) {
         o.derivatives = mode;
-        ROLLWEAR_ASSIGN_OR_RETURN(StudyRow row, Row(stats, split, o));
+        ROLLWEAR_ASSIGN_OR_RETURN(StudyRow row, Row(data, index, stats, split, o));
         report.table3.push_back(std::move(row));
       }
     }
@@ -161,13 +173,17 @@ std::string StudyDatasetMarkdown(const StudyDataset& d) {
 
 std::string StudyMarkdown(const StudyReport& r) {
   std::string out = StudyDatasetMarkdown(r);
-  auto table = [&out](const char* caption, const std::vector<StudyRow>& rows) {
+  const bool profiles = r.has_profiles;
+  auto table = [&out, profiles](const char* caption,
+                                const std::vector<StudyRow>& rows) {
     out += caption;
     out +=
         "\n\n| law | option | start | derivatives | params | cost start µm² | "
         "cost µm² | gap train µm | gap val µm | bias pred >300 µm (n) | iter | "
-        "evals | s | status |\n";
-    out += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "evals | s | status |";
+    out += profiles ? " profile gap val µm | edge zone µm |\n" : "\n";
+    out += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|";
+    out += profiles ? "---|---|\n" : "\n";
     for (const StudyRow& w : rows) {
       char line[512];
       std::snprintf(
@@ -181,6 +197,11 @@ std::string StudyMarkdown(const StudyReport& r) {
           w.evaluations, Fmt("%.3f", w.seconds).c_str(),
           w.usable ? w.termination.c_str() : ("unusable: " + w.termination).c_str());
       out += line;
+      if (profiles) {
+        out.pop_back();  // the row's newline
+        out += " " + Fmt("%.1f", w.profile_gap_val_um) + " | " +
+               Fmt("%.1f", w.profile_edge_val_um) + " |\n";
+      }
     }
     out += "\n";
   };

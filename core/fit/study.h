@@ -9,13 +9,16 @@
 // reproduces the paper's fits; `rollwear calibrate` and the diagnosis use the
 // robust loss. Every row also reports the mean residual of validation campaigns whose
 // measured wear exceeds 300 µm (the study saw all models under-predict
-// there).
+// there). With profiles.csv, every row also reports the validation profile
+// gap of its model (the shape fitted with the row's K by the first stage of
+// profile_fit.h), over all points and at the strip-edge zones.
 //
 // Thread-safety: RunStudy is reentrant.
 #ifndef ROLLWEAR_CORE_FIT_STUDY_H_
 #define ROLLWEAR_CORE_FIT_STUDY_H_
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -43,6 +46,11 @@ struct StudyRow {
   // positive = under-prediction. NaN when there are none.
   double bias_above_300_um = 0;
   int n_above_300 = 0;
+  // With profiles.csv: the validation profile gap of the row's model (the
+  // shape fitted with its K, profile_fit.h), all points and the strip-edge
+  // zone; NaN without profiles or when the shape cannot be fitted.
+  double profile_gap_val_um = std::numeric_limits<double>::quiet_NaN();
+  double profile_edge_val_um = std::numeric_limits<double>::quiet_NaN();
   int iterations = 0;
   int evaluations = 0;
   double seconds = 0;
@@ -65,6 +73,7 @@ struct StudyDataset {
 std::string StudyDatasetMarkdown(const StudyDataset& d);
 
 struct StudyReport : StudyDataset {
+  bool has_profiles = false;  // the dataset has profiles.csv points
   std::vector<StudyRow> table1, table2, table3;
 };
 

@@ -11,7 +11,9 @@
 #include "core/ann/ann_data.h"
 #include "core/ann/ann_bptt.h"
 #include "core/fit/calibration.h"
+#include "core/fit/profile_fit.h"
 #include "core/model/metrics.h"
+#include "core/report/profile_figures.h"
 #include "core/report/svg_plot.h"
 
 namespace rollwear {
@@ -37,6 +39,7 @@ std::string GapLabel(const std::string& name,
 // (campaign, slot) so that the laws' figures line up.
 struct LawRun {
   WearStatistics stats;
+  CampaignSplit split;
   std::vector<int> train, val;
 };
 
@@ -44,9 +47,9 @@ StatusOr<LawRun> Prepare(const Dataset& data, const DatasetIndex& index,
                          WearLaw law, uint64_t split_seed) {
   LawRun run;
   ROLLWEAR_ASSIGN_OR_RETURN(run.stats, Aggregate(data, index, law));
-  const CampaignSplit split = SplitCampaigns(run.stats, 2.0 / 3.0, split_seed);
-  run.train = run.stats.MeasuredObservations(split.train);
-  run.val = run.stats.MeasuredObservations(split.validation);
+  run.split = SplitCampaigns(run.stats, 2.0 / 3.0, split_seed);
+  run.train = run.stats.MeasuredObservations(run.split.train);
+  run.val = run.stats.MeasuredObservations(run.split.validation);
   return run;
 }
 
@@ -186,6 +189,19 @@ StatusOr<std::vector<SvgFigure>> StudyFigures(const Dataset& data,
          ParityFigureSvg(
              std::string("Wang option 1, initial vs optimised — ") + caption,
              stands, measured, series)});
+  }
+  // With profiles: Wang option 1's measured vs predicted profiles (the
+  // shape fitted with its K, profile_fit.h).
+  if (!data.profile_points.empty()) {
+    StatusOr<ProfileFit> fit = FitProfileShape(wang1, data, index, wang.split);
+    if (fit.ok()) {
+      ROLLWEAR_ASSIGN_OR_RETURN(
+          SvgFigure figure,
+          ProfileFigure("Wang option 1, measured vs predicted profiles of "
+                        "validation rolls",
+                        wang1, fit->shape, data, wang.split));
+      figures.push_back(std::move(figure));
+    }
   }
   // The three laws, option 1.
   {

@@ -24,13 +24,9 @@
 #include "core/dataset/dataset.h"
 #include "core/base/status.h"
 #include "core/fit/study.h"
+#include "core/report/svg_plot.h"  // SvgFigure
 
 namespace rollwear {
-
-struct SvgFigure {
-  std::string file_name;  // "measured_vs_calculated_laws.svg"
-  std::string svg;
-};
 
 // Predictions of one model, aligned with the observations of a figure.
 struct ParitySeries {

@@ -13,6 +13,12 @@
 
 namespace rollwear {
 
+// A figure to be written to a file (WriteFigures, study_figures.h).
+struct SvgFigure {
+  std::string file_name;  // "measured_vs_calculated_laws.svg"
+  std::string svg;
+};
+
 struct PlotSeries {
   enum class Style { kPoints, kLine, kBars };
   std::string name;   // legend entry ("" = not in the legend)
