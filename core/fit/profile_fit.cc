@@ -227,4 +227,28 @@ std::vector<double> PredictRollProfile(const WearModel& model,
       .stats.Evaluate(shape);
 }
 
+std::vector<ProfileResidual> ProfileResiduals(
+    const WearModel& model, const ProfileShape& shape, const Dataset& data,
+    const DatasetIndex& index, const std::vector<int>& campaigns,
+    const ProfileFitOptions& options) {
+  std::vector<ProfileResidual> out;
+  for (const auto& [key, points] : PointsByRoll(data)) {
+    const auto [campaign, slot] = key;
+    if (!std::binary_search(campaigns.begin(), campaigns.end(), campaign) ||
+        index.MountOf(campaign, slot) < 0) {
+      continue;
+    }
+    const RollSums roll = SumRoll(model, data, index, campaign, slot, options);
+    const std::vector<double> profile = roll.stats.Evaluate(shape);
+    for (int i : points) {
+      const ProfilePoint& p = data.profile_points[i];
+      const PointZone zone = ZoneOf(roll, p.x_mm, options.edge_zone_mm);
+      out.push_back({campaign, slot, p.x_mm, p.wear_um,
+                     options.grid.Interpolate(profile, p.x_mm),
+                     zone == PointZone::kEdge, zone == PointZone::kBody});
+    }
+  }
+  return out;
+}
+
 }  // namespace rollwear

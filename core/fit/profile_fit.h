@@ -109,6 +109,24 @@ std::vector<double> PredictRollProfile(const WearModel& model,
                                        int slot,
                                        const ProfileFitOptions& options = {});
 
+// One grinder point with its prediction and zone (see the header comment).
+struct ProfileResidual {
+  int campaign = -1;
+  int slot = -1;  // roll position slot (dataset.h)
+  double x_mm = 0;
+  double measured_um = 0;
+  double predicted_um = 0;
+  bool edge = false;  // in the strip-edge zone
+  bool body = false;  // in the body (neither: beyond the worn band)
+};
+
+// The profile points of `campaigns` (ascending) with their predictions
+// under `model`'s K and `shape`, in (campaign, slot, data) order.
+std::vector<ProfileResidual> ProfileResiduals(
+    const WearModel& model, const ProfileShape& shape, const Dataset& data,
+    const DatasetIndex& index, const std::vector<int>& campaigns,
+    const ProfileFitOptions& options = {});
+
 }  // namespace rollwear
 
 #endif  // ROLLWEAR_CORE_FIT_PROFILE_FIT_H_

@@ -7,6 +7,7 @@
 #define ROLLWEAR_TESTS_CORE_PROFILE_TEST_UTIL_H_
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <random>
 #include <utility>
@@ -33,10 +34,11 @@ struct CalibratedMill {
   WearModel model;
 };
 
-inline CalibratedMill Calibrated(bool profiles) {
+inline CalibratedMill Calibrated(bool profiles, uint64_t seed = 11,
+                                 int campaigns = 120) {
   SimulatorOptions o;
-  o.seed = 11;
-  o.num_campaigns = 120;
+  o.seed = seed;
+  o.num_campaigns = campaigns;
   o.profiles = profiles;
   StatusOr<Simulation> sim = Simulate(o);
   EXPECT_TRUE(sim.ok()) << sim.status().ToString();
