@@ -105,7 +105,8 @@ Command AddSimulate(CLI::App* app) {
   AddCount(c, "--seed", args->options.seed, "simulator seed");
   c->add_option("--effect", args->effects,
                 "concealed effect(s) to simulate, comma-separated; "
-                "repeatable; none = no effect (see --list-effects)")
+                "repeatable; none = no effect; a family takes NAME:K for "
+                "its variant K (see --list-effects)")
       ->type_name("NAME[,NAME]")
       ->allow_extra_args(false);  // one value per --effect
   AddCount(c, "--campaigns", args->options.num_campaigns,
@@ -115,6 +116,9 @@ Command AddSimulate(CLI::App* app) {
             "mean coils per campaign");
   AddNumber(c, "--missing", args->options.missing_measurement_fraction,
             "fraction of grinder measurements left out");
+  AddNumber(c, "--gross-errors", args->options.gross_error_fraction,
+            "fraction of readings with gross grinder errors, on top of any "
+            "effect (0 = none)");
   AddPath(c, "--truth", args->truth, "FILE",
           "ground-truth JSON file (default DIR.truth.json, beside DIR; "
           "never inside it)");
