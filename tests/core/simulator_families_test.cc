@@ -119,12 +119,8 @@ template <typename In>
 std::vector<Row> Rows(const Simulation& sim, In in) {
   const Dataset& d = sim.data;
   const SimulationTruth& t = sim.truth;
-  std::map<std::tuple<int, int, int>, const Mount*> mounts;
-  for (const Mount& m : d.mounts) {
-    mounts[{m.campaign, m.stand, static_cast<int>(m.position)}] = &m;
-  }
-  std::map<std::pair<int, int>, std::vector<const Pass*>> passes;
-  for (const Pass& p : d.passes) passes[{p.campaign, p.stand}].push_back(&p);
+  const auto mounts = simulator_test::MountsByKey(d);
+  const auto passes = simulator_test::PassesByStand(d);
   std::vector<Row> out;
   for (size_t i = 0; i < d.measurements.size(); ++i) {
     Row r;
