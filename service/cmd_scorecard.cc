@@ -49,8 +49,8 @@ ScoreTruth ToScoreTruth(const Simulation& sim) {
   ScoreTruth t;
   for (const SimulatedEffect& e : sim.truth.effects) {
     if (e.name == "gross_errors" || e.null_effect) continue;
-    t.effects.push_back({e.name, e.covariate, e.scope, e.levels, e.expressible,
-                         e.mismatch});
+    t.effects.push_back(
+        {e.name, e.covariate, e.scope, e.levels, e.expressible, e.mismatch});
   }
   const Dataset& d = sim.data;
   for (size_t i = 0; i < d.measurements.size(); ++i) {
@@ -135,7 +135,8 @@ int RunScorecard(const ScorecardArgs& args) {
       const CaseScore& c = scores.back();
       std::string found;
       for (const std::string& f : c.findings) found += " " + f + ";";
-      std::fprintf(stderr, "%-28s seed %-4llu %-30s right %d wrong %d gap/floor "
+      std::fprintf(stderr,
+                   "%-28s seed %-4llu %-30s right %d wrong %d gap/floor "
                    "%.3f %.1f s%s\n",
                    c.effect.c_str(), static_cast<unsigned long long>(c.seed),
                    c.verdict.c_str(), c.named_right ? 1 : 0, c.wrong_physics,
@@ -145,14 +146,12 @@ int RunScorecard(const ScorecardArgs& args) {
   const std::vector<EffectScore> summary = Summarise(scores);
   std::fputs(ScorecardTable(summary).c_str(), stdout);
   if (!args.json.empty()) {
-    Json doc = {{"seeds", args.seeds},
-                {"first_seed", args.first_seed},
-                {"campaigns", args.campaigns},
-                {"threads", args.threads},
-                {"cases", Json::array()},
-                {"summary", Json::array()}};
+    Json doc = {{"seeds", args.seeds},         {"first_seed", args.first_seed},
+                {"campaigns", args.campaigns}, {"threads", args.threads},
+                {"cases", Json::array()},      {"summary", Json::array()}};
     for (const CaseScore& c : scores) doc["cases"].push_back(CaseJson(c));
-    for (const EffectScore& e : summary) doc["summary"].push_back(SummaryJson(e));
+    for (const EffectScore& e : summary)
+      doc["summary"].push_back(SummaryJson(e));
     std::ofstream file(args.json, std::ios::trunc);
     file << doc.dump(2) << "\n";
     if (!file) {

@@ -159,14 +159,14 @@ std::string ScorecardTable(const std::vector<EffectScore>& scores) {
       verdicts += (verdicts.empty() ? "" : ", ") + v + " " + std::to_string(n);
     }
     const std::string named =
-        e.clean ? "-" : std::to_string(e.named_right) + "/" +
-                            std::to_string(e.cases);
-    std::snprintf(buf, sizeof(buf),
-                  "| %s | %d | %s | %d/%d | %d/%d | %.3f | %.3f | %.1f | %s |\n",
-                  e.effect.c_str(), e.cases, named.c_str(),
-                  e.with_wrong_physics, e.cases, e.quiet, e.cases,
-                  e.mean_gap_ratio, e.max_gap_ratio, e.mean_seconds,
-                  verdicts.c_str());
+        e.clean ? "-"
+                : std::to_string(e.named_right) + "/" + std::to_string(e.cases);
+    std::snprintf(
+        buf, sizeof(buf),
+        "| %s | %d | %s | %d/%d | %d/%d | %.3f | %.3f | %.1f | %s |\n",
+        e.effect.c_str(), e.cases, named.c_str(), e.with_wrong_physics, e.cases,
+        e.quiet, e.cases, e.mean_gap_ratio, e.max_gap_ratio, e.mean_seconds,
+        verdicts.c_str());
     out += buf;
     total.cases += e.cases;
     total.with_wrong_physics += e.with_wrong_physics;

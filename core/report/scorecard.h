@@ -55,8 +55,8 @@ struct ScoreTruth {
 struct CaseScore {
   std::string effect;  // the case's name ("clean", "grade_stand", ...)
   uint64_t seed = 0;
-  bool clean = false;        // no concealed effect: quiet is right
-  bool expressible = true;   // every concealed effect expressible
+  bool clean = false;       // no concealed effect: quiet is right
+  bool expressible = true;  // every concealed effect expressible
   // Every concealed effect matched by a finding (covariate, scope, levels);
   // inexpressible: verdict mismatch_located_unexplained and no finding.
   bool named_right = false;
@@ -65,8 +65,8 @@ struct CaseScore {
   std::string verdict;
   double gap_val_um = 0;
   double noise_floor_um = 0;
-  double gap_ratio = 0;  // gap_val_um / noise_floor_um
-  double seconds = 0;    // wall time of Diagnose
+  double gap_ratio = 0;               // gap_val_um / noise_floor_um
+  double seconds = 0;                 // wall time of Diagnose
   std::vector<std::string> findings;  // "covariate {scope} [levels]"
 };
 
@@ -75,9 +75,9 @@ struct EffectScore {
   std::string effect;
   int cases = 0;
   bool clean = false;
-  int named_right = 0;        // cases (not clean)
+  int named_right = 0;         // cases (not clean)
   int with_wrong_physics = 0;  // cases with at least one wrong finding
-  int quiet = 0;              // cases with no finding
+  int quiet = 0;               // cases with no finding
   double mean_gap_ratio = 0, max_gap_ratio = 0;
   double mean_seconds = 0;
   std::map<std::string, int> verdicts;

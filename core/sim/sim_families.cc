@@ -75,22 +75,27 @@ bool InScope(const std::map<std::string, std::string>& scope, int slot) {
 // scoped: one of the old covariate effects, acting at one stand or one roll
 // position only. Variant k: covariate k % 4, scope k / 4 % 3.
 FamilyEffect Scoped(int variant, Random* rng, uint64_t, int) {
-  static const char* kCovariates[] = {"temperature_c", "speed_mps",
-                                      "hardness_hb",
-                                      "campaign_length_before_m"};
+  static const char* kCovariates[] = {
+      "temperature_c", "speed_mps", "hardness_hb", "campaign_length_before_m"};
   const int which = variant % 4;
   const double beta = which == 0   ? rng->Uniform(0.6, 1.0)
                       : which == 1 ? rng->Uniform(0.6, 1.0)
                       : which == 2 ? rng->Uniform(2.5, 4.0)
                                    : rng->Uniform(0.5, 0.9);
-  static const char* kForms[] = {"exp(beta (900 - T) / 100)",
-                                 "(v / 10)^beta", "(560 / HB)^beta",
+  static const char* kForms[] = {"exp(beta (900 - T) / 100)", "(v / 10)^beta",
+                                 "(560 / HB)^beta",
                                  "1 + beta L_before / 100 km"};
   FamilyEffect f = Base("scoped", kCovariates[which], kForms[which], beta);
   switch (variant / 4 % 3) {
-    case 0: f.truth.scope = {{"stand", "F7"}}; break;
-    case 1: f.truth.scope = {{"stand", "F6"}}; break;
-    default: f.truth.scope = {{"stand", "F7"}, {"position", "top"}}; break;
+    case 0:
+      f.truth.scope = {{"stand", "F7"}};
+      break;
+    case 1:
+      f.truth.scope = {{"stand", "F6"}};
+      break;
+    default:
+      f.truth.scope = {{"stand", "F7"}, {"position", "top"}};
+      break;
   }
   f.truth.parameters = {{"beta", beta}};
   f.truth.description =
@@ -100,10 +105,14 @@ FamilyEffect Scoped(int variant, Random* rng, uint64_t, int) {
   f.apply = [which, beta, scope](const EffectContext& c) {
     if (!InScope(scope, c.slot)) return 1.0;
     switch (which) {
-      case 0: return std::exp(beta * (900 - c.pass->temperature_c) / 100);
-      case 1: return std::pow(c.pass->speed_mps / 10, beta);
-      case 2: return std::pow(560 / c.mount->hardness_hb, beta);
-      default: return 1 + beta * c.campaign_length_before_m / 1e5;
+      case 0:
+        return std::exp(beta * (900 - c.pass->temperature_c) / 100);
+      case 1:
+        return std::pow(c.pass->speed_mps / 10, beta);
+      case 2:
+        return std::pow(560 / c.mount->hardness_hb, beta);
+      default:
+        return 1 + beta * c.campaign_length_before_m / 1e5;
     }
   };
   return f;
@@ -183,8 +192,8 @@ FamilyEffect ColumnOffset(int variant, Random* rng, bool null_effect) {
   }
   f.truth.levels = {levels[low]};
   f.truth.parameters["offset_um"] = -offset;
-  f.truth.description = "readings of " + f.column + " " + levels[low] +
-                        " (" + Fmt("%.0f", 100 * share) + " % of them) read " +
+  f.truth.description = "readings of " + f.column + " " + levels[low] + " (" +
+                        Fmt("%.0f", 100 * share) + " % of them) read " +
                         Fmt("%.1f", offset) + " um low";
   f.apply = [low, offset](const EffectContext& c) {
     return c.column_level == low ? -offset : 0.0;
@@ -208,19 +217,19 @@ FamilyEffect CalendarDrift(int variant, Random* rng, uint64_t, int) {
   const bool step = form % 2 == 1;
   const double size = reading ? rng->Uniform(15, 35) : rng->Uniform(0.2, 0.4);
   const double at = rng->Uniform(0.35, 0.65);
-  FamilyEffect f =
-      Base("calendar_drift", reading ? "measured_at" : "rolled_at",
-           std::string(reading ? "reading_" : "rate_") +
-               (step ? "step" : "linear"),
-           reading ? -size : size);
+  FamilyEffect f = Base(
+      "calendar_drift", reading ? "measured_at" : "rolled_at",
+      std::string(reading ? "reading_" : "rate_") + (step ? "step" : "linear"),
+      reading ? -size : size);
   f.kind = reading ? EffectKind::kMeasurement : EffectKind::kWearRate;
-  f.truth.parameters = {{reading ? "offset_um" : "gain", reading ? -size : size}};
+  f.truth.parameters = {
+      {reading ? "offset_um" : "gain", reading ? -size : size}};
   if (step) f.truth.parameters["step_at_fraction"] = at;
   f.truth.description =
-      std::string(reading ? "the reading drifts low by up to " +
-                                Fmt("%.1f um", size)
-                          : "the wear rate rises by up to " +
-                                Fmt("%.0f %%", 100 * size)) +
+      std::string(
+          reading
+              ? "the reading drifts low by up to " + Fmt("%.1f um", size)
+              : "the wear rate rises by up to " + Fmt("%.0f %%", 100 * size)) +
       (step ? " in one step part-way through the period"
             : " linearly over the period") +
       " (calendar time, campaign by campaign)";
@@ -243,15 +252,14 @@ FamilyEffect Stoppages(int variant, Random* rng, bool null_effect) {
   const double beta = rng->Uniform(0.4, 0.8);
   FamilyEffect f = Base(null_effect ? "stoppages_null" : "stoppages",
                         null_effect ? "" : "hours_since_mount",
-                        null_effect ? "none"
+                        null_effect  ? "none"
                         : saturating ? "1 + beta (1 - exp(-h / 6 h))"
                                      : "1 + beta h / 10 h",
                         null_effect ? 0 : beta);
   f.stoppage_probability = 0.015;
   f.stoppage_min_h = 0.5;
   f.stoppage_max_h = 4;
-  f.truth.parameters = {{"stoppage_probability", 0.015},
-                        {"stoppage_max_h", 4}};
+  f.truth.parameters = {{"stoppage_probability", 0.015}, {"stoppage_max_h", 4}};
   if (null_effect) {
     f.truth.null_effect = true;
     f.truth.description =
@@ -262,7 +270,8 @@ FamilyEffect Stoppages(int variant, Random* rng, bool null_effect) {
   f.truth.parameters["beta"] = beta;
   f.truth.description =
       "stoppages inside campaigns part hours in service from rolled length; "
-      "the wear rate grows with hours_since_mount: " + f.truth.form;
+      "the wear rate grows with hours_since_mount: " +
+      f.truth.form;
   f.apply = [saturating, beta](const EffectContext& c) {
     const double h = c.hours_since_mount;
     return saturating ? 1 + beta * (1 - std::exp(-h / 6)) : 1 + beta * h / 10;
@@ -276,8 +285,8 @@ FamilyEffect StoppagesNull(int variant, Random* rng, uint64_t, int) {
   return Stoppages(variant, rng, true);
 }
 
-FamilyEffect Inexpressible(const char* name, std::string form,
-                           double strength, std::string mismatch) {
+FamilyEffect Inexpressible(const char* name, std::string form, double strength,
+                           std::string mismatch) {
   FamilyEffect f = Base(name, "", std::move(form), strength);
   f.truth.expressible = false;
   f.truth.mismatch = std::move(mismatch);
@@ -291,9 +300,9 @@ FamilyEffect InexpressibleOrder(int variant, Random* rng, uint64_t, int) {
   const bool decay = variant % 2 == 1;
   const double s = rng->Uniform(0.6, 1.0);
   const double n = rng->Uniform(20, 35);
-  FamilyEffect f = Inexpressible("inexpressible_order",
-                                 decay ? "decay" : "step", s,
-                                 "campaign order x grade");
+  FamilyEffect f =
+      Inexpressible("inexpressible_order", decay ? "decay" : "step", s,
+                    "campaign order x grade");
   f.truth.parameters = {{"s", s}, {"n_coils", n}};
   f.truth.levels = {"HSLA420", "DP600", "API-X65", "API-X70"};
   f.truth.description =
@@ -312,10 +321,9 @@ FamilyEffect InexpressibleOrder(int variant, Random* rng, uint64_t, int) {
 // m = exp(b zT zv), zT = (900 - T) / 30 K, zv = ln(v / 10) / 0.25.
 FamilyEffect InexpressibleInteraction(int, Random* rng, uint64_t, int) {
   const double b = rng->Uniform(0.15, 0.25);
-  FamilyEffect f = Inexpressible(
-      "inexpressible_interaction",
-      "exp(b (900 - T) / 30 * ln(v / 10) / 0.25)", b,
-      "temperature_c x speed_mps");
+  FamilyEffect f = Inexpressible("inexpressible_interaction",
+                                 "exp(b (900 - T) / 30 * ln(v / 10) / 0.25)", b,
+                                 "temperature_c x speed_mps");
   f.truth.parameters = {{"b", b}};
   f.truth.description =
       "cold strip wears more only at high speed and less at low speed (a "
@@ -340,8 +348,9 @@ FamilyEffect InexpressibleRandomWalk(int, Random* rng, uint64_t seed,
   f.truth.parameters = {{"rho", rho}, {"sd", sd}};
   f.truth.description =
       "each roll position's wear rate wanders slowly from campaign to "
-      "campaign (AR(1) in log, rho " + Fmt("%.2f", rho) + ", sd " +
-      Fmt("%.2f", sd) + "): no recorded quantity follows it";
+      "campaign (AR(1) in log, rho " +
+      Fmt("%.2f", rho) + ", sd " + Fmt("%.2f", sd) +
+      "): no recorded quantity follows it";
   auto walk = std::make_shared<std::vector<double>>(4 * num_campaigns);
   Random noise = MakeRandom(seed, Stream::kFamilyNoise, 0);
   std::array<double, 4> x{};
@@ -387,7 +396,8 @@ FamilyEffect InexpressibleBursts(int, Random* rng, uint64_t seed,
   }
   f.truth.description =
       "in a few calendar periods the wear of every roll scatters more (extra "
-      "lognormal factor, sd " + Fmt("%.2f", sd) + ", mean 1)";
+      "lognormal factor, sd " +
+      Fmt("%.2f", sd) + ", mean 1)";
   f.apply = [factor](const EffectContext& c) {
     return (*factor)[4 * c.campaign + c.slot];
   };
@@ -400,16 +410,16 @@ const std::vector<FamilySpec>& Families() {
        "a covariate effect (temperature, speed, hardness or campaign length) "
        "at one stand or one roll position only",
        12, &Scoped},
-      {"grade_stand", "one grade wears one stand (mostly F7) x1.2..1.5 more",
-       6, &GradeStand},
-      {"roll_type_stand", "one roll type wears x1.2..1.5 more at one stand",
-       8, &RollTypeStand},
+      {"grade_stand", "one grade wears one stand (mostly F7) x1.2..1.5 more", 6,
+       &GradeStand},
+      {"roll_type_stand", "one roll type wears x1.2..1.5 more at one stand", 8,
+       &RollTypeStand},
       {"grinder",
        "a text column of measurements.csv (grinder/gauge/crew); one level "
        "reads 8..25 um low",
        3, &Grinder},
-      {"grinder_null", "the grinder column with no offset (quiet expected)",
-       3, &GrinderNull},
+      {"grinder_null", "the grinder column with no offset (quiet expected)", 3,
+       &GrinderNull},
       {"calendar_drift",
        "wear rate (rolled_at) or reading (measured_at) drifting with "
        "calendar time, linear or step",

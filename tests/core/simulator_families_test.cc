@@ -7,9 +7,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <string>
 #include <map>
 #include <set>
+#include <string>
 #include <tuple>
 #include <vector>
 
@@ -125,20 +125,21 @@ std::vector<Row> Rows(const Simulation& sim, In in) {
   for (size_t i = 0; i < d.measurements.size(); ++i) {
     Row r;
     r.m = &d.measurements[i];
-    r.mount = mounts.at({r.m->campaign, r.m->stand,
-                         static_cast<int>(r.m->position)});
+    r.mount =
+        mounts.at({r.m->campaign, r.m->stand, static_cast<int>(r.m->position)});
     r.measured = r.m->wear_center_um;
     r.noise_free = t.noise_free_wear_um[i];
-    const double k = t.k_position.at(RollPositionName(r.m->stand, r.m->position)) *
-                     t.k_roll_type.at(d.roll_types[r.mount->roll_type]);
+    const double k =
+        t.k_position.at(RollPositionName(r.m->stand, r.m->position)) *
+        t.k_roll_type.at(d.roll_types[r.mount->roll_type]);
     const UnixSeconds start = d.campaigns[r.m->campaign].started_at;
     for (const Pass* p : passes.at({r.m->campaign, r.m->stand})) {
       const PassLoadInput load{p->force_kn,          p->width_mm,
                                p->length_m,          p->entry_thickness_mm,
                                p->exit_thickness_mm, r.mount->diameter_mm,
                                r.mount->hardness_hb};
-      const double dw = k * t.k_grade.at(d.grades[p->grade]) *
-                        BaseLoad(WearLaw::kWang, load);
+      const double dw =
+          k * t.k_grade.at(d.grades[p->grade]) * BaseLoad(WearLaw::kWang, load);
       r.baseline += dw;
       r.share += in(*p, *r.mount) ? dw : 0;
       r.mean_hours += dw * (p->rolled_at - start) / 3600.0;
@@ -177,12 +178,11 @@ TEST(SimulatorFamilyTest, GradeStandCellWearsByTheTrueFactor) {
   EXPECT_EQ(e.covariate, "grade");
   EXPECT_GE(e.strength, 1.2);
   EXPECT_LE(e.strength, 1.5);
-  const int s355 = Dataset::Intern(const_cast<std::vector<std::string>*>(
-                                       &sim.data.grades), "S355");
+  const int s355 = Dataset::Intern(
+      const_cast<std::vector<std::string>*>(&sim.data.grades), "S355");
   std::vector<double> share, excess;
-  for (const Row& r : Rows(sim, [&](const Pass& p, const Mount&) {
-         return p.grade == s355;
-       })) {
+  for (const Row& r :
+       Rows(sim, [&](const Pass&p, const Mount&) { return p.grade == s355; })) {
     if (r.m->stand == 6) {
       EXPECT_NEAR(r.noise_free / r.baseline, 1, 1e-9);
       continue;
@@ -201,7 +201,8 @@ TEST(SimulatorFamilyTest, RollTypeWearsMoreAtOneStandOnly) {
   ASSERT_EQ(e.levels, std::vector<std::string>{"ICDP-S1"});
   ASSERT_EQ(e.scope.at("stand"), "F7");
   std::vector<double> in_cell, out_cell;
-  for (const Row& r : Rows(sim, [](const Pass&, const Mount&) { return true; })) {
+  for (const Row& r :
+       Rows(sim, [](const Pass&, const Mount&) { return true; })) {
     const bool cell = sim.data.roll_types[r.mount->roll_type] == "ICDP-S1";
     const bool f7 = r.m->stand == 7;
     EXPECT_NEAR(r.noise_free / r.baseline, cell && f7 ? e.strength : 1, 1e-9);
@@ -224,7 +225,8 @@ TEST(SimulatorFamilyTest, ScopedTemperatureActsAtF7Only) {
   EXPECT_EQ(e.covariate, "temperature_c");
   EXPECT_EQ(e.scope.at("stand"), "F7");
   int changed = 0;
-  for (const Row& r : Rows(sim, [](const Pass&, const Mount&) { return true; })) {
+  for (const Row& r :
+       Rows(sim, [](const Pass&, const Mount&) { return true; })) {
     if (r.m->stand == 6) {
       EXPECT_NEAR(r.noise_free / r.baseline, 1, 1e-9);
     } else {
@@ -235,7 +237,8 @@ TEST(SimulatorFamilyTest, ScopedTemperatureActsAtF7Only) {
   // The position-scoped variant touches F7/top only.
   const Simulation top = Simulated(33, 20, {"scoped:8"});
   EXPECT_EQ(OnlyEffect(top).scope.at("position"), "top");
-  for (const Row& r : Rows(top, [](const Pass&, const Mount&) { return true; })) {
+  for (const Row& r :
+       Rows(top, [](const Pass&, const Mount&) { return true; })) {
     if (r.m->stand != 7 || r.m->position != Position::kTop) {
       EXPECT_NEAR(r.noise_free / r.baseline, 1, 1e-9);
     }
@@ -266,8 +269,8 @@ TEST(SimulatorFamilyTest, GrinderColumnReadsLowOnOneLevel) {
         Rows(sim, [](const Pass&, const Mount&) { return true; });
     for (size_t i = 0; i < rows.size(); ++i) {
       const int level = x.factor[0][i];
-      EXPECT_NEAR(rows[i].noise_free - rows[i].baseline, level == 1 ? offset : 0,
-                  1e-9);
+      EXPECT_NEAR(rows[i].noise_free - rows[i].baseline,
+                  level == 1 ? offset : 0, 1e-9);
       sum[level] += rows[i].measured - rows[i].baseline;
       ++n[level];
     }
@@ -283,7 +286,8 @@ TEST(SimulatorFamilyTest, CalendarDriftFollowsCampaignOrder) {
   const SimulatedEffect& e = OnlyEffect(rate);
   EXPECT_EQ(e.covariate, "rolled_at");
   EXPECT_EQ(e.form, "rate_linear");
-  for (const Row& r : Rows(rate, [](const Pass&, const Mount&) { return true; })) {
+  for (const Row& r :
+       Rows(rate, [](const Pass&, const Mount&) { return true; })) {
     EXPECT_NEAR(r.noise_free / r.baseline,
                 1 + e.strength * r.m->campaign / 99.0, 1e-9);
   }
@@ -292,7 +296,8 @@ TEST(SimulatorFamilyTest, CalendarDriftFollowsCampaignOrder) {
   const SimulatedEffect& f = OnlyEffect(reading);
   EXPECT_EQ(f.covariate, "measured_at");
   int low = 0;
-  for (const Row& r : Rows(reading, [](const Pass&, const Mount&) { return true; })) {
+  for (const Row& r :
+       Rows(reading, [](const Pass&, const Mount&) { return true; })) {
     const double d = r.noise_free - r.baseline;
     EXPECT_TRUE(std::abs(d) < 1e-9 || std::abs(d - f.strength) < 1e-9) << d;
     low += d < 0;
@@ -321,14 +326,16 @@ TEST(SimulatorFamilyTest, StoppagesPartHoursFromLength) {
   EXPECT_GT(hours_length(clean), 0.5);
   EXPECT_LT(hours_length(null), hours_length(clean) - 0.2)
       << hours_length(null) << " vs " << hours_length(clean);
-  for (const Row& r : Rows(null, [](const Pass&, const Mount&) { return true; })) {
+  for (const Row& r :
+       Rows(null, [](const Pass&, const Mount&) { return true; })) {
     EXPECT_NEAR(r.noise_free / r.baseline, 1, 1e-9);
   }
   const Simulation on = Simulated(36, 100, {"stoppages:0"});
   const SimulatedEffect& e = OnlyEffect(on);
   EXPECT_EQ(e.covariate, "hours_since_mount");
   std::vector<double> ratio, hours;
-  for (const Row& r : Rows(on, [](const Pass&, const Mount&) { return true; })) {
+  for (const Row& r :
+       Rows(on, [](const Pass&, const Mount&) { return true; })) {
     // Linear in hours: the baseline-weighted mean hours give the ratio.
     EXPECT_NEAR(r.noise_free / r.baseline, 1 + e.strength * r.mean_hours / 10,
                 1e-9);
@@ -336,9 +343,9 @@ TEST(SimulatorFamilyTest, StoppagesPartHoursFromLength) {
 }
 
 TEST(SimulatorFamilyTest, InexpressibleEffectsSayWhereTheMismatchLives) {
-  for (const char* name : {"inexpressible_order", "inexpressible_interaction",
-                           "inexpressible_random_walk",
-                           "inexpressible_bursts"}) {
+  for (const char* name :
+       {"inexpressible_order", "inexpressible_interaction",
+        "inexpressible_random_walk", "inexpressible_bursts"}) {
     const Simulation sim = Simulated(37, 60, {name});
     const SimulatedEffect& e = OnlyEffect(sim);
     EXPECT_FALSE(e.expressible) << name;
@@ -355,7 +362,7 @@ TEST(SimulatorFamilyTest, InexpressibleEffectsSayWhereTheMismatchLives) {
   const Simulation order = Simulated(37, 60, {"inexpressible_order:0"});
   const SimulatedEffect& e = OnlyEffect(order);
   const double n = e.parameters.at("n_coils");
-  for (const Row& r : Rows(order, [&](const Pass& p, const Mount&) {
+  for (const Row& r : Rows(order, [&](const Pass&p, const Mount&) {
          const std::string& g = order.data.grades[p.grade];
          return p.seq - 1 < n && (g == "HSLA420" || g == "DP600" ||
                                   g == "API-X65" || g == "API-X70");
@@ -404,8 +411,7 @@ TEST(SimulatorFamilyTest, VariantFromSeedOrSuffix) {
     const Simulation s = Simulated(seed, 10, {"scoped"});
     const int v = static_cast<int>(OnlyEffect(s).parameters.at("variant"));
     variants.insert(v);
-    const Simulation k =
-        Simulated(seed, 10, {"scoped:" + std::to_string(v)});
+    const Simulation k = Simulated(seed, 10, {"scoped:" + std::to_string(v)});
     EXPECT_EQ(k.truth.noise_free_wear_um, s.truth.noise_free_wear_um);
   }
   EXPECT_GE(variants.size(), 4u);

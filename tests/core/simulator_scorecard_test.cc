@@ -4,21 +4,21 @@
 // an inexpressible effect is named right only by "unexplained" without a
 // finding; and on one small simulated clean case, the noise floor is the
 // truth's.
-#include "core/report/scorecard.h"
-
 #include <cmath>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "core/report/scorecard.h"
 #include "core/sim/simulator.h"
 #include "tests/core/simulator_test_util.h"
 
 namespace rollwear {
 namespace {
 
-Finding Found(std::string covariate, std::map<std::string, std::string> scope = {},
+Finding Found(std::string covariate,
+              std::map<std::string, std::string> scope = {},
               std::vector<std::string> levels = {}) {
   Finding f;
   f.covariate = std::move(covariate);
@@ -56,15 +56,15 @@ ScoreTruth Truth(std::vector<ConcealedEffect> effects) {
   return t;
 }
 
-const ConcealedEffect kGradeF7 = {
-    "grade_stand", "grade", {{"stand", "F7"}}, {"S355"}, true, ""};
+const ConcealedEffect kGradeF7 = {"grade_stand", "grade", {{"stand", "F7"}},
+                                  {"S355"},      true,    ""};
 
 TEST(ScorecardTest, GradeAtF7NamedRightOnlyWithScopeAndLevel) {
   const ScoreTruth truth = Truth({kGradeF7});
-  CaseScore s = ScoreCase(
-      "grade_stand", 3,
-      Report({Found("grade", {{"stand", "F7"}}, {"S355"})}, "missing_physics_found"),
-      truth);
+  CaseScore s = ScoreCase("grade_stand", 3,
+                          Report({Found("grade", {{"stand", "F7"}}, {"S355"})},
+                                 "missing_physics_found"),
+                          truth);
   EXPECT_TRUE(s.named_right);
   EXPECT_EQ(s.wrong_physics, 0);
   EXPECT_FALSE(s.clean);
@@ -91,11 +91,11 @@ TEST(ScorecardTest, GradeAtF7NamedRightOnlyWithScopeAndLevel) {
                 truth);
   EXPECT_FALSE(s.named_right);
   // Right finding plus a spurious second one.
-  s = ScoreCase("grade_stand", 3,
-                Report({Found("grade", {{"stand", "F7"}}, {"S355"}),
-                        Found("force_kn")},
-                       "missing_physics_found"),
-                truth);
+  s = ScoreCase(
+      "grade_stand", 3,
+      Report({Found("grade", {{"stand", "F7"}}, {"S355"}), Found("force_kn")},
+             "missing_physics_found"),
+      truth);
   EXPECT_TRUE(s.named_right);
   EXPECT_EQ(s.wrong_physics, 1);
 }
@@ -103,7 +103,8 @@ TEST(ScorecardTest, GradeAtF7NamedRightOnlyWithScopeAndLevel) {
 TEST(ScorecardTest, EquivalentNamesOnlyWithinTheirClass) {
   EXPECT_TRUE(SameCovariate("rolled_at", "started_at"));
   EXPECT_TRUE(SameCovariate("measured_at", "started_at"));
-  EXPECT_TRUE(SameCovariate("campaign_length_before_m", "campaign_coils_before"));
+  EXPECT_TRUE(
+      SameCovariate("campaign_length_before_m", "campaign_coils_before"));
   EXPECT_FALSE(SameCovariate("hours_since_mount", "campaign_length_before_m"));
   EXPECT_FALSE(SameCovariate("temperature_c", "speed_mps"));
   EXPECT_FALSE(SameCovariate("", ""));
@@ -111,16 +112,16 @@ TEST(ScorecardTest, EquivalentNamesOnlyWithinTheirClass) {
 }
 
 TEST(ScorecardTest, InexpressibleIsRightOnlyAsUnexplained) {
-  const ScoreTruth truth =
-      Truth({{"inexpressible_order", "", {}, {}, false, "campaign order x grade"}});
+  const ScoreTruth truth = Truth(
+      {{"inexpressible_order", "", {}, {}, false, "campaign order x grade"}});
   CaseScore s = ScoreCase("inexpressible_order", 1,
                           Report({}, "mismatch_located_unexplained"), truth);
   EXPECT_TRUE(s.named_right);
   EXPECT_FALSE(s.expressible);
   EXPECT_EQ(s.wrong_physics, 0);
-  s = ScoreCase("inexpressible_order", 1,
-                Report({Found("campaign_coils_before")}, "missing_physics_found"),
-                truth);
+  s = ScoreCase(
+      "inexpressible_order", 1,
+      Report({Found("campaign_coils_before")}, "missing_physics_found"), truth);
   EXPECT_FALSE(s.named_right);
   EXPECT_EQ(s.wrong_physics, 1);
   s = ScoreCase("inexpressible_order", 1, Report({}, "no_significant_mismatch"),
@@ -132,8 +133,8 @@ TEST(ScorecardTest, SummaryCountsAndTable) {
   const ScoreTruth clean = Truth({});
   std::vector<CaseScore> cases = {
       ScoreCase("clean", 1, Report({}, "no_significant_mismatch"), clean),
-      ScoreCase("clean", 2, Report({Found("speed_mps")}, "missing_physics_found"),
-                clean),
+      ScoreCase("clean", 2,
+                Report({Found("speed_mps")}, "missing_physics_found"), clean),
       ScoreCase("grade_stand", 1,
                 Report({Found("grade", {{"stand", "F7"}}, {"S355"})},
                        "missing_physics_found"),
@@ -152,7 +153,8 @@ TEST(ScorecardTest, SummaryCountsAndTable) {
   EXPECT_NE(table.find("| clean | 2 | - | 1/2 | 1/2 | 1.200 | 1.200 |"),
             std::string::npos)
       << table;
-  EXPECT_NE(table.find("| grade_stand | 1 | 1/1 | 0/1 | 0/1 |"), std::string::npos)
+  EXPECT_NE(table.find("| grade_stand | 1 | 1/1 | 0/1 | 0/1 |"),
+            std::string::npos)
       << table;
   EXPECT_NE(table.find("| **all** | 3 | 1/1 | 1/3 | 1/3 |"), std::string::npos)
       << table;
