@@ -105,7 +105,8 @@ Command AddSimulate(CLI::App* app) {
   AddCount(c, "--seed", args->options.seed, "simulator seed");
   c->add_option("--effect", args->effects,
                 "concealed effect(s) to simulate, comma-separated; "
-                "repeatable; none = no effect (see --list-effects)")
+                "repeatable; none = no effect; a family takes NAME:K for "
+                "its variant K (see --list-effects)")
       ->type_name("NAME[,NAME]")
       ->allow_extra_args(false);  // one value per --effect
   AddCount(c, "--campaigns", args->options.num_campaigns,
@@ -115,6 +116,9 @@ Command AddSimulate(CLI::App* app) {
             "mean coils per campaign");
   AddNumber(c, "--missing", args->options.missing_measurement_fraction,
             "fraction of grinder measurements left out");
+  AddNumber(c, "--gross-errors", args->options.gross_error_fraction,
+            "fraction of readings with gross grinder errors, on top of any "
+            "effect (0 = none)");
   AddPath(c, "--truth", args->truth, "FILE",
           "ground-truth JSON file (default DIR.truth.json, beside DIR; "
           "never inside it)");
@@ -324,6 +328,27 @@ Command AddDiagnose(CLI::App* app) {
   return {c, [args] { return RunDiagnose(*args); }};
 }
 
+Command AddScorecard(CLI::App* app) {
+  auto args = std::make_shared<ScorecardArgs>();
+  CLI::App* c = AddCommand(
+      app, "scorecard",
+      "Simulate every effect x seed, diagnose each dataset and score the "
+      "report against the truth: named right, wrong physics, quiet on clean "
+      "data, validation gap / noise floor, time (docs/diagnosis.md).");
+  AddCount(c, "--seeds", args->seeds, "seeds per case")
+      ->check(CLI::Range(1, 1000));
+  AddCount(c, "--first-seed", args->first_seed, "first simulator seed");
+  AddPath(c, "--effects", args->effects, "CASE[,CASE]",
+          "cases: simulator effects, several joined by '+', clean for none "
+          "(default: clean, gross_errors and every effect)");
+  AddCount(c, "--campaigns", args->campaigns, "campaigns per dataset")
+      ->check(CLI::Range(20, 100000));
+  AddCount(c, "--threads", args->threads, "threads of each diagnosis")
+      ->check(CLI::Range(1, 256));
+  AddPath(c, "--json", args->json, "FILE", "write cases and summary as JSON");
+  return {c, [args] { return RunScorecard(*args); }};
+}
+
 // Exit 2 with "rollwear[ COMMAND]: MESSAGE" and where the help is.
 int UsageError(const CLI::App* command, const std::string& message) {
   const std::string who =
@@ -362,7 +387,8 @@ int RunCli(int argc, char** argv, const BuildVersion& build) {
                                          AddStudy(&app),    AddAnn(&app),
                                          AddServe(&app, build), AddImport(&app),
                                          AddExport(&app),
-                                         AddReplay(&app),   AddDiagnose(&app)};
+                                         AddReplay(&app),   AddDiagnose(&app),
+                                         AddScorecard(&app)};
 
   std::string parse_error;
   try {

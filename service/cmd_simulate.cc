@@ -1,5 +1,6 @@
-// `rollwear simulate --out DIR [--seed N] [--effect NAME]... [--campaigns N]
-//  [--coils-per-campaign X] [--missing F] [--truth FILE] [--list-effects]`
+// `rollwear simulate --out DIR [--seed N] [--effect NAME[:K]]... [--campaigns
+//  N] [--coils-per-campaign X] [--missing F] [--gross-errors F] [--truth FILE]
+//  [--list-effects]`
 // Writes a synthetic mill dataset folder and, beside it (DIR.truth.json
 // unless --truth says otherwise, never inside the dataset folder), the
 // simulator's ground truth; prints a one-paragraph summary.
@@ -18,21 +19,11 @@
 namespace rollwear::cli {
 namespace {
 
-std::string ValidEffectNames() {
-  std::string out;
-  for (const auto& [name, description] : SimulatorEffects()) {
-    out += out.empty() ? "" : ", ";
-    out += name;
-  }
-  return out;
-}
-
 // Splits the --effect values at commas; "none" selects nothing. Duplicates
-// are dropped. False with `error` for an unknown name.
-bool ParseEffects(const std::vector<std::string>& values,
-                  std::vector<std::string>* out, std::string* error) {
-  std::set<std::string> known;
-  for (const auto& [name, description] : SimulatorEffects()) known.insert(name);
+// are dropped; SimulatorOptions::IsValid checks the names (a family may
+// carry a variant suffix, NAME:K).
+void ParseEffects(const std::vector<std::string>& values,
+                  std::vector<std::string>* out) {
   std::set<std::string> seen;
   for (const std::string& value : values) {
     size_t begin = 0;
@@ -42,15 +33,9 @@ bool ParseEffects(const std::vector<std::string>& values,
       std::string name = value.substr(begin, end - begin);
       begin = end + 1;
       if (name.empty() || name == "none") continue;
-      if (known.count(name) == 0) {
-        *error = "unknown effect '" + name +
-                 "'; valid effects: " + ValidEffectNames() + " (or none)";
-        return false;
-      }
       if (seen.insert(name).second) out->push_back(name);
     }
   }
-  return true;
 }
 
 // DIR without trailing separators, made absolute when it names no folder
@@ -127,7 +112,7 @@ void PrintSummary(const Simulation& sim, const std::string& out_dir,
 int RunSimulate(const SimulateArgs& args) {
   if (args.list_effects) {
     for (const auto& [name, description] : SimulatorEffects()) {
-      std::printf("%-18s %s\n", name.c_str(), description.c_str());
+      std::printf("%-26s %s\n", name.c_str(), description.c_str());
     }
     return 0;
   }
@@ -138,8 +123,8 @@ int RunSimulate(const SimulateArgs& args) {
   const std::string& out_dir = args.out;
   SimulatorOptions options = args.options;
   std::string error;
-  if (!ParseEffects(args.effects, &options.effects, &error) ||
-      !options.IsValid(&error)) {
+  ParseEffects(args.effects, &options.effects);
+  if (!options.IsValid(&error)) {
     std::fprintf(stderr, "rollwear simulate: %s\n", error.c_str());
     return 2;
   }

@@ -82,6 +82,16 @@ struct DiagnoseArgs {
 };
 int RunDiagnose(const DiagnoseArgs& args);
 
+struct ScorecardArgs {
+  int seeds = 5;
+  uint64_t first_seed = 101;
+  std::string effects;  // empty: every case (service/cmd_scorecard.cc)
+  int campaigns = 395;
+  int threads = 2;
+  std::string json;  // empty: no JSON file
+};
+int RunScorecard(const ScorecardArgs& args);
+
 struct ServeArgs {
   std::string config;  // empty: no config file
   BuildVersion build;  // for rollwear_build_info

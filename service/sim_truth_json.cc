@@ -32,10 +32,22 @@ std::string TruthJson(const SimulationTruth& truth) {
   doc["k_grade"] = Object(truth.k_grade);
   Json effects = Json::array();
   for (const SimulatedEffect& e : truth.effects) {
-    effects.push_back({{"name", e.name},
-                       {"covariate", e.covariate},
-                       {"description", e.description},
-                       {"parameters", Object(e.parameters)}});
+    Json effect = {{"name", e.name},
+                   {"covariate", e.covariate},
+                   {"description", e.description},
+                   {"parameters", Object(e.parameters)}};
+    // Effect families (core/sim/sim_families.cc): form, strength, where it
+    // applies (null = everywhere), affected levels, expressibility.
+    if (!e.form.empty()) {
+      effect["form"] = e.form;
+      effect["strength"] = Number(e.strength);
+      effect["scope"] = e.scope.empty() ? Json(nullptr) : Json(e.scope);
+      effect["levels"] = e.levels;
+      effect["expressible"] = e.expressible;
+      if (!e.expressible) effect["mismatch"] = e.mismatch;
+      effect["null_effect"] = e.null_effect;
+    }
+    effects.push_back(std::move(effect));
   }
   doc["effects"] = std::move(effects);
   doc["noise_floor_um"] = Number(truth.noise_floor_um);

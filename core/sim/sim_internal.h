@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -38,6 +39,13 @@ enum class Stream : uint64_t {
   kTiming = 9,
   kGross = 10,
   kProfile = 11,
+  // Effect families (sim_families.cc): variant and strengths, stoppages
+  // inside campaigns, the level of a measurement-side column, per-campaign
+  // random factors.
+  kFamily = 12,
+  kStoppage = 13,
+  kColumn = 14,
+  kFamilyNoise = 15,
 };
 Random MakeRandom(uint64_t seed, Stream stream, uint64_t index);
 // exp(sigma*z - sigma^2/2), z ~ N(0,1): lognormal with mean exactly 1.
@@ -181,6 +189,14 @@ struct EffectContext {
   double hours_since_mount = 0;
   double cooling_h = 0;
   double days_since_first_campaign = 0;  // of this campaign's start
+  // For the effect families (sim_families.cc): where and on what the pass
+  // runs, and which level of the family's measurement column read it.
+  int campaign = 0;       // index of the campaign, 0..num_campaigns-1
+  int num_campaigns = 1;
+  int slot = 0;           // SimSlot of the roll
+  int grade = -1;         // index into Grades()
+  int roll_type = -1;     // index into RollTypes()
+  int column_level = -1;  // measurement effects: level of the column
 };
 
 enum class EffectKind {
@@ -216,6 +232,37 @@ double GrossError(Random* rng, const double* p);
 const std::vector<EffectSpec>& EffectTable();
 // Entry called `name`, or nullptr.
 const EffectSpec* FindEffect(const std::string& name);
+
+// ---------------------------------------------------------------------------
+// Effect families (sim_families.cc): effects with several forms, strengths
+// and scopes, selected as NAME (variant drawn from the seed) or NAME:K
+// (variant K). Each one is drawn once per simulation into a FamilyEffect.
+
+struct FamilyEffect {
+  SimulatedEffect truth;
+  EffectKind kind = EffectKind::kWearRate;
+  // Wear-rate multiplier or reading offset (um) of one pass / reading; null
+  // for a family that changes no wear (the null variants).
+  std::function<double(const EffectContext&)> apply;
+  // Stoppages inside campaigns: each coil is followed, with this
+  // probability, by an idle time uniform in [min_h, max_h] hours.
+  double stoppage_probability = 0;
+  double stoppage_min_h = 0, stoppage_max_h = 0;
+  // A text column of measurements.csv (empty: none): its levels and the
+  // share of readings each level takes.
+  std::string column;
+  std::vector<std::string> column_levels;
+  std::vector<double> column_shares;
+};
+
+// NAME or NAME:K of a family; false if `name` is neither.
+bool IsFamilyName(const std::string& name);
+// The family effect `name` (IsFamilyName) for a simulation of
+// `num_campaigns` campaigns with `seed`.
+FamilyEffect DrawFamily(const std::string& name, uint64_t seed,
+                        int num_campaigns);
+// (name, description) of every family, in a fixed order.
+std::vector<std::pair<std::string, std::string>> FamilyList();
 
 }  // namespace rollwear::sim
 

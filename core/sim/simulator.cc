@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <set>
 
 #include "core/sim/sim_internal.h"
 #include "core/model/barrel_profile.h"
@@ -131,6 +130,12 @@ class MillRun {
 
  private:
   void InitTruthAndEffects();
+  void InitFamilies();
+  // Switches on an effect of the old table (its first parameter replaced
+  // by *first_parameter when given).
+  void Activate(const EffectSpec& e, const double* first_parameter);
+  // With a stoppages family: idle hours after some coils of campaign c.
+  void AddStoppages(int c, std::vector<sim::CoilPlan>* coils) const;
   void BuildInventory();
   // Chooses the four work rolls (mounted_); may delay *start until enough
   // rolls are ready.
@@ -164,6 +169,12 @@ class MillRun {
   std::vector<ActiveEffect> rate_effects_;
   std::vector<ActiveEffect> measurement_effects_;
   std::vector<ActiveEffect> gross_effects_;
+  // Effect families (sim_families.cc), applied after the effects above.
+  std::vector<sim::FamilyEffect> families_;
+  // Stoppages inside campaigns (the family that asks for them, or null).
+  const sim::FamilyEffect* stoppages_ = nullptr;
+  // Per family: its text column's index in measurement_extra (-1: none).
+  std::vector<int> column_of_;
   std::vector<Roll> rolls_;
   int next_serial_ = 1;
   std::array<int, sim::kNumGrades> grade_index_{};    // -> Dataset::grades
@@ -199,19 +210,57 @@ void MillRun::InitTruthAndEffects() {
   }
   for (const auto& g : sim::Grades()) truth_.k_grade[g.label] = g.k_grade;
 
+  InitFamilies();
   for (const std::string& name : options_.effects) {
     const EffectSpec* e = sim::FindEffect(name);
-    ActiveEffect active{e, {}};
-    SimulatedEffect out{e->name, e->covariate, e->description, {}};
-    for (int i = 0; i < e->num_parameters; ++i) {
-      active.parameters[i] = e->parameters[i].value;
-      out.parameters[e->parameters[i].name] = e->parameters[i].value;
+    if (e != nullptr) Activate(*e, nullptr);  // else a family
+  }
+  if (options_.gross_error_fraction > 0) {
+    Activate(*sim::FindEffect("gross_errors"), &options_.gross_error_fraction);
+  }
+  // Families after the old effects in the truth, in the order given.
+  for (const sim::FamilyEffect& f : families_) truth_.effects.push_back(f.truth);
+}
+
+void MillRun::Activate(const EffectSpec& e, const double* first_parameter) {
+  ActiveEffect active{&e, {}};
+  SimulatedEffect out;
+  out.name = e.name;
+  out.covariate = e.covariate;
+  out.description = e.description;
+  for (int i = 0; i < e.num_parameters; ++i) {
+    active.parameters[i] = i == 0 && first_parameter != nullptr
+                               ? *first_parameter
+                               : e.parameters[i].value;
+    out.parameters[e.parameters[i].name] = active.parameters[i];
+  }
+  (e.kind == EffectKind::kWearRate      ? rate_effects_
+   : e.kind == EffectKind::kMeasurement ? measurement_effects_
+                                        : gross_effects_)
+      .push_back(active);
+  truth_.effects.push_back(std::move(out));
+}
+
+void MillRun::InitFamilies() {
+  for (const std::string& name : options_.effects) {
+    if (sim::FindEffect(name) != nullptr) continue;
+    families_.push_back(
+        sim::DrawFamily(name, options_.seed, options_.num_campaigns));
+  }
+  for (const sim::FamilyEffect& f : families_) {
+    if (f.stoppage_probability > 0 && stoppages_ == nullptr) stoppages_ = &f;
+    column_of_.push_back(-1);
+    if (f.column.empty()) continue;
+    ExtraColumns& x = data_.measurement_extra;
+    std::string name = f.column;  // a second family's column gets "_2"
+    while (std::find(x.factor_names.begin(), x.factor_names.end(), name) !=
+           x.factor_names.end()) {
+      name += "_2";
     }
-    (e->kind == EffectKind::kWearRate      ? rate_effects_
-     : e->kind == EffectKind::kMeasurement ? measurement_effects_
-                                           : gross_effects_)
-        .push_back(active);
-    truth_.effects.push_back(std::move(out));
+    column_of_.back() = static_cast<int>(x.factor_names.size());
+    x.factor_names.push_back(name);
+    x.factor_levels.push_back(f.column_levels);
+    x.factor.emplace_back();
   }
 }
 
@@ -344,6 +393,16 @@ std::array<double, 4> MillRun::RollCoils(
         for (const ActiveEffect& e : rate_effects_) {
           k *= e.spec->apply(ctx, e.parameters.data());
         }
+        if (!families_.empty()) {
+          ctx.campaign = campaign;
+          ctx.num_campaigns = options_.num_campaigns;
+          ctx.slot = slot;
+          ctx.grade = coil.grade;
+          ctx.roll_type = rolls_[mounted_[slot]].type;
+          for (const sim::FamilyEffect& f : families_) {
+            if (f.kind == EffectKind::kWearRate && f.apply) k *= f.apply(ctx);
+          }
+        }
         const double pass_wear_um = k * BaseLoad(WearLaw::kWang, in);
         wear_um[slot] += pass_wear_um;
         if (options_.profiles) {
@@ -401,6 +460,7 @@ void MillRun::MeasureAndRegrind(int campaign,
   Random regrind_rng = MakeRandom(seed, Stream::kRegrind, campaign);
   Random gross_rng = MakeRandom(seed, Stream::kGross, campaign);
   Random profile_rng = MakeRandom(seed, Stream::kProfile, campaign + 1);
+  Random column_rng = MakeRandom(seed, Stream::kColumn, campaign);
   const double backlog_h = 7 * std::exp(cooling_rng.Normal(0, 0.8));
   for (int slot = 0; slot < 4; ++slot) {
     const Mount& m = MountOf(slot);
@@ -423,6 +483,22 @@ void MillRun::MeasureAndRegrind(int campaign,
     for (const ActiveEffect& e : measurement_effects_) {
       offset_um += e.spec->apply(ctx, e.parameters.data());
     }
+    ctx.campaign = campaign;
+    ctx.num_campaigns = options_.num_campaigns;
+    ctx.slot = slot;
+    std::vector<int> levels(data_.measurement_extra.factor.size(), -1);
+    for (size_t i = 0; i < families_.size(); ++i) {
+      const sim::FamilyEffect& f = families_[i];
+      ctx.column_level = -1;
+      if (column_of_[i] >= 0) {
+        ctx.column_level = levels[column_of_[i]] =
+            sim::Categorical(&column_rng, f.column_shares.data(),
+                             static_cast<int>(f.column_shares.size()));
+      }
+      if (f.kind == EffectKind::kMeasurement && f.apply) {
+        offset_um += f.apply(ctx);
+      }
+    }
     const double true_wear_um = scatter * wear_um[slot];
     double gross_um = 0;
     for (const ActiveEffect& e : gross_effects_) {
@@ -444,6 +520,9 @@ void MillRun::MeasureAndRegrind(int campaign,
       truth_.noise_free_keys.push_back({cp.id, m.stand, m.position});
       truth_.gross_error_um.push_back(gross_um);
       data_.measurements.push_back(std::move(meas));
+      for (size_t i = 0; i < levels.size(); ++i) {
+        data_.measurement_extra.factor[i].push_back(levels[i]);
+      }
       if (options_.profiles && profile_rng.Uniform() < kProfileShare) {
         AddProfile(campaign, slot, measured_at, scatter, offset_um,
                    &profile_rng);
@@ -461,6 +540,17 @@ void MillRun::MeasureAndRegrind(int campaign,
       const UnixSeconds ready = roll.available_at;
       roll = NewRoll(next_serial_++, roll.type, &regrind_rng);
       roll.available_at = ready;
+    }
+  }
+}
+
+void MillRun::AddStoppages(int c, std::vector<sim::CoilPlan>* coils) const {
+  if (stoppages_ == nullptr) return;
+  Random rng = MakeRandom(options_.seed, Stream::kStoppage, c);
+  for (size_t i = 0; i + 1 < coils->size(); ++i) {
+    if (rng.Uniform() < stoppages_->stoppage_probability) {
+      (*coils)[i].gap_s += 3600 * rng.Uniform(stoppages_->stoppage_min_h,
+                                              stoppages_->stoppage_max_h);
     }
   }
 }
@@ -485,6 +575,7 @@ void MillRun::Run() {
     if (!options_.shifting) {
       for (sim::CoilPlan& coil : coils) coil.shift6_mm = coil.shift7_mm = 0;
     }
+    AddStoppages(c, &coils);
     ChooseRolls(&start, &choice_rng);
     AddMounts(c);
 
@@ -513,47 +604,6 @@ void MillRun::Run() {
 }
 
 }  // namespace
-
-bool SimulatorOptions::IsValid(std::string* error) const {
-  if (num_campaigns < 1 || num_campaigns > 100000) {
-    *error = "num_campaigns must be in 1..100000";
-    return false;
-  }
-  if (!(coils_per_campaign >= 10 && coils_per_campaign <= 2000)) {
-    *error = "coils_per_campaign must be in 10..2000";
-    return false;
-  }
-  if (!(missing_measurement_fraction >= 0 &&
-        missing_measurement_fraction <= 1)) {
-    *error = "missing_measurement_fraction must be in [0, 1]";
-    return false;
-  }
-  std::set<std::string> seen;
-  for (const std::string& name : effects) {
-    if (sim::FindEffect(name) == nullptr) {
-      std::string valid;
-      for (const auto& e : sim::EffectTable()) {
-        valid += valid.empty() ? "" : ", ";
-        valid += e.name;
-      }
-      *error = "unknown effect '" + name + "' (valid: " + valid + ")";
-      return false;
-    }
-    if (!seen.insert(name).second) {
-      *error = "effect '" + name + "' given twice";
-      return false;
-    }
-  }
-  return true;
-}
-
-std::vector<std::pair<std::string, std::string>> SimulatorEffects() {
-  std::vector<std::pair<std::string, std::string>> out;
-  for (const EffectSpec& e : sim::EffectTable()) {
-    out.emplace_back(e.name, e.description);
-  }
-  return out;
-}
 
 StatusOr<Simulation> Simulate(const SimulatorOptions& options) {
   std::string error;

@@ -32,7 +32,9 @@ struct SimulatorOptions {
   int num_campaigns = 395;
   // Mean coils per campaign (campaign lengths vary around it).
   double coils_per_campaign = 131;
-  // Names from SimulatorEffects(); empty = no concealed effect.
+  // Names from SimulatorEffects(); empty = no concealed effect. A family
+  // (sim_families.cc) is NAME (form and strength drawn from the seed) or
+  // NAME:K (variant K of its forms/scopes; strength still from the seed).
   std::vector<std::string> effects;
   // Fraction of (campaign, position) measurements missing (gauge faults,
   // not yet ground).
@@ -43,6 +45,10 @@ struct SimulatorOptions {
   // Cyclic work-roll shifting (false: every pass at shift 0, same schedule
   // otherwise).
   bool shifting = true;
+  // > 0: gross grinder errors on this fraction of the readings, on top of
+  // any effect (the gross_errors effect with fraction = this; not with
+  // --effect gross_errors as well).
+  double gross_error_fraction = 0;
 
   bool IsValid(std::string* error) const;
 };
@@ -54,6 +60,24 @@ struct SimulatedEffect {
                             // ("" for gross_errors: no recorded quantity)
   std::string description;  // one sentence of physics
   std::map<std::string, double> parameters;
+  // Effect families (older effects: form "", strength 0, no scope or
+  // levels, expressible): the variant drawn, its size (a multiplier such
+  // as 1.3, a beta, or an offset in um; 0 for a null variant), where it
+  // applies ({"stand":"F7"}, {"stand":"F7","position":"top"}; empty =
+  // everywhere) and the affected levels of a factor (grade, roll type,
+  // grinder...).
+  std::string form;
+  double strength = 0;
+  std::map<std::string, std::string> scope;
+  std::vector<std::string> levels;
+  // false: no candidate term of one recorded quantity can describe it;
+  // `mismatch` then says where the residual structure lives ("campaign
+  // order", "time", "temperature_c x speed_mps").
+  bool expressible = true;
+  std::string mismatch;
+  // A null variant: data-side change only (a column, stoppages), no
+  // change of wear or reading; the diagnosis should stay quiet.
+  bool null_effect = false;
 };
 
 // Key of one SimulationTruth::noise_free_wear_um entry: the measurement row

@@ -34,7 +34,24 @@ inline Simulation Simulated(uint64_t seed, int campaigns,
   return std::move(s).value();
 }
 
-// recomputed here from the true factors (Wang's law, option 1) and the
+// Mounts by (campaign, stand, position) and passes by (campaign, stand).
+inline std::map<std::tuple<int, int, int>, const Mount*> MountsByKey(
+    const Dataset& d) {
+  std::map<std::tuple<int, int, int>, const Mount*> mounts;
+  for (const Mount& m : d.mounts) {
+    mounts[{m.campaign, m.stand, static_cast<int>(m.position)}] = &m;
+  }
+  return mounts;
+}
+inline std::map<std::pair<int, int>, std::vector<const Pass*>> PassesByStand(
+    const Dataset& d) {
+  std::map<std::pair<int, int>, std::vector<const Pass*>> passes;
+  for (const Pass& p : d.passes) passes[{p.campaign, p.stand}].push_back(&p);
+  return passes;
+}
+
+// One measurement with its baseline wear (no effect), recomputed here from
+// the true factors (Wang's law, option 1), and the
 // covariates of its passes, weighted by their baseline wear increments.
 struct MeasurementView {
   double measured = 0, noise_free = 0, baseline = 0;
@@ -47,12 +64,8 @@ struct MeasurementView {
 inline std::vector<MeasurementView> Views(const Simulation& sim) {
   const Dataset& d = sim.data;
   const SimulationTruth& t = sim.truth;
-  std::map<std::tuple<int, int, int>, const Mount*> mounts;
-  for (const Mount& m : d.mounts) {
-    mounts[{m.campaign, m.stand, static_cast<int>(m.position)}] = &m;
-  }
-  std::map<std::pair<int, int>, std::vector<const Pass*>> passes;
-  for (const Pass& p : d.passes) passes[{p.campaign, p.stand}].push_back(&p);
+  const auto mounts = MountsByKey(d);
+  const auto passes = PassesByStand(d);
 
   std::vector<MeasurementView> out;
   for (size_t i = 0; i < d.measurements.size(); ++i) {

@@ -30,7 +30,8 @@ const std::vector<CommandSpec>& Commands() {
   static const std::vector<CommandSpec> kCommands = {
       {"simulate",
        {"--out", "--seed", "--effect", "--campaigns", "--coils-per-campaign",
-        "--missing", "--truth", "--profiles", "--no-shift", "--list-effects"},
+        "--missing", "--gross-errors", "--truth", "--profiles", "--no-shift",
+        "--list-effects"},
        {"--out"}},
       {"calibrate",
        {"--data", "--model", "--option", "--start", "--protocol",
@@ -58,6 +59,10 @@ const std::vector<CommandSpec>& Commands() {
        {"--data", "--json", "--html", "--split-seed", "--model", "--threads",
         "--strict"},
        {"--data"}},
+      {"scorecard",
+       {"--seeds", "--first-seed", "--effects", "--campaigns", "--threads",
+        "--json"},
+       {}},
   };
   return kCommands;
 }

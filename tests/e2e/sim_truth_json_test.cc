@@ -93,5 +93,28 @@ TEST(SimTruthJsonTest, NonFiniteNumbersAreNull) {
   EXPECT_TRUE(doc.at("noise_free_wear_um").empty());
 }
 
+// Effect families: form, strength, scope, levels and expressibility; the
+// old effects keep their four fields only.
+TEST(SimTruthJsonTest, RecordsFamilyFormScopeLevels) {
+  const Simulation sim = Simulated(
+      6, 12, {"temperature", "grade_stand:0", "inexpressible_order"});
+  const nlohmann::json doc = nlohmann::json::parse(TruthJson(sim.truth));
+  const nlohmann::json& e = doc.at("effects");
+  ASSERT_EQ(e.size(), 3u);
+  EXPECT_FALSE(e[0].contains("form"));
+  EXPECT_EQ(e[1].at("name"), "grade_stand:0");
+  EXPECT_EQ(e[1].at("covariate"), "grade");
+  EXPECT_EQ(e[1].at("form"), "multiplier");
+  EXPECT_EQ(e[1].at("scope"), nlohmann::json({{"stand", "F7"}}));
+  EXPECT_EQ(e[1].at("levels"), nlohmann::json({"S355"}));
+  EXPECT_DOUBLE_EQ(e[1].at("strength").get<double>(),
+                   sim.truth.effects[1].strength);
+  EXPECT_TRUE(e[1].at("expressible").get<bool>());
+  EXPECT_FALSE(e[1].contains("mismatch"));
+  EXPECT_FALSE(e[2].at("expressible").get<bool>());
+  EXPECT_EQ(e[2].at("mismatch"), "campaign order x grade");
+  EXPECT_TRUE(e[2].at("scope").is_null());
+}
+
 }  // namespace
 }  // namespace rollwear

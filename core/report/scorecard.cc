@@ -1,0 +1,195 @@
+#include "core/report/scorecard.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <set>
+
+namespace rollwear {
+namespace {
+
+// Equivalence class of a covariate name (SameCovariate); the name itself
+// when it has none.
+std::string CovariateClass(const std::string& name) {
+  static const std::map<std::string, std::string> kClasses = {
+      {"started_at", "calendar_time"},
+      {"ended_at", "calendar_time"},
+      {"rolled_at", "calendar_time"},
+      {"measured_at", "calendar_time"},
+      {"campaign_length_before_m", "rolled_amount"},
+      {"campaign_coils_before", "rolled_amount"},
+  };
+  auto it = kClasses.find(name);
+  return it == kClasses.end() ? name : it->second;
+}
+
+std::string Describe(const Finding& f) {
+  std::string out = f.covariate;
+  const auto& scope = FindingScope(f);
+  if (!scope.empty()) {
+    out += " {";
+    bool first = true;
+    for (const auto& [key, value] : scope) {
+      out += (first ? "" : ",") + key + ":" + value;
+      first = false;
+    }
+    out += "}";
+  }
+  if (!f.levels.empty()) {
+    out += " [";
+    for (size_t i = 0; i < f.levels.size(); ++i) {
+      out += (i ? "," : "") + f.levels[i];
+    }
+    out += "]";
+  }
+  return out;
+}
+
+double NoiseFloor(const DiagnosisReport& r, const ScoreTruth& truth) {
+  double sum = 0;
+  int n = 0;
+  for (const DiagnosisPoint& p : r.points) {
+    if (!p.validation) continue;
+    auto it = truth.noise_free_um.find(
+        {p.campaign_id, p.stand, static_cast<int>(p.position)});
+    if (it == truth.noise_free_um.end()) continue;
+    sum += std::abs(p.measured_um - it->second);
+    ++n;
+  }
+  return n > 0 ? sum / n : std::nan("");
+}
+
+}  // namespace
+
+const std::map<std::string, std::string>& FindingScope(const Finding& f) {
+  return f.scope;
+}
+
+bool SameCovariate(const std::string& truth, const std::string& found) {
+  return !truth.empty() && CovariateClass(truth) == CovariateClass(found);
+}
+
+bool Describes(const Finding& f, const ConcealedEffect& e) {
+  if (!e.expressible || !SameCovariate(e.covariate, f.covariate)) return false;
+  if (FindingScope(f) != e.scope) return false;
+  if (e.levels.empty() || f.levels.empty()) return true;
+  const std::set<std::string> found(f.levels.begin(), f.levels.end());
+  return std::all_of(e.levels.begin(), e.levels.end(),
+                     [&](const std::string& l) { return found.count(l) > 0; });
+}
+
+CaseScore ScoreCase(const std::string& effect, uint64_t seed,
+                    const DiagnosisReport& report, const ScoreTruth& truth) {
+  CaseScore s;
+  s.effect = effect;
+  s.seed = seed;
+  s.clean = truth.effects.empty();
+  s.verdict = report.verdict;
+  s.seconds = report.seconds;
+  s.num_findings = static_cast<int>(report.findings.size());
+  for (const ConcealedEffect& e : truth.effects) {
+    s.expressible = s.expressible && e.expressible;
+  }
+  for (const Finding& f : report.findings) {
+    s.findings.push_back(Describe(f));
+    const bool right =
+        std::any_of(truth.effects.begin(), truth.effects.end(),
+                    [&](const ConcealedEffect& e) { return Describes(f, e); });
+    s.wrong_physics += right ? 0 : 1;
+  }
+  if (s.clean) {
+    s.named_right = false;
+  } else if (!s.expressible) {
+    s.named_right = report.findings.empty() &&
+                    report.verdict == "mismatch_located_unexplained";
+  } else {
+    s.named_right = std::all_of(
+        truth.effects.begin(), truth.effects.end(),
+        [&](const ConcealedEffect& e) {
+          return std::any_of(report.findings.begin(), report.findings.end(),
+                             [&](const Finding& f) { return Describes(f, e); });
+        });
+  }
+  s.gap_val_um = report.final_gap_val_um;
+  s.noise_floor_um = NoiseFloor(report, truth);
+  s.gap_ratio = s.gap_val_um / s.noise_floor_um;
+  return s;
+}
+
+std::vector<EffectScore> Summarise(const std::vector<CaseScore>& cases) {
+  std::vector<EffectScore> out;
+  for (const CaseScore& c : cases) {
+    auto it = std::find_if(out.begin(), out.end(), [&](const EffectScore& e) {
+      return e.effect == c.effect;
+    });
+    if (it == out.end()) {
+      out.push_back({});
+      it = out.end() - 1;
+      it->effect = c.effect;
+      it->clean = c.clean;
+    }
+    EffectScore& e = *it;
+    ++e.cases;
+    e.named_right += c.named_right ? 1 : 0;
+    e.with_wrong_physics += c.wrong_physics > 0 ? 1 : 0;
+    e.quiet += c.num_findings == 0 ? 1 : 0;
+    e.mean_gap_ratio += c.gap_ratio;
+    e.max_gap_ratio = std::max(e.max_gap_ratio, c.gap_ratio);
+    e.mean_seconds += c.seconds;
+    ++e.verdicts[c.verdict];
+  }
+  for (EffectScore& e : out) {
+    e.mean_gap_ratio /= e.cases;
+    e.mean_seconds /= e.cases;
+  }
+  return out;
+}
+
+std::string ScorecardTable(const std::vector<EffectScore>& scores) {
+  std::string out =
+      "| effect | cases | named right | wrong physics | quiet | gap/floor "
+      "mean | gap/floor max | s/diagnosis | verdicts |\n"
+      "|---|---|---|---|---|---|---|---|---|\n";
+  char buf[512];
+  EffectScore total;
+  int named_cases = 0, total_named = 0;
+  for (const EffectScore& e : scores) {
+    std::string verdicts;
+    for (const auto& [v, n] : e.verdicts) {
+      verdicts += (verdicts.empty() ? "" : ", ") + v + " " + std::to_string(n);
+    }
+    const std::string named =
+        e.clean ? "-"
+                : std::to_string(e.named_right) + "/" + std::to_string(e.cases);
+    std::snprintf(
+        buf, sizeof(buf),
+        "| %s | %d | %s | %d/%d | %d/%d | %.3f | %.3f | %.1f | %s |\n",
+        e.effect.c_str(), e.cases, named.c_str(), e.with_wrong_physics, e.cases,
+        e.quiet, e.cases, e.mean_gap_ratio, e.max_gap_ratio, e.mean_seconds,
+        verdicts.c_str());
+    out += buf;
+    total.cases += e.cases;
+    total.with_wrong_physics += e.with_wrong_physics;
+    total.quiet += e.quiet;
+    total.mean_gap_ratio += e.mean_gap_ratio * e.cases;
+    total.max_gap_ratio = std::max(total.max_gap_ratio, e.max_gap_ratio);
+    total.mean_seconds += e.mean_seconds * e.cases;
+    if (!e.clean) {
+      named_cases += e.cases;
+      total_named += e.named_right;
+    }
+  }
+  if (total.cases > 0) {
+    std::snprintf(buf, sizeof(buf),
+                  "| **all** | %d | %d/%d | %d/%d | %d/%d | %.3f | %.3f | "
+                  "%.1f | |\n",
+                  total.cases, total_named, named_cases,
+                  total.with_wrong_physics, total.cases, total.quiet,
+                  total.cases, total.mean_gap_ratio / total.cases,
+                  total.max_gap_ratio, total.mean_seconds / total.cases);
+    out += buf;
+  }
+  return out;
+}
+
+}  // namespace rollwear

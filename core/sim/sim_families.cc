@@ -1,0 +1,513 @@
+// Effect families of the mill simulator: concealed effects with several
+// forms, strengths and scopes each, for testing that a diagnosis names the
+// right physics in the right place, and says "unexplained" (never a proxy)
+// when the truth lies outside what one recorded quantity can describe.
+// Every family changes only quantities the data format records (or adds a
+// text column to measurements.csv, which the format allows).
+//
+// A family is selected as NAME (its variant - form, scope, level - drawn
+// from the seed) or NAME:K (variant K); the strength is always drawn from
+// the seed, from its own random stream, so the other draws of the
+// simulation stay as they were (sim_internal.h, Stream).
+//
+//   scoped            a covariate effect at one stand or one roll position
+//   grade_stand       one grade wears one stand (mostly the last) more
+//   roll_type_stand   one roll type wears more at one stand only
+//   grinder           a text column of measurements.csv; one level reads low
+//   grinder_null      the same column, no offset (must stay quiet)
+//   calendar_drift    wear rate or reading drifting with calendar time
+//   stoppages         stoppages inside campaigns; wear grows with hours
+//   stoppages_null    the same stoppages, no wear effect (must stay quiet)
+//   inexpressible_*   order of grades, temperature x speed interaction,
+//                     autocorrelated roll factor, noise bursts by period
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/sim/sim_internal.h"
+
+namespace rollwear::sim {
+namespace {
+
+using Draw = FamilyEffect (*)(int variant, Random* rng, uint64_t seed,
+                              int num_campaigns);
+
+struct FamilySpec {
+  const char* name;
+  const char* description;
+  int num_variants;
+  Draw draw;
+};
+
+std::string Fmt(const char* format, double x) {
+  char buf[96];
+  std::snprintf(buf, sizeof(buf), format, x);
+  return buf;
+}
+
+FamilyEffect Base(const char* name, const char* covariate, std::string form,
+                  double strength) {
+  FamilyEffect f;
+  f.truth.name = name;
+  f.truth.covariate = covariate;
+  f.truth.form = std::move(form);
+  f.truth.strength = strength;
+  return f;
+}
+
+// Stand and position of a sim slot as a scope.
+bool InScope(const std::map<std::string, std::string>& scope, int slot) {
+  const int stand = 6 + slot / 2;
+  auto it = scope.find("stand");
+  if (it != scope.end() && it->second != "F" + std::to_string(stand)) {
+    return false;
+  }
+  it = scope.find("position");
+  return it == scope.end() ||
+         it->second == PositionName(static_cast<Position>(slot % 2));
+}
+
+// scoped: one of the old covariate effects, acting at one stand or one roll
+// position only. Variant k: covariate k % 4, scope k / 4 % 3.
+FamilyEffect Scoped(int variant, Random* rng, uint64_t, int) {
+  static const char* kCovariates[] = {
+      "temperature_c", "speed_mps", "hardness_hb", "campaign_length_before_m"};
+  const int which = variant % 4;
+  const double beta = which == 0   ? rng->Uniform(0.6, 1.0)
+                      : which == 1 ? rng->Uniform(0.6, 1.0)
+                      : which == 2 ? rng->Uniform(2.5, 4.0)
+                                   : rng->Uniform(0.5, 0.9);
+  static const char* kForms[] = {"exp(beta (900 - T) / 100)", "(v / 10)^beta",
+                                 "(560 / HB)^beta",
+                                 "1 + beta L_before / 100 km"};
+  FamilyEffect f = Base("scoped", kCovariates[which], kForms[which], beta);
+  switch (variant / 4 % 3) {
+    case 0:
+      f.truth.scope = {{"stand", "F7"}};
+      break;
+    case 1:
+      f.truth.scope = {{"stand", "F6"}};
+      break;
+    default:
+      f.truth.scope = {{"stand", "F7"}, {"position", "top"}};
+      break;
+  }
+  f.truth.parameters = {{"beta", beta}};
+  f.truth.description =
+      "the " + std::string(kCovariates[which]) + " effect " + kForms[which] +
+      " acts only where the scope says; elsewhere the wear is Wang's law";
+  const auto scope = f.truth.scope;
+  f.apply = [which, beta, scope](const EffectContext& c) {
+    if (!InScope(scope, c.slot)) return 1.0;
+    switch (which) {
+      case 0:
+        return std::exp(beta * (900 - c.pass->temperature_c) / 100);
+      case 1:
+        return std::pow(c.pass->speed_mps / 10, beta);
+      case 2:
+        return std::pow(560 / c.mount->hardness_hb, beta);
+      default:
+        return 1 + beta * c.campaign_length_before_m / 1e5;
+    }
+  };
+  return f;
+}
+
+// grade_stand: one grade wears one stand more (x1.2..1.5): the last stand
+// in variants 0..3 (grades S355, HSLA350, CQ, HSLA420), F6 in 4..5.
+FamilyEffect GradeStand(int variant, Random* rng, uint64_t, int) {
+  static const int kGrades[] = {2, 3, 0, 4, 2, 3};
+  const int grade = kGrades[variant % 6];
+  const int stand = variant % 6 < 4 ? 7 : 6;
+  const double m = rng->Uniform(1.2, 1.5);
+  FamilyEffect f = Base("grade_stand", "grade", "multiplier", m);
+  f.truth.scope = {{"stand", "F" + std::to_string(stand)}};
+  f.truth.levels = {Grades()[grade].label};
+  f.truth.parameters = {{"multiplier", m}};
+  f.truth.description = std::string("grade ") + Grades()[grade].label +
+                        " wears the work rolls of F" + std::to_string(stand) +
+                        " by a factor " + Fmt("%.2f", m) +
+                        " more; other stands and grades as Wang's law";
+  f.apply = [grade, stand, m](const EffectContext& c) {
+    return c.grade == grade && c.pass->stand == stand ? m : 1.0;
+  };
+  return f;
+}
+
+// roll_type_stand: a roll type used at both stands wears more at one of
+// them only (x1.2..1.5). Variant k: type k % 4 of ICDP-S1, ICDP-S2,
+// HiCr-S2, HSS-S2; stand F7 for k / 4 even, F6 otherwise.
+FamilyEffect RollTypeStand(int variant, Random* rng, uint64_t, int) {
+  static const int kTypes[] = {0, 1, 5, 7};
+  const int type = kTypes[variant % 4];
+  const int stand = variant / 4 % 2 == 0 ? 7 : 6;
+  const double m = rng->Uniform(1.2, 1.5);
+  FamilyEffect f = Base("roll_type_stand", "roll_type", "multiplier", m);
+  f.truth.scope = {{"stand", "F" + std::to_string(stand)}};
+  f.truth.levels = {RollTypes()[type].label};
+  f.truth.parameters = {{"multiplier", m}};
+  f.truth.description = std::string("rolls of type ") +
+                        RollTypes()[type].label + " wear by a factor " +
+                        Fmt("%.2f", m) + " more at F" + std::to_string(stand) +
+                        " only";
+  f.apply = [type, stand, m](const EffectContext& c) {
+    return c.roll_type == type && c.pass->stand == stand ? m : 1.0;
+  };
+  return f;
+}
+
+// grinder: a text column of measurements.csv naming who or what took the
+// reading; one level reads low by 8..25 um on its share (20..50 %) of the
+// readings. Variant: column grinder (G1/G2), gauge (GA/GB/GC), crew
+// (A/B/C/D).
+FamilyEffect ColumnOffset(int variant, Random* rng, bool null_effect) {
+  static const char* kColumns[] = {"grinder", "gauge", "crew"};
+  static const std::vector<std::vector<std::string>> kLevels = {
+      {"G1", "G2"}, {"GA", "GB", "GC"}, {"A", "B", "C", "D"}};
+  const int which = variant % 3;
+  const double offset = rng->Uniform(8, 25);
+  const double share = rng->Uniform(0.2, 0.5);
+  const std::vector<std::string>& levels = kLevels[which];
+  const int low = static_cast<int>(levels.size()) - 1;  // the last level
+  FamilyEffect f = Base(null_effect ? "grinder_null" : "grinder",
+                        kColumns[which], "offset", null_effect ? 0 : -offset);
+  f.kind = EffectKind::kMeasurement;
+  f.column = kColumns[which];
+  f.column_levels = levels;
+  const double rest = (1 - share) / low;
+  f.column_shares.assign(levels.size(), rest);
+  f.column_shares[low] = share;
+  f.truth.parameters = {{"share", share}};
+  if (null_effect) {
+    f.truth.null_effect = true;
+    f.truth.description = "measurements.csv has a text column " + f.column +
+                          " naming who took each reading; no level reads "
+                          "differently";
+    return f;
+  }
+  f.truth.levels = {levels[low]};
+  f.truth.parameters["offset_um"] = -offset;
+  f.truth.description = "readings of " + f.column + " " + levels[low] + " (" +
+                        Fmt("%.0f", 100 * share) + " % of them) read " +
+                        Fmt("%.1f", offset) + " um low";
+  f.apply = [low, offset](const EffectContext& c) {
+    return c.column_level == low ? -offset : 0.0;
+  };
+  return f;
+}
+FamilyEffect Grinder(int variant, Random* rng, uint64_t, int) {
+  return ColumnOffset(variant, rng, false);
+}
+FamilyEffect GrinderNull(int variant, Random* rng, uint64_t, int) {
+  return ColumnOffset(variant, rng, true);
+}
+
+// calendar_drift, in campaign order (which is calendar order): the wear
+// rate rises linearly over the whole period by g (0.2..0.4) or steps up by
+// g at a campaign in the middle third (covariate rolled_at), or the
+// reading drifts low by 15..35 um linearly or in one step (measured_at).
+FamilyEffect CalendarDrift(int variant, Random* rng, uint64_t, int) {
+  const int form = variant % 4;
+  const bool reading = form >= 2;
+  const bool step = form % 2 == 1;
+  const double size = reading ? rng->Uniform(15, 35) : rng->Uniform(0.2, 0.4);
+  const double at = rng->Uniform(0.35, 0.65);
+  FamilyEffect f = Base(
+      "calendar_drift", reading ? "measured_at" : "rolled_at",
+      std::string(reading ? "reading_" : "rate_") + (step ? "step" : "linear"),
+      reading ? -size : size);
+  f.kind = reading ? EffectKind::kMeasurement : EffectKind::kWearRate;
+  f.truth.parameters = {
+      {reading ? "offset_um" : "gain", reading ? -size : size}};
+  if (step) f.truth.parameters["step_at_fraction"] = at;
+  f.truth.description =
+      std::string(
+          reading
+              ? "the reading drifts low by up to " + Fmt("%.1f um", size)
+              : "the wear rate rises by up to " + Fmt("%.0f %%", 100 * size)) +
+      (step ? " in one step part-way through the period"
+            : " linearly over the period") +
+      " (calendar time, campaign by campaign)";
+  f.apply = [reading, step, size, at](const EffectContext& c) {
+    const double t =
+        c.num_campaigns > 1 ? c.campaign / (c.num_campaigns - 1.0) : 0.0;
+    const double x = step ? (t >= at ? 1.0 : 0.0) : t;
+    return reading ? -size * x : 1 + size * x;
+  };
+  return f;
+}
+
+// stoppages: about 1.5 % of the coils are followed by an idle time of
+// 0.5..4 h (a breakdown, a change of programme), so hours in service and
+// rolled length part ways. The wear rate grows with hours since the roll
+// change (thermal fatigue, oxide growth on the idle hot roll), linearly
+// or saturating; the null variant has the stoppages only.
+FamilyEffect Stoppages(int variant, Random* rng, bool null_effect) {
+  const bool saturating = variant % 2 == 1;
+  const double beta = rng->Uniform(0.4, 0.8);
+  FamilyEffect f = Base(null_effect ? "stoppages_null" : "stoppages",
+                        null_effect ? "" : "hours_since_mount",
+                        null_effect  ? "none"
+                        : saturating ? "1 + beta (1 - exp(-h / 6 h))"
+                                     : "1 + beta h / 10 h",
+                        null_effect ? 0 : beta);
+  f.stoppage_probability = 0.015;
+  f.stoppage_min_h = 0.5;
+  f.stoppage_max_h = 4;
+  f.truth.parameters = {{"stoppage_probability", 0.015}, {"stoppage_max_h", 4}};
+  if (null_effect) {
+    f.truth.null_effect = true;
+    f.truth.description =
+        "stoppages inside campaigns (idle 0.5..4 h after 1.5 % of the "
+        "coils); wear follows Wang's law";
+    return f;
+  }
+  f.truth.parameters["beta"] = beta;
+  f.truth.description =
+      "stoppages inside campaigns part hours in service from rolled length; "
+      "the wear rate grows with hours_since_mount: " +
+      f.truth.form;
+  f.apply = [saturating, beta](const EffectContext& c) {
+    const double h = c.hours_since_mount;
+    return saturating ? 1 + beta * (1 - std::exp(-h / 6)) : 1 + beta * h / 10;
+  };
+  return f;
+}
+FamilyEffect StoppagesOn(int variant, Random* rng, uint64_t, int) {
+  return Stoppages(variant, rng, false);
+}
+FamilyEffect StoppagesNull(int variant, Random* rng, uint64_t, int) {
+  return Stoppages(variant, rng, true);
+}
+
+FamilyEffect Inexpressible(const char* name, std::string form, double strength,
+                           std::string mismatch) {
+  FamilyEffect f = Base(name, "", std::move(form), strength);
+  f.truth.expressible = false;
+  f.truth.mismatch = std::move(mismatch);
+  return f;
+}
+
+// inexpressible_order: a hard grade (kS >= 1.24) rolled soon after the roll
+// change wears more: x(1 + s) within the first N coils (step) or
+// x(1 + s exp(-coils_before / N)) (decay). Lives in campaign order x grade.
+FamilyEffect InexpressibleOrder(int variant, Random* rng, uint64_t, int) {
+  const bool decay = variant % 2 == 1;
+  const double s = rng->Uniform(0.6, 1.0);
+  const double n = rng->Uniform(20, 35);
+  FamilyEffect f =
+      Inexpressible("inexpressible_order", decay ? "decay" : "step", s,
+                    "campaign order x grade");
+  f.truth.parameters = {{"s", s}, {"n_coils", n}};
+  f.truth.levels = {"HSLA420", "DP600", "API-X65", "API-X70"};
+  f.truth.description =
+      "a hard grade rolled soon after the roll change (first ~" +
+      Fmt("%.0f", n) + " coils) wears the fresh surface more; its wear " +
+      "depends on where in the campaign it comes";
+  f.apply = [decay, s, n](const EffectContext& c) {
+    if (Grades()[c.grade].k_grade < 1.24) return 1.0;
+    if (decay) return 1 + s * std::exp(-c.coils_before / n);
+    return c.coils_before < n ? 1 + s : 1.0;
+  };
+  return f;
+}
+
+// inexpressible_interaction: temperature x speed with no main effect:
+// m = exp(b zT zv), zT = (900 - T) / 30 K, zv = ln(v / 10) / 0.25.
+FamilyEffect InexpressibleInteraction(int, Random* rng, uint64_t, int) {
+  const double b = rng->Uniform(0.15, 0.25);
+  FamilyEffect f = Inexpressible("inexpressible_interaction",
+                                 "exp(b (900 - T) / 30 * ln(v / 10) / 0.25)", b,
+                                 "temperature_c x speed_mps");
+  f.truth.parameters = {{"b", b}};
+  f.truth.description =
+      "cold strip wears more only at high speed and less at low speed (a "
+      "temperature x speed interaction without main effects)";
+  f.apply = [b](const EffectContext& c) {
+    const double zt = (900 - c.pass->temperature_c) / 30;
+    const double zv = std::log(c.pass->speed_mps / 10) / 0.25;
+    return std::exp(b * zt * zv);
+  };
+  return f;
+}
+
+// inexpressible_random_walk: each roll position's wear rate carries a
+// factor exp(x) with x an AR(1) over consecutive campaigns, x_c = rho
+// x_{c-1} + sd sqrt(1 - rho^2) z (rho 0.9..0.97, sd 0.12..0.2).
+FamilyEffect InexpressibleRandomWalk(int, Random* rng, uint64_t seed,
+                                     int num_campaigns) {
+  const double rho = rng->Uniform(0.9, 0.97);
+  const double sd = rng->Uniform(0.12, 0.2);
+  FamilyEffect f = Inexpressible("inexpressible_random_walk", "ar1", sd,
+                                 "time (campaign order), by roll position");
+  f.truth.parameters = {{"rho", rho}, {"sd", sd}};
+  f.truth.description =
+      "each roll position's wear rate wanders slowly from campaign to "
+      "campaign (AR(1) in log, rho " +
+      Fmt("%.2f", rho) + ", sd " + Fmt("%.2f", sd) +
+      "): no recorded quantity follows it";
+  auto walk = std::make_shared<std::vector<double>>(4 * num_campaigns);
+  Random noise = MakeRandom(seed, Stream::kFamilyNoise, 0);
+  std::array<double, 4> x{};
+  for (double& v : x) v = sd * noise.Normal();
+  for (int c = 0; c < num_campaigns; ++c) {
+    for (int s = 0; s < 4; ++s) {
+      if (c > 0) {
+        x[s] = rho * x[s] + sd * std::sqrt(1 - rho * rho) * noise.Normal();
+      }
+      (*walk)[4 * c + s] = std::exp(x[s] - 0.5 * sd * sd);
+    }
+  }
+  f.apply = [walk](const EffectContext& c) {
+    return (*walk)[4 * c.campaign + c.slot];
+  };
+  return f;
+}
+
+// inexpressible_bursts: in 2..3 calendar periods (runs of 15..30
+// consecutive campaigns) every roll's wear carries an extra lognormal
+// factor (sd 0.2..0.35), fixed per roll and campaign: the spread grows in
+// those periods, the mean does not move.
+FamilyEffect InexpressibleBursts(int, Random* rng, uint64_t seed,
+                                 int num_campaigns) {
+  const double sd = rng->Uniform(0.2, 0.35);
+  const int periods = 2 + static_cast<int>(rng->Below(2));
+  FamilyEffect f = Inexpressible("inexpressible_bursts", "lognormal", sd,
+                                 "time (spread by calendar period)");
+  f.truth.parameters = {{"sd", sd}, {"periods", periods}};
+  auto factor = std::make_shared<std::vector<double>>(4 * num_campaigns, 1.0);
+  Random noise = MakeRandom(seed, Stream::kFamilyNoise, 1);
+  for (int p = 0; p < periods; ++p) {
+    const int length = 15 + static_cast<int>(rng->Below(16));
+    const int first = static_cast<int>(
+        rng->Below(static_cast<uint64_t>(std::max(1, num_campaigns - length))));
+    for (int c = first; c < std::min(num_campaigns, first + length); ++c) {
+      for (int s = 0; s < 4; ++s) {
+        (*factor)[4 * c + s] = LogNormalMeanOne(&noise, sd);
+      }
+    }
+    f.truth.levels.push_back("campaigns " + std::to_string(first + 1) + ".." +
+                             std::to_string(first + length));
+  }
+  f.truth.description =
+      "in a few calendar periods the wear of every roll scatters more (extra "
+      "lognormal factor, sd " +
+      Fmt("%.2f", sd) + ", mean 1)";
+  f.apply = [factor](const EffectContext& c) {
+    return (*factor)[4 * c.campaign + c.slot];
+  };
+  return f;
+}
+
+const std::vector<FamilySpec>& Families() {
+  static const std::vector<FamilySpec> kFamilies = {
+      {"scoped",
+       "a covariate effect (temperature, speed, hardness or campaign length) "
+       "at one stand or one roll position only",
+       12, &Scoped},
+      {"grade_stand", "one grade wears one stand (mostly F7) x1.2..1.5 more", 6,
+       &GradeStand},
+      {"roll_type_stand", "one roll type wears x1.2..1.5 more at one stand", 8,
+       &RollTypeStand},
+      {"grinder",
+       "a text column of measurements.csv (grinder/gauge/crew); one level "
+       "reads 8..25 um low",
+       3, &Grinder},
+      {"grinder_null", "the grinder column with no offset (quiet expected)", 3,
+       &GrinderNull},
+      {"calendar_drift",
+       "wear rate (rolled_at) or reading (measured_at) drifting with "
+       "calendar time, linear or step",
+       4, &CalendarDrift},
+      {"stoppages",
+       "stoppages inside campaigns; wear grows with hours since mount, "
+       "linear or saturating",
+       2, &StoppagesOn},
+      {"stoppages_null", "stoppages inside campaigns, no wear effect", 1,
+       &StoppagesNull},
+      {"inexpressible_order",
+       "a hard grade right after the roll change wears more (campaign "
+       "order x grade); not expressible",
+       2, &InexpressibleOrder},
+      {"inexpressible_interaction",
+       "temperature x speed interaction without main effects; not "
+       "expressible",
+       1, &InexpressibleInteraction},
+      {"inexpressible_random_walk",
+       "roll-position factor autocorrelated across campaigns; not "
+       "expressible",
+       1, &InexpressibleRandomWalk},
+      {"inexpressible_bursts",
+       "extra wear scatter in some calendar periods; not expressible", 1,
+       &InexpressibleBursts},
+  };
+  return kFamilies;
+}
+
+// The spec of `name` ("grade_stand" or "grade_stand:3") and its variant
+// (-1: from the seed), or nullptr.
+const FamilySpec* Find(const std::string& name, int* variant) {
+  const size_t colon = name.find(':');
+  const std::string base = name.substr(0, colon);
+  *variant = -1;
+  if (colon != std::string::npos) {
+    const std::string k = name.substr(colon + 1);
+    if (k.empty() || k.size() > 3 ||
+        k.find_first_not_of("0123456789") != std::string::npos) {
+      return nullptr;
+    }
+    *variant = std::stoi(k);
+  }
+  for (const FamilySpec& f : Families()) {
+    if (base == f.name) {
+      return *variant < f.num_variants ? &f : nullptr;
+    }
+  }
+  return nullptr;
+}
+
+uint64_t NameIndex(const char* name) {
+  uint64_t h = 14695981039346656037ull;  // FNV-1a
+  for (const char* p = name; *p != 0; ++p) {
+    h = (h ^ static_cast<unsigned char>(*p)) * 1099511628211ull;
+  }
+  return h;
+}
+
+}  // namespace
+
+bool IsFamilyName(const std::string& name) {
+  int variant;
+  return Find(name, &variant) != nullptr;
+}
+
+FamilyEffect DrawFamily(const std::string& name, uint64_t seed,
+                        int num_campaigns) {
+  int variant;
+  const FamilySpec* spec = Find(name, &variant);
+  Random rng = MakeRandom(seed, Stream::kFamily, NameIndex(spec->name));
+  const int drawn =
+      static_cast<int>(rng.Below(static_cast<uint64_t>(spec->num_variants)));
+  if (variant < 0) variant = drawn;
+  FamilyEffect f = spec->draw(variant, &rng, seed, num_campaigns);
+  f.truth.name = name;
+  f.truth.parameters["variant"] = variant;
+  return f;
+}
+
+std::vector<std::pair<std::string, std::string>> FamilyList() {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const FamilySpec& f : Families()) {
+    out.emplace_back(f.name, std::string(f.description) + " (" +
+                                 std::to_string(f.num_variants) +
+                                 " variants: NAME:0..)");
+  }
+  return out;
+}
+
+}  // namespace rollwear::sim

@@ -1,0 +1,188 @@
+// The scorecard's scoring (core/report/scorecard.h) on hand-built reports:
+// named right needs covariate, scope and levels; anything else a finding
+// names is wrong physics; equivalent covariate names only within a class;
+// an inexpressible effect is named right only by "unexplained" without a
+// finding; and on one small simulated clean case, the noise floor is the
+// truth's.
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/report/scorecard.h"
+#include "core/sim/simulator.h"
+#include "tests/core/simulator_test_util.h"
+
+namespace rollwear {
+namespace {
+
+Finding Found(std::string covariate,
+              std::map<std::string, std::string> scope = {},
+              std::vector<std::string> levels = {}) {
+  Finding f;
+  f.covariate = std::move(covariate);
+  f.scope = std::move(scope);
+  f.levels = std::move(levels);
+  return f;
+}
+
+DiagnosisReport Report(std::vector<Finding> findings, std::string verdict) {
+  DiagnosisReport r;
+  r.findings = std::move(findings);
+  r.verdict = std::move(verdict);
+  r.final_gap_val_um = 12;
+  // Two validation points with |measured - noise-free| 8 and 12: floor 10.
+  DiagnosisPoint a, b, train;
+  a.campaign_id = "C0001";
+  a.stand = 7;
+  a.validation = true;
+  a.measured_um = 108;
+  b = a;
+  b.position = Position::kBottom;
+  b.measured_um = 88;
+  train = a;
+  train.validation = false;
+  train.measured_um = 500;
+  r.points = {a, b, train};
+  return r;
+}
+
+ScoreTruth Truth(std::vector<ConcealedEffect> effects) {
+  ScoreTruth t;
+  t.effects = std::move(effects);
+  t.noise_free_um[{"C0001", 7, 0}] = 100;
+  t.noise_free_um[{"C0001", 7, 1}] = 100;
+  return t;
+}
+
+const ConcealedEffect kGradeF7 = {"grade_stand", "grade", {{"stand", "F7"}},
+                                  {"S355"},      true,    ""};
+
+TEST(ScorecardTest, GradeAtF7NamedRightOnlyWithScopeAndLevel) {
+  const ScoreTruth truth = Truth({kGradeF7});
+  CaseScore s = ScoreCase("grade_stand", 3,
+                          Report({Found("grade", {{"stand", "F7"}}, {"S355"})},
+                                 "missing_physics_found"),
+                          truth);
+  EXPECT_TRUE(s.named_right);
+  EXPECT_EQ(s.wrong_physics, 0);
+  EXPECT_FALSE(s.clean);
+  EXPECT_NEAR(s.noise_floor_um, 10, 1e-12);
+  EXPECT_NEAR(s.gap_ratio, 1.2, 1e-12);
+  EXPECT_EQ(s.findings, std::vector<std::string>{"grade {stand:F7} [S355]"});
+
+  // The proxy the issue saw: contact length, peaked. Wrong physics.
+  s = ScoreCase("grade_stand", 3,
+                Report({Found("contact_length_mm")}, "missing_physics_found"),
+                truth);
+  EXPECT_FALSE(s.named_right);
+  EXPECT_EQ(s.wrong_physics, 1);
+  // Right covariate, no scope: the wrong scope is wrong physics too.
+  s = ScoreCase("grade_stand", 3,
+                Report({Found("grade", {}, {"S355"})}, "missing_physics_found"),
+                truth);
+  EXPECT_FALSE(s.named_right);
+  EXPECT_EQ(s.wrong_physics, 1);
+  // Right cell, wrong grade.
+  s = ScoreCase("grade_stand", 3,
+                Report({Found("grade", {{"stand", "F7"}}, {"C45"})},
+                       "missing_physics_found"),
+                truth);
+  EXPECT_FALSE(s.named_right);
+  // Right finding plus a spurious second one.
+  s = ScoreCase(
+      "grade_stand", 3,
+      Report({Found("grade", {{"stand", "F7"}}, {"S355"}), Found("force_kn")},
+             "missing_physics_found"),
+      truth);
+  EXPECT_TRUE(s.named_right);
+  EXPECT_EQ(s.wrong_physics, 1);
+}
+
+TEST(ScorecardTest, EquivalentNamesOnlyWithinTheirClass) {
+  EXPECT_TRUE(SameCovariate("rolled_at", "started_at"));
+  EXPECT_TRUE(SameCovariate("measured_at", "started_at"));
+  EXPECT_TRUE(
+      SameCovariate("campaign_length_before_m", "campaign_coils_before"));
+  EXPECT_FALSE(SameCovariate("hours_since_mount", "campaign_length_before_m"));
+  EXPECT_FALSE(SameCovariate("temperature_c", "speed_mps"));
+  EXPECT_FALSE(SameCovariate("", ""));
+  EXPECT_TRUE(SameCovariate("grinder", "grinder"));
+}
+
+TEST(ScorecardTest, InexpressibleIsRightOnlyAsUnexplained) {
+  const ScoreTruth truth = Truth(
+      {{"inexpressible_order", "", {}, {}, false, "campaign order x grade"}});
+  CaseScore s = ScoreCase("inexpressible_order", 1,
+                          Report({}, "mismatch_located_unexplained"), truth);
+  EXPECT_TRUE(s.named_right);
+  EXPECT_FALSE(s.expressible);
+  EXPECT_EQ(s.wrong_physics, 0);
+  s = ScoreCase(
+      "inexpressible_order", 1,
+      Report({Found("campaign_coils_before")}, "missing_physics_found"), truth);
+  EXPECT_FALSE(s.named_right);
+  EXPECT_EQ(s.wrong_physics, 1);
+  s = ScoreCase("inexpressible_order", 1, Report({}, "no_significant_mismatch"),
+                truth);
+  EXPECT_FALSE(s.named_right);
+}
+
+TEST(ScorecardTest, SummaryCountsAndTable) {
+  const ScoreTruth clean = Truth({});
+  std::vector<CaseScore> cases = {
+      ScoreCase("clean", 1, Report({}, "no_significant_mismatch"), clean),
+      ScoreCase("clean", 2,
+                Report({Found("speed_mps")}, "missing_physics_found"), clean),
+      ScoreCase("grade_stand", 1,
+                Report({Found("grade", {{"stand", "F7"}}, {"S355"})},
+                       "missing_physics_found"),
+                Truth({kGradeF7})),
+  };
+  EXPECT_TRUE(cases[0].clean);
+  EXPECT_EQ(cases[1].wrong_physics, 1);
+  const std::vector<EffectScore> s = Summarise(cases);
+  ASSERT_EQ(s.size(), 2u);
+  EXPECT_EQ(s[0].effect, "clean");
+  EXPECT_EQ(s[0].cases, 2);
+  EXPECT_EQ(s[0].quiet, 1);
+  EXPECT_EQ(s[0].with_wrong_physics, 1);
+  EXPECT_EQ(s[1].named_right, 1);
+  const std::string table = ScorecardTable(s);
+  EXPECT_NE(table.find("| clean | 2 | - | 1/2 | 1/2 | 1.200 | 1.200 |"),
+            std::string::npos)
+      << table;
+  EXPECT_NE(table.find("| grade_stand | 1 | 1/1 | 0/1 | 0/1 |"),
+            std::string::npos)
+      << table;
+  EXPECT_NE(table.find("| **all** | 3 | 1/1 | 1/3 | 1/3 |"), std::string::npos)
+      << table;
+}
+
+// One small real case: the scorecard's noise floor over the validation
+// points is the truth's grinder noise (mean |e| of N(0, 8) is 6.4 um, with
+// 9 % roll scatter on ~150 um more), and the clean report has no wrong
+// physics to score.
+TEST(ScorecardTest, SmallCleanCaseFloorFromTruth) {
+  const Simulation sim = simulator_test::Simulated(101, 100);
+  StatusOr<DiagnosisReport> r = Diagnose(sim.data, DiagnosisOptions{});
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  ScoreTruth truth;
+  for (size_t i = 0; i < sim.data.measurements.size(); ++i) {
+    const Measurement& m = sim.data.measurements[i];
+    truth.noise_free_um[{sim.data.campaigns[m.campaign].id, m.stand,
+                         static_cast<int>(m.position)}] =
+        sim.truth.noise_free_wear_um[i];
+  }
+  const CaseScore s = ScoreCase("clean", 101, *r, truth);
+  EXPECT_TRUE(s.clean);
+  EXPECT_NEAR(s.noise_floor_um, sim.truth.noise_floor_um,
+              0.25 * sim.truth.noise_floor_um);
+  EXPECT_EQ(s.wrong_physics, s.num_findings);
+  EXPECT_GT(s.gap_ratio, 0.8);
+  EXPECT_LT(s.gap_ratio, 1.3);
+}
+
+}  // namespace
+}  // namespace rollwear
