@@ -110,7 +110,37 @@ struct Finding {
   double cv_mse_ratio = 1;
   double gap_val_before_um = 0, gap_val_after_um = 0;
   std::vector<std::string> alternatives;  // covariates that fit almost as well
+  // Where the finding applies: empty = everywhere; else keys "stand",
+  // "position", "roll_type", "grade" with the level ("F7", "top"...).
+  std::map<std::string, std::string> scope;
+  // For per-level factor findings: the affected levels.
+  std::vector<std::string> levels;
   ModelTerm term;                         // the adopted term
+};
+
+// A significant candidate of a round that was not adopted, with why
+// (the proxy guard of docs/diagnosis.md): "inconsistent across stand",
+// "located structure remains (roll_position)", ...
+struct RunnerUp {
+  int round = 0;
+  std::string covariate;
+  std::string form;
+  double p_adjusted = 1;
+  double cv_mse_ratio = 1;
+  std::string reason;
+};
+
+// Structure of the final model's residuals that is significant at the
+// family-wise level (Bonferroni over every dimension tested) and of
+// material size, and that no adopted term explains.
+struct Unexplained {
+  std::string dimension;  // "roll_position", "time_scale_8", "runs_along_time"...
+  std::string where;      // "roll_position=F7/bottom", "calendar time, block 3 of 4"...
+  std::string test;       // "anova", "pearson", "lag1_autocorrelation", "runs", "brown_forsythe"
+  double statistic = 0;
+  double mean_residual_um = 0;  // mean measured - predicted where it lives
+  double p_value = 1;           // unadjusted
+  double p_adjusted = 1;        // Bonferroni over the dimensions tested
 };
 
 // Per validation observation, for plots.
@@ -133,7 +163,17 @@ struct DiagnosisReport {
   std::vector<Breakdown> locate;  // strongest evidence first
   std::vector<Finding> findings;  // order of adoption = strongest first
   std::vector<CandidateResult> first_round;  // by p-value, top 15
-  std::string verdict;  // "missing_physics_found" | "no_significant_mismatch"
+  // Significant candidates the proxy guard did not adopt, round by round.
+  std::vector<RunnerUp> runners_up;
+  // Residual structure of the final model left unexplained (strongest
+  // first); the noise checks of diagnosis_noise.cc included.
+  std::vector<Unexplained> unexplained;
+  // "missing_physics_found" (a finding adopted; `unexplained` may still
+  // list structure), "mismatch_located_unexplained" (no finding, but
+  // `unexplained` is not empty: no physics is named) or
+  // "no_significant_mismatch" (no finding and the residuals behave like
+  // measurement noise).
+  std::string verdict;
   std::vector<DiagnosisPoint> points;
   // The adopted model: option-1 coefficients (names and values) and terms.
   std::vector<std::pair<std::string, double>> coefficients;

@@ -15,12 +15,10 @@
 #include "core/fit/robust.h"
 
 namespace rollwear::diag {
-namespace {
 
-// One-way ANOVA (F = MSB / MSW) over groups given as labels per point.
-Breakdown Anova(const std::string& dimension, const std::vector<std::string>& label,
-                const std::vector<double>& resid, const std::vector<double>& rel,
-                const std::vector<std::string>& order = {}) {
+Breakdown AnovaBreakdown(const std::string& dimension, const std::vector<std::string>& label,
+                         const std::vector<double>& resid, const std::vector<double>& rel,
+                         const std::vector<std::string>& order) {
   Breakdown b;
   b.dimension = dimension;
   b.test = "anova";
@@ -60,6 +58,8 @@ Breakdown Anova(const std::string& dimension, const std::vector<std::string>& la
   }
   return b;
 }
+
+namespace {
 
 std::string QuartileLabel(int q, const std::vector<double>& edges) {
   char buf[96];
@@ -126,17 +126,17 @@ std::vector<Breakdown> Locate(const TermData& td, const Dataset& data,
     length[i] = total_len;
     time[i] = k_time >= 0 ? td.obs_z[k_time][obs[i]] : 0.0;
   }
-  out.push_back(Anova("roll_position", position, resid, rel));
-  out.push_back(Anova("roll_type", roll_type, resid, rel));
-  out.push_back(Anova("dominant_grade", grade, resid, rel));
-  out.push_back(Anova("wear_amplitude", amplitude, resid, rel,
+  out.push_back(AnovaBreakdown("roll_position", position, resid, rel));
+  out.push_back(AnovaBreakdown("roll_type", roll_type, resid, rel));
+  out.push_back(AnovaBreakdown("dominant_grade", grade, resid, rel));
+  out.push_back(AnovaBreakdown("wear_amplitude", amplitude, resid, rel,
                       {"< 150 µm", "150 - 300 µm", ">= 300 µm"}));
   std::vector<std::string> order;
   std::vector<std::string> q = Quartiles(length, &order);
-  out.push_back(Anova("campaign_rolled_length_m", q, resid, rel, order));
+  out.push_back(AnovaBreakdown("campaign_rolled_length_m", q, resid, rel, order));
   order.clear();
   q = Quartiles(time, &order);
-  out.push_back(Anova("time_started_at_days", q, resid, rel, order));
+  out.push_back(AnovaBreakdown("time_started_at_days", q, resid, rel, order));
   // Numeric covariates: correlation with the relative residual.
   for (size_t k = 0; k < td.catalog.size(); ++k) {
     if (td.catalog[k].kind == CovariateKind::kFactor) continue;
@@ -161,7 +161,7 @@ std::vector<Breakdown> Locate(const TermData& td, const Dataset& data,
     }
     if (!(sxx > 0 && syy > 0)) continue;
     std::vector<std::string> qorder;
-    Breakdown b = Anova(td.catalog[k].name, Quartiles(x, &qorder), resid, rel, qorder);
+    Breakdown b = AnovaBreakdown(td.catalog[k].name, Quartiles(x, &qorder), resid, rel, qorder);
     const double r = sxy / std::sqrt(sxx * syy);
     b.test = "pearson";
     b.statistic = r * std::sqrt((m - 2) / std::max(1e-300, 1 - r * r));

@@ -349,6 +349,26 @@ void ListOutliers(const Dataset& data, const DiagnosisState& st,
   NameOutliers(data, &report->suspected_outliers);
 }
 
+// Stage 6. The final model's residual breakdowns (Locate) and noise checks
+// (NoiseChecks), clipped to +-kHuberK sd's of `noise`: what remains
+// significant at the family-wise level and of material size.
+std::vector<Unexplained> LocateUnexplained(const Dataset& data,
+                                           const DiagnosisOptions& options,
+                                           const DiagnosisState& st,
+                                           const std::vector<double>& after_all,
+                                           const RobustNoise& noise) {
+  std::vector<double> pred, sd;
+  for (int o : st.all) {
+    pred.push_back(after_all[o]);
+    sd.push_back(noise.SdAt(after_all[o]));
+  }
+  std::vector<Breakdown> checks = Locate(st.td, data, st.all, pred, &sd);
+  for (Breakdown& b : NoiseChecks(st.td, data, st.all, pred, sd)) {
+    checks.push_back(std::move(b));
+  }
+  return UnexplainedStructure(checks, options.alpha, MaterialResidualUm(sd));
+}
+
 }  // namespace
 
 StatusOr<Baseline> RunBaseline(const Dataset& data,
@@ -466,8 +486,6 @@ void Summarise(const Dataset& data, const DiagnosisOptions& options,
                const DiagnosisState& st, DiagnosisReport* report) {
   const TermData& td = st.td;
   const Fitted& current = st.current;
-  report->verdict = report->findings.empty() ? "no_significant_mismatch"
-                                             : "missing_physics_found";
   const std::vector<double> after_all =
       PredictTerms(td, st.all, current.log_k, current.terms);
   std::vector<double> pt, pv;
@@ -506,7 +524,13 @@ void Summarise(const Dataset& data, const DiagnosisOptions& options,
     m.noise_sd_um = noise.noise_sd_um;
     m.noise_rel = noise.noise_rel;
     ListOutliers(data, st, after_all, noise, report);
+    report->unexplained =
+        LocateUnexplained(data, options, st, after_all, noise);
   }
+  report->verdict = !report->findings.empty() ? "missing_physics_found"
+                    : !report->unexplained.empty()
+                        ? "mismatch_located_unexplained"
+                        : "no_significant_mismatch";
   AddPoints(data, st, after_all, report);
 }
 

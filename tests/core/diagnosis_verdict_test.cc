@@ -1,0 +1,147 @@
+// The third verdict: a mismatch the vocabulary cannot express must be
+// located and reported as `mismatch_located_unexplained`, with where it
+// lives and no physics named; clean data must stay
+// `no_significant_mismatch` with nothing unexplained. The inexpressible
+// effects are written into a clean simulation's measured wear directly:
+// an alternating offset between consecutive campaigns, a square wave over
+// calendar time with a period of 16 campaigns, and extra grinder noise on
+// one roll position only.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/base/random.h"
+#include "core/diagnosis/diagnosis.h"
+#include "core/sim/simulator.h"
+#include "tests/core/test_size.h"
+
+namespace rollwear {
+namespace {
+
+// Reduced under the sanitizers (test_size.h); the effects are sized so
+// that the assertions hold at both sizes.
+constexpr int kCampaigns = test_size::FullOr(395, 200);
+
+Dataset Clean(uint64_t seed, int campaigns = kCampaigns) {
+  SimulatorOptions o;
+  o.seed = seed;
+  o.num_campaigns = campaigns;
+  StatusOr<Simulation> s = Simulate(o);
+  EXPECT_TRUE(s.ok()) << s.status().ToString();
+  return std::move(s).value().data;
+}
+
+// Campaign index -> rank in calendar time (started_at).
+std::vector<int> TimeRank(const Dataset& d) {
+  std::vector<int> order(d.campaigns.size()), rank(d.campaigns.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return d.campaigns[a].started_at < d.campaigns[b].started_at;
+  });
+  for (size_t r = 0; r < order.size(); ++r) rank[order[r]] = static_cast<int>(r);
+  return rank;
+}
+
+std::string Describe(const DiagnosisReport& r) {
+  std::string s = "verdict " + r.verdict + ";";
+  for (const Finding& f : r.findings) s += " finding " + f.covariate + " (" + f.form + ");";
+  for (const Unexplained& u : r.unexplained) {
+    char buf[256];
+    std::snprintf(buf, sizeof(buf), " unexplained %s at %s: %+.1f um, p_adj %.2g;",
+                  u.dimension.c_str(), u.where.c_str(), u.mean_residual_um, u.p_adjusted);
+    s += buf;
+  }
+  return s;
+}
+
+bool Lists(const DiagnosisReport& r, const std::string& dimension_prefix,
+           const std::string& where_part = "") {
+  for (const Unexplained& u : r.unexplained) {
+    if (u.dimension.rfind(dimension_prefix, 0) == 0 &&
+        u.where.find(where_part) != std::string::npos) {
+      EXPECT_LT(u.p_adjusted, DiagnosisOptions{}.alpha);
+      return true;
+    }
+  }
+  return false;
+}
+
+DiagnosisReport Diagnosed(const Dataset& d) {
+  StatusOr<DiagnosisReport> r = Diagnose(d, DiagnosisOptions{});
+  EXPECT_TRUE(r.ok()) << r.status().ToString();
+  return r.ok() ? std::move(r).value() : DiagnosisReport{};
+}
+
+// +20 µm on every other campaign in time order: campaign means alternate,
+// so the runs test sees far too many runs and the lag-1 autocorrelation is
+// strongly negative; no recorded quantity alternates with it.
+TEST(DiagnosisVerdictTest, AlternatingCampaignOffsetIsLocatedNotNamed) {
+  Dataset d = Clean(31);
+  const std::vector<int> rank = TimeRank(d);
+  for (Measurement& m : d.measurements) {
+    if (rank[m.campaign] % 2 == 1) m.wear_center_um += 20.0;
+  }
+  const DiagnosisReport r = Diagnosed(d);
+  EXPECT_EQ(r.verdict, "mismatch_located_unexplained") << Describe(r);
+  EXPECT_TRUE(r.findings.empty()) << Describe(r);
+  EXPECT_TRUE(Lists(r, "runs_along_time") || Lists(r, "lag1_along_time")) << Describe(r);
+}
+
+// Wear x 1.08 in alternate stretches of 8 campaigns (a square wave of
+// period 16 in time order): runs of same-signed campaign means and a
+// positive lag-1 autocorrelation; too fast for a drift or a binned time
+// term.
+TEST(DiagnosisVerdictTest, FastSquareWaveOverTimeIsLocatedNotNamed) {
+  Dataset d = Clean(32);
+  const std::vector<int> rank = TimeRank(d);
+  for (Measurement& m : d.measurements) {
+    if ((rank[m.campaign] / 8) % 2 == 1) m.wear_center_um *= 1.08;
+  }
+  const DiagnosisReport r = Diagnosed(d);
+  EXPECT_EQ(r.verdict, "mismatch_located_unexplained") << Describe(r);
+  EXPECT_TRUE(r.findings.empty()) << Describe(r);
+  EXPECT_TRUE(Lists(r, "lag1_along_time") || Lists(r, "runs_along_time")) << Describe(r);
+}
+
+// The grinder reads the bottom rolls of F7 with an extra N(0, 25 µm)
+// error: the mean is untouched, the spread is not.
+TEST(DiagnosisVerdictTest, ExtraSpreadAtOnePositionIsLocatedNotNamed) {
+  Dataset d = Clean(33);
+  Random rng(4242);
+  for (Measurement& m : d.measurements) {
+    if (m.stand == 7 && m.position == Position::kBottom) {
+      m.wear_center_um = std::max(0.0, m.wear_center_um + 25.0 * rng.Normal());
+    }
+  }
+  const DiagnosisReport r = Diagnosed(d);
+  EXPECT_EQ(r.verdict, "mismatch_located_unexplained") << Describe(r);
+  EXPECT_TRUE(r.findings.empty()) << Describe(r);
+  EXPECT_TRUE(Lists(r, "spread_by_position", "F7")) << Describe(r);
+}
+
+// Clean data: no finding and nothing unexplained in at least 19 of 20
+// seeds.
+TEST(DiagnosisVerdictTest, CleanDataStaysQuietWithNothingUnexplained) {
+  const int num_seeds = test_size::FullOr(20, 4);
+  const int need = num_seeds - num_seeds / 20;
+  int quiet = 0;
+  std::string noisy;
+  for (int s = 0; s < num_seeds; ++s) {
+    const DiagnosisReport r = Diagnosed(Clean(3000 + s, test_size::FullOr(200, 120)));
+    if (r.verdict == "no_significant_mismatch") {
+      EXPECT_TRUE(r.findings.empty());
+      EXPECT_TRUE(r.unexplained.empty());
+      ++quiet;
+    } else {
+      noisy += " seed " + std::to_string(3000 + s) + ": " + Describe(r);
+    }
+  }
+  EXPECT_GE(quiet, need) << noisy;
+}
+
+}  // namespace
+}  // namespace rollwear
