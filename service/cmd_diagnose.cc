@@ -40,6 +40,14 @@ int RunDiagnose(const DiagnoseArgs& args) {
                 f.form.c_str(), f.p_adjusted, f.gap_val_before_um, f.gap_val_after_um);
     std::printf("  %s\n", f.explanation.c_str());
   }
+  for (const Unexplained& u : r.unexplained) {
+    std::printf("mismatch at %s: %+.1f µm, p = %.2g (%s); no recorded quantity explains it\n",
+                u.where.c_str(), u.mean_residual_um, u.p_adjusted, u.dimension.c_str());
+  }
+  for (const RunnerUp& u : r.runners_up) {
+    std::printf("not adopted: %s (%s term), p = %.2g: %s\n", u.covariate.c_str(),
+                u.form.c_str(), u.p_adjusted, u.reason.c_str());
+  }
   std::printf("with adopted terms: gap training %.1f µm, validation %.1f µm (%.1f s)\n",
               r.final_gap_train_um, r.final_gap_val_um, r.seconds);
   PrintSuspectedOutliers(r.suspected_outliers);

@@ -17,6 +17,8 @@
 //    z = (R - E[R]) / sqrt(Var[R]) ~ N(0, 1).
 //  - position_by_time_half: ANOVA of u over roll position x half of the
 //    time range (a position that wears differently in one period only).
+//  - position_by_roll_type: ANOVA of u over roll position x roll type
+//    cells (a roll type that wears differently at one stand only).
 //  - spread_by_position, spread_by_time: Brown-Forsythe test of equal
 //    spread (Brown & Forsythe 1974, JASA 69:364): one-way ANOVA F of
 //    d_i = |u_i - median of u in i's group| over the groups.
@@ -26,7 +28,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <map>
 #include <numeric>
 #include <string>
@@ -234,7 +235,7 @@ std::string Where(const Breakdown& b, const Breakdown::Group& g) {
     return (b.dimension == "spread_by_position" ? "roll_position=" : "calendar time, ") +
            g.label + buf;
   }
-  if (b.dimension == "position_by_time_half") return "roll_position=" + g.label;
+  if (b.dimension.rfind("position_by_", 0) == 0) return "roll_position=" + g.label;
   return b.dimension + "=" + g.label;
 }
 
@@ -258,7 +259,7 @@ std::vector<Breakdown> NoiseChecks(const TermData& td, const Dataset& data,
   std::vector<Breakdown> out;
   TimeChecks(ByCampaignInTime(td, data, obs, u, um), &out);
   // Position x half of the time range; position and time quarters spread.
-  std::vector<std::string> pos_half(n), position(n), quarter(n), q_order;
+  std::vector<std::string> pos_half(n), pos_type(n), position(n), quarter(n), q_order;
   for (int q = 0; q < 4; ++q) q_order.push_back(Ordinal(q + 1) + " quarter");
   for (size_t i = 0; i < n; ++i) {
     const TermObservation& o = td.obs[obs[i]];
@@ -266,9 +267,11 @@ std::vector<Breakdown> NoiseChecks(const TermData& td, const Dataset& data,
     const double share = t_max > t_min ? (t - t_min) / (t_max - t_min) : 0;
     position[i] = td.positions[o.position];
     pos_half[i] = position[i] + ", calendar time " + (share < 0.5 ? "1st half" : "2nd half");
+    pos_type[i] = position[i] + ", roll_type=" + (o.roll_type >= 0 ? td.roll_types[o.roll_type] : "?");
     quarter[i] = q_order[std::min(3, static_cast<int>(4 * share))];
   }
   out.push_back(AnovaWithSize("position_by_time_half", pos_half, u, um));
+  out.push_back(AnovaWithSize("position_by_roll_type", pos_type, u, um));
   out.push_back(SpreadCheck("spread_by_position", position, u, um));
   out.push_back(SpreadCheck("spread_by_time", quarter, u, um));
   return out;
@@ -280,7 +283,6 @@ std::vector<Unexplained> UnexplainedStructure(const std::vector<Breakdown>& chec
   const double m = static_cast<double>(checks.size());
   for (const Breakdown& b : checks) {
     const double p_adj = std::min(1.0, b.p_value * m);
-    if (std::getenv("RW_DEBUG")) std::fprintf(stderr, "DBG %s %s stat %.3g p %.3g eff %.3g mat %d (material_um %.2f)\n", b.dimension.c_str(), b.test.c_str(), b.statistic, b.p_value, b.effect_size, (int)Material(b, material_um), material_um);
     if (!(p_adj < alpha) || !Material(b, material_um)) continue;
     const Breakdown::Group* g = Carrier(b);
     if (g == nullptr) continue;

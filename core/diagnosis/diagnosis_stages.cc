@@ -219,23 +219,50 @@ CvRound CrossValidateSignificant(const DiagnosisState& st,
 }
 
 // Sets cv_mse_ratio and accepted of the cross-validated results; returns
-// the accepted one with the smallest penalised CV ratio, or -1.
-int PickWinner(const CvRound& cv, const DiagnosisOptions& options,
-               std::vector<CandidateResult>* results) {
-  int winner = -1;
+// the accepted ones by penalised CV ratio, best first.
+std::vector<int> RankAccepted(const CvRound& cv, const DiagnosisOptions& options,
+                              std::vector<CandidateResult>* results) {
+  std::vector<int> accepted;
   for (size_t j = 0; j < cv.to_cv.size(); ++j) {
     CandidateResult& r = (*results)[cv.to_cv[j]];
     r.cv_mse_ratio = cv.base.mse > 0 ? cv.cand[j].mse / cv.base.mse : 1.0;
     r.accepted = r.cv_mse_ratio < 1 - options.min_cv_improvement;
-    auto penalised = [&](const CandidateResult& c) {
-      return c.cv_mse_ratio + options.cv_penalty_per_parameter * c.df;
-    };
-    if (r.accepted &&
-        (winner < 0 || penalised(r) < penalised((*results)[winner]))) {
-      winner = cv.to_cv[j];
-    }
+    if (r.accepted) accepted.push_back(cv.to_cv[j]);
   }
-  return winner;
+  auto penalised = [&](int i) {
+    const CandidateResult& c = (*results)[i];
+    return c.cv_mse_ratio + options.cv_penalty_per_parameter * c.df;
+  };
+  std::stable_sort(accepted.begin(), accepted.end(),
+                   [&](int a, int b) { return penalised(a) < penalised(b); });
+  return accepted;
+}
+
+// The first accepted candidate that passes the proxy guard, or -1; the
+// others tried become runners-up (and, when none passes, an inconsistent
+// effect's location is listed as unexplained).
+int GuardedWinner(int round, const Dataset& data, const DiagnosisOptions& options,
+                  const DiagnosisState& st, const std::vector<double>& sd,
+                  const std::vector<int>& accepted, const std::vector<Fitted>& fits,
+                  const std::vector<CandidateResult>& results,
+                  DiagnosisReport* report) {
+  if (accepted.empty()) return -1;
+  std::vector<double> clip;
+  for (int o : st.train) clip.push_back(sd[o]);
+  const std::vector<Breakdown> before = Locate(
+      st.td, data, st.train,
+      PredictTerms(st.td, st.train, st.current.log_k, st.current.terms), &clip);
+  std::vector<Unexplained> located;
+  for (int i : accepted) {
+    const GuardResult g = GuardAgainstProxy(data, st, options, sd, before, fits[i]);
+    if (g.pass) return i;
+    const CandidateResult& c = results[i];
+    report->runners_up.push_back(
+        {round, c.covariate, c.form, c.p_adjusted, c.cv_mse_ratio, g.reason});
+    if (!g.located.dimension.empty()) located.push_back(g.located);
+  }
+  for (const Unexplained& u : located) report->unexplained.push_back(u);
+  return -1;
 }
 
 // The top 15 candidates of the first round by p-value (ties in LR order).
@@ -444,7 +471,8 @@ void MakeFolds(const DiagnosisOptions& options, const CampaignSplit& split,
   }
 }
 
-bool RunRound(int round, const DiagnosisOptions& options, std::set<int>* used,
+bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
+              std::set<int>* used,
               PhaseClock* phase, DiagnosisState* st, DiagnosisReport* report) {
   const TermData& td = st->td;
   const std::vector<double> sd = TermNoiseSd(
@@ -468,8 +496,12 @@ bool RunRound(int round, const DiagnosisOptions& options, std::set<int>* used,
   // Cross-validate the significant ones (strongest first).
   const CvRound cv = CrossValidateSignificant(*st, sd, fits, results, options);
   phase->Mark("cross_validation");
-  const int winner = PickWinner(cv, options, &results);
+  const std::vector<int> accepted = RankAccepted(cv, options, &results);
   if (round == 0) RecordFirstRound(cv.order, results, report);
+  // The proxy guard, best accepted candidate first.
+  const int winner = GuardedWinner(round, data, options, *st, sd, accepted,
+                                   fits, results, report);
+  phase->Mark("guard");
   if (winner < 0) return false;
 
   // 5. Adopt the winner.
@@ -524,8 +556,15 @@ void Summarise(const Dataset& data, const DiagnosisOptions& options,
     m.noise_sd_um = noise.noise_sd_um;
     m.noise_rel = noise.noise_rel;
     ListOutliers(data, st, after_all, noise, report);
-    report->unexplained =
-        LocateUnexplained(data, options, st, after_all, noise);
+    // Appended to what the proxy guard located in the last round.
+    for (Unexplained& u :
+         LocateUnexplained(data, options, st, after_all, noise)) {
+      report->unexplained.push_back(std::move(u));
+    }
+    std::stable_sort(report->unexplained.begin(), report->unexplained.end(),
+                     [](const Unexplained& a, const Unexplained& b) {
+                       return a.p_value < b.p_value;
+                     });
   }
   report->verdict = !report->findings.empty() ? "missing_physics_found"
                     : !report->unexplained.empty()

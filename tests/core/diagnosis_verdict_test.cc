@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,7 @@ std::vector<int> TimeRank(const Dataset& d) {
 std::string Describe(const DiagnosisReport& r) {
   std::string s = "verdict " + r.verdict + ";";
   for (const Finding& f : r.findings) s += " finding " + f.covariate + " (" + f.form + ");";
+  for (const RunnerUp& u : r.runners_up) s += " runner-up " + u.covariate + ": " + u.reason + ";";
   for (const Unexplained& u : r.unexplained) {
     char buf[256];
     std::snprintf(buf, sizeof(buf), " unexplained %s at %s: %+.1f um, p_adj %.2g;",
@@ -121,6 +123,26 @@ TEST(DiagnosisVerdictTest, ExtraSpreadAtOnePositionIsLocatedNotNamed) {
   EXPECT_EQ(r.verdict, "mismatch_located_unexplained") << Describe(r);
   EXPECT_TRUE(r.findings.empty()) << Describe(r);
   EXPECT_TRUE(Lists(r, "spread_by_position", "F7")) << Describe(r);
+}
+
+// One roll type wears 25 % more at F7 only (roll type x stand, a cell
+// the option-1 K structure cannot express): not to be named as a global
+// effect of a correlated roll property (hardness, diameter). The roll
+// type's K coefficient absorbs its mean over F6 and F7, so what remains is
+// the type's F6 and F7 cells pulling apart: located in the roll position x
+// roll type cells of ICDP-S1.
+TEST(DiagnosisVerdictTest, RollTypeAtOneStandIsNotNamedAsAGlobalEffect) {
+  Dataset d = Clean(34);
+  std::map<std::pair<int, std::string>, int> type_of;  // (campaign, roll) -> type
+  ASSERT_TRUE(std::count(d.roll_types.begin(), d.roll_types.end(), "ICDP-S1"));
+  for (const Mount& m : d.mounts) type_of[{m.campaign, m.roll_id}] = m.roll_type;
+  for (Measurement& m : d.measurements) {
+    if (m.stand == 7 && d.roll_types[type_of[{m.campaign, m.roll_id}]] == "ICDP-S1") m.wear_center_um *= 1.25;
+  }
+  const DiagnosisReport r = Diagnosed(d);
+  EXPECT_EQ(r.verdict, "mismatch_located_unexplained") << Describe(r);
+  EXPECT_TRUE(r.findings.empty()) << Describe(r);
+  EXPECT_TRUE(Lists(r, "position_by_roll_type", "roll_type=ICDP-S1")) << Describe(r);
 }
 
 // Clean data: no finding and nothing unexplained in at least 19 of 20
