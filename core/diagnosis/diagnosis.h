@@ -77,6 +77,9 @@ struct Breakdown {
     int n = 0;
     double mean_residual_um = 0;  // measured - predicted
     double mean_relative = 0;     // mean of (measured - predicted) / predicted
+    // ANOVA only: the group mean over its standard error from the pooled
+    // within-group sd, mean / (s_w / sqrt(n)) ~ t(N - k) under "mean 0".
+    double t = 0;
   };
   std::vector<Group> groups;
 };

@@ -4,11 +4,14 @@
 //  (a) Consistency. With the winner's fit, let D_i be the term's
 //      contribution to observation i (prediction with the term minus
 //      prediction with the same coefficients without it) and e_i the
-//      residual without it. Per group g of a dimension (stand, roll
-//      position, roll type) the weighted least-squares scale of the effect
-//      is b_g = sum w e D / sum w D^2 with s.e. se_g = sqrt(phi / sum w D^2)
-//      (w = 1 / sd^2, phi the weighted mean square of the adopted model's
-//      residuals); a global effect has the same b_g (about 1) everywhere.
+//      residual without it, P_i the prediction without it. Per group g of a
+//      dimension (stand, roll position, roll type) the weighted least
+//      squares fit e ~ a_g P + b_g D (w = 1 / sd^2; the a_g P column takes
+//      up what the group's multiplicative K coefficients absorb) gives the
+//      scale b_g of the effect's shape inside the group, with variance
+//      phi [(X'WX)^-1]_DD (phi the weighted mean square of the adopted
+//      model's residuals); a global effect has the same b_g (about 1)
+//      everywhere.
 //      Heterogeneity: Cochran's Q = sum_g (b_g - b_bar)^2 / se_g^2 with
 //      b_bar the inverse-variance weighted mean, ~ chi2(G - 1) under
 //      homogeneity (Cochran 1954, Biometrics 10:101). This is the
@@ -41,43 +44,58 @@ constexpr int kMinGroupObservations = 10;
 
 struct Heterogeneity {
   double q = 0, p = 1, max_dev = 0;
-  std::string group;        // the group whose scale deviates most
+  std::string group;        // the group with the largest |b_g|
   double group_mean_um = 0;  // its mean residual without the term
 };
 
+// Per group: weighted least squares of e on (p0, D); the level column p0
+// takes up what a change of the group's K coefficients would (they are
+// multiplicative), so b_g measures the shape of the effect inside the group.
 Heterogeneity Cochran(const std::vector<std::string>& label, const std::vector<double>& e,
-                      const std::vector<double>& d, const std::vector<double>& w,
-                      double phi) {
+                      const std::vector<double>& p0, const std::vector<double>& d,
+                      const std::vector<double>& w, double phi) {
   struct Sums {
-    double sed = 0, sdd = 0, se = 0;
+    double pp = 0, pd = 0, dd = 0, pe = 0, de = 0, se = 0;
     int n = 0;
   };
   std::map<std::string, Sums> by;
   for (size_t i = 0; i < label.size(); ++i) {
     Sums& s = by[label[i]];
-    s.sed += w[i] * e[i] * d[i];
-    s.sdd += w[i] * d[i] * d[i];
+    s.pp += w[i] * p0[i] * p0[i];
+    s.pd += w[i] * p0[i] * d[i];
+    s.dd += w[i] * d[i] * d[i];
+    s.pe += w[i] * p0[i] * e[i];
+    s.de += w[i] * d[i] * e[i];
     s.se += e[i];
     ++s.n;
   }
+  struct Scale {
+    std::string group;
+    double b, var, mean_um;
+  };
+  std::vector<Scale> used;
   double sum_wb = 0, sum_w = 0;
-  std::vector<std::pair<std::string, Sums>> used;
   for (const auto& [g, s] : by) {
-    if (s.n < kMinGroupObservations || !(s.sdd > 0)) continue;
-    used.push_back({g, s});
-    sum_wb += s.sed;  // (s.sed / s.sdd) * (s.sdd / phi), phi cancels in b_bar
-    sum_w += s.sdd;
+    const double det = s.pp * s.dd - s.pd * s.pd;
+    // The partial variance of D given p0 must not vanish.
+    if (s.n < kMinGroupObservations || !(det > 1e-9 * s.pp * s.dd)) continue;
+    const double b = (s.pp * s.de - s.pd * s.pe) / det;
+    const double var = phi * s.pp / det;
+    used.push_back({g, b, var, s.se / s.n});
+    sum_wb += b / var;
+    sum_w += 1 / var;
   }
   Heterogeneity h;
-  if (used.size() < 2 || !(sum_w > 0) || !(phi > 0)) return h;
+  if (used.size() < 2 || !(sum_w > 0)) return h;
   const double b_bar = sum_wb / sum_w;
-  for (const auto& [g, s] : used) {
-    const double b = s.sed / s.sdd;
-    h.q += (b - b_bar) * (b - b_bar) * s.sdd / phi;
-    if (std::abs(b - b_bar) > h.max_dev) {
-      h.max_dev = std::abs(b - b_bar);
-      h.group = g;
-      h.group_mean_um = s.se / s.n;
+  double largest = -1;
+  for (const Scale& sc : used) {
+    h.q += (sc.b - b_bar) * (sc.b - b_bar) / sc.var;
+    h.max_dev = std::max(h.max_dev, std::abs(sc.b - b_bar));
+    if (std::abs(sc.b) > largest) {  // where the effect lives
+      largest = std::abs(sc.b);
+      h.group = sc.group;
+      h.group_mean_um = sc.mean_um;
     }
   }
   h.p = ChiSquareSurvival(h.q, static_cast<double>(used.size() - 1));
@@ -151,7 +169,7 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
   const std::pair<const char*, const std::vector<std::string>*> dims[] = {
       {"stand", &stand}, {"position", &position}, {"roll_type", &roll_type}};
   for (const auto& [name, label] : dims) {
-    const Heterogeneity h = Cochran(*label, e, d, w, phi);
+    const Heterogeneity h = Cochran(*label, e, p0, d, w, phi);
     if (h.p * 3 < options.alpha && h.max_dev >= kMaterialScale) {
       result.pass = false;
       result.reason = std::string("inconsistent across ") + name;

@@ -52,6 +52,9 @@ Breakdown AnovaBreakdown(const std::string& dimension, const std::vector<std::st
                          const std::vector<double>& resid, const std::vector<double>& rel,
                          const std::vector<std::string>& order = {});
 
+// The grade with the largest share of the observation's load ("?" if none).
+std::string DominantGrade(const TermData& td, const TermObservation& o);
+
 // The noise checks of the final model's residuals (diagnosis_noise.cc):
 // dyadic time blocks, lag-1 autocorrelation and runs of campaign means in
 // time order, roll position x time half, and Brown-Forsythe spread by

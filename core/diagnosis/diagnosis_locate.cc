@@ -55,8 +55,18 @@ Breakdown AnovaBreakdown(const std::string& dimension, const std::vector<std::st
   if (k_used >= 2 && n > k_used && ssw > 0) {
     b.statistic = (ssb / (k_used - 1)) / (ssw / (n - k_used));
     b.p_value = FSurvival(b.statistic, k_used - 1, n - k_used);
+    const double s_w = std::sqrt(ssw / (n - k_used));
+    for (Breakdown::Group& g : b.groups) g.t = g.mean_residual_um / (s_w / std::sqrt(g.n));
   }
   return b;
+}
+
+std::string DominantGrade(const TermData& td, const TermObservation& o) {
+  std::vector<double> by_grade(td.grades.size(), 0.0);
+  for (int p = o.pass_begin; p < o.pass_end; ++p) by_grade[td.grade[p]] += td.load[p];
+  return by_grade.empty()
+             ? "?"
+             : td.grades[std::max_element(by_grade.begin(), by_grade.end()) - by_grade.begin()];
 }
 
 namespace {
@@ -113,15 +123,11 @@ std::vector<Breakdown> Locate(const TermData& td, const Dataset& data,
     const TermObservation& o = td.obs[obs[i]];
     position[i] = td.positions[o.position];
     roll_type[i] = o.roll_type >= 0 ? td.roll_types[o.roll_type] : "?";
-    std::vector<double> by_grade(td.grades.size(), 0.0);
     double total_len = 0;
     for (int p = o.pass_begin; p < o.pass_end; ++p) {
-      by_grade[td.grade[p]] += td.load[p];
       if (k_len >= 0) total_len += td.z[k_len][p];
     }
-    grade[i] = by_grade.empty() ? "?"
-                                : td.grades[std::max_element(by_grade.begin(), by_grade.end()) -
-                                            by_grade.begin()];
+    grade[i] = DominantGrade(td, o);
     amplitude[i] = pred[i] < 150 ? "< 150 µm" : (pred[i] < 300 ? "150 - 300 µm" : ">= 300 µm");
     length[i] = total_len;
     time[i] = k_time >= 0 ? td.obs_z[k_time][obs[i]] : 0.0;

@@ -18,7 +18,8 @@
 //  - position_by_time_half: ANOVA of u over roll position x half of the
 //    time range (a position that wears differently in one period only).
 //  - position_by_roll_type: ANOVA of u over roll position x roll type
-//    cells (a roll type that wears differently at one stand only).
+//    cells (a roll type that wears differently at one stand only), and
+//    position_by_grade over roll position x dominant grade cells.
 //  - spread_by_position, spread_by_time: Brown-Forsythe test of equal
 //    spread (Brown & Forsythe 1974, JASA 69:364): one-way ANOVA F of
 //    d_i = |u_i - median of u in i's group| over the groups.
@@ -32,6 +33,7 @@
 #include <numeric>
 #include <string>
 
+#include "core/base/distributions.h"
 #include "core/diagnosis/diagnosis_internal.h"
 #include "core/fit/robust.h"
 
@@ -96,7 +98,9 @@ Breakdown AnovaWithSize(const std::string& dimension,
   const std::vector<double> zero(u.size(), 0.0);
   Breakdown b = AnovaBreakdown(dimension, label, u, zero, order);
   const Breakdown size = AnovaBreakdown(dimension, label, um, zero, order);
-  b.groups = size.groups;
+  for (size_t g = 0; g < b.groups.size(); ++g) {  // the test's t, the µm size
+    b.groups[g].mean_residual_um = size.groups[g].mean_residual_um;
+  }
   b.effect_size = 0;
   for (const Breakdown::Group& g : b.groups) {
     b.effect_size = std::max(b.effect_size, std::abs(g.mean_residual_um));
@@ -259,7 +263,8 @@ std::vector<Breakdown> NoiseChecks(const TermData& td, const Dataset& data,
   std::vector<Breakdown> out;
   TimeChecks(ByCampaignInTime(td, data, obs, u, um), &out);
   // Position x half of the time range; position and time quarters spread.
-  std::vector<std::string> pos_half(n), pos_type(n), position(n), quarter(n), q_order;
+  std::vector<std::string> pos_half(n), pos_type(n), pos_grade(n), position(n), quarter(n);
+  std::vector<std::string> q_order;
   for (int q = 0; q < 4; ++q) q_order.push_back(Ordinal(q + 1) + " quarter");
   for (size_t i = 0; i < n; ++i) {
     const TermObservation& o = td.obs[obs[i]];
@@ -268,10 +273,12 @@ std::vector<Breakdown> NoiseChecks(const TermData& td, const Dataset& data,
     position[i] = td.positions[o.position];
     pos_half[i] = position[i] + ", calendar time " + (share < 0.5 ? "1st half" : "2nd half");
     pos_type[i] = position[i] + ", roll_type=" + (o.roll_type >= 0 ? td.roll_types[o.roll_type] : "?");
+    pos_grade[i] = position[i] + ", dominant_grade=" + DominantGrade(td, o);
     quarter[i] = q_order[std::min(3, static_cast<int>(4 * share))];
   }
   out.push_back(AnovaWithSize("position_by_time_half", pos_half, u, um));
   out.push_back(AnovaWithSize("position_by_roll_type", pos_type, u, um));
+  out.push_back(AnovaWithSize("position_by_grade", pos_grade, u, um));
   out.push_back(SpreadCheck("spread_by_position", position, u, um));
   out.push_back(SpreadCheck("spread_by_time", quarter, u, um));
   return out;
@@ -284,17 +291,30 @@ std::vector<Unexplained> UnexplainedStructure(const std::vector<Breakdown>& chec
   for (const Breakdown& b : checks) {
     const double p_adj = std::min(1.0, b.p_value * m);
     if (!(p_adj < alpha) || !Material(b, material_um)) continue;
+    auto add = [&](const Breakdown::Group& g, double p, double p_adjusted) {
+      out.push_back({b.dimension, Where(b, g), b.test, b.statistic, g.mean_residual_um, p,
+                     p_adjusted});
+    };
+    // ANOVA: every group whose own mean is significantly off zero (t test,
+    // Bonferroni over the groups and the checks) and material; else the
+    // group that carries the structure.
+    int listed = 0;
+    if (b.test == "anova") {
+      const double groups = static_cast<double>(b.groups.size());
+      int total = 0;
+      for (const Breakdown::Group& g : b.groups) total += g.n;
+      for (const Breakdown::Group& g : b.groups) {
+        const double p_g = StudentTTwoSided(g.t, std::max(1, total - static_cast<int>(groups)));
+        if (g.label == "missing" || !(p_g * m * groups < alpha) ||
+            std::abs(g.mean_residual_um) < material_um) {
+          continue;
+        }
+        add(g, p_g, std::min(1.0, p_g * m * groups));
+        ++listed;
+      }
+    }
     const Breakdown::Group* g = Carrier(b);
-    if (g == nullptr) continue;
-    Unexplained u;
-    u.dimension = b.dimension;
-    u.where = Where(b, *g);
-    u.test = b.test;
-    u.statistic = b.statistic;
-    u.mean_residual_um = g->mean_residual_um;
-    u.p_value = b.p_value;
-    u.p_adjusted = p_adj;
-    out.push_back(u);
+    if (listed == 0 && g != nullptr) add(*g, b.p_value, p_adj);
   }
   std::stable_sort(out.begin(), out.end(), [](const Unexplained& a, const Unexplained& b) {
     return a.p_value < b.p_value;
