@@ -22,9 +22,19 @@
 //     training campaigns; a candidate is adopted only when both agree
 //     (p_adj < alpha and CV error reduced by min_cv_improvement). The best
 //     by cross-validation wins; repeat on the improved model for a further
-//     effect until nothing is significant.
+//     effect until nothing is significant. Before it is named, the winner
+//     must pass the proxy guard (diagnosis_guard.cc): its effect must be
+//     consistent across stands, roll positions and roll types, and the
+//     structure Locate found must be materially reduced by it; otherwise
+//     the next accepted candidate is tried (the others: runners_up).
 //  5. Adopt and report: the adopted terms with parameters and standard
 //     errors, the validation gap before and after each.
+//  6. Look again: the final model's residuals located as in step 2 plus
+//     the noise checks (diagnosis_noise.cc); what is significant at the
+//     family-wise level and of material size is `unexplained`. Verdict:
+//     missing_physics_found (a finding), mismatch_located_unexplained (no
+//     finding, something unexplained; no physics named) or
+//     no_significant_mismatch (no finding, residuals behave like noise).
 //
 // Thread-safety: Diagnose is reentrant; it uses up to options.num_threads
 // worker threads internally.

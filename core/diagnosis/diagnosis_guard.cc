@@ -44,16 +44,21 @@ constexpr int kMinGroupObservations = 10;
 
 struct Heterogeneity {
   double q = 0, p = 1, max_dev = 0;
-  std::string group;        // the group with the largest |b_g|
-  double group_mean_um = 0;  // its mean residual without the term
+  std::string group;         // the group with the largest |b_g|
+  double group_mean_um = 0;  // its mean residual before the round
 };
 
 // Per group: weighted least squares of e on (p0, D); the level column p0
 // takes up what a change of the group's K coefficients would (they are
 // multiplicative), so b_g measures the shape of the effect inside the group.
-Heterogeneity Cochran(const std::vector<std::string>& label, const std::vector<double>& e,
-                      const std::vector<double>& p0, const std::vector<double>& d,
-                      const std::vector<double>& w, double phi) {
+// `before`: the residuals of the model without any version of the term,
+// for the group's mean residual.
+Heterogeneity Cochran(const std::vector<std::string>& label,
+                      const std::vector<double>& e,
+                      const std::vector<double>& p0,
+                      const std::vector<double>& d,
+                      const std::vector<double>& w,
+                      const std::vector<double>& before, double phi) {
   struct Sums {
     double pp = 0, pd = 0, dd = 0, pe = 0, de = 0, se = 0;
     int n = 0;
@@ -66,7 +71,7 @@ Heterogeneity Cochran(const std::vector<std::string>& label, const std::vector<d
     s.dd += w[i] * d[i] * d[i];
     s.pe += w[i] * p0[i] * e[i];
     s.de += w[i] * d[i] * e[i];
-    s.se += e[i];
+    s.se += before[i];
     ++s.n;
   }
   struct Scale {
@@ -112,7 +117,8 @@ double LargestGroupMean(const Breakdown& b) {
 
 GuardResult LookAgain(const Dataset& data, const DiagnosisState& st,
                       const DiagnosisOptions& options,
-                      const std::vector<Breakdown>& before, const std::vector<double>& clip,
+                      const std::vector<Breakdown>& before,
+                      const std::vector<double>& clip,
                       const std::vector<double>& after) {
   GuardResult r;
   if (before.empty()) return r;
@@ -122,13 +128,15 @@ GuardResult LookAgain(const Dataset& data, const DiagnosisState& st,
   for (const Breakdown& b : Locate(st.td, data, st.train, after, &clip)) {
     if (b.dimension != top.dimension) continue;
     const bool gone = !(b.p_value * m < options.alpha);
-    const bool shrunk = LargestGroupMean(b) <= kLookAgainShrink * LargestGroupMean(top);
+    const bool shrunk =
+        LargestGroupMean(b) <= kLookAgainShrink * LargestGroupMean(top);
     if (!gone && !shrunk) {
       r.pass = false;
       char buf[160];
-      std::snprintf(buf, sizeof(buf),
-                    "located structure remains (%s: largest group mean %.1f -> %.1f um)",
-                    top.dimension.c_str(), LargestGroupMean(top), LargestGroupMean(b));
+      std::snprintf(
+          buf, sizeof(buf),
+          "located structure remains (%s: largest group mean %.1f -> %.1f um)",
+          top.dimension.c_str(), LargestGroupMean(top), LargestGroupMean(b));
       r.reason = buf;
     }
   }
@@ -145,10 +153,14 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
   const TermData& td = st.td;
   std::vector<TermSpec> without = with_term.terms;
   without.pop_back();
-  const std::vector<double> p1 = PredictTerms(td, st.train, with_term.log_k, with_term.terms);
-  const std::vector<double> p0 = PredictTerms(td, st.train, with_term.log_k, without);
+  const std::vector<double> p1 =
+      PredictTerms(td, st.train, with_term.log_k, with_term.terms);
+  const std::vector<double> p0 =
+      PredictTerms(td, st.train, with_term.log_k, without);
+  const std::vector<double> pc =
+      PredictTerms(td, st.train, st.current.log_k, st.current.terms);
   const size_t n = st.train.size();
-  std::vector<double> e(n), d(n), w(n), clip(n);
+  std::vector<double> e(n), d(n), w(n), clip(n), before(n);
   std::vector<std::string> stand(n), position(n), roll_type(n);
   double phi = 0;
   for (size_t i = 0; i < n; ++i) {
@@ -156,6 +168,7 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
     const TermObservation& ob = td.obs[o];
     w[i] = 1.0 / (sd[o] * sd[o]);
     e[i] = ob.measured_um - p0[i];
+    before[i] = ob.measured_um - pc[i];
     d[i] = p1[i] - p0[i];
     const double r1 = ob.measured_um - p1[i];
     phi += w[i] * r1 * r1;
@@ -169,7 +182,7 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
   const std::pair<const char*, const std::vector<std::string>*> dims[] = {
       {"stand", &stand}, {"position", &position}, {"roll_type", &roll_type}};
   for (const auto& [name, label] : dims) {
-    const Heterogeneity h = Cochran(*label, e, p0, d, w, phi);
+    const Heterogeneity h = Cochran(*label, e, p0, d, w, before, phi);
     if (h.p * 3 < options.alpha && h.max_dev >= kMaterialScale) {
       result.pass = false;
       result.reason = std::string("inconsistent across ") + name;

@@ -47,14 +47,16 @@ constexpr double kMaterialSpreadShare = 0.25;      // |spread ratio - 1|
 constexpr double kMaterialNoiseShare = 0.25;       // |mean| / median sd
 constexpr int kMinCampaignsPerBlock = 8;
 
-double NormalTwoSided(double z) { return std::erfc(std::abs(z) / std::sqrt(2.0)); }
+double NormalTwoSided(double z) {
+  return std::erfc(std::abs(z) / std::sqrt(2.0));
+}
 
 std::string Ordinal(int i) {  // 1-based
   const char* suffix = (i % 100 >= 11 && i % 100 <= 13) ? "th"
-                       : i % 10 == 1                     ? "st"
-                       : i % 10 == 2                     ? "nd"
-                       : i % 10 == 3                     ? "rd"
-                                                         : "th";
+                       : i % 10 == 1                    ? "st"
+                       : i % 10 == 2                    ? "nd"
+                       : i % 10 == 3                    ? "rd"
+                                                        : "th";
   return std::to_string(i) + suffix;
 }
 
@@ -115,13 +117,15 @@ void TimeChecks(const CampaignSeries& s, std::vector<Breakdown>* out) {
     std::vector<std::string> label(n), order;
     for (int b = 0; b < blocks; ++b) {
       const int lo = b * n / blocks + 1, hi = (b + 1) * n / blocks;
-      order.push_back("block " + Ordinal(b + 1) + " of " + std::to_string(blocks) +
-                      " (campaigns " + std::to_string(lo) + "-" + std::to_string(hi) +
+      order.push_back("block " + Ordinal(b + 1) + " of " +
+                      std::to_string(blocks) + " (campaigns " +
+                      std::to_string(lo) + "-" + std::to_string(hi) +
                       " in time order)");
     }
-    for (int i = 0; i < n; ++i) label[i] = order[static_cast<size_t>(i) * blocks / n];
-    out->push_back(AnovaWithSize("time_scale_" + std::to_string(blocks), label, s.u, s.um,
-                                 order));
+    for (int i = 0; i < n; ++i)
+      label[i] = order[static_cast<size_t>(i) * blocks / n];
+    out->push_back(AnovaWithSize("time_scale_" + std::to_string(blocks), label,
+                                 s.u, s.um, order));
   }
   double rms_um = 0;
   for (double v : s.um) rms_um += v * v;
@@ -140,7 +144,8 @@ void TimeChecks(const CampaignSeries& s, std::vector<Breakdown>* out) {
     b.p_value = NormalTwoSided(b.statistic);
     b.effect_size = std::abs(r1);
     char buf[96];
-    std::snprintf(buf, sizeof(buf), "campaign order (lag-1 autocorrelation %+.2f)", r1);
+    std::snprintf(buf, sizeof(buf),
+                  "campaign order (lag-1 autocorrelation %+.2f)", r1);
     b.groups.push_back({buf, n, rms_um, 0});
     out->push_back(b);
   }
@@ -156,7 +161,8 @@ void TimeChecks(const CampaignSeries& s, std::vector<Breakdown>* out) {
   const double nn = n1 + n2;
   if (n1 > 0 && n2 > 0 && nn > 2) {
     const double e = 2.0 * n1 * n2 / nn + 1;
-    const double var = 2.0 * n1 * n2 * (2.0 * n1 * n2 - nn) / (nn * nn * (nn - 1));
+    const double var =
+        2.0 * n1 * n2 * (2.0 * n1 * n2 - nn) / (nn * nn * (nn - 1));
     Breakdown b;
     b.dimension = "runs_along_time";
     b.test = "runs";
@@ -164,8 +170,10 @@ void TimeChecks(const CampaignSeries& s, std::vector<Breakdown>* out) {
     b.p_value = var > 0 ? NormalTwoSided(b.statistic) : 1;
     b.effect_size = std::abs(runs - e) / e;
     char buf[128];
-    std::snprintf(buf, sizeof(buf), "campaign order (%d runs of same-signed campaign means, %.0f expected)",
-                  runs, e);
+    std::snprintf(
+        buf, sizeof(buf),
+        "campaign order (%d runs of same-signed campaign means, %.0f expected)",
+        runs, e);
     b.groups.push_back({buf, n, rms_um, 0});
     out->push_back(b);
   }
@@ -174,8 +182,10 @@ void TimeChecks(const CampaignSeries& s, std::vector<Breakdown>* out) {
 // Brown-Forsythe: ANOVA of |u - group median| over the groups; effect size
 // and group "mean" = the group's mean |u - median| relative to the
 // overall one, minus 1 (the µm size is carried in mean_relative).
-Breakdown SpreadCheck(const std::string& dimension, const std::vector<std::string>& label,
-                      const std::vector<double>& u, const std::vector<double>& um) {
+Breakdown SpreadCheck(const std::string& dimension,
+                      const std::vector<std::string>& label,
+                      const std::vector<double>& u,
+                      const std::vector<double>& um) {
   std::map<std::string, std::vector<double>> by;
   for (size_t i = 0; i < u.size(); ++i) by[label[i]].push_back(u[i]);
   std::map<std::string, double> median;
@@ -198,15 +208,18 @@ Breakdown SpreadCheck(const std::string& dimension, const std::vector<std::strin
   b.effect_size = 0;
   for (size_t g = 0; g < b.groups.size(); ++g) {
     // mean_relative: spread ratio - 1; mean_residual_um: mean |residual|.
-    b.groups[g].mean_relative = overall > 0 ? b.groups[g].mean_residual_um / overall - 1 : 0;
+    b.groups[g].mean_relative =
+        overall > 0 ? b.groups[g].mean_residual_um / overall - 1 : 0;
     b.groups[g].mean_residual_um = size.groups[g].mean_residual_um;
-    b.effect_size = std::max(b.effect_size, std::abs(b.groups[g].mean_relative));
+    b.effect_size =
+        std::max(b.effect_size, std::abs(b.groups[g].mean_relative));
   }
   return b;
 }
 
 bool Material(const Breakdown& b, double material_um) {
-  if (b.test == "lag1_autocorrelation") return b.effect_size >= kMaterialAutocorrelation;
+  if (b.test == "lag1_autocorrelation")
+    return b.effect_size >= kMaterialAutocorrelation;
   if (b.test == "runs") return b.effect_size >= kMaterialRunsShare;
   if (b.test == "brown_forsythe") return b.effect_size >= kMaterialSpreadShare;
   double largest = 0;
@@ -231,15 +244,19 @@ const Breakdown::Group* Carrier(const Breakdown& b) {
 }
 
 std::string Where(const Breakdown& b, const Breakdown::Group& g) {
-  if (b.dimension.rfind("time_scale_", 0) == 0) return "calendar time, " + g.label;
+  if (b.dimension.rfind("time_scale_", 0) == 0)
+    return "calendar time, " + g.label;
   if (b.test == "lag1_autocorrelation" || b.test == "runs") return g.label;
   if (b.test == "brown_forsythe") {
     char buf[48];
-    std::snprintf(buf, sizeof(buf), " (spread %+.0f %%)", 100 * g.mean_relative);
-    return (b.dimension == "spread_by_position" ? "roll_position=" : "calendar time, ") +
+    std::snprintf(buf, sizeof(buf), " (spread %+.0f %%)",
+                  100 * g.mean_relative);
+    return (b.dimension == "spread_by_position" ? "roll_position="
+                                                : "calendar time, ") +
            g.label + buf;
   }
-  if (b.dimension.rfind("position_by_", 0) == 0) return "roll_position=" + g.label;
+  if (b.dimension.rfind("position_by_", 0) == 0)
+    return "roll_position=" + g.label;
   return b.dimension + "=" + g.label;
 }
 
@@ -256,14 +273,16 @@ std::vector<Breakdown> NoiseChecks(const TermData& td, const Dataset& data,
     const double e = td.obs[obs[i]].measured_um - pred[i];
     u[i] = std::clamp(e / sd[i], -kHuberK, kHuberK);
     um[i] = u[i] * sd[i];
-    const double t = static_cast<double>(data.campaigns[td.obs[obs[i]].campaign].started_at);
+    const double t =
+        static_cast<double>(data.campaigns[td.obs[obs[i]].campaign].started_at);
     t_min = i == 0 ? t : std::min(t_min, t);
     t_max = i == 0 ? t : std::max(t_max, t);
   }
   std::vector<Breakdown> out;
   TimeChecks(ByCampaignInTime(td, data, obs, u, um), &out);
   // Position x half of the time range; position and time quarters spread.
-  std::vector<std::string> pos_half(n), pos_type(n), pos_grade(n), position(n), quarter(n);
+  std::vector<std::string> pos_half(n), pos_type(n), pos_grade(n), position(n),
+      quarter(n);
   std::vector<std::string> q_order;
   for (int q = 0; q < 4; ++q) q_order.push_back(Ordinal(q + 1) + " quarter");
   for (size_t i = 0; i < n; ++i) {
@@ -271,8 +290,10 @@ std::vector<Breakdown> NoiseChecks(const TermData& td, const Dataset& data,
     const double t = static_cast<double>(data.campaigns[o.campaign].started_at);
     const double share = t_max > t_min ? (t - t_min) / (t_max - t_min) : 0;
     position[i] = td.positions[o.position];
-    pos_half[i] = position[i] + ", calendar time " + (share < 0.5 ? "1st half" : "2nd half");
-    pos_type[i] = position[i] + ", roll_type=" + (o.roll_type >= 0 ? td.roll_types[o.roll_type] : "?");
+    pos_half[i] = position[i] + ", calendar time " +
+                  (share < 0.5 ? "1st half" : "2nd half");
+    pos_type[i] = position[i] + ", roll_type=" +
+                  (o.roll_type >= 0 ? td.roll_types[o.roll_type] : "?");
     pos_grade[i] = position[i] + ", dominant_grade=" + DominantGrade(td, o);
     quarter[i] = q_order[std::min(3, static_cast<int>(4 * share))];
   }
@@ -284,16 +305,16 @@ std::vector<Breakdown> NoiseChecks(const TermData& td, const Dataset& data,
   return out;
 }
 
-std::vector<Unexplained> UnexplainedStructure(const std::vector<Breakdown>& checks,
-                                              double alpha, double material_um) {
+std::vector<Unexplained> UnexplainedStructure(
+    const std::vector<Breakdown>& checks, double alpha, double material_um) {
   std::vector<Unexplained> out;
   const double m = static_cast<double>(checks.size());
   for (const Breakdown& b : checks) {
     const double p_adj = std::min(1.0, b.p_value * m);
     if (!(p_adj < alpha) || !Material(b, material_um)) continue;
     auto add = [&](const Breakdown::Group& g, double p, double p_adjusted) {
-      out.push_back({b.dimension, Where(b, g), b.test, b.statistic, g.mean_residual_um, p,
-                     p_adjusted});
+      out.push_back({b.dimension, Where(b, g), b.test, b.statistic,
+                     g.mean_residual_um, p, p_adjusted});
     };
     // ANOVA: every group whose own mean is significantly off zero (t test,
     // Bonferroni over the groups and the checks) and material; else the
@@ -304,7 +325,8 @@ std::vector<Unexplained> UnexplainedStructure(const std::vector<Breakdown>& chec
       int total = 0;
       for (const Breakdown::Group& g : b.groups) total += g.n;
       for (const Breakdown::Group& g : b.groups) {
-        const double p_g = StudentTTwoSided(g.t, std::max(1, total - static_cast<int>(groups)));
+        const double p_g = StudentTTwoSided(
+            g.t, std::max(1, total - static_cast<int>(groups)));
         if (g.label == "missing" || !(p_g * m * groups < alpha) ||
             std::abs(g.mean_residual_um) < material_um) {
           continue;
@@ -316,9 +338,10 @@ std::vector<Unexplained> UnexplainedStructure(const std::vector<Breakdown>& chec
     const Breakdown::Group* g = Carrier(b);
     if (listed == 0 && g != nullptr) add(*g, b.p_value, p_adj);
   }
-  std::stable_sort(out.begin(), out.end(), [](const Unexplained& a, const Unexplained& b) {
-    return a.p_value < b.p_value;
-  });
+  std::stable_sort(out.begin(), out.end(),
+                   [](const Unexplained& a, const Unexplained& b) {
+                     return a.p_value < b.p_value;
+                   });
   return out;
 }
 

@@ -259,7 +259,11 @@ int GuardedWinner(int round, const Dataset& data, const DiagnosisOptions& option
     const CandidateResult& c = results[i];
     report->runners_up.push_back(
         {round, c.covariate, c.form, c.p_adjusted, c.cv_mse_ratio, g.reason});
-    if (!g.located.dimension.empty()) located.push_back(g.located);
+    const bool seen = std::any_of(
+        located.begin(), located.end(), [&](const Unexplained& u) {
+          return u.dimension == g.located.dimension && u.where == g.located.where;
+        });
+    if (!g.located.dimension.empty() && !seen) located.push_back(g.located);
   }
   for (const Unexplained& u : located) report->unexplained.push_back(u);
   return -1;
