@@ -201,7 +201,7 @@ struct DiagnosisReport {
   std::vector<SuspectedOutlier> suspected_outliers;
   double seconds = 0;
   // Wall seconds per phase ("baseline", "data", "locate", "screen",
-  // "refit", "cross_validation"), summed over rounds.
+  // "refit", "cross_validation", "guard"), summed over rounds.
   std::map<std::string, double> phase_seconds;
 };
 

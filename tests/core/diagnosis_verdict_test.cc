@@ -3,7 +3,7 @@
 // lives and no physics named; clean data must stay
 // `no_significant_mismatch` with nothing unexplained. The inexpressible
 // effects are written into a clean simulation's measured wear directly:
-// an alternating offset between consecutive campaigns, a square wave over
+// an alternating offset (+-10 µm) between consecutive campaigns, a square wave over
 // calendar time with a period of 16 campaigns, and extra grinder noise on
 // one roll position only.
 #include <algorithm>
@@ -97,14 +97,14 @@ void ExpectLocatedNotNamed(const Dataset& d,
   EXPECT_TRUE(listed) << Describe(r);
 }
 
-// +20 µm on every other campaign in time order: campaign means alternate,
+// +-10 µm on alternate campaigns in time order: campaign means alternate,
 // so the runs test sees far too many runs and the lag-1 autocorrelation is
 // strongly negative; no recorded quantity alternates with it.
 TEST(DiagnosisVerdictTest, AlternatingCampaignOffsetIsLocatedNotNamed) {
   Dataset d = Clean(31);
   const std::vector<int> rank = TimeRank(d);
   for (Measurement& m : d.measurements) {
-    if (rank[m.campaign] % 2 == 1) m.wear_center_um += 20.0;
+    m.wear_center_um += rank[m.campaign] % 2 == 1 ? 10.0 : -10.0;
   }
   ExpectLocatedNotNamed(d, {"runs_along_time", "lag1_along_time"});
 }

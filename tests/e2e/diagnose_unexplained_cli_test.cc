@@ -1,6 +1,6 @@
 // The third verdict through the binary: a simulated mill whose grinder
-// reads every other campaign 20 µm high (no recorded quantity alternates
-// with it) is answered `mismatch_located_unexplained`, with the mismatch
+// reads campaigns alternately 10 µm high and 10 µm low (no recorded
+// quantity alternates with it) is answered `mismatch_located_unexplained`, with the mismatch
 // located in plain words on stdout and in the JSON's `unexplained`, and no
 // physics named.
 #include <fstream>
@@ -17,8 +17,8 @@ namespace {
 
 // Adds `offset_um` to wear_center_um (the last column) of every
 // measurement of an even-numbered campaign (C0002, C0004 ...: every other
-// campaign in time order).
-void OffsetEveryOtherCampaign(const std::string& path, double offset_um) {
+// campaign in time order) and subtracts it from the others.
+void OffsetAlternateCampaigns(const std::string& path, double offset_um) {
   std::istringstream in(ReadFile(path));
   std::string line, out;
   std::getline(in, line);
@@ -27,10 +27,9 @@ void OffsetEveryOtherCampaign(const std::string& path, double offset_um) {
   while (std::getline(in, line)) {
     const size_t comma = line.rfind(',');
     const int campaign = std::stoi(line.substr(1, line.find(',') - 1));
-    if (campaign % 2 == 0) {
-      const double wear = std::stod(line.substr(comma + 1)) + offset_um;
-      line = line.substr(0, comma + 1) + std::to_string(wear);
-    }
+    const double wear =
+        std::stod(line.substr(comma + 1)) + (campaign % 2 == 0 ? offset_um : -offset_um);
+    line = line.substr(0, comma + 1) + std::to_string(wear);
     out += line + "\n";
   }
   std::ofstream(path) << out;
@@ -44,7 +43,7 @@ TEST(DiagnoseUnexplainedCliTest, LocatesWithoutNamingPhysics) {
                         &out),
             0)
       << out;
-  ASSERT_NO_FATAL_FAILURE(OffsetEveryOtherCampaign(dir / "data/measurements.csv", 20.0));
+  ASSERT_NO_FATAL_FAILURE(OffsetAlternateCampaigns(dir / "data/measurements.csv", 10.0));
   ASSERT_EQ(RunRollwear({"diagnose", "--data", dir / "data", "--json", dir / "diag.json"},
                         &out),
             0)
