@@ -1,6 +1,9 @@
 #include "api/diagnosis_json.h"
 
 #include <cmath>
+#include <map>
+#include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -25,6 +28,41 @@ nlohmann::json TermJson(const ModelTerm& t) {
   return j;
 }
 
+// A finding's scope: null when global, else {"stand":"F7",...}.
+nlohmann::json ScopeJson(const std::map<std::string, std::string>& scope) {
+  if (scope.empty()) return nullptr;
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [k, v] : scope) j[k] = v;
+  return j;
+}
+
+nlohmann::json UnexplainedJson(const std::vector<Unexplained>& list) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const Unexplained& u : list) {
+    j.push_back({{"dimension", u.dimension},
+                 {"where", u.where},
+                 {"test", u.test},
+                 {"statistic", Num(u.statistic)},
+                 {"mean_residual_um", Num(u.mean_residual_um)},
+                 {"p_value", Num(u.p_adjusted)},
+                 {"p_value_unadjusted", Num(u.p_value)}});
+  }
+  return j;
+}
+
+nlohmann::json RunnersUpJson(const std::vector<RunnerUp>& list) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const RunnerUp& u : list) {
+    j.push_back({{"round", u.round},
+                 {"covariate", u.covariate},
+                 {"form", u.form},
+                 {"p_value", Num(u.p_adjusted)},
+                 {"cv_error_ratio", Num(u.cv_mse_ratio)},
+                 {"reason", u.reason}});
+  }
+  return j;
+}
+
 nlohmann::json DiagnosisJson(const DiagnosisReport& r) {
   nlohmann::json j;
   j["baseline"] = {{"model", r.law},
@@ -41,6 +79,8 @@ nlohmann::json DiagnosisJson(const DiagnosisReport& r) {
     for (const auto& [k, v] : f.parameters) params[k] = Num(v);
     for (const auto& [k, v] : f.parameter_std_errors) se[k] = Num(v);
     j["findings"].push_back({{"covariate", f.covariate},
+                             {"scope", ScopeJson(f.scope)},
+                             {"levels", f.levels},
                              {"level", f.level},
                              {"mechanism", f.mechanism},
                              {"shape", f.shape},
@@ -60,6 +100,8 @@ nlohmann::json DiagnosisJson(const DiagnosisReport& r) {
                              {"gap_val_after_um", f.gap_val_after_um},
                              {"alternatives", f.alternatives}});
   }
+  j["unexplained"] = UnexplainedJson(r.unexplained);
+  j["runners_up"] = RunnersUpJson(r.runners_up);
   j["locate"] = nlohmann::json::array();
   for (const Breakdown& b : r.locate) {
     nlohmann::json groups = nlohmann::json::array();

@@ -40,6 +40,22 @@ int RunDiagnose(const DiagnoseArgs& args) {
                 f.form.c_str(), f.p_adjusted, f.gap_val_before_um, f.gap_val_after_um);
     std::printf("  %s\n", f.explanation.c_str());
   }
+  for (const Unexplained& u : r.unexplained) {
+    // The size: a mean residual, the rms of the campaign means (time-order
+    // checks) or the mean |residual| (spread checks); docs/diagnosis.md.
+    const bool rms = u.test == "lag1_autocorrelation" || u.test == "runs";
+    const char* size = rms ? "campaign means %.1f µm rms"
+                       : u.test == "brown_forsythe" ? "mean |residual| %.1f µm"
+                                                    : "%+.1f µm";
+    char buf[64];
+    std::snprintf(buf, sizeof(buf), size, u.mean_residual_um);
+    std::printf("mismatch at %s: %s, p = %.2g (%s); no recorded quantity explains it\n",
+                u.where.c_str(), buf, u.p_adjusted, u.dimension.c_str());
+  }
+  for (const RunnerUp& u : r.runners_up) {
+    std::printf("not adopted: %s (%s term), p = %.2g: %s\n", u.covariate.c_str(),
+                u.form.c_str(), u.p_adjusted, u.reason.c_str());
+  }
   std::printf("with adopted terms: gap training %.1f µm, validation %.1f µm (%.1f s)\n",
               r.final_gap_train_um, r.final_gap_val_um, r.seconds);
   PrintSuspectedOutliers(r.suspected_outliers);

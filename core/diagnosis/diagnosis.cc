@@ -53,7 +53,7 @@ StatusOr<DiagnosisReport> Diagnose(const Dataset& data,
   diag::MakeFolds(options, base.split, &state);
   std::set<int> used;
   for (int round = 0; round < options.max_findings; ++round) {
-    if (!diag::RunRound(round, options, &used, &phase, &state, &report)) break;
+    if (!diag::RunRound(round, data, options, &used, &phase, &state, &report)) break;
   }
 
   diag::Summarise(data, options, state, &report);

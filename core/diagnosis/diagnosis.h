@@ -22,9 +22,19 @@
 //     training campaigns; a candidate is adopted only when both agree
 //     (p_adj < alpha and CV error reduced by min_cv_improvement). The best
 //     by cross-validation wins; repeat on the improved model for a further
-//     effect until nothing is significant.
+//     effect until nothing is significant. Before it is named, the winner
+//     must pass the proxy guard (diagnosis_guard.cc): its effect must be
+//     consistent across stands, roll positions and roll types, and the
+//     structure Locate found must be materially reduced by it; otherwise
+//     the next accepted candidate is tried (the others: runners_up).
 //  5. Adopt and report: the adopted terms with parameters and standard
 //     errors, the validation gap before and after each.
+//  6. Look again: the final model's residuals located as in step 2 plus
+//     the noise checks (diagnosis_noise.cc); what is significant at the
+//     family-wise level and of material size is `unexplained`. Verdict:
+//     missing_physics_found (a finding), mismatch_located_unexplained (no
+//     finding, something unexplained; no physics named) or
+//     no_significant_mismatch (no finding, residuals behave like noise).
 //
 // Thread-safety: Diagnose is reentrant; it uses up to options.num_threads
 // worker threads internally.
@@ -77,6 +87,9 @@ struct Breakdown {
     int n = 0;
     double mean_residual_um = 0;  // measured - predicted
     double mean_relative = 0;     // mean of (measured - predicted) / predicted
+    // ANOVA only: the group mean over its standard error from the pooled
+    // within-group sd, mean / (s_w / sqrt(n)) ~ t(N - k) under "mean 0".
+    double t = 0;
   };
   std::vector<Group> groups;
 };
@@ -110,9 +123,37 @@ struct Finding {
   double cv_mse_ratio = 1;
   double gap_val_before_um = 0, gap_val_after_um = 0;
   std::vector<std::string> alternatives;  // covariates that fit almost as well
+  // Where the finding applies: empty = everywhere; else keys "stand",
+  // "position", "roll_type", "grade" with the level ("F7", "top"...).
   std::map<std::string, std::string> scope;
+  // For per-level factor findings: the affected levels.
   std::vector<std::string> levels;
   ModelTerm term;                         // the adopted term
+};
+
+// A significant candidate of a round that was not adopted, with why
+// (the proxy guard of docs/diagnosis.md): "inconsistent across stand",
+// "located structure remains (roll_position)", ...
+struct RunnerUp {
+  int round = 0;
+  std::string covariate;
+  std::string form;
+  double p_adjusted = 1;
+  double cv_mse_ratio = 1;
+  std::string reason;
+};
+
+// Structure of the final model's residuals that is significant at the
+// family-wise level (Bonferroni over every dimension tested) and of
+// material size, and that no adopted term explains.
+struct Unexplained {
+  std::string dimension;  // "roll_position", "time_scale_8", "runs_along_time"...
+  std::string where;      // "roll_position=F7/bottom", "calendar time, block 3 of 4"...
+  std::string test;       // "anova", "pearson", "lag1_autocorrelation", "runs", "brown_forsythe"
+  double statistic = 0;
+  double mean_residual_um = 0;  // mean measured - predicted where it lives
+  double p_value = 1;           // unadjusted
+  double p_adjusted = 1;        // Bonferroni over the dimensions tested
 };
 
 // Per validation observation, for plots.
@@ -135,7 +176,17 @@ struct DiagnosisReport {
   std::vector<Breakdown> locate;  // strongest evidence first
   std::vector<Finding> findings;  // order of adoption = strongest first
   std::vector<CandidateResult> first_round;  // by p-value, top 15
-  std::string verdict;  // "missing_physics_found" | "no_significant_mismatch"
+  // Significant candidates the proxy guard did not adopt, round by round.
+  std::vector<RunnerUp> runners_up;
+  // Residual structure of the final model left unexplained (strongest
+  // first); the noise checks of diagnosis_noise.cc included.
+  std::vector<Unexplained> unexplained;
+  // "missing_physics_found" (a finding adopted; `unexplained` may still
+  // list structure), "mismatch_located_unexplained" (no finding, but
+  // `unexplained` is not empty: no physics is named) or
+  // "no_significant_mismatch" (no finding and the residuals behave like
+  // measurement noise).
+  std::string verdict;
   std::vector<DiagnosisPoint> points;
   // The adopted model: option-1 coefficients (names and values) and terms.
   std::vector<std::pair<std::string, double>> coefficients;
@@ -150,7 +201,7 @@ struct DiagnosisReport {
   std::vector<SuspectedOutlier> suspected_outliers;
   double seconds = 0;
   // Wall seconds per phase ("baseline", "data", "locate", "screen",
-  // "refit", "cross_validation"), summed over rounds.
+  // "refit", "cross_validation", "guard"), summed over rounds.
   std::map<std::string, double> phase_seconds;
 };
 

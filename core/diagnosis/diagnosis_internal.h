@@ -7,6 +7,7 @@
 #define ROLLWEAR_CORE_DIAGNOSIS_DIAGNOSIS_INTERNAL_H_
 
 #include <set>
+#include <string>
 #include <vector>
 
 #include "core/diagnosis/diagnosis.h"
@@ -43,6 +44,37 @@ std::vector<Breakdown> Locate(const TermData& td, const Dataset& data,
 // Load-weighted quantile q in [0, 1] of covariate k over the passes of
 // `obs` (or of the aggregated values for non-pass covariates).
 double CovariateQuantile(const TermData& td, const std::vector<int>& obs, int k, double q);
+
+// One-way ANOVA F test (F = MSB / MSW, Fisher 1925) of `resid` over the
+// groups named by `label` (in the order of `order`, else by label), with
+// each group's mean residual and mean relative residual `rel`.
+Breakdown AnovaBreakdown(const std::string& dimension, const std::vector<std::string>& label,
+                         const std::vector<double>& resid, const std::vector<double>& rel,
+                         const std::vector<std::string>& order = {});
+
+// The grade with the largest share of the observation's load ("?" if none).
+std::string DominantGrade(const TermData& td, const TermObservation& o);
+
+// The noise checks of the final model's residuals (diagnosis_noise.cc):
+// dyadic time blocks, lag-1 autocorrelation and runs of campaign means in
+// time order, roll position x time half, and Brown-Forsythe spread by
+// position and by time quarter. `sd` (aligned with `obs`) is the robust
+// noise sd of each prediction; residuals are standardised and clipped to
+// +-kHuberK.
+std::vector<Breakdown> NoiseChecks(const TermData& td, const Dataset& data,
+                                   const std::vector<int>& obs,
+                                   const std::vector<double>& pred,
+                                   const std::vector<double>& sd);
+
+// The checks significant at family-wise level `alpha` (Bonferroni over all
+// of `checks`) and of material size (a location group mean of at least
+// `material_um`; see diagnosis_noise.cc for the others), strongest first.
+std::vector<Unexplained> UnexplainedStructure(const std::vector<Breakdown>& checks,
+                                              double alpha, double material_um);
+
+// The material size of a located mean residual: a quarter of the median
+// noise sd.
+double MaterialResidualUm(const std::vector<double>& sd);
 
 }  // namespace rollwear::diag
 

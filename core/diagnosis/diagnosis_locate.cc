@@ -15,12 +15,10 @@
 #include "core/fit/robust.h"
 
 namespace rollwear::diag {
-namespace {
 
-// One-way ANOVA (F = MSB / MSW) over groups given as labels per point.
-Breakdown Anova(const std::string& dimension, const std::vector<std::string>& label,
-                const std::vector<double>& resid, const std::vector<double>& rel,
-                const std::vector<std::string>& order = {}) {
+Breakdown AnovaBreakdown(const std::string& dimension, const std::vector<std::string>& label,
+                         const std::vector<double>& resid, const std::vector<double>& rel,
+                         const std::vector<std::string>& order) {
   Breakdown b;
   b.dimension = dimension;
   b.test = "anova";
@@ -57,9 +55,21 @@ Breakdown Anova(const std::string& dimension, const std::vector<std::string>& la
   if (k_used >= 2 && n > k_used && ssw > 0) {
     b.statistic = (ssb / (k_used - 1)) / (ssw / (n - k_used));
     b.p_value = FSurvival(b.statistic, k_used - 1, n - k_used);
+    const double s_w = std::sqrt(ssw / (n - k_used));
+    for (Breakdown::Group& g : b.groups) g.t = g.mean_residual_um / (s_w / std::sqrt(g.n));
   }
   return b;
 }
+
+std::string DominantGrade(const TermData& td, const TermObservation& o) {
+  std::vector<double> by_grade(td.grades.size(), 0.0);
+  for (int p = o.pass_begin; p < o.pass_end; ++p) by_grade[td.grade[p]] += td.load[p];
+  return by_grade.empty()
+             ? "?"
+             : td.grades[std::max_element(by_grade.begin(), by_grade.end()) - by_grade.begin()];
+}
+
+namespace {
 
 std::string QuartileLabel(int q, const std::vector<double>& edges) {
   char buf[96];
@@ -113,30 +123,26 @@ std::vector<Breakdown> Locate(const TermData& td, const Dataset& data,
     const TermObservation& o = td.obs[obs[i]];
     position[i] = td.positions[o.position];
     roll_type[i] = o.roll_type >= 0 ? td.roll_types[o.roll_type] : "?";
-    std::vector<double> by_grade(td.grades.size(), 0.0);
     double total_len = 0;
     for (int p = o.pass_begin; p < o.pass_end; ++p) {
-      by_grade[td.grade[p]] += td.load[p];
       if (k_len >= 0) total_len += td.z[k_len][p];
     }
-    grade[i] = by_grade.empty() ? "?"
-                                : td.grades[std::max_element(by_grade.begin(), by_grade.end()) -
-                                            by_grade.begin()];
+    grade[i] = DominantGrade(td, o);
     amplitude[i] = pred[i] < 150 ? "< 150 µm" : (pred[i] < 300 ? "150 - 300 µm" : ">= 300 µm");
     length[i] = total_len;
     time[i] = k_time >= 0 ? td.obs_z[k_time][obs[i]] : 0.0;
   }
-  out.push_back(Anova("roll_position", position, resid, rel));
-  out.push_back(Anova("roll_type", roll_type, resid, rel));
-  out.push_back(Anova("dominant_grade", grade, resid, rel));
-  out.push_back(Anova("wear_amplitude", amplitude, resid, rel,
+  out.push_back(AnovaBreakdown("roll_position", position, resid, rel));
+  out.push_back(AnovaBreakdown("roll_type", roll_type, resid, rel));
+  out.push_back(AnovaBreakdown("dominant_grade", grade, resid, rel));
+  out.push_back(AnovaBreakdown("wear_amplitude", amplitude, resid, rel,
                       {"< 150 µm", "150 - 300 µm", ">= 300 µm"}));
   std::vector<std::string> order;
   std::vector<std::string> q = Quartiles(length, &order);
-  out.push_back(Anova("campaign_rolled_length_m", q, resid, rel, order));
+  out.push_back(AnovaBreakdown("campaign_rolled_length_m", q, resid, rel, order));
   order.clear();
   q = Quartiles(time, &order);
-  out.push_back(Anova("time_started_at_days", q, resid, rel, order));
+  out.push_back(AnovaBreakdown("time_started_at_days", q, resid, rel, order));
   // Numeric covariates: correlation with the relative residual.
   for (size_t k = 0; k < td.catalog.size(); ++k) {
     if (td.catalog[k].kind == CovariateKind::kFactor) continue;
@@ -161,7 +167,7 @@ std::vector<Breakdown> Locate(const TermData& td, const Dataset& data,
     }
     if (!(sxx > 0 && syy > 0)) continue;
     std::vector<std::string> qorder;
-    Breakdown b = Anova(td.catalog[k].name, Quartiles(x, &qorder), resid, rel, qorder);
+    Breakdown b = AnovaBreakdown(td.catalog[k].name, Quartiles(x, &qorder), resid, rel, qorder);
     const double r = sxy / std::sqrt(sxx * syy);
     b.test = "pearson";
     b.statistic = r * std::sqrt((m - 2) / std::max(1e-300, 1 - r * r));

@@ -219,23 +219,54 @@ CvRound CrossValidateSignificant(const DiagnosisState& st,
 }
 
 // Sets cv_mse_ratio and accepted of the cross-validated results; returns
-// the accepted one with the smallest penalised CV ratio, or -1.
-int PickWinner(const CvRound& cv, const DiagnosisOptions& options,
-               std::vector<CandidateResult>* results) {
-  int winner = -1;
+// the accepted ones by penalised CV ratio, best first.
+std::vector<int> RankAccepted(const CvRound& cv, const DiagnosisOptions& options,
+                              std::vector<CandidateResult>* results) {
+  std::vector<int> accepted;
   for (size_t j = 0; j < cv.to_cv.size(); ++j) {
     CandidateResult& r = (*results)[cv.to_cv[j]];
     r.cv_mse_ratio = cv.base.mse > 0 ? cv.cand[j].mse / cv.base.mse : 1.0;
     r.accepted = r.cv_mse_ratio < 1 - options.min_cv_improvement;
-    auto penalised = [&](const CandidateResult& c) {
-      return c.cv_mse_ratio + options.cv_penalty_per_parameter * c.df;
-    };
-    if (r.accepted &&
-        (winner < 0 || penalised(r) < penalised((*results)[winner]))) {
-      winner = cv.to_cv[j];
-    }
+    if (r.accepted) accepted.push_back(cv.to_cv[j]);
   }
-  return winner;
+  auto penalised = [&](int i) {
+    const CandidateResult& c = (*results)[i];
+    return c.cv_mse_ratio + options.cv_penalty_per_parameter * c.df;
+  };
+  std::stable_sort(accepted.begin(), accepted.end(),
+                   [&](int a, int b) { return penalised(a) < penalised(b); });
+  return accepted;
+}
+
+// The first accepted candidate that passes the proxy guard, or -1; the
+// others tried become runners-up (and, when none passes, an inconsistent
+// effect's location is listed as unexplained).
+int GuardedWinner(int round, const Dataset& data, const DiagnosisOptions& options,
+                  const DiagnosisState& st, const std::vector<double>& sd,
+                  const std::vector<int>& accepted, const std::vector<Fitted>& fits,
+                  const std::vector<CandidateResult>& results,
+                  DiagnosisReport* report) {
+  if (accepted.empty()) return -1;
+  std::vector<double> clip;
+  for (int o : st.train) clip.push_back(sd[o]);
+  const std::vector<Breakdown> before = Locate(
+      st.td, data, st.train,
+      PredictTerms(st.td, st.train, st.current.log_k, st.current.terms), &clip);
+  std::vector<Unexplained> located;
+  for (int i : accepted) {
+    const GuardResult g = GuardAgainstProxy(data, st, options, sd, before, fits[i]);
+    if (g.pass) return i;
+    const CandidateResult& c = results[i];
+    report->runners_up.push_back(
+        {round, c.covariate, c.form, c.p_adjusted, c.cv_mse_ratio, g.reason});
+    const bool seen = std::any_of(
+        located.begin(), located.end(), [&](const Unexplained& u) {
+          return u.dimension == g.located.dimension && u.where == g.located.where;
+        });
+    if (!g.located.dimension.empty() && !seen) located.push_back(g.located);
+  }
+  for (const Unexplained& u : located) report->unexplained.push_back(u);
+  return -1;
 }
 
 // The top 15 candidates of the first round by p-value (ties in LR order).
@@ -349,6 +380,26 @@ void ListOutliers(const Dataset& data, const DiagnosisState& st,
   NameOutliers(data, &report->suspected_outliers);
 }
 
+// Stage 6. The final model's residual breakdowns (Locate) and noise checks
+// (NoiseChecks), clipped to +-kHuberK sd's of `noise`: what remains
+// significant at the family-wise level and of material size.
+std::vector<Unexplained> LocateUnexplained(const Dataset& data,
+                                           const DiagnosisOptions& options,
+                                           const DiagnosisState& st,
+                                           const std::vector<double>& after_all,
+                                           const RobustNoise& noise) {
+  std::vector<double> pred, sd;
+  for (int o : st.all) {
+    pred.push_back(after_all[o]);
+    sd.push_back(noise.SdAt(after_all[o]));
+  }
+  std::vector<Breakdown> checks = Locate(st.td, data, st.all, pred, &sd);
+  for (Breakdown& b : NoiseChecks(st.td, data, st.all, pred, sd)) {
+    checks.push_back(std::move(b));
+  }
+  return UnexplainedStructure(checks, options.alpha, MaterialResidualUm(sd));
+}
+
 }  // namespace
 
 StatusOr<Baseline> RunBaseline(const Dataset& data,
@@ -424,7 +475,8 @@ void MakeFolds(const DiagnosisOptions& options, const CampaignSplit& split,
   }
 }
 
-bool RunRound(int round, const DiagnosisOptions& options, std::set<int>* used,
+bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
+              std::set<int>* used,
               PhaseClock* phase, DiagnosisState* st, DiagnosisReport* report) {
   const TermData& td = st->td;
   const std::vector<double> sd = TermNoiseSd(
@@ -448,8 +500,12 @@ bool RunRound(int round, const DiagnosisOptions& options, std::set<int>* used,
   // Cross-validate the significant ones (strongest first).
   const CvRound cv = CrossValidateSignificant(*st, sd, fits, results, options);
   phase->Mark("cross_validation");
-  const int winner = PickWinner(cv, options, &results);
+  const std::vector<int> accepted = RankAccepted(cv, options, &results);
   if (round == 0) RecordFirstRound(cv.order, results, report);
+  // The proxy guard, best accepted candidate first.
+  const int winner = GuardedWinner(round, data, options, *st, sd, accepted,
+                                   fits, results, report);
+  phase->Mark("guard");
   if (winner < 0) return false;
 
   // 5. Adopt the winner.
@@ -466,8 +522,6 @@ void Summarise(const Dataset& data, const DiagnosisOptions& options,
                const DiagnosisState& st, DiagnosisReport* report) {
   const TermData& td = st.td;
   const Fitted& current = st.current;
-  report->verdict = report->findings.empty() ? "no_significant_mismatch"
-                                             : "missing_physics_found";
   const std::vector<double> after_all =
       PredictTerms(td, st.all, current.log_k, current.terms);
   std::vector<double> pt, pv;
@@ -506,7 +560,20 @@ void Summarise(const Dataset& data, const DiagnosisOptions& options,
     m.noise_sd_um = noise.noise_sd_um;
     m.noise_rel = noise.noise_rel;
     ListOutliers(data, st, after_all, noise, report);
+    // Appended to what the proxy guard located in the last round.
+    for (Unexplained& u :
+         LocateUnexplained(data, options, st, after_all, noise)) {
+      report->unexplained.push_back(std::move(u));
+    }
+    std::stable_sort(report->unexplained.begin(), report->unexplained.end(),
+                     [](const Unexplained& a, const Unexplained& b) {
+                       return a.p_value < b.p_value;
+                     });
   }
+  report->verdict = !report->findings.empty() ? "missing_physics_found"
+                    : !report->unexplained.empty()
+                        ? "mismatch_located_unexplained"
+                        : "no_significant_mismatch";
   AddPoints(data, st, after_all, report);
 }
 

@@ -13,6 +13,7 @@
 
 #include <chrono>
 #include <set>
+#include <string>
 #include <unordered_set>
 #include <vector>
 
@@ -96,9 +97,28 @@ void MakeFolds(const DiagnosisOptions& options, const CampaignSplit& split,
 // ones and adopts the winner (into state->current, report->findings and
 // `used`). Round 0 also fills report->first_round. Returns false when the
 // round adopted nothing, which ends the search.
-bool RunRound(int round, const DiagnosisOptions& options, std::set<int>* used,
+bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
+              std::set<int>* used,
               PhaseClock* phase, DiagnosisState* state,
               DiagnosisReport* report);
+
+// The proxy guard's answer on a round's winner (diagnosis_guard.cc).
+struct GuardResult {
+  bool pass = true;
+  std::string reason;     // why not, e.g. "inconsistent across stand"
+  Unexplained located;    // for an inconsistent effect: where it lives
+};
+
+// The proxy guard (diagnosis_guard.cc): (a) is the effect of the last term
+// of `with_term` consistent across stands, roll positions and roll types
+// (Cochran's Q of its per-group scale), (b) is the strongest breakdown of
+// `located_before` (Locate of the training residuals before the term,
+// clipped at the round's `sd`) materially reduced by it?
+GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
+                              const DiagnosisOptions& options,
+                              const std::vector<double>& sd,
+                              const std::vector<Breakdown>& located_before,
+                              const Fitted& with_term);
 
 // The verdict, final gaps, coefficients, terms, adopted model and the
 // per-observation points of the final model.

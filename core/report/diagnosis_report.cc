@@ -144,12 +144,37 @@ std::string HtmlHead() {
   return h;
 }
 
+// The structure the final model leaves unexplained and the candidates the
+// proxy guard did not adopt.
+std::string UnexplainedHtml(const DiagnosisReport& r) {
+  std::string h;
+  if (!r.unexplained.empty()) {
+    h += "<table><tr><th>unexplained mismatch at</th><th>mean residual (µm)</th>"
+         "<th>p-value (Bonferroni)</th><th>check</th></tr>";
+    for (const Unexplained& u : r.unexplained) {
+      h += "<tr><td>" + XmlEscape(u.where) + "</td><td>" + F("%+.1f", u.mean_residual_um) +
+           "</td><td>" + Sci(u.p_adjusted) + "</td><td>" + XmlEscape(u.dimension) +
+           "</td></tr>";
+    }
+    h += "</table>\n";
+  }
+  if (!r.runners_up.empty()) {
+    h += "<table><tr><th>not adopted</th><th>form</th><th>p-value</th><th>why</th></tr>";
+    for (const RunnerUp& u : r.runners_up) {
+      h += "<tr><td>" + XmlEscape(u.covariate) + "</td><td>" + XmlEscape(u.form) +
+           "</td><td>" + Sci(u.p_adjusted) + "</td><td>" + XmlEscape(u.reason) + "</td></tr>";
+    }
+    h += "</table>\n";
+  }
+  return h;
+}
+
 // The verdict, the gap table and the observation counts.
 std::string VerdictHtml(const DiagnosisReport& r) {
   std::string h;
   h += "<h1>Wear model diagnosis</h1>\n";
   const bool found = r.verdict == "missing_physics_found";
-  h += std::string("<p class=\"verdict ") + (found ? "found" : "quiet") + "\">";
+  h += std::string("<p class=\"verdict ") + (r.verdict == "no_significant_mismatch" ? "quiet" : "found") + "\">";
   if (found) {
     h += "The " + XmlEscape(r.law) + " wear model leaves out " +
          std::to_string(r.findings.size()) +
@@ -158,12 +183,17 @@ std::string VerdictHtml(const DiagnosisReport& r) {
          (r.findings.size() == 1 ? "it" : "them") + " lowers the average wear gap on held-out "
          "campaigns from " + F("%.1f", r.baseline_gap_val_um) + " µm to " +
          F("%.1f", r.final_gap_val_um) + " µm.";
+  } else if (r.verdict == "mismatch_located_unexplained") {
+    h += "Mismatch located, not explained: the residuals of the " + XmlEscape(r.law) +
+         " wear model show significant structure (below) that no recorded quantity "
+         "explains. No physics is named.";
   } else {
     h += "No significant mismatch: the " + XmlEscape(r.law) +
          " wear model explains the grinder measurements as well as any candidate term "
          "(average wear gap on held-out campaigns " + F("%.1f", r.baseline_gap_val_um) + " µm).";
   }
   h += "</p>\n";
+  h += UnexplainedHtml(r);
   h += "<table><tr><th></th><th>training gap (µm)</th><th>validation gap (µm)</th></tr>"
        "<tr><td>baseline (" + XmlEscape(r.law) + ", option 1)</td><td>" +
        F("%.1f", r.baseline_gap_train_um) + "</td><td>" + F("%.1f", r.baseline_gap_val_um) +

@@ -60,6 +60,11 @@ TEST_F(DiagnosisRouterTest,
   ASSERT_GE(report["findings"].size(), 1u);
   EXPECT_EQ(report["findings"][0]["covariate"], "lubrication");
   EXPECT_EQ(report["findings"][0]["mechanism"], "roll_gap_lubrication");
+  // A global finding: scope null, no levels (api.md).
+  EXPECT_TRUE(report["findings"][0]["scope"].is_null()) << report["findings"][0].dump();
+  EXPECT_EQ(report["findings"][0]["levels"], json::array());
+  EXPECT_TRUE(report["unexplained"].is_array());
+  EXPECT_TRUE(report["runners_up"].is_array());
   EXPECT_LT(report["findings"][0]["gap_val_after_um"].get<double>(),
             report["findings"][0]["gap_val_before_um"].get<double>());
   EXPECT_TRUE(report["baseline"].contains("gap_val_um"));

@@ -1,0 +1,202 @@
+// The guard against proxies (docs/diagnosis.md, "The proxy guard"): before
+// a round's winner is named, check that it describes the mismatch and is
+// not a stand-in for it.
+//  (a) Consistency. With the winner's fit, let D_i be the term's
+//      contribution to observation i (prediction with the term minus
+//      prediction with the same coefficients without it) and e_i the
+//      residual without it, P_i the prediction without it. Per group g of a
+//      dimension (stand, roll position, roll type) the weighted least
+//      squares fit e ~ a_g P + b_g D (w = 1 / sd^2; the a_g P column takes
+//      up what the group's multiplicative K coefficients absorb) gives the
+//      scale b_g of the effect's shape inside the group, with variance
+//      phi [(X'WX)^-1]_DD (phi the weighted mean square of the adopted
+//      model's residuals); a global effect has the same b_g (about 1)
+//      everywhere.
+//      Heterogeneity: Cochran's Q = sum_g (b_g - b_bar)^2 / se_g^2 with
+//      b_bar the inverse-variance weighted mean, ~ chi2(G - 1) under
+//      homogeneity (Cochran 1954, Biometrics 10:101). This is the
+//      linearised test of a term x group interaction with K held at the
+//      fit. Significant (p * 3 < alpha, Bonferroni over the 3 dimensions)
+//      and material (some |b_g - b_bar| >= kMaterialScale): not adopted.
+//  (b) Look again. The breakdown that located the mismatch most strongly
+//      (Locate on the training residuals of the model before the term; only
+//      if it is itself significant at the family-wise level) must be
+//      materially reduced after the term: no longer significant, or its
+//      largest group mean residual at most half what it was. Otherwise the
+//      term fitted something else and the located structure is still
+//      there: not adopted.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <string>
+
+#include "core/base/distributions.h"
+#include "core/diagnosis/diagnosis_stages_internal.h"
+#include "core/fit/robust.h"
+
+namespace rollwear::diag {
+namespace {
+
+constexpr double kMaterialScale = 0.5;    // |b_g - b_bar|, in effect units
+constexpr double kLookAgainShrink = 0.5;  // largest group mean must halve
+constexpr int kMinGroupObservations = 10;
+
+struct Heterogeneity {
+  double q = 0, p = 1, max_dev = 0;
+  std::string group;         // the group with the largest |b_g|
+  double group_mean_um = 0;  // its mean residual before the round
+};
+
+// Per group: weighted least squares of e on (p0, D); the level column p0
+// takes up what a change of the group's K coefficients would (they are
+// multiplicative), so b_g measures the shape of the effect inside the group.
+// `before`: the residuals of the model without any version of the term,
+// for the group's mean residual.
+Heterogeneity Cochran(const std::vector<std::string>& label,
+                      const std::vector<double>& e,
+                      const std::vector<double>& p0,
+                      const std::vector<double>& d,
+                      const std::vector<double>& w,
+                      const std::vector<double>& before, double phi) {
+  struct Sums {
+    double pp = 0, pd = 0, dd = 0, pe = 0, de = 0, se = 0;
+    int n = 0;
+  };
+  std::map<std::string, Sums> by;
+  for (size_t i = 0; i < label.size(); ++i) {
+    Sums& s = by[label[i]];
+    s.pp += w[i] * p0[i] * p0[i];
+    s.pd += w[i] * p0[i] * d[i];
+    s.dd += w[i] * d[i] * d[i];
+    s.pe += w[i] * p0[i] * e[i];
+    s.de += w[i] * d[i] * e[i];
+    s.se += before[i];
+    ++s.n;
+  }
+  struct Scale {
+    std::string group;
+    double b, var, mean_um;
+  };
+  std::vector<Scale> used;
+  double sum_wb = 0, sum_w = 0;
+  for (const auto& [g, s] : by) {
+    const double det = s.pp * s.dd - s.pd * s.pd;
+    // The partial variance of D given p0 must not vanish.
+    if (s.n < kMinGroupObservations || !(det > 1e-9 * s.pp * s.dd)) continue;
+    const double b = (s.pp * s.de - s.pd * s.pe) / det;
+    const double var = phi * s.pp / det;
+    used.push_back({g, b, var, s.se / s.n});
+    sum_wb += b / var;
+    sum_w += 1 / var;
+  }
+  Heterogeneity h;
+  if (used.size() < 2 || !(sum_w > 0)) return h;
+  const double b_bar = sum_wb / sum_w;
+  double largest = -1;
+  for (const Scale& sc : used) {
+    h.q += (sc.b - b_bar) * (sc.b - b_bar) / sc.var;
+    h.max_dev = std::max(h.max_dev, std::abs(sc.b - b_bar));
+    if (std::abs(sc.b) > largest) {  // where the effect lives
+      largest = std::abs(sc.b);
+      h.group = sc.group;
+      h.group_mean_um = sc.mean_um;
+    }
+  }
+  h.p = ChiSquareSurvival(h.q, static_cast<double>(used.size() - 1));
+  return h;
+}
+
+double LargestGroupMean(const Breakdown& b) {
+  double m = 0;
+  for (const Breakdown::Group& g : b.groups) {
+    if (g.label != "missing") m = std::max(m, std::abs(g.mean_residual_um));
+  }
+  return m;
+}
+
+GuardResult LookAgain(const Dataset& data, const DiagnosisState& st,
+                      const DiagnosisOptions& options,
+                      const std::vector<Breakdown>& before,
+                      const std::vector<double>& clip,
+                      const std::vector<double>& after) {
+  GuardResult r;
+  if (before.empty()) return r;
+  const double m = static_cast<double>(before.size());
+  const Breakdown& top = before.front();  // strongest first
+  if (!(top.p_value * m < options.alpha)) return r;
+  for (const Breakdown& b : Locate(st.td, data, st.train, after, &clip)) {
+    if (b.dimension != top.dimension) continue;
+    const bool gone = !(b.p_value * m < options.alpha);
+    const bool shrunk =
+        LargestGroupMean(b) <= kLookAgainShrink * LargestGroupMean(top);
+    if (!gone && !shrunk) {
+      r.pass = false;
+      char buf[160];
+      std::snprintf(
+          buf, sizeof(buf),
+          "located structure remains (%s: largest group mean %.1f -> %.1f um)",
+          top.dimension.c_str(), LargestGroupMean(top), LargestGroupMean(b));
+      r.reason = buf;
+    }
+  }
+  return r;
+}
+
+}  // namespace
+
+GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
+                              const DiagnosisOptions& options,
+                              const std::vector<double>& sd,
+                              const std::vector<Breakdown>& located_before,
+                              const Fitted& with_term) {
+  const TermData& td = st.td;
+  std::vector<TermSpec> without = with_term.terms;
+  without.pop_back();
+  const std::vector<double> p1 =
+      PredictTerms(td, st.train, with_term.log_k, with_term.terms);
+  const std::vector<double> p0 =
+      PredictTerms(td, st.train, with_term.log_k, without);
+  const std::vector<double> pc =
+      PredictTerms(td, st.train, st.current.log_k, st.current.terms);
+  const size_t n = st.train.size();
+  std::vector<double> e(n), d(n), w(n), clip(n), before(n);
+  std::vector<std::string> stand(n), position(n), roll_type(n);
+  double phi = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const int o = st.train[i];
+    const TermObservation& ob = td.obs[o];
+    w[i] = 1.0 / (sd[o] * sd[o]);
+    e[i] = ob.measured_um - p0[i];
+    before[i] = ob.measured_um - pc[i];
+    d[i] = p1[i] - p0[i];
+    const double r1 = ob.measured_um - p1[i];
+    phi += w[i] * r1 * r1;
+    clip[i] = sd[o];
+    stand[i] = "F" + std::to_string(SlotStand(ob.slot));
+    position[i] = SlotPosition(ob.slot) == Position::kTop ? "top" : "bottom";
+    roll_type[i] = ob.roll_type >= 0 ? td.roll_types[ob.roll_type] : "?";
+  }
+  phi /= std::max<size_t>(1, n);
+  GuardResult result;
+  const std::pair<const char*, const std::vector<std::string>*> dims[] = {
+      {"stand", &stand}, {"position", &position}, {"roll_type", &roll_type}};
+  for (const auto& [name, label] : dims) {
+    const Heterogeneity h = Cochran(*label, e, p0, d, w, before, phi);
+    if (h.p * 3 < options.alpha && h.max_dev >= kMaterialScale) {
+      result.pass = false;
+      result.reason = std::string("inconsistent across ") + name;
+      result.located.dimension = std::string("effect_by_") + name;
+      result.located.where = std::string(name) + "=" + h.group;
+      result.located.test = "cochran_q";
+      result.located.statistic = h.q;
+      result.located.mean_residual_um = h.group_mean_um;
+      result.located.p_value = h.p;
+      result.located.p_adjusted = std::min(1.0, 3 * h.p);
+      return result;
+    }
+  }
+  return LookAgain(data, st, options, located_before, clip, p1);
+}
+
+}  // namespace rollwear::diag
