@@ -10,8 +10,13 @@
 //   roll      constant for a roll in a campaign (diameter_mm, hardness_hb)
 //   campaign  constant for a campaign (started_at as days since 1970-01-01,
 //             extra campaign columns)
-//   measurement  what happens at the grinder (cooling_h): acts on the
+//   measurement  what happens at the grinder (cooling_h, measured_at, the
+//             measurement's extra numeric and text columns): acts on the
 //             measured value, not on the wear
+// Calendar time: rolled_at (pass) and measured_at (measurement) in days
+// since `origin`, like started_at, for drifts.
+// "cell" (kCellCovariateName, model_terms.h) is the constant 1: the
+// covariate of cell terms, whose scope says where they act.
 //
 // Thread-safety: pure functions and immutable values.
 #ifndef ROLLWEAR_CORE_MODEL_COVARIATES_H_
@@ -21,6 +26,7 @@
 #include <vector>
 
 #include "core/dataset/dataset.h"
+#include "core/model/model_terms.h"
 
 namespace rollwear {
 
@@ -31,10 +37,11 @@ enum class CovariateSource {
   kForce, kWidth, kLength, kEntryThickness, kExitThickness, kTemperature,
   kSpeed, kLubrication, kShift, kSpecificForce, kContactLength, kReduction,
   kLengthBefore, kCoilsBefore, kHoursSinceMount, kDiameter, kHardness,
-  kStartedAt, kCoolingHours,
+  kStartedAt, kCoolingHours, kRolledAt, kMeasuredAt, kCell,
   kPassExtraNumeric, kMountExtraNumeric, kCampaignExtraNumeric,
   kMeasurementExtraNumeric,
   kPassExtraFactor, kMountExtraFactor, kCampaignExtraFactor,
+  kMeasurementExtraFactor,
 };
 
 struct CovariateSpec {
