@@ -75,19 +75,40 @@ std::vector<TermScope> SingleScopes(const TermData& td, const std::vector<int>& 
 }
 
 // The (stand or position) x (roll type or grade) cells with enough data.
+// When a roll type or grade runs in exactly two places of a kind (two
+// stands, or top and bottom), the two cells describe the same data (the
+// factor's own K level absorbs the rest: x1.3 at F7 = x1/1.3 at F6), so only
+// the cell with fewer observations, the exception, is offered.
 std::vector<TermScope> CellScopes(const TermData& td, const std::vector<int>& train,
                                   const std::vector<TermScope>& single) {
-  std::vector<TermScope> where, what;
+  std::vector<TermScope> where_stand, where_pos, what;
   for (const TermScope& s : single) {
-    (s.stand > 0 || s.position >= 0 ? where : what).push_back(s);
+    if (s.stand > 0) {
+      where_stand.push_back(s);
+    } else if (s.position >= 0) {
+      where_pos.push_back(s);
+    } else {
+      what.push_back(s);
+    }
   }
   std::vector<TermScope> out;
-  for (const TermScope& a : where) {
+  for (const std::vector<TermScope>* where : {&where_stand, &where_pos}) {
     for (const TermScope& b : what) {
-      TermScope c = a;
-      c.roll_type = b.roll_type;
-      c.grade = b.grade;
-      if (CountInScope(td, train, c) >= kMinScopeObservations) out.push_back(c);
+      std::vector<std::pair<int, TermScope>> cells;
+      int total = 0;
+      for (const TermScope& a : *where) {
+        TermScope c = a;
+        c.roll_type = b.roll_type;
+        c.grade = b.grade;
+        const int n = CountInScope(td, train, c);
+        total += n;
+        if (n >= kMinScopeObservations) cells.emplace_back(n, c);
+      }
+      if (cells.size() == 2 && cells[0].first + cells[1].first == total) {
+        out.push_back(cells[0].first <= cells[1].first ? cells[0].second : cells[1].second);
+        continue;
+      }
+      for (const auto& [n, c] : cells) out.push_back(c);
     }
   }
   return out;
@@ -101,7 +122,7 @@ void AddScopedCandidates(const TermData& td, const std::vector<int>& train,
   // Scoped variants of the simple unscoped wear-rate candidates.
   const size_t unscoped = out->size();
   for (size_t i = 0; i < unscoped; ++i) {
-    const TermSpec& s = (*out)[i].spec;
+    const TermSpec s = (*out)[i].spec;  // a copy: push_back reallocates
     if (s.term.form != TermForm::kLogLinear && s.term.form != TermForm::kFlag) continue;
     for (const TermScope& scope : scopes) {
       Candidate c{s, {}};

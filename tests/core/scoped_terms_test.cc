@@ -1,6 +1,7 @@
 // Scoped, cell and measurement per-level terms (model_terms.h): the daemon's
 // coil-by-coil prediction equals the batch fit's, and the diagnosis names a
 // grinder offset and a roll type x stand cell on modified simulated data.
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <string>
@@ -116,7 +117,7 @@ TEST(ScopedTermTest, ScopedModelPredictsCoilByCoilAsInBatch) {
     differ += std::abs(everywhere[o] - batch[o]) > 1e-6 * batch[o] ? 1 : 0;
     ++checked;
   }
-  EXPECT_GT(checked, 300);
+  EXPECT_GT(checked, 200);  // 60 campaigns x 4 measured rolls
   EXPECT_GT(differ, checked / 2);
 }
 
@@ -158,7 +159,22 @@ TEST(ScopedTermTest, NamesRollTypeAtStandCell) {
   Simulation sim = Clean(41, kCampaigns);
   Dataset& d = sim.data;
   const DatasetIndex index(d);
-  const int type = 0;
+  // A roll type that runs at F6 and F7 (a type only at F7 is a roll-type
+  // effect the K structure has), less often at F7: with two stands,
+  // "x1.3 at F7" and "x1/1.3 at F6" describe the same data (the type's kR
+  // absorbs the rest), and the engine names the smaller cell, the exception
+  // (diagnosis_scoped.cc).
+  std::map<int, std::map<int, int>> mounts;  // type -> stand -> count
+  for (const Mount& m : d.mounts) ++mounts[m.roll_type][m.stand];
+  int type = -1, best = 0;
+  for (auto& [t, by_stand] : mounts) {
+    const int both = std::min(by_stand[6], by_stand[7]);
+    if (both > best && by_stand[7] < by_stand[6]) {
+      best = both;
+      type = t;
+    }
+  }
+  ASSERT_GE(type, 0);
   int changed = 0;
   for (Measurement& m : d.measurements) {
     if (m.stand != 7) continue;
