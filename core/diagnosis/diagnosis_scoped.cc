@@ -78,7 +78,9 @@ std::vector<TermScope> SingleScopes(const TermData& td, const std::vector<int>& 
 // When a roll type or grade runs in exactly two places of a kind (two
 // stands, or top and bottom), the two cells describe the same data (the
 // factor's own K level absorbs the rest: x1.3 at F7 = x1/1.3 at F6), so only
-// the cell with fewer observations, the exception, is offered.
+// the cell with fewer observations, the exception, is offered; and a cell
+// holding all of the level's data (a roll type used at one stand only) is
+// the level's own K coefficient, not a cell.
 std::vector<TermScope> CellScopes(const TermData& td, const std::vector<int>& train,
                                   const std::vector<TermScope>& single) {
   std::vector<TermScope> where_stand, where_pos, what;
@@ -104,6 +106,8 @@ std::vector<TermScope> CellScopes(const TermData& td, const std::vector<int>& tr
         total += n;
         if (n >= kMinScopeObservations) cells.emplace_back(n, c);
       }
+      // A cell holding all of its factor level's data is that level's own K.
+      if (cells.size() == 1 && cells[0].first == total) continue;
       if (cells.size() == 2 && cells[0].first + cells[1].first == total) {
         out.push_back(cells[0].first <= cells[1].first ? cells[0].second : cells[1].second);
         continue;

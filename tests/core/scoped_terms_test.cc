@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -121,6 +122,27 @@ TEST(ScopedTermTest, ScopedModelPredictsCoilByCoilAsInBatch) {
   EXPECT_GT(differ, checked / 2);
 }
 
+// Mean |measured - noise-free| over the report's validation readings, the
+// noise-free wear from the simulator's truth with the test's modification
+// (`truth`, aligned with the measurements).
+double NoiseFloor(const Dataset& d, const std::vector<double>& truth,
+                  const DiagnosisReport& r) {
+  std::map<std::tuple<std::string, int, int>, double> noise_free;
+  for (size_t i = 0; i < d.measurements.size(); ++i) {
+    const Measurement& m = d.measurements[i];
+    noise_free[{d.campaigns[m.campaign].id, m.stand, static_cast<int>(m.position)}] = truth[i];
+  }
+  double sum = 0;
+  int n = 0;
+  for (const DiagnosisPoint& p : r.points) {
+    if (!p.validation) continue;
+    sum += std::abs(p.measured_um -
+                    noise_free.at({p.campaign_id, p.stand, static_cast<int>(p.position)}));
+    ++n;
+  }
+  return sum / std::max(1, n);
+}
+
 // Adds a measurement text column "grinder": level B on ~30 % of readings
 // reads `offset_um` lower.
 void AddGrinder(double offset_um, Simulation* sim) {
@@ -131,7 +153,10 @@ void AddGrinder(double offset_um, Simulation* sim) {
   for (size_t i = 0; i < sim->data.measurements.size(); ++i) {
     const bool b = (i * 7919) % 10 < 3;
     codes.push_back(b ? 1 : 0);
-    if (b) sim->data.measurements[i].wear_center_um += offset_um;
+    if (b) {
+      sim->data.measurements[i].wear_center_um += offset_um;
+      sim->truth.noise_free_wear_um[i] += offset_um;
+    }
   }
   e.factor.push_back(codes);
 }
@@ -151,6 +176,8 @@ TEST(ScopedTermTest, NamesGrinderOffset) {
   EXPECT_NE(f.explanation.find("grinder=B is offset by -1"), std::string::npos)
       << f.explanation;
   EXPECT_EQ(r->findings.size(), 1u);
+  EXPECT_LE(r->final_gap_val_um,
+            1.10 * NoiseFloor(sim.data, sim.truth.noise_free_wear_um, *r));
 }
 
 // Rolls of one type wear 1.3x at F7 only: a cell finding on roll_type with
@@ -181,6 +208,7 @@ TEST(ScopedTermTest, NamesRollTypeAtStandCell) {
     const int mi = index.MountOf(m.campaign, RollPositionSlot(m.stand, m.position));
     if (mi < 0 || d.mounts[mi].roll_type != type) continue;
     m.wear_center_um *= 1.3;
+    sim.truth.noise_free_wear_um[&m - d.measurements.data()] *= 1.3;
     ++changed;
   }
   ASSERT_GT(changed, 30);
@@ -193,6 +221,7 @@ TEST(ScopedTermTest, NamesRollTypeAtStandCell) {
   EXPECT_EQ(f.scope, (std::map<std::string, std::string>{{"stand", "F7"}}));
   EXPECT_NEAR(f.parameters.at("multiplier"), 1.3, 0.06);
   EXPECT_EQ(r->findings.size(), 1u);
+  EXPECT_LE(r->final_gap_val_um, 1.10 * NoiseFloor(d, sim.truth.noise_free_wear_um, *r));
 }
 
 }  // namespace
