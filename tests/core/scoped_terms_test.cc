@@ -14,7 +14,9 @@
 #include "core/diagnosis/diagnosis.h"
 #include "core/fit/term_fit.h"
 #include "core/fit/term_refit.h"
+#include "core/model/aggregation.h"
 #include "core/model/predictor.h"
+#include "core/model/wear_law.h"
 #include "core/sim/simulator.h"
 #include "tests/core/test_size.h"
 
@@ -220,6 +222,56 @@ TEST(ScopedTermTest, NamesRollTypeAtStandCell) {
   EXPECT_EQ(f.levels, std::vector<std::string>{d.roll_types[type]});
   EXPECT_EQ(f.scope, (std::map<std::string, std::string>{{"stand", "F7"}}));
   EXPECT_NEAR(f.parameters.at("multiplier"), 1.3, 0.06);
+  EXPECT_EQ(r->findings.size(), 1u);
+  EXPECT_LE(r->final_gap_val_um, 1.10 * NoiseFloor(d, sim.truth.noise_free_wear_um, *r));
+}
+
+// Colder strip wears F7 more, and F7 only: m = exp(-0.25 (T - c) / s) per
+// pass at F7 (c, s: mean and sd of the F7 temperatures), applied to the
+// clean simulation's noise-free wear through the per-pass true K x load
+// weights (the roll's scatter factor cancels in the ratio). One finding on
+// temperature_c scoped to F7, no second spurious one.
+TEST(ScopedTermTest, NamesTemperatureAtF7Only) {
+  Simulation sim = Clean(51, kCampaigns);
+  Dataset& d = sim.data;
+  const DatasetIndex index(d);
+  double sum = 0, sum2 = 0;
+  int n = 0;
+  for (const Pass& p : d.passes) {
+    if (p.stand != 7) continue;
+    sum += p.temperature_c;
+    sum2 += p.temperature_c * p.temperature_c;
+    ++n;
+  }
+  ASSERT_GT(n, 100);
+  const double c = sum / n, s = std::sqrt(sum2 / n - c * c);
+  for (size_t i = 0; i < d.measurements.size(); ++i) {
+    Measurement& m = d.measurements[i];
+    if (m.stand != 7) continue;
+    const int mi = index.MountOf(m.campaign, RollPositionSlot(m.stand, m.position));
+    ASSERT_GE(mi, 0);
+    double base = 0, with = 0;
+    for (int pi : index.PassesOf(m.campaign, 7)) {
+      const Pass& p = d.passes[pi];
+      const double w = sim.truth.k_grade.at(d.grades[p.grade]) *
+                       BaseLoad(WearLaw::kWang, MakeLoadInput(p, d.mounts[mi]));
+      base += w;
+      with += w * std::exp(-0.25 * (p.temperature_c - c) / s);
+    }
+    const double nf = sim.truth.noise_free_wear_um[i];
+    const double shifted = nf * with / base;
+    m.wear_center_um += shifted - nf;
+    sim.truth.noise_free_wear_um[i] = shifted;
+  }
+  StatusOr<DiagnosisReport> r = Diagnose(d, DiagnosisOptions{});
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  ASSERT_FALSE(r->findings.empty());
+  const Finding& f = r->findings.front();
+  EXPECT_EQ(f.covariate, "temperature_c") << f.mechanism;
+  EXPECT_EQ(f.scope, (std::map<std::string, std::string>{{"stand", "F7"}}));
+  EXPECT_EQ(f.mechanism, "cold_strip_hardness_and_scale");
+  EXPECT_NE(f.explanation.find("only to F7"), std::string::npos) << f.explanation;
+  EXPECT_NE(f.explanation.find("°C"), std::string::npos) << f.explanation;
   EXPECT_EQ(r->findings.size(), 1u);
   EXPECT_LE(r->final_gap_val_um, 1.10 * NoiseFloor(d, sim.truth.noise_free_wear_um, *r));
 }
