@@ -18,6 +18,7 @@
 #include "core/model/predictor.h"
 #include "core/model/wear_law.h"
 #include "core/sim/simulator.h"
+#include "tests/core/simulator_test_util.h"
 #include "tests/core/test_size.h"
 
 namespace rollwear {
@@ -26,12 +27,7 @@ namespace {
 constexpr int kCampaigns = test_size::FullOr(395, 200);
 
 Simulation Clean(uint64_t seed, int campaigns) {
-  SimulatorOptions o;
-  o.seed = seed;
-  o.num_campaigns = campaigns;
-  StatusOr<Simulation> s = Simulate(o);
-  EXPECT_TRUE(s.ok()) << s.status().ToString();
-  return std::move(s).value();
+  return simulator_test::Simulated(seed, campaigns);
 }
 
 TEST(ScopedTermTest, CellAndOffsetDerivativesMatchFiniteDifferences) {
