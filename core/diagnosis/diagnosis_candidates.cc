@@ -281,6 +281,12 @@ constexpr Mechanism kMechanisms[] = {
      "Wear rates drift upward over the months (e.g. a new roll supplier or batch, "
      "a changed cooling practice).",
      "drift_over_time", "Wear rates drift downward over the months."},
+    {"measured_at", "measurement_drift_over_time",
+     "What the grinder reads drifts upward over the months: a gauge or "
+     "grinder calibration drift on the measured value, not wear physics.",
+     "measurement_drift_over_time",
+     "What the grinder reads drifts downward over the months: a gauge or "
+     "grinder calibration drift on the measured value, not wear physics."},
     {"cooling_h", "thermal_expansion_at_measurement",
      "Rolls measured soon after the campaign read a different wear: the roll "
      "still carries thermal expansion at the barrel centre when gauged warm.",
@@ -311,7 +317,7 @@ bool EndsWith(const std::string& s, const char* suffix) {
 // "912 °C", "14.5 h", a calendar date for day counts.
 std::string Readable(const std::string& name, double v) {
   if (!std::isfinite(v)) return "n/a";
-  if (name == "started_at" || name == "rolled_at" || name == "measured_at") {
+  if (name == "started_at" || name == "measured_at") {
     const std::time_t t = static_cast<std::time_t>(v * 86400.0);
     std::tm tm{};
     gmtime_r(&t, &tm);

@@ -47,7 +47,6 @@ std::vector<CovariateSpec> CovariateCatalog(const Dataset& data) {
       {"hardness_hb", S::kHardness, L::kRoll, K::kNumeric},
       {"started_at", S::kStartedAt, L::kCampaign, K::kNumeric},
       {kCoolingHoursName, S::kCoolingHours, L::kMeasurement, K::kNumeric},
-      {"rolled_at", S::kRolledAt, L::kPass, K::kNumeric},
       {"measured_at", S::kMeasuredAt, L::kMeasurement, K::kNumeric},
       {kCellCovariateName, S::kCell, L::kPass, K::kNumeric},
   };
@@ -94,8 +93,6 @@ double CovariateValue(const CovariateSpec& spec, const Dataset& data,
     case CovariateSource::kHardness: return m.hardness_hb;
     case CovariateSource::kStartedAt:
       return static_cast<double>(ctx.campaign->started_at - origin) / 86400.0;
-    case CovariateSource::kRolledAt:
-      return static_cast<double>(p.rolled_at - origin) / 86400.0;
     case CovariateSource::kMeasuredAt:
       if (ctx.measurement_row < 0) return kNaN;
       return static_cast<double>(data.measurements[ctx.measurement_row].measured_at -

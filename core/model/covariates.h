@@ -13,8 +13,11 @@
 //   measurement  what happens at the grinder (cooling_h, measured_at, the
 //             measurement's extra numeric and text columns): acts on the
 //             measured value, not on the wear
-// Calendar time: rolled_at (pass) and measured_at (measurement) in days
-// since `origin`, like started_at, for drifts.
+// Calendar time: started_at (campaign) and measured_at (measurement) in days
+// since `origin`, for drifts of the wear and of the gauge. A pass's rolled_at
+// is not a separate covariate: it is started_at + hours_since_mount / 24,
+// and as a near copy of started_at it would only split the evidence of a
+// drift between two names.
 // "cell" (kCellCovariateName, model_terms.h) is the constant 1: the
 // covariate of cell terms, whose scope says where they act.
 //
@@ -37,7 +40,7 @@ enum class CovariateSource {
   kForce, kWidth, kLength, kEntryThickness, kExitThickness, kTemperature,
   kSpeed, kLubrication, kShift, kSpecificForce, kContactLength, kReduction,
   kLengthBefore, kCoilsBefore, kHoursSinceMount, kDiameter, kHardness,
-  kStartedAt, kCoolingHours, kRolledAt, kMeasuredAt, kCell,
+  kStartedAt, kCoolingHours, kMeasuredAt, kCell,
   kPassExtraNumeric, kMountExtraNumeric, kCampaignExtraNumeric,
   kMeasurementExtraNumeric,
   kPassExtraFactor, kMountExtraFactor, kCampaignExtraFactor,
