@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/dataset/dataset.h"
 #include "core/model/ann_model.h"
 
 namespace rollwear::storage {
@@ -95,6 +96,19 @@ Json EncodeTerm(const ModelTerm& t) {
   j["edges"] = Numbers(t.edges);
   j["num_levels"] = t.num_levels;
   if (!t.levels.empty()) j["levels"] = t.levels;
+  if (t.reference_level != 0) j["reference_level"] = t.reference_level;
+  // Scope: absent (or a missing field) = everywhere, so models stored
+  // before scopes existed read unchanged.
+  if (!t.scope.IsAll()) {
+    Json scope = Json::object();
+    if (t.scope.stand > 0) scope["stand"] = StandName(t.scope.stand);
+    if (t.scope.position >= 0) {
+      scope["position"] = PositionName(static_cast<Position>(t.scope.position));
+    }
+    if (!t.scope.roll_type.empty()) scope["roll_type"] = t.scope.roll_type;
+    if (!t.scope.grade.empty()) scope["grade"] = t.scope.grade;
+    j["scope"] = scope;
+  }
   return j;
 }
 
@@ -107,6 +121,38 @@ Status ReadNumbers(const Json& obj, const char* key, const std::string& field,
     double x = 0;
     if (!ReadNumber(v, &x)) return Bad(field, "must be an array of numbers");
     out->push_back(x);
+  }
+  return Status::Ok();
+}
+
+// A term's optional "scope": {"stand": "F7", "position": "top",
+// "roll_type": "...", "grade": "..."}, every field optional.
+Status DecodeScope(const Json& j, const std::string& at, TermScope* scope) {
+  auto it = j.find("scope");
+  if (it == j.end() || it->is_null()) return Status::Ok();
+  if (!it->is_object()) return Bad(at + "scope", "must be an object");
+  auto text = [&](const char* key, std::string* out) -> Status {
+    auto f = it->find(key);
+    if (f == it->end()) return Status::Ok();
+    if (!f->is_string()) return Bad(at + "scope." + key, "must be a string");
+    *out = f->get<std::string>();
+    return Status::Ok();
+  };
+  std::string stand, position;
+  ROLLWEAR_RETURN_IF_ERROR(text("stand", &stand));
+  ROLLWEAR_RETURN_IF_ERROR(text("position", &position));
+  ROLLWEAR_RETURN_IF_ERROR(text("roll_type", &scope->roll_type));
+  ROLLWEAR_RETURN_IF_ERROR(text("grade", &scope->grade));
+  if (!stand.empty()) {
+    scope->stand = ParseStand(stand);
+    if (scope->stand == 0) return Bad(at + "scope.stand", "must be F1..F7");
+  }
+  if (!position.empty()) {
+    Position p;
+    if (!ParsePosition(position, &p)) {
+      return Bad(at + "scope.position", "must be top or bottom");
+    }
+    scope->position = static_cast<int>(p);
   }
   return Status::Ok();
 }
@@ -143,6 +189,12 @@ Status DecodeTerms(const Json& doc, std::vector<ModelTerm>* out) {
       t.num_levels = levels->get<int>();
     }
     ROLLWEAR_RETURN_IF_ERROR(ReadLabels(j, "levels", &t.levels, at));
+    auto ref = j.find("reference_level");
+    if (ref != j.end()) {
+      if (!ref->is_number_integer()) return Bad(at + "reference_level", "must be an integer");
+      t.reference_level = ref->get<int>();
+    }
+    ROLLWEAR_RETURN_IF_ERROR(DecodeScope(j, at, &t.scope));
     out->push_back(std::move(t));
   }
   return Status::Ok();

@@ -123,10 +123,10 @@ struct Finding {
   double cv_mse_ratio = 1;
   double gap_val_before_um = 0, gap_val_after_um = 0;
   std::vector<std::string> alternatives;  // covariates that fit almost as well
-  // Where the finding applies: empty = everywhere; else keys "stand",
-  // "position", "roll_type", "grade" with the level ("F7", "top"...).
+  // Where the finding applies ({"stand":"F7","position":"top"}; empty =
+  // everywhere) and the affected levels of a factor ("B" of a grinder
+  // column, "HSLA" of grade), as the contract's findings[].scope / levels.
   std::map<std::string, std::string> scope;
-  // For per-level factor findings: the affected levels.
   std::vector<std::string> levels;
   ModelTerm term;                         // the adopted term
 };

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <limits>
 #include <string>
 #include <utility>
@@ -70,6 +71,23 @@ TermSpec Spec(int k, const CovariateSpec& c, TermForm form, std::vector<double> 
   return s;
 }
 
+// A measurement-side text column: an additive offset per level, the most
+// frequent level (by training readings) read as is.
+TermSpec OffsetPerLevel(int k, const CovariateSpec& c, const WeightedValues& w,
+                        int levels) {
+  std::vector<double> count(levels, 0.0);
+  for (const auto& [z, wt] : w.v) count[static_cast<int>(z)] += wt;
+  TermSpec s = Spec(k, c, TermForm::kOffsetPerLevel, std::vector<double>(levels - 1, 0.0),
+                    std::vector<double>(levels - 1, -1000.0),
+                    std::vector<double>(levels - 1, 1000.0));
+  s.term.num_levels = levels;
+  s.term.reference_level =
+      static_cast<int>(std::max_element(count.begin(), count.end()) - count.begin());
+  s.term.levels.assign(c.levels.begin(),
+                       c.levels.begin() + std::min<size_t>(levels, c.levels.size()));
+  return s;
+}
+
 }  // namespace
 
 double CovariateQuantile(const TermData& td, const std::vector<int>& obs, int k, double q) {
@@ -83,6 +101,7 @@ std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>
   for (int k = 0; k < static_cast<int>(td.catalog.size()); ++k) {
     if (used.count(k) > 0) continue;
     const CovariateSpec& c = td.catalog[k];
+    if (c.source == CovariateSource::kCell) continue;  // AddScopedCandidates
     const WeightedValues w = Collect(td, train, k);
     if (w.v.size() < 10) continue;
     const double p01 = Quantile(w, 0.01), p05 = Quantile(w, 0.05);
@@ -91,6 +110,10 @@ std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>
       int levels = 0;
       for (const auto& [z, wt] : w.v) levels = std::max(levels, static_cast<int>(z) + 1);
       if (levels < 2 || levels > options.max_factor_levels) continue;
+      if (c.level == CovariateLevel::kMeasurement) {
+        out.push_back({OffsetPerLevel(k, c, w, levels), {}});
+        continue;
+      }
       TermSpec s = Spec(k, c, TermForm::kPerLevel, std::vector<double>(levels - 1, 0.0),
                         std::vector<double>(levels - 1, -3.0),
                         std::vector<double>(levels - 1, 3.0));
@@ -159,6 +182,7 @@ std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>
       out.push_back(dec);
     }
   }
+  AddScopedCandidates(td, train, used, &out);
   return out;
 }
 
@@ -187,9 +211,10 @@ constexpr Mechanism kMechanisms[] = {
      "run_in_of_fresh_surface",
      "The first coils after a roll change wear the roll more: run-in of a freshly "
      "ground surface."},
-    {"hours_since_mount", "wear_rate_growth_along_campaign",
-     "Wear rate rises with time in the stand: thermal fatigue and surface "
-     "degradation accumulate during the campaign.",
+    {"hours_since_mount", "thermal_growth_with_time_in_service",
+     "Wear rate rises with hours in service, not with the rolled length: the "
+     "roll heats up and thermal fatigue accumulates with time in the stand "
+     "(stoppages included).",
      "run_in_of_fresh_surface",
      "Wear is highest in the first hours after mounting: run-in and the thermal "
      "transient of a cold roll."},
@@ -256,6 +281,12 @@ constexpr Mechanism kMechanisms[] = {
      "Wear rates drift upward over the months (e.g. a new roll supplier or batch, "
      "a changed cooling practice).",
      "drift_over_time", "Wear rates drift downward over the months."},
+    {"measured_at", "measurement_drift_over_time",
+     "What the grinder reads drifts upward over the months: a gauge or "
+     "grinder calibration drift on the measured value, not wear physics.",
+     "measurement_drift_over_time",
+     "What the grinder reads drifts downward over the months: a gauge or "
+     "grinder calibration drift on the measured value, not wear physics."},
     {"cooling_h", "thermal_expansion_at_measurement",
      "Rolls measured soon after the campaign read a different wear: the roll "
      "still carries thermal expansion at the barrel centre when gauged warm.",
@@ -275,6 +306,96 @@ std::string Format(const char* fmt, double a, double b = 0, double c = 0, double
   char buf[256];
   std::snprintf(buf, sizeof(buf), fmt, a, b, c, d);
   return buf;
+}
+
+bool EndsWith(const std::string& s, const char* suffix) {
+  const std::string x(suffix);
+  return s.size() >= x.size() && s.compare(s.size() - x.size(), x.size(), x) == 0;
+}
+
+// A covariate value with its unit and a readable magnitude: "96.7 km",
+// "912 °C", "14.5 h", a calendar date for day counts.
+std::string Readable(const std::string& name, double v) {
+  if (!std::isfinite(v)) return "n/a";
+  if (name == "started_at" || name == "measured_at") {
+    const std::time_t t = static_cast<std::time_t>(v * 86400.0);
+    std::tm tm{};
+    gmtime_r(&t, &tm);
+    char buf[32];
+    std::strftime(buf, sizeof(buf), "%Y-%m-%d", &tm);
+    return buf;
+  }
+  if (EndsWith(name, "_kn_per_mm")) return Format("%.2f kN/mm", v);
+  if (EndsWith(name, "_mm")) return Format("%.4g mm", v);
+  if (EndsWith(name, "_m")) {
+    return std::abs(v) >= 1000 ? Format("%.1f km", v / 1000) : Format("%.0f m", v);
+  }
+  if (EndsWith(name, "_c")) return Format("%.0f °C", v);
+  if (EndsWith(name, "_h") || name == "hours_since_mount") return Format("%.1f h", v);
+  if (EndsWith(name, "_kn")) return Format("%.0f kN", v);
+  if (EndsWith(name, "_mps")) return Format("%.2f m/s", v);
+  if (EndsWith(name, "_hb")) return Format("%.0f HB", v);
+  if (name == "campaign_coils_before") return Format("%.0f coils", v);
+  return Format("%.4g", v);
+}
+
+// A rise (or drop) concentrated above the upper quantiles of a binned
+// profile: the first four points flat within a quarter of the total change,
+// most of it in the last step.
+const char* ThresholdShape(const std::vector<double>& v) {
+  const double total = v.back() - v.front();
+  double lo = v[0], hi = v[0];
+  for (size_t i = 1; i + 1 < v.size(); ++i) {
+    lo = std::min(lo, v[i]);
+    hi = std::max(hi, v[i]);
+  }
+  const double last = v.back() - v[v.size() - 2];
+  if (std::abs(last) > 0.75 * std::abs(total) && hi - lo < 0.25 * std::abs(last)) {
+    return last > 0 ? "threshold_rise" : "threshold_drop";
+  }
+  return nullptr;
+}
+
+// The finding's scope and levels (contract fields) and the sentence saying
+// where it applies. A cell term is reported on its factor (roll_type or
+// grade) with the level in `levels` and the stand or position as scope.
+std::string DescribeScope(const ModelTerm& t, Finding* f) {
+  f->scope.clear();
+  for (const auto& [k, v] : t.scope.Fields()) f->scope[k] = v;
+  if (t.form == TermForm::kCell) {
+    const bool by_type = !t.scope.roll_type.empty();
+    f->covariate = by_type ? "roll_type" : "grade";
+    f->levels = {by_type ? t.scope.roll_type : t.scope.grade};
+    f->scope.erase(f->covariate);
+  }
+  if (t.scope.IsAll()) return "";
+  return " It applies only to " + t.scope.Label() + "; elsewhere the wear law holds.";
+}
+
+// Offset-per-level parameters, the levels whose offset is significant
+// (|d| > 2 s.e., or every non-reference level without standard errors) and
+// the sentence "the reading of grinder=B is offset by -15.2 µm".
+void OffsetLevels(const ModelTerm& t, Finding* f, std::string* fitted) {
+  f->shape = "offset_per_level";
+  f->levels.clear();
+  const std::string ref =
+      t.reference_level < static_cast<int>(t.levels.size()) ? t.levels[t.reference_level] : "";
+  for (size_t j = 0; j < t.params.size(); ++j) {
+    const size_t l = static_cast<int>(j) < t.reference_level ? j : j + 1;
+    const std::string label = l < t.levels.size() ? t.levels[l] : std::to_string(l);
+    f->parameters["offset_um[" + label + "]"] = t.params[j];
+    auto se = f->parameter_std_errors.find("param" + std::to_string(j));
+    const bool significant = se == f->parameter_std_errors.end() ||
+                             !std::isfinite(se->second) ||
+                             std::abs(t.params[j]) > 2 * se->second;
+    if (!significant) continue;
+    f->levels.push_back(label);
+    if (!fitted->empty()) *fitted += "; ";
+    *fitted += "the reading of " + t.covariate + "=" + label +
+               Format(" is offset by %+.1f µm", t.params[j]);
+  }
+  if (fitted->empty()) *fitted = "no level's offset is significant";
+  *fitted += " (reference " + t.covariate + "=" + ref + ")";
 }
 
 }  // namespace
@@ -327,11 +448,17 @@ void NameFinding(const TermData& td, const std::vector<int>& train, const TermSp
       dec = !up;
     }
     if (inc && !dec) {
+      if (t.form == TermForm::kBinned && ThresholdShape(v) != nullptr) {
+        return std::string(ThresholdShape(v));
+      }
       return std::string((v[2] - v[0]) > 0.75 * (v[4] - v[0]) ? "saturating_growth"
                                                               : "increasing");
     }
     if (dec && !inc) {
       return std::string((v[0] - v[2]) > 0.75 * (v[0] - v[4]) ? "decaying" : "decreasing");
+    }
+    if (t.form == TermForm::kBinned) {
+      if (const char* th = ThresholdShape(v)) return std::string(th);
     }
     const size_t imax = std::max_element(v.begin(), v.end()) - v.begin();
     const size_t imin = std::min_element(v.begin(), v.end()) - v.begin();
@@ -340,9 +467,10 @@ void NameFinding(const TermData& td, const std::vector<int>& train, const TermSp
     return std::string(up ? "increasing" : "decreasing");
   };
   const std::string range_text =
-      Format("wear-rate multiplier %.3f at the 5th percentile (%.4g) and ",
-             TermMultiplier(t, lo, nullptr), lo) +
-      Format("%.3f at the 95th (%.4g)", TermMultiplier(t, hi, nullptr), hi);
+      Format("wear-rate multiplier %.3f at the 5th percentile (", TermMultiplier(t, lo, nullptr)) +
+      Readable(c.name, lo) +
+      Format(") and %.3f at the 95th (", TermMultiplier(t, hi, nullptr)) +
+      Readable(c.name, hi) + ")";
   switch (t.form) {
     case TermForm::kLogLinear:
     case TermForm::kPower: {
@@ -360,7 +488,7 @@ void NameFinding(const TermData& td, const std::vector<int>& train, const TermSp
       const double lam = std::exp(p[1]);
       f->shape = profile_shape();
       f->parameters = {{"beta", p[0]}, {"lambda", lam}};
-      fitted = range_text + Format(", length scale %.4g", lam);
+      fitted = range_text + ", length scale " + Readable(c.name, lam);
       break;
     }
     case TermForm::kFlag:
@@ -380,7 +508,10 @@ void NameFinding(const TermData& td, const std::vector<int>& train, const TermSp
         f->parameters["edge" + std::to_string(i)] = t.edges[i];
       }
       fitted = "wear-rate multipliers by quantile bin of the covariate:";
-      for (double v : m) fitted += Format(" %.3f", v);
+      for (size_t i = 0; i < m.size(); ++i) {
+        fitted += Format(" %.3f", m[i]);
+        if (i < t.edges.size()) fitted += " | " + Readable(c.name, t.edges[i]) + " |";
+      }
       break;
     }
     case TermForm::kPerLevel:
@@ -388,7 +519,21 @@ void NameFinding(const TermData& td, const std::vector<int>& train, const TermSp
       for (size_t i = 0; i < t.params.size(); ++i) {
         f->parameters["level" + std::to_string(i + 1) + "_multiplier"] = std::exp(t.params[i]);
       }
-      fitted = "a wear-rate multiplier per level";
+      fitted = "wear-rate multipliers";
+      for (size_t i = 0; i < t.params.size(); ++i) {
+        const std::string label = i + 1 < t.levels.size() ? t.levels[i + 1] : std::to_string(i + 1);
+        fitted += Format(" %.3f", std::exp(t.params[i])) + " (" + label + ")";
+      }
+      break;
+    case TermForm::kCell:
+      up = p[0] > 0;
+      f->shape = up ? "higher_in_cell" : "lower_in_cell";
+      f->parameters = {{"beta", p[0]}, {"multiplier", std::exp(p[0])}};
+      fitted = Format("wear-rate multiplier %.3f in the cell", std::exp(p[0]));
+      break;
+    case TermForm::kOffsetPerLevel:
+      OffsetLevels(t, f, &fitted);
+      up = false;
       break;
     case TermForm::kOffsetDecay:
       up = p[0] > 0;
@@ -408,7 +553,19 @@ void NameFinding(const TermData& td, const std::vector<int>& train, const TermSp
   }
   const Mechanism* m = FindMechanism(c.name);
   std::string text;
-  if (m != nullptr) {
+  if (t.form == TermForm::kCell) {
+    f->mechanism = std::string(t.scope.roll_type.empty() ? "grade" : "roll_type") + "_by_" +
+                   (t.scope.stand > 0 ? "stand" : "position") + "_interaction";
+    text = "Rolls of " + t.scope.Label() + " wear " + Format("%.2f", std::exp(p[0])) +
+           " times what the K structure (position x roll type x grade factors, "
+           "which multiply independently) predicts: an interaction no single "
+           "factor expresses.";
+  } else if (t.form == TermForm::kOffsetPerLevel) {
+    f->mechanism = "measurement_offset_by_" + c.name;
+    text = "The grinder's reading depends on " + c.name +
+           ": an instrument, gauge or crew offset on the measured value, not wear "
+           "physics.";
+  } else if (m != nullptr) {
     f->mechanism = up ? m->up : m->down;
     text = up ? m->up_text : m->down_text;
   } else if (t.IsMeasurementTerm()) {
@@ -420,7 +577,7 @@ void NameFinding(const TermData& td, const std::vector<int>& train, const TermSp
     text = "The wear rate depends on " + c.name +
            ", a quantity the wear law does not contain.";
   }
-  f->explanation = text + " Fitted: " + fitted + ".";
+  f->explanation = text + DescribeScope(t, f) + " Fitted: " + fitted + ".";
 }
 
 }  // namespace rollwear::diag

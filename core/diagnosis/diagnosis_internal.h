@@ -27,6 +27,11 @@ std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>
                                       const std::set<int>& used,
                                       const DiagnosisOptions& options);
 
+// Appends the scoped variants of the simple candidates already in `out`
+// and the cell candidates (diagnosis_scoped.cc).
+void AddScopedCandidates(const TermData& td, const std::vector<int>& train,
+                         const std::set<int>& used, std::vector<Candidate>* out);
+
 // Fills mechanism, shape and explanation of a finding from its fitted term
 // and the covariate's training range (reads f->parameter_std_errors when
 // set, to tell a noisy binned step from a peak).

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <utility>
 
 #include <Eigen/Dense>
 #include <ceres/ceres.h>
@@ -96,6 +97,7 @@ class TermModel {
     for (const TermSpec& t : terms_) {
       offsets_.push_back(n_);
       n_ += t.term.NumParams();
+      scopes_.push_back(Resolve(t.term.scope));
     }
     k_.resize(s_);
     t_.resize(s_);
@@ -119,6 +121,9 @@ class TermModel {
   // the caller) also d(prediction)/d(params).
   double Predict(const double* params, int o, double* grad, bool wear_only = false) {
     const TermObservation& obs = data_.obs[o];
+    const size_t nt = terms_.size();
+    roll_in_.resize(nt);
+    for (size_t t = 0; t < nt; ++t) roll_in_[t] = scopes_[t].CoversRoll(obs);
     const double base = params[obs.position] +
                         (obs.roll_type >= 0 ? params[p_ + obs.roll_type] : 0.0);
     for (int s = 0; s < s_; ++s) {
@@ -127,7 +132,6 @@ class TermModel {
     }
     double wear = 0;
     scratch_.resize(8);
-    const size_t nt = terms_.size();
     mt_.resize(nt);
     if (grad != nullptr) dm_.resize(static_cast<size_t>(n_));
     for (int i = obs.pass_begin; i < obs.pass_end; ++i) {
@@ -136,6 +140,10 @@ class TermModel {
       for (size_t t = 0; t < nt; ++t) {
         const ModelTerm& term = terms_[t].term;
         if (term.IsMeasurementTerm()) continue;
+        if (!roll_in_[t] || !scopes_[t].CoversGrade(g)) {
+          mt_[t] = 1.0;  // outside the scope: m = 1, no derivative
+          continue;
+        }
         mt_[t] = TermMultiplier(term, data_.z[terms_[t].covariate][i],
                                 grad != nullptr ? dm_.data() + offsets_[t] : nullptr);
         m *= mt_[t];
@@ -146,7 +154,9 @@ class TermModel {
       if (grad == nullptr) continue;
       for (size_t t = 0; t < nt; ++t) {
         const ModelTerm& term = terms_[t].term;
-        if (term.IsMeasurementTerm()) continue;
+        if (term.IsMeasurementTerm() || !roll_in_[t] || !scopes_[t].CoversGrade(g)) {
+          continue;
+        }
         // d(c)/d(param) = c / m_t * dm_t/d(param).
         const double f = mt_[t] != 0 ? c / mt_[t] : 0.0;
         const int np = term.NumParams();
@@ -166,7 +176,7 @@ class TermModel {
     if (wear_only) return y;
     for (size_t t = 0; t < terms_.size(); ++t) {
       const ModelTerm& term = terms_[t].term;
-      if (!term.IsMeasurementTerm()) continue;
+      if (!term.IsMeasurementTerm() || !roll_in_[t]) continue;
       const int np = term.NumParams();
       if (static_cast<int>(scratch_.size()) < np) scratch_.resize(np);
       const double z = data_.obs_z[terms_[t].covariate][o];
@@ -179,8 +189,31 @@ class TermModel {
   }
 
  private:
+  // A TermScope resolved to the data's level indices (-1: any level, -2: a
+  // label the data does not have, which nothing matches).
+  struct ResolvedScope {
+    int stand = 0, position = -1, roll_type = -1, grade = -1;
+    bool CoversRoll(const TermObservation& o) const {
+      return (stand == 0 || stand == SlotStand(o.slot)) &&
+             (position < 0 || position == static_cast<int>(SlotPosition(o.slot))) &&
+             (roll_type == -1 || roll_type == o.roll_type);
+    }
+    bool CoversGrade(int g) const { return grade == -1 || grade == g; }
+  };
+  ResolvedScope Resolve(const TermScope& s) const {
+    auto level = [](const std::vector<std::string>& labels, const std::string& l) {
+      if (l.empty()) return -1;
+      const auto it = std::find(labels.begin(), labels.end(), l);
+      return it == labels.end() ? -2 : static_cast<int>(it - labels.begin());
+    };
+    return {s.stand, s.position, level(data_.roll_types, s.roll_type),
+            level(data_.grades, s.grade)};
+  }
+
   const TermData& data_;
   std::vector<TermSpec> terms_;
+  std::vector<ResolvedScope> scopes_;
+  std::vector<char> roll_in_;
   std::vector<int> offsets_;
   int p_ = 0, r_ = 0, s_ = 0, n_coef_ = 0, n_ = 0;
   std::vector<double> k_, t_, scratch_, mt_, dm_;
@@ -188,12 +221,14 @@ class TermModel {
 
 class TermCost : public ceres::CostFunction {
  public:
+  // `prior`: (index into the free parameters, 1 / prior sd) of every
+  // parameter with a normal prior, one pseudo-residual each.
   TermCost(TermModel* model, const std::vector<int>& subset,
            const std::vector<double>& sd, std::vector<double> full,
-           std::vector<int> free)
+           std::vector<int> free, std::vector<std::pair<int, double>> prior)
       : model_(model), subset_(subset), sd_(sd), full_(std::move(full)),
-        free_(std::move(free)) {
-    set_num_residuals(static_cast<int>(subset_.size()));
+        free_(std::move(free)), prior_(std::move(prior)) {
+    set_num_residuals(static_cast<int>(subset_.size() + prior_.size()));
     mutable_parameter_block_sizes()->push_back(static_cast<int>(free_.size()));
     grad_.resize(model_->num_params());
   }
@@ -215,6 +250,15 @@ class TermCost : public ceres::CostFunction {
         for (size_t j = 0; j < nf; ++j) jacobians[0][row * nf + j] = -w * grad_[free_[j]];
       }
     }
+    for (size_t q = 0; q < prior_.size(); ++q) {
+      const size_t row = subset_.size() + q;
+      const auto [j, inv_sd] = prior_[q];
+      residuals[row] = inv_sd * parameters[0][j];
+      if (jac) {
+        std::fill(jacobians[0] + row * nf, jacobians[0] + (row + 1) * nf, 0.0);
+        jacobians[0][row * nf + j] = inv_sd;
+      }
+    }
     return true;
   }
 
@@ -227,6 +271,7 @@ class TermCost : public ceres::CostFunction {
   const std::vector<double>& sd_;
   mutable std::vector<double> full_;
   std::vector<int> free_;
+  std::vector<std::pair<int, double>> prior_;
   mutable std::vector<double> grad_;
   const std::vector<double>* y_ = nullptr;
 };
@@ -295,7 +340,16 @@ StatusOr<TermFitResult> FitTerms(const TermData& data, const std::vector<int>& s
   for (int i : free) x.push_back(full[i]);
   std::vector<double> y(data.obs.size(), 0.0);
   for (int o : subset) y[o] = data.obs[o].measured_um;
-  auto* cost = new TermCost(&model, subset, sd, full, free);
+  std::vector<std::pair<int, double>> prior;
+  off = n_coef;
+  for (const TermSpec& t : terms) {
+    for (int j = 0; j < t.term.NumParams() && t.prior_sd > 0; ++j) {
+      const int fj = static_cast<int>(std::find(free.begin(), free.end(), off + j) - free.begin());
+      prior.emplace_back(fj, 1.0 / t.prior_sd);
+    }
+    off += t.term.NumParams();
+  }
+  auto* cost = new TermCost(&model, subset, sd, full, free, std::move(prior));
   cost->set_measured(&y);
   ceres::Problem problem;
   problem.AddResidualBlock(cost, nullptr, x.data());

@@ -57,6 +57,10 @@ struct TermSpec {
   ModelTerm term;
   int covariate = -1;  // index into TermData::catalog
   std::vector<double> lower, upper;  // per parameter
+  // > 0: a normal prior b ~ N(0, prior_sd^2) on every parameter, added to
+  // the fit as pseudo-residuals b / prior_sd (ridge shrinkage; cell terms,
+  // docs/model.md). Its square enters weighted_rss (a penalised LR).
+  double prior_sd = 0;
 };
 
 // The wear-coefficient part: log-coefficients of option 1 in the layout of

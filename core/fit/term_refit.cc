@@ -42,8 +42,9 @@ void Bounds(const ModelTerm& t, std::vector<double>* lo,
       (*hi)[1] = t.params[1] + std::log(20.0);
       break;
     case TermForm::kOffsetLinear:
-      (*lo)[0] = -1000.0;
-      (*hi)[0] = 1000.0;
+    case TermForm::kOffsetPerLevel:
+      lo->assign(n, -1000.0);
+      hi->assign(n, 1000.0);
       break;
     default:
       break;  // flag, binned, per-level: +-3 in log space
@@ -81,6 +82,7 @@ StatusOr<WearModel> RefitWithTerms(const Dataset& data, WearLaw law,
           std::to_string(t.NumParams()));
     }
     Bounds(t, &s.lower, &s.upper);
+    if (t.form == TermForm::kCell) s.prior_sd = kCellPriorSd;
     for (int j = 0; j < t.NumParams(); ++j) {
       s.term.params[j] = std::clamp(t.params[j], s.lower[j], s.upper[j]);
     }

@@ -9,13 +9,12 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 void AddExtras(const ExtraColumns& extra, CovariateLevel level,
-               CovariateSource numeric, CovariateSource factor, bool has_factor,
+               CovariateSource numeric, CovariateSource factor,
                std::vector<CovariateSpec>* out) {
   for (size_t i = 0; i < extra.numeric_names.size(); ++i) {
     out->push_back({extra.numeric_names[i], numeric, level,
                     CovariateKind::kNumeric, static_cast<int>(i)});
   }
-  if (!has_factor) return;
   for (size_t i = 0; i < extra.factor_names.size(); ++i) {
     out->push_back({extra.factor_names[i], factor, level, CovariateKind::kFactor,
                     static_cast<int>(i), false, extra.factor_levels[i]});
@@ -48,15 +47,16 @@ std::vector<CovariateSpec> CovariateCatalog(const Dataset& data) {
       {"hardness_hb", S::kHardness, L::kRoll, K::kNumeric},
       {"started_at", S::kStartedAt, L::kCampaign, K::kNumeric},
       {kCoolingHoursName, S::kCoolingHours, L::kMeasurement, K::kNumeric},
+      {"measured_at", S::kMeasuredAt, L::kMeasurement, K::kNumeric},
+      {kCellCovariateName, S::kCell, L::kPass, K::kNumeric},
   };
-  AddExtras(data.pass_extra, L::kPass, S::kPassExtraNumeric, S::kPassExtraFactor,
-            true, &c);
+  AddExtras(data.pass_extra, L::kPass, S::kPassExtraNumeric, S::kPassExtraFactor, &c);
   AddExtras(data.mount_extra, L::kRoll, S::kMountExtraNumeric,
-            S::kMountExtraFactor, true, &c);
+            S::kMountExtraFactor, &c);
   AddExtras(data.campaign_extra, L::kCampaign, S::kCampaignExtraNumeric,
-            S::kCampaignExtraFactor, true, &c);
+            S::kCampaignExtraFactor, &c);
   AddExtras(data.measurement_extra, L::kMeasurement, S::kMeasurementExtraNumeric,
-            S::kMeasurementExtraNumeric, false, &c);
+            S::kMeasurementExtraFactor, &c);
   return c;
 }
 
@@ -93,6 +93,12 @@ double CovariateValue(const CovariateSpec& spec, const Dataset& data,
     case CovariateSource::kHardness: return m.hardness_hb;
     case CovariateSource::kStartedAt:
       return static_cast<double>(ctx.campaign->started_at - origin) / 86400.0;
+    case CovariateSource::kMeasuredAt:
+      if (ctx.measurement_row < 0) return kNaN;
+      return static_cast<double>(data.measurements[ctx.measurement_row].measured_at -
+                                 origin) /
+             86400.0;
+    case CovariateSource::kCell: return 1.0;
     case CovariateSource::kCoolingHours:
       if (ctx.measurement_row < 0) return kNaN;
       return CoolingHours(data.measurements[ctx.measurement_row].measured_at,
@@ -112,6 +118,9 @@ double CovariateValue(const CovariateSpec& spec, const Dataset& data,
       return data.mount_extra.factor[spec.extra_column][ctx.mount_row];
     case CovariateSource::kCampaignExtraFactor:
       return data.campaign_extra.factor[spec.extra_column][ctx.campaign_row];
+    case CovariateSource::kMeasurementExtraFactor:
+      if (ctx.measurement_row < 0) return kNaN;
+      return data.measurement_extra.factor[spec.extra_column][ctx.measurement_row];
   }
   return kNaN;
 }

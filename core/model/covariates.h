@@ -10,8 +10,16 @@
 //   roll      constant for a roll in a campaign (diameter_mm, hardness_hb)
 //   campaign  constant for a campaign (started_at as days since 1970-01-01,
 //             extra campaign columns)
-//   measurement  what happens at the grinder (cooling_h): acts on the
+//   measurement  what happens at the grinder (cooling_h, measured_at, the
+//             measurement's extra numeric and text columns): acts on the
 //             measured value, not on the wear
+// Calendar time: started_at (campaign) and measured_at (measurement) in days
+// since `origin`, for drifts of the wear and of the gauge. A pass's rolled_at
+// is not a separate covariate: it is started_at + hours_since_mount / 24,
+// and as a near copy of started_at it would only split the evidence of a
+// drift between two names.
+// "cell" (kCellCovariateName, model_terms.h) is the constant 1: the
+// covariate of cell terms, whose scope says where they act.
 //
 // Thread-safety: pure functions and immutable values.
 #ifndef ROLLWEAR_CORE_MODEL_COVARIATES_H_
@@ -21,6 +29,7 @@
 #include <vector>
 
 #include "core/dataset/dataset.h"
+#include "core/model/model_terms.h"
 
 namespace rollwear {
 
@@ -31,10 +40,11 @@ enum class CovariateSource {
   kForce, kWidth, kLength, kEntryThickness, kExitThickness, kTemperature,
   kSpeed, kLubrication, kShift, kSpecificForce, kContactLength, kReduction,
   kLengthBefore, kCoilsBefore, kHoursSinceMount, kDiameter, kHardness,
-  kStartedAt, kCoolingHours,
+  kStartedAt, kCoolingHours, kMeasuredAt, kCell,
   kPassExtraNumeric, kMountExtraNumeric, kCampaignExtraNumeric,
   kMeasurementExtraNumeric,
   kPassExtraFactor, kMountExtraFactor, kCampaignExtraFactor,
+  kMeasurementExtraFactor,
 };
 
 struct CovariateSpec {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/dataset/dataset.h"
+
 namespace rollwear {
 
 const char* TermFormName(TermForm f) {
@@ -14,8 +16,10 @@ const char* TermFormName(TermForm f) {
     case TermForm::kFlag: return "flag";
     case TermForm::kBinned: return "binned";
     case TermForm::kPerLevel: return "per_level";
+    case TermForm::kCell: return "cell";
     case TermForm::kOffsetDecay: return "offset_decay";
     case TermForm::kOffsetLinear: return "offset_linear";
+    case TermForm::kOffsetPerLevel: return "offset_per_level";
   }
   return "unknown";
 }
@@ -23,14 +27,36 @@ const char* TermFormName(TermForm f) {
 bool ParseTermForm(const std::string& name, TermForm* out) {
   for (TermForm f : {TermForm::kLogLinear, TermForm::kPower, TermForm::kSaturating,
                      TermForm::kDecaying, TermForm::kFlag, TermForm::kBinned,
-                     TermForm::kPerLevel, TermForm::kOffsetDecay,
-                     TermForm::kOffsetLinear}) {
+                     TermForm::kPerLevel, TermForm::kCell, TermForm::kOffsetDecay,
+                     TermForm::kOffsetLinear, TermForm::kOffsetPerLevel}) {
     if (name == TermFormName(f)) {
       *out = f;
       return true;
     }
   }
   return false;
+}
+
+std::string TermScope::Label() const {
+  std::string out;
+  auto add = [&out](const std::string& part) {
+    if (!out.empty()) out += ", ";
+    out += part;
+  };
+  if (stand > 0) add(StandName(stand));
+  if (position >= 0) add(std::string(PositionName(static_cast<Position>(position))) + " rolls");
+  if (!roll_type.empty()) add("roll type " + roll_type);
+  if (!grade.empty()) add("grade " + grade);
+  return out;
+}
+
+std::vector<std::pair<std::string, std::string>> TermScope::Fields() const {
+  std::vector<std::pair<std::string, std::string>> f;
+  if (stand > 0) f.emplace_back("stand", StandName(stand));
+  if (position >= 0) f.emplace_back("position", PositionName(static_cast<Position>(position)));
+  if (!roll_type.empty()) f.emplace_back("roll_type", roll_type);
+  if (!grade.empty()) f.emplace_back("grade", grade);
+  return f;
 }
 
 int ModelTerm::NumParams() const {
@@ -40,7 +66,9 @@ int ModelTerm::NumParams() const {
     case TermForm::kOffsetDecay:
       return 2;
     case TermForm::kBinned: return static_cast<int>(edges.size());
-    case TermForm::kPerLevel: return std::max(0, num_levels - 1);
+    case TermForm::kPerLevel:
+    case TermForm::kOffsetPerLevel:
+      return std::max(0, num_levels - 1);
     default: return 1;
   }
 }
@@ -86,6 +114,11 @@ double TermMultiplier(const ModelTerm& t, double z, double* grad) {
       }
       return 1 + p[0] * e;
     }
+    case TermForm::kCell: {
+      const double m = std::exp(p[0]);
+      if (grad != nullptr) grad[0] = m;
+      return m;
+    }
     case TermForm::kFlag: {
       const double m = std::exp(p[0] * z);
       if (grad != nullptr) grad[0] = m * z;
@@ -107,6 +140,7 @@ double TermMultiplier(const ModelTerm& t, double z, double* grad) {
     }
     case TermForm::kOffsetDecay:
     case TermForm::kOffsetLinear:
+    case TermForm::kOffsetPerLevel:
       return 1.0;
   }
   return 1.0;
@@ -125,6 +159,13 @@ double TermOffset(const ModelTerm& t, double z, double* grad) {
       grad[1] = p[0] * e * (z / tau);
     }
     return p[0] * e;
+  }
+  if (t.form == TermForm::kOffsetPerLevel) {
+    const int l = static_cast<int>(z);
+    if (l < 0 || l >= t.num_levels || l == t.reference_level) return 0.0;
+    const int j = l < t.reference_level ? l : l - 1;
+    if (grad != nullptr) grad[j] = 1.0;
+    return p[j];
   }
   if (t.form == TermForm::kOffsetLinear) {
     const double u = (z - t.center) / t.scale;

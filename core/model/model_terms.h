@@ -13,26 +13,76 @@
 //   binned       m = exp(b_k) for z in bin k >= 1  (bin 0: m = 1); bins are
 //                                                  training quantiles: any shape
 //   per-level    m = exp(b_l) for factor level l >= 1
+//   cell         m = exp(b) on the passes of its scope, a (stand or roll
+//                position) x (roll type or grade) cell the K structure
+//                cannot express (covariate "cell", always 1)
 // Measurement terms add to what the grinder reads, not to the wear:
 //   offset-decay   y = d + A * exp(-z / tau)       tau = exp(q)
 //   offset-linear  y = d + A * (z - c) / s
+//   offset-per-level  y = d + d_l for level l != r of a measurement-side text
+//                  column (r = reference_level, the most frequent in
+//                  training; params in level order without r): a
+//                  second grinder, a gauge, a shift crew reading differently
 // A missing covariate value (NaN) leaves the prediction unchanged.
+//
+// Scope (TermScope): a term may be restricted to one stand, one roll
+// position (top/bottom), one roll type and/or one grade. A scoped wear-rate
+// term multiplies only the passes inside its scope (m = 1 outside); a scoped
+// measurement term offsets only the readings of rolls inside it. The
+// parameter count is that of the unscoped form.
+//
+// Cell terms are fitted with a normal prior b ~ N(0, tau^2) (TermSpec::
+// prior_sd, term_fit.h) so that rare cells stay sane.
 //
 // Thread-safety: pure functions and plain values.
 #ifndef ROLLWEAR_CORE_MODEL_MODEL_TERMS_H_
 #define ROLLWEAR_CORE_MODEL_MODEL_TERMS_H_
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace rollwear {
 
 enum class TermForm {
-  kLogLinear, kPower, kSaturating, kDecaying, kFlag, kBinned, kPerLevel,
-  kOffsetDecay, kOffsetLinear,
+  kLogLinear, kPower, kSaturating, kDecaying, kFlag, kBinned, kPerLevel, kCell,
+  kOffsetDecay, kOffsetLinear, kOffsetPerLevel,
 };
 const char* TermFormName(TermForm f);  // "log_linear", "power", ...
 bool ParseTermForm(const std::string& name, TermForm* out);
+
+// Where a term applies; the default (all zero / empty) is everywhere.
+struct TermScope {
+  int stand = 0;          // 1..7, 0 = every stand
+  int position = -1;      // static_cast<int>(Position), -1 = both
+  std::string roll_type;  // empty = every roll type
+  std::string grade;      // empty = every grade
+
+  bool IsAll() const {
+    return stand == 0 && position < 0 && roll_type.empty() && grade.empty();
+  }
+  // Whether a roll at (stand, position) of `roll_type` is inside (the grade
+  // is checked per pass with CoversGrade).
+  bool CoversRoll(int roll_stand, int roll_position, const std::string& type) const {
+    return (stand == 0 || stand == roll_stand) &&
+           (position < 0 || position == roll_position) &&
+           (roll_type.empty() || roll_type == type);
+  }
+  bool CoversGrade(const std::string& g) const { return grade.empty() || grade == g; }
+  // Readable: "F7", "top rolls", "roll type ICDP", "grade HSLA", joined by
+  // ", "; "" when everywhere.
+  std::string Label() const;
+  // The contract's finding scope: {"stand":"F7","position":"top",...}.
+  std::vector<std::pair<std::string, std::string>> Fields() const;
+  bool operator==(const TermScope&) const = default;
+};
+
+// The covariate name of cell terms (covariates.h: the constant 1).
+inline constexpr const char* kCellCovariateName = "cell";
+// Prior sd tau of a cell term's log-multiplier b ~ N(0, tau^2): a cell 20 %
+// off the K structure is one prior sd, so a cell with few observations
+// shrinks towards 1 while a well-measured cell is fitted by its data.
+inline constexpr double kCellPriorSd = 0.2;
 
 struct ModelTerm {
   std::string covariate;  // name in the covariate catalog (covariates.h)
@@ -47,9 +97,12 @@ struct ModelTerm {
   // label to them (core/model/predictor.h); empty for a term stored before
   // labels were kept, which then counts as 1 coil by coil.
   std::vector<std::string> levels;
+  TermScope scope;  // where the term applies (default: everywhere)
+  int reference_level = 0;  // offset-per-level: the level read as is
 
   bool IsMeasurementTerm() const {
-    return form == TermForm::kOffsetDecay || form == TermForm::kOffsetLinear;
+    return form == TermForm::kOffsetDecay || form == TermForm::kOffsetLinear ||
+           form == TermForm::kOffsetPerLevel;
   }
   int NumParams() const;
 };

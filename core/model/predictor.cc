@@ -20,6 +20,15 @@ RollWearState MountRoll(const WearModel& model, const std::string& position_labe
   s.hardness_hb = hardness_hb;
   s.gradient.assign(model.num_parameters(), 0.0);
   s.campaign_started_at = campaign_started_at;
+  const size_t slash = position_label.find('/');
+  if (slash != std::string::npos) {
+    s.stand = ParseStand(position_label.substr(0, slash));
+    Position p;
+    if (ParsePosition(position_label.substr(slash + 1), &p)) {
+      s.roll_position = static_cast<int>(p);
+    }
+  }
+  s.roll_type_label = roll_type;
   s.mount_extra = std::move(mount_extra);
   s.campaign_extra = std::move(campaign_extra);
   if (model.is_ann()) {
@@ -89,6 +98,10 @@ double PassTermMultiplier(const WearModel& model, const PassInput& pass,
   double multiplier = 1.0;
   for (const ModelTerm& t : model.terms) {
     if (t.IsMeasurementTerm()) continue;
+    if (!t.scope.CoversRoll(state.stand, state.roll_position, state.roll_type_label) ||
+        !t.scope.CoversGrade(pass.grade)) {
+      continue;  // outside its scope: m = 1
+    }
     bool built_in = false;
     for (const CovariateSpec& spec : kCatalog) {
       if (spec.name != t.covariate || spec.level == CovariateLevel::kMeasurement) continue;

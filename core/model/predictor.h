@@ -17,6 +17,8 @@
 // 1 (NaN), a per-level term takes the empty text's level. A factor level is
 // matched by its label (ModelTerm::levels); a label the fit never saw
 // counts as 1, as a level without training data does in the batch path.
+// A scoped term (ModelTerm::scope) counts as 1 outside its scope: the
+// roll's stand, position and roll type label, the pass's grade label.
 //
 // When the model is the recurrent network (WearModel::ann), the same calls
 // run the network coil by coil (ann_model.h): the state then carries the
@@ -52,6 +54,12 @@ struct RollWearState {
   double rolled_length_m = 0;
   std::vector<double> gradient;  // d(wear)/d(log k, a)
   UnixSeconds campaign_started_at = 0;  // for hours_since_mount
+  // Where the roll runs and what it is, for scoped terms (TermScope):
+  // parsed from the position label ("F6/top"; 0 / -1 when unparseable)
+  // and the roll type label as mounted.
+  int stand = 0;
+  int roll_position = -1;
+  std::string roll_type_label;
   ExtraFields mount_extra;     // the roll's extra fields (mounts.csv)
   ExtraFields campaign_extra;  // its campaign's (campaigns.csv)
   std::optional<AnnRollState> ann;      // set when the model is the ANN

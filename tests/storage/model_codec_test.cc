@@ -134,6 +134,58 @@ TEST(ModelCodecTest, AdoptedTermsRoundTrip) {
       << bad.status().message();
 }
 
+// Scoped, cell and offset-per-level terms keep their scope and reference
+// level; a term without "scope" (stored before scopes) applies everywhere.
+TEST(ModelCodecTest, ScopedTermsRoundTrip) {
+  WearModel m = MakeModel(WearLaw::kWang, 1);
+  ModelTerm temp;
+  temp.covariate = "temperature_c";
+  temp.form = TermForm::kLogLinear;
+  temp.params = {-0.25};
+  temp.scope.stand = 7;
+  temp.scope.position = 1;  // Position::kBottom;
+  m.terms.push_back(temp);
+  ModelTerm cell;
+  cell.covariate = kCellCovariateName;
+  cell.form = TermForm::kCell;
+  cell.params = {0.26};
+  cell.scope.stand = 6;
+  cell.scope.roll_type = "HiCr-S2";
+  cell.scope.grade = "HSLA";
+  m.terms.push_back(cell);
+  ModelTerm grinder;
+  grinder.covariate = "grinder";
+  grinder.form = TermForm::kOffsetPerLevel;
+  grinder.params = {-15.5, 3.25};
+  grinder.num_levels = 3;
+  grinder.reference_level = 1;
+  grinder.levels = {"B", "A", "C"};
+  m.terms.push_back(grinder);
+  const std::string json = EncodeWearModel(m);
+  EXPECT_NE(json.find("\"scope\":{\"stand\":\"F7\",\"position\":\"bottom\"}"),
+            std::string::npos)
+      << json;
+  StatusOr<WearModel> back = DecodeWearModel(json);
+  ASSERT_TRUE(back.ok()) << back.status().ToString();
+  ASSERT_EQ(back->terms.size(), 3u);
+  EXPECT_EQ(back->terms[0].scope, temp.scope);
+  EXPECT_EQ(back->terms[1].scope, cell.scope);
+  EXPECT_EQ(back->terms[1].form, TermForm::kCell);
+  EXPECT_EQ(back->terms[2].form, TermForm::kOffsetPerLevel);
+  EXPECT_EQ(back->terms[2].reference_level, 1);
+  EXPECT_EQ(back->terms[2].params, grinder.params);
+  StatusOr<std::vector<ModelTerm>> old = DecodeModelTerms(
+      R"({"terms":[{"covariate":"temperature_c","form":"log_linear","params":[0.1]}]})");
+  ASSERT_TRUE(old.ok()) << old.status().ToString();
+  EXPECT_TRUE(old->front().scope.IsAll());
+  EXPECT_EQ(old->front().reference_level, 0);
+  StatusOr<std::vector<ModelTerm>> bad = DecodeModelTerms(
+      R"({"terms":[{"covariate":"x","form":"flag","params":[0.1],"scope":{"stand":"F9"}}]})");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.status().message().find("terms[0].scope.stand"), std::string::npos)
+      << bad.status().message();
+}
+
 TEST(ModelCodecTest, CoefficientsAreListedByName) {
   const WearModel m = MakeModel(WearLaw::kWang, 1);
   const std::string json = EncodeWearModel(m);

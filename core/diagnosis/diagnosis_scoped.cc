@@ -1,0 +1,153 @@
+// Scoped and cell candidates of the diagnosis (diagnosis_internal.h): the
+// vocabulary for effects that act on part of the mill only.
+//
+// Scoped variants: the simple one-parameter forms (log-linear, flag) of
+// every wear-rate covariate restricted to one stand, one roll position, one
+// roll type or one grade (TermScope, model_terms.h). The parameter count is
+// that of the unscoped form; the scope is chosen by the same evidence as
+// the form (score screen, LR, CV), and the Bonferroni count of the round
+// (diagnosis_stages.cc, Screen::num_tests) includes every scoped variant, so
+// the family-wise level stays alpha however many scopes there are.
+//
+// Cells: m = exp(b) on the passes of one (stand or roll position) x (roll
+// type or grade) cell, the interactions the K structure (kF kR kS) cannot
+// express, with the normal prior b ~ N(0, kCellPriorSd^2) (model_terms.h).
+//
+// A scope (or cell) is offered only with at least kMinScopeObservations
+// training measurements inside it, and a scope covering every training
+// observation is no scope.
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "core/diagnosis/diagnosis_internal.h"
+
+namespace rollwear::diag {
+namespace {
+
+constexpr int kMinScopeObservations = 30;
+
+// Training observations inside `s` (a grade scope counts an observation
+// when any of its passes rolled the grade).
+int CountInScope(const TermData& td, const std::vector<int>& train, const TermScope& s) {
+  const int grade = s.grade.empty()
+                        ? -1
+                        : static_cast<int>(std::find(td.grades.begin(), td.grades.end(),
+                                                     s.grade) -
+                                           td.grades.begin());
+  int n = 0;
+  for (int o : train) {
+    const TermObservation& ob = td.obs[o];
+    const std::string rt = ob.roll_type >= 0 ? td.roll_types[ob.roll_type] : "";
+    if (!s.CoversRoll(SlotStand(ob.slot), static_cast<int>(SlotPosition(ob.slot)), rt)) {
+      continue;
+    }
+    bool in = grade < 0;
+    for (int i = ob.pass_begin; i < ob.pass_end && !in; ++i) in = td.grade[i] == grade;
+    n += in ? 1 : 0;
+  }
+  return n;
+}
+
+// The single-factor scopes with enough data: each stand, position, roll
+// type and grade.
+std::vector<TermScope> SingleScopes(const TermData& td, const std::vector<int>& train) {
+  std::vector<TermScope> all;
+  std::vector<bool> stands(kMaxStand + 1, false);
+  for (const std::string& p : td.positions) {
+    const int st = ParseStand(p.substr(0, p.find('/')));
+    if (st > 0) stands[st] = true;
+  }
+  for (int st = kMinStand; st <= kMaxStand; ++st) {
+    if (stands[st]) all.push_back({st, -1, "", ""});
+  }
+  all.push_back({0, static_cast<int>(Position::kTop), "", ""});
+  all.push_back({0, static_cast<int>(Position::kBottom), "", ""});
+  for (const std::string& r : td.roll_types) all.push_back({0, -1, r, ""});
+  for (const std::string& g : td.grades) all.push_back({0, -1, "", g});
+  std::vector<TermScope> out;
+  const int n = static_cast<int>(train.size());
+  for (const TermScope& s : all) {
+    const int in = CountInScope(td, train, s);
+    if (in >= kMinScopeObservations && in < n) out.push_back(s);
+  }
+  return out;
+}
+
+// The (stand or position) x (roll type or grade) cells with enough data.
+// When a roll type or grade runs in exactly two places of a kind (two
+// stands, or top and bottom), the two cells describe the same data (the
+// factor's own K level absorbs the rest: x1.3 at F7 = x1/1.3 at F6), so only
+// the cell with fewer observations, the exception, is offered; and a cell
+// holding all of the level's data (a roll type used at one stand only) is
+// the level's own K coefficient, not a cell.
+std::vector<TermScope> CellScopes(const TermData& td, const std::vector<int>& train,
+                                  const std::vector<TermScope>& single) {
+  std::vector<TermScope> where_stand, where_pos, what;
+  for (const TermScope& s : single) {
+    if (s.stand > 0) {
+      where_stand.push_back(s);
+    } else if (s.position >= 0) {
+      where_pos.push_back(s);
+    } else {
+      what.push_back(s);
+    }
+  }
+  std::vector<TermScope> out;
+  for (const std::vector<TermScope>* where : {&where_stand, &where_pos}) {
+    for (const TermScope& b : what) {
+      std::vector<std::pair<int, TermScope>> cells;
+      int total = 0;
+      for (const TermScope& a : *where) {
+        TermScope c = a;
+        c.roll_type = b.roll_type;
+        c.grade = b.grade;
+        const int n = CountInScope(td, train, c);
+        total += n;
+        if (n >= kMinScopeObservations) cells.emplace_back(n, c);
+      }
+      // A cell holding all of its factor level's data is that level's own K.
+      if (cells.size() == 1 && cells[0].first == total) continue;
+      if (cells.size() == 2 && cells[0].first + cells[1].first == total) {
+        out.push_back(cells[0].first <= cells[1].first ? cells[0].second : cells[1].second);
+        continue;
+      }
+      for (const auto& [n, c] : cells) out.push_back(c);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+void AddScopedCandidates(const TermData& td, const std::vector<int>& train,
+                         const std::set<int>& used, std::vector<Candidate>* out) {
+  const std::vector<TermScope> scopes = SingleScopes(td, train);
+  // Scoped variants of the simple unscoped wear-rate candidates.
+  const size_t unscoped = out->size();
+  for (size_t i = 0; i < unscoped; ++i) {
+    const TermSpec s = (*out)[i].spec;  // a copy: push_back reallocates
+    if (s.term.form != TermForm::kLogLinear && s.term.form != TermForm::kFlag) continue;
+    for (const TermScope& scope : scopes) {
+      Candidate c{s, {}};
+      c.spec.term.scope = scope;
+      out->push_back(std::move(c));
+    }
+  }
+  const int cell = td.CovariateIndex(kCellCovariateName);
+  if (cell < 0 || used.count(cell) > 0) return;
+  for (const TermScope& scope : CellScopes(td, train, scopes)) {
+    Candidate c;
+    c.spec.covariate = cell;
+    c.spec.term.covariate = kCellCovariateName;
+    c.spec.term.form = TermForm::kCell;
+    c.spec.term.params = {0.0};
+    c.spec.term.scope = scope;
+    c.spec.lower = {-3.0};
+    c.spec.upper = {3.0};
+    c.spec.prior_sd = kCellPriorSd;
+    out->push_back(std::move(c));
+  }
+}
+
+}  // namespace rollwear::diag
