@@ -74,6 +74,12 @@ class MillStore {
   StatusOr<WriteOutcome> AddMeasurement(const MeasurementIn& in) {
     return AddMeasurement(in, nullptr);
   }
+  // A grinder profile across the barrel (ProfileIn), all its points in one
+  // transaction. Fields as CheckProfileFields (storage/validation.h:
+  // "points[3].x_mm: ..."), the roll and campaign as for a measurement;
+  // a repeat of a stored key is kUnchanged when every point is equal and
+  // AlreadyExists otherwise.
+  virtual StatusOr<WriteOutcome> AddProfile(const ProfileIn& in) = 0;
 
   // The rolls of the open campaign (none once it has ended and no roll
   // change has followed).

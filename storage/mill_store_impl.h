@@ -120,6 +120,9 @@ class MillStoreImpl final : public MillStore {
   StatusOr<WriteOutcome> AddMeasurement(const MeasurementIn& in,
                                         std::string* suspect) override;
 
+  StatusOr<WriteOutcome> AddProfile(
+      const ProfileIn& in) override;  // store_profiles.cc
+
   WearSnapshot Wear() const override;
   StatusOr<PositionWear> WearAt(int stand, Position position) const override;
 

@@ -260,6 +260,8 @@ Status MillStoreImpl::ExecuteItem(WriteItem* item) {
       }
       ApplyImport(*item->dataset, item->dataset_coils, item->plan,
                   /*speculative=*/false, &catalog);
+      ROLLWEAR_RETURN_IF_ERROR(WriteImportProfiles(
+          db, *item->dataset, item->lines, catalog, &item->plan.profiles));
       if (model->version == 0) model = MakePrior(catalog.positions_seen);
       StatusOr<int> filled = BackfillCoilWear(db, catalog, model->wear_model);
       return filled.status();

@@ -14,6 +14,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 #include "core/base/status.h"
@@ -133,6 +134,27 @@ StatusOr<Dataset> ReadStoredDataset(Db* db,
 // extended back to `campaign_id`'s own row when that is older.
 StatusOr<int64_t> RecentCampaignsStart(Db* db, const std::string& campaign_id,
                                        int campaigns);
+
+// ---- grinder profiles (store_profiles.cc)
+// The stored profile of (campaign, stand, position), points in order;
+// nullopt when none is stored.
+StatusOr<std::optional<ProfileIn>> LookupProfile(Db* db, const ProfileIn& key);
+// Inserts every point of `in` (no profile stored under its key).
+Status InsertProfile(Db* db, int64_t campaign_row, const ProfileIn& in);
+// The profiles of `data` (profile_points grouped by campaign, stand and
+// position in file order), each checked against `catalog` (the catalog
+// after the import) as a posted one is, then added, skipped when stored
+// alike, or AlreadyExists when stored otherwise; errors name
+// "profiles.csv:LINE field" when `lines` has a line per point. Inside the
+// caller's transaction; `counts` gets what was added and skipped.
+Status WriteImportProfiles(Db* db, const Dataset& data,
+                           const DatasetLines* lines, const Catalog& catalog,
+                           ImportTableCounts* counts);
+// Appends the stored points of the campaigns in `campaign_index` (row id ->
+// Dataset::campaigns index; others are skipped) to data->profile_points.
+Status ReadStoredProfiles(
+    Db* db, const std::unordered_map<int64_t, int>& campaign_index,
+    Dataset* data);
 
 // ---- models and calibrations (store_sql_models.cc)
 // version of a ModelVersion is ignored; returns the new version.

@@ -23,6 +23,7 @@
 #include "core/dataset/extra_fields.h"
 #include "core/dataset/input_rules.h"
 #include "core/model/ann_model.h"
+#include "core/model/barrel_profile.h"
 #include "core/model/remaining_life.h"
 #include "core/model/wear_model.h"
 
@@ -30,7 +31,7 @@ namespace rollwear::storage {
 
 // Schema version this build writes; older files are migrated on Open, newer
 // ones are refused.
-constexpr int kSchemaVersion = 6;
+constexpr int kSchemaVersion = 7;
 
 struct StoreOptions {
   // Maximum coils committed in one group-commit transaction.
@@ -101,6 +102,27 @@ struct MeasurementIn {
   // (MillStore::AddMeasurement), stored, excluded from fitting.
   std::string suspect;
 };
+
+// A grinder profile across the barrel (POST /v1/profiles, profiles.csv):
+// the points of one roll measured after its campaign, keyed like a
+// measurement by (campaign_id, stand, position). Points keep their order;
+// a repeat is equal when every field and every point is equal.
+struct ProfilePointIn {
+  double x_mm = 0;  // mm from the barrel centre, + towards the drive side
+  double wear_um = 0;
+  bool operator==(const ProfilePointIn&) const = default;
+};
+struct ProfileIn {
+  std::string campaign_id;
+  int stand = 0;
+  Position position = Position::kTop;
+  std::string roll_id;
+  UnixSeconds measured_at = 0;
+  std::vector<ProfilePointIn> points;
+  bool operator==(const ProfileIn&) const = default;
+};
+// Half the barrel length: a posted point farther from the centre is refused.
+inline constexpr double kMaxProfileXMm = kDefaultBarrelMm / 2;
 
 enum class WriteOutcome { kCreated, kUnchanged };
 
@@ -325,6 +347,7 @@ struct ImportTableCounts {
 };
 struct ImportCounts {
   ImportTableCounts campaigns, mounts, coils, measurements;
+  ImportTableCounts profiles;  // one per (campaign, stand, position)
 };
 
 // Predicted wear of one roll along a campaign (MillStore::RecentWear).
