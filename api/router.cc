@@ -158,6 +158,7 @@ RouteId MatchRoute(const std::string& path, bool post, std::string* arg1,
   if (path == "/") return RouteId::kDashboard;
   if (path == "/v1/limits") return RouteId::kLimits;
   if (path == "/v1/forecast") return RouteId::kForecast;
+  if (path == "/v1/profiles") return RouteId::kProfiles;
   const std::string_view p(path);
   if (std::optional<std::string> a = ParamBetween(p, kModelsPrefix)) {
     *arg1 = std::move(*a);
@@ -464,6 +465,7 @@ HttpResponse Router::Dispatch(const HttpRequest& request) {
     case RouteId::kDiagnosesList:
     case RouteId::kDiagnosisReport:
     case RouteId::kRollPage:
+    case RouteId::kProfiles:
       response = DispatchShop(route, request, arg1);  // router_shop.cc
       break;
     default:
