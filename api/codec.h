@@ -145,6 +145,12 @@ std::string EncodeMeasurementAnswer(const storage::MeasurementIn& in,
 // {"campaign_id","stand","position","roll_id","points":N,"outcome"}.
 std::string EncodeProfileAnswer(const storage::ProfileIn& in,
                                 storage::WriteOutcome outcome);
+// GET /v1/wear/{stand}/{position}/profile: {"stand","position","roll_id",
+// "campaign_id","model_version","coils","centre_wear_um","shape":
+// "calibrated"|"uncalibrated","coefficients":{beta2..alpha3}|null,
+// "standard_errors":{...}|null,"residual_sd_um":number|null,"x_mm":[...],
+// "predicted_wear_um":[...],"interval_um":[[lo,hi]...]}.
+std::string EncodeWearProfile(const storage::ProfileWear& wear);
 std::string EncodeWear(const storage::WearSnapshot& snapshot);
 std::string EncodePositionWear(const storage::PositionWear& wear,
                                int64_t model_version);

@@ -1,5 +1,6 @@
 // Grinder profiles across the barrel: the body of POST /v1/profiles and
 // its answer (codec.h).
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -9,6 +10,7 @@
 #include "api/codec_json_util.h"
 #include "api/codec_reader.h"
 #include "api/json_scan.h"
+#include "api/json_writer.h"
 #include "core/dataset/dataset_io.h"
 #include "core/dataset/input_rules.h"
 
@@ -74,6 +76,76 @@ std::string EncodeProfileAnswer(const storage::ProfileIn& in,
                    {"roll_id", in.roll_id},
                    {"points", in.points.size()},
                    {"outcome", OutcomeName(outcome)}});
+}
+
+std::string EncodeWearProfile(const storage::ProfileWear& wear) {
+  const storage::PositionWear& c = wear.centre;
+  const ProfilePrediction& p = wear.profile;
+  JsonWriter w(512 + 64 * p.x_mm.size());
+  w.BeginObject();
+  w.Key("stand");
+  w.String(StandName(c.stand));
+  w.Key("position");
+  w.String(PositionName(c.position));
+  w.Key("roll_id");
+  w.String(c.roll_id);
+  w.Key("campaign_id");
+  w.String(c.campaign_id);
+  w.Key("model_version");
+  w.Int(wear.model_version);
+  w.Key("coils");
+  w.Int(c.coils);
+  w.Key("centre_wear_um");
+  w.Double(c.predicted_wear_um);
+  w.Key("shape");
+  w.String(wear.shape.has_value() ? "calibrated" : "uncalibrated");
+  // ProfileShapeNames(), as keys the compiler checks.
+  static constexpr JsonKey kNames[kProfileShapeParameters] = {
+      "beta2", "beta4", "alpha1", "alpha2", "alpha3"};
+  const auto write_shape =
+      [&](const std::array<double, kProfileShapeParameters>& values) {
+        w.BeginObject();
+        for (int i = 0; i < kProfileShapeParameters; ++i) {
+          w.Key(kNames[i]);
+          w.Double(values[i]);
+        }
+        w.EndObject();
+      };
+  w.Key("coefficients");
+  if (wear.shape.has_value()) {
+    write_shape(ProfileShapeValues(wear.shape->shape));
+  } else {
+    w.Null();
+  }
+  w.Key("standard_errors");
+  if (wear.shape.has_value()) {
+    write_shape(wear.shape->std_error);
+  } else {
+    w.Null();
+  }
+  w.Key("residual_sd_um");
+  w.OptionalDouble(wear.shape.has_value()
+                       ? std::optional<double>(wear.shape->residual_sd_um)
+                       : std::nullopt);
+  w.Key("x_mm");
+  w.BeginArray();
+  for (double x : p.x_mm) w.Double(x);
+  w.EndArray();
+  w.Key("predicted_wear_um");
+  w.BeginArray();
+  for (double v : p.wear_um) w.Double(v);
+  w.EndArray();
+  w.Key("interval_um");
+  w.BeginArray();
+  for (size_t j = 0; j < p.lo_um.size(); ++j) {
+    w.BeginArray();
+    w.Double(p.lo_um[j]);
+    w.Double(p.hi_um[j]);
+    w.EndArray();
+  }
+  w.EndArray();
+  w.EndObject();
+  return w.Take();
 }
 
 }  // namespace rollwear::api

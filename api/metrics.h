@@ -69,6 +69,7 @@ enum class RouteId : int {
   kDiagnosisReport,   // GET  /v1/diagnoses/{id}/report (HTML)
   kRollPage,          // GET  /rolls/{roll_id} (HTML, api/dashboard_roll.cc)
   kProfiles,          // POST /v1/profiles
+  kWearProfile,       // GET  /v1/wear/{stand}/{position}/profile
   kUnmatched,         // anything else (404/405)
   kCount
 };

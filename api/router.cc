@@ -195,6 +195,14 @@ RouteId MatchRoute(const std::string& path, bool post, std::string* arg1,
     return RouteId::kCampaignEnd;
   }
   if (p.substr(0, kWearPrefix.size()) == kWearPrefix) {
+    constexpr std::string_view kProfileSuffix = "/profile";
+    if (p.size() > kWearPrefix.size() + kProfileSuffix.size() &&
+        p.substr(p.size() - kProfileSuffix.size()) == kProfileSuffix) {
+      return MatchTwoParams(p.substr(0, p.size() - kProfileSuffix.size()),
+                            kWearPrefix, arg1, arg2)
+                 ? RouteId::kWearProfile
+                 : RouteId::kUnmatched;
+    }
     return MatchTwoParams(p, kWearPrefix, arg1, arg2) ? RouteId::kWearAt
                                                       : RouteId::kUnmatched;
   }
@@ -266,6 +274,16 @@ HttpResponse FromStatus(const Status& status) {
       http == 400 || http == 422 ? FieldOf(status.message()) : "";
   return Error(http, ErrorCodeFor(status.code()), status.message(),
                std::move(field));
+}
+
+std::optional<HttpResponse> ParseRollPosition(const std::string& stand_text,
+                                              const std::string& position_text,
+                                              int* stand, Position* position) {
+  *stand = ParseStand(stand_text);
+  if (*stand != 0 && ParsePosition(position_text, position)) return std::nullopt;
+  return Error(404, "not_found",
+               "unknown roll position '" + stand_text + "/" + position_text +
+                   "' (stands F1..F7, positions top or bottom)");
 }
 
 bool ParseInt64(std::string_view text, int64_t* out) {
@@ -414,6 +432,9 @@ HttpResponse Router::Dispatch(const HttpRequest& request) {
       break;
     case RouteId::kWearAt:
       response = GetWearAt(arg1, arg2);
+      break;
+    case RouteId::kWearProfile:
+      response = GetWearProfile(arg1, arg2);
       break;
     case RouteId::kMeasurements:
       response = PostMeasurement(request);

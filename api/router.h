@@ -191,6 +191,8 @@ class Router {
   std::optional<DiagnosisJob> StoredDiagnosisJob(int64_t id) const;
   // router_profile.cc: grinder profiles and the predicted profile.
   HttpResponse PostProfile(const HttpRequest& request);
+  HttpResponse GetWearProfile(const std::string& stand,
+                              const std::string& position);
   // dashboard_roll.cc: the roll page (HTML).
   HttpResponse GetRollPage(const std::string& roll_id);
   // GET /: the HTML dashboard (api/dashboard.cc).

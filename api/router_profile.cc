@@ -3,7 +3,9 @@
 // /v1/wear/{stand}/{position}/profile (docs/api.md).
 //
 // Thread-safety: as Router (router.h).
+#include <optional>
 #include <string>
+#include <utility>
 
 #include "api/codec.h"
 #include "api/router.h"
@@ -25,6 +27,19 @@ HttpResponse Router::PostProfile(const HttpRequest& request) {
   if (!outcome.ok()) return FromStatus(outcome.status());
   return Answer(*outcome == storage::WriteOutcome::kCreated ? 201 : 200,
                 EncodeProfileAnswer(in, *outcome));
+}
+
+HttpResponse Router::GetWearProfile(const std::string& stand_text,
+                                   const std::string& position_text) {
+  int stand = 0;
+  Position position;
+  if (std::optional<HttpResponse> unknown = router_internal::ParseRollPosition(
+          stand_text, position_text, &stand, &position)) {
+    return std::move(*unknown);
+  }
+  StatusOr<storage::ProfileWear> wear = store_->WearProfileAt(stand, position);
+  if (!wear.ok()) return FromStatus(wear.status());
+  return Answer(200, EncodeWearProfile(*wear));
 }
 
 }  // namespace rollwear::api

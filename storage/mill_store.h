@@ -85,6 +85,12 @@ class MillStore {
   // change has followed).
   virtual WearSnapshot Wear() const = 0;
   virtual StatusOr<PositionWear> WearAt(int stand, Position position) const = 0;
+  // The predicted profile across the barrel of the roll at (stand,
+  // position), read from its profile sums (core/model/predictor.h) with the
+  // active model's profile shape, or the default g = 1 when it has none
+  // (core/fit/profile_interval.h); errors as WearAt.
+  virtual StatusOr<ProfileWear> WearProfileAt(int stand,
+                                              Position position) const = 0;
 
   // The predicted wear of every mounted roll after each coil of a planned
   // schedule, with intervals and the first coil at which each roll's wear

@@ -176,6 +176,8 @@ void MillStoreImpl::PredictBatch(const std::vector<ItemPtr>& batch,
                                     m.roll_type, m.diameter_mm, m.hardness_hb,
                                     item->roll_change.started_at, m.extra,
                                     item->roll_change.extra)};
+          TrackProfile(&state->rolls[RollPositionSlot(m.stand, m.position)]
+                            ->state);
         }
         break;
       }
@@ -380,7 +382,8 @@ void MillStoreImpl::InstallModel(std::shared_ptr<const ModelVersion> model) {
   RollStates states;
   if (has_open) {
     StatusOr<RollStates> replay =
-        ReplayCampaign(writer_db_.get(), open, model->wear_model);
+        ReplayCampaign(writer_db_.get(), open, model->wear_model,
+                       /*track_profiles=*/true);
     if (replay.ok()) {
       states = std::move(replay).value();
     } else {
@@ -394,6 +397,7 @@ void MillStoreImpl::InstallModel(std::shared_ptr<const ModelVersion> model) {
             model->wear_model, RollPositionName(m->stand, m->position),
             m->roll_type, m->diameter_mm, m->hardness_hb, open.started_at,
             m->extra, open.extra);
+        TrackProfile(&*states[slot]);
       }
     }
   }

@@ -92,7 +92,9 @@ StatusOr<std::optional<std::string>> LookupCoilWear(Db* db,
 // replaying its stored passes in the order they were stored (the order in
 // which the live state added them, so the result is bit-identical).
 // ReplayCampaignCoils also calls `visit` (may be empty) after each coil with
-// what that coil added; an error from `visit` ends the replay with it.
+// what that coil added; an error from `visit` ends the replay with it. With
+// `track_profiles` each roll's profile sums are kept too (TrackProfile,
+// core/model/predictor.h): the live rolls' state.
 using RollStates =
     std::array<std::optional<RollWearState>, kNumRollPositionSlots>;
 struct ReplayedCoil {
@@ -104,9 +106,11 @@ struct ReplayedCoil {
 using CoilVisitor = std::function<Status(const ReplayedCoil&)>;
 StatusOr<RollStates> ReplayCampaignCoils(Db* db, const CampaignRec& campaign,
                                          const WearModel& model,
-                                         const CoilVisitor& visit);
+                                         const CoilVisitor& visit,
+                                         bool track_profiles = false);
 StatusOr<RollStates> ReplayCampaign(Db* db, const CampaignRec& campaign,
-                                    const WearModel& model);
+                                    const WearModel& model,
+                                    bool track_profiles = false);
 // Stores the answer of every coil that has none (a version-1 file, an
 // import), replaying their campaigns under `model`; inside the caller's
 // transaction. Returns how many coils it filled.

@@ -22,6 +22,8 @@
 #include "core/dataset/dataset.h"
 #include "core/dataset/extra_fields.h"
 #include "core/dataset/input_rules.h"
+#include "core/fit/profile_fit.h"
+#include "core/fit/profile_interval.h"
 #include "core/model/ann_model.h"
 #include "core/model/barrel_profile.h"
 #include "core/model/remaining_life.h"
@@ -155,6 +157,18 @@ struct PositionWear {
   std::optional<RemainingLife> remaining;
 };
 
+// The predicted profile of one mounted roll (MillStore::WearProfileAt):
+// its centre state, the model version and shape it was read with (shape
+// empty: the default g = 1, "uncalibrated"), and per slice the profile and
+// its interval.
+struct ProfileWear {
+  PositionWear centre;
+  int64_t model_version = 0;
+  std::optional<ProfileFit> shape;
+  ProfilePrediction profile;
+};
+
+
 // Bounds of a wear limit (µm): above 0, at most kMaxWearLimitUm.
 inline constexpr double kMaxWearLimitUm = 5000;
 
@@ -236,6 +250,10 @@ struct ModelVersion {
   std::string source;
   double gap_train_um = 0;
   int n_train = 0, n_val = 0;
+  // The profile shape the calibration run fitted on the stored grinder
+  // profiles (core/fit/profile_fit.h); none without profile data (the
+  // default shape g = 1). Stored in models.model_json (model_codec.h).
+  std::optional<ProfileFit> profile;
 };
 
 // "nightly", "diagnosis" (trigger "diagnosis <id>") or "calibration" (any

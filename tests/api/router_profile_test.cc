@@ -4,6 +4,7 @@
 // a token is needed as for every POST.
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -123,6 +124,74 @@ TEST_F(ProfileRouterTest, ARunningCampaignIs422AndATokenIsNeeded) {
   ExpectRejected(Post("/v1/profiles", body), 401, "unauthorized", nullptr,
                  ended);
   EXPECT_EQ(Post("/v1/profiles", body, "Bearer s3cret-token").status, 201);
+}
+
+// Uncalibrated (no profile shape in the model): g = 1, so every slice the
+// strips covered (width 1250 mm at shift -35 mm: x in [35 - 625, 35 + 625]
+// on the top roll, [-35 - 625, -35 + 625] on the bottom) wears the centre
+// wear, nothing outside; the answer says "uncalibrated" and its interval
+// is wider than the centre's. 404 once nothing is mounted.
+TEST_F(ProfileRouterTest, UncalibratedProfileIsUniformUnderTheStrips) {
+  for (int i = 1; i <= 3; ++i) {
+    ASSERT_EQ(
+        Post("/v1/coils", CoilBody("K" + std::to_string(i), "C1", i)).status,
+        201);
+  }
+  for (const auto& [position, centre] :
+       {std::pair<std::string, double>{"top", 35}, {"bottom", -35}}) {
+    const HttpResponse c = Get("/v1/wear/F6/" + position);
+    ASSERT_EQ(c.status, 200) << c.body;
+    const json centre_answer = Parse(c);
+    const double w = centre_answer["predicted_wear_um"];
+    ASSERT_GT(w, 0);
+    const HttpResponse r = Get("/v1/wear/F6/" + position + "/profile");
+    ASSERT_EQ(r.status, 200) << r.body;
+    const json a = Parse(r);
+    EXPECT_EQ(a["shape"], "uncalibrated");
+    EXPECT_TRUE(a["coefficients"].is_null());
+    EXPECT_EQ(a["roll_id"], "R-F6-" + position);
+    EXPECT_EQ(a["campaign_id"], "C1");
+    EXPECT_EQ(a["coils"], 3);
+    EXPECT_EQ(a["centre_wear_um"], w);
+    const json& x = a["x_mm"];
+    const json& p = a["predicted_wear_um"];
+    const json& iv = a["interval_um"];
+    ASSERT_EQ(x.size(), 201u);  // 2,000 mm barrel, 10 mm slices
+    ASSERT_EQ(p.size(), 201u);
+    ASSERT_EQ(iv.size(), 201u);
+    EXPECT_EQ(x[0], -1000);
+    EXPECT_EQ(x[200], 1000);
+    int covered = 0;
+    for (size_t j = 0; j < x.size(); ++j) {
+      const double xj = x[j];
+      if (std::abs(xj - centre) < 625) {
+        ++covered;
+        EXPECT_NEAR(p[j].get<double>(), w, 1e-9 * w) << xj;
+        EXPECT_LT(iv[j][0].get<double>(), p[j].get<double>());
+        EXPECT_GT(iv[j][1].get<double>(), p[j].get<double>());
+      } else if (std::abs(xj - centre) > 625) {
+        EXPECT_EQ(p[j].get<double>(), 0) << xj;
+      }
+    }
+    EXPECT_EQ(covered, 124);  // x = -580 ... 650 (top)
+    // Widened: the centre's interval and 1.96 * 20 % of the profile in
+    // quadrature (core/fit/profile_interval.h), at x = 0 where P = W.
+    const json& ci = centre_answer["interval_um"];
+    const double below = w - ci[0].get<double>();
+    const double above = ci[1].get<double>() - w;
+    const double shape = 1.959963984540054 * 0.2 * w;
+    EXPECT_NEAR(iv[100][0].get<double>(),
+                w - std::sqrt(below * below + shape * shape), 1e-9 * w);
+    EXPECT_NEAR(iv[100][1].get<double>(),
+                w + std::sqrt(above * above + shape * shape), 1e-9 * w);
+  }
+  ASSERT_EQ(Get("/v1/wear/F9/top/profile").status, 404);
+  ASSERT_EQ(
+      Post("/v1/campaigns/C1/end", {{"ended_at", "2026-03-01T20:00:00Z"}})
+          .status,
+      200);
+  const HttpResponse gone = Get("/v1/wear/F6/top/profile");
+  EXPECT_EQ(gone.status, 404) << gone.body;
 }
 
 }  // namespace
