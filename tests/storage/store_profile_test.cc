@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "storage/mill_store.h"
+#include "storage/model_codec.h"
 #include "storage/sqlite_db.h"
 #include "tests/storage/store_test_util.h"
 
@@ -169,6 +170,74 @@ TEST(StoreProfileTest, VersionSixFileGainsTheTable) {
       store->AddProfile(MakeProfile("C1", 7, Position::kBottom, "R7B"));
   ASSERT_TRUE(out.ok()) << out.status().ToString();
   EXPECT_EQ(CountPoints(path), 5);
+}
+
+// The live rolls' profile sums are rebuilt on start from the stored passes:
+// the profile after a reopen equals the one before, exactly; with no
+// calibrated shape it is "uncalibrated" (g = 1): the centre slice reads
+// the centre wear.
+TEST(StoreProfileTest, ProfileStateAfterRestartEqualsTheStateBefore) {
+  TempDir dir;
+  const std::string path = dir.File("mill.db");
+  ProfileWear before;
+  {
+    auto store = OpenStore(path);
+    ASSERT_NE(store, nullptr);
+    ASSERT_TRUE(store->ApplyRollChange(MakeRollChange("C1", kStart)).ok());
+    for (int i = 1; i <= 20; ++i) {
+      ASSERT_TRUE(
+          store->AddCoil(MakeCoil("K" + std::to_string(i), "C1", i, i)).ok());
+    }
+    StatusOr<ProfileWear> p = store->WearProfileAt(7, Position::kBottom);
+    ASSERT_TRUE(p.ok()) << p.status().ToString();
+    before = *p;
+  }
+  EXPECT_FALSE(before.shape.has_value());
+  ASSERT_EQ(before.profile.x_mm.size(), 201u);
+  EXPECT_EQ(before.centre.coils, 20);
+  EXPECT_NEAR(before.profile.wear_um[100], before.centre.predicted_wear_um,
+              1e-9 * before.centre.predicted_wear_um);
+  auto store = OpenStore(path);
+  ASSERT_NE(store, nullptr);
+  StatusOr<ProfileWear> after = store->WearProfileAt(7, Position::kBottom);
+  ASSERT_TRUE(after.ok()) << after.status().ToString();
+  EXPECT_EQ(after->profile.wear_um, before.profile.wear_um);
+  EXPECT_EQ(after->profile.lo_um, before.profile.lo_um);
+  EXPECT_EQ(after->profile.hi_um, before.profile.hi_um);
+  EXPECT_EQ(store->WearProfileAt(5, Position::kTop).status().code(),
+            StatusCode::kNotFound);
+}
+
+// A model version's profile shape is stored in its JSON and read back
+// exactly; a model JSON without one (every model before schema 7) has none.
+TEST(StoreProfileTest, ModelJsonCarriesTheProfileShape) {
+  ProfileFit fit;
+  fit.shape.beta2 = 0.125;
+  fit.shape.beta4 = -0.0625;
+  fit.shape.alpha = {0.3, 0.15, 1.0 / 3};
+  fit.std_error = {0.01, 0.02, 0.03, 0.04, 0.05};
+  fit.residual_sd_um = 3.25;
+  fit.train.n_points = 400;
+  fit.train.gap_um = 2.5;
+  WearModel model;
+  const std::string without = EncodeModelJson(model, std::nullopt);
+  StatusOr<std::optional<ProfileFit>> none = DecodeProfileShape(without);
+  ASSERT_TRUE(none.ok()) << none.status().ToString();
+  EXPECT_FALSE(none->has_value());
+  const std::string with = EncodeModelJson(model, fit);
+  StatusOr<std::optional<ProfileFit>> back = DecodeProfileShape(with);
+  ASSERT_TRUE(back.ok()) << back.status().ToString();
+  ASSERT_TRUE(back->has_value());
+  EXPECT_EQ((*back)->shape.beta2, fit.shape.beta2);
+  EXPECT_EQ((*back)->shape.beta4, fit.shape.beta4);
+  EXPECT_EQ((*back)->shape.alpha, fit.shape.alpha);
+  EXPECT_EQ((*back)->std_error, fit.std_error);
+  EXPECT_EQ((*back)->residual_sd_um, fit.residual_sd_um);
+  EXPECT_EQ((*back)->train.n_points, 400);
+  std::string broken = with;
+  broken.replace(broken.find("\"residual_sd_um\""), 16, "\"residual_sd_xx\"");
+  EXPECT_EQ(DecodeProfileShape(broken).status().code(),
+            StatusCode::kInvalidArgument);
 }
 
 }  // namespace
