@@ -80,6 +80,16 @@ bool DecodeCoil(std::string_view body, int max_depth, storage::CoilIn* out,
                 ApiError* error);
 bool DecodeMeasurement(std::string_view body, int max_depth,
                        storage::MeasurementIn* out, ApiError* error);
+// POST /v1/profiles (api/codec_profile.cc): {"campaign_id", "stand",
+// "position", "roll_id", "measured_at", "points": [{"x_mm", "wear_um"}...]}
+// with at most kMaxProfilePoints points; each point's fields are named by
+// path ("points[3].x_mm"). Other members are ignored (a profile carries no
+// extra fields). The point rules (at least one, on the barrel, finite,
+// no x twice) are the store's (storage/validation.h), reported with the
+// same paths.
+inline constexpr size_t kMaxProfilePoints = 4096;
+bool DecodeProfile(std::string_view body, int max_depth,
+                   storage::ProfileIn* out, ApiError* error);
 // An empty body (or "{}") selects the defaults.
 // {"model": "ann"} asks for the recurrent network (option is ignored).
 struct CalibrationRequest {
@@ -132,6 +142,15 @@ std::string EncodeCoilAnswer(const storage::CoilIn& in,
 // "suspect": in.suspect ("<kind>: <reason>"), null when plausible.
 std::string EncodeMeasurementAnswer(const storage::MeasurementIn& in,
                                     storage::WriteOutcome outcome);
+// {"campaign_id","stand","position","roll_id","points":N,"outcome"}.
+std::string EncodeProfileAnswer(const storage::ProfileIn& in,
+                                storage::WriteOutcome outcome);
+// GET /v1/wear/{stand}/{position}/profile: {"stand","position","roll_id",
+// "campaign_id","model_version","coils","centre_wear_um","shape":
+// "calibrated"|"uncalibrated","coefficients":{beta2..alpha3}|null,
+// "standard_errors":{...}|null,"residual_sd_um":number|null,"x_mm":[...],
+// "predicted_wear_um":[...],"interval_um":[[lo,hi]...]}.
+std::string EncodeWearProfile(const storage::ProfileWear& wear);
 std::string EncodeWear(const storage::WearSnapshot& snapshot);
 std::string EncodePositionWear(const storage::PositionWear& wear,
                                int64_t model_version);

@@ -22,11 +22,8 @@ namespace {
 using codec_internal::Dump;
 using codec_internal::FiniteOrNull;
 using codec_internal::Json;
+using codec_internal::OutcomeName;
 using codec_internal::TimeOrNull;
-
-const char* OutcomeName(storage::WriteOutcome o) {
-  return o == storage::WriteOutcome::kCreated ? "created" : "unchanged";
-}
 
 const char* StatusName(storage::CalibrationStatus s) {
   switch (s) {

@@ -1,4 +1,5 @@
-// Internal to the api codec (codec_encode.cc, codec_shop.cc): the small
+// Internal to the api codec (codec_encode.cc, codec_shop.cc,
+// codec_profile.cc): the small
 // helpers of the answers built as an nlohmann DOM.
 //
 // Thread-safety: stateless functions.
@@ -11,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/dataset/timestamp.h"
+#include "storage/store_types.h"
 
 namespace rollwear::api::codec_internal {
 
@@ -28,6 +30,11 @@ inline Json TimeOrNull(UnixSeconds t) {
 
 inline Json FiniteOrNull(double v) {
   return std::isfinite(v) ? Json(v) : Json(nullptr);
+}
+
+// The "outcome" member of a write's answer.
+inline const char* OutcomeName(storage::WriteOutcome o) {
+  return o == storage::WriteOutcome::kCreated ? "created" : "unchanged";
 }
 
 }  // namespace rollwear::api::codec_internal

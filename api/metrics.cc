@@ -45,6 +45,8 @@ constexpr RouteInfo kRoutes[kNumRoutes] = {
     {"/v1/diagnoses", "GET"},
     {"/v1/diagnoses/{id}/report", "GET"},
     {"/rolls/{roll_id}", "GET"},
+    {"/v1/profiles", "POST"},
+    {"/v1/wear/{stand}/{position}/profile", "GET"},
     {"unmatched", ""},
 };
 

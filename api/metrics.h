@@ -68,6 +68,8 @@ enum class RouteId : int {
   kDiagnosesList,     // GET  /v1/diagnoses
   kDiagnosisReport,   // GET  /v1/diagnoses/{id}/report (HTML)
   kRollPage,          // GET  /rolls/{roll_id} (HTML, api/dashboard_roll.cc)
+  kProfiles,          // POST /v1/profiles
+  kWearProfile,       // GET  /v1/wear/{stand}/{position}/profile
   kUnmatched,         // anything else (404/405)
   kCount
 };

@@ -158,6 +158,7 @@ RouteId MatchRoute(const std::string& path, bool post, std::string* arg1,
   if (path == "/") return RouteId::kDashboard;
   if (path == "/v1/limits") return RouteId::kLimits;
   if (path == "/v1/forecast") return RouteId::kForecast;
+  if (path == "/v1/profiles") return RouteId::kProfiles;
   const std::string_view p(path);
   if (std::optional<std::string> a = ParamBetween(p, kModelsPrefix)) {
     *arg1 = std::move(*a);
@@ -194,6 +195,14 @@ RouteId MatchRoute(const std::string& path, bool post, std::string* arg1,
     return RouteId::kCampaignEnd;
   }
   if (p.substr(0, kWearPrefix.size()) == kWearPrefix) {
+    constexpr std::string_view kProfileSuffix = "/profile";
+    if (p.size() > kWearPrefix.size() + kProfileSuffix.size() &&
+        p.substr(p.size() - kProfileSuffix.size()) == kProfileSuffix) {
+      return MatchTwoParams(p.substr(0, p.size() - kProfileSuffix.size()),
+                            kWearPrefix, arg1, arg2)
+                 ? RouteId::kWearProfile
+                 : RouteId::kUnmatched;
+    }
     return MatchTwoParams(p, kWearPrefix, arg1, arg2) ? RouteId::kWearAt
                                                       : RouteId::kUnmatched;
   }
@@ -265,6 +274,16 @@ HttpResponse FromStatus(const Status& status) {
       http == 400 || http == 422 ? FieldOf(status.message()) : "";
   return Error(http, ErrorCodeFor(status.code()), status.message(),
                std::move(field));
+}
+
+std::optional<HttpResponse> ParseRollPosition(const std::string& stand_text,
+                                              const std::string& position_text,
+                                              int* stand, Position* position) {
+  *stand = ParseStand(stand_text);
+  if (*stand != 0 && ParsePosition(position_text, position)) return std::nullopt;
+  return Error(404, "not_found",
+               "unknown roll position '" + stand_text + "/" + position_text +
+                   "' (stands F1..F7, positions top or bottom)");
 }
 
 bool ParseInt64(std::string_view text, int64_t* out) {
@@ -414,6 +433,9 @@ HttpResponse Router::Dispatch(const HttpRequest& request) {
     case RouteId::kWearAt:
       response = GetWearAt(arg1, arg2);
       break;
+    case RouteId::kWearProfile:
+      response = GetWearProfile(arg1, arg2);
+      break;
     case RouteId::kMeasurements:
       response = PostMeasurement(request);
       break;
@@ -464,6 +486,7 @@ HttpResponse Router::Dispatch(const HttpRequest& request) {
     case RouteId::kDiagnosesList:
     case RouteId::kDiagnosisReport:
     case RouteId::kRollPage:
+    case RouteId::kProfiles:
       response = DispatchShop(route, request, arg1);  // router_shop.cc
       break;
     default:

@@ -175,7 +175,8 @@ class Router {
   HttpResponse PostLimit(const HttpRequest& request, const std::string& stand,
                          const std::string& position);
   HttpResponse PostForecast(const HttpRequest& request);
-  // router_shop.cc: models under control, rolls, stored diagnoses.
+  // router_shop.cc: models under control, rolls, stored diagnoses,
+  // profiles (router_profile.cc).
   HttpResponse DispatchShop(RouteId route, const HttpRequest& request,
                             const std::string& arg);
   HttpResponse GetModel(const std::string& version);
@@ -188,6 +189,10 @@ class Router {
   HttpResponse GetDiagnosisReport(const std::string& id);
   // The stored diagnosis `id` as a job (with its adoption's run), or none.
   std::optional<DiagnosisJob> StoredDiagnosisJob(int64_t id) const;
+  // router_profile.cc: grinder profiles and the predicted profile.
+  HttpResponse PostProfile(const HttpRequest& request);
+  HttpResponse GetWearProfile(const std::string& stand,
+                              const std::string& position);
   // dashboard_roll.cc: the roll page (HTML).
   HttpResponse GetRollPage(const std::string& roll_id);
   // GET /: the HTML dashboard (api/dashboard.cc).

@@ -50,12 +50,11 @@ HttpResponse Router::GetWear() {
 
 HttpResponse Router::GetWearAt(const std::string& stand_text,
                                const std::string& position_text) {
-  const int stand = ParseStand(stand_text);
+  int stand = 0;
   Position position;
-  if (stand == 0 || !ParsePosition(position_text, &position)) {
-    return Error(404, "not_found",
-                 "unknown roll position '" + stand_text + "/" + position_text +
-                     "' (stands F1..F7, positions top or bottom)");
+  if (std::optional<HttpResponse> unknown = router_internal::ParseRollPosition(
+          stand_text, position_text, &stand, &position)) {
+    return std::move(*unknown);
   }
   // The answer names the model version so that clients can tell which model
   // predicted; only the full snapshot has it, so the position is taken from

@@ -26,6 +26,11 @@ HttpResponse Error(int status, std::string code, std::string message,
 // The one translation of a store/core error into an HTTP error answer. A
 // bad field (400) and an inconsistent one (422) name it.
 HttpResponse FromStatus(const Status& status);
+// The roll position of the path parameters of /v1/wear/{stand}/{position}
+// (and .../profile), or the 404 answer naming them.
+std::optional<HttpResponse> ParseRollPosition(const std::string& stand_text,
+                                              const std::string& position_text,
+                                              int* stand, Position* position);
 // A whole decimal int64 (no sign other than '-', no spaces).
 bool ParseInt64(std::string_view text, int64_t* out);
 // The query parameter limit=N (1..1000, default 50) of a list endpoint in

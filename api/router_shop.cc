@@ -52,6 +52,8 @@ HttpResponse Router::DispatchShop(RouteId route, const HttpRequest& request,
       return GetDiagnosisReport(arg);
     case RouteId::kRollPage:
       return GetRollPage(arg);
+    case RouteId::kProfiles:
+      return PostProfile(request);
     default:
       return Error(404, "not_found", "no such endpoint: " + request.path);
   }

@@ -6,7 +6,17 @@
 //                           check, predict every roll after each coil with
 //                           its interval, encode
 //   BM_ForecastStore/200    MillStore::ForecastCoils alone
+// and, on the same mill, the wear profile across the barrel:
+//   BM_WearProfileGet       GET /v1/wear/F6/top/profile through the router
+//                           (201 slices, interval, JSON); p99_us is the
+//                           99th percentile of the single requests
+//                           (target < 1 ms)
+//   BM_ProfilePassUpdate    one pass added to a roll state that tracks its
+//                           profile (predictor.h): the per-coil cost per
+//                           roll
 // Figures only; nothing here passes or fails.
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -17,6 +27,7 @@
 #include <benchmark/benchmark.h>
 
 #include "api/router.h"
+#include "core/model/predictor.h"
 #include "storage/mill_store.h"
 
 namespace rollwear::bench {
@@ -145,6 +156,53 @@ void BM_ForecastStore(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_ForecastStore)->Arg(200)->Unit(benchmark::kMillisecond);
+
+void BM_WearProfileGet(benchmark::State& state) {
+  Mill mill;
+  api::HttpRequest request;
+  request.method = "GET";
+  request.path = "/v1/wear/F6/top/profile";
+  std::vector<double> us;
+  size_t bytes = 0;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    api::HttpResponse r = mill.router->Handle(request);
+    us.push_back(std::chrono::duration<double, std::micro>(
+                     std::chrono::steady_clock::now() - t0)
+                     .count());
+    if (r.status != 200) Mill::Die(r.body);
+    bytes = r.body.size();
+  }
+  std::sort(us.begin(), us.end());
+  state.counters["p50_us"] = us[us.size() / 2];
+  state.counters["p99_us"] = us[std::min(us.size() - 1, us.size() * 99 / 100)];
+  state.counters["answer_bytes"] = static_cast<double>(bytes);
+}
+BENCHMARK(BM_WearProfileGet)->Unit(benchmark::kMicrosecond);
+
+void BM_ProfilePassUpdate(benchmark::State& state) {
+  Mill mill;
+  StatusOr<storage::ModelVersion> model = mill.store->ActiveModel();
+  if (!model.ok()) Mill::Die(model.status().ToString());
+  const WearModel& m = model->wear_model;
+  RollWearState roll = MountRoll(m, "F6/top", "ICDP", 700, 550);
+  TrackProfile(&roll);
+  PassInput pass;
+  pass.grade = "CQ";
+  pass.force_kn = 21000;
+  pass.width_mm = 1250;
+  pass.length_m = 820;
+  pass.entry_thickness_mm = 5.81;
+  pass.exit_thickness_mm = 4.561;
+  pass.temperature_c = 940;
+  pass.speed_mps = 9;
+  int i = 0;
+  for (auto _ : state) {
+    pass.shift_mm = -100 + (i++ % 200);  // a shifting cycle
+    benchmark::DoNotOptimize(AddPass(m, pass, &roll));
+  }
+}
+BENCHMARK(BM_ProfilePassUpdate)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace rollwear::bench

@@ -33,7 +33,8 @@ std::string Summary(const storage::ImportCounts& c) {
       {"campaigns", &c.campaigns},
       {"mounts", &c.mounts},
       {"coils", &c.coils},
-      {"measurements", &c.measurements}};
+      {"measurements", &c.measurements},
+      {"profiles", &c.profiles}};
   for (const auto& [name, t] : tables) {
     if (!out.empty()) out += "; ";
     out += std::string(name) + " " + std::to_string(t->added) + " new, " +
@@ -86,12 +87,10 @@ int RunImport(const ImportArgs& args) {
       static_cast<long long>(c.campaigns), static_cast<long long>(c.coils),
       static_cast<long long>(c.measurements));
   if (const size_t n = checked.all.profile_points.size(); n > 0) {
-    // Said, not dropped silently: the daemon does not store profiles yet.
-    std::printf(
-        "profiles.csv: %zu profile point(s) read and checked but not "
-        "imported: the database does not hold barrel profiles yet (the "
-        "centre measurements are imported)\n",
-        n);
+    std::printf("profiles.csv: %zu profile point(s) in %lld new and %lld "
+                "unchanged profile(s)\n",
+                n, static_cast<long long>(counts.profiles.added),
+                static_cast<long long>(counts.profiles.unchanged));
   }
   if (const int n = checked.quality.NumSuspect(); n > 0) {
     std::printf(

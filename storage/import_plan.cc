@@ -430,7 +430,8 @@ ImportCounts CountImport(const ImportPlan& plan) {
     return c;
   };
   return ImportCounts{count(plan.new_campaign), count(plan.new_mount),
-                      count(plan.new_coil), count(plan.new_measurement)};
+                      count(plan.new_coil), count(plan.new_measurement),
+                      plan.profiles};
 }
 
 void ApplyImport(const Dataset& d, const std::vector<StoredCoil>& coils,

@@ -35,6 +35,9 @@ struct ImportPlan {
   std::vector<char> new_coil;         // per Dataset::coil_ids
   std::vector<char> new_measurement;  // per Dataset::measurements
   int64_t num_campaigns = 0, num_coils = 0, num_measurements = 0;
+  // Filled by the writer (WriteImportProfiles): profiles are decided
+  // against the stored rows inside the import's transaction.
+  ImportTableCounts profiles;
 };
 
 Status CheckDataset(const Dataset& data);

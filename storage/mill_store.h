@@ -74,11 +74,23 @@ class MillStore {
   StatusOr<WriteOutcome> AddMeasurement(const MeasurementIn& in) {
     return AddMeasurement(in, nullptr);
   }
+  // A grinder profile across the barrel (ProfileIn), all its points in one
+  // transaction. Fields as CheckProfileFields (storage/validation.h:
+  // "points[3].x_mm: ..."), the roll and campaign as for a measurement;
+  // a repeat of a stored key is kUnchanged when every point is equal and
+  // AlreadyExists otherwise.
+  virtual StatusOr<WriteOutcome> AddProfile(const ProfileIn& in) = 0;
 
   // The rolls of the open campaign (none once it has ended and no roll
   // change has followed).
   virtual WearSnapshot Wear() const = 0;
   virtual StatusOr<PositionWear> WearAt(int stand, Position position) const = 0;
+  // The predicted profile across the barrel of the roll at (stand,
+  // position), read from its profile sums (core/model/predictor.h) with the
+  // active model's profile shape, or the default g = 1 when it has none
+  // (core/fit/profile_interval.h); errors as WearAt.
+  virtual StatusOr<ProfileWear> WearProfileAt(int stand,
+                                              Position position) const = 0;
 
   // The predicted wear of every mounted roll after each coil of a planned
   // schedule, with intervals and the first coil at which each roll's wear

@@ -10,6 +10,7 @@
 
 #include "core/ann/ann_study.h"
 #include "core/fit/candidate_model.h"
+#include "core/fit/profile_fit.h"
 #include "storage/mill_store_impl.h"
 #include "storage/store_sql.h"
 
@@ -26,6 +27,28 @@ StatusOr<FittedCandidate> TrainNetwork(
   return FittedCandidate{std::move(ann), "recurrent network, ensemble of " +
                                              std::to_string(options.members) +
                                              " members"};
+}
+
+// The profile shape of `model` (core/fit/profile_fit.h) fitted on the
+// stored grinder profiles of the run's training campaigns (the same split),
+// when there are any; why not is appended to *summary.
+std::optional<ProfileFit> FitStoredProfileShape(const WearModel& model,
+                                                const Dataset& data,
+                                                uint64_t split_seed,
+                                                std::string* summary) {
+  if (data.profile_points.empty() || model.is_ann()) return std::nullopt;
+  const DatasetIndex index(data);
+  StatusOr<CampaignSplit> split = SplitOf(data, index, split_seed);
+  StatusOr<ProfileFit> fit = split.ok()
+                                 ? FitProfileShape(model, data, index, *split)
+                                 : StatusOr<ProfileFit>(split.status());
+  if (!fit.ok()) {
+    *summary += "; no profile shape: " + fit.status().message();
+    return std::nullopt;
+  }
+  *summary += "; profile shape on " + std::to_string(fit->train.n_points) +
+              " points";
+  return std::move(fit).value();
 }
 
 }  // namespace
@@ -170,8 +193,13 @@ Status MillStoreImpl::RunCalibration(int64_t id) {
     request.train_network = TrainNetwork;
     result = FitCandidate(data->fit, request, active->wear_model);
   }
+  std::optional<ProfileFit> profile;
+  if (data.ok() && result.error.ok()) {
+    profile = FitStoredProfileShape(result.candidate, data->fit,
+                                    options_.split_seed, &result.summary);
+  }
   rec.finished_at = NowSeconds();
-  return FinishRun(std::move(result), active, &rec);
+  return FinishRun(std::move(result), active, &rec, std::move(profile));
 }
 
 std::shared_ptr<const ModelVersion> MillStoreImpl::ActiveVersion() const {
@@ -181,7 +209,8 @@ std::shared_ptr<const ModelVersion> MillStoreImpl::ActiveVersion() const {
 
 Status MillStoreImpl::FinishRun(
     CandidateEvaluation result,
-    const std::shared_ptr<const ModelVersion>& active, CalibrationRecord* run) {
+    const std::shared_ptr<const ModelVersion>& active, CalibrationRecord* run,
+    std::optional<ProfileFit> profile) {
   CalibrationRecord& rec = *run;
   const CandidateScore& score = result.score;
   rec.cost = score.cost;
@@ -222,6 +251,7 @@ Status MillStoreImpl::FinishRun(
   promoted->active = true;
   promoted->gap_val_um = rec.gap_val_um;
   promoted->wear_model = std::move(result.candidate);
+  promoted->profile = std::move(profile);
   return RunTask(
       [&rec, &active, promoted](Db* db) -> Status {
         ROLLWEAR_ASSIGN_OR_RETURN(const int64_t version,

@@ -416,6 +416,12 @@ CoilOutcome MillStoreImpl::OutcomeForStored(const StoredCoil& coil) const {
 
 // ----------------------------------------------------------------- reads
 
+Status MillStoreImpl::MountedLocked(int slot) const {
+  if (rolls_[slot]) return Status::Ok();
+  return Status::NotFound("no roll mounted at " +
+                          RollPositionName(SlotStand(slot), SlotPosition(slot)));
+}
+
 PositionWear MillStoreImpl::PositionWearLocked(int slot) const {
   const LiveRoll& roll = *rolls_[slot];
   PositionWear w;
@@ -450,19 +456,10 @@ WearSnapshot MillStoreImpl::Wear() const {
 
 StatusOr<PositionWear> MillStoreImpl::WearAt(int stand,
                                              Position position) const {
-  if (stand < kMinStand || stand > kMaxStand) {
-    return Status::InvalidArgument("stand: unknown stand " +
-                                   std::to_string(stand) + " (want F1..F7)");
-  }
-  if (position != Position::kTop && position != Position::kBottom) {
-    return Status::InvalidArgument("position: want top or bottom");
-  }
+  ROLLWEAR_RETURN_IF_ERROR(CheckRollPosition(stand, position));
   std::lock_guard<std::mutex> lock(mu_);
   const int slot = RollPositionSlot(stand, position);
-  if (!rolls_[slot]) {
-    return Status::NotFound("no roll mounted at " +
-                            RollPositionName(stand, position));
-  }
+  ROLLWEAR_RETURN_IF_ERROR(MountedLocked(slot));
   return PositionWearLocked(slot);
 }
 

@@ -120,6 +120,11 @@ class MillStoreImpl final : public MillStore {
   StatusOr<WriteOutcome> AddMeasurement(const MeasurementIn& in,
                                         std::string* suspect) override;
 
+  // ---- store_profiles.cc
+  StatusOr<WriteOutcome> AddProfile(const ProfileIn& in) override;
+  StatusOr<ProfileWear> WearProfileAt(int stand,
+                                      Position position) const override;
+
   WearSnapshot Wear() const override;
   StatusOr<PositionWear> WearAt(int stand, Position position) const override;
 
@@ -205,6 +210,8 @@ class MillStoreImpl final : public MillStore {
   CoilOutcome OutcomeForStored(const StoredCoil& coil) const;
   std::shared_ptr<const ModelVersion> MakePrior(uint32_t positions_seen) const;
   PositionWear PositionWearLocked(int slot) const;
+  // NotFound "no roll mounted at F6/top" unless rolls_[slot] is set.
+  Status MountedLocked(int slot) const;
 
   // ---- store_limits.cc
   // Reads the wear_limits table into api_limits_ (Init).
@@ -224,9 +231,11 @@ class MillStoreImpl final : public MillStore {
   // Records the outcome of a claimed run: failed with `result`'s error, or
   // its figures, and promotes its candidate when DecidePromotion
   // (core/fit/candidate_model.h) says so against `active`.
+  // `profile`: the candidate's profile shape, stored with it when promoted.
   Status FinishRun(CandidateEvaluation result,
                    const std::shared_ptr<const ModelVersion>& active,
-                   CalibrationRecord* run);
+                   CalibrationRecord* run,
+                   std::optional<ProfileFit> profile = std::nullopt);
 
   // ---- mill_store_writer.cc
   void WriterLoop();

@@ -176,6 +176,8 @@ void MillStoreImpl::PredictBatch(const std::vector<ItemPtr>& batch,
                                     m.roll_type, m.diameter_mm, m.hardness_hb,
                                     item->roll_change.started_at, m.extra,
                                     item->roll_change.extra)};
+          TrackProfile(&state->rolls[RollPositionSlot(m.stand, m.position)]
+                            ->state);
         }
         break;
       }
@@ -260,6 +262,8 @@ Status MillStoreImpl::ExecuteItem(WriteItem* item) {
       }
       ApplyImport(*item->dataset, item->dataset_coils, item->plan,
                   /*speculative=*/false, &catalog);
+      ROLLWEAR_RETURN_IF_ERROR(WriteImportProfiles(
+          db, *item->dataset, item->lines, catalog, &item->plan.profiles));
       if (model->version == 0) model = MakePrior(catalog.positions_seen);
       StatusOr<int> filled = BackfillCoilWear(db, catalog, model->wear_model);
       return filled.status();
@@ -378,7 +382,8 @@ void MillStoreImpl::InstallModel(std::shared_ptr<const ModelVersion> model) {
   RollStates states;
   if (has_open) {
     StatusOr<RollStates> replay =
-        ReplayCampaign(writer_db_.get(), open, model->wear_model);
+        ReplayCampaign(writer_db_.get(), open, model->wear_model,
+                       /*track_profiles=*/true);
     if (replay.ok()) {
       states = std::move(replay).value();
     } else {
@@ -392,6 +397,7 @@ void MillStoreImpl::InstallModel(std::shared_ptr<const ModelVersion> model) {
             model->wear_model, RollPositionName(m->stand, m->position),
             m->roll_type, m->diameter_mm, m->hardness_hb, open.started_at,
             m->extra, open.extra);
+        TrackProfile(&*states[slot]);
       }
     }
   }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <stdexcept>
 #include <limits>
 #include <unordered_set>
 #include <utility>
@@ -409,6 +410,67 @@ StatusOr<std::vector<ModelTerm>> DecodeModelTerms(std::string_view json) {
     }
   }
   return terms;
+}
+
+std::string EncodeModelJson(const WearModel& model,
+                            const std::optional<ProfileFit>& profile) {
+  std::string text = EncodeWearModel(model);
+  if (!profile.has_value()) return text;
+  Json doc = Json::parse(text);
+  const auto names = ProfileShapeNames();
+  const auto values = ProfileShapeValues(profile->shape);
+  Json p = Json::object();
+  Json se = Json::object();
+  for (int i = 0; i < kProfileShapeParameters; ++i) {
+    p[names[i]] = Number(values[i]);
+    se[names[i]] = Number(profile->std_error[i]);
+  }
+  p["std_error"] = std::move(se);
+  p["residual_sd_um"] = Number(profile->residual_sd_um);
+  p["n_points_train"] = profile->train.n_points;
+  p["gap_train_um"] = Number(profile->train.gap_um);
+  p["n_points_val"] = profile->validation.n_points;
+  p["gap_val_um"] = Number(profile->validation.gap_um);
+  doc["profile"] = std::move(p);
+  return doc.dump();
+}
+
+StatusOr<std::optional<ProfileFit>> DecodeProfileShape(std::string_view json) {
+  Json doc = Json::parse(json.begin(), json.end(), nullptr,
+                         /*allow_exceptions=*/false);
+  if (doc.is_discarded()) {
+    return Status::InvalidArgument("model json: not valid JSON");
+  }
+  if (!doc.is_object() || !doc.contains("profile")) {
+    return std::optional<ProfileFit>();
+  }
+  const Json& p = doc["profile"];
+  if (!p.is_object()) return Bad("profile", "must be an object");
+  const auto names = ProfileShapeNames();
+  std::array<double, kProfileShapeParameters> v{};
+  ProfileFit fit;
+  const auto num = [](const Json& j) {
+    double x = 0;
+    if (!ReadNumber(j, &x)) throw std::invalid_argument("not a number");
+    return x;
+  };
+  try {
+    for (int i = 0; i < kProfileShapeParameters; ++i) {
+      v[i] = num(p.at(names[i]));
+      fit.std_error[i] = num(p.at("std_error").at(names[i]));
+    }
+    fit.residual_sd_um = num(p.at("residual_sd_um"));
+    fit.train.n_points = p.value("n_points_train", 0);
+    fit.train.gap_um = num(p.value("gap_train_um", Json("NaN")));
+    fit.validation.n_points = p.value("n_points_val", 0);
+    fit.validation.gap_um = num(p.value("gap_val_um", Json("NaN")));
+  } catch (const std::exception& e) {
+    return Bad("profile", e.what());
+  }
+  fit.shape.beta2 = v[0];
+  fit.shape.beta4 = v[1];
+  for (int m = 0; m < kEdgeRamps; ++m) fit.shape.alpha[m] = v[2 + m];
+  return std::optional<ProfileFit>(std::move(fit));
 }
 
 StatusOr<WearModel> DecodeWearModel(std::string_view json) {

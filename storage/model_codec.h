@@ -16,6 +16,15 @@
 //   {"format": 1, "law": "wang", "option": 0, "ann": "<SerializeAnnModel
 //    text>", "noise_sd_um": ..., "noise_rel": ...}
 //
+// A model version with a calibrated profile shape (core/fit/profile_fit.h)
+// stores it beside the model as
+//   "profile": {"beta2", "beta4", "alpha1", "alpha2", "alpha3",
+//               "std_error": {"beta2", ...}, "residual_sd_um",
+//               "n_points_train", "gap_train_um", "n_points_val",
+//               "gap_val_um"}
+// (EncodeModelJson); a model JSON without it (every model stored before
+// schema 7) has no profile shape: the default g = 1.
+//
 // Numbers are written in the shortest form that reads back to the same
 // double, so Decode(Encode(m)) equals m exactly (every coefficient, every
 // covariance entry). Non-finite covariance entries are written as the
@@ -31,6 +40,9 @@
 #include <string_view>
 #include <vector>
 
+#include <optional>
+
+#include "core/fit/profile_fit.h"
 #include "core/model/model_terms.h"
 #include "core/base/status.h"
 #include "core/model/wear_model.h"
@@ -39,6 +51,13 @@ namespace rollwear::storage {
 
 // Compact JSON text of `model`.
 std::string EncodeWearModel(const WearModel& model);
+
+// EncodeWearModel's text plus "profile" when `profile` is set.
+std::string EncodeModelJson(const WearModel& model,
+                            const std::optional<ProfileFit>& profile);
+// The "profile" of a model JSON; nullopt when it has none. InvalidArgument
+// naming the field when present but malformed.
+StatusOr<std::optional<ProfileFit>> DecodeProfileShape(std::string_view json);
 
 // Parses EncodeWearModel's output; InvalidArgument naming the field when
 // the text is not a valid model.

@@ -203,6 +203,25 @@ CREATE INDEX mounts_by_roll ON mounts (roll_id);
 CREATE INDEX measurements_by_roll ON measurements (roll_id);
 )sql";
 
+// Version 7: grinder profiles across the barrel (POST /v1/profiles,
+// profiles.csv), one row per point; a profile is the points of one
+// (campaign, stand, position), `point` their order (0, 1, ...). Written in
+// one transaction per profile, compared point by point on a repeat.
+constexpr const char* kSchemaV7 = R"sql(
+CREATE TABLE profile_points (
+  id INTEGER PRIMARY KEY,
+  campaign INTEGER NOT NULL REFERENCES campaigns(id),
+  stand INTEGER NOT NULL CHECK (stand BETWEEN 1 AND 7),
+  position INTEGER NOT NULL CHECK (position IN (0, 1)),
+  point INTEGER NOT NULL CHECK (point >= 0),
+  roll_id TEXT NOT NULL,
+  measured_at INTEGER NOT NULL,
+  x_mm REAL NOT NULL,
+  wear_um REAL NOT NULL,
+  UNIQUE (campaign, stand, position, point)
+) STRICT;
+)sql";
+
 // Number of tables in the file (sqlite_% internals excluded).
 StatusOr<int> CountTables(Db* db, bool* has_version_table) {
   ROLLWEAR_ASSIGN_OR_RETURN(
@@ -230,8 +249,9 @@ const std::vector<Migration>& SchemaMigrations() {
       {4, "suspect measurements", kSchemaV4},
       {5, "wear limits", kSchemaV5},
       {6, "models under control, stored diagnoses", kSchemaV6},
+      {7, "grinder profiles", kSchemaV7},
   };
-  static_assert(kSchemaVersion == 6,
+  static_assert(kSchemaVersion == 7,
                 "kSchemaVersion must equal the last migration's version");
   return *migrations;
 }

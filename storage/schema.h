@@ -16,6 +16,7 @@
 // Version 2 adds coils.wear: the answer a coil's first post got (the wear
 // it added to each roll position and the roll's total after it), so that a
 // repeat is answered in O(passes).
+// Version 7 adds profile_points: the grinder's profiles across the barrel.
 // Rolls' predicted state is not stored: it is recomputed from the stored
 // passes of the open campaign on start and whenever the model changes.
 //

@@ -298,6 +298,7 @@ StatusOr<Dataset> ReadStoredDataset(Db* db, std::vector<std::string>* suspect,
                    }
                    return measurement_extra.AddRow(st.ColumnText(6));
                  }));
+  ROLLWEAR_RETURN_IF_ERROR(ReadStoredProfiles(db, campaign_index, &d));
   d.campaign_extra = campaign_extra.Finish();
   d.mount_extra = mount_extra.Finish();
   d.pass_extra = pass_extra.Finish();

@@ -444,7 +444,8 @@ StatusOr<std::optional<std::string>> LookupCoilWear(
 
 StatusOr<RollStates> ReplayCampaignCoils(Db* db, const CampaignRec& campaign,
                                          const WearModel& model,
-                                         const CoilVisitor& visit) {
+                                         const CoilVisitor& visit,
+                                         bool track_profiles) {
   RollStates states;
   for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
     const auto& m = campaign.mounts[slot];
@@ -453,6 +454,7 @@ StatusOr<RollStates> ReplayCampaignCoils(Db* db, const CampaignRec& campaign,
         MountRoll(model, RollPositionName(m->stand, m->position), m->roll_type,
                   m->diameter_mm, m->hardness_hb, campaign.started_at,
                   m->extra, campaign.extra);
+    if (track_profiles) TrackProfile(&*states[slot]);
   }
   ROLLWEAR_ASSIGN_OR_RETURN(
       Statement st,
@@ -514,8 +516,9 @@ StatusOr<RollStates> ReplayCampaignCoils(Db* db, const CampaignRec& campaign,
 }
 
 StatusOr<RollStates> ReplayCampaign(Db* db, const CampaignRec& campaign,
-                                    const WearModel& model) {
-  return ReplayCampaignCoils(db, campaign, model, nullptr);
+                                    const WearModel& model,
+                                    bool track_profiles) {
+  return ReplayCampaignCoils(db, campaign, model, nullptr, track_profiles);
 }
 
 StatusOr<int> BackfillCoilWear(Db* db, const Catalog& catalog,

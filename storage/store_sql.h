@@ -14,6 +14,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 #include "core/base/status.h"
@@ -91,7 +92,9 @@ StatusOr<std::optional<std::string>> LookupCoilWear(Db* db,
 // replaying its stored passes in the order they were stored (the order in
 // which the live state added them, so the result is bit-identical).
 // ReplayCampaignCoils also calls `visit` (may be empty) after each coil with
-// what that coil added; an error from `visit` ends the replay with it.
+// what that coil added; an error from `visit` ends the replay with it. With
+// `track_profiles` each roll's profile sums are kept too (TrackProfile,
+// core/model/predictor.h): the live rolls' state.
 using RollStates =
     std::array<std::optional<RollWearState>, kNumRollPositionSlots>;
 struct ReplayedCoil {
@@ -103,9 +106,11 @@ struct ReplayedCoil {
 using CoilVisitor = std::function<Status(const ReplayedCoil&)>;
 StatusOr<RollStates> ReplayCampaignCoils(Db* db, const CampaignRec& campaign,
                                          const WearModel& model,
-                                         const CoilVisitor& visit);
+                                         const CoilVisitor& visit,
+                                         bool track_profiles = false);
 StatusOr<RollStates> ReplayCampaign(Db* db, const CampaignRec& campaign,
-                                    const WearModel& model);
+                                    const WearModel& model,
+                                    bool track_profiles = false);
 // Stores the answer of every coil that has none (a version-1 file, an
 // import), replaying their campaigns under `model`; inside the caller's
 // transaction. Returns how many coils it filled.
@@ -133,6 +138,27 @@ StatusOr<Dataset> ReadStoredDataset(Db* db,
 // extended back to `campaign_id`'s own row when that is older.
 StatusOr<int64_t> RecentCampaignsStart(Db* db, const std::string& campaign_id,
                                        int campaigns);
+
+// ---- grinder profiles (store_profiles.cc)
+// The stored profile of (campaign, stand, position), points in order;
+// nullopt when none is stored.
+StatusOr<std::optional<ProfileIn>> LookupProfile(Db* db, const ProfileIn& key);
+// Inserts every point of `in` (no profile stored under its key).
+Status InsertProfile(Db* db, int64_t campaign_row, const ProfileIn& in);
+// The profiles of `data` (profile_points grouped by campaign, stand and
+// position in file order), each checked against `catalog` (the catalog
+// after the import) as a posted one is, then added, skipped when stored
+// alike, or AlreadyExists when stored otherwise; errors name
+// "profiles.csv:LINE field" when `lines` has a line per point. Inside the
+// caller's transaction; `counts` gets what was added and skipped.
+Status WriteImportProfiles(Db* db, const Dataset& data,
+                           const DatasetLines* lines, const Catalog& catalog,
+                           ImportTableCounts* counts);
+// Appends the stored points of the campaigns in `campaign_index` (row id ->
+// Dataset::campaigns index; others are skipped) to data->profile_points.
+Status ReadStoredProfiles(
+    Db* db, const std::unordered_map<int64_t, int>& campaign_index,
+    Dataset* data);
 
 // ---- models and calibrations (store_sql_models.cc)
 // version of a ModelVersion is ignored; returns the new version.

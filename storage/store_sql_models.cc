@@ -91,6 +91,13 @@ StatusOr<ModelVersion> ReadModel(const Statement& st) {
                            " cannot be read: " + wm.status().message());
   }
   m.wear_model = std::move(wm).value();
+  StatusOr<std::optional<ProfileFit>> profile =
+      DecodeProfileShape(st.ColumnText(6));
+  if (!profile.ok()) {
+    return Status::IoError("stored model version " + std::to_string(m.version) +
+                           " cannot be read: " + profile.status().message());
+  }
+  m.profile = std::move(profile).value();
   m.pinned = st.ColumnInt(7) != 0;
   m.calibration_id = st.ColumnIsNull(8) ? 0 : st.ColumnInt(8);
   m.trigger = st.ColumnIsNull(9) ? "" : st.ColumnText(9);
@@ -123,7 +130,7 @@ StatusOr<int64_t> InsertActiveModel(Db* db, const ModelVersion& m,
       .BindText(2, m.model)
       .BindInt(3, m.option)
       .BindNullableDouble(4, m.gap_val_um)
-      .BindText(6, EncodeWearModel(m.wear_model));
+      .BindText(6, EncodeModelJson(m.wear_model, m.profile));
   if (calibration_id > 0) {
     st.BindInt(5, calibration_id);
   } else {

@@ -22,7 +22,10 @@
 #include "core/dataset/dataset.h"
 #include "core/dataset/extra_fields.h"
 #include "core/dataset/input_rules.h"
+#include "core/fit/profile_fit.h"
+#include "core/fit/profile_interval.h"
 #include "core/model/ann_model.h"
+#include "core/model/barrel_profile.h"
 #include "core/model/remaining_life.h"
 #include "core/model/wear_model.h"
 
@@ -30,7 +33,7 @@ namespace rollwear::storage {
 
 // Schema version this build writes; older files are migrated on Open, newer
 // ones are refused.
-constexpr int kSchemaVersion = 6;
+constexpr int kSchemaVersion = 7;
 
 struct StoreOptions {
   // Maximum coils committed in one group-commit transaction.
@@ -102,6 +105,27 @@ struct MeasurementIn {
   std::string suspect;
 };
 
+// A grinder profile across the barrel (POST /v1/profiles, profiles.csv):
+// the points of one roll measured after its campaign, keyed like a
+// measurement by (campaign_id, stand, position). Points keep their order;
+// a repeat is equal when every field and every point is equal.
+struct ProfilePointIn {
+  double x_mm = 0;  // mm from the barrel centre, + towards the drive side
+  double wear_um = 0;
+  bool operator==(const ProfilePointIn&) const = default;
+};
+struct ProfileIn {
+  std::string campaign_id;
+  int stand = 0;
+  Position position = Position::kTop;
+  std::string roll_id;
+  UnixSeconds measured_at = 0;
+  std::vector<ProfilePointIn> points;
+  bool operator==(const ProfileIn&) const = default;
+};
+// Half the barrel length: a posted point farther from the centre is refused.
+inline constexpr double kMaxProfileXMm = kDefaultBarrelMm / 2;
+
 enum class WriteOutcome { kCreated, kUnchanged };
 
 // The stored data as calibration and diagnosis see it (MillStore::
@@ -132,6 +156,18 @@ struct PositionWear {
   std::optional<double> wear_limit_um;
   std::optional<RemainingLife> remaining;
 };
+
+// The predicted profile of one mounted roll (MillStore::WearProfileAt):
+// its centre state, the model version and shape it was read with (shape
+// empty: the default g = 1, "uncalibrated"), and per slice the profile and
+// its interval.
+struct ProfileWear {
+  PositionWear centre;
+  int64_t model_version = 0;
+  std::optional<ProfileFit> shape;
+  ProfilePrediction profile;
+};
+
 
 // Bounds of a wear limit (µm): above 0, at most kMaxWearLimitUm.
 inline constexpr double kMaxWearLimitUm = 5000;
@@ -214,6 +250,10 @@ struct ModelVersion {
   std::string source;
   double gap_train_um = 0;
   int n_train = 0, n_val = 0;
+  // The profile shape the calibration run fitted on the stored grinder
+  // profiles (core/fit/profile_fit.h); none without profile data (the
+  // default shape g = 1). Stored in models.model_json (model_codec.h).
+  std::optional<ProfileFit> profile;
 };
 
 // "nightly", "diagnosis" (trigger "diagnosis <id>") or "calibration" (any
@@ -325,6 +365,7 @@ struct ImportTableCounts {
 };
 struct ImportCounts {
   ImportTableCounts campaigns, mounts, coils, measurements;
+  ImportTableCounts profiles;  // one per (campaign, stand, position)
 };
 
 // Predicted wear of one roll along a campaign (MillStore::RecentWear).

@@ -1,6 +1,8 @@
 #include "storage/validation.h"
 
 #include <algorithm>
+#include <cmath>
+#include <unordered_set>
 #include <vector>
 
 #include "core/dataset/dataset_io.h"
@@ -35,6 +37,25 @@ const CampaignRec* FindCampaign(const Catalog& c, const std::string& id) {
 
 Status UnknownCampaign(const std::string& id) {
   return Status::NotFound("campaign_id: unknown campaign " + id);
+}
+
+// A measurement or profile of the roll at (stand, position) of `rec`: that
+// roll was mounted there, and the campaign ended before `measured_at`.
+Status AdmitMeasuredRoll(const CampaignRec& rec, int stand, Position position,
+                         const std::string& roll_id, UnixSeconds measured_at) {
+  const std::string where =
+      RollPositionName(stand, position) + " in campaign " + rec.id;
+  const auto& mount = rec.mounts[RollPositionSlot(stand, position)];
+  if (!mount.has_value()) {
+    return Status::FailedPrecondition("stand: no roll mounted at " + where);
+  }
+  if (mount->roll_id != roll_id) {
+    return Status::FailedPrecondition("roll_id: roll " + roll_id +
+                                      " was not mounted at " + where +
+                                      " (mounted: " + mount->roll_id + ")");
+  }
+  return Inconsistent(MeasurementTimeRules(rec.id, measured_at, rec.ended_at),
+                      "");
 }
 
 }  // namespace
@@ -108,6 +129,46 @@ Status CheckMeasurementFields(const MeasurementIn& in) {
   return FirstBroken(MeasurementRules(in.campaign_id, in.stand, in.position,
                                       in.roll_id, in.wear_center_um),
                      "");
+}
+
+Status CheckRollPosition(int stand, Position position) {
+  if (stand < kMinStand || stand > kMaxStand) {
+    return Status::InvalidArgument("stand: unknown stand " +
+                                   std::to_string(stand) + " (want F1..F7)");
+  }
+  if (position != Position::kTop && position != Position::kBottom) {
+    return Status::InvalidArgument("position: want top or bottom");
+  }
+  return Status::Ok();
+}
+
+Status CheckProfileFields(const ProfileIn& in) {
+  const Position pos = in.position;
+  if (in.points.empty()) {
+    return Status::InvalidArgument("points: a profile needs at least one point");
+  }
+  std::unordered_set<double> seen;
+  for (size_t i = 0; i < in.points.size(); ++i) {
+    const ProfilePointIn& p = in.points[i];
+    RuleViolations broken = ProfilePointRules(
+        in.campaign_id, in.stand, pos, in.roll_id, p.x_mm, p.wear_um);
+    if (!broken.empty()) {
+      RuleViolation& v = broken.front();
+      if (v.field == "x_mm" || v.field == "wear_um") v.element = static_cast<int>(i);
+      return FirstBroken(broken, "points");
+    }
+    if (std::abs(p.x_mm) > kMaxProfileXMm) {
+      return Status::InvalidArgument(
+          "points[" + std::to_string(i) + "].x_mm: must lie on the barrel (|x_mm| <= " +
+          std::to_string(static_cast<int>(kMaxProfileXMm)) + "), got " +
+          std::to_string(p.x_mm));
+    }
+    if (!seen.insert(p.x_mm).second) {
+      return Status::InvalidArgument("points[" + std::to_string(i) +
+                                     "].x_mm: duplicate point of the profile");
+    }
+  }
+  return Status::Ok();
 }
 
 // ----------------------------------------------------------- catalog rules
@@ -254,17 +315,15 @@ Status AdmitMeasurement(const Catalog& c, const MeasurementIn& in,
     return Status::AlreadyExists("campaign_id: " + where +
                                  " is already measured with different content");
   }
-  const auto& mount = rec->mounts[slot];
-  if (!mount.has_value()) {
-    return Status::FailedPrecondition("stand: no roll mounted at " + where);
-  }
-  if (mount->roll_id != in.roll_id) {
-    return Status::FailedPrecondition("roll_id: roll " + in.roll_id +
-                                      " was not mounted at " + where +
-                                      " (mounted: " + mount->roll_id + ")");
-  }
-  return Inconsistent(
-      MeasurementTimeRules(in.campaign_id, in.measured_at, rec->ended_at), "");
+  return AdmitMeasuredRoll(*rec, in.stand, in.position, in.roll_id,
+                           in.measured_at);
+}
+
+Status AdmitProfile(const Catalog& c, const ProfileIn& in) {
+  const CampaignRec* rec = FindCampaign(c, in.campaign_id);
+  if (rec == nullptr) return UnknownCampaign(in.campaign_id);
+  return AdmitMeasuredRoll(*rec, in.stand, in.position, in.roll_id,
+                           in.measured_at);
 }
 
 void ApplyMeasurement(const MeasurementIn& in, Catalog* c) {

@@ -25,6 +25,8 @@
 
 namespace rollwear::storage::internal {
 
+// A roll position that exists: stand F1..F7 ("stand: ..."), top or bottom.
+Status CheckRollPosition(int stand, Position position);
 Status CheckRollChangeFields(const RollChangeIn& in);
 Status CheckEndFields(const std::string& campaign_id, UnixSeconds ended_at);
 Status CheckCoilFields(const CoilIn& in);
@@ -50,6 +52,15 @@ void ApplyCoil(const StoredCoil& coil, bool speculative, Catalog* c);
 Status AdmitMeasurement(const Catalog& c, const MeasurementIn& in,
                         bool* unchanged);
 void ApplyMeasurement(const MeasurementIn& in, Catalog* c);
+
+// A grinder profile: the measurement's id rules, at least one point, each
+// x_mm finite and within the barrel (|x_mm| <= kMaxProfileXMm) and each
+// wear_um finite ("points[3].x_mm: ..."). AdmitProfile checks it against
+// its campaign as AdmitMeasurement does (mount, roll, campaign ended,
+// measured after the end); a repeat is decided on the stored rows
+// (store_profiles.cc), not on the catalog.
+Status CheckProfileFields(const ProfileIn& in);
+Status AdmitProfile(const Catalog& c, const ProfileIn& in);
 
 }  // namespace rollwear::storage::internal
 

@@ -11,16 +11,15 @@
 #include "core/model/model_eval.h"
 
 namespace rollwear {
-namespace {
 
-// The seeded training/validation split of `data` (the one `rollwear
-// calibrate` uses).
 StatusOr<CampaignSplit> SplitOf(const Dataset& data, const DatasetIndex& index,
                                 uint64_t split_seed) {
   ROLLWEAR_ASSIGN_OR_RETURN(const WearStatistics stats,
                             Aggregate(data, index, WearLaw::kWang));
   return SplitCampaigns(stats, 2.0 / 3.0, split_seed);
 }
+namespace {
+
 
 FitMetrics MetricsOn(const WearModel& m, const Dataset& data,
                      const DatasetIndex& index,

@@ -74,6 +74,11 @@ struct FittedCandidate {
 using NetworkTrainer = std::function<StatusOr<FittedCandidate>(
     const Dataset& data, const std::vector<int>& train_campaigns)>;
 
+// The seeded training/validation split of `data` that calibration runs use
+// (the one `rollwear calibrate` uses).
+StatusOr<CampaignSplit> SplitOf(const Dataset& data, const DatasetIndex& index,
+                                uint64_t split_seed);
+
 struct CandidateRequest {
   std::string model;  // a law name (WearLawName) or kAnnModelName
   int option = 1;     // K structure of a law's calibration (1, 2 or 3)

@@ -31,13 +31,26 @@ RollWearState MountRoll(const WearModel& model, const std::string& position_labe
   s.roll_type_label = roll_type;
   s.mount_extra = std::move(mount_extra);
   s.campaign_extra = std::move(campaign_extra);
+  s.top_roll = position_label.size() < 4 ||
+               position_label.compare(position_label.size() - 4, 4, "/top") == 0;
   if (model.is_ann()) {
     s.ann = MountRoll(*model.ann, position_label, roll_type, diameter_mm, hardness_hb);
   }
   return s;
 }
 
+void TrackProfile(RollWearState* state, const ProfileGrid& grid) {
+  state->profile.emplace(grid);
+}
+
 namespace {
+
+// Adds a pass's wear to the tracked profile (profile_fit.cc's SumRoll).
+void AddPassToProfile(const PassInput& pass, double wear, RollWearState* state) {
+  if (!state->profile.has_value()) return;
+  state->profile->AddPass(wear, StripCentreMm(state->top_roll, pass.shift_mm),
+                          pass.width_mm / 2);
+}
 
 // The value of a term on an extra column (a name outside the built-in
 // catalog) for this pass: the numeric field, or for a per-level term the
@@ -125,6 +138,7 @@ double AddPass(const WearModel& model, const PassInput& pass, RollWearState* sta
     state->wear_um = state->ann->wear_um;
     state->coils = state->ann->coils;
     state->rolled_length_m = state->ann->rolled_length_m;
+    AddPassToProfile(pass, wear, state);
     return wear;
   }
   const PassLoadInput in{pass.force_kn,           pass.width_mm,
@@ -143,6 +157,7 @@ double AddPass(const WearModel& model, const PassInput& pass, RollWearState* sta
   state->wear_um += wear;
   state->coils += 1;
   state->rolled_length_m += pass.length_m;
+  AddPassToProfile(pass, wear, state);
   return wear;
 }
 

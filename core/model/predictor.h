@@ -20,6 +20,15 @@
 // A scoped term (ModelTerm::scope) counts as 1 outside its scope: the
 // roll's stand, position and roll type label, the pass's grade label.
 //
+// The wear profile across the barrel (barrel_profile.h), when tracked
+// (TrackProfile): each pass also adds its wear to the roll's ProfileStats,
+// the six per-slice sums from which the profile of any shape is read, at
+// the strip's place by the shift convention (StripCentreMm, width_mm / 2).
+// The sums do not depend on the shape, so a new shape needs no replay. The
+// update is the one core/fit/profile_fit.cc makes per pass, so the state
+// after N passes equals the batch sums exactly; it costs about 1 µs per
+// pass (the slices under the strip, six basis values each).
+//
 // When the model is the recurrent network (WearModel::ann), the same calls
 // run the network coil by coil (ann_model.h): the state then carries the
 // network's per-member recurrence and the interval combines the members'
@@ -36,6 +45,7 @@
 #include <vector>
 
 #include "core/model/ann_model.h"
+#include "core/model/barrel_profile.h"
 #include "core/dataset/dataset.h"
 #include "core/dataset/extra_fields.h"
 #include "core/dataset/pass_input.h"
@@ -63,6 +73,8 @@ struct RollWearState {
   ExtraFields mount_extra;     // the roll's extra fields (mounts.csv)
   ExtraFields campaign_extra;  // its campaign's (campaigns.csv)
   std::optional<AnnRollState> ann;      // set when the model is the ANN
+  bool top_roll = true;  // from the position label (the shift convention)
+  std::optional<ProfileStats> profile;  // set by TrackProfile
 };
 
 // A freshly mounted roll at `position_label` ("F6/top").
@@ -71,6 +83,10 @@ RollWearState MountRoll(const WearModel& model, const std::string& position_labe
                         double hardness_hb, UnixSeconds campaign_started_at = 0,
                         ExtraFields mount_extra = {},
                         ExtraFields campaign_extra = {});
+
+// Starts tracking the state's profile on `grid` (empty sums: call it at
+// mount, before the first pass).
+void TrackProfile(RollWearState* state, const ProfileGrid& grid = {});
 
 // Product of the model's wear-rate terms for this pass on this roll (1 when
 // the model has none): the covariates come from the pass, the roll and the

@@ -129,9 +129,10 @@ TEST(ImportTest, AllOrNothingThenServed) {
       << answer.dump();
 }
 
-// profiles.csv is read and checked with the folder (a broken point refuses
-// the import, naming file and line), and what is not stored yet is said.
-TEST(ImportTest, ProfilesAreCheckedAndTheirFateIsSaid) {
+// profiles.csv is read, checked and stored with the folder (a broken point
+// refuses the import, naming file and line); a second import of the same
+// folder adds nothing, and export writes the points back.
+TEST(ImportTest, ProfilesAreCheckedStoredAndExported) {
   TempDir dir;
   std::string error, output;
   ASSERT_TRUE(Simulate(dir / "data", 3, 2, &error)) << error;
@@ -149,8 +150,33 @@ TEST(ImportTest, ProfilesAreCheckedAndTheirFateIsSaid) {
   EXPECT_EQ(RunRollwear({"import", "--db", dir / "x.db", dir / "data"}, &output),
             0)
       << output;
-  EXPECT_NE(output.find("profiles.csv: 2 profile point(s) read and checked "
-                        "but not imported"),
+  EXPECT_NE(output.find("profiles.csv: 2 profile point(s) in 1 new and 0 "
+                        "unchanged profile(s)"),
+            std::string::npos)
+      << output;
+  EXPECT_EQ(RunRollwear({"import", "--db", dir / "x.db", dir / "data"}, &output),
+            0)
+      << output;
+  EXPECT_NE(output.find("profiles 0 new, 1 unchanged"), std::string::npos)
+      << output;
+  ASSERT_EQ(RunRollwear({"export", "--db", dir / "x.db", "--out", dir / "out"},
+                        &output),
+            0)
+      << output;
+  StatusOr<Dataset> back = ReadDataset(dir / "out");
+  ASSERT_TRUE(back.ok()) << back.status().message();
+  ASSERT_EQ(back->profile_points.size(), 2u);
+  EXPECT_EQ(back->profile_points[0].x_mm, 0);
+  EXPECT_EQ(back->profile_points[0].wear_um, 12.5);
+  EXPECT_EQ(back->profile_points[1].x_mm, 100);
+  EXPECT_EQ(back->profile_points[1].wear_um, 13);
+  EXPECT_EQ(back->profile_points[1].roll_id, m.roll_id);
+  // Other points under the same key: a conflict, and nothing imported.
+  std::ofstream(dir / "data/profiles.csv")
+      << header << row << ",0,12.5\n" << row << ",100,14\n";
+  EXPECT_EQ(RunRollwear({"import", "--db", dir / "x.db", dir / "data"}, &output),
+            1);
+  EXPECT_NE(output.find("profiles.csv:2 campaign_id: the profile of"),
             std::string::npos)
       << output;
   std::ofstream(dir / "data/profiles.csv")

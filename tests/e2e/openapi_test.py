@@ -224,6 +224,8 @@ def exercise(client, data_dir):
     call("POST", "/v1/coils", 413,
          raw=b'{"pad":"' + b"x" * (2 << 20) + b'"}')
     # Limits and a forecast while OA1 runs.
+    call("GET", f"/v1/wear/{stand}/{position}/profile", 200)
+    call("GET", "/v1/wear/F1/top/profile", 404)
     call("GET", "/v1/limits", 200)
     call("POST", f"/v1/limits/{stand}/{position}", 200,
          body={"limit_um": 300, "reason": "openapi test"})
@@ -249,6 +251,21 @@ def exercise(client, data_dir):
     call("POST", "/v1/measurements", 409, body=dict(meas, wear_center_um=13))
     call("POST", "/v1/measurements", 422,
          body=dict(meas, stand=rolls[1]["stand"],
+                   position=rolls[1]["position"], roll_id="other"))
+    profile = {k: meas[k] for k in ("campaign_id", "stand", "position",
+                                     "roll_id", "measured_at")}
+    profile["points"] = [{"x_mm": x, "wear_um": 12.5 + abs(x) / 100}
+                         for x in (-500, -250, 0, 250, 500)]
+    call("POST", "/v1/profiles", 201, body=profile)
+    call("POST", "/v1/profiles", 200, body=profile)
+    call("POST", "/v1/profiles", 401, body=profile, token=False)
+    call("POST", "/v1/profiles", 409,
+         body=dict(profile, points=profile["points"][:4]))
+    call("POST", "/v1/profiles", 400,
+         body=dict(profile, points=[{"x_mm": 1500, "wear_um": 1}]))
+    call("POST", "/v1/profiles", 404, body=dict(profile, campaign_id="nope"))
+    call("POST", "/v1/profiles", 422,
+         body=dict(profile, stand=rolls[1]["stand"],
                    position=rolls[1]["position"], roll_id="other"))
 
     # Calibrations, models, diagnoses.

@@ -212,18 +212,21 @@ TEST(SchemaTest, NewerFileIsRefusedAndLeftUntouched) {
   }
   {
     auto db = MustOpen(dir.File("newer.db"));
-    ASSERT_TRUE(db->Exec("UPDATE schema_version SET version = 7").ok());
+    ASSERT_TRUE(db->Exec("UPDATE schema_version SET version = " +
+                         std::to_string(kSchemaVersion + 1))
+                    .ok());
   }
   StatusOr<std::unique_ptr<MillStore>> store =
       MillStore::Open(dir.File("newer.db"), {});
   ASSERT_FALSE(store.ok());
   EXPECT_EQ(store.status().code(), StatusCode::kFailedPrecondition);
   EXPECT_EQ(store.status().message(),
-            "database schema version 7 is newer than this rollwear (supports "
-            "up to " +
+            "database schema version " + std::to_string(kSchemaVersion + 1) +
+                " is newer than this rollwear (supports up to " +
                 std::to_string(kSchemaVersion) + "); upgrade rollwear");
   auto db = MustOpen(dir.File("newer.db"));
-  EXPECT_EQ(QueryInt(db.get(), "SELECT version FROM schema_version"), 7);
+  EXPECT_EQ(QueryInt(db.get(), "SELECT version FROM schema_version"),
+            kSchemaVersion + 1);
   EXPECT_EQ(QueryInt(db.get(), "SELECT COUNT(*) FROM campaigns"), 1);
 }
 

@@ -51,10 +51,10 @@ class TempDir {
 };
 
 // SQL taking a file of this build back to schema version 4 (undoes
-// versions 6 and 5): tests that fake a file of an older rollwear run it
+// versions 7, 6 and 5): tests that fake a file of an older rollwear run it
 // before undoing the older versions.
 inline constexpr const char* kUndoSchemaSixAndFive =
-    "DROP TABLE model_history; DROP TABLE diagnoses; "
+    "DROP TABLE profile_points; DROP TABLE model_history; DROP TABLE diagnoses; "
     "DROP INDEX mounts_by_roll; DROP INDEX measurements_by_roll; "
     "ALTER TABLE models DROP COLUMN pinned; DROP TABLE wear_limits; ";
 
