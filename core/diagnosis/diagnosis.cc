@@ -2,12 +2,14 @@
 // the stages of diagnosis_stages_internal.h in order.
 #include "core/diagnosis/diagnosis.h"
 
+#include <algorithm>
 #include <chrono>
 #include <set>
 #include <string>
 
 #include "core/diagnosis/diagnosis_internal.h"
 #include "core/diagnosis/diagnosis_stages_internal.h"
+#include "core/diagnosis/profile_locate.h"
 
 namespace rollwear {
 
@@ -57,6 +59,27 @@ StatusOr<DiagnosisReport> Diagnose(const Dataset& data,
   }
 
   diag::Summarise(data, options, state, &report);
+  // Along the barrel, when the grinder measured profiles: what the final
+  // model's profiles leave at the edges or on one side is located, never
+  // named (profile_locate.h).
+  if (!data.profile_points.empty() && !report.adopted_model.k.empty()) {
+    StatusOr<BarrelLocate> barrel =
+        LocateAlongBarrel(report.adopted_model, data, DatasetIndex(data),
+                          base.split, options.alpha);
+    if (barrel.ok()) {
+      const double tests = static_cast<double>(barrel->contrasts.size());
+      for (const BarrelContrast& c : barrel->contrasts) {
+        if (!c.significant) continue;
+        report.unexplained.push_back(
+            {c.dimension, c.where, "paired_t_across_rolls", c.t, c.mean_um,
+             c.p_value, std::min(1.0, c.p_value * tests)});
+      }
+      if (report.findings.empty() && !report.unexplained.empty()) {
+        report.verdict = "mismatch_located_unexplained";
+      }
+    }
+    phase.Mark("barrel");
+  }
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return report;
 }

@@ -29,6 +29,9 @@
 //     the next accepted candidate is tried (the others: runners_up).
 //  5. Adopt and report: the adopted terms with parameters and standard
 //     errors, the validation gap before and after each.
+//  6. Along the barrel (with profiles.csv): the final model's profile
+//     residuals located at the edge zones, a side or one stand's edges
+//     (profile_locate.h); what is significant is listed as unexplained.
 //  6. Look again: the final model's residuals located as in step 2 plus
 //     the noise checks (diagnosis_noise.cc); what is significant at the
 //     family-wise level and of material size is `unexplained`. Verdict:

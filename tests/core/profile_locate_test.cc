@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/diagnosis/diagnosis.h"
 #include "core/fit/profile_fit.h"
 #include "tests/core/profile_test_util.h"
 
@@ -109,6 +110,27 @@ TEST(ProfileLocateTest, OneStandsEdgesAreLocatedAtThatStand) {
     EXPECT_TRUE(c.dimension == "barrel_zone@F7" || c.dimension == "barrel_zone")
         << c.dimension;
   }
+}
+
+// The whole diagnosis on profiles whose drive-side edges wear more and
+// clean centre readings: nothing is named, the mismatch is located at the
+// drive-side edge.
+TEST(ProfileLocateTest, DiagnosisLocatesTheEdgeMismatchWithoutNamingPhysics) {
+  const CalibratedMill& mill = WithProfiles();
+  Dataset data = mill.sim.data;
+  ScaleEdges(mill, 1.15, [](const ProfileResidual& r) { return r.x_mm > 0; },
+             &data);
+  StatusOr<DiagnosisReport> report = Diagnose(data, DiagnosisOptions{});
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  EXPECT_TRUE(report->findings.empty());
+  EXPECT_EQ(report->verdict, "mismatch_located_unexplained");
+  bool edge = false;
+  for (const Unexplained& u : report->unexplained) {
+    std::printf("unexplained: %s %s %+.2f µm p %.2g\n", u.dimension.c_str(),
+                u.where.c_str(), u.mean_residual_um, u.p_value);
+    if (u.dimension == "edge_side" && u.where == "drive-side edge") edge = true;
+  }
+  EXPECT_TRUE(edge);
 }
 
 }  // namespace
