@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/data_quality_json.h"
+#include "storage/model_codec.h"
 
 namespace rollwear::api {
 namespace {
@@ -16,16 +17,11 @@ nlohmann::json Num(double v) {
   return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
 }
 
+// A term as the stored model writes it (storage/model_codec.h: scope,
+// reference level and all), so that `calibrate --terms` and clients read
+// back exactly the term the diagnosis adopted.
 nlohmann::json TermJson(const ModelTerm& t) {
-  nlohmann::json j = {{"covariate", t.covariate},
-                      {"form", TermFormName(t.form)},
-                      {"params", t.params},
-                      {"center", t.center},
-                      {"scale", t.scale}};
-  if (!t.edges.empty()) j["edges"] = t.edges;
-  if (t.num_levels > 0) j["num_levels"] = t.num_levels;
-  if (!t.levels.empty()) j["levels"] = t.levels;
-  return j;
+  return nlohmann::json::parse(storage::EncodeTerms({t})).at(0);
 }
 
 // A finding's scope: null when global, else {"stand":"F7",...}.

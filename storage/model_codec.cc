@@ -195,6 +195,16 @@ Status DecodeTerms(const Json& doc, std::vector<ModelTerm>* out) {
       if (!ref->is_number_integer()) return Bad(at + "reference_level", "must be an integer");
       t.reference_level = ref->get<int>();
     }
+    // The reference level indexes the levels (TermOffset skips it): out
+    // of range it would move every offset onto another level.
+    const bool per_level = t.form == TermForm::kOffsetPerLevel;
+    if (per_level ? (t.reference_level < 0 ||
+                     t.reference_level >= std::max(1, t.num_levels))
+                  : t.reference_level != 0) {
+      return Bad(at + "reference_level",
+                 per_level ? "must be a level index below num_levels"
+                           : "is only for the offset_per_level form");
+    }
     ROLLWEAR_RETURN_IF_ERROR(DecodeScope(j, at, &t.scope));
     out->push_back(std::move(t));
   }

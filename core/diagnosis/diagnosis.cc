@@ -74,6 +74,10 @@ StatusOr<DiagnosisReport> Diagnose(const Dataset& data,
             {c.dimension, c.where, "paired_t_across_rolls", c.t, c.mean_um,
              c.p_value, std::min(1.0, c.p_value * tests)});
       }
+      std::stable_sort(report.unexplained.begin(), report.unexplained.end(),
+                       [](const Unexplained& a, const Unexplained& b) {
+                         return a.p_value < b.p_value;
+                       });
       if (report.findings.empty() && !report.unexplained.empty()) {
         report.verdict = "mismatch_located_unexplained";
       }

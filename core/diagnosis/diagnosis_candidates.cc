@@ -520,9 +520,17 @@ void NameFinding(const TermData& td, const std::vector<int>& train, const TermSp
         f->parameters["level" + std::to_string(i + 1) + "_multiplier"] = std::exp(t.params[i]);
       }
       fitted = "wear-rate multipliers";
+      f->levels.clear();
       for (size_t i = 0; i < t.params.size(); ++i) {
         const std::string label = i + 1 < t.levels.size() ? t.levels[i + 1] : std::to_string(i + 1);
         fitted += Format(" %.3f", std::exp(t.params[i])) + " (" + label + ")";
+        // The affected levels (the contract's levels): those whose
+        // multiplier is more than 2 standard errors from the reference's 1.
+        auto se = f->parameter_std_errors.find("param" + std::to_string(i));
+        if (se == f->parameter_std_errors.end() || !std::isfinite(se->second) ||
+            std::abs(t.params[i]) > 2 * se->second) {
+          f->levels.push_back(label);
+        }
       }
       break;
     case TermForm::kCell:

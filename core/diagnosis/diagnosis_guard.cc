@@ -138,6 +138,26 @@ GuardResult LookAgain(const Dataset& data, const DiagnosisState& st,
           "located structure remains (%s: largest group mean %.1f -> %.1f um)",
           top.dimension.c_str(), LargestGroupMean(top), LargestGroupMean(b));
       r.reason = buf;
+      // Where the structure the candidate failed to take away lives: its
+      // largest group after the term (listed as unexplained when no
+      // candidate of the round passes, so the verdict cannot be "noise").
+      const Breakdown::Group* largest = nullptr;
+      for (const Breakdown::Group& g : b.groups) {
+        if (g.label == "missing") continue;
+        if (largest == nullptr ||
+            std::abs(g.mean_residual_um) > std::abs(largest->mean_residual_um)) {
+          largest = &g;
+        }
+      }
+      r.located.dimension = b.dimension;
+      r.located.where =
+          largest != nullptr ? b.dimension + "=" + largest->label : b.dimension;
+      r.located.test = b.test;
+      r.located.statistic = b.statistic;
+      r.located.mean_residual_um =
+          largest != nullptr ? largest->mean_residual_um : 0;
+      r.located.p_value = b.p_value;
+      r.located.p_adjusted = std::min(1.0, b.p_value * m);
     }
   }
   return r;

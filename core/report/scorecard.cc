@@ -12,10 +12,11 @@ namespace {
 // when it has none.
 std::string CovariateClass(const std::string& name) {
   static const std::map<std::string, std::string> kClasses = {
+      // Wear rate drifting with calendar time; a drift of the reading
+      // (measured_at: the gauge, not the wear) is another physics.
       {"started_at", "calendar_time"},
       {"ended_at", "calendar_time"},
       {"rolled_at", "calendar_time"},
-      {"measured_at", "calendar_time"},
       {"campaign_length_before_m", "rolled_amount"},
       {"campaign_coils_before", "rolled_amount"},
   };
@@ -72,7 +73,9 @@ bool SameCovariate(const std::string& truth, const std::string& found) {
 bool Describes(const Finding& f, const ConcealedEffect& e) {
   if (!e.expressible || !SameCovariate(e.covariate, f.covariate)) return false;
   if (FindingScope(f) != e.scope) return false;
-  if (e.levels.empty() || f.levels.empty()) return true;
+  if (e.levels.empty()) return true;
+  // A per-level effect named without its levels does not say which level.
+  if (f.levels.empty()) return false;
   const std::set<std::string> found(f.levels.begin(), f.levels.end());
   return std::all_of(e.levels.begin(), e.levels.end(),
                      [&](const std::string& l) { return found.count(l) > 0; });

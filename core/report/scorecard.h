@@ -9,13 +9,14 @@
 // in as a ScoreTruth, so an independent generator's truth fits as well.
 //
 // Covariate names count as the same physics (SameCovariate) only within
-// these classes: calendar time {started_at, ended_at, rolled_at,
-// measured_at}; rolled amount along the campaign {campaign_length_before_m,
-// campaign_coils_before}. Hours in service (hours_since_mount) is its own
-// class: it is what stoppages part from the rolled length. Scopes must be
-// equal (an everywhere-effect named at one stand is the wrong scope, and
-// the other way round). Levels: when both the truth and the finding list
-// levels, the truth's must be among the finding's.
+// these classes: the wear rate over calendar time {started_at, ended_at,
+// rolled_at}; rolled amount along the campaign {campaign_length_before_m,
+// campaign_coils_before}. measured_at (a drift of the reading, the gauge)
+// and hours in service (hours_since_mount: what stoppages part from the
+// rolled length) are classes of their own. Scopes must be equal (an
+// everywhere-effect named at one stand is the wrong scope, and the other
+// way round). Levels: when the truth lists levels, the finding must list
+// them too (among others at most).
 //
 // Thread-safety: pure functions over values.
 #ifndef ROLLWEAR_CORE_REPORT_SCORECARD_H_

@@ -84,6 +84,12 @@ TEST(ScorecardTest, GradeAtF7NamedRightOnlyWithScopeAndLevel) {
                 truth);
   EXPECT_FALSE(s.named_right);
   EXPECT_EQ(s.wrong_physics, 1);
+  // Right cell, no level named: which grade is not said.
+  s = ScoreCase("grade_stand", 3,
+                Report({Found("grade", {{"stand", "F7"}})},
+                       "missing_physics_found"),
+                truth);
+  EXPECT_FALSE(s.named_right);
   // Right cell, wrong grade.
   s = ScoreCase("grade_stand", 3,
                 Report({Found("grade", {{"stand", "F7"}}, {"C45"})},
@@ -102,7 +108,9 @@ TEST(ScorecardTest, GradeAtF7NamedRightOnlyWithScopeAndLevel) {
 
 TEST(ScorecardTest, EquivalentNamesOnlyWithinTheirClass) {
   EXPECT_TRUE(SameCovariate("rolled_at", "started_at"));
-  EXPECT_TRUE(SameCovariate("measured_at", "started_at"));
+  // A drift of the reading is not a drift of the wear rate.
+  EXPECT_FALSE(SameCovariate("measured_at", "started_at"));
+  EXPECT_FALSE(SameCovariate("measured_at", "rolled_at"));
   EXPECT_TRUE(
       SameCovariate("campaign_length_before_m", "campaign_coils_before"));
   EXPECT_FALSE(SameCovariate("hours_since_mount", "campaign_length_before_m"));

@@ -184,6 +184,18 @@ TEST(ModelCodecTest, ScopedTermsRoundTrip) {
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(bad.status().message().find("terms[0].scope.stand"), std::string::npos)
       << bad.status().message();
+  // A reference level outside the levels (it would shift every offset onto
+  // another level, or read past the parameters), or on another form.
+  for (const char* doc :
+       {R"({"terms":[{"covariate":"g","form":"offset_per_level","params":[1,2],"num_levels":3,"reference_level":3}]})",
+        R"({"terms":[{"covariate":"g","form":"offset_per_level","params":[1,2],"num_levels":3,"reference_level":-1}]})",
+        R"({"terms":[{"covariate":"x","form":"flag","params":[0.1],"reference_level":1}]})"}) {
+    StatusOr<std::vector<ModelTerm>> refused = DecodeModelTerms(doc);
+    ASSERT_FALSE(refused.ok()) << doc;
+    EXPECT_NE(refused.status().message().find("terms[0].reference_level"),
+              std::string::npos)
+        << refused.status().message();
+  }
 }
 
 TEST(ModelCodecTest, CoefficientsAreListedByName) {
