@@ -26,6 +26,11 @@ namespace {
 // Reduced under the sanitizers (test_size.h); the effects are sized so
 // that the assertions hold at both sizes.
 constexpr int kCampaigns = test_size::FullOr(395, 200);
+// The paper's size, also under the sanitizers, for the cases whose
+// evidence is too weak at 200 campaigns (session-9 ASan run: the square
+// wave and the grade cell went unlocated, the roll-type cell was named as
+// `reduction`; docs/diagnosis.md, Limits).
+constexpr int kPaperCampaigns = 395;
 
 Dataset Clean(uint64_t seed, int campaigns = kCampaigns) {
   SimulatorOptions o;
@@ -114,7 +119,7 @@ TEST(DiagnosisVerdictTest, AlternatingCampaignOffsetIsLocatedNotNamed) {
 // positive lag-1 autocorrelation; too fast for a drift or a binned time
 // term.
 TEST(DiagnosisVerdictTest, FastSquareWaveOverTimeIsLocatedNotNamed) {
-  Dataset d = Clean(32);
+  Dataset d = Clean(32, kPaperCampaigns);
   const std::vector<int> rank = TimeRank(d);
   for (Measurement& m : d.measurements) {
     if ((rank[m.campaign] / 8) % 2 == 1) m.wear_center_um *= 1.08;
@@ -143,7 +148,7 @@ TEST(DiagnosisVerdictTest, ExtraSpreadAtOnePositionIsLocatedNotNamed) {
 // data (its kR takes the rest); the engine offers the cell with fewer
 // measurements, so either is right, with the matching multiplier.
 TEST(DiagnosisVerdictTest, RollTypeAtOneStandIsNamedAsItsCell) {
-  Dataset d = Clean(34);
+  Dataset d = Clean(34, kPaperCampaigns);
   std::map<std::pair<int, std::string>, int>
       type_of;  // (campaign, roll) -> type
   ASSERT_TRUE(std::count(d.roll_types.begin(), d.roll_types.end(), "ICDP-S1"));
@@ -177,7 +182,7 @@ TEST(DiagnosisVerdictTest, RollTypeAtOneStandIsNamedAsItsCell) {
 // so what remains is that grade's cells pulling apart: located in the
 // roll position x dominant grade cells of that grade.
 TEST(DiagnosisVerdictTest, GradeAtOneStandIsNotNamedAsAGlobalEffect) {
-  Dataset d = Clean(35);
+  Dataset d = Clean(35, kPaperCampaigns);
   std::vector<double> grade_len(d.grades.size(), 0.0);
   for (const Pass& p : d.passes) grade_len[p.grade] += p.length_m;
   const int g = static_cast<int>(

@@ -25,6 +25,12 @@ namespace rollwear {
 namespace {
 
 constexpr int kCampaigns = test_size::FullOr(395, 200);
+// The paper's size, also under the sanitizers: at 200 campaigns the
+// roll-type cell of NamesRollTypeAtStandCell loses to a continuous proxy
+// (`reduction` was named in the session-9 ASan run): a known limit of the
+// engine on half-size data (docs/diagnosis.md, Limits), not a sizing
+// detail to hide.
+constexpr int kPaperCampaigns = 395;
 
 Simulation Clean(uint64_t seed, int campaigns) {
   return simulator_test::Simulated(seed, campaigns);
@@ -181,7 +187,7 @@ TEST(ScopedTermTest, NamesGrinderOffset) {
 // Rolls of one type wear 1.3x at F7 only: a cell finding on roll_type with
 // scope F7, not hardness or contact length.
 TEST(ScopedTermTest, NamesRollTypeAtStandCell) {
-  Simulation sim = Clean(41, kCampaigns);
+  Simulation sim = Clean(41, kPaperCampaigns);
   Dataset& d = sim.data;
   const DatasetIndex index(d);
   // A roll type that runs at F6 and F7 (a type only at F7 is a roll-type
