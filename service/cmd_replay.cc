@@ -475,6 +475,13 @@ int RunReplay(const ReplayArgs& args) {
   ReplayOptions options;
   if (!ReplayOptionsFrom(args, &options)) return 2;
   signal(SIGPIPE, SIG_IGN);
+  // Whether a daemon answers before the (possibly long) read of the data:
+  // if it does, a refused connection later is a restart to wait for
+  // (--retry-for), even before the first POST was answered.
+  const bool reached = [&options] {
+    api::HttpClient probe(options.url);
+    return probe.Get("/healthz").answered();
+  }();
 
   StatusOr<Dataset> data = ReadDataset(args.data);
   if (!data.ok()) {
@@ -499,6 +506,7 @@ int RunReplay(const ReplayArgs& args) {
   }
 
   Counters counters;
+  counters.answered.store(reached);
   const auto start = Clock::now();
   std::atomic<bool> done{false};
   std::thread reporter([&] {
