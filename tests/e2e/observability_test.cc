@@ -94,6 +94,16 @@ TEST(ObservabilityTest, PromotionsAndDiagnosesAreLoggedAndEveryRunCounted) {
   ASSERT_EQ(calibration["status"], "done") << calibration.dump();
   const bool api_promoted = calibration["promoted"].get<bool>();
 
+  // The run's log line and metrics come from the scheduler's callback,
+  // after the run is stored as done: wait for them (up to 10 s) rather than
+  // race them (ctest -j2 once read the log first).
+  const std::string api_finished =
+      "event=calibration_finished id=" + std::to_string(api_run) + " trigger=api";
+  for (int i = 0; i < 100 && LinesWith(ReadFile(dir / "serve.log"), api_finished)
+                                 .empty();
+       ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
   const std::string log = ReadFile(dir / "serve.log");
   EXPECT_EQ(LinesWith(log, "event=diagnosis_started id=1 adopt=true").size(),
             1u)
