@@ -71,21 +71,31 @@ TermSpec Spec(int k, const CovariateSpec& c, TermForm form, std::vector<double> 
   return s;
 }
 
-// A measurement-side text column: an additive offset per level, the most
-// frequent level (by training readings) read as is.
-TermSpec OffsetPerLevel(int k, const CovariateSpec& c, const WeightedValues& w,
-                        int levels) {
-  std::vector<double> count(levels, 0.0);
-  for (const auto& [z, wt] : w.v) count[static_cast<int>(z)] += wt;
+// A measurement-side text column: an additive offset per level, level
+// `reference` read as is. Which level reads true is identified by the wear
+// law itself (wear is proportional to the load, with no intercept, so a
+// constant offset on every reading cannot be absorbed by K): one candidate
+// per reference level with readings, and the tests choose, so that the odd
+// gauge out is the one named (not the majority, relative to a minority).
+TermSpec OffsetPerLevel(int k, const CovariateSpec& c, int levels, int reference) {
   TermSpec s = Spec(k, c, TermForm::kOffsetPerLevel, std::vector<double>(levels - 1, 0.0),
                     std::vector<double>(levels - 1, -1000.0),
                     std::vector<double>(levels - 1, 1000.0));
   s.term.num_levels = levels;
-  s.term.reference_level =
-      static_cast<int>(std::max_element(count.begin(), count.end()) - count.begin());
+  s.term.reference_level = reference;
   s.term.levels.assign(c.levels.begin(),
                        c.levels.begin() + std::min<size_t>(levels, c.levels.size()));
   return s;
+}
+
+// The distinct inner quantile edges of `bins` equal-count bins.
+std::vector<double> QuantileEdges(const WeightedValues& w, int bins) {
+  std::vector<double> edges;
+  for (int b = 1; b < bins; ++b) {
+    const double e = Quantile(w, static_cast<double>(b) / bins);
+    if (edges.empty() || e > edges.back()) edges.push_back(e);
+  }
+  return edges;
 }
 
 }  // namespace
@@ -111,7 +121,11 @@ std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>
       for (const auto& [z, wt] : w.v) levels = std::max(levels, static_cast<int>(z) + 1);
       if (levels < 2 || levels > options.max_factor_levels) continue;
       if (c.level == CovariateLevel::kMeasurement) {
-        out.push_back({OffsetPerLevel(k, c, w, levels), {}});
+        std::vector<double> count(levels, 0.0);
+        for (const auto& [z, wt] : w.v) count[static_cast<int>(z)] += wt;
+        for (int ref = 0; ref < levels; ++ref) {
+          if (count[ref] > 0) out.push_back({OffsetPerLevel(k, c, levels, ref), {}});
+        }
         continue;
       }
       TermSpec s = Spec(k, c, TermForm::kPerLevel, std::vector<double>(levels - 1, 0.0),
@@ -139,6 +153,15 @@ std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>
       lin.term.center = mean;
       lin.term.scale = sd;
       out.push_back({lin, {}});
+      // A reading that steps or drifts unevenly: one offset per quantile bin.
+      const std::vector<double> edges = QuantileEdges(w, options.num_bins);
+      if (edges.size() >= 2 && edges.back() < w.v.back().first) {
+        const int nb = static_cast<int>(edges.size());
+        TermSpec bin = Spec(k, c, TermForm::kOffsetBinned, std::vector<double>(nb, 0.0),
+                            std::vector<double>(nb, -1000.0), std::vector<double>(nb, 1000.0));
+        bin.term.edges = edges;
+        out.push_back({bin, {}});
+      }
       if (p01 >= 0 && p50 > 0) {
         Candidate dec{Spec(k, c, TermForm::kOffsetDecay, {0.0, std::log(p50)},
                            {-1000.0, std::log(0.02 * p50)}, {1000.0, std::log(20 * p95)}),
@@ -157,11 +180,7 @@ std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>
       pw.term.center = mean;
       out.push_back({pw, {}});
     }
-    std::vector<double> edges;
-    for (int b = 1; b < options.num_bins; ++b) {
-      const double e = Quantile(w, static_cast<double>(b) / options.num_bins);
-      if (edges.empty() || e > edges.back()) edges.push_back(e);
-    }
+    const std::vector<double> edges = QuantileEdges(w, options.num_bins);
     if (edges.size() >= 2 && edges.back() < w.v.back().first) {
       const int nb = static_cast<int>(edges.size());
       TermSpec bin = Spec(k, c, TermForm::kBinned, std::vector<double>(nb, 0.0),
@@ -551,6 +570,36 @@ void NameFinding(const TermData& td, const std::vector<int>& train, const TermSp
                       "time constant %.3g",
                       p[0], std::exp(p[1]));
       break;
+    case TermForm::kOffsetBinned: {
+      // Offsets by quantile bin (bin 0 reads as is): a step when one jump
+      // between neighbouring bins carries at least 3/4 of the total change.
+      std::vector<double> o = {0.0};
+      for (double b : t.params) o.push_back(b);
+      up = o.back() > o.front();
+      double largest = 0;
+      bool monotone = true;
+      for (size_t i = 1; i < o.size(); ++i) {
+        const double jump = o[i] - o[i - 1];
+        largest = std::max(largest, std::abs(jump));
+        monotone = monotone && (up ? jump >= -1.0 : jump <= 1.0);  // 1 µm slack
+      }
+      const double total = std::abs(o.back() - o.front());
+      f->shape = !monotone            ? "uneven"
+                 : largest >= 0.75 * total ? (up ? "step_up" : "step_down")
+                                     : (up ? "increasing" : "decreasing");
+      for (size_t i = 0; i < o.size(); ++i) {
+        f->parameters["bin" + std::to_string(i) + "_offset_um"] = o[i];
+      }
+      for (size_t i = 0; i < t.edges.size(); ++i) {
+        f->parameters["edge" + std::to_string(i)] = t.edges[i];
+      }
+      fitted = "measured wear offsets by quantile bin of the covariate (µm):";
+      for (size_t i = 0; i < o.size(); ++i) {
+        fitted += Format(" %+.1f", o[i]);
+        if (i < t.edges.size()) fitted += " | " + Readable(c.name, t.edges[i]) + " |";
+      }
+      break;
+    }
     case TermForm::kOffsetLinear:
       up = p[0] > 0;
       f->shape = up ? "increasing" : "decreasing";

@@ -5,7 +5,7 @@
 //      contribution to observation i (prediction with the term minus
 //      prediction with the same coefficients without it) and e_i the
 //      residual without it, P_i the prediction without it. Per group g of a
-//      dimension (stand, roll position, roll type) the weighted least
+//      dimension (listed below) the weighted least
 //      squares fit e ~ a_g P + b_g D (w = 1 / sd^2; the a_g P column takes
 //      up what the group's multiplicative K coefficients absorb) gives the
 //      scale b_g of the effect's shape inside the group, with variance
@@ -16,8 +16,23 @@
 //      b_bar the inverse-variance weighted mean, ~ chi2(G - 1) under
 //      homogeneity (Cochran 1954, Biometrics 10:101). This is the
 //      linearised test of a term x group interaction with K held at the
-//      fit. Significant (p * 3 < alpha, Bonferroni over the 3 dimensions)
+//      fit. Significant (p * 5 < alpha, Bonferroni over the dimensions below)
 //      and material (some |b_g - b_bar| >= kMaterialScale): not adopted.
+//      Within groups. b_bar, with variance 1 / sum_g(1 / se_g^2), is the
+//      effect's scale estimated inside the groups only. A term whose fitted
+//      effect (scale 1 by construction) comes from the contrast BETWEEN the
+//      groups while nothing of its shape holds inside them (b_bar far from
+//      1: |b_bar - 1| >= kMaterialScale with p * 5 < alpha for the z test)
+//      is a stand-in for a group-level effect (a cell or a scoped K), e.g. a
+//      contact length term on one roll type whose contact length differs
+//      between the two stands it runs in: not adopted.
+//      The dimensions: stand, roll position, roll type, stand x roll type
+//      cell, and the quartiles of every other numeric wear-rate covariate
+//      (campaign-aggregated; started_at not for a calendar-time term),
+//      Bonferroni over all of them. A proxy for a drift or a step in time
+//      has no shape inside a quarter of the period (b_bar near 0); an
+//      interaction (an effect of temperature only at high speed) changes
+//      scale across the other quantity's quartiles (Cochran's Q).
 //  (b) Look again. The breakdown that located the mismatch most strongly
 //      (Locate on the training residuals of the model before the term; only
 //      if it is itself significant at the family-wise level) must be
@@ -44,6 +59,9 @@ constexpr int kMinGroupObservations = 10;
 
 struct Heterogeneity {
   double q = 0, p = 1, max_dev = 0;
+  // The within-group scale b_bar and the p-value of b_bar = 1 (two-sided z).
+  double b_bar = 1, p_within = 1;
+  int groups = 0;
   std::string group;         // the group with the largest |b_g|
   double group_mean_um = 0;  // its mean residual before the round
 };
@@ -65,6 +83,7 @@ Heterogeneity Cochran(const std::vector<std::string>& label,
   };
   std::map<std::string, Sums> by;
   for (size_t i = 0; i < label.size(); ++i) {
+    if (label[i].empty()) continue;  // no value: in no group
     Sums& s = by[label[i]];
     s.pp += w[i] * p0[i] * p0[i];
     s.pd += w[i] * p0[i] * d[i];
@@ -91,8 +110,17 @@ Heterogeneity Cochran(const std::vector<std::string>& label,
     sum_w += 1 / var;
   }
   Heterogeneity h;
-  if (used.size() < 2 || !(sum_w > 0)) return h;
+  if (used.empty() || !(sum_w > 0)) return h;
   const double b_bar = sum_wb / sum_w;
+  h.b_bar = b_bar;
+  h.groups = static_cast<int>(used.size());
+  // (b_bar - 1)^2 * sum_w ~ chi2(1): the two-sided z test of b_bar = 1.
+  h.p_within = ChiSquareSurvival((b_bar - 1) * (b_bar - 1) * sum_w, 1.0);
+  if (used.size() < 2) {
+    h.group = used[0].group;
+    h.group_mean_um = used[0].mean_um;
+    return h;
+  }
   double largest = -1;
   for (const Scale& sc : used) {
     h.q += (sc.b - b_bar) * (sc.b - b_bar) / sc.var;
@@ -113,6 +141,26 @@ double LargestGroupMean(const Breakdown& b) {
     if (g.label != "missing") m = std::max(m, std::abs(g.mean_residual_um));
   }
   return m;
+}
+
+// Each training observation's quartile ("Q1".."Q4") of covariate k as the
+// model aggregates it over the campaign (TermData::obs_z); "" where missing.
+std::vector<std::string> Quartiles(const TermData& td, const std::vector<int>& train, int k) {
+  std::vector<std::string> out(train.size());
+  std::vector<double> sorted;
+  for (int o : train) {
+    if (!std::isnan(td.obs_z[k][o])) sorted.push_back(td.obs_z[k][o]);
+  }
+  if (sorted.size() < 4) return out;
+  std::sort(sorted.begin(), sorted.end());
+  const auto at = [&](double q) { return sorted[static_cast<size_t>(q * (sorted.size() - 1))]; };
+  const double q1 = at(0.25), q2 = at(0.5), q3 = at(0.75);
+  for (size_t i = 0; i < train.size(); ++i) {
+    const double t = td.obs_z[k][train[i]];
+    if (std::isnan(t)) continue;
+    out[i] = t < q1 ? "Q1" : t < q2 ? "Q2" : t < q3 ? "Q3" : "Q4";
+  }
+  return out;
 }
 
 GuardResult LookAgain(const Dataset& data, const DiagnosisState& st,
@@ -199,11 +247,34 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
   }
   phi /= std::max<size_t>(1, n);
   GuardResult result;
-  const std::pair<const char*, const std::vector<std::string>*> dims[] = {
-      {"stand", &stand}, {"position", &position}, {"roll_type", &roll_type}};
-  for (const auto& [name, label] : dims) {
+  std::vector<std::string> cell(n);
+  for (size_t i = 0; i < n; ++i) cell[i] = stand[i] + "/" + roll_type[i];
+  // Quartiles of every other numeric wear-rate covariate: an effect whose
+  // scale changes sign or size with another quantity is an interaction the
+  // term does not describe (e.g. a temperature effect that exists only at
+  // high speed). A calendar-time term is itself about time: its shape
+  // inside a quarter of the period says nothing (a step drift is flat in
+  // three of them), so started_at is not a dimension for it.
+  const std::string& cov = with_term.terms.back().term.covariate;
+  const bool calendar = cov == "started_at" || cov == "measured_at";
+  std::vector<std::string> names = {"stand", "position", "roll_type", "stand_roll_type"};
+  std::vector<std::vector<std::string>> labels = {stand, position, roll_type, cell};
+  for (int k = 0; k < static_cast<int>(td.catalog.size()); ++k) {
+    const CovariateSpec& c = td.catalog[k];
+    if (c.kind != CovariateKind::kNumeric || c.level == CovariateLevel::kMeasurement ||
+        c.source == CovariateSource::kCell || c.name == cov ||
+        (calendar && c.source == CovariateSource::kStartedAt)) {
+      continue;
+    }
+    names.push_back(c.name);
+    labels.push_back(Quartiles(td, st.train, k));
+  }
+  const double dims = static_cast<double>(names.size());  // Bonferroni
+  for (size_t di = 0; di < names.size(); ++di) {
+    const char* name = names[di].c_str();
+    const std::vector<std::string>* label = &labels[di];
     const Heterogeneity h = Cochran(*label, e, p0, d, w, before, phi);
-    if (h.p * 3 < options.alpha && h.max_dev >= kMaterialScale) {
+    if (h.p * dims < options.alpha && h.max_dev >= kMaterialScale) {
       result.pass = false;
       result.reason = std::string("inconsistent across ") + name;
       result.located.dimension = std::string("effect_by_") + name;
@@ -212,7 +283,23 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
       result.located.statistic = h.q;
       result.located.mean_residual_um = h.group_mean_um;
       result.located.p_value = h.p;
-      result.located.p_adjusted = std::min(1.0, 3 * h.p);
+      result.located.p_adjusted = std::min(1.0, dims * h.p);
+      return result;
+    }
+    if (h.p_within * dims < options.alpha && std::abs(h.b_bar - 1) >= kMaterialScale) {
+      result.pass = false;
+      char buf[120];
+      std::snprintf(buf, sizeof(buf),
+                    "effect lives between groups of %s, not within them (scale within %.2f)",
+                    name, h.b_bar);
+      result.reason = buf;
+      result.located.dimension = std::string("effect_by_") + name;
+      result.located.where = std::string(name) + "=" + h.group;
+      result.located.test = "within_group_z";
+      result.located.statistic = h.b_bar;
+      result.located.mean_residual_um = h.group_mean_um;
+      result.located.p_value = h.p_within;
+      result.located.p_adjusted = std::min(1.0, dims * h.p_within);
       return result;
     }
   }

@@ -32,6 +32,14 @@ std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>
 void AddScopedCandidates(const TermData& td, const std::vector<int>& train,
                          const std::set<int>& used, std::vector<Candidate>* out);
 
+// The twin of a cell: when the cell's roll type or grade runs (in the
+// training data) in exactly two places of the cell's kind (two stands, or
+// top and bottom), the other place's cell, which describes the same data
+// (x m at one place = x 1/m at the other, the level's own K factor taking
+// up the rest). False when there is no twin (diagnosis_scoped.cc).
+bool TwinCell(const TermData& td, const std::vector<int>& train, const TermScope& cell,
+              TermScope* twin);
+
 // Fills mechanism, shape and explanation of a finding from its fitted term
 // and the covariate's training range (reads f->parameter_std_errors when
 // set, to tell a noisy binned step from a peak).

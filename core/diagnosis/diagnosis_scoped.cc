@@ -120,6 +120,37 @@ std::vector<TermScope> CellScopes(const TermData& td, const std::vector<int>& tr
 
 }  // namespace
 
+bool TwinCell(const TermData& td, const std::vector<int>& train, const TermScope& cell,
+              TermScope* twin) {
+  if (cell.roll_type.empty() == cell.grade.empty()) return false;
+  std::vector<TermScope> places;
+  if (cell.stand > 0) {
+    for (const TermScope& s : SingleScopes(td, train)) {
+      if (s.stand > 0) places.push_back(s);
+    }
+  } else if (cell.position >= 0) {
+    places.push_back({0, static_cast<int>(Position::kTop), "", ""});
+    places.push_back({0, static_cast<int>(Position::kBottom), "", ""});
+  } else {
+    return false;
+  }
+  std::vector<TermScope> with_data;
+  for (TermScope c : places) {
+    c.roll_type = cell.roll_type;
+    c.grade = cell.grade;
+    if (CountInScope(td, train, c) > 0) with_data.push_back(c);
+  }
+  if (with_data.size() != 2) return false;
+  if (with_data[0] == cell) {
+    *twin = with_data[1];
+  } else if (with_data[1] == cell) {
+    *twin = with_data[0];
+  } else {
+    return false;
+  }
+  return true;
+}
+
 void AddScopedCandidates(const TermData& td, const std::vector<int>& train,
                          const std::set<int>& used, std::vector<Candidate>* out) {
   const std::vector<TermScope> scopes = SingleScopes(td, train);

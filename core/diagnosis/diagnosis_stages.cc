@@ -3,6 +3,7 @@
 // summary of the final model.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -238,6 +239,85 @@ std::vector<int> RankAccepted(const CvRound& cv, const DiagnosisOptions& options
   return accepted;
 }
 
+// The proxy guard's comparison with the best factor cell (issue 15): a
+// winner that is not itself a cell must explain something an accepted cell
+// candidate of the round does not. Nested likelihood-ratio test of the
+// winner's term given the cell, LR = n ln(RSS_cell / RSS_cell+term) ~
+// chi2(df), Bonferroni over the round's `num_tests`. When it is not
+// significant the two describe the same structure (e.g. a contact length
+// term on one roll type whose contact length differs between the two stands
+// it runs in, against that roll type's cell at one stand), and the
+// structural description is preferred: a factor combination the K structure
+// cannot express needs no covariate to be true. Returns why the winner is
+// not named, or "" when it is distinct from every accepted cell.
+std::string NoBetterThanCell(const DiagnosisState& st, const std::vector<double>& sd,
+                             const std::vector<int>& accepted,
+                             const std::vector<Fitted>& fits, int winner,
+                             double num_tests, const DiagnosisOptions& options) {
+  const TermSpec& term = fits[winner].terms.back();
+  if (term.term.form == TermForm::kCell || term.term.IsMeasurementTerm()) return "";
+  const double n = static_cast<double>(st.train.size());
+  for (int j : accepted) {
+    const TermSpec& cell = fits[j].terms.back();
+    if (j == winner || cell.term.form != TermForm::kCell) continue;
+    std::vector<TermSpec> both = fits[j].terms;
+    both.push_back(term);
+    const Fitted joint = Fit(st.td, st.train, sd, fits[j].log_k, both);
+    if (!joint.usable) continue;
+    const double lr = std::max(0.0, n * std::log(fits[j].rss / joint.rss));
+    const double p = ChiSquareSurvival(lr, term.term.NumParams());
+    if (p * num_tests >= options.alpha) {
+      char buf[200];
+      std::snprintf(buf, sizeof(buf),
+                    "no better than the cell %s (given the cell: LR %.1f, "
+                    "p adjusted %.2g)",
+                    cell.term.scope.Label().c_str(), lr,
+                    std::min(1.0, p * num_tests));
+      return buf;
+    }
+  }
+  return "";
+}
+
+// A cell with a twin (TwinCell) describes the same data as its twin with
+// the inverse multiplier; the data cannot tell which place is the
+// exception. The finding is stated by one convention, the place that wears
+// MORE than the K structure predicts (multiplier >= 1), and says so: when
+// the fitted cell wears less, its twin is fitted instead (the roll type's or
+// grade's own K factor takes up the rest; the fit is the same up to the
+// cell prior) and `note` gets the sentence naming both.
+Fitted OrientTwinCell(const DiagnosisState& st, const std::vector<double>& sd,
+                      const Fitted& winner, std::string* note) {
+  const TermSpec& cell = winner.terms.back();
+  TermScope twin;
+  if (cell.term.form != TermForm::kCell || !TwinCell(st.td, st.train, cell.term.scope, &twin)) {
+    return winner;
+  }
+  const double b = cell.term.params[0];
+  Fitted out = winner;
+  TermScope other = twin;
+  if (b < 0) {
+    std::vector<TermSpec> terms = winner.terms;
+    terms.back().term.scope = twin;
+    terms.back().term.params = {-b};
+    const Fitted flipped = Fit(st.td, st.train, sd, winner.log_k, terms);
+    if (flipped.usable) {
+      out = flipped;
+      other = cell.term.scope;
+    }
+  }
+  const double m = std::exp(out.terms.back().term.params[0]);
+  char buf[320];
+  std::snprintf(buf, sizeof(buf),
+                " The data cannot tell this from rolls of %s wearing %.2f times the "
+                "prediction: the %s runs in these two places only and its own K "
+                "factor takes up the rest (stated here as the place that wears more).",
+                other.Label().c_str(), 1.0 / m,
+                cell.term.scope.roll_type.empty() ? "grade" : "roll type");
+  *note = buf;
+  return out;
+}
+
 // The first accepted candidate that passes the proxy guard, or -1; the
 // others tried become runners-up (and, when none passes, an inconsistent
 // effect's location is listed as unexplained).
@@ -245,7 +325,7 @@ int GuardedWinner(int round, const Dataset& data, const DiagnosisOptions& option
                   const DiagnosisState& st, const std::vector<double>& sd,
                   const std::vector<int>& accepted, const std::vector<Fitted>& fits,
                   const std::vector<CandidateResult>& results,
-                  DiagnosisReport* report) {
+                  double num_tests, DiagnosisReport* report) {
   if (accepted.empty()) return -1;
   std::vector<double> clip;
   for (int o : st.train) clip.push_back(sd[o]);
@@ -254,7 +334,10 @@ int GuardedWinner(int round, const Dataset& data, const DiagnosisOptions& option
       PredictTerms(st.td, st.train, st.current.log_k, st.current.terms), &clip);
   std::vector<Unexplained> located;
   for (int i : accepted) {
-    const GuardResult g = GuardAgainstProxy(data, st, options, sd, before, fits[i]);
+    GuardResult g;
+    g.reason = NoBetterThanCell(st, sd, accepted, fits, i, num_tests, options);
+    g.pass = g.reason.empty();
+    if (g.pass) g = GuardAgainstProxy(data, st, options, sd, before, fits[i]);
     if (g.pass) return i;
     const CandidateResult& c = results[i];
     report->runners_up.push_back(
@@ -504,13 +587,16 @@ bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
   if (round == 0) RecordFirstRound(cv.order, results, report);
   // The proxy guard, best accepted candidate first.
   const int winner = GuardedWinner(round, data, options, *st, sd, accepted,
-                                   fits, results, report);
+                                   fits, results, screen.num_tests, report);
   phase->Mark("guard");
   if (winner < 0) return false;
 
   // 5. Adopt the winner.
   Finding f = FindingFromTests(cv, results, winner);
-  Fitted adopted = AdoptWinner(*st, sd, fits[winner], &f);
+  std::string twin_note;
+  const Fitted chosen = OrientTwinCell(*st, sd, fits[winner], &twin_note);
+  Fitted adopted = AdoptWinner(*st, sd, chosen, &f);
+  f.explanation += twin_note;
   report->findings.push_back(f);
   phase->Mark("refit");
   used->insert(adopted.terms.back().covariate);

@@ -43,6 +43,7 @@ void Bounds(const ModelTerm& t, std::vector<double>* lo,
       break;
     case TermForm::kOffsetLinear:
     case TermForm::kOffsetPerLevel:
+    case TermForm::kOffsetBinned:
       lo->assign(n, -1000.0);
       hi->assign(n, 1000.0);
       break;

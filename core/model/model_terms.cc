@@ -19,6 +19,7 @@ const char* TermFormName(TermForm f) {
     case TermForm::kCell: return "cell";
     case TermForm::kOffsetDecay: return "offset_decay";
     case TermForm::kOffsetLinear: return "offset_linear";
+    case TermForm::kOffsetBinned: return "offset_binned";
     case TermForm::kOffsetPerLevel: return "offset_per_level";
   }
   return "unknown";
@@ -28,7 +29,8 @@ bool ParseTermForm(const std::string& name, TermForm* out) {
   for (TermForm f : {TermForm::kLogLinear, TermForm::kPower, TermForm::kSaturating,
                      TermForm::kDecaying, TermForm::kFlag, TermForm::kBinned,
                      TermForm::kPerLevel, TermForm::kCell, TermForm::kOffsetDecay,
-                     TermForm::kOffsetLinear, TermForm::kOffsetPerLevel}) {
+                     TermForm::kOffsetLinear, TermForm::kOffsetPerLevel,
+                     TermForm::kOffsetBinned}) {
     if (name == TermFormName(f)) {
       *out = f;
       return true;
@@ -65,7 +67,9 @@ int ModelTerm::NumParams() const {
     case TermForm::kDecaying:
     case TermForm::kOffsetDecay:
       return 2;
-    case TermForm::kBinned: return static_cast<int>(edges.size());
+    case TermForm::kBinned:
+    case TermForm::kOffsetBinned:
+      return static_cast<int>(edges.size());
     case TermForm::kPerLevel:
     case TermForm::kOffsetPerLevel:
       return std::max(0, num_levels - 1);
@@ -141,6 +145,7 @@ double TermMultiplier(const ModelTerm& t, double z, double* grad) {
     case TermForm::kOffsetDecay:
     case TermForm::kOffsetLinear:
     case TermForm::kOffsetPerLevel:
+    case TermForm::kOffsetBinned:
       return 1.0;
   }
   return 1.0;
@@ -166,6 +171,12 @@ double TermOffset(const ModelTerm& t, double z, double* grad) {
     const int j = l < t.reference_level ? l : l - 1;
     if (grad != nullptr) grad[j] = 1.0;
     return p[j];
+  }
+  if (t.form == TermForm::kOffsetBinned) {
+    const int b = TermBin(t, z);
+    if (b == 0) return 0.0;  // the first bin reads as is
+    if (grad != nullptr) grad[b - 1] = 1.0;
+    return p[b - 1];
   }
   if (t.form == TermForm::kOffsetLinear) {
     const double u = (z - t.center) / t.scale;

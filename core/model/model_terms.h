@@ -20,9 +20,13 @@
 //   offset-decay   y = d + A * exp(-z / tau)       tau = exp(q)
 //   offset-linear  y = d + A * (z - c) / s
 //   offset-per-level  y = d + d_l for level l != r of a measurement-side text
-//                  column (r = reference_level, the most frequent in
-//                  training; params in level order without r): a
-//                  second grinder, a gauge, a shift crew reading differently
+//                  column (r = reference_level, chosen by the fit: the
+//                  diagnosis offers every level as reference; params in
+//                  level order without r): a second grinder, a gauge, a
+//                  shift crew reading differently
+//   offset-binned  y = d + A_k in quantile bin k >= 1 of z (bin 0 reads as
+//                  is; edges as the binned form): a gauge that steps or
+//                  drifts unevenly over calendar time (measured_at)
 // A missing covariate value (NaN) leaves the prediction unchanged.
 //
 // Scope (TermScope): a term may be restricted to one stand, one roll
@@ -46,7 +50,7 @@ namespace rollwear {
 
 enum class TermForm {
   kLogLinear, kPower, kSaturating, kDecaying, kFlag, kBinned, kPerLevel, kCell,
-  kOffsetDecay, kOffsetLinear, kOffsetPerLevel,
+  kOffsetDecay, kOffsetLinear, kOffsetPerLevel, kOffsetBinned,
 };
 const char* TermFormName(TermForm f);  // "log_linear", "power", ...
 bool ParseTermForm(const std::string& name, TermForm* out);
@@ -102,7 +106,7 @@ struct ModelTerm {
 
   bool IsMeasurementTerm() const {
     return form == TermForm::kOffsetDecay || form == TermForm::kOffsetLinear ||
-           form == TermForm::kOffsetPerLevel;
+           form == TermForm::kOffsetPerLevel || form == TermForm::kOffsetBinned;
   }
   int NumParams() const;
 };
