@@ -1,5 +1,8 @@
 #include "api/request_encode.h"
 
+#include <map>
+#include <tuple>
+
 #include "api/json_writer.h"
 #include "core/dataset/dataset_io.h"
 
@@ -109,6 +112,50 @@ std::string MeasurementRequest(const Dataset& data, int measurement) {
   w.String(FormatTimestamp(m.measured_at));
   w.Key("wear_center_um");
   w.Double(m.wear_center_um);
+  w.EndObject();
+  return w.Take();
+}
+
+std::vector<std::vector<int>> ProfileGroups(const Dataset& data) {
+  std::map<std::tuple<int, int, int>, size_t> index;
+  std::vector<std::vector<int>> groups;
+  for (size_t i = 0; i < data.profile_points.size(); ++i) {
+    const ProfilePoint& p = data.profile_points[i];
+    const auto [it, fresh] = index.emplace(
+        std::make_tuple(p.campaign, p.stand, static_cast<int>(p.position)),
+        groups.size());
+    if (fresh) groups.emplace_back();
+    groups[it->second].push_back(static_cast<int>(i));
+  }
+  return groups;
+}
+
+std::string ProfileRequest(const Dataset& data, const std::vector<int>& points) {
+  const ProfilePoint& first = data.profile_points[points.front()];
+  JsonWriter w(192 + 48 * points.size());
+  w.BeginObject();
+  w.Key("campaign_id");
+  w.String(data.campaigns[first.campaign].id);
+  w.Key("stand");
+  w.String(StandName(first.stand));
+  w.Key("position");
+  w.String(PositionName(first.position));
+  w.Key("roll_id");
+  w.String(first.roll_id);
+  w.Key("measured_at");
+  w.String(FormatTimestamp(first.measured_at));
+  w.Key("points");
+  w.BeginArray();
+  for (int i : points) {
+    const ProfilePoint& p = data.profile_points[i];
+    w.BeginObject();
+    w.Key("x_mm");
+    w.Double(p.x_mm);
+    w.Key("wear_um");
+    w.Double(p.wear_um);
+    w.EndObject();
+  }
+  w.EndArray();
   w.EndObject();
   return w.Take();
 }

@@ -17,7 +17,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/base/status.h"
 #include "core/dataset/dataset.h"
+#include "core/model/wear_model.h"
 
 namespace rollwear::e2e {
 
@@ -109,6 +111,10 @@ std::map<std::string, double> ScrapeMetrics(const std::string& url);
 // Simulates a dataset into `dir` (rollwear simulate --campaigns N).
 bool Simulate(const std::string& dir, int campaigns, int seed,
               std::string* error);
+
+// The wear model of a model answer (GET /v1/models/active): its law,
+// option and coefficients (1 where one is missing) on `data`'s structure.
+StatusOr<WearModel> ModelOfAnswer(const Dataset& data, const json& model);
 
 // Predicted centre wear of each (campaign, stand, position) of `data`
 // under the coefficients of a model answer (GET /v1/models/active), as a
