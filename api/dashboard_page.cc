@@ -423,6 +423,7 @@ std::string DashboardHtml(const DashboardData& d) {
   h += "<main><div class=\"col\">\n" + RollsSection(d) +
        CalibrationsSection(d) + DiagnosisSection(d) +
        "</div>\n<div class=\"col\">\n" + GrowthSection(d) + ParitySection(d) +
+       DashboardProfileSection(d) +
        "</div></main>\n</div>\n";
   h += "<div style=\"position:fixed;right:12px;top:8px\"><span id=\"stale\" "
        "hidden>"
