@@ -44,7 +44,7 @@ std::string RollName(int stand, const std::string& position) {
 PlotSpec ProfilePanel(const std::string& title, int columns) {
   PlotSpec spec;
   spec.title = title;
-  spec.x_label = "x from barrel centre (mm), + drive side";
+  spec.x_label = "x (mm), + drive side";
   spec.y_label = "wear (µm)";
   spec.width = 830 / columns;
   spec.height = 250;
@@ -125,7 +125,6 @@ std::string MeasuredPanel(const DashboardMeasuredProfile& p, int columns) {
       Data("predicted-um", p.calibrated ? Numbers(p.predicted_um) : "") + ">";
   PlotSpec spec = ProfilePanel(
       p.campaign_id + " " + RollName(p.stand, p.position), columns);
-  spec.legend = PlotSpec::Legend::kTopLeft;
   PlotSeries measured =
       PlotSeries::Make("measured", "#d62728", PlotSeries::Style::kPoints);
   measured.x = p.x_mm;
@@ -151,7 +150,8 @@ std::string MeasuredPanel(const DashboardMeasuredProfile& p, int columns) {
 
 std::string MeasuredProfiles(const DashboardData& d) {
   std::string s = "<h3>Measured against predicted profiles, last ended "
-                  "campaigns <small>grinder points, active model</small>"
+                  "campaigns <small>red points: the grinder's; blue line: "
+                  "the active model's prediction</small>"
                   "</h3>\n";
   if (d.measured_profiles.empty()) {
     return s + "<p class=\"empty\">No grinder profile of an ended campaign "

@@ -231,6 +231,7 @@ void ExpectMeasuredProfilesAsOffline(const std::string& url,
     measured.push_back(r.measured_um);
     predicted.push_back(r.predicted_um);
   }
+  ASSERT_GE(expected.size(), 2u);
   const auto panels = DivsOf(dom, "measured-profile");
   ASSERT_EQ(panels.size(), expected.size()) << dom.substr(0, 4000);
   for (const auto& a : panels) {
