@@ -7,6 +7,25 @@
 #include "core/dataset/dataset_io.h"
 
 namespace rollwear::api {
+namespace {
+
+// The members a grinder's measurement and profile share: their key, roll
+// and time.
+template <typename Grinder>
+void WriteMeasuredRoll(const Dataset& data, const Grinder& g, JsonWriter* w) {
+  w->Key("campaign_id");
+  w->String(data.campaigns[g.campaign].id);
+  w->Key("stand");
+  w->String(StandName(g.stand));
+  w->Key("position");
+  w->String(PositionName(g.position));
+  w->Key("roll_id");
+  w->String(g.roll_id);
+  w->Key("measured_at");
+  w->String(FormatTimestamp(g.measured_at));
+}
+
+}  // namespace
 
 std::string RollChangeRequest(const Dataset& data, int campaign,
                               const std::vector<int>& mounts) {
@@ -100,16 +119,7 @@ std::string MeasurementRequest(const Dataset& data, int measurement) {
   const Measurement& m = data.measurements[measurement];
   JsonWriter w(192);
   w.BeginObject();
-  w.Key("campaign_id");
-  w.String(data.campaigns[m.campaign].id);
-  w.Key("stand");
-  w.String(StandName(m.stand));
-  w.Key("position");
-  w.String(PositionName(m.position));
-  w.Key("roll_id");
-  w.String(m.roll_id);
-  w.Key("measured_at");
-  w.String(FormatTimestamp(m.measured_at));
+  WriteMeasuredRoll(data, m, &w);
   w.Key("wear_center_um");
   w.Double(m.wear_center_um);
   w.EndObject();
@@ -134,16 +144,7 @@ std::string ProfileRequest(const Dataset& data, const std::vector<int>& points) 
   const ProfilePoint& first = data.profile_points[points.front()];
   JsonWriter w(192 + 48 * points.size());
   w.BeginObject();
-  w.Key("campaign_id");
-  w.String(data.campaigns[first.campaign].id);
-  w.Key("stand");
-  w.String(StandName(first.stand));
-  w.Key("position");
-  w.String(PositionName(first.position));
-  w.Key("roll_id");
-  w.String(first.roll_id);
-  w.Key("measured_at");
-  w.String(FormatTimestamp(first.measured_at));
+  WriteMeasuredRoll(data, first, &w);
   w.Key("points");
   w.BeginArray();
   for (int i : points) {

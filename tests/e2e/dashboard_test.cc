@@ -14,14 +14,12 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
 #include <regex>
 #include <sstream>
-#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -74,16 +72,6 @@ int RunChromium(const std::string& profile,
   while ((n = fread(buf, 1, sizeof(buf), pipe)) > 0) out->append(buf, n);
   const int status = pclose(pipe);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-json WaitFor(const std::string& url, const std::string& path) {
-  json body;
-  for (int i = 0; i < 3000; ++i) {
-    if (HttpGet(url, path, &body) != 200) return body;
-    if (body["status"] == "done" || body["status"] == "failed") return body;
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  return body;
 }
 
 struct PageRoll {
@@ -272,7 +260,7 @@ TEST(DashboardTest, ChromiumShowsTheMountedRollsWithTheApisNumbers) {
   json answer;
   ASSERT_EQ(HttpPost(daemon.url(), "/v1/calibrations", "{}", &answer), 202);
   const int64_t calibration_id = answer["id"].get<int64_t>();
-  const json calibration = WaitFor(
+  const json calibration = WaitForJob(
       daemon.url(), "/v1/calibrations/" + std::to_string(calibration_id));
   ASSERT_EQ(calibration["status"], "done") << calibration.dump();
   // Promoted with a profile shape fitted on the replayed grinder profiles.
@@ -280,7 +268,7 @@ TEST(DashboardTest, ChromiumShowsTheMountedRollsWithTheApisNumbers) {
   ASSERT_EQ(HttpPost(daemon.url(), "/v1/diagnoses", "{}", &answer), 202);
   const int64_t diagnosis_id = answer["id"].get<int64_t>();
   const json diagnosis =
-      WaitFor(daemon.url(), "/v1/diagnoses/" + std::to_string(diagnosis_id));
+      WaitForJob(daemon.url(), "/v1/diagnoses/" + std::to_string(diagnosis_id));
   ASSERT_EQ(diagnosis["status"], "done") << diagnosis.dump().substr(0, 2000);
 
   json wear;

@@ -238,6 +238,20 @@ std::map<std::string, double> ScrapeMetrics(const std::string& url) {
   return out;
 }
 
+json WaitForJob(const std::string& url, const std::string& path,
+                double timeout_s) {
+  const auto deadline =
+      std::chrono::steady_clock::now() +
+      std::chrono::milliseconds(static_cast<int64_t>(timeout_s * 1000));
+  json body;
+  while (HttpGet(url, path, &body) == 200 && body.value("status", "") != "done" &&
+         body.value("status", "") != "failed" &&
+         std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return body;
+}
+
 bool Simulate(const std::string& dir, int campaigns, int seed,
               std::string* error) {
   std::string output;

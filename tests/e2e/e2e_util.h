@@ -104,6 +104,11 @@ int HttpGet(const std::string& url, const std::string& path, json* body);
 int HttpPost(const std::string& url, const std::string& path,
              const std::string& body, json* answer,
              const std::string& token = "");
+// GETs `path` (a job: a calibration or a diagnosis) every 100 ms until its
+// "status" is "done" or "failed", an answer is not 200, or `timeout_s`
+// passed; returns the last answer.
+json WaitForJob(const std::string& url, const std::string& path,
+                double timeout_s = 300);
 // Plain-number samples of GET /metrics without labels ("rollwear_coils_stored"
 // -> 1234).
 std::map<std::string, double> ScrapeMetrics(const std::string& url);

@@ -8,10 +8,9 @@
 // the uncalibrated shape (g = 1), then under the model and shape the
 // daemon's own calibration fitted on the replayed profiles. (kill -9 after
 // acknowledged profiles: profile_crash_test.cc.)
-#include <chrono>
+#include <algorithm>
 #include <cmath>
 #include <string>
-#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -136,19 +135,9 @@ TEST(ProfileReplayTest, ServedProfilesEqualTheOfflinePredictionAfterReplay) {
   json queued;
   ASSERT_EQ(HttpPost(daemon.url(), "/v1/calibrations", "{}", &queued), 202)
       << queued.dump();
-  const int64_t id = queued.at("id").get<int64_t>();
-  json record;
-  const auto deadline =
-      std::chrono::steady_clock::now() + std::chrono::seconds(300);
-  for (;;) {
-    ASSERT_EQ(HttpGet(daemon.url(), "/v1/calibrations/" + std::to_string(id),
-                      &record),
-              200);
-    const std::string status = record.value("status", "");
-    if (status == "done" || status == "failed") break;
-    ASSERT_LT(std::chrono::steady_clock::now(), deadline) << record.dump();
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
+  const json record = WaitForJob(
+      daemon.url(),
+      "/v1/calibrations/" + std::to_string(queued.at("id").get<int64_t>()));
   ASSERT_EQ(record.at("status"), "done") << record.dump();
   ASSERT_TRUE(record.at("promoted").get<bool>()) << record.dump();
 
