@@ -67,10 +67,9 @@ PlotSeries Line(const char* color, const std::vector<double>& x,
 // note that it has no profile model yet.
 std::string MountedPanel(const DashboardRoll& r, int index, int columns,
                          std::string* uncalibrated) {
-  std::string div = "<div class=\"roll-profile\"" +
-                    Data("stand", std::to_string(r.stand)) +
-                    Data("position", r.position) +
-                    Data("shape", r.profile_shape);
+  std::string div =
+      "<div class=\"roll-profile\"" + Data("stand", std::to_string(r.stand)) +
+      Data("position", r.position) + Data("shape", r.profile_shape);
   if (r.profile_shape != "calibrated") {
     if (!uncalibrated->empty()) *uncalibrated += ", ";
     *uncalibrated += RollName(r.stand, r.position);
@@ -80,9 +79,8 @@ std::string MountedPanel(const DashboardRoll& r, int index, int columns,
          Data("wear-um", Numbers(r.profile_wear_um)) +
          Data("lo-um", Numbers(r.profile_lo_um)) +
          Data("hi-um", Numbers(r.profile_hi_um)) + ">";
-  PlotSpec spec = ProfilePanel(RollName(r.stand, r.position) + " " +
-                                   r.roll_id,
-                               columns);
+  PlotSpec spec =
+      ProfilePanel(RollName(r.stand, r.position) + " " + r.roll_id, columns);
   const char* color = PaletteColor(index);
   spec.series.push_back(Line(color, r.profile_x_mm, r.profile_lo_um, 0.35));
   spec.series.push_back(Line(color, r.profile_x_mm, r.profile_hi_um, 0.35));
@@ -95,11 +93,12 @@ std::string MountedProfiles(const DashboardData& d) {
   const int columns =
       std::clamp(static_cast<int>(d.rolls.size()), 1, kProfileColumns);
   for (size_t i = 0; i < d.rolls.size(); ++i) {
-    panels += MountedPanel(d.rolls[i], static_cast<int>(i), columns,
-                           &uncalibrated);
+    panels +=
+        MountedPanel(d.rolls[i], static_cast<int>(i), columns, &uncalibrated);
   }
-  std::string s = "<h3>Predicted profile of each mounted roll <small>active "
-                  "model; thin lines: 95 % interval</small></h3>\n";
+  std::string s =
+      "<h3>Predicted profile of each mounted roll <small>active "
+      "model; thin lines: 95 % interval</small></h3>\n";
   if (d.rolls.empty()) {
     return s + "<p class=\"empty\">No roll mounted.</p>\n";
   }
@@ -112,8 +111,7 @@ std::string MountedProfiles(const DashboardData& d) {
          "calibrate).</p>\n";
   }
   return s + "<div class=\"grid\" style=\"grid-template-columns:repeat(" +
-         std::to_string(columns) + ",minmax(0,1fr))\">\n" + panels +
-         "</div>\n";
+         std::to_string(columns) + ",minmax(0,1fr))\">\n" + panels + "</div>\n";
 }
 
 std::string MeasuredPanel(const DashboardMeasuredProfile& p, int columns) {
@@ -149,13 +147,15 @@ std::string MeasuredPanel(const DashboardMeasuredProfile& p, int columns) {
 }
 
 std::string MeasuredProfiles(const DashboardData& d) {
-  std::string s = "<h3>Measured against predicted profiles, last ended "
-                  "campaigns <small>red points: the grinder's; blue line: "
-                  "the active model's prediction</small>"
-                  "</h3>\n";
+  std::string s =
+      "<h3>Measured against predicted profiles, last ended "
+      "campaigns <small>red points: the grinder's; blue line: "
+      "the active model's prediction</small>"
+      "</h3>\n";
   if (d.measured_profiles.empty()) {
-    return s + "<p class=\"empty\">No grinder profile of an ended campaign "
-               "yet.</p>\n";
+    return s +
+           "<p class=\"empty\">No grinder profile of an ended campaign "
+           "yet.</p>\n";
   }
   const bool calibrated = d.measured_profiles.front().calibrated;
   if (!calibrated) {

@@ -96,11 +96,11 @@ TEST(ProfileReplayTest, ServedProfilesEqualTheOfflinePredictionAfterReplay) {
   TempDir dir;
   std::string out, err;
   const int campaigns = test_size::FullOr(40, 16);
-  ASSERT_EQ(RunRollwear({"simulate", "--out", dir / "d", "--campaigns",
-                         std::to_string(campaigns), "--seed", "11",
-                         "--profiles"},
-                        &out, &err),
-            0)
+  ASSERT_EQ(
+      RunRollwear({"simulate", "--out", dir / "d", "--campaigns",
+                   std::to_string(campaigns), "--seed", "11", "--profiles"},
+                  &out, &err),
+      0)
       << out << err;
   StatusOr<Dataset> read = ReadDataset(dir / "d");
   ASSERT_TRUE(read.ok()) << read.status().message();

@@ -38,7 +38,8 @@ ProfileIn Profile(const std::string& campaign, int stand, Position p,
   return in;
 }
 
-TEST(StoreProfileReadTest, NewestEndedCampaignsWithTheLiveProfileAtTheirPoints) {
+TEST(StoreProfileReadTest,
+     NewestEndedCampaignsWithTheLiveProfileAtTheirPoints) {
   TempDir dir;
   auto store = OpenStore(dir.File("mill.db"));
   ASSERT_NE(store, nullptr);
@@ -47,17 +48,16 @@ TEST(StoreProfileReadTest, NewestEndedCampaignsWithTheLiveProfileAtTheirPoints) 
   for (int c = 1; c <= 2; ++c) {
     const std::string id = "C" + std::to_string(c);
     const UnixSeconds start = kStart + c * 86'400;
-    ASSERT_TRUE(
-        store->ApplyRollChange(MakeRollChange(id, start, id)).ok());
+    ASSERT_TRUE(store->ApplyRollChange(MakeRollChange(id, start, id)).ok());
     for (int i = 1; i <= 6; ++i) {
       ASSERT_TRUE(store
                       ->AddCoil(MakeCoil(id + "K" + std::to_string(i), id, i,
                                          i + 3 * c))
                       .ok());
     }
-    StatusOr<ProfileWear> p =
-        c == 1 ? store->WearProfileAt(6, Position::kTop)
-               : store->WearProfileAt(7, Position::kBottom);
+    StatusOr<ProfileWear> p = c == 1
+                                  ? store->WearProfileAt(6, Position::kTop)
+                                  : store->WearProfileAt(7, Position::kBottom);
     ASSERT_TRUE(p.ok()) << p.status().ToString();
     live.push_back(*p);
     ASSERT_TRUE(store->EndCampaign(id, start + 43'200).ok());
@@ -86,7 +86,8 @@ TEST(StoreProfileReadTest, NewestEndedCampaignsWithTheLiveProfileAtTheirPoints) 
     ASSERT_EQ(m.x_mm.size(), 5u);
     EXPECT_EQ(m.measured_um[3], 30.5);
     for (size_t i = 0; i < m.x_mm.size(); ++i) {
-      const double expected = grid.Interpolate(at_end.profile.wear_um, m.x_mm[i]);
+      const double expected =
+          grid.Interpolate(at_end.profile.wear_um, m.x_mm[i]);
       // The coils' strips cover x = -300..317, not +-600 (no wear there).
       if (std::abs(m.x_mm[i]) < 500) {
         EXPECT_GT(expected, 1) << m.campaign_id << " x " << m.x_mm[i];
