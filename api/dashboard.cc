@@ -1,6 +1,7 @@
 // GET /: gathers what the pulpit's dashboard shows from the store (wear of
-// the mounted rolls, the open campaign's wear history, the last measured
-// campaigns under the active model, the last calibrations) and from the
+// the mounted rolls and their profiles across the barrel, the open
+// campaign's wear history, the last measured campaigns and grinder profiles
+// under the active model, the last calibrations) and from the
 // router's diagnosis jobs (the latest finished diagnosis), and renders it
 // with api/dashboard_page.h. Part of Router (api/router.h).
 #include <cmath>
@@ -19,6 +20,8 @@ namespace {
 
 // Ended, measured campaigns behind the parity plots.
 constexpr int kParityCampaigns = 20;
+// Ended campaigns with grinder profiles drawn (measured vs predicted).
+constexpr int kProfileCampaigns = 2;
 // Calibration runs listed.
 constexpr int kCalibrationRows = 5;
 // Diagnosis jobs looked back through for the latest finished one
@@ -108,8 +111,29 @@ HttpResponse Router::GetDashboard() {
       r.remaining_lo_m = p.remaining->length_lo_m;
       r.remaining_hi_m = p.remaining->length_hi_m;
     }
+    // The profile as GET .../profile serves it (none when it errs).
+    StatusOr<storage::ProfileWear> profile =
+        store_->WearProfileAt(p.stand, p.position);
+    if (profile.ok()) {
+      r.profile_shape = profile->shape ? "calibrated" : "uncalibrated";
+      r.profile_x_mm = std::move(profile->profile.x_mm);
+      r.profile_wear_um = std::move(profile->profile.wear_um);
+      r.profile_lo_um = std::move(profile->profile.lo_um);
+      r.profile_hi_um = std::move(profile->profile.hi_um);
+    }
     d.campaign_id = p.campaign_id;
     d.rolls.push_back(std::move(r));
+  }
+
+  StatusOr<std::vector<storage::MeasuredProfile>> profiles =
+      store_->RecentProfiles(kProfileCampaigns);
+  if (profiles.ok()) {
+    for (storage::MeasuredProfile& m : *profiles) {
+      d.measured_profiles.push_back(DashboardMeasuredProfile{
+          m.stand, PositionName(m.position), m.campaign_id, m.roll_id,
+          m.calibrated, std::move(m.x_mm), std::move(m.measured_um),
+          std::move(m.predicted_um)});
+    }
   }
 
   StatusOr<std::vector<storage::CampaignWearHistory>> history =

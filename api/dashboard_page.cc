@@ -83,6 +83,8 @@ section{background:#fff;border:1px solid #cfd6dd;border-radius:4px;
  padding:6px 10px 8px}
 h2{font-size:14px;margin:0 0 4px;color:#2b3a4a}
 h2 small{font-weight:normal;color:#5a6672}
+h3{font-size:13px;margin:6px 0 3px;color:#2b3a4a}
+h3 small{font-weight:normal;color:#5a6672}
 table{border-collapse:collapse;width:100%}
 th{font-size:12px;font-weight:bold;color:#4a5561;text-align:right;
  border-bottom:1px solid #bfc7cf;padding:2px 5px}
@@ -423,6 +425,7 @@ std::string DashboardHtml(const DashboardData& d) {
   h += "<main><div class=\"col\">\n" + RollsSection(d) +
        CalibrationsSection(d) + DiagnosisSection(d) +
        "</div>\n<div class=\"col\">\n" + GrowthSection(d) + ParitySection(d) +
+       DashboardProfileSection(d) +
        "</div></main>\n</div>\n";
   h += "<div style=\"position:fixed;right:12px;top:8px\"><span id=\"stale\" "
        "hidden>"

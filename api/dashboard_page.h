@@ -22,6 +22,22 @@
 // forecast line from its current wear to its limit ("F6 top to limit": the
 // campaign's mix so far, as GET /v1/wear's remaining_length_m).
 //
+// The profile section (api/dashboard_profile.cc) draws each mounted roll's
+// predicted wear across the barrel with its 95 % interval (GET /v1/wear/
+// {stand}/{position}/profile's numbers), and the measured against predicted
+// profiles of the last ended campaigns with grinder profiles. Each mounted
+// roll's panel carries
+//   class="roll-profile" data-stand="6" data-position="top"
+//   data-shape="calibrated" data-x-mm="x0 x1 ..." data-wear-um="..."
+//   data-lo-um="..." data-hi-um="..."
+// (space-separated, 9 significant digits); a roll without a calibrated
+// profile shape ("uncalibrated") gets data-shape="uncalibrated", no numbers
+// and no curve, and the page says it has no profile model yet. A measured
+// profile's panel carries class="measured-profile", data-campaign-id,
+// data-stand, data-position, data-x-mm, data-measured-um and
+// data-predicted-um (empty, and no predicted line, when the model has no
+// profile shape).
+//
 // Pure: takes plain values and returns a string (no clock, no I/O).
 // Thread-safety: DashboardHtml is a pure function.
 #ifndef ROLLWEAR_API_DASHBOARD_PAGE_H_
@@ -55,6 +71,27 @@ struct DashboardRoll {
   std::optional<double> remaining_coils;
   std::optional<double> remaining_lo_m;
   std::optional<double> remaining_hi_m;  // empty also when unbounded
+  // The predicted profile across the barrel (GET .../profile): its shape
+  // state ("calibrated", "uncalibrated"; "" when the daemon has none for
+  // this roll) and per slice x, wear and the interval.
+  std::string profile_shape;
+  std::vector<double> profile_x_mm;
+  std::vector<double> profile_wear_um;
+  std::vector<double> profile_lo_um;
+  std::vector<double> profile_hi_um;
+};
+
+// A grinder profile of a recent ended campaign with the active model's
+// prediction at its points (MillStore::RecentProfiles).
+struct DashboardMeasuredProfile {
+  int stand = 0;
+  std::string position;  // "top" / "bottom"
+  std::string campaign_id;
+  std::string roll_id;
+  bool calibrated = false;  // false: the prediction is not drawn
+  std::vector<double> x_mm;
+  std::vector<double> measured_um;
+  std::vector<double> predicted_um;
 };
 
 // One measured roll of a recent ended campaign.
@@ -113,11 +150,17 @@ struct DashboardData {
   // expected grinder reading, not the wear alone.
   bool parity_reading_terms = false;
   std::vector<DashboardCalibration> calibrations;  // newest first
+  // Grinder profiles of the last ended campaigns that have one, newest
+  // campaign first.
+  std::vector<DashboardMeasuredProfile> measured_profiles;
   std::optional<DashboardFinding> diagnosis;
   int refresh_seconds = 15;
 };
 
 std::string DashboardHtml(const DashboardData& data);
+
+// The profile section of DashboardHtml (api/dashboard_profile.cc).
+std::string DashboardProfileSection(const DashboardData& data);
 
 }  // namespace rollwear
 

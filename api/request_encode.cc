@@ -1,9 +1,31 @@
 #include "api/request_encode.h"
 
+#include <map>
+#include <tuple>
+
 #include "api/json_writer.h"
 #include "core/dataset/dataset_io.h"
 
 namespace rollwear::api {
+namespace {
+
+// The members a grinder's measurement and profile share: their key, roll
+// and time.
+template <typename Grinder>
+void WriteMeasuredRoll(const Dataset& data, const Grinder& g, JsonWriter* w) {
+  w->Key("campaign_id");
+  w->String(data.campaigns[g.campaign].id);
+  w->Key("stand");
+  w->String(StandName(g.stand));
+  w->Key("position");
+  w->String(PositionName(g.position));
+  w->Key("roll_id");
+  w->String(g.roll_id);
+  w->Key("measured_at");
+  w->String(FormatTimestamp(g.measured_at));
+}
+
+}  // namespace
 
 std::string RollChangeRequest(const Dataset& data, int campaign,
                               const std::vector<int>& mounts) {
@@ -97,18 +119,44 @@ std::string MeasurementRequest(const Dataset& data, int measurement) {
   const Measurement& m = data.measurements[measurement];
   JsonWriter w(192);
   w.BeginObject();
-  w.Key("campaign_id");
-  w.String(data.campaigns[m.campaign].id);
-  w.Key("stand");
-  w.String(StandName(m.stand));
-  w.Key("position");
-  w.String(PositionName(m.position));
-  w.Key("roll_id");
-  w.String(m.roll_id);
-  w.Key("measured_at");
-  w.String(FormatTimestamp(m.measured_at));
+  WriteMeasuredRoll(data, m, &w);
   w.Key("wear_center_um");
   w.Double(m.wear_center_um);
+  w.EndObject();
+  return w.Take();
+}
+
+std::vector<std::vector<int>> ProfileGroups(const Dataset& data) {
+  std::map<std::tuple<int, int, int>, size_t> index;
+  std::vector<std::vector<int>> groups;
+  for (size_t i = 0; i < data.profile_points.size(); ++i) {
+    const ProfilePoint& p = data.profile_points[i];
+    const auto [it, fresh] = index.emplace(
+        std::make_tuple(p.campaign, p.stand, static_cast<int>(p.position)),
+        groups.size());
+    if (fresh) groups.emplace_back();
+    groups[it->second].push_back(static_cast<int>(i));
+  }
+  return groups;
+}
+
+std::string ProfileRequest(const Dataset& data, const std::vector<int>& points) {
+  const ProfilePoint& first = data.profile_points[points.front()];
+  JsonWriter w(192 + 48 * points.size());
+  w.BeginObject();
+  WriteMeasuredRoll(data, first, &w);
+  w.Key("points");
+  w.BeginArray();
+  for (int i : points) {
+    const ProfilePoint& p = data.profile_points[i];
+    w.BeginObject();
+    w.Key("x_mm");
+    w.Double(p.x_mm);
+    w.Key("wear_um");
+    w.Double(p.wear_um);
+    w.EndObject();
+  }
+  w.EndArray();
   w.EndObject();
   return w.Take();
 }

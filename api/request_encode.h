@@ -1,6 +1,6 @@
 // Request bodies of the HTTP contract (../shared/api.md) for the events of
 // a dataset: the roll change that opens a campaign, a coil with its passes,
-// a campaign end and a grinder measurement. One definition of the request
+// a campaign end, a grinder measurement and a grinder profile. One definition of the request
 // shapes for every client this project ships: `rollwear replay`, the load
 // bench and the end-to-end tests.
 //
@@ -26,6 +26,14 @@ std::string CoilRequest(const Dataset& data, const std::vector<int>& passes);
 std::string CampaignEndRequest(const Dataset& data, int campaign);
 // POST /v1/measurements for data.measurements[measurement].
 std::string MeasurementRequest(const Dataset& data, int measurement);
+// The grinder profiles of `data`: data.profile_points grouped by
+// (campaign, stand, position), each group's point indices in file order,
+// the groups in order of their first point.
+std::vector<std::vector<int>> ProfileGroups(const Dataset& data);
+// POST /v1/profiles for one profile; `points` indexes data.profile_points
+// (one group of ProfileGroups; not empty). Its ids and measured_at are the
+// first point's.
+std::string ProfileRequest(const Dataset& data, const std::vector<int>& points);
 
 }  // namespace rollwear::api
 

@@ -4,9 +4,11 @@
 // Plays a dataset folder through the HTTP API in time order, as the mill's
 // Level 2 system and the roll shop would: for each campaign (by start) the
 // roll change, its coils (by seq), the campaign end; each measurement once
-// its campaign has ended and its measured_at has come. Roll changes and
-// campaign ends are barriers; coils and measurements in between go out on N
-// concurrent keep-alive clients. --speed X paces events at X times the
+// its campaign has ended and its measured_at has come; each grinder profile
+// (profiles.csv, when the dataset has one) likewise, after the measurements
+// due at the same moment, profiles in the data's order (POST /v1/profiles).
+// Roll changes and campaign ends are barriers; coils, measurements and
+// profiles in between go out on N concurrent keep-alive clients. --speed X paces events at X times the
 // dataset's own clock (0 = as fast as possible). Connection errors and 5xx
 // answers other than 500 are retried for --retry-for seconds: every POST
 // has an idempotency key, so a retry of a request whose answer was lost is
@@ -16,7 +18,7 @@
 // running?"), and a 401 (a missing or wrong token). Prints progress every second, optionally
 // the current wear (GET /v1/wear) every --show-wear seconds, and a summary.
 // --leave-last-open leaves the last campaign running (no end, no
-// measurements), so that its rolls stay mounted and GET /v1/wear shows them.
+// measurements, no profiles), so that its rolls stay mounted and GET /v1/wear shows them.
 // Exit status 0 only when every event was accepted (2xx).
 #include <algorithm>
 #include <atomic>
@@ -47,12 +49,15 @@ namespace {
 using Json = nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
-enum class Kind { kRollChange, kCoil, kEnd, kMeasurement };
+enum class Kind { kRollChange, kCoil, kEnd, kMeasurement, kProfile };
+constexpr int kKinds = 5;
 
 struct Event {
   Kind kind;
   UnixSeconds at;
-  int index;  // campaign (roll change, end), coil, or measurement index
+  // campaign (roll change, end), coil, measurement, or profile (index into
+  // Requests' profile groups)
+  int index;
 };
 
 std::string UrlEncode(const std::string& s) {
@@ -73,7 +78,8 @@ std::string UrlEncode(const std::string& s) {
 // The dataset as requests.
 class Requests {
  public:
-  explicit Requests(const Dataset& d) : d_(d) {
+  explicit Requests(const Dataset& d)
+      : d_(d), profiles_(api::ProfileGroups(d)) {
     mounts_of_.resize(d.campaigns.size());
     for (size_t i = 0; i < d.mounts.size(); ++i) {
       mounts_of_[d.mounts[i].campaign].push_back(static_cast<int>(i));
@@ -84,8 +90,11 @@ class Requests {
     }
   }
 
+  int profiles() const { return static_cast<int>(profiles_.size()); }
+
   // Events in replay order (see the file comment). With `leave_last_open`
-  // the last campaign gets no end and its measurements are left out.
+  // the last campaign gets no end and its measurements and profiles are
+  // left out.
   std::vector<Event> Timeline(bool leave_last_open) const {
     std::vector<int> order(d_.campaigns.size());
     for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
@@ -98,40 +107,22 @@ class Requests {
       coils_of[d_.passes[passes_of_[k][0]].campaign].push_back(
           static_cast<int>(k));
     }
-    std::vector<int> measurements(d_.measurements.size());
-    for (size_t i = 0; i < measurements.size(); ++i) {
-      measurements[i] = static_cast<int>(i);
-    }
-    std::stable_sort(measurements.begin(), measurements.end(),
-                     [&](int a, int b) {
-                       return d_.measurements[a].measured_at <
-                              d_.measurements[b].measured_at;
-                     });
+    // The grinder's events (measurements, then profiles) by measured_at.
+    const std::vector<Event> measured = GrinderEvents();
     std::vector<char> ended(d_.campaigns.size(), 0);
     std::vector<Event> out;
     size_t next_m = 0;
-    std::vector<int> waiting;  // measurements due before their campaign ended
+    std::vector<Event> waiting;  // due before their campaign ended
     auto flush = [&](UnixSeconds until) {
-      // Measurements due by `until` whose campaign has ended.
-      std::vector<int> still;
-      for (int m : waiting) {
-        if (ended[d_.measurements[m].campaign]) {
-          out.push_back(
-              {Kind::kMeasurement, d_.measurements[m].measured_at, m});
-        } else {
-          still.push_back(m);
-        }
+      // Grinder events due by `until` whose campaign has ended.
+      std::vector<Event> still;
+      for (const Event& m : waiting) {
+        (ended[CampaignOf(m)] ? out : still).push_back(m);
       }
       waiting.swap(still);
-      while (next_m < measurements.size() &&
-             d_.measurements[measurements[next_m]].measured_at <= until) {
-        const int m = measurements[next_m++];
-        if (ended[d_.measurements[m].campaign]) {
-          out.push_back(
-              {Kind::kMeasurement, d_.measurements[m].measured_at, m});
-        } else {
-          waiting.push_back(m);
-        }
+      while (next_m < measured.size() && measured[next_m].at <= until) {
+        const Event& m = measured[next_m++];
+        (ended[CampaignOf(m)] ? out : waiting).push_back(m);
       }
     };
     for (int c : order) {
@@ -167,6 +158,8 @@ class Requests {
         return "/v1/campaigns/" + UrlEncode(d_.campaigns[e.index].id) + "/end";
       case Kind::kMeasurement:
         return "/v1/measurements";
+      case Kind::kProfile:
+        return "/v1/profiles";
     }
     return "/";
   }
@@ -181,19 +174,47 @@ class Requests {
         return api::CampaignEndRequest(d_, e.index);
       case Kind::kMeasurement:
         return api::MeasurementRequest(d_, e.index);
+      case Kind::kProfile:
+        return api::ProfileRequest(d_, profiles_[e.index]);
     }
     return "{}";
   }
 
  private:
+  // Measurements and profiles as events, stably sorted by measured_at:
+  // measurements in file order, then profiles in the data's order.
+  std::vector<Event> GrinderEvents() const {
+    std::vector<Event> out;
+    for (size_t i = 0; i < d_.measurements.size(); ++i) {
+      out.push_back({Kind::kMeasurement, d_.measurements[i].measured_at,
+                     static_cast<int>(i)});
+    }
+    for (size_t i = 0; i < profiles_.size(); ++i) {
+      out.push_back({Kind::kProfile,
+                     d_.profile_points[profiles_[i].front()].measured_at,
+                     static_cast<int>(i)});
+    }
+    std::stable_sort(out.begin(), out.end(),
+                     [](const Event& a, const Event& b) { return a.at < b.at; });
+    return out;
+  }
+
+  // The campaign of a measurement or profile event.
+  int CampaignOf(const Event& e) const {
+    return e.kind == Kind::kMeasurement
+               ? d_.measurements[e.index].campaign
+               : d_.profile_points[profiles_[e.index].front()].campaign;
+  }
+
   const Dataset& d_;
   std::vector<std::vector<int>> mounts_of_;
   std::vector<std::vector<int>> passes_of_;
+  std::vector<std::vector<int>> profiles_;  // api::ProfileGroups
 };
 
 struct Counters {
-  std::atomic<int64_t> sent[4] = {};      // by Kind: accepted (2xx)
-  std::atomic<int64_t> repeated[4] = {};  // of which 200 on a repeat
+  std::atomic<int64_t> sent[kKinds] = {};      // by Kind: accepted (2xx)
+  std::atomic<int64_t> repeated[kKinds] = {};  // of which 200 on a repeat
   std::atomic<int64_t> conflicts{0};
   std::atomic<int64_t> errors{0};
   std::atomic<int64_t> retries{0};
@@ -440,13 +461,14 @@ void PrintSummary(const Counters& counters, double seconds,
   const double rate = seconds > 0 ? coils / seconds : 0;
   std::printf(
       "replay: %lld coils (%lld repeated), %lld roll changes, %lld campaign "
-      "ends, %lld measurements in %.2f s: %.0f coils/s; %lld conflicts, %lld "
-      "errors, %lld retries\n",
+      "ends, %lld measurements, %lld profiles in %.2f s: %.0f coils/s; %lld "
+      "conflicts, %lld errors, %lld retries\n",
       static_cast<long long>(coils),
       static_cast<long long>(counters.repeated[1].load()),
       static_cast<long long>(counters.sent[0].load()),
       static_cast<long long>(counters.sent[2].load()),
-      static_cast<long long>(counters.sent[3].load()), seconds, rate,
+      static_cast<long long>(counters.sent[3].load()),
+      static_cast<long long>(counters.sent[4].load()), seconds, rate,
       static_cast<long long>(counters.conflicts.load()),
       static_cast<long long>(counters.errors.load()),
       static_cast<long long>(counters.retries.load()));
@@ -457,6 +479,7 @@ void PrintSummary(const Counters& counters, double seconds,
                        {"roll_changes", counters.sent[0].load()},
                        {"campaign_ends", counters.sent[2].load()},
                        {"measurements", counters.sent[3].load()},
+                       {"profiles", counters.sent[4].load()},
                        {"conflicts", counters.conflicts.load()},
                        {"errors", counters.errors.load()},
                        {"retries", counters.retries.load()},
@@ -496,10 +519,11 @@ int RunReplay(const ReplayArgs& args) {
   const auto total_coils = static_cast<int64_t>(data->coil_ids.size());
   if (!quiet) {
     std::printf(
-        "replay: %zu campaigns, %lld coils, %zu measurements -> %s "
-        "with %lld clients%s\n",
+        "replay: %zu campaigns, %lld coils, %zu measurements, %d profiles "
+        "-> %s with %lld clients%s\n",
         data->campaigns.size(), static_cast<long long>(total_coils),
-        data->measurements.size(), options.url.c_str(), clients,
+        data->measurements.size(), requests.profiles(), options.url.c_str(),
+        clients,
         speed > 0 ? (", speed x" + std::to_string(speed)).c_str()
                   : ", as fast as possible");
     std::fflush(stdout);

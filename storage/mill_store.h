@@ -203,6 +203,12 @@ class MillStore {
   // model (storage/mill_store_history.cc).
   virtual StatusOr<std::vector<CampaignWearHistory>> RecentWear(
       int ended_campaigns) const = 0;
+  // The grinder profiles of the `ended_campaigns` most recently started
+  // ended campaigns that have one, newest first (by stand, top first in a
+  // campaign), each with the active model's prediction at its points
+  // (storage/mill_store_profile_read.cc).
+  virtual StatusOr<std::vector<MeasuredProfile>> RecentProfiles(
+      int ended_campaigns) const = 0;
 
   virtual StoreCounters Counters() const = 0;
   // True when the database answers a trivial query.

@@ -177,6 +177,8 @@ class MillStoreImpl final : public MillStore {
 
   StatusOr<std::vector<CampaignWearHistory>> RecentWear(
       int ended_campaigns) const override;  // mill_store_history.cc
+  StatusOr<std::vector<MeasuredProfile>> RecentProfiles(
+      int ended_campaigns) const override;  // mill_store_profile_read.cc
   StoreCounters Counters() const override;
   bool Healthy() const override;
 

@@ -396,6 +396,21 @@ struct CampaignWearHistory {
   std::vector<RollWearHistory> rolls;  // by stand, top first
 };
 
+// A stored grinder profile of an ended campaign with the active model's
+// prediction at each of its points (MillStore::RecentProfiles): the roll's
+// replayed profile sums read with the model's shape (g = 1 when it has
+// none: `calibrated` false), interpolated between slices at x_mm.
+struct MeasuredProfile {
+  std::string campaign_id;
+  int stand = 0;
+  Position position = Position::kTop;
+  std::string roll_id;
+  bool calibrated = false;
+  std::vector<double> x_mm;  // the grinder's points, stored order
+  std::vector<double> measured_um;
+  std::vector<double> predicted_um;
+};
+
 }  // namespace rollwear::storage
 
 #endif  // ROLLWEAR_STORAGE_STORE_TYPES_H_

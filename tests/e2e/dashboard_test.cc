@@ -3,23 +3,30 @@
 // then headless Chromium loads the page. The DOM it renders must show every
 // mounted roll position with the numbers of GET /v1/wear (at the page's
 // printed precision), the calibration with the gaps of
-// GET /v1/calibrations/{id} and the diagnosis's strongest finding; a
+// GET /v1/calibrations/{id} and the diagnosis's strongest finding, each
+// mounted roll's predicted profile across the barrel with the numbers of
+// GET /v1/wear/{stand}/{position}/profile, and the last ended campaigns'
+// grinder profiles with the offline prediction at their points
+// (core/fit/profile_fit.h ProfileResiduals, same model and shape); a
 // screenshot at 1366x768 goes to <build>/tests/artifacts/dashboard.png.
 // Chromium (/usr/bin/chromium, or $ROLLWEAR_CHROMIUM) is required: the test
 // fails when it is missing (deploy/install.sh installs it).
 #include <unistd.h>
 
-#include <chrono>
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
 #include <regex>
-#include <thread>
+#include <sstream>
 
 #include <gtest/gtest.h>
 
 #include "api/dashboard_page.h"
 #include "api/http_client.h"
+#include "core/dataset/dataset_io.h"
+#include "core/fit/profile_fit.h"
 #include "tests/e2e/e2e_util.h"
 
 namespace rollwear::e2e {
@@ -67,16 +74,6 @@ int RunChromium(const std::string& profile,
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-json WaitFor(const std::string& url, const std::string& path) {
-  json body;
-  for (int i = 0; i < 3000; ++i) {
-    if (HttpGet(url, path, &body) != 200) return body;
-    if (body["status"] == "done" || body["status"] == "failed") return body;
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  return body;
-}
-
 struct PageRoll {
   std::map<std::string, std::string> attrs;
   std::string wear_text;
@@ -106,6 +103,136 @@ std::map<std::string, PageRoll> RollsOf(const std::string& dom) {
   return rolls;
 }
 
+// The data-* attributes of every `<div class="CLASS" ...>` of a page.
+std::vector<std::map<std::string, std::string>> DivsOf(const std::string& dom,
+                                                       const std::string& cls) {
+  std::vector<std::map<std::string, std::string>> out;
+  const std::regex div("<div class=\"" + cls + "\"([^>]*)>");
+  const std::regex attr(R"re(data-([a-z-]+)="([^"]*)")re");
+  for (auto it = std::sregex_iterator(dom.begin(), dom.end(), div);
+       it != std::sregex_iterator(); ++it) {
+    std::map<std::string, std::string> attrs;
+    const std::string text = (*it)[1];
+    for (auto a = std::sregex_iterator(text.begin(), text.end(), attr);
+         a != std::sregex_iterator(); ++a) {
+      attrs[(*a)[1]] = (*a)[2];
+    }
+    out.push_back(std::move(attrs));
+  }
+  return out;
+}
+
+// A data-* list of numbers ("1.5 2 3").
+std::vector<double> NumbersOf(const std::string& text) {
+  std::vector<double> out;
+  std::istringstream in(text);
+  double v;
+  while (in >> v) out.push_back(v);
+  return out;
+}
+
+// The page prints 9 significant digits: equal to that.
+void ExpectNumbersNear(const std::string& page_text, const json& api,
+                       const std::string& what) {
+  const std::vector<double> page = NumbersOf(page_text);
+  ASSERT_EQ(page.size(), api.size()) << what;
+  for (size_t j = 0; j < page.size(); ++j) {
+    const double v = api[j].get<double>();
+    EXPECT_NEAR(page[j], v, 1e-8 * std::max(1.0, std::abs(v)))
+        << what << " [" << j << "]";
+  }
+}
+
+// Each mounted roll's profile panel against GET .../profile: the same
+// shape state and, calibrated, the same numbers at every slice.
+void ExpectMountedProfilesAsTheApi(const std::string& url,
+                                   const std::string& dom, const json& wear) {
+  const auto panels = DivsOf(dom, "roll-profile");
+  ASSERT_EQ(panels.size(), wear["positions"].size());
+  for (const json& p : wear["positions"]) {
+    const std::string stand = p["stand"], position = p["position"];
+    const std::string key = stand + "/" + position;
+    json profile;
+    ASSERT_EQ(HttpGet(url, "/v1/wear/" + key + "/profile", &profile), 200);
+    ASSERT_EQ(profile["shape"], "calibrated") << key;
+    const auto it = std::find_if(panels.begin(), panels.end(), [&](auto& a) {
+      return "F" + a.at("stand") == stand && a.at("position") == position;
+    });
+    ASSERT_NE(it, panels.end()) << key;
+    EXPECT_EQ(it->at("shape"), "calibrated") << key;
+    ExpectNumbersNear(it->at("x-mm"), profile["x_mm"], key + " x_mm");
+    ExpectNumbersNear(it->at("wear-um"), profile["predicted_wear_um"],
+                      key + " predicted_wear_um");
+    json lo = json::array(), hi = json::array();
+    for (const json& iv : profile["interval_um"]) {
+      lo.push_back(iv[0]);
+      hi.push_back(iv[1]);
+    }
+    ExpectNumbersNear(it->at("lo-um"), lo, key + " interval lo");
+    ExpectNumbersNear(it->at("hi-um"), hi, key + " interval hi");
+  }
+  EXPECT_EQ(dom.find("No profile model yet"), std::string::npos);
+}
+
+// The measured profiles' panels: the last two ended campaigns with grinder
+// profiles, the points of profiles.csv, and the prediction of the active
+// model with the served shape at each (ProfileResiduals offline).
+void ExpectMeasuredProfilesAsOffline(const std::string& url,
+                                     const std::string& dom,
+                                     const Dataset& data) {
+  json model, profile;
+  ASSERT_EQ(HttpGet(url, "/v1/models/active", &model), 200);
+  ASSERT_EQ(HttpGet(url, "/v1/wear/F6/top/profile", &profile), 200);
+  StatusOr<WearModel> m = ModelOfAnswer(data, model);
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  const json& c = profile["coefficients"];
+  ProfileShape shape;
+  shape.beta2 = c["beta2"].get<double>();
+  shape.beta4 = c["beta4"].get<double>();
+  shape.alpha = {c["alpha1"].get<double>(), c["alpha2"].get<double>(),
+                 c["alpha3"].get<double>()};
+  // The ended campaigns (all but the open last one) with profiles, newest
+  // two.
+  std::vector<int> with_profiles;
+  for (const ProfilePoint& p : data.profile_points) {
+    if (p.campaign + 1 < static_cast<int>(data.campaigns.size())) {
+      with_profiles.push_back(p.campaign);
+    }
+  }
+  std::sort(with_profiles.begin(), with_profiles.end(), [&](int a, int b) {
+    return data.campaigns[a].started_at > data.campaigns[b].started_at;
+  });
+  with_profiles.erase(std::unique(with_profiles.begin(), with_profiles.end()),
+                      with_profiles.end());
+  ASSERT_GE(with_profiles.size(), 2u);
+  std::vector<int> recent = {with_profiles[1], with_profiles[0]};
+  std::sort(recent.begin(), recent.end());
+  const DatasetIndex index(data);
+  const std::vector<ProfileResidual> offline =
+      ProfileResiduals(*m, shape, data, index, recent);
+  // Offline points by panel ("C|F6/top").
+  std::map<std::string, std::pair<json, json>> expected;  // measured, predicted
+  for (const ProfileResidual& r : offline) {
+    auto& [measured, predicted] =
+        expected[data.campaigns[r.campaign].id + "|" +
+                 RollPositionName(SlotStand(r.slot), SlotPosition(r.slot))];
+    measured.push_back(r.measured_um);
+    predicted.push_back(r.predicted_um);
+  }
+  ASSERT_GE(expected.size(), 2u);
+  const auto panels = DivsOf(dom, "measured-profile");
+  ASSERT_EQ(panels.size(), expected.size()) << dom.substr(0, 4000);
+  for (const auto& a : panels) {
+    const std::string key = a.at("campaign-id") + "|F" + a.at("stand") + "/" +
+                            a.at("position");
+    auto it = expected.find(key);
+    ASSERT_NE(it, expected.end()) << key;
+    ExpectNumbersNear(a.at("measured-um"), it->second.first, key + " measured");
+    ExpectNumbersNear(a.at("predicted-um"), it->second.second,
+                      key + " predicted");
+  }
+}
+
 TEST(DashboardTest, ChromiumShowsTheMountedRollsWithTheApisNumbers) {
   const std::string chromium = ChromiumPath();
   ASSERT_EQ(access(chromium.c_str(), X_OK), 0)
@@ -115,7 +242,8 @@ TEST(DashboardTest, ChromiumShowsTheMountedRollsWithTheApisNumbers) {
   TempDir dir;
   std::string output;
   ASSERT_EQ(RunRollwear({"simulate", "--out", dir / "data", "--campaigns", "30",
-                         "--seed", "11", "--effect", "campaign_growth"},
+                         "--seed", "11", "--effect", "campaign_growth",
+                         "--profiles"},
                         &output),
             0)
       << output;
@@ -132,13 +260,15 @@ TEST(DashboardTest, ChromiumShowsTheMountedRollsWithTheApisNumbers) {
   json answer;
   ASSERT_EQ(HttpPost(daemon.url(), "/v1/calibrations", "{}", &answer), 202);
   const int64_t calibration_id = answer["id"].get<int64_t>();
-  const json calibration = WaitFor(
+  const json calibration = WaitForJob(
       daemon.url(), "/v1/calibrations/" + std::to_string(calibration_id));
   ASSERT_EQ(calibration["status"], "done") << calibration.dump();
+  // Promoted with a profile shape fitted on the replayed grinder profiles.
+  ASSERT_TRUE(calibration["promoted"].get<bool>()) << calibration.dump();
   ASSERT_EQ(HttpPost(daemon.url(), "/v1/diagnoses", "{}", &answer), 202);
   const int64_t diagnosis_id = answer["id"].get<int64_t>();
   const json diagnosis =
-      WaitFor(daemon.url(), "/v1/diagnoses/" + std::to_string(diagnosis_id));
+      WaitForJob(daemon.url(), "/v1/diagnoses/" + std::to_string(diagnosis_id));
   ASSERT_EQ(diagnosis["status"], "done") << diagnosis.dump().substr(0, 2000);
 
   json wear;
@@ -250,6 +380,10 @@ TEST(DashboardTest, ChromiumShowsTheMountedRollsWithTheApisNumbers) {
       << "no parity plot";
   EXPECT_NE(dom.find("diagnosis #" + std::to_string(diagnosis_id)),
             std::string::npos);
+  ExpectMountedProfilesAsTheApi(daemon.url(), dom, wear);
+  StatusOr<Dataset> data = ReadDataset(dir / "data");
+  ASSERT_TRUE(data.ok()) << data.status().message();
+  ExpectMeasuredProfilesAsOffline(daemon.url(), dom, *data);
   if (!diagnosis["findings"].empty()) {
     EXPECT_NE(
         dom.find("data-covariate=\"" +
@@ -288,6 +422,53 @@ TEST(DashboardTest, PageWithoutRollsSaysSoAndEscapesLabels) {
   EXPECT_NE(html.find("No calibration yet"), std::string::npos);
   EXPECT_NE(html.find("No diagnosis has run"), std::string::npos);
   EXPECT_EQ(html.find("<tr class=\"roll\""), std::string::npos);
+  EXPECT_NE(html.find("No grinder profile of an ended campaign yet"),
+            std::string::npos);
+}
+
+// A roll without a calibrated profile shape: the page says so and draws no
+// predicted profile (no numbers, no curve); a measured profile under such a
+// model is drawn without its prediction.
+TEST(DashboardTest, UncalibratedProfileIsNotDrawn) {
+  DashboardData d;
+  DashboardRoll r;
+  r.stand = 6;
+  r.position = "top";
+  r.roll_id = "R1";
+  r.profile_shape = "uncalibrated";
+  r.profile_x_mm = {-10, 0, 10};
+  r.profile_wear_um = {1, 2, 1};
+  r.profile_lo_um = {0.5, 1, 0.5};
+  r.profile_hi_um = {1.5, 3, 1.5};
+  d.rolls.push_back(r);
+  d.measured_profiles.push_back(DashboardMeasuredProfile{
+      6, "top", "C1", "R0", false, {-10, 0, 10}, {3, 4, 3}, {2, 2, 2}});
+  const std::string html = DashboardHtml(d);
+  EXPECT_NE(html.find("No profile model yet for F6 top"), std::string::npos);
+  const auto panels = DivsOf(html, "roll-profile");
+  ASSERT_EQ(panels.size(), 1u);
+  EXPECT_EQ(panels[0].at("shape"), "uncalibrated");
+  EXPECT_EQ(panels[0].count("wear-um"), 0u);
+  const size_t section = html.find("<section id=\"profiles\"");
+  ASSERT_NE(section, std::string::npos);
+  // Only the measured points' panel has an SVG; it has no line.
+  const std::string profiles = html.substr(section);
+  EXPECT_EQ(profiles.find("<polyline"), std::string::npos);
+  const auto measured = DivsOf(html, "measured-profile");
+  ASSERT_EQ(measured.size(), 1u);
+  EXPECT_EQ(measured[0].at("predicted-um"), "");
+  EXPECT_EQ(measured[0].at("measured-um"), "3 4 3");
+  EXPECT_NE(html.find("drawn without a prediction"), std::string::npos);
+
+  // Calibrated: the numbers and the three lines (profile, interval).
+  d.rolls[0].profile_shape = "calibrated";
+  d.measured_profiles.clear();
+  const std::string drawn = DashboardHtml(d);
+  const auto drawn_panels = DivsOf(drawn, "roll-profile");
+  ASSERT_EQ(drawn_panels.size(), 1u);
+  EXPECT_EQ(drawn_panels[0].at("wear-um"), "1 2 1");
+  EXPECT_EQ(drawn_panels[0].at("hi-um"), "1.5 3 1.5");
+  EXPECT_EQ(drawn.find("No profile model yet"), std::string::npos);
 }
 
 }  // namespace

@@ -238,6 +238,20 @@ std::map<std::string, double> ScrapeMetrics(const std::string& url) {
   return out;
 }
 
+json WaitForJob(const std::string& url, const std::string& path,
+                double timeout_s) {
+  const auto deadline =
+      std::chrono::steady_clock::now() +
+      std::chrono::milliseconds(static_cast<int64_t>(timeout_s * 1000));
+  json body;
+  while (HttpGet(url, path, &body) == 200 && body.value("status", "") != "done" &&
+         body.value("status", "") != "failed" &&
+         std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return body;
+}
+
 bool Simulate(const std::string& dir, int campaigns, int seed,
               std::string* error) {
   std::string output;
@@ -249,21 +263,19 @@ bool Simulate(const std::string& dir, int campaigns, int seed,
   return code == 0;
 }
 
-std::map<std::string, double> OfflinePrediction(const Dataset& data,
-                                                const json& model) {
-  std::map<std::string, double> out;
+StatusOr<WearModel> ModelOfAnswer(const Dataset& data, const json& model) {
   WearLaw law = WearLaw::kWang;
   ParseWearLaw(model.value("model", "wang"), &law);
   const DatasetIndex index(data);
-  StatusOr<WearStatistics> stats = Aggregate(data, index, law);
-  if (!stats.ok()) return out;
-  StatusOr<KStructure> structure =
-      KStructure::ForOption(model.value("option", 1), stats->positions,
-                            stats->roll_types, stats->grades);
-  if (!structure.ok()) return out;
+  ROLLWEAR_ASSIGN_OR_RETURN(const WearStatistics stats,
+                            Aggregate(data, index, law));
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      const KStructure structure,
+      KStructure::ForOption(model.value("option", 1), stats.positions,
+                            stats.roll_types, stats.grades));
   WearModel m;
   m.law = law;
-  m.structure = *structure;
+  m.structure = structure;
   const json coefficients = model.value("coefficients", json::object());
   m.k.resize(m.structure.num_coefficients());
   for (int i = 0; i < m.structure.num_coefficients(); ++i) {
@@ -275,11 +287,22 @@ std::map<std::string, double> OfflinePrediction(const Dataset& data,
   if (coefficients.contains("a") && coefficients["a"].is_number()) {
     m.cao_exponent = coefficients["a"].get<double>();
   }
+  return m;
+}
+
+std::map<std::string, double> OfflinePrediction(const Dataset& data,
+                                                const json& model) {
+  std::map<std::string, double> out;
+  StatusOr<WearModel> m = ModelOfAnswer(data, model);
+  if (!m.ok()) return out;
+  const DatasetIndex index(data);
+  StatusOr<WearStatistics> stats = Aggregate(data, index, m->law);
+  if (!stats.ok()) return out;
   for (const Observation& obs : stats->observations) {
     const std::string key =
         data.campaigns[obs.campaign].id + "|" +
         RollPositionName(SlotStand(obs.slot), SlotPosition(obs.slot));
-    out[key] = PredictObservation(m, *stats, obs);
+    out[key] = PredictObservation(*m, *stats, obs);
   }
   return out;
 }

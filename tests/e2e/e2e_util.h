@@ -17,7 +17,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/base/status.h"
 #include "core/dataset/dataset.h"
+#include "core/model/wear_model.h"
 
 namespace rollwear::e2e {
 
@@ -102,6 +104,11 @@ int HttpGet(const std::string& url, const std::string& path, json* body);
 int HttpPost(const std::string& url, const std::string& path,
              const std::string& body, json* answer,
              const std::string& token = "");
+// GETs `path` (a job: a calibration or a diagnosis) every 100 ms until its
+// "status" is "done" or "failed", an answer is not 200, or `timeout_s`
+// passed; returns the last answer.
+json WaitForJob(const std::string& url, const std::string& path,
+                double timeout_s = 300);
 // Plain-number samples of GET /metrics without labels ("rollwear_coils_stored"
 // -> 1234).
 std::map<std::string, double> ScrapeMetrics(const std::string& url);
@@ -109,6 +116,10 @@ std::map<std::string, double> ScrapeMetrics(const std::string& url);
 // Simulates a dataset into `dir` (rollwear simulate --campaigns N).
 bool Simulate(const std::string& dir, int campaigns, int seed,
               std::string* error);
+
+// The wear model of a model answer (GET /v1/models/active): its law,
+// option and coefficients (1 where one is missing) on `data`'s structure.
+StatusOr<WearModel> ModelOfAnswer(const Dataset& data, const json& model);
 
 // Predicted centre wear of each (campaign, stand, position) of `data`
 // under the coefficients of a model answer (GET /v1/models/active), as a
