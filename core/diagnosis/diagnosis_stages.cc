@@ -115,6 +115,7 @@ Screen ScreenCandidates(const DiagnosisState& st, const std::vector<double>& sd,
   screen.best_start = cands;  // each with its best start only
   std::vector<double>& score_p = screen.score_p;
   std::vector<Candidate>& best_start = screen.best_start;
+  const ScoreScreen score(td, st.train, sd, current.log_k, current.terms);
   ParallelFor(nc, num_threads, [&](int i) {
     std::vector<std::vector<double>> starts = cands[i].starts;
     if (starts.empty()) starts.push_back(cands[i].spec.term.params);
@@ -122,8 +123,7 @@ Screen ScreenCandidates(const DiagnosisState& st, const std::vector<double>& sd,
       TermSpec spec = cands[i].spec;
       spec.term.params = start;
       int df = 0;
-      const double s = ScoreStatistic(td, st.train, sd, current.log_k,
-                                      current.terms, spec, &df);
+      const double s = score.Statistic(spec, &df);
       const double p = df > 0 ? ChiSquareSurvival(s, df) : 1.0;
       if (p < score_p[i] || best_start[i].starts.size() > 1) {
         if (p <= score_p[i]) best_start[i].starts = {start};

@@ -108,6 +108,13 @@ class TermModel {
   int r_offset() const { return p_; }
   int s_offset() const { return p_ + r_; }
   std::vector<TermSpec>& terms() { return terms_; }
+  // Whether term t applies to observation `o` (its roll) and, for a wear
+  // term, to a pass of grade g.
+  bool CoversRoll(int t, const TermObservation& o) const { return scopes_[t].CoversRoll(o); }
+  bool CoversGrade(int t, int g) const { return scopes_[t].CoversGrade(g); }
+  // With `out` (indexed by pass, sized to every pass), Predict also writes
+  // each pass's wear contribution k_g * load * (product of the wear terms).
+  void set_pass_contributions(std::vector<double>* out) { pass_out_ = out; }
 
   // Writes params into the terms.
   void SetParams(const double* params) {
@@ -151,6 +158,7 @@ class TermModel {
       const double c = k_[g] * data_.load[i] * m;
       wear += c;
       t_[g] += c;
+      if (pass_out_ != nullptr) (*pass_out_)[i] = c;
       if (grad == nullptr) continue;
       for (size_t t = 0; t < nt; ++t) {
         const ModelTerm& term = terms_[t].term;
@@ -217,6 +225,7 @@ class TermModel {
   std::vector<int> offsets_;
   int p_ = 0, r_ = 0, s_ = 0, n_coef_ = 0, n_ = 0;
   std::vector<double> k_, t_, scratch_, mt_, dm_;
+  std::vector<double>* pass_out_ = nullptr;
 };
 
 class TermCost : public ceres::CostFunction {
@@ -399,6 +408,59 @@ StatusOr<TermFitResult> FitTerms(const TermData& data, const std::vector<int>& s
   return r;
 }
 
+namespace {
+
+// The score statistic from the current model's weighted Jacobian j0 (its QR
+// decomposition `qr`), the candidate's weighted derivative columns jc and
+// the weighted residuals r (term_fit.h).
+double ScoreFromColumns(const Eigen::MatrixXd& j0,
+                        const Eigen::ColPivHouseholderQR<Eigen::MatrixXd>& qr,
+                        const Eigen::MatrixXd& jc, const Eigen::VectorXd& r, int* df) {
+  const Eigen::Index m = r.size();
+  // Drop candidate columns that are identically zero (parameters whose
+  // derivative vanishes at the start, such as a length scale at b = 0).
+  std::vector<int> keep;
+  for (int j = 0; j < jc.cols(); ++j) {
+    if (jc.col(j).squaredNorm() > 0) keep.push_back(j);
+  }
+  *df = 0;
+  if (keep.empty()) return 0;
+  Eigen::MatrixXd jk(m, keep.size());
+  for (size_t j = 0; j < keep.size(); ++j) jk.col(j) = jc.col(keep[j]);
+  // Project out the current model's Jacobian (rank-revealing QR handles the
+  // gauge directions), then S = r' P (P'P)^+ P' r / sigma^2.
+  const Eigen::MatrixXd resid_cols = jk - j0 * qr.solve(jk);
+  const Eigen::VectorXd g = resid_cols.transpose() * r;
+  const Eigen::MatrixXd info = resid_cols.transpose() * resid_cols;
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(info);
+  const double top = es.eigenvalues().maxCoeff();
+  double s = 0;
+  for (int i = 0; i < es.eigenvalues().size(); ++i) {
+    const double lambda = es.eigenvalues()[i];
+    if (!(lambda > 1e-10 * top) || !(top > 0)) continue;
+    const double proj = es.eigenvectors().col(i).dot(g);
+    s += proj * proj / lambda;
+    ++*df;
+  }
+  const double sigma2 = r.squaredNorm() / static_cast<double>(m);
+  return sigma2 > 0 ? s / sigma2 : 0.0;
+}
+
+// The full parameter vector (log_k, then every term's params) of `terms`.
+std::vector<double> FullParams(const TermModel& model, const std::vector<double>& log_k,
+                               const std::vector<TermSpec>& terms) {
+  std::vector<double> full(model.num_params(), 0.0);
+  std::copy(log_k.begin(), log_k.end(), full.begin());
+  int off = model.num_coef();
+  for (const TermSpec& t : terms) {
+    std::copy(t.term.params.begin(), t.term.params.end(), full.begin() + off);
+    off += t.term.NumParams();
+  }
+  return full;
+}
+
+}  // namespace
+
 double ScoreStatistic(const TermData& data, const std::vector<int>& subset,
                       const std::vector<double>& sd, const std::vector<double>& log_k,
                       const std::vector<TermSpec>& terms, const TermSpec& candidate,
@@ -408,13 +470,7 @@ double ScoreStatistic(const TermData& data, const std::vector<int>& subset,
   TermModel model(data, all);
   const int n = model.num_params();
   const int n_cur = n - candidate.term.NumParams();
-  std::vector<double> full(n, 0.0);
-  std::copy(log_k.begin(), log_k.end(), full.begin());
-  int off = model.num_coef();
-  for (const TermSpec& t : all) {
-    std::copy(t.term.params.begin(), t.term.params.end(), full.begin() + off);
-    off += t.term.NumParams();
-  }
+  const std::vector<double> full = FullParams(model, log_k, all);
   model.SetParams(full.data());
   const int m = static_cast<int>(subset.size());
   Eigen::MatrixXd j0(m, n_cur);
@@ -430,47 +486,103 @@ double ScoreStatistic(const TermData& data, const std::vector<int>& subset,
     for (int j = 0; j < n_cur; ++j) j0(row, j) = w * grad[j];
     for (int j = n_cur; j < n; ++j) jc(row, j - n_cur) = w * grad[j];
   }
-  // Drop candidate columns that are identically zero (parameters whose
-  // derivative vanishes at the start, such as a length scale at b = 0).
-  std::vector<int> keep;
-  for (int j = 0; j < jc.cols(); ++j) {
-    if (jc.col(j).squaredNorm() > 0) keep.push_back(j);
-  }
-  *df = 0;
-  if (keep.empty()) return 0;
-  Eigen::MatrixXd jk(m, keep.size());
-  for (size_t j = 0; j < keep.size(); ++j) jk.col(j) = jc.col(keep[j]);
-  // Project out the current model's Jacobian (rank-revealing QR handles the
-  // gauge directions), then S = r' P (P'P)^+ P' r / sigma^2.
   const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(j0);
-  const Eigen::MatrixXd resid_cols = jk - j0 * qr.solve(jk);
-  const Eigen::VectorXd g = resid_cols.transpose() * r;
-  const Eigen::MatrixXd info = resid_cols.transpose() * resid_cols;
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(info);
-  const double top = es.eigenvalues().maxCoeff();
-  double s = 0;
-  for (int i = 0; i < es.eigenvalues().size(); ++i) {
-    const double lambda = es.eigenvalues()[i];
-    if (!(lambda > 1e-10 * top) || !(top > 0)) continue;
-    const double proj = es.eigenvectors().col(i).dot(g);
-    s += proj * proj / lambda;
-    ++*df;
+  return ScoreFromColumns(j0, qr, jc, r, df);
+}
+
+struct ScoreScreen::Impl {
+  const TermData* data = nullptr;
+  const std::vector<int>* subset = nullptr;
+  const std::vector<double>* sd = nullptr;
+  std::vector<double> log_k;
+  std::vector<TermSpec> terms;
+  Eigen::MatrixXd j0;
+  Eigen::VectorXd r;
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr;
+  std::vector<double> pass_c;  // per pass: the current model's contribution
+};
+
+ScoreScreen::ScoreScreen(const TermData& data, const std::vector<int>& subset,
+                         const std::vector<double>& sd, const std::vector<double>& log_k,
+                         const std::vector<TermSpec>& terms)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& s = *impl_;
+  s.data = &data;
+  s.subset = &subset;
+  s.sd = &sd;
+  s.log_k = log_k;
+  s.terms = terms;
+  TermModel model(data, terms);
+  const int n = model.num_params();
+  const std::vector<double> full = FullParams(model, log_k, terms);
+  model.SetParams(full.data());
+  s.pass_c.assign(data.load.size(), 0.0);
+  model.set_pass_contributions(&s.pass_c);
+  const int m = static_cast<int>(subset.size());
+  s.j0.resize(m, n);
+  s.r.resize(m);
+  std::vector<double> grad(n);
+  for (int row = 0; row < m; ++row) {
+    const int o = subset[row];
+    std::fill(grad.begin(), grad.end(), 0.0);
+    const double y = model.Predict(full.data(), o, grad.data());
+    const double w = 1.0 / sd[o];
+    s.r[row] = w * (data.obs[o].measured_um - y);
+    for (int j = 0; j < n; ++j) s.j0(row, j) = w * grad[j];
   }
-  const double sigma2 = r.squaredNorm() / m;
-  return sigma2 > 0 ? s / sigma2 : 0.0;
+  s.qr.compute(s.j0);
+}
+
+ScoreScreen::~ScoreScreen() = default;
+
+double ScoreScreen::Statistic(const TermSpec& candidate, int* df) const {
+  const Impl& s = *impl_;
+  const TermData& data = *s.data;
+  // The candidate alone, for its scope and parameter layout.
+  const TermModel scope(data, {candidate});
+  const ModelTerm& term = candidate.term;
+  const int np = term.NumParams();
+  const bool measurement = term.IsMeasurementTerm();
+  const int m = static_cast<int>(s.subset->size());
+  Eigen::MatrixXd jc(m, np);
+  std::vector<double> grad(np), dm(std::max(np, 1));
+  for (int row = 0; row < m; ++row) {
+    const int o = (*s.subset)[row];
+    const TermObservation& obs = data.obs[o];
+    std::fill(grad.begin(), grad.end(), 0.0);
+    if (scope.CoversRoll(0, obs)) {
+      if (measurement) {
+        // A reading offset: null at the start, or the full computation.
+        if (TermOffset(term, data.obs_z[candidate.covariate][o], dm.data()) != 0.0) {
+          return ScoreStatistic(data, *s.subset, *s.sd, s.log_k, s.terms, candidate, df);
+        }
+        for (int j = 0; j < np; ++j) grad[j] += dm[j];
+      } else {
+        const std::vector<double>& z = data.z[candidate.covariate];
+        for (int i = obs.pass_begin; i < obs.pass_end; ++i) {
+          if (!scope.CoversGrade(0, data.grade[i])) continue;
+          // A multiplier of exactly 1 leaves every current prediction and
+          // derivative as they are, so only the candidate's columns are new
+          // (d(c)/d(param) = c / 1 * dm/d(param)); otherwise the full
+          // computation.
+          if (TermMultiplier(term, z[i], dm.data()) != 1.0) {
+            return ScoreStatistic(data, *s.subset, *s.sd, s.log_k, s.terms, candidate, df);
+          }
+          for (int j = 0; j < np; ++j) grad[j] += s.pass_c[i] * dm[j];
+        }
+      }
+    }
+    const double w = 1.0 / (*s.sd)[o];
+    for (int j = 0; j < np; ++j) jc(row, j) = w * grad[j];
+  }
+  return ScoreFromColumns(s.j0, s.qr, jc, s.r, df);
 }
 
 std::vector<double> PredictTerms(const TermData& data, const std::vector<int>& subset,
                                  const std::vector<double>& log_k,
                                  const std::vector<TermSpec>& terms, bool wear_only) {
   TermModel model(data, terms);
-  std::vector<double> full(model.num_params(), 0.0);
-  std::copy(log_k.begin(), log_k.end(), full.begin());
-  int off = model.num_coef();
-  for (const TermSpec& t : terms) {
-    std::copy(t.term.params.begin(), t.term.params.end(), full.begin() + off);
-    off += t.term.NumParams();
-  }
+  const std::vector<double> full = FullParams(model, log_k, terms);
   model.SetParams(full.data());
   std::vector<double> out;
   out.reserve(subset.size());
