@@ -2,7 +2,9 @@
 #include "core/fit/term_fit.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <utility>
@@ -97,10 +99,14 @@ class TermModel {
     for (const TermSpec& t : terms_) {
       offsets_.push_back(n_);
       n_ += t.term.NumParams();
+      num_params_.push_back(t.term.NumParams());
+      measurement_.push_back(t.term.IsMeasurementTerm() ? 1 : 0);
       scopes_.push_back(Resolve(t.term.scope));
     }
     k_.resize(s_);
     t_.resize(s_);
+    last_z_.resize(terms_.size());
+    cached_.resize(terms_.size());
   }
 
   int num_coef() const { return n_coef_; }
@@ -141,18 +147,28 @@ class TermModel {
     scratch_.resize(8);
     mt_.resize(nt);
     if (grad != nullptr) dm_.resize(static_cast<size_t>(n_));
+    // m_t and dm_t of the last pass a term was evaluated on, reused while
+    // its covariate repeats bit for bit (campaign- and roll-level
+    // covariates repeat on every pass): TermMultiplier is a function of
+    // (params, z) alone, so the reuse is exact.
+    std::fill(cached_.begin(), cached_.end(), 0);
     for (int i = obs.pass_begin; i < obs.pass_end; ++i) {
       const int g = data_.grade[i];
       double m = 1;
       for (size_t t = 0; t < nt; ++t) {
-        const ModelTerm& term = terms_[t].term;
-        if (term.IsMeasurementTerm()) continue;
+        if (measurement_[t]) continue;
         if (!roll_in_[t] || !scopes_[t].CoversGrade(g)) {
           mt_[t] = 1.0;  // outside the scope: m = 1, no derivative
+          cached_[t] = 0;
           continue;
         }
-        mt_[t] = TermMultiplier(term, data_.z[terms_[t].covariate][i],
-                                grad != nullptr ? dm_.data() + offsets_[t] : nullptr);
+        const uint64_t z_bits = std::bit_cast<uint64_t>(data_.z[terms_[t].covariate][i]);
+        if (!cached_[t] || z_bits != last_z_[t]) {
+          mt_[t] = TermMultiplier(terms_[t].term, std::bit_cast<double>(z_bits),
+                                  grad != nullptr ? dm_.data() + offsets_[t] : nullptr);
+          last_z_[t] = z_bits;
+          cached_[t] = 1;
+        }
         m *= mt_[t];
       }
       const double c = k_[g] * data_.load[i] * m;
@@ -161,14 +177,12 @@ class TermModel {
       if (pass_out_ != nullptr) (*pass_out_)[i] = c;
       if (grad == nullptr) continue;
       for (size_t t = 0; t < nt; ++t) {
-        const ModelTerm& term = terms_[t].term;
-        if (term.IsMeasurementTerm() || !roll_in_[t] || !scopes_[t].CoversGrade(g)) {
-          continue;
-        }
+        if (measurement_[t] || !roll_in_[t] || !scopes_[t].CoversGrade(g)) continue;
         // d(c)/d(param) = c / m_t * dm_t/d(param).
         const double f = mt_[t] != 0 ? c / mt_[t] : 0.0;
-        const int np = term.NumParams();
-        for (int j = 0; j < np; ++j) grad[offsets_[t] + j] += f * dm_[offsets_[t] + j];
+        const double* dm = dm_.data() + offsets_[t];
+        double* gt = grad + offsets_[t];
+        for (int j = 0; j < num_params_[t]; ++j) gt[j] += f * dm[j];
       }
     }
     double y = wear;
@@ -222,7 +236,10 @@ class TermModel {
   std::vector<TermSpec> terms_;
   std::vector<ResolvedScope> scopes_;
   std::vector<char> roll_in_;
-  std::vector<int> offsets_;
+  std::vector<int> offsets_, num_params_;
+  std::vector<char> measurement_;  // per term: a reading offset
+  std::vector<uint64_t> last_z_;   // per term: z (bits) of the cached m_t, dm_t
+  std::vector<char> cached_;       // per term: last_z_ is valid
   int p_ = 0, r_ = 0, s_ = 0, n_coef_ = 0, n_ = 0;
   std::vector<double> k_, t_, scratch_, mt_, dm_;
   std::vector<double>* pass_out_ = nullptr;
