@@ -104,6 +104,7 @@ class TermModel {
       scopes_.push_back(Resolve(t.term.scope));
     }
     k_.resize(s_);
+    k_ok_.resize(s_);
     t_.resize(s_);
     last_z_.resize(terms_.size());
     cached_.resize(terms_.size());
@@ -139,10 +140,10 @@ class TermModel {
     for (size_t t = 0; t < nt; ++t) roll_in_[t] = scopes_[t].CoversRoll(obs);
     const double base = params[obs.position] +
                         (obs.roll_type >= 0 ? params[p_ + obs.roll_type] : 0.0);
-    for (int s = 0; s < s_; ++s) {
-      k_[s] = std::exp(base + params[p_ + r_ + s]);
-      t_[s] = 0;
-    }
+    // k of a grade only where the observation has a pass of that grade
+    // (the others add exactly 0 to the prediction and its derivatives).
+    std::fill(t_.begin(), t_.end(), 0.0);
+    std::fill(k_ok_.begin(), k_ok_.end(), 0);
     double wear = 0;
     scratch_.resize(8);
     mt_.resize(nt);
@@ -154,6 +155,10 @@ class TermModel {
     std::fill(cached_.begin(), cached_.end(), 0);
     for (int i = obs.pass_begin; i < obs.pass_end; ++i) {
       const int g = data_.grade[i];
+      if (!k_ok_[g]) {
+        k_[g] = std::exp(base + params[p_ + r_ + g]);
+        k_ok_[g] = 1;
+      }
       double m = 1;
       for (size_t t = 0; t < nt; ++t) {
         if (measurement_[t]) continue;
@@ -240,6 +245,7 @@ class TermModel {
   std::vector<char> measurement_;  // per term: a reading offset
   std::vector<uint64_t> last_z_;   // per term: z (bits) of the cached m_t, dm_t
   std::vector<char> cached_;       // per term: last_z_ is valid
+  std::vector<char> k_ok_;         // per grade: k_ computed for this observation
   int p_ = 0, r_ = 0, s_ = 0, n_coef_ = 0, n_ = 0;
   std::vector<double> k_, t_, scratch_, mt_, dm_;
   std::vector<double>* pass_out_ = nullptr;
