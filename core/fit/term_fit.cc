@@ -5,6 +5,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <utility>
@@ -265,31 +266,45 @@ class TermCost : public ceres::CostFunction {
     grad_.resize(model_->num_params());
   }
 
+  // Every evaluation computes the Jacobian too (the exp's of the
+  // multipliers dominate and are shared); a residual-only evaluation keeps
+  // it, and the Jacobian that Levenberg-Marquardt asks for at the same
+  // point once the step is accepted is that kept one, bit for bit.
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
-    for (size_t j = 0; j < free_.size(); ++j) full_[free_[j]] = parameters[0][j];
-    model_->SetParams(full_.data());
     const bool jac = jacobians != nullptr && jacobians[0] != nullptr;
     const size_t nf = free_.size();
+    const size_t nr = subset_.size() + prior_.size();
+    if (jac && kept_ && SameBits(parameters[0], kept_x_)) {
+      std::copy(kept_res_.begin(), kept_res_.end(), residuals);
+      std::copy(kept_jac_.begin(), kept_jac_.end(), jacobians[0]);
+      return true;
+    }
+    kept_ = false;
+    kept_jac_.resize(nr * nf);
+    double* jout = jac ? jacobians[0] : kept_jac_.data();
+    for (size_t j = 0; j < nf; ++j) full_[free_[j]] = parameters[0][j];
+    model_->SetParams(full_.data());
     for (size_t row = 0; row < subset_.size(); ++row) {
       const int o = subset_[row];
-      if (jac) std::fill(grad_.begin(), grad_.end(), 0.0);
-      const double y = model_->Predict(full_.data(), o, jac ? grad_.data() : nullptr);
+      std::fill(grad_.begin(), grad_.end(), 0.0);
+      const double y = model_->Predict(full_.data(), o, grad_.data());
       const double w = 1.0 / sd_[o];
       residuals[row] = w * (data_y(o) - y);
       if (!std::isfinite(residuals[row])) return false;
-      if (jac) {
-        for (size_t j = 0; j < nf; ++j) jacobians[0][row * nf + j] = -w * grad_[free_[j]];
-      }
+      for (size_t j = 0; j < nf; ++j) jout[row * nf + j] = -w * grad_[free_[j]];
     }
     for (size_t q = 0; q < prior_.size(); ++q) {
       const size_t row = subset_.size() + q;
       const auto [j, inv_sd] = prior_[q];
       residuals[row] = inv_sd * parameters[0][j];
-      if (jac) {
-        std::fill(jacobians[0] + row * nf, jacobians[0] + (row + 1) * nf, 0.0);
-        jacobians[0][row * nf + j] = inv_sd;
-      }
+      std::fill(jout + row * nf, jout + (row + 1) * nf, 0.0);
+      jout[row * nf + j] = inv_sd;
+    }
+    if (!jac) {
+      kept_x_.assign(parameters[0], parameters[0] + nf);
+      kept_res_.assign(residuals, residuals + nr);
+      kept_ = true;
     }
     return true;
   }
@@ -298,6 +313,9 @@ class TermCost : public ceres::CostFunction {
 
  private:
   double data_y(int o) const { return (*y_)[o]; }
+  static bool SameBits(const double* x, const std::vector<double>& kept) {
+    return std::memcmp(x, kept.data(), kept.size() * sizeof(double)) == 0;
+  }
   TermModel* model_;
   const std::vector<int>& subset_;
   const std::vector<double>& sd_;
@@ -306,6 +324,9 @@ class TermCost : public ceres::CostFunction {
   std::vector<std::pair<int, double>> prior_;
   mutable std::vector<double> grad_;
   const std::vector<double>* y_ = nullptr;
+  // The last residual-only evaluation: its point, residuals and Jacobian.
+  mutable bool kept_ = false;
+  mutable std::vector<double> kept_x_, kept_res_, kept_jac_;
 };
 
 }  // namespace
