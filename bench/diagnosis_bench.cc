@@ -59,8 +59,7 @@ void BM_Diagnose(benchmark::State& state) {
 BENCHMARK(BM_Diagnose)
     ->DenseRange(0, 6)
     ->Unit(benchmark::kSecond)
-    ->Iterations(1)
-    ->UseRealTime();
+    ->Iterations(1);
 
 }  // namespace
 }  // namespace rollwear
