@@ -188,22 +188,34 @@ std::vector<Candidate> CandidatesOf(const TermData& td, const std::vector<int>& 
 
 }  // namespace
 
-std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>& train,
-                                      const std::set<int>& used,
-                                      const DiagnosisOptions& options) {
-  // One slot per covariate, filled in parallel and joined in catalogue
-  // order (the order does not depend on the threads).
+std::vector<std::vector<Candidate>> UnscopedCandidates(const TermData& td,
+                                                       const std::vector<int>& train,
+                                                       const DiagnosisOptions& options) {
+  // One slot per covariate, filled in parallel.
   const int nk = static_cast<int>(td.catalog.size());
   std::vector<std::vector<Candidate>> per(nk);
-  ParallelFor(nk, options.num_threads, [&](int k) {
-    if (used.count(k) == 0) per[k] = CandidatesOf(td, train, k, options);
-  });
+  ParallelFor(nk, options.num_threads,
+              [&](int k) { per[k] = CandidatesOf(td, train, k, options); });
+  return per;
+}
+
+std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>& train,
+                                      const std::set<int>& used,
+                                      const std::vector<std::vector<Candidate>>& unscoped) {
+  // Joined in catalogue order.
   std::vector<Candidate> out;
-  for (std::vector<Candidate>& c : per) {
-    for (Candidate& cand : c) out.push_back(std::move(cand));
+  for (size_t k = 0; k < unscoped.size(); ++k) {
+    if (used.count(static_cast<int>(k)) > 0) continue;
+    out.insert(out.end(), unscoped[k].begin(), unscoped[k].end());
   }
   AddScopedCandidates(td, train, used, &out);
   return out;
+}
+
+std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>& train,
+                                      const std::set<int>& used,
+                                      const DiagnosisOptions& options) {
+  return MakeCandidates(td, train, used, UnscopedCandidates(td, train, options));
 }
 
 namespace {

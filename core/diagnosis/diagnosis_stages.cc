@@ -500,8 +500,8 @@ bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
   phase->Mark("round_fit");
   if (!cur.usable) return false;
   st->current = cur;
-  const std::vector<Candidate> cands =
-      MakeCandidates(td, st->train, *used, options);
+  if (st->unscoped.empty()) st->unscoped = UnscopedCandidates(td, st->train, options);
+  const std::vector<Candidate> cands = MakeCandidates(td, st->train, *used, st->unscoped);
   phase->Mark("candidates");
   if (cands.empty()) return false;
   // Screen every candidate with the score test, then refit only the
