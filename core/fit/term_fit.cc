@@ -503,6 +503,30 @@ std::vector<double> FullParams(const TermModel& model, const std::vector<double>
   return full;
 }
 
+// Weighted residuals r_o = (y_o - yhat_o) / sd_o of `subset` under `model`
+// at `full`, and the weighted derivative columns: the first n_cur in j0,
+// the rest in jc.
+void WeightedJacobian(const TermData& data, const std::vector<int>& subset,
+                      const std::vector<double>& sd, const std::vector<double>& full,
+                      int n_cur, TermModel* model, Eigen::MatrixXd* j0,
+                      Eigen::MatrixXd* jc, Eigen::VectorXd* r) {
+  const int n = model->num_params();
+  const int m = static_cast<int>(subset.size());
+  j0->resize(m, n_cur);
+  jc->resize(m, n - n_cur);
+  r->resize(m);
+  std::vector<double> grad(n);
+  for (int row = 0; row < m; ++row) {
+    const int o = subset[row];
+    std::fill(grad.begin(), grad.end(), 0.0);
+    const double y = model->Predict(full.data(), o, grad.data());
+    const double w = 1.0 / sd[o];
+    (*r)[row] = w * (data.obs[o].measured_um - y);
+    for (int j = 0; j < n_cur; ++j) (*j0)(row, j) = w * grad[j];
+    for (int j = n_cur; j < n; ++j) (*jc)(row, j - n_cur) = w * grad[j];
+  }
+}
+
 }  // namespace
 
 double ScoreStatistic(const TermData& data, const std::vector<int>& subset,
@@ -516,20 +540,9 @@ double ScoreStatistic(const TermData& data, const std::vector<int>& subset,
   const int n_cur = n - candidate.term.NumParams();
   const std::vector<double> full = FullParams(model, log_k, all);
   model.SetParams(full.data());
-  const int m = static_cast<int>(subset.size());
-  Eigen::MatrixXd j0(m, n_cur);
-  Eigen::MatrixXd jc(m, n - n_cur);
-  Eigen::VectorXd r(m);
-  std::vector<double> grad(n);
-  for (int row = 0; row < m; ++row) {
-    const int o = subset[row];
-    std::fill(grad.begin(), grad.end(), 0.0);
-    const double y = model.Predict(full.data(), o, grad.data());
-    const double w = 1.0 / sd[o];
-    r[row] = w * (data.obs[o].measured_um - y);
-    for (int j = 0; j < n_cur; ++j) j0(row, j) = w * grad[j];
-    for (int j = n_cur; j < n; ++j) jc(row, j - n_cur) = w * grad[j];
-  }
+  Eigen::MatrixXd j0, jc;
+  Eigen::VectorXd r;
+  WeightedJacobian(data, subset, sd, full, n_cur, &model, &j0, &jc, &r);
   const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(j0);
   return ScoreFromColumns(j0, qr, jc, r, df);
 }
@@ -557,23 +570,12 @@ ScoreScreen::ScoreScreen(const TermData& data, const std::vector<int>& subset,
   s.log_k = log_k;
   s.terms = terms;
   TermModel model(data, terms);
-  const int n = model.num_params();
   const std::vector<double> full = FullParams(model, log_k, terms);
   model.SetParams(full.data());
   s.pass_c.assign(data.load.size(), 0.0);
   model.set_pass_contributions(&s.pass_c);
-  const int m = static_cast<int>(subset.size());
-  s.j0.resize(m, n);
-  s.r.resize(m);
-  std::vector<double> grad(n);
-  for (int row = 0; row < m; ++row) {
-    const int o = subset[row];
-    std::fill(grad.begin(), grad.end(), 0.0);
-    const double y = model.Predict(full.data(), o, grad.data());
-    const double w = 1.0 / sd[o];
-    s.r[row] = w * (data.obs[o].measured_um - y);
-    for (int j = 0; j < n; ++j) s.j0(row, j) = w * grad[j];
-  }
+  Eigen::MatrixXd none;
+  WeightedJacobian(data, subset, sd, full, model.num_params(), &model, &s.j0, &none, &s.r);
   s.qr.compute(s.j0);
 }
 
