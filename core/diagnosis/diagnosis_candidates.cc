@@ -8,6 +8,7 @@
 #include <string>
 #include <utility>
 
+#include "core/base/parallel.h"
 #include "core/diagnosis/diagnosis_internal.h"
 
 namespace rollwear::diag {
@@ -104,105 +105,136 @@ double CovariateQuantile(const TermData& td, const std::vector<int>& obs, int k,
   return Quantile(Collect(td, obs, k), q);
 }
 
-std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>& train,
-                                      const std::set<int>& used,
-                                      const DiagnosisOptions& options) {
+namespace {
+
+// The unscoped candidates over covariate k (none when it is a cell, too
+// sparse, constant or a factor with too many levels).
+std::vector<Candidate> CandidatesOf(const TermData& td, const std::vector<int>& train,
+                                    int k, const DiagnosisOptions& options) {
   std::vector<Candidate> out;
-  for (int k = 0; k < static_cast<int>(td.catalog.size()); ++k) {
-    if (used.count(k) > 0) continue;
-    const CovariateSpec& c = td.catalog[k];
-    if (c.source == CovariateSource::kCell) continue;  // AddScopedCandidates
-    const WeightedValues w = Collect(td, train, k);
-    if (w.v.size() < 10) continue;
-    const double p01 = Quantile(w, 0.01), p05 = Quantile(w, 0.05);
-    const double p50 = Quantile(w, 0.5), p95 = Quantile(w, 0.95);
-    if (c.kind == CovariateKind::kFactor) {
-      int levels = 0;
-      for (const auto& [z, wt] : w.v) levels = std::max(levels, static_cast<int>(z) + 1);
-      if (levels < 2 || levels > options.max_factor_levels) continue;
-      if (c.level == CovariateLevel::kMeasurement) {
-        std::vector<double> count(levels, 0.0);
-        for (const auto& [z, wt] : w.v) count[static_cast<int>(z)] += wt;
-        for (int ref = 0; ref < levels; ++ref) {
-          if (count[ref] > 0) out.push_back({OffsetPerLevel(k, c, levels, ref), {}});
-        }
-        continue;
-      }
-      TermSpec s = Spec(k, c, TermForm::kPerLevel, std::vector<double>(levels - 1, 0.0),
-                        std::vector<double>(levels - 1, -3.0),
-                        std::vector<double>(levels - 1, 3.0));
-      s.term.num_levels = levels;
-      s.term.levels.assign(c.levels.begin(),
-                           c.levels.begin() + std::min<size_t>(levels, c.levels.size()));
-      out.push_back({s, {}});
-      continue;
-    }
-    if (c.kind == CovariateKind::kFlag) {
-      double on = 0;
-      for (const auto& [z, wt] : w.v) on += z > 0.5 ? wt : 0.0;
-      if (on < 0.02 * w.total || on > 0.98 * w.total) continue;
-      out.push_back({Spec(k, c, TermForm::kFlag, {0.0}, {-3.0}, {3.0}), {}});
-      continue;
-    }
-    if (!(p95 > p05)) continue;  // (nearly) constant
-    double mean, sd;
-    MeanSd(w, &mean, &sd);
-    if (!(sd > 0)) continue;
+  const CovariateSpec& c = td.catalog[k];
+  if (c.source == CovariateSource::kCell) return out;  // AddScopedCandidates
+  const WeightedValues w = Collect(td, train, k);
+  if (w.v.size() < 10) return out;
+  const double p01 = Quantile(w, 0.01), p05 = Quantile(w, 0.05);
+  const double p50 = Quantile(w, 0.5), p95 = Quantile(w, 0.95);
+  if (c.kind == CovariateKind::kFactor) {
+    int levels = 0;
+    for (const auto& [z, wt] : w.v) levels = std::max(levels, static_cast<int>(z) + 1);
+    if (levels < 2 || levels > options.max_factor_levels) return out;
     if (c.level == CovariateLevel::kMeasurement) {
-      TermSpec lin = Spec(k, c, TermForm::kOffsetLinear, {0.0}, {-1000.0}, {1000.0});
-      lin.term.center = mean;
-      lin.term.scale = sd;
-      out.push_back({lin, {}});
-      // A reading that steps or drifts unevenly: one offset per quantile bin.
-      const std::vector<double> edges = QuantileEdges(w, options.num_bins);
-      if (edges.size() >= 2 && edges.back() < w.v.back().first) {
-        const int nb = static_cast<int>(edges.size());
-        TermSpec bin = Spec(k, c, TermForm::kOffsetBinned, std::vector<double>(nb, 0.0),
-                            std::vector<double>(nb, -1000.0), std::vector<double>(nb, 1000.0));
-        bin.term.edges = edges;
-        out.push_back({bin, {}});
+      std::vector<double> count(levels, 0.0);
+      for (const auto& [z, wt] : w.v) count[static_cast<int>(z)] += wt;
+      for (int ref = 0; ref < levels; ++ref) {
+        if (count[ref] > 0) out.push_back({OffsetPerLevel(k, c, levels, ref), {}});
       }
-      if (p01 >= 0 && p50 > 0) {
-        Candidate dec{Spec(k, c, TermForm::kOffsetDecay, {0.0, std::log(p50)},
-                           {-1000.0, std::log(0.02 * p50)}, {1000.0, std::log(20 * p95)}),
-                      {}};
-        for (double f : {0.25, 1.0, 4.0}) dec.starts.push_back({0.0, std::log(f * p50)});
-        out.push_back(dec);
-      }
-      continue;
+      return out;
     }
-    TermSpec ll = Spec(k, c, TermForm::kLogLinear, {0.0}, {-2.0}, {2.0});
-    ll.term.center = mean;
-    ll.term.scale = sd;
-    out.push_back({ll, {}});
-    if (p01 > 0) {
-      TermSpec pw = Spec(k, c, TermForm::kPower, {0.0}, {-4.0}, {4.0});
-      pw.term.center = mean;
-      out.push_back({pw, {}});
-    }
+    TermSpec s = Spec(k, c, TermForm::kPerLevel, std::vector<double>(levels - 1, 0.0),
+                      std::vector<double>(levels - 1, -3.0),
+                      std::vector<double>(levels - 1, 3.0));
+    s.term.num_levels = levels;
+    s.term.levels.assign(c.levels.begin(),
+                         c.levels.begin() + std::min<size_t>(levels, c.levels.size()));
+    out.push_back({s, {}});
+    return out;
+  }
+  if (c.kind == CovariateKind::kFlag) {
+    double on = 0;
+    for (const auto& [z, wt] : w.v) on += z > 0.5 ? wt : 0.0;
+    if (on < 0.02 * w.total || on > 0.98 * w.total) return out;
+    out.push_back({Spec(k, c, TermForm::kFlag, {0.0}, {-3.0}, {3.0}), {}});
+    return out;
+  }
+  if (!(p95 > p05)) return out;  // (nearly) constant
+  double mean, sd;
+  MeanSd(w, &mean, &sd);
+  if (!(sd > 0)) return out;
+  if (c.level == CovariateLevel::kMeasurement) {
+    TermSpec lin = Spec(k, c, TermForm::kOffsetLinear, {0.0}, {-1000.0}, {1000.0});
+    lin.term.center = mean;
+    lin.term.scale = sd;
+    out.push_back({lin, {}});
+    // A reading that steps or drifts unevenly: one offset per quantile bin.
     const std::vector<double> edges = QuantileEdges(w, options.num_bins);
     if (edges.size() >= 2 && edges.back() < w.v.back().first) {
       const int nb = static_cast<int>(edges.size());
-      TermSpec bin = Spec(k, c, TermForm::kBinned, std::vector<double>(nb, 0.0),
-                          std::vector<double>(nb, -3.0), std::vector<double>(nb, 3.0));
+      TermSpec bin = Spec(k, c, TermForm::kOffsetBinned, std::vector<double>(nb, 0.0),
+                          std::vector<double>(nb, -1000.0), std::vector<double>(nb, 1000.0));
       bin.term.edges = edges;
       out.push_back({bin, {}});
     }
-    if (c.accumulates && p95 > 0 && p05 >= 0) {
-      Candidate sat{Spec(k, c, TermForm::kSaturating, {0.0, std::log(p95)},
-                         {-0.9, std::log(0.05 * p95)}, {10.0, std::log(20 * p95)}),
+    if (p01 >= 0 && p50 > 0) {
+      Candidate dec{Spec(k, c, TermForm::kOffsetDecay, {0.0, std::log(p50)},
+                         {-1000.0, std::log(0.02 * p50)}, {1000.0, std::log(20 * p95)}),
                     {}};
-      for (double f : {0.2, 1.0, 5.0}) sat.starts.push_back({0.0, std::log(f * p95)});
-      out.push_back(sat);
-      Candidate dec{Spec(k, c, TermForm::kDecaying, {0.0, std::log(0.1 * p95)},
-                         {-0.9, std::log(0.005 * p95)}, {10.0, std::log(p95)}),
-                    {}};
-      for (double f : {0.02, 0.1, 0.4}) dec.starts.push_back({0.0, std::log(f * p95)});
+      for (double f : {0.25, 1.0, 4.0}) dec.starts.push_back({0.0, std::log(f * p50)});
       out.push_back(dec);
     }
+    return out;
+  }
+  TermSpec ll = Spec(k, c, TermForm::kLogLinear, {0.0}, {-2.0}, {2.0});
+  ll.term.center = mean;
+  ll.term.scale = sd;
+  out.push_back({ll, {}});
+  if (p01 > 0) {
+    TermSpec pw = Spec(k, c, TermForm::kPower, {0.0}, {-4.0}, {4.0});
+    pw.term.center = mean;
+    out.push_back({pw, {}});
+  }
+  const std::vector<double> edges = QuantileEdges(w, options.num_bins);
+  if (edges.size() >= 2 && edges.back() < w.v.back().first) {
+    const int nb = static_cast<int>(edges.size());
+    TermSpec bin = Spec(k, c, TermForm::kBinned, std::vector<double>(nb, 0.0),
+                        std::vector<double>(nb, -3.0), std::vector<double>(nb, 3.0));
+    bin.term.edges = edges;
+    out.push_back({bin, {}});
+  }
+  if (c.accumulates && p95 > 0 && p05 >= 0) {
+    Candidate sat{Spec(k, c, TermForm::kSaturating, {0.0, std::log(p95)},
+                       {-0.9, std::log(0.05 * p95)}, {10.0, std::log(20 * p95)}),
+                  {}};
+    for (double f : {0.2, 1.0, 5.0}) sat.starts.push_back({0.0, std::log(f * p95)});
+    out.push_back(sat);
+    Candidate dec{Spec(k, c, TermForm::kDecaying, {0.0, std::log(0.1 * p95)},
+                       {-0.9, std::log(0.005 * p95)}, {10.0, std::log(p95)}),
+                  {}};
+    for (double f : {0.02, 0.1, 0.4}) dec.starts.push_back({0.0, std::log(f * p95)});
+    out.push_back(dec);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::vector<Candidate>> UnscopedCandidates(const TermData& td,
+                                                       const std::vector<int>& train,
+                                                       const DiagnosisOptions& options) {
+  // One slot per covariate, filled in parallel.
+  const int nk = static_cast<int>(td.catalog.size());
+  std::vector<std::vector<Candidate>> per(nk);
+  ParallelFor(nk, options.num_threads,
+              [&](int k) { per[k] = CandidatesOf(td, train, k, options); });
+  return per;
+}
+
+std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>& train,
+                                      const std::set<int>& used,
+                                      const std::vector<std::vector<Candidate>>& unscoped) {
+  // Joined in catalogue order.
+  std::vector<Candidate> out;
+  for (size_t k = 0; k < unscoped.size(); ++k) {
+    if (used.count(static_cast<int>(k)) > 0) continue;
+    out.insert(out.end(), unscoped[k].begin(), unscoped[k].end());
   }
   AddScopedCandidates(td, train, used, &out);
   return out;
+}
+
+std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>& train,
+                                      const std::set<int>& used,
+                                      const DiagnosisOptions& options) {
+  return MakeCandidates(td, train, used, UnscopedCandidates(td, train, options));
 }
 
 namespace {

@@ -27,6 +27,18 @@ std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>
                                       const std::set<int>& used,
                                       const DiagnosisOptions& options);
 
+// The unscoped candidates of each covariate on `train`, by catalogue index
+// (built on options.num_threads threads): the part of MakeCandidates that
+// does not depend on `used`, so a diagnosis builds it once for its rounds.
+std::vector<std::vector<Candidate>> UnscopedCandidates(const TermData& td,
+                                                       const std::vector<int>& train,
+                                                       const DiagnosisOptions& options);
+
+// MakeCandidates from UnscopedCandidates(td, train, options).
+std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>& train,
+                                      const std::set<int>& used,
+                                      const std::vector<std::vector<Candidate>>& unscoped);
+
 // Appends the scoped variants of the simple candidates already in `out`
 // and the cell candidates (diagnosis_scoped.cc).
 void AddScopedCandidates(const TermData& td, const std::vector<int>& train,

@@ -65,31 +65,44 @@ struct CvResult {
   double mse = 0, gap = 0;
 };
 
-// K-fold cross-validation on training campaigns of the model `start`
-// (refitted on each fold; `start` itself where a fold's fit fails).
-CvResult CrossValidate(const DiagnosisState& st, const std::vector<double>& sd,
-                       const Fitted& start) {
+// K-fold cross-validation on training campaigns of each model of `models`
+// (refitted on each fold; the model itself where a fold's fit fails). The
+// models x folds fits run in parallel; each result is summed in fold and
+// observation order, so it does not depend on the threads.
+std::vector<CvResult> CrossValidate(const DiagnosisState& st,
+                                    const std::vector<double>& sd,
+                                    const std::vector<const Fitted*>& models,
+                                    int num_threads) {
   const TermData& td = st.td;
-  CvResult cv;
-  int n = 0;
-  for (size_t f = 0; f < st.fit_sets.size(); ++f) {
+  const int folds = static_cast<int>(st.fit_sets.size());
+  std::vector<std::vector<double>> preds(models.size() * folds);
+  ParallelFor(static_cast<int>(preds.size()), num_threads, [&](int task) {
+    const Fitted& start = *models[task / folds];
+    const int f = task % folds;
     Fitted fold = Fit(td, st.fit_sets[f], sd, start.log_k, start.terms);
     if (!fold.usable) fold = start;
-    const std::vector<double> pred =
-        PredictTerms(td, st.held_out[f], fold.log_k, fold.terms);
-    for (size_t i = 0; i < pred.size(); ++i) {
-      const int o = st.held_out[f][i];
-      const double e = td.obs[o].measured_um - pred[i];
-      cv.mse += (e / sd[o]) * (e / sd[o]);
-      cv.gap += std::abs(e);
-      ++n;
+    preds[task] = PredictTerms(td, st.held_out[f], fold.log_k, fold.terms);
+  });
+  std::vector<CvResult> out(models.size());
+  for (size_t m = 0; m < models.size(); ++m) {
+    CvResult& cv = out[m];
+    int n = 0;
+    for (int f = 0; f < folds; ++f) {
+      const std::vector<double>& pred = preds[m * folds + f];
+      for (size_t i = 0; i < pred.size(); ++i) {
+        const int o = st.held_out[f][i];
+        const double e = td.obs[o].measured_um - pred[i];
+        cv.mse += (e / sd[o]) * (e / sd[o]);
+        cv.gap += std::abs(e);
+        ++n;
+      }
+    }
+    if (n > 0) {
+      cv.mse /= n;
+      cv.gap /= n;
     }
   }
-  if (n > 0) {
-    cv.mse /= n;
-    cv.gap /= n;
-  }
-  return cv;
+  return out;
 }
 
 // The score-test screen of one round: every candidate's smallest p-value
@@ -116,6 +129,7 @@ Screen ScreenCandidates(const DiagnosisState& st, const std::vector<double>& sd,
   screen.best_start = cands;  // each with its best start only
   std::vector<double>& score_p = screen.score_p;
   std::vector<Candidate>& best_start = screen.best_start;
+  const ScoreScreen score(td, st.train, sd, current.log_k, current.terms);
   ParallelFor(nc, num_threads, [&](int i) {
     std::vector<std::vector<double>> starts = cands[i].starts;
     if (starts.empty()) starts.push_back(cands[i].spec.term.params);
@@ -123,8 +137,7 @@ Screen ScreenCandidates(const DiagnosisState& st, const std::vector<double>& sd,
       TermSpec spec = cands[i].spec;
       spec.term.params = start;
       int df = 0;
-      const double s = ScoreStatistic(td, st.train, sd, current.log_k,
-                                      current.terms, spec, &df);
+      const double s = score.Statistic(spec, &df);
       const double p = df > 0 ? ChiSquareSurvival(s, df) : 1.0;
       if (p < score_p[i] || best_start[i].starts.size() > 1) {
         if (p <= score_p[i]) best_start[i].starts = {start};
@@ -211,11 +224,13 @@ CvRound CrossValidateSignificant(const DiagnosisState& st,
       cv.to_cv.push_back(i);
     }
   }
-  if (!cv.to_cv.empty()) cv.base = CrossValidate(st, sd, st.current);
-  cv.cand.resize(cv.to_cv.size());
-  ParallelFor(
-      static_cast<int>(cv.to_cv.size()), options.num_threads,
-      [&](int j) { cv.cand[j] = CrossValidate(st, sd, fits[cv.to_cv[j]]); });
+  if (cv.to_cv.empty()) return cv;
+  // The current model first, then the candidates.
+  std::vector<const Fitted*> models = {&st.current};
+  for (int i : cv.to_cv) models.push_back(&fits[i]);
+  std::vector<CvResult> res = CrossValidate(st, sd, models, options.num_threads);
+  cv.base = res[0];
+  cv.cand.assign(res.begin() + 1, res.end());
   return cv;
 }
 
@@ -565,14 +580,15 @@ bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
   const std::vector<double> sd = TermNoiseSd(
       td, st->train, st->current.log_k, st->current.terms, nullptr, options.robust);
   Fitted cur = Fit(td, st->train, sd, st->current.log_k, st->current.terms);
+  phase->Mark("round_fit");
   if (!cur.usable) return false;
   st->current = cur;
-  const std::vector<Candidate> cands =
-      MakeCandidates(td, st->train, *used, options);
+  if (st->unscoped.empty()) st->unscoped = UnscopedCandidates(td, st->train, options);
+  const std::vector<Candidate> cands = MakeCandidates(td, st->train, *used, st->unscoped);
+  phase->Mark("candidates");
   if (cands.empty()) return false;
   // Screen every candidate with the score test, then refit only the
   // strongest.
-  phase->Mark("refit");
   const Screen screen = ScreenCandidates(*st, sd, cands, options.num_threads);
   phase->Mark("screen");
   const std::vector<Fitted> fits =
@@ -598,7 +614,7 @@ bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
   Fitted adopted = AdoptWinner(*st, sd, chosen, &f);
   f.explanation += twin_note;
   report->findings.push_back(f);
-  phase->Mark("refit");
+  phase->Mark("adopt");
   used->insert(adopted.terms.back().covariate);
   st->current = adopted;
   return true;

@@ -71,6 +71,9 @@ struct DiagnosisState {
   // clips residuals to +-kHuberK of it.
   std::vector<double> locate_sd;
   Fitted current;
+  // UnscopedCandidates on `train`, built in the first round (the same for
+  // every round: `train` does not change).
+  std::vector<std::vector<Candidate>> unscoped;
 };
 
 // Stage 1. Aggregates, splits the campaigns 2:1 and calibrates option 1 on

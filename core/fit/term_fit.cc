@@ -2,7 +2,10 @@
 #include "core/fit/term_fit.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <utility>
@@ -97,10 +100,15 @@ class TermModel {
     for (const TermSpec& t : terms_) {
       offsets_.push_back(n_);
       n_ += t.term.NumParams();
+      num_params_.push_back(t.term.NumParams());
+      measurement_.push_back(t.term.IsMeasurementTerm() ? 1 : 0);
       scopes_.push_back(Resolve(t.term.scope));
     }
     k_.resize(s_);
+    k_ok_.resize(s_);
     t_.resize(s_);
+    last_z_.resize(terms_.size());
+    cached_.resize(terms_.size());
   }
 
   int num_coef() const { return n_coef_; }
@@ -108,6 +116,13 @@ class TermModel {
   int r_offset() const { return p_; }
   int s_offset() const { return p_ + r_; }
   std::vector<TermSpec>& terms() { return terms_; }
+  // Whether term t applies to observation `o` (its roll) and, for a wear
+  // term, to a pass of grade g.
+  bool CoversRoll(int t, const TermObservation& o) const { return scopes_[t].CoversRoll(o); }
+  bool CoversGrade(int t, int g) const { return scopes_[t].CoversGrade(g); }
+  // With `out` (indexed by pass, sized to every pass), Predict also writes
+  // each pass's wear contribution k_g * load * (product of the wear terms).
+  void set_pass_contributions(std::vector<double>* out) { pass_out_ = out; }
 
   // Writes params into the terms.
   void SetParams(const double* params) {
@@ -126,41 +141,54 @@ class TermModel {
     for (size_t t = 0; t < nt; ++t) roll_in_[t] = scopes_[t].CoversRoll(obs);
     const double base = params[obs.position] +
                         (obs.roll_type >= 0 ? params[p_ + obs.roll_type] : 0.0);
-    for (int s = 0; s < s_; ++s) {
-      k_[s] = std::exp(base + params[p_ + r_ + s]);
-      t_[s] = 0;
-    }
+    // k of a grade only where the observation has a pass of that grade
+    // (the others add exactly 0 to the prediction and its derivatives).
+    std::fill(t_.begin(), t_.end(), 0.0);
+    std::fill(k_ok_.begin(), k_ok_.end(), 0);
     double wear = 0;
     scratch_.resize(8);
     mt_.resize(nt);
     if (grad != nullptr) dm_.resize(static_cast<size_t>(n_));
+    // m_t and dm_t of the last pass a term was evaluated on, reused while
+    // its covariate repeats bit for bit (campaign- and roll-level
+    // covariates repeat on every pass): TermMultiplier is a function of
+    // (params, z) alone, so the reuse is exact.
+    std::fill(cached_.begin(), cached_.end(), 0);
     for (int i = obs.pass_begin; i < obs.pass_end; ++i) {
       const int g = data_.grade[i];
+      if (!k_ok_[g]) {
+        k_[g] = std::exp(base + params[p_ + r_ + g]);
+        k_ok_[g] = 1;
+      }
       double m = 1;
       for (size_t t = 0; t < nt; ++t) {
-        const ModelTerm& term = terms_[t].term;
-        if (term.IsMeasurementTerm()) continue;
+        if (measurement_[t]) continue;
         if (!roll_in_[t] || !scopes_[t].CoversGrade(g)) {
           mt_[t] = 1.0;  // outside the scope: m = 1, no derivative
+          cached_[t] = 0;
           continue;
         }
-        mt_[t] = TermMultiplier(term, data_.z[terms_[t].covariate][i],
-                                grad != nullptr ? dm_.data() + offsets_[t] : nullptr);
+        const uint64_t z_bits = std::bit_cast<uint64_t>(data_.z[terms_[t].covariate][i]);
+        if (!cached_[t] || z_bits != last_z_[t]) {
+          mt_[t] = TermMultiplier(terms_[t].term, std::bit_cast<double>(z_bits),
+                                  grad != nullptr ? dm_.data() + offsets_[t] : nullptr);
+          last_z_[t] = z_bits;
+          cached_[t] = 1;
+        }
         m *= mt_[t];
       }
       const double c = k_[g] * data_.load[i] * m;
       wear += c;
       t_[g] += c;
+      if (pass_out_ != nullptr) (*pass_out_)[i] = c;
       if (grad == nullptr) continue;
       for (size_t t = 0; t < nt; ++t) {
-        const ModelTerm& term = terms_[t].term;
-        if (term.IsMeasurementTerm() || !roll_in_[t] || !scopes_[t].CoversGrade(g)) {
-          continue;
-        }
+        if (measurement_[t] || !roll_in_[t] || !scopes_[t].CoversGrade(g)) continue;
         // d(c)/d(param) = c / m_t * dm_t/d(param).
         const double f = mt_[t] != 0 ? c / mt_[t] : 0.0;
-        const int np = term.NumParams();
-        for (int j = 0; j < np; ++j) grad[offsets_[t] + j] += f * dm_[offsets_[t] + j];
+        const double* dm = dm_.data() + offsets_[t];
+        double* gt = grad + offsets_[t];
+        for (int j = 0; j < num_params_[t]; ++j) gt[j] += f * dm[j];
       }
     }
     double y = wear;
@@ -214,9 +242,14 @@ class TermModel {
   std::vector<TermSpec> terms_;
   std::vector<ResolvedScope> scopes_;
   std::vector<char> roll_in_;
-  std::vector<int> offsets_;
+  std::vector<int> offsets_, num_params_;
+  std::vector<char> measurement_;  // per term: a reading offset
+  std::vector<uint64_t> last_z_;   // per term: z (bits) of the cached m_t, dm_t
+  std::vector<char> cached_;       // per term: last_z_ is valid
+  std::vector<char> k_ok_;         // per grade: k_ computed for this observation
   int p_ = 0, r_ = 0, s_ = 0, n_coef_ = 0, n_ = 0;
   std::vector<double> k_, t_, scratch_, mt_, dm_;
+  std::vector<double>* pass_out_ = nullptr;
 };
 
 class TermCost : public ceres::CostFunction {
@@ -233,31 +266,45 @@ class TermCost : public ceres::CostFunction {
     grad_.resize(model_->num_params());
   }
 
+  // Every evaluation computes the Jacobian too (the exp's of the
+  // multipliers dominate and are shared); a residual-only evaluation keeps
+  // it, and the Jacobian that Levenberg-Marquardt asks for at the same
+  // point once the step is accepted is that kept one, bit for bit.
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
-    for (size_t j = 0; j < free_.size(); ++j) full_[free_[j]] = parameters[0][j];
-    model_->SetParams(full_.data());
     const bool jac = jacobians != nullptr && jacobians[0] != nullptr;
     const size_t nf = free_.size();
+    const size_t nr = subset_.size() + prior_.size();
+    if (jac && kept_ && SameBits(parameters[0], kept_x_)) {
+      std::copy(kept_res_.begin(), kept_res_.end(), residuals);
+      std::copy(kept_jac_.begin(), kept_jac_.end(), jacobians[0]);
+      return true;
+    }
+    kept_ = false;
+    kept_jac_.resize(nr * nf);
+    double* jout = jac ? jacobians[0] : kept_jac_.data();
+    for (size_t j = 0; j < nf; ++j) full_[free_[j]] = parameters[0][j];
+    model_->SetParams(full_.data());
     for (size_t row = 0; row < subset_.size(); ++row) {
       const int o = subset_[row];
-      if (jac) std::fill(grad_.begin(), grad_.end(), 0.0);
-      const double y = model_->Predict(full_.data(), o, jac ? grad_.data() : nullptr);
+      std::fill(grad_.begin(), grad_.end(), 0.0);
+      const double y = model_->Predict(full_.data(), o, grad_.data());
       const double w = 1.0 / sd_[o];
       residuals[row] = w * (data_y(o) - y);
       if (!std::isfinite(residuals[row])) return false;
-      if (jac) {
-        for (size_t j = 0; j < nf; ++j) jacobians[0][row * nf + j] = -w * grad_[free_[j]];
-      }
+      for (size_t j = 0; j < nf; ++j) jout[row * nf + j] = -w * grad_[free_[j]];
     }
     for (size_t q = 0; q < prior_.size(); ++q) {
       const size_t row = subset_.size() + q;
       const auto [j, inv_sd] = prior_[q];
       residuals[row] = inv_sd * parameters[0][j];
-      if (jac) {
-        std::fill(jacobians[0] + row * nf, jacobians[0] + (row + 1) * nf, 0.0);
-        jacobians[0][row * nf + j] = inv_sd;
-      }
+      std::fill(jout + row * nf, jout + (row + 1) * nf, 0.0);
+      jout[row * nf + j] = inv_sd;
+    }
+    if (!jac) {
+      kept_x_.assign(parameters[0], parameters[0] + nf);
+      kept_res_.assign(residuals, residuals + nr);
+      kept_ = true;
     }
     return true;
   }
@@ -266,6 +313,9 @@ class TermCost : public ceres::CostFunction {
 
  private:
   double data_y(int o) const { return (*y_)[o]; }
+  static bool SameBits(const double* x, const std::vector<double>& kept) {
+    return std::memcmp(x, kept.data(), kept.size() * sizeof(double)) == 0;
+  }
   TermModel* model_;
   const std::vector<int>& subset_;
   const std::vector<double>& sd_;
@@ -274,6 +324,9 @@ class TermCost : public ceres::CostFunction {
   std::vector<std::pair<int, double>> prior_;
   mutable std::vector<double> grad_;
   const std::vector<double>* y_ = nullptr;
+  // The last residual-only evaluation: its point, residuals and Jacobian.
+  mutable bool kept_ = false;
+  mutable std::vector<double> kept_x_, kept_res_, kept_jac_;
 };
 
 }  // namespace
@@ -399,37 +452,15 @@ StatusOr<TermFitResult> FitTerms(const TermData& data, const std::vector<int>& s
   return r;
 }
 
-double ScoreStatistic(const TermData& data, const std::vector<int>& subset,
-                      const std::vector<double>& sd, const std::vector<double>& log_k,
-                      const std::vector<TermSpec>& terms, const TermSpec& candidate,
-                      int* df) {
-  std::vector<TermSpec> all = terms;
-  all.push_back(candidate);
-  TermModel model(data, all);
-  const int n = model.num_params();
-  const int n_cur = n - candidate.term.NumParams();
-  std::vector<double> full(n, 0.0);
-  std::copy(log_k.begin(), log_k.end(), full.begin());
-  int off = model.num_coef();
-  for (const TermSpec& t : all) {
-    std::copy(t.term.params.begin(), t.term.params.end(), full.begin() + off);
-    off += t.term.NumParams();
-  }
-  model.SetParams(full.data());
-  const int m = static_cast<int>(subset.size());
-  Eigen::MatrixXd j0(m, n_cur);
-  Eigen::MatrixXd jc(m, n - n_cur);
-  Eigen::VectorXd r(m);
-  std::vector<double> grad(n);
-  for (int row = 0; row < m; ++row) {
-    const int o = subset[row];
-    std::fill(grad.begin(), grad.end(), 0.0);
-    const double y = model.Predict(full.data(), o, grad.data());
-    const double w = 1.0 / sd[o];
-    r[row] = w * (data.obs[o].measured_um - y);
-    for (int j = 0; j < n_cur; ++j) j0(row, j) = w * grad[j];
-    for (int j = n_cur; j < n; ++j) jc(row, j - n_cur) = w * grad[j];
-  }
+namespace {
+
+// The score statistic from the current model's weighted Jacobian j0 (its QR
+// decomposition `qr`), the candidate's weighted derivative columns jc and
+// the weighted residuals r (term_fit.h).
+double ScoreFromColumns(const Eigen::MatrixXd& j0,
+                        const Eigen::ColPivHouseholderQR<Eigen::MatrixXd>& qr,
+                        const Eigen::MatrixXd& jc, const Eigen::VectorXd& r, int* df) {
+  const Eigen::Index m = r.size();
   // Drop candidate columns that are identically zero (parameters whose
   // derivative vanishes at the start, such as a length scale at b = 0).
   std::vector<int> keep;
@@ -442,7 +473,6 @@ double ScoreStatistic(const TermData& data, const std::vector<int>& subset,
   for (size_t j = 0; j < keep.size(); ++j) jk.col(j) = jc.col(keep[j]);
   // Project out the current model's Jacobian (rank-revealing QR handles the
   // gauge directions), then S = r' P (P'P)^+ P' r / sigma^2.
-  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(j0);
   const Eigen::MatrixXd resid_cols = jk - j0 * qr.solve(jk);
   const Eigen::VectorXd g = resid_cols.transpose() * r;
   const Eigen::MatrixXd info = resid_cols.transpose() * resid_cols;
@@ -456,14 +486,13 @@ double ScoreStatistic(const TermData& data, const std::vector<int>& subset,
     s += proj * proj / lambda;
     ++*df;
   }
-  const double sigma2 = r.squaredNorm() / m;
+  const double sigma2 = r.squaredNorm() / static_cast<double>(m);
   return sigma2 > 0 ? s / sigma2 : 0.0;
 }
 
-std::vector<double> PredictTerms(const TermData& data, const std::vector<int>& subset,
-                                 const std::vector<double>& log_k,
-                                 const std::vector<TermSpec>& terms, bool wear_only) {
-  TermModel model(data, terms);
+// The full parameter vector (log_k, then every term's params) of `terms`.
+std::vector<double> FullParams(const TermModel& model, const std::vector<double>& log_k,
+                               const std::vector<TermSpec>& terms) {
   std::vector<double> full(model.num_params(), 0.0);
   std::copy(log_k.begin(), log_k.end(), full.begin());
   int off = model.num_coef();
@@ -471,6 +500,135 @@ std::vector<double> PredictTerms(const TermData& data, const std::vector<int>& s
     std::copy(t.term.params.begin(), t.term.params.end(), full.begin() + off);
     off += t.term.NumParams();
   }
+  return full;
+}
+
+// Weighted residuals r_o = (y_o - yhat_o) / sd_o of `subset` under `model`
+// at `full`, and the weighted derivative columns: the first n_cur in j0,
+// the rest in jc.
+void WeightedJacobian(const TermData& data, const std::vector<int>& subset,
+                      const std::vector<double>& sd, const std::vector<double>& full,
+                      int n_cur, TermModel* model, Eigen::MatrixXd* j0,
+                      Eigen::MatrixXd* jc, Eigen::VectorXd* r) {
+  const int n = model->num_params();
+  const int m = static_cast<int>(subset.size());
+  j0->resize(m, n_cur);
+  jc->resize(m, n - n_cur);
+  r->resize(m);
+  std::vector<double> grad(n);
+  for (int row = 0; row < m; ++row) {
+    const int o = subset[row];
+    std::fill(grad.begin(), grad.end(), 0.0);
+    const double y = model->Predict(full.data(), o, grad.data());
+    const double w = 1.0 / sd[o];
+    (*r)[row] = w * (data.obs[o].measured_um - y);
+    for (int j = 0; j < n_cur; ++j) (*j0)(row, j) = w * grad[j];
+    for (int j = n_cur; j < n; ++j) (*jc)(row, j - n_cur) = w * grad[j];
+  }
+}
+
+}  // namespace
+
+double ScoreStatistic(const TermData& data, const std::vector<int>& subset,
+                      const std::vector<double>& sd, const std::vector<double>& log_k,
+                      const std::vector<TermSpec>& terms, const TermSpec& candidate,
+                      int* df) {
+  std::vector<TermSpec> all = terms;
+  all.push_back(candidate);
+  TermModel model(data, all);
+  const int n = model.num_params();
+  const int n_cur = n - candidate.term.NumParams();
+  const std::vector<double> full = FullParams(model, log_k, all);
+  model.SetParams(full.data());
+  Eigen::MatrixXd j0, jc;
+  Eigen::VectorXd r;
+  WeightedJacobian(data, subset, sd, full, n_cur, &model, &j0, &jc, &r);
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(j0);
+  return ScoreFromColumns(j0, qr, jc, r, df);
+}
+
+struct ScoreScreen::Impl {
+  const TermData* data = nullptr;
+  const std::vector<int>* subset = nullptr;
+  const std::vector<double>* sd = nullptr;
+  std::vector<double> log_k;
+  std::vector<TermSpec> terms;
+  Eigen::MatrixXd j0;
+  Eigen::VectorXd r;
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr;
+  std::vector<double> pass_c;  // per pass: the current model's contribution
+};
+
+ScoreScreen::ScoreScreen(const TermData& data, const std::vector<int>& subset,
+                         const std::vector<double>& sd, const std::vector<double>& log_k,
+                         const std::vector<TermSpec>& terms)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& s = *impl_;
+  s.data = &data;
+  s.subset = &subset;
+  s.sd = &sd;
+  s.log_k = log_k;
+  s.terms = terms;
+  TermModel model(data, terms);
+  const std::vector<double> full = FullParams(model, log_k, terms);
+  model.SetParams(full.data());
+  s.pass_c.assign(data.load.size(), 0.0);
+  model.set_pass_contributions(&s.pass_c);
+  Eigen::MatrixXd none;
+  WeightedJacobian(data, subset, sd, full, model.num_params(), &model, &s.j0, &none, &s.r);
+  s.qr.compute(s.j0);
+}
+
+ScoreScreen::~ScoreScreen() = default;
+
+double ScoreScreen::Statistic(const TermSpec& candidate, int* df) const {
+  const Impl& s = *impl_;
+  const TermData& data = *s.data;
+  // The candidate alone, for its scope and parameter layout.
+  const TermModel scope(data, {candidate});
+  const ModelTerm& term = candidate.term;
+  const int np = term.NumParams();
+  const bool measurement = term.IsMeasurementTerm();
+  const int m = static_cast<int>(s.subset->size());
+  Eigen::MatrixXd jc(m, np);
+  std::vector<double> grad(np), dm(std::max(np, 1));
+  for (int row = 0; row < m; ++row) {
+    const int o = (*s.subset)[row];
+    const TermObservation& obs = data.obs[o];
+    std::fill(grad.begin(), grad.end(), 0.0);
+    if (scope.CoversRoll(0, obs)) {
+      if (measurement) {
+        // A reading offset: null at the start, or the full computation.
+        if (TermOffset(term, data.obs_z[candidate.covariate][o], dm.data()) != 0.0) {
+          return ScoreStatistic(data, *s.subset, *s.sd, s.log_k, s.terms, candidate, df);
+        }
+        for (int j = 0; j < np; ++j) grad[j] += dm[j];
+      } else {
+        const std::vector<double>& z = data.z[candidate.covariate];
+        for (int i = obs.pass_begin; i < obs.pass_end; ++i) {
+          if (!scope.CoversGrade(0, data.grade[i])) continue;
+          // A multiplier of exactly 1 leaves every current prediction and
+          // derivative as they are, so only the candidate's columns are new
+          // (d(c)/d(param) = c / 1 * dm/d(param)); otherwise the full
+          // computation.
+          if (TermMultiplier(term, z[i], dm.data()) != 1.0) {
+            return ScoreStatistic(data, *s.subset, *s.sd, s.log_k, s.terms, candidate, df);
+          }
+          for (int j = 0; j < np; ++j) grad[j] += s.pass_c[i] * dm[j];
+        }
+      }
+    }
+    const double w = 1.0 / (*s.sd)[o];
+    for (int j = 0; j < np; ++j) jc(row, j) = w * grad[j];
+  }
+  return ScoreFromColumns(s.j0, s.qr, jc, s.r, df);
+}
+
+std::vector<double> PredictTerms(const TermData& data, const std::vector<int>& subset,
+                                 const std::vector<double>& log_k,
+                                 const std::vector<TermSpec>& terms, bool wear_only) {
+  TermModel model(data, terms);
+  const std::vector<double> full = FullParams(model, log_k, terms);
   model.SetParams(full.data());
   std::vector<double> out;
   out.reserve(subset.size());

@@ -15,6 +15,7 @@
 #ifndef ROLLWEAR_CORE_FIT_TERM_FIT_H_
 #define ROLLWEAR_CORE_FIT_TERM_FIT_H_
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -121,6 +122,34 @@ double ScoreStatistic(const TermData& data, const std::vector<int>& subset,
                       const std::vector<double>& sd, const std::vector<double>& log_k,
                       const std::vector<TermSpec>& terms, const TermSpec& candidate,
                       int* df);
+
+// The score test of many candidates against one fitted model: the current
+// model's weighted residuals, Jacobian and its QR decomposition, and each
+// pass's wear contribution are computed once, so a candidate costs one pass
+// over its own covariate. Statistic(c) equals ScoreStatistic(data, subset,
+// sd, log_k, terms, c) exactly (same floating-point operations): a
+// candidate at a start where its multiplier is exactly 1 and its reading
+// offset exactly 0 (every null start of the diagnosis' library) leaves the
+// current predictions and derivatives bit for bit as they are; any other
+// start falls back to ScoreStatistic.
+//
+// Thread-safety: Statistic is const and may run concurrently; data, subset
+// and sd must outlive the screen and not change.
+class ScoreScreen {
+ public:
+  ScoreScreen(const TermData& data, const std::vector<int>& subset,
+              const std::vector<double>& sd, const std::vector<double>& log_k,
+              const std::vector<TermSpec>& terms);
+  ~ScoreScreen();
+  ScoreScreen(const ScoreScreen&) = delete;
+  ScoreScreen& operator=(const ScoreScreen&) = delete;
+
+  double Statistic(const TermSpec& candidate, int* df) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace rollwear
 

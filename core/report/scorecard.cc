@@ -60,7 +60,73 @@ double NoiseFloor(const DiagnosisReport& r, const ScoreTruth& truth) {
   return n > 0 ? sum / n : std::nan("");
 }
 
+bool StartsWith(const std::string& s, const std::string& prefix) {
+  return s.rfind(prefix, 0) == 0;
+}
+
+// Whether residual check `dimension` (Unexplained::dimension) looks at the
+// place one part of a truth's location names (MismatchParts).
+bool DimensionLocates(const std::string& part, const std::string& dimension) {
+  const bool time = part.find("time") != std::string::npos ||
+                    part.find("calendar") != std::string::npos;
+  if (time) {
+    return StartsWith(dimension, "time_") || dimension == "lag1_along_time" ||
+           dimension == "runs_along_time" || dimension == "spread_by_time" ||
+           dimension == "position_by_time_half" ||
+           SameCovariate("started_at", dimension) || dimension == "measured_at";
+  }
+  if (part.find("campaign order") != std::string::npos) {  // within a campaign
+    return SameCovariate("campaign_coils_before", dimension) ||
+           dimension == "campaign_rolled_length_m" || dimension == "hours_since_mount";
+  }
+  if (part.find("grade") != std::string::npos) {
+    return dimension == "dominant_grade" || dimension == "grade" ||
+           StartsWith(dimension, "position_by_grade") || dimension == "effect_by_grade";
+  }
+  if (part.find("roll type") != std::string::npos) {
+    return dimension == "roll_type" || dimension == "position_by_roll_type" ||
+           dimension == "effect_by_roll_type";
+  }
+  if (part.find("position") != std::string::npos ||
+      part.find("stand") != std::string::npos) {
+    return dimension == "roll_position" || StartsWith(dimension, "position_by_") ||
+           dimension == "spread_by_position" || dimension == "effect_by_position" ||
+           dimension == "effect_by_stand";
+  }
+  return SameCovariate(part, dimension);  // a covariate's own name
+}
+
 }  // namespace
+
+std::vector<std::string> MismatchParts(const std::string& mismatch) {
+  std::vector<std::string> parts;
+  std::string rest = mismatch;
+  for (const std::string sep : {std::string(" x "), std::string(", by ")}) {
+    size_t at;
+    while ((at = rest.find(sep)) != std::string::npos) {
+      parts.push_back(rest.substr(0, at));
+      rest = rest.substr(at + sep.size());
+    }
+  }
+  parts.push_back(rest);
+  for (std::string& p : parts) {
+    while (!p.empty() && p.front() == ' ') p.erase(p.begin());
+    while (!p.empty() && p.back() == ' ') p.pop_back();
+  }
+  return parts;
+}
+
+bool LocatesMismatch(const DiagnosisReport& report, const std::string& mismatch) {
+  if (mismatch.empty()) return false;
+  const std::vector<std::string> parts = MismatchParts(mismatch);
+  return std::any_of(report.unexplained.begin(), report.unexplained.end(),
+                     [&](const Unexplained& u) {
+                       return std::any_of(parts.begin(), parts.end(),
+                                          [&](const std::string& part) {
+                                            return DimensionLocates(part, u.dimension);
+                                          });
+                     });
+}
 
 const std::map<std::string, std::string>& FindingScope(const Finding& f) {
   return f.scope;
@@ -103,8 +169,13 @@ CaseScore ScoreCase(const std::string& effect, uint64_t seed,
   if (s.clean) {
     s.named_right = false;
   } else if (!s.expressible) {
-    s.named_right = report.findings.empty() &&
-                    report.verdict == "mismatch_located_unexplained";
+    // The verdict, and the unexplained list naming where each inexpressible
+    // effect lives.
+    s.named_right =
+        report.findings.empty() && report.verdict == "mismatch_located_unexplained" &&
+        std::all_of(truth.effects.begin(), truth.effects.end(), [&](const ConcealedEffect& e) {
+          return e.expressible || LocatesMismatch(report, e.mismatch);
+        });
   } else {
     s.named_right = std::all_of(
         truth.effects.begin(), truth.effects.end(),

@@ -16,7 +16,9 @@
 // rolled length) are classes of their own. Scopes must be equal (an
 // everywhere-effect named at one stand is the wrong scope, and the other
 // way round). Levels: when the truth lists levels, the finding must list
-// them too (among others at most).
+// them too (among others at most). An inexpressible effect is named right
+// by the third verdict with its location in the unexplained list
+// (LocatesMismatch).
 //
 // Thread-safety: pure functions over values.
 #ifndef ROLLWEAR_CORE_REPORT_SCORECARD_H_
@@ -59,7 +61,8 @@ struct CaseScore {
   bool clean = false;       // no concealed effect: quiet is right
   bool expressible = true;  // every concealed effect expressible
   // Every concealed effect matched by a finding (covariate, scope, levels);
-  // inexpressible: verdict mismatch_located_unexplained and no finding.
+  // inexpressible: verdict mismatch_located_unexplained, no finding, and
+  // the unexplained list locating each effect's mismatch (LocatesMismatch).
   bool named_right = false;
   int wrong_physics = 0;  // findings that match no concealed effect
   int num_findings = 0;
@@ -90,6 +93,25 @@ const std::map<std::string, std::string>& FindingScope(const Finding& f);
 bool SameCovariate(const std::string& truth, const std::string& found);
 // True when `f` describes `e`: covariate, scope and levels.
 bool Describes(const Finding& f, const ConcealedEffect& e);
+
+// The parts of a truth's mismatch location ("campaign order x grade",
+// "time (campaign order), by roll position"): split at " x " and ", by ".
+std::vector<std::string> MismatchParts(const std::string& mismatch);
+
+// True when the report's unexplained list locates the mismatch at one of
+// the parts of `mismatch` (a truth's ConcealedEffect::mismatch). A part is
+// read by its words: "time" or "calendar" is located by the checks along
+// time (time_*, lag1_along_time, runs_along_time, spread_by_time,
+// position_by_time_half, a calendar-time covariate); "campaign order"
+// (without time: the order within a campaign) by campaign_coils_before,
+// campaign_length_before_m, campaign_rolled_length_m or hours_since_mount;
+// "grade" by dominant_grade, position_by_grade or effect_by_grade; "roll
+// type" by roll_type, position_by_roll_type or effect_by_roll_type;
+// "position" or "stand" by roll_position, position_by_*,
+// spread_by_position, effect_by_position or effect_by_stand; any other
+// part is a covariate name, located by that covariate's own breakdown
+// (SameCovariate).
+bool LocatesMismatch(const DiagnosisReport& report, const std::string& mismatch);
 
 CaseScore ScoreCase(const std::string& effect, uint64_t seed,
                     const DiagnosisReport& report, const ScoreTruth& truth);

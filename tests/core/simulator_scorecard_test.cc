@@ -119,11 +119,24 @@ TEST(ScorecardTest, EquivalentNamesOnlyWithinTheirClass) {
   EXPECT_TRUE(SameCovariate("grinder", "grinder"));
 }
 
+// A report with the third verdict and one unexplained check of `dimension`.
+DiagnosisReport Unexplained1(const std::string& dimension) {
+  DiagnosisReport r = Report({}, "mismatch_located_unexplained");
+  Unexplained u;
+  u.dimension = dimension;
+  u.where = dimension + " (test)";
+  u.test = "anova";
+  u.p_value = 1e-8;
+  u.p_adjusted = 1e-6;
+  r.unexplained.push_back(u);
+  return r;
+}
+
 TEST(ScorecardTest, InexpressibleIsRightOnlyAsUnexplained) {
   const ScoreTruth truth = Truth(
       {{"inexpressible_order", "", {}, {}, false, "campaign order x grade"}});
   CaseScore s = ScoreCase("inexpressible_order", 1,
-                          Report({}, "mismatch_located_unexplained"), truth);
+                          Unexplained1("position_by_grade"), truth);
   EXPECT_TRUE(s.named_right);
   EXPECT_FALSE(s.expressible);
   EXPECT_EQ(s.wrong_physics, 0);
@@ -135,6 +148,63 @@ TEST(ScorecardTest, InexpressibleIsRightOnlyAsUnexplained) {
   s = ScoreCase("inexpressible_order", 1, Report({}, "no_significant_mismatch"),
                 truth);
   EXPECT_FALSE(s.named_right);
+}
+
+TEST(ScorecardTest, InexpressibleNeedsTheRightLocation) {
+  const ScoreTruth order = Truth(
+      {{"inexpressible_order", "", {}, {}, false, "campaign order x grade"}});
+  // The verdict alone, with nothing located, is not enough.
+  EXPECT_FALSE(ScoreCase("inexpressible_order", 1,
+                         Report({}, "mismatch_located_unexplained"), order)
+                   .named_right);
+  // Either part of the location counts: the order within the campaign ...
+  EXPECT_TRUE(ScoreCase("inexpressible_order", 1,
+                        Unexplained1("campaign_coils_before"), order)
+                  .named_right);
+  EXPECT_TRUE(ScoreCase("inexpressible_order", 1, Unexplained1("dominant_grade"), order)
+                  .named_right);
+  // ... but not a place the effect does not live.
+  CaseScore s = ScoreCase("inexpressible_order", 1, Unexplained1("spread_by_position"), order);
+  EXPECT_FALSE(s.named_right);
+  EXPECT_EQ(s.wrong_physics, 0);
+  EXPECT_FALSE(ScoreCase("inexpressible_order", 1, Unexplained1("time_scale_8"), order)
+                   .named_right);
+
+  const ScoreTruth interaction = Truth({{"inexpressible_interaction", "", {}, {}, false,
+                                         "temperature_c x speed_mps"}});
+  EXPECT_TRUE(ScoreCase("inexpressible_interaction", 1, Unexplained1("speed_mps"),
+                        interaction)
+                  .named_right);
+  EXPECT_FALSE(ScoreCase("inexpressible_interaction", 1,
+                         Unexplained1("roll_position"), interaction)
+                   .named_right);
+
+  // Time order of campaigns, by roll position; calendar periods.
+  const ScoreTruth walk = Truth({{"inexpressible_random_walk", "", {}, {}, false,
+                                  "time (campaign order), by roll position"}});
+  EXPECT_TRUE(ScoreCase("inexpressible_random_walk", 1, Unexplained1("lag1_along_time"), walk)
+                  .named_right);
+  EXPECT_TRUE(ScoreCase("inexpressible_random_walk", 1,
+                        Unexplained1("position_by_time_half"), walk)
+                  .named_right);
+  EXPECT_FALSE(ScoreCase("inexpressible_random_walk", 1,
+                         Unexplained1("campaign_coils_before"), walk)
+                   .named_right);
+  const ScoreTruth bursts = Truth({{"inexpressible_bursts", "", {}, {}, false,
+                                    "time (spread by calendar period)"}});
+  EXPECT_TRUE(ScoreCase("inexpressible_bursts", 1, Unexplained1("spread_by_time"), bursts)
+                  .named_right);
+  EXPECT_FALSE(ScoreCase("inexpressible_bursts", 1, Unexplained1("dominant_grade"), bursts)
+                   .named_right);
+}
+
+TEST(ScorecardTest, MismatchPartsSplitAtCrossAndBy) {
+  EXPECT_EQ(MismatchParts("campaign order x grade"),
+            (std::vector<std::string>{"campaign order", "grade"}));
+  EXPECT_EQ(MismatchParts("time (campaign order), by roll position"),
+            (std::vector<std::string>{"time (campaign order)", "roll position"}));
+  EXPECT_EQ(MismatchParts("time (spread by calendar period)"),
+            (std::vector<std::string>{"time (spread by calendar period)"}));
 }
 
 TEST(ScorecardTest, SummaryCountsAndTable) {
