@@ -20,53 +20,12 @@
 #include "core/fit/term_fit.h"
 #include "core/fit/term_refit.h"
 #include "core/model/model_eval.h"
+#include "tests/core/served_terms_util.h"
 #include "tests/core/simulator_test_util.h"
 #include "tests/core/test_size.h"
 
 namespace rollwear {
 namespace {
-
-// Mean and sd of the passes' temperature: the log-linear term's c and s.
-std::pair<double, double> TemperatureMoments(const Dataset& d) {
-  double sum = 0, sum2 = 0;
-  for (const Pass& p : d.passes) {
-    sum += p.temperature_c;
-    sum2 += p.temperature_c * p.temperature_c;
-  }
-  const double n = static_cast<double>(d.passes.size());
-  return {sum / n, std::sqrt(std::max(1e-9, sum2 / n - (sum / n) * (sum / n)))};
-}
-
-// The four terms; `grinder` is the measurement text column's index.
-std::vector<ModelTerm> VocabularyTerms(const Dataset& d, int grinder) {
-  std::vector<ModelTerm> terms(4);
-  const auto [c, s] = TemperatureMoments(d);
-  terms[0].covariate = "temperature_c";  // log-linear, at F7 only
-  terms[0].params = {0.3};
-  terms[0].center = c;
-  terms[0].scale = s;
-  terms[0].scope.stand = 7;
-  terms[1].covariate = kCellCovariateName;  // cell F6 x the first roll type
-  terms[1].form = TermForm::kCell;
-  terms[1].params = {0.25};
-  terms[1].scope.stand = 6;
-  terms[1].scope.roll_type = d.roll_types[0];
-  ModelTerm& g = terms[2];  // per-level offset on the grinder column
-  g.covariate = d.measurement_extra.factor_names[grinder];
-  g.form = TermForm::kOffsetPerLevel;
-  g.levels = d.measurement_extra.factor_levels[grinder];
-  g.num_levels = static_cast<int>(g.levels.size());
-  g.reference_level = 0;
-  for (int l = 1; l < g.num_levels; ++l) g.params.push_back(-12.0 + 7.0 * l);
-  ModelTerm& m = terms[3];  // calendar drift of the reading, top rolls only
-  m.covariate = "measured_at";
-  m.form = TermForm::kOffsetLinear;
-  m.params = {4.0};
-  m.center = static_cast<double>(d.measurements[0].measured_at) / 86400.0;
-  m.scale = 30.0;
-  m.scope.position = static_cast<int>(Position::kTop);
-  return terms;
-}
 
 class ServedTermsTest : public ::testing::Test {
  protected:
@@ -80,7 +39,7 @@ class ServedTermsTest : public ::testing::Test {
       (c % 3 == 2 ? validation_ : train_).push_back(c);
     }
     StatusOr<WearModel> model = RefitWithTerms(sim_.data, WearLaw::kWang,
-                                               VocabularyTerms(sim_.data, 0), train_);
+                                               served_terms::VocabularyTerms(sim_.data, 0), train_);
     ASSERT_TRUE(model.ok()) << model.status().ToString();
     model_ = std::move(model).value();
     ASSERT_EQ(model_.terms.size(), 4u);
