@@ -284,6 +284,18 @@ std::map<std::string, double> OfflinePrediction(const Dataset& data,
   return out;
 }
 
+json WaitForJob(const std::string& url, const std::string& path, double timeout_s) {
+  json body;
+  const auto end = std::chrono::steady_clock::now() +
+                   std::chrono::milliseconds(static_cast<int64_t>(timeout_s * 1000));
+  while (std::chrono::steady_clock::now() < end) {
+    if (HttpGet(url, path, &body) != 200) return body;
+    if (body["status"] == "done" || body["status"] == "failed") return body;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return body;
+}
+
 std::map<std::string, double> WearByKey(const json& wear) {
   std::map<std::string, double> out;
   if (!wear.is_object() || !wear.contains("positions")) return out;

@@ -102,6 +102,10 @@ int HttpGet(const std::string& url, const std::string& path, json* body);
 int HttpPost(const std::string& url, const std::string& path,
              const std::string& body, json* answer,
              const std::string& token = "");
+// Polls GET `path` (a calibration or diagnosis job) every 100 ms until its
+// "status" is done or failed, at most `timeout_s`; returns the last answer.
+json WaitForJob(const std::string& url, const std::string& path,
+                double timeout_s = 600);
 // Plain-number samples of GET /metrics without labels ("rollwear_coils_stored"
 // -> 1234).
 std::map<std::string, double> ScrapeMetrics(const std::string& url);
