@@ -60,6 +60,7 @@ std::string EncodeRollLife(const storage::RollLife& life) {
          {"rolled_km", m.rolled_length_m / 1000.0},
          {"predicted_wear_um", FiniteOrNull(m.predicted_wear_um)},
          {"measured_wear_um", OptionalUm(m.measured_um)},
+         {"expected_reading_um", OptionalUm(m.expected_reading_um)},
          {"suspect", SuspectOrNull(m.measured_suspect)}});
   }
   return Dump(Json{{"roll_id", life.roll_id},

@@ -7,12 +7,10 @@
 // grinder is expected to read (core/model/model_eval.h: the model's measurement
 // terms added), the number validation compares with the measurement.
 #include <algorithm>
-#include <limits>
 #include <memory>
 #include <mutex>
 #include <vector>
 
-#include "core/model/covariates.h"
 #include "core/model/model_eval.h"
 #include "storage/extra_json.h"
 #include "storage/mill_store_impl.h"
@@ -90,18 +88,7 @@ Status ReplayInto(Db* db, const CampaignRec& rec, const WearModel& model,
     RollWearHistory& h = out->rolls[index[slot]];
     h.final_predicted_um = states[slot]->wear_um;
     h.expected_reading_um = h.final_predicted_um;
-    const auto& measured = rec.measurements[slot];
-    if (measured.has_value() && rec.ended_at.has_value()) {
-      h.expected_reading_um +=
-          MeasurementTermsOffset(model, [&](const std::string& covariate) {
-            if (covariate == kCoolingHoursName) {
-              return CoolingHours(measured->measured_at, *rec.ended_at);
-            }
-            // A term on a measurement's extra column: its stored field.
-            const double* v = measured->extra.Numeric(covariate);
-            return v != nullptr ? *v : std::numeric_limits<double>::quiet_NaN();
-          });
-    }
+    h.expected_reading_um += StoredReadingOffset(model, rec, slot);
   }
   return Status::Ok();
 }
@@ -112,6 +99,20 @@ bool HasMeasurement(const CampaignRec& rec) {
 }
 
 }  // namespace
+
+double StoredReadingOffset(const WearModel& model, const CampaignRec& rec, int slot) {
+  const auto& measured = rec.measurements[slot];
+  const auto& m = rec.mounts[slot];
+  if (!measured.has_value() || !m.has_value() || !rec.ended_at.has_value()) return 0;
+  ReadingContext reading;
+  reading.stand = m->stand;
+  reading.position = static_cast<int>(m->position);
+  reading.roll_type = m->roll_type;
+  reading.measured_at = measured->measured_at;
+  reading.ended_at = rec.ended_at;
+  reading.extra = &measured->extra;
+  return MeasurementTermsOffset(model, reading);
+}
 
 StatusOr<std::vector<CampaignWearHistory>> MillStoreImpl::RecentWear(
     int ended_campaigns) const {

@@ -299,6 +299,13 @@ class MillStoreImpl final : public MillStore {
 
 UnixSeconds NowSeconds();
 
+// What the grinder is expected to read on top of the wear for the stored
+// measurement of `slot` of the ended campaign `rec` under `model`: its
+// measurement terms (core/model/model_eval.h, MeasurementTermsOffset), the
+// offset validation adds. 0 when the slot is unmeasured or the campaign
+// open (mill_store_history.cc).
+double StoredReadingOffset(const WearModel& model, const CampaignRec& rec, int slot);
+
 }  // namespace rollwear::storage::internal
 
 #endif  // ROLLWEAR_STORAGE_MILL_STORE_IMPL_H_

@@ -206,6 +206,10 @@ Status DecodeTerms(const Json& doc, std::vector<ModelTerm>* out) {
                            : "is only for the offset_per_level form");
     }
     ROLLWEAR_RETURN_IF_ERROR(DecodeScope(j, at, &t.scope));
+    if (t.IsMeasurementTerm() && !t.scope.grade.empty()) {
+      // A reading is of a roll, not of a grade (model_eval.h).
+      return Bad(at + "scope.grade", "a measurement term cannot be scoped by grade");
+    }
     out->push_back(std::move(t));
   }
   return Status::Ok();

@@ -114,6 +114,8 @@ StatusOr<RollLife> MillStoreImpl::GetRollLife(
     }
     if (rec.measurements[slot].has_value()) {
       mount.measured_um = rec.measurements[slot]->wear_center_um;
+      mount.expected_reading_um =
+          mount.predicted_wear_um + StoredReadingOffset(model->wear_model, rec, slot);
       mount.measured_suspect = rec.measurements[slot]->suspect;
     }
     life.roll_type = m.roll_type;

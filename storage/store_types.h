@@ -301,6 +301,10 @@ struct RollMountLife {
   double rolled_length_m = 0;
   double predicted_wear_um = 0;
   std::optional<double> measured_um;
+  // What the grinder is expected to read: the predicted wear plus the
+  // model's measurement terms for that measurement (model_eval.h); set
+  // with measured_um.
+  std::optional<double> expected_reading_um;
   std::string measured_suspect;  // "" when plausible or not measured
 };
 struct RollLife {

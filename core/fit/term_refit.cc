@@ -76,6 +76,11 @@ StatusOr<WearModel> RefitWithTerms(const Dataset& data, WearLaw law,
           TermFormName(t.form) + " acts on the " +
           (t.IsMeasurementTerm() ? "measured value" : "wear rate"));
     }
+    if (t.IsMeasurementTerm() && !t.scope.grade.empty()) {
+      return Status::InvalidArgument("terms: '" + t.covariate +
+                                     "' is a measurement term and cannot be scoped by "
+                                     "grade (a reading is of a roll, not of a grade)");
+    }
     if (static_cast<int>(t.params.size()) != t.NumParams()) {
       return Status::InvalidArgument(
           "terms: '" + t.covariate + "' (" + TermFormName(t.form) + ") has " +

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <string_view>
 
 #include "core/model/covariates.h"
 #include "core/model/predictor.h"
@@ -9,27 +10,27 @@
 namespace rollwear {
 namespace {
 
-// Sum of the measurement terms' offsets for measurement `measurement` of
-// mount `mount`.
-double MeasurementOffset(const WearModel& model, const Dataset& data,
-                         const std::vector<CovariateSpec>& catalog,
-                         int campaign, int mount, int measurement) {
-  PassContext ctx;
-  ctx.mount = &data.mounts[mount];
-  ctx.mount_row = mount;
-  ctx.campaign = &data.campaigns[campaign];
-  ctx.campaign_row = campaign;
-  ctx.measurement_row = measurement;
-  return MeasurementTermsOffset(model, [&](const std::string& name) {
-    for (const CovariateSpec& spec : catalog) {
-      // Measurement terms act on measurement-level covariates only (a
-      // pass-level one has no pass here; RefitWithTerms refuses them).
-      if (spec.name == name && spec.level == CovariateLevel::kMeasurement) {
-        return CovariateValue(spec, data, ctx, 0);
-      }
-    }
-    return std::numeric_limits<double>::quiet_NaN();
-  });
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// The value of measurement term `t`'s covariate for `r` (ReadingContext in
+// model_eval.h): an offset_per_level term's level index by label.
+double ReadingValue(const ModelTerm& t, const ReadingContext& r) {
+  if (t.covariate == kCoolingHoursName) {
+    return r.ended_at.has_value() ? CoolingHours(r.measured_at, *r.ended_at) : kNaN;
+  }
+  if (t.covariate == "measured_at") {  // days since 1970 (covariates.h, origin 0)
+    return static_cast<double>(r.measured_at) / 86400.0;
+  }
+  if (t.form != TermForm::kOffsetPerLevel) {
+    const double* v = r.extra != nullptr ? r.extra->Numeric(t.covariate) : nullptr;
+    return v != nullptr ? *v : kNaN;
+  }
+  const std::string* field = r.extra != nullptr ? r.extra->Factor(t.covariate) : nullptr;
+  const std::string_view label = field != nullptr ? std::string_view(*field) : "";
+  for (size_t l = 0; l < t.levels.size(); ++l) {
+    if (t.levels[l] == label) return static_cast<double>(l);
+  }
+  return kNaN;
 }
 
 }  // namespace
@@ -48,9 +49,6 @@ std::vector<MeasuredPrediction> PredictMeasured(
     const WearModel& model, const Dataset& data, const DatasetIndex& index,
     const std::vector<int>& campaigns) {
   const bool has_measurement_terms = HasMeasurementTerms(model);
-  const std::vector<CovariateSpec> catalog = has_measurement_terms
-                                                 ? CovariateCatalog(data)
-                                                 : std::vector<CovariateSpec>{};
   std::vector<MeasuredPrediction> out;
   for (int c : campaigns) {
     for (int slot : index.slots()) {
@@ -70,7 +68,15 @@ std::vector<MeasuredPrediction> PredictMeasured(
       p.wear_um = state.wear_um;
       p.expected_um = state.wear_um;
       if (has_measurement_terms) {
-        p.expected_um += MeasurementOffset(model, data, catalog, c, mi, me);
+        const ExtraFields fields = ExtraFieldsOfRow(data.measurement_extra, me);
+        ReadingContext reading;
+        reading.stand = mount.stand;
+        reading.position = static_cast<int>(mount.position);
+        reading.roll_type = data.roll_types[mount.roll_type];
+        reading.measured_at = data.measurements[me].measured_at;
+        reading.ended_at = data.campaigns[c].ended_at;
+        reading.extra = &fields;
+        p.expected_um += MeasurementTermsOffset(model, reading);
       }
       out.push_back(p);
     }
@@ -85,13 +91,14 @@ bool HasMeasurementTerms(const WearModel& model) {
   return false;
 }
 
-double MeasurementTermsOffset(
-    const WearModel& model,
-    const std::function<double(const std::string& covariate)>& value) {
+double MeasurementTermsOffset(const WearModel& model, const ReadingContext& reading) {
   double offset = 0;
   for (const ModelTerm& t : model.terms) {
-    if (!t.IsMeasurementTerm()) continue;
-    const double z = value(t.covariate);
+    if (!t.IsMeasurementTerm() ||
+        !t.scope.CoversRoll(reading.stand, reading.position, reading.roll_type)) {
+      continue;
+    }
+    const double z = ReadingValue(t, reading);
     if (!std::isnan(z)) offset += TermOffset(t, z, nullptr);
   }
   return offset;

@@ -10,11 +10,12 @@
 #ifndef ROLLWEAR_CORE_MODEL_MODEL_EVAL_H_
 #define ROLLWEAR_CORE_MODEL_MODEL_EVAL_H_
 
-#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/dataset/dataset.h"
+#include "core/dataset/extra_fields.h"
 #include "core/model/metrics.h"
 #include "core/model/predictor.h"
 #include "core/model/wear_model.h"
@@ -47,14 +48,31 @@ std::vector<MeasuredPrediction> PredictMeasured(
 // reads, model_terms.h).
 bool HasMeasurementTerms(const WearModel& model);
 
+// A grinder's reading as the measurement terms see it: the roll it
+// measures (for a term's scope) and the reading's own quantities. The batch
+// path (PredictMeasured) and the daemon (storage/mill_store_history.cc)
+// fill it from their records, so both read the same offset.
+struct ReadingContext {
+  int stand = 0;          // 1..7, the measured roll's stand
+  int position = -1;      // static_cast<int>(Position)
+  std::string roll_type;  // the roll's type label
+  UnixSeconds measured_at = 0;
+  std::optional<UnixSeconds> ended_at;  // the campaign's end (cooling_h)
+  const ExtraFields* extra = nullptr;   // measurements.csv's extra fields
+};
+
 // What the grinder reads besides the wear: the sum of `model`'s measurement
-// terms (model_terms.h, offset forms) at the measurement's covariate values.
-// `value(covariate)` gives a measurement-level covariate's value, NaN when
-// it is unknown; a term on an unknown covariate adds nothing. 0 for a model
-// without measurement terms.
-double MeasurementTermsOffset(
-    const WearModel& model,
-    const std::function<double(const std::string& covariate)>& value);
+// terms (model_terms.h, offset forms) for `reading`. A term counts only on
+// rolls inside its scope (TermScope::CoversRoll; a measurement term is
+// never scoped by grade: a reading is of a roll, not of a grade, and the
+// codec and RefitWithTerms refuse it). Covariates: cooling_h (hours from
+// the campaign's end), measured_at (days since 1970, covariates.h) and the
+// reading's extra numeric fields; an offset_per_level term matches the
+// reading's text field by its label in ModelTerm::levels, never by index
+// (a record without the field reads the empty text, as an empty cell of
+// measurements.csv does). A covariate without a value, or a label the fit
+// never saw, adds nothing. 0 for a model without measurement terms.
+double MeasurementTermsOffset(const WearModel& model, const ReadingContext& reading);
 
 // Eq. 9 cost and average gap of `expected_um` against `measured_um`, each
 // roll position slot a group of Eq. 9.

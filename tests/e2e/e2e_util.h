@@ -108,7 +108,7 @@ int HttpPost(const std::string& url, const std::string& path,
 // "status" is "done" or "failed", an answer is not 200, or `timeout_s`
 // passed; returns the last answer.
 json WaitForJob(const std::string& url, const std::string& path,
-                double timeout_s = 300);
+                double timeout_s = 600);
 // Plain-number samples of GET /metrics without labels ("rollwear_coils_stored"
 // -> 1234).
 std::map<std::string, double> ScrapeMetrics(const std::string& url);

@@ -196,6 +196,14 @@ TEST(ModelCodecTest, ScopedTermsRoundTrip) {
               std::string::npos)
         << refused.status().message();
   }
+  // A measurement term scoped by grade: a reading is of a roll, which
+  // rolls many grades, so the scope has no meaning and is refused.
+  StatusOr<std::vector<ModelTerm>> graded = DecodeModelTerms(
+      R"({"terms":[{"covariate":"g","form":"offset_per_level","params":[1],"num_levels":2,)"
+      R"("levels":["A","B"],"scope":{"grade":"HSLA"}}]})");
+  ASSERT_FALSE(graded.ok());
+  EXPECT_NE(graded.status().message().find("terms[0].scope.grade"), std::string::npos)
+      << graded.status().message();
 }
 
 TEST(ModelCodecTest, CoefficientsAreListedByName) {

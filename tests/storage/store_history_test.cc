@@ -10,8 +10,10 @@
 #include <gtest/gtest.h>
 
 #include "core/diagnosis/diagnosis.h"
+#include "core/fit/term_refit.h"
 #include "core/model/model_eval.h"
 #include "storage/mill_store.h"
+#include "tests/core/served_terms_util.h"
 #include "tests/storage/store_test_util.h"
 
 namespace rollwear::storage {
@@ -106,6 +108,44 @@ TEST(StoreHistoryTest, ParityUsesTheExpectedReadingWithMeasurementTerms) {
   // Now the readings of rolls measured warm sit below their wear, exactly
   // as the validation that promoted the model computed them.
   EXPECT_GT(ExpectHistoryMatchesOffline(*store), 0);
+}
+
+// The issue-15 vocabulary served by the daemon: a scoped log-linear term, a
+// cell term, a per-level offset on the grinder column of measurements.csv
+// (its levels matched by label) and a scoped measured_at drift. The
+// replay's expected readings equal the offline evaluation (which equals the
+// fit's batch prediction: tests/core/served_terms_test.cc) to 1e-9.
+TEST(StoreHistoryTest, ExpectedReadingServesScopedCellAndTextColumnTerms) {
+  TempDir dir;
+  auto store = OpenStore(dir.File("mill.db"));
+  ASSERT_NE(store, nullptr);
+  const Dataset mill = SimulatedMill(23, 60, 40, {"grinder:0"});
+  ASSERT_EQ(mill.measurement_extra.factor_names.size(), 1u);
+  ASSERT_TRUE(store->ImportDataset(mill).ok());
+  StatusOr<int64_t> id = store->EnqueueCalibration("api", WearLaw::kWang, 1);
+  ASSERT_TRUE(id.ok());
+  ASSERT_TRUE(store->RunCalibration(*id).ok());
+
+  StatusOr<Dataset> data = store->ExportDataset();
+  ASSERT_TRUE(data.ok());
+  std::vector<int> all;
+  for (int c = 0; c < static_cast<int>(data->campaigns.size()); ++c) all.push_back(c);
+  StatusOr<WearModel> model = RefitWithTerms(
+      *data, WearLaw::kWang, served_terms::VocabularyTerms(*data, 0), all);
+  ASSERT_TRUE(model.ok()) << model.status().ToString();
+  StatusOr<CalibrationRecord> run =
+      store->ProposeModel("test", "wang", 1, *model, *data, 1);
+  ASSERT_TRUE(run.ok()) << run.status().ToString();
+  ASSERT_GT(run->model_version, 0) << run->message;
+  if (!run->promoted) {
+    ASSERT_TRUE(store->ActivateModel(run->model_version, "test", false).ok());
+  }
+  StatusOr<ModelVersion> active = store->ActiveModel();
+  ASSERT_TRUE(active.ok());
+  ASSERT_EQ(active->wear_model.terms.size(), 4u);
+  EXPECT_EQ(active->wear_model.terms[1].scope.roll_type, data->roll_types[0]);
+  // The grinder's non-reference level reads its offset: many rolls shift.
+  EXPECT_GT(ExpectHistoryMatchesOffline(*store), 20);
 }
 
 }  // namespace
