@@ -10,8 +10,9 @@
 //     interval [lo, hi] of the centre wear W (predictor.h) scaled by
 //     r_j = P_j / W, i.e. lower half-width r_j (W - lo), upper r_j (hi - W)
 //     (K multiplies every slice alike; g(0) = 1 makes P at x = 0 equal W);
-//   - the shape: calibrated, v_j = sum_i (se_i s_ji)^2 + sigma^2, the
-//     shape coefficients' standard errors (taken as independent) and the
+//   - the shape: calibrated, v_j = s_j' C s_j + sigma^2, with C the shape
+//     coefficients' roll-clustered covariance (profile_fit.h; a model
+//     stored before it was kept has its diagonal se_i^2 only) and sigma the
 //     residual sd of the profile fit, at 1.96 sigma; uncalibrated, the
 //     shape is not known, and the interval adds kUncalibratedShapeRel P_j
 //     (1.96 times it) for the edge rise or crown that g = 1 leaves out.

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cmath>
+#include <map>
 #include <random>
 #include <utility>
 #include <vector>
@@ -69,10 +70,12 @@ inline const CalibratedMill& WithProfiles() {
 // AddPassProfile with `shape`, read every 10 mm over the band the strips
 // covered plus 40 mm, with N(0, noise_sd) per point; with `roll_scatter`,
 // each roll's profile is also multiplied by its own N(1, roll_scatter)
-// factor, which all its points share.
-inline void AddModelProfiles(const WearModel& model, const ProfileShape& shape,
-                             double noise_sd, Dataset* data,
-                             double roll_scatter = 0) {
+// factor, which all its points share (recorded by (campaign, slot) in
+// `factors` when given).
+inline void AddModelProfiles(
+    const WearModel& model, const ProfileShape& shape, double noise_sd,
+    Dataset* data, double roll_scatter = 0,
+    std::map<std::pair<int, int>, double>* factors = nullptr) {
   const DatasetIndex index(*data);
   const ProfileGrid grid;
   std::mt19937_64 rng(5);
@@ -85,6 +88,7 @@ inline void AddModelProfiles(const WearModel& model, const ProfileShape& shape,
     std::vector<double> profile(grid.slices(), 0.0);
     double reach = 0;
     const double factor = roll_scatter > 0 ? scatter(rng) : 1;
+    if (factors != nullptr) (*factors)[{meas.campaign, slot}] = factor;
     for (int pi : index.PassesOf(meas.campaign, meas.stand)) {
       const Pass& pass = data->passes[pi];
       const double w = AddPass(model, PassInputOf(*data, pass), &state);
