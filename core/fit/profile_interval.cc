@@ -34,7 +34,13 @@ ProfilePrediction PredictProfile(const ProfileStats& stats, const ProfileFit* fi
           v += s[i] * fit->covariance[i - 1][l - 1] * s[l];
         }
       }
-      v += fit->residual_sd_um * fit->residual_sd_um;
+      // The point-to-point sd: the roll's shared scatter is already in the
+      // centre part above (in proportion); a model stored without it falls
+      // back to the whole residual sd (wider, never narrower).
+      const double sd = std::isfinite(fit->within_roll_sd_um)
+                            ? fit->within_roll_sd_um
+                            : fit->residual_sd_um;
+      v += sd * sd;
     } else {
       v = (kUncalibratedShapeRel * p) * (kUncalibratedShapeRel * p);
     }
