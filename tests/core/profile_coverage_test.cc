@@ -135,7 +135,8 @@ TEST(ProfileCoverageTest, ServedIntervalCoversTheNoiseFreeProfile) {
     StatusOr<JointProfileFit> joint =
         FitProfileJoint(mill.model, data, index, mill.split, *first);
     ASSERT_TRUE(joint.ok()) << joint.status().ToString();
-    const Coverage a = CoverageOf(mill.model, *first, &truth, data, val, factor);
+    const Coverage a =
+        CoverageOf(mill.model, *first, &truth, data, val, factor);
     const Coverage b =
         CoverageOf(joint->model, joint->profile, &truth, data, val, factor);
     std::printf("roll scatter %.3f, centre noise sd %.2f µm rel %.3f\n",

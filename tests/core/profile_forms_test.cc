@@ -34,10 +34,10 @@ namespace rollwear {
 namespace {
 
 struct Form {
-  double crown = 0.12;      // c
-  double bump = 1.2;        // A, both edges
-  double bump_sd_mm = 25;   // s
-  double drive_bump = 0;    // extra A on the drive-side edge (u > 0 side)
+  double crown = 0.12;     // c
+  double bump = 1.2;       // A, both edges
+  double bump_sd_mm = 25;  // s
+  double drive_bump = 0;   // extra A on the drive-side edge (u > 0 side)
 };
 
 double Distribution(const Form& f, double x_mm, double centre_mm,
@@ -123,14 +123,15 @@ TEST(ProfileFormsTest, CosineBodyAndGaussianEdgesAreApproximatedNearTheFloor) {
   const std::vector<double> noise_free = AddFormProfiles(
       mill.model, Form{}, mill.sim.truth.roll_scatter_sd, &data);
   const DatasetIndex index(data);
-  StatusOr<ProfileFit> fit = FitProfileShape(mill.model, data, index, mill.split);
+  StatusOr<ProfileFit> fit =
+      FitProfileShape(mill.model, data, index, mill.split);
   ASSERT_TRUE(fit.ok()) << fit.status().ToString();
   const double floor = NoiseFloor(data, noise_free, mill.split.validation);
-  std::printf("validation gap %.2f µm (edge %.2f, body %.2f) against a floor "
-              "of %.2f µm (%+.1f %%)\n",
-              fit->validation.gap_um, fit->validation.edge_um,
-              fit->validation.body_um, floor,
-              100 * (fit->validation.gap_um / floor - 1));
+  std::printf(
+      "validation gap %.2f µm (edge %.2f, body %.2f) against a floor "
+      "of %.2f µm (%+.1f %%)\n",
+      fit->validation.gap_um, fit->validation.edge_um, fit->validation.body_um,
+      floor, 100 * (fit->validation.gap_um / floor - 1));
   EXPECT_LT(fit->validation.gap_um, 1.15 * floor);
 }
 
@@ -144,9 +145,10 @@ TEST(ProfileFormsTest, DriveSideGaussianBumpIsLocatedAndNamesNoPhysics) {
   StatusOr<BarrelLocate> l =
       LocateAlongBarrel(mill.model, data, index, mill.split);
   ASSERT_TRUE(l.ok()) << l.status().ToString();
-  std::printf("zones: edge OS %+.2f body OS %+.2f body DS %+.2f edge DS %+.2f\n",
-              l->edge_operator_um, l->body_operator_um, l->body_drive_um,
-              l->edge_drive_um);
+  std::printf(
+      "zones: edge OS %+.2f body OS %+.2f body DS %+.2f edge DS %+.2f\n",
+      l->edge_operator_um, l->body_operator_um, l->body_drive_um,
+      l->edge_drive_um);
   // The bump stands at every strip's drive-side edge: with the width
   // schedule the narrower strips' edges lie in the body zone
   // (profile_fit.h), so the drive side is located in both zones, and the
@@ -182,6 +184,67 @@ TEST(ProfileFormsTest, DriveSideGaussianBumpIsLocatedAndNamesNoPhysics) {
   EXPECT_TRUE(report->findings.empty()) << "no physics is named";
   EXPECT_EQ(report->verdict, "mismatch_located_unexplained");
   EXPECT_TRUE(edge);
+}
+
+// A wear-rate term adopted for the centre (here the strip temperature,
+// log-linear, exp(0.4 (T - 950) / 50)) acts on the profile as on the
+// centre: profiles made under it (the model's own form, 4 µm per point)
+// are fitted at the noise floor with the term adopted, and the shape comes
+// back; without the term the profile's scale misses it and the gap grows.
+TEST(ProfileFormsTest, AWearRateTermScalesTheProfileAsTheCentre) {
+  const CalibratedMill& mill = WithoutProfiles();
+  WearModel with_term = mill.model;
+  ModelTerm temperature;
+  temperature.covariate = "temperature_c";
+  temperature.form = TermForm::kLogLinear;
+  temperature.params = {0.4};
+  temperature.center = 950;
+  temperature.scale = 50;
+  with_term.terms.push_back(temperature);
+  ProfileShape truth;
+  truth.beta2 = -0.06;
+  truth.beta4 = 0.03;
+  truth.alpha = {0.9, 0.3, 0.15};
+  Dataset data = mill.sim.data;
+  AddModelProfiles(with_term, truth, 4.0, &data);
+  const DatasetIndex index(data);
+  StatusOr<ProfileFit> adopted =
+      FitProfileShape(with_term, data, index, mill.split);
+  StatusOr<ProfileFit> without =
+      FitProfileShape(mill.model, data, index, mill.split);
+  ASSERT_TRUE(adopted.ok()) << adopted.status().ToString();
+  ASSERT_TRUE(without.ok()) << without.status().ToString();
+  // The noise floor: mean |N(0, 4 µm)| = 4 sqrt(2 / pi).
+  const double floor = 4 * std::sqrt(2 / std::numbers::pi);
+  std::printf(
+      "validation gap with the term %.2f µm, without %.2f µm, floor "
+      "%.2f µm\n",
+      adopted->validation.gap_um, without->validation.gap_um, floor);
+  EXPECT_LT(adopted->validation.gap_um, 1.05 * floor);
+  EXPECT_GT(without->validation.gap_um, 1.5 * adopted->validation.gap_um);
+  const auto got = ProfileShapeValues(adopted->shape);
+  const auto want = ProfileShapeValues(truth);
+  for (int i = 0; i < kProfileShapeParameters; ++i) {
+    EXPECT_NEAR(got[i], want[i], 3 * adopted->std_error[i])
+        << ProfileShapeNames()[i];
+  }
+  // Roll by roll the profile's sums carry each pass's term as the centre
+  // does: with the uniform shape g = 1 the profile at x = 0 (every strip
+  // covers it) is the sum of the passes' wear, the centre wear.
+  const ProfileGrid grid;
+  int rolls = 0;
+  for (const Measurement& m : data.measurements) {
+    if (++rolls > 20) break;
+    const int slot = RollPositionSlot(m.stand, m.position);
+    const std::vector<double> p = PredictRollProfile(
+        with_term, ProfileShape(), data, index, m.campaign, slot);
+    const int mi = index.MountOf(m.campaign, slot);
+    RollWearState state = MountedRollState(with_term, data, m.campaign, mi);
+    for (int pi : index.PassesOf(m.campaign, m.stand)) {
+      AddPass(with_term, PassInputOf(data, data.passes[pi]), &state);
+    }
+    EXPECT_NEAR(grid.Interpolate(p, 0), state.wear_um, 1e-9 * state.wear_um);
+  }
 }
 
 }  // namespace
