@@ -85,16 +85,9 @@ std::vector<double> AddFormProfiles(const WearModel& model, const Form& f,
       for (size_t p = 0; p < strips.size(); ++p) {
         w += wear[p] * Distribution(f, x, strips[p].first, strips[p].second);
       }
-      ProfilePoint p;
-      p.campaign = meas.campaign;
-      p.stand = meas.stand;
-      p.position = meas.position;
-      p.roll_id = meas.roll_id;
-      p.measured_at = meas.measured_at;
-      p.x_mm = x;
-      p.wear_um = factor * w + noise(rng);
+      data->profile_points.push_back(
+          ProfilePointOf(meas, x, factor * w + noise(rng)));
       noise_free.push_back(w);
-      data->profile_points.push_back(p);
     }
   }
   return noise_free;

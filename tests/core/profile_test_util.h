@@ -65,6 +65,20 @@ inline const CalibratedMill& WithProfiles() {
   return *mill;
 }
 
+// A grinder point at x_mm of the roll that `meas` measured.
+inline ProfilePoint ProfilePointOf(const Measurement& meas, double x_mm,
+                                   double wear_um) {
+  ProfilePoint p;
+  p.campaign = meas.campaign;
+  p.stand = meas.stand;
+  p.position = meas.position;
+  p.roll_id = meas.roll_id;
+  p.measured_at = meas.measured_at;
+  p.x_mm = x_mm;
+  p.wear_um = wear_um;
+  return p;
+}
+
 // Adds to `data` a profile of every measured roll generated with the
 // model's form: pass wear from `model` (the fit's own K), spread by
 // AddPassProfile with `shape`, read every 10 mm over the band the strips
@@ -99,15 +113,8 @@ inline void AddModelProfiles(
     }
     for (double x = -std::ceil((reach + 40) / 10) * 10; x <= reach + 40;
          x += 10) {
-      ProfilePoint p;
-      p.campaign = meas.campaign;
-      p.stand = meas.stand;
-      p.position = meas.position;
-      p.roll_id = meas.roll_id;
-      p.measured_at = meas.measured_at;
-      p.x_mm = x;
-      p.wear_um = factor * grid.Interpolate(profile, x) + noise(rng);
-      data->profile_points.push_back(p);
+      data->profile_points.push_back(ProfilePointOf(
+          meas, x, factor * grid.Interpolate(profile, x) + noise(rng)));
     }
   }
 }
