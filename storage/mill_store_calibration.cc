@@ -31,7 +31,11 @@ StatusOr<FittedCandidate> TrainNetwork(
 
 // The profile shape of `model` (core/fit/profile_fit.h) fitted on the
 // stored grinder profiles of the run's training campaigns (the same split),
-// when there are any; why not is appended to *summary.
+// when there are any; why not is appended to *summary. The shape's
+// covariance is the roll-clustered sandwich (a roll's points share its
+// scatter), stored with the model version and read by the served interval
+// (core/fit/profile_interval.h). K stays the centre fit's, which the
+// promotion rule scored; the joint fit (profile_joint.h) would move it.
 std::optional<ProfileFit> FitStoredProfileShape(const WearModel& model,
                                                 const Dataset& data,
                                                 uint64_t split_seed,
@@ -47,7 +51,7 @@ std::optional<ProfileFit> FitStoredProfileShape(const WearModel& model,
     return std::nullopt;
   }
   *summary += "; profile shape on " + std::to_string(fit->train.n_points) +
-              " points";
+              " points (roll-clustered s.e.)";
   return std::move(fit).value();
 }
 

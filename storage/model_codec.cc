@@ -440,7 +440,16 @@ std::string EncodeModelJson(const WearModel& model,
     se[names[i]] = Number(profile->std_error[i]);
   }
   p["std_error"] = std::move(se);
+  // The shape's roll-clustered covariance, rows in the order of the names.
+  Json cov = Json::array();
+  for (const auto& row : profile->covariance) {
+    Json r = Json::array();
+    for (double v : row) r.push_back(Number(v));
+    cov.push_back(std::move(r));
+  }
+  p["covariance"] = std::move(cov);
   p["residual_sd_um"] = Number(profile->residual_sd_um);
+  p["within_roll_sd_um"] = Number(profile->within_roll_sd_um);
   p["n_points_train"] = profile->train.n_points;
   p["gap_train_um"] = Number(profile->train.gap_um);
   p["n_points_val"] = profile->validation.n_points;
@@ -474,6 +483,27 @@ StatusOr<std::optional<ProfileFit>> DecodeProfileShape(std::string_view json) {
       fit.std_error[i] = num(p.at("std_error").at(names[i]));
     }
     fit.residual_sd_um = num(p.at("residual_sd_um"));
+    fit.within_roll_sd_um = num(p.value("within_roll_sd_um", Json("NaN")));
+    if (p.contains("covariance")) {
+      const Json& cov = p.at("covariance");
+      if (!cov.is_array() || cov.size() != kProfileShapeParameters) {
+        return Bad("profile.covariance", "must be a 5 x 5 array of numbers");
+      }
+      for (int i = 0; i < kProfileShapeParameters; ++i) {
+        if (!cov[i].is_array() || cov[i].size() != kProfileShapeParameters) {
+          return Bad("profile.covariance[" + std::to_string(i) + "]",
+                     "must be an array of 5 numbers");
+        }
+        for (int j = 0; j < kProfileShapeParameters; ++j) {
+          fit.covariance[i][j] = num(cov[i][j]);
+        }
+      }
+    } else {
+      // Stored before the covariance was kept: its diagonal only.
+      for (int i = 0; i < kProfileShapeParameters; ++i) {
+        fit.covariance[i][i] = fit.std_error[i] * fit.std_error[i];
+      }
+    }
     fit.train.n_points = p.value("n_points_train", 0);
     fit.train.gap_um = num(p.value("gap_train_um", Json("NaN")));
     fit.validation.n_points = p.value("n_points_val", 0);

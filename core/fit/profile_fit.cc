@@ -25,6 +25,7 @@ struct PointRow {
   double measured_um = 0;
   std::array<double, kProfileBasis> sums{};
   PointZone zone = PointZone::kBody;
+  int roll = 0;  // index of its profile among the rows' profiles
 };
 
 // The points of the profiles of `campaigns`, with their sums under `model`.
@@ -102,6 +103,7 @@ ProfileRows RowsOf(const WearModel& model, const Dataset& data,
       row.measured_um = p.wear_um;
       row.sums = roll.stats.At(p.x_mm);
       row.zone = ZoneOf(roll, p.x_mm, options.edge_zone_mm);
+      row.roll = out.n_profiles - 1;
       out.rows.push_back(row);
     }
   }
@@ -137,6 +139,45 @@ ProfileGap GapOf(const ProfileShape& shape, const ProfileRows& rows) {
   return gap;
 }
 
+// The roll-clustered (sandwich) covariance of the least-squares shape
+//   cov = B M B,  B = (S'S)^-1,  M = G/(G-1) sum_r (S_r' e_r)(S_r' e_r)'
+// over the G rolls r (Liang & Zeger, 1986, Biometrika 73(1):13-22): the
+// points of one roll share its scatter, so they are not counted as
+// independent evidence (sigma^2 (S'S)^-1 would be).
+Eigen::MatrixXd ClusteredCovariance(const Eigen::MatrixXd& s,
+                                    const Eigen::VectorXd& e,
+                                    const ProfileRows& rows) {
+  const int k = static_cast<int>(s.cols());
+  Eigen::MatrixXd score = Eigen::MatrixXd::Zero(k, rows.n_profiles);
+  for (int r = 0; r < static_cast<int>(rows.rows.size()); ++r) {
+    score.col(rows.rows[r].roll) += s.row(r).transpose() * e(r);
+  }
+  const double g = std::max(2.0, static_cast<double>(rows.n_profiles));
+  const Eigen::MatrixXd meat = score * score.transpose() * (g / (g - 1));
+  const Eigen::MatrixXd bread =
+      (s.transpose() * s).ldlt().solve(Eigen::MatrixXd::Identity(k, k));
+  return bread * meat * bread;
+}
+
+// The residual sd within rolls: sqrt(sum_r sum (e - mean_r e)^2 / (n - G)),
+// the one-way ANOVA's within-cluster mean square (the point-to-point part,
+// without the roll's shared scatter).
+double WithinRollSd(const Eigen::VectorXd& e, const ProfileRows& rows) {
+  std::vector<double> sum(rows.n_profiles, 0.0);
+  std::vector<int> count(rows.n_profiles, 0);
+  for (int r = 0; r < static_cast<int>(rows.rows.size()); ++r) {
+    sum[rows.rows[r].roll] += e(r);
+    ++count[rows.rows[r].roll];
+  }
+  double ss = 0;
+  for (int r = 0; r < static_cast<int>(rows.rows.size()); ++r) {
+    const int g = rows.rows[r].roll;
+    ss += std::pow(e(r) - sum[g] / count[g], 2);
+  }
+  const double dof = static_cast<double>(rows.rows.size()) - rows.n_profiles;
+  return dof > 0 ? std::sqrt(ss / dof) : kNaN;
+}
+
 // Least squares of y - s_0 on s_1..s_5 over `rows` into `fit`.
 Status SolveShape(const ProfileRows& rows, ProfileFit* fit) {
   constexpr int kP = kProfileShapeParameters;
@@ -162,15 +203,17 @@ Status SolveShape(const ProfileRows& rows, ProfileFit* fit) {
         "): too few distinct strip widths or points near the strip edges");
   }
   const Eigen::VectorXd theta = qr.solve(y);
-  const double rss = (y - s * theta).squaredNorm();
-  const double sigma2 = rss / (n - kP);
-  const Eigen::MatrixXd cov =
-      sigma2 *
-      (s.transpose() * s).ldlt().solve(Eigen::MatrixXd::Identity(kP, kP));
+  const Eigen::VectorXd e = y - s * theta;
+  const double sigma2 = e.squaredNorm() / (n - kP);
+  const Eigen::MatrixXd cov = ClusteredCovariance(s, e, rows);
   fit->shape.beta2 = theta(0);
   fit->shape.beta4 = theta(1);
   for (int m = 0; m < kEdgeRamps; ++m) fit->shape.alpha[m] = theta(2 + m);
-  for (int i = 0; i < kP; ++i) fit->std_error[i] = std::sqrt(cov(i, i));
+  for (int i = 0; i < kP; ++i) {
+    fit->std_error[i] = std::sqrt(cov(i, i));
+    for (int j = 0; j < kP; ++j) fit->covariance[i][j] = cov(i, j);
+  }
+  fit->within_roll_sd_um = WithinRollSd(e, rows);
   fit->residual_sd_um = std::sqrt(sigma2);
   return Status::Ok();
 }

@@ -15,12 +15,14 @@
 // ordinary least squares on the training campaigns' points,
 //   minimise sum (y - s_0 - S theta)^2,
 // solved by column-pivoted Householder QR (Golub & Van Loan 2013, Matrix
-// Computations, 4th ed., sec. 5.4), with standard errors from
-// sigma^2 (S'S)^-1, sigma^2 = RSS / (n - 5). The points of one roll share
-// its roll-to-roll scatter, so these standard errors treat correlated
-// points as independent and are optimistic on real profiles. The joint
-// Levenberg-Marquardt fit of K and the shape, with roll-clustered standard
-// errors, is the second stage (profile_joint.h).
+// Computations, 4th ed., sec. 5.4). The points of one roll share its
+// roll-to-roll scatter, so they are not independent: the covariance of
+// theta is the roll-clustered sandwich (Liang & Zeger, 1986, Biometrika
+// 73(1):13-22), B M B with B = (S'S)^-1 and M = G/(G-1) sum_r (S_r'e_r)
+// (S_r'e_r)' over the G training rolls, not sigma^2 (S'S)^-1, which treats
+// a profile's points as independent and is optimistic. The joint
+// Levenberg-Marquardt fit of K and the shape, with the same roll-clustered
+// standard errors, is the second stage (profile_joint.h).
 //
 // Profile gap: mean |measured - predicted| over the points, in all, and
 // split into the strip-edge zone and the body. The strips of a roll's
@@ -38,6 +40,7 @@
 #define ROLLWEAR_CORE_FIT_PROFILE_FIT_H_
 
 #include <array>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -76,9 +79,17 @@ struct ProfileGap {
 
 struct ProfileFit {
   ProfileShape shape;
-  // Standard errors of ProfileShapeValues(shape), same order.
+  // Standard errors of ProfileShapeValues(shape), same order, and their
+  // covariance: roll-clustered (see above; the sqrt of its diagonal).
   std::array<double, kProfileShapeParameters> std_error{};
+  std::array<std::array<double, kProfileShapeParameters>,
+             kProfileShapeParameters>
+      covariance{};
   double residual_sd_um = 0;  // sigma on the training points
+  // The residual sd within rolls (one-way ANOVA's within mean square): the
+  // point-to-point part of sigma, without the scatter a roll's points share.
+  // NaN when unknown (a stored model from before it was kept).
+  double within_roll_sd_um = std::numeric_limits<double>::quiet_NaN();
   ProfileGap train;
   ProfileGap validation;
 };

@@ -27,11 +27,20 @@ ProfilePrediction PredictProfile(const ProfileStats& stats, const ProfileFit* fi
     for (int i = 0; i < kProfileBasis; ++i) p += c[i] * s[i];
     double v = 0;
     if (fit != nullptr) {
+      // s' C s over the shape sums with the stored (roll-clustered)
+      // covariance C of the coefficients.
       for (int i = 1; i < kProfileBasis; ++i) {
-        const double t = fit->std_error[i - 1] * s[i];
-        v += t * t;
+        for (int l = 1; l < kProfileBasis; ++l) {
+          v += s[i] * fit->covariance[i - 1][l - 1] * s[l];
+        }
       }
-      v += fit->residual_sd_um * fit->residual_sd_um;
+      // The point-to-point sd: the roll's shared scatter is already in the
+      // centre part above (in proportion); a model stored without it falls
+      // back to the whole residual sd (wider, never narrower).
+      const double sd = std::isfinite(fit->within_roll_sd_um)
+                            ? fit->within_roll_sd_um
+                            : fit->residual_sd_um;
+      v += sd * sd;
     } else {
       v = (kUncalibratedShapeRel * p) * (kUncalibratedShapeRel * p);
     }

@@ -10,12 +10,18 @@
 //     interval [lo, hi] of the centre wear W (predictor.h) scaled by
 //     r_j = P_j / W, i.e. lower half-width r_j (W - lo), upper r_j (hi - W)
 //     (K multiplies every slice alike; g(0) = 1 makes P at x = 0 equal W);
-//   - the shape: calibrated, v_j = sum_i (se_i s_ji)^2 + sigma^2, the
-//     shape coefficients' standard errors (taken as independent) and the
-//     residual sd of the profile fit, at 1.96 sigma; uncalibrated, the
+//   - the shape: calibrated, v_j = s_j' C s_j + sigma^2, with C the shape
+//     coefficients' roll-clustered covariance (profile_fit.h; a model
+//     stored before it was kept has its diagonal se_i^2 only) and sigma the
+//     profile fit's residual sd within rolls (the point-to-point part; the
+//     scatter a roll's points share is its scale's, carried by the first
+//     part; a model stored without it uses the whole residual sd), at
+//     1.96 sigma; uncalibrated, the
 //     shape is not known, and the interval adds kUncalibratedShapeRel P_j
 //     (1.96 times it) for the edge rise or crown that g = 1 leaves out.
 //   lo_j = P_j - sqrt((r_j (W - lo))^2 + 1.96^2 v_j), hi_j likewise.
+// Coverage: tests/core/profile_coverage_test.cc (98.3 % of the noise-free
+// profile slices and 98.2 % of grinder points for a nominal 95 %).
 //
 // Thread-safety: pure function.
 #ifndef ROLLWEAR_CORE_FIT_PROFILE_INTERVAL_H_

@@ -320,9 +320,14 @@ void ShapeErrors(const JointCost& cost, const JointData& d,
       jac.transpose() * jac);
   const Eigen::MatrixXd bread = cod.pseudoInverse();
   const Eigen::MatrixXd cov = bread * meat * bread;
+  for (auto& row : out->profile.covariance) row.fill(0.0);
   for (int j = 0; j < n; ++j) {
-    if (free[j] >= d.num_k) {
-      out->profile.std_error[free[j] - d.num_k] = std::sqrt(cov(j, j));
+    if (free[j] < d.num_k) continue;
+    out->profile.std_error[free[j] - d.num_k] = std::sqrt(cov(j, j));
+    for (int l = 0; l < n; ++l) {
+      if (free[l] >= d.num_k) {
+        out->profile.covariance[free[j] - d.num_k][free[l] - d.num_k] = cov(j, l);
+      }
     }
   }
 }
@@ -440,11 +445,25 @@ StatusOr<JointProfileFit> FitProfileJoint(const WearModel& centre,
   shape.beta4 = theta[1];
   for (int m = 0; m < kEdgeRamps; ++m) shape.alpha[m] = theta[2 + m];
   double rss = 0, wsum = 0;
+  std::map<int, std::vector<double>> by_roll;
   for (const JointPoint& p : d.points) {
-    rss += std::pow(p.measured_um - PredictPoint(d, p, full.data(), nullptr), 2);
+    const double e = p.measured_um - PredictPoint(d, p, full.data(), nullptr);
+    rss += e * e;
     wsum += 1;
+    by_roll[p.roll].push_back(e);
   }
   out.profile.residual_sd_um = std::sqrt(rss / std::max(1.0, wsum - kShape));
+  // Within rolls (profile_fit.h): about each roll's mean residual.
+  double ss_within = 0;
+  for (const auto& [roll, e] : by_roll) {
+    double mean = 0;
+    for (double v : e) mean += v;
+    mean /= static_cast<double>(e.size());
+    for (double v : e) ss_within += (v - mean) * (v - mean);
+  }
+  const double dof = wsum - static_cast<double>(by_roll.size());
+  out.profile.within_roll_sd_um =
+      dof > 0 ? std::sqrt(ss_within / dof) : std::nan("");
   out.profile.train = ProfileGapOf(out.model, shape, data, index, train, options);
   out.profile.validation = ProfileGapOf(out.model, shape, data, index, val, options);
   out.centre_gap_train_um = CentreGap(out.model, data, index, train);

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cmath>
+#include <map>
 #include <random>
 #include <utility>
 #include <vector>
@@ -64,15 +65,31 @@ inline const CalibratedMill& WithProfiles() {
   return *mill;
 }
 
+// A grinder point at x_mm of the roll that `meas` measured.
+inline ProfilePoint ProfilePointOf(const Measurement& meas, double x_mm,
+                                   double wear_um) {
+  ProfilePoint p;
+  p.campaign = meas.campaign;
+  p.stand = meas.stand;
+  p.position = meas.position;
+  p.roll_id = meas.roll_id;
+  p.measured_at = meas.measured_at;
+  p.x_mm = x_mm;
+  p.wear_um = wear_um;
+  return p;
+}
+
 // Adds to `data` a profile of every measured roll generated with the
 // model's form: pass wear from `model` (the fit's own K), spread by
 // AddPassProfile with `shape`, read every 10 mm over the band the strips
 // covered plus 40 mm, with N(0, noise_sd) per point; with `roll_scatter`,
 // each roll's profile is also multiplied by its own N(1, roll_scatter)
-// factor, which all its points share.
-inline void AddModelProfiles(const WearModel& model, const ProfileShape& shape,
-                             double noise_sd, Dataset* data,
-                             double roll_scatter = 0) {
+// factor, which all its points share (recorded by (campaign, slot) in
+// `factors` when given).
+inline void AddModelProfiles(
+    const WearModel& model, const ProfileShape& shape, double noise_sd,
+    Dataset* data, double roll_scatter = 0,
+    std::map<std::pair<int, int>, double>* factors = nullptr) {
   const DatasetIndex index(*data);
   const ProfileGrid grid;
   std::mt19937_64 rng(5);
@@ -85,6 +102,7 @@ inline void AddModelProfiles(const WearModel& model, const ProfileShape& shape,
     std::vector<double> profile(grid.slices(), 0.0);
     double reach = 0;
     const double factor = roll_scatter > 0 ? scatter(rng) : 1;
+    if (factors != nullptr) (*factors)[{meas.campaign, slot}] = factor;
     for (int pi : index.PassesOf(meas.campaign, meas.stand)) {
       const Pass& pass = data->passes[pi];
       const double w = AddPass(model, PassInputOf(*data, pass), &state);
@@ -95,15 +113,8 @@ inline void AddModelProfiles(const WearModel& model, const ProfileShape& shape,
     }
     for (double x = -std::ceil((reach + 40) / 10) * 10; x <= reach + 40;
          x += 10) {
-      ProfilePoint p;
-      p.campaign = meas.campaign;
-      p.stand = meas.stand;
-      p.position = meas.position;
-      p.roll_id = meas.roll_id;
-      p.measured_at = meas.measured_at;
-      p.x_mm = x;
-      p.wear_um = factor * grid.Interpolate(profile, x) + noise(rng);
-      data->profile_points.push_back(p);
+      data->profile_points.push_back(ProfilePointOf(
+          meas, x, factor * grid.Interpolate(profile, x) + noise(rng)));
     }
   }
 }

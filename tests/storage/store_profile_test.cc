@@ -234,6 +234,33 @@ TEST(StoreProfileTest, ModelJsonCarriesTheProfileShape) {
   EXPECT_EQ((*back)->std_error, fit.std_error);
   EXPECT_EQ((*back)->residual_sd_um, fit.residual_sd_um);
   EXPECT_EQ((*back)->train.n_points, 400);
+  // The covariance the served interval reads (profile_interval.h) comes
+  // back exactly; a shape stored without it gets its diagonal se^2.
+  fit.covariance[0][1] = fit.covariance[1][0] = -1.5e-4;
+  fit.covariance[2][2] = 9e-4;
+  fit.within_roll_sd_um = 2.75;
+  StatusOr<std::optional<ProfileFit>> cov =
+      DecodeProfileShape(EncodeModelJson(model, fit));
+  ASSERT_TRUE(cov.ok() && cov->has_value());
+  EXPECT_EQ((*cov)->covariance, fit.covariance);
+  EXPECT_EQ((*cov)->within_roll_sd_um, 2.75);
+  std::string old = with;
+  // (the centre model has a "covariance" of its own: the profile's is
+  // the one after "profile")
+  const size_t at = old.find("\"covariance\"", old.find("\"profile\""));
+  ASSERT_NE(at, std::string::npos);
+  old.replace(at, 12, "\"covarianxe\"");
+  StatusOr<std::optional<ProfileFit>> legacy = DecodeProfileShape(old);
+  ASSERT_TRUE(legacy.ok() && legacy->has_value());
+  EXPECT_DOUBLE_EQ((*legacy)->covariance[4][4], 0.05 * 0.05);
+  EXPECT_EQ((*legacy)->covariance[0][1], 0);
+  std::string bad = EncodeModelJson(model, fit);
+  bad.replace(bad.find("\"covariance\":[[", bad.find("\"profile\"")), 15, "\"covariance\":[[1,");
+  const Status bad_status = DecodeProfileShape(bad).status();
+  EXPECT_EQ(bad_status.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(bad_status.message().find("profile.covariance[0]"),
+            std::string::npos)
+      << bad_status.message();
   std::string broken = with;
   broken.replace(broken.find("\"residual_sd_um\""), 16, "\"residual_sd_xx\"");
   EXPECT_EQ(DecodeProfileShape(broken).status().code(),
