@@ -52,6 +52,52 @@ void Bounds(const ModelTerm& t, std::vector<double>* lo,
   }
 }
 
+// A per-level term (per_level, offset_per_level) carries its parameters in
+// the order of its own level labels; the data being fitted may meet its
+// levels in another order or have new ones. Re-expresses `t` in the data's
+// order (`c.levels`), matching by label: a label the term did not know
+// starts at the baseline (multiplier 1, offset 0), and the reference level
+// of an offset term keeps its label when the data have it. Terms stored
+// without labels are left as they are (matched by index, as stored).
+void AlignLevels(const CovariateSpec& c, ModelTerm* t) {
+  const bool per_level = t->form == TermForm::kPerLevel;
+  if ((!per_level && t->form != TermForm::kOffsetPerLevel) || t->levels.empty() ||
+      c.levels.size() < 2) {
+    return;
+  }
+  // The old value of each old label: multiplier exponent or offset, 0 at
+  // the baseline / reference.
+  const int old_ref = per_level ? 0 : t->reference_level;
+  std::vector<double> old_value(t->levels.size(), 0.0);
+  for (int l = 0, j = 0; l < static_cast<int>(t->levels.size()); ++l) {
+    if (l == old_ref) continue;
+    if (j < static_cast<int>(t->params.size())) old_value[l] = t->params[j];
+    ++j;
+  }
+  auto value_of = [&](const std::string& label) {
+    for (size_t l = 0; l < t->levels.size(); ++l) {
+      if (t->levels[l] == label) return old_value[l];
+    }
+    return 0.0;
+  };
+  int new_ref = 0;
+  if (!per_level) {
+    const std::string ref_label = t->levels[old_ref];
+    for (size_t l = 0; l < c.levels.size(); ++l) {
+      if (c.levels[l] == ref_label) new_ref = static_cast<int>(l);
+    }
+  }
+  const double base = value_of(c.levels[new_ref]);
+  std::vector<double> params;
+  for (int l = 0; l < static_cast<int>(c.levels.size()); ++l) {
+    if (l != new_ref) params.push_back(value_of(c.levels[l]) - base);
+  }
+  t->levels = c.levels;
+  t->num_levels = static_cast<int>(c.levels.size());
+  t->reference_level = per_level ? 0 : new_ref;
+  t->params = std::move(params);
+}
+
 }  // namespace
 
 StatusOr<WearModel> RefitWithTerms(const Dataset& data, WearLaw law,
@@ -87,10 +133,11 @@ StatusOr<WearModel> RefitWithTerms(const Dataset& data, WearLaw law,
           std::to_string(t.params.size()) + " parameters, expected " +
           std::to_string(t.NumParams()));
     }
-    Bounds(t, &s.lower, &s.upper);
+    AlignLevels(td.catalog[s.covariate], &s.term);
+    Bounds(s.term, &s.lower, &s.upper);
     if (t.form == TermForm::kCell) s.prior_sd = kCellPriorSd;
-    for (int j = 0; j < t.NumParams(); ++j) {
-      s.term.params[j] = std::clamp(t.params[j], s.lower[j], s.upper[j]);
+    for (int j = 0; j < s.term.NumParams(); ++j) {
+      s.term.params[j] = std::clamp(s.term.params[j], s.lower[j], s.upper[j]);
     }
     specs.push_back(std::move(s));
   }

@@ -144,6 +144,38 @@ TEST_F(ServedTermsTest, MeasurementTermsMatchLevelsByLabelInsideTheirScope) {
   EXPECT_EQ(MeasurementTermsOffset(model_, r), 0.0);
 }
 
+// The nightly refit starts from a stored term whose levels may be in
+// another order than the data's: it is matched by label, so the refit from
+// the reversed term predicts every reading as the refit from the data's
+// order does, and the refitted term carries the data's labels in order.
+TEST_F(ServedTermsTest, RefitMatchesAStoredTermsLevelsByLabel) {
+  std::vector<ModelTerm> reversed = model_.terms;
+  ModelTerm& g = reversed[2];
+  const ModelTerm& o = model_.terms[2];
+  std::vector<double> by_level(o.num_levels, 0.0);
+  for (int l = 0, j = 0; l < o.num_levels; ++l) {
+    if (l != o.reference_level) by_level[l] = o.params[j++];
+  }
+  std::reverse(g.levels.begin(), g.levels.end());
+  g.reference_level = g.num_levels - 1 - o.reference_level;
+  g.params.clear();
+  for (int l = 0; l < g.num_levels; ++l) {
+    if (l != g.reference_level) g.params.push_back(by_level[o.num_levels - 1 - l]);
+  }
+  StatusOr<WearModel> a = RefitWithTerms(sim_.data, WearLaw::kWang, model_.terms, train_);
+  StatusOr<WearModel> b = RefitWithTerms(sim_.data, WearLaw::kWang, reversed, train_);
+  ASSERT_TRUE(a.ok() && b.ok());
+  EXPECT_EQ(b->terms[2].levels, sim_.data.measurement_extra.factor_levels[0]);
+  EXPECT_EQ(b->terms[2].reference_level, a->terms[2].reference_level);
+  const DatasetIndex index(sim_.data);
+  const auto pa = PredictMeasured(*a, sim_.data, index, validation_);
+  const auto pb = PredictMeasured(*b, sim_.data, index, validation_);
+  ASSERT_EQ(pa.size(), pb.size());
+  for (size_t i = 0; i < pa.size(); ++i) {
+    EXPECT_NEAR(pa[i].expected_um, pb[i].expected_um, 1e-6) << i;
+  }
+}
+
 // A measurement term scoped by grade has no meaning (a reading is of a
 // roll, which rolls many grades): the refit refuses it.
 TEST_F(ServedTermsTest, RefitRefusesAGradeScopedMeasurementTerm) {
