@@ -163,6 +163,36 @@ std::vector<std::string> Quartiles(const TermData& td, const std::vector<int>& t
   return out;
 }
 
+// The dimensions of the consistency and within-group tests: stand, roll
+// position, roll type, the stand x roll type cell, and the quartiles of every
+// other numeric wear-rate covariate (an effect whose scale changes sign or
+// size with another quantity is an interaction the term does not describe,
+// e.g. a temperature effect that exists only at high speed). A calendar-time
+// term is itself about time: its shape inside a quarter of the period says
+// nothing (a step drift is flat in three of them), so started_at is not a
+// dimension for it.
+void GuardDimensions(const TermData& td, const std::vector<int>& train, const std::string& cov,
+                     const std::vector<std::string>& stand,
+                     const std::vector<std::string>& position,
+                     const std::vector<std::string>& roll_type, std::vector<std::string>* names,
+                     std::vector<std::vector<std::string>>* labels) {
+  std::vector<std::string> cell(stand.size());
+  for (size_t i = 0; i < stand.size(); ++i) cell[i] = stand[i] + "/" + roll_type[i];
+  *names = {"stand", "position", "roll_type", "stand_roll_type"};
+  *labels = {stand, position, roll_type, cell};
+  const bool calendar = cov == "started_at" || cov == "measured_at";
+  for (int k = 0; k < static_cast<int>(td.catalog.size()); ++k) {
+    const CovariateSpec& c = td.catalog[k];
+    if (c.kind != CovariateKind::kNumeric || c.level == CovariateLevel::kMeasurement ||
+        c.source == CovariateSource::kCell || c.name == cov ||
+        (calendar && c.source == CovariateSource::kStartedAt)) {
+      continue;
+    }
+    names->push_back(c.name);
+    labels->push_back(Quartiles(td, train, k));
+  }
+}
+
 GuardResult LookAgain(const Dataset& data, const DiagnosisState& st,
                       const DiagnosisOptions& options,
                       const std::vector<Breakdown>& before,
@@ -247,28 +277,10 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
   }
   phi /= std::max<size_t>(1, n);
   GuardResult result;
-  std::vector<std::string> cell(n);
-  for (size_t i = 0; i < n; ++i) cell[i] = stand[i] + "/" + roll_type[i];
-  // Quartiles of every other numeric wear-rate covariate: an effect whose
-  // scale changes sign or size with another quantity is an interaction the
-  // term does not describe (e.g. a temperature effect that exists only at
-  // high speed). A calendar-time term is itself about time: its shape
-  // inside a quarter of the period says nothing (a step drift is flat in
-  // three of them), so started_at is not a dimension for it.
-  const std::string& cov = with_term.terms.back().term.covariate;
-  const bool calendar = cov == "started_at" || cov == "measured_at";
-  std::vector<std::string> names = {"stand", "position", "roll_type", "stand_roll_type"};
-  std::vector<std::vector<std::string>> labels = {stand, position, roll_type, cell};
-  for (int k = 0; k < static_cast<int>(td.catalog.size()); ++k) {
-    const CovariateSpec& c = td.catalog[k];
-    if (c.kind != CovariateKind::kNumeric || c.level == CovariateLevel::kMeasurement ||
-        c.source == CovariateSource::kCell || c.name == cov ||
-        (calendar && c.source == CovariateSource::kStartedAt)) {
-      continue;
-    }
-    names.push_back(c.name);
-    labels.push_back(Quartiles(td, st.train, k));
-  }
+  std::vector<std::string> names;
+  std::vector<std::vector<std::string>> labels;
+  GuardDimensions(td, st.train, with_term.terms.back().term.covariate, stand, position,
+                  roll_type, &names, &labels);
   const double dims = static_cast<double>(names.size());  // Bonferroni
   for (size_t di = 0; di < names.size(); ++di) {
     const char* name = names[di].c_str();
@@ -304,6 +316,123 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
     }
   }
   return LookAgain(data, st, options, located_before, clip, p1);
+}
+
+namespace {
+
+// The proxy guard's comparison with the best factor cell (issue 15): a
+// winner that is not itself a cell must explain something an accepted cell
+// candidate of the round does not. Nested likelihood-ratio test of the
+// winner's term given the cell, LR = n ln(RSS_cell / RSS_cell+term) ~
+// chi2(df), Bonferroni over the round's `num_tests`. When it is not
+// significant the two describe the same structure (e.g. a contact length
+// term on one roll type whose contact length differs between the two stands
+// it runs in, against that roll type's cell at one stand), and the
+// structural description is preferred: a factor combination the K structure
+// cannot express needs no covariate to be true. Returns why the winner is
+// not named, or "" when it is distinct from every accepted cell.
+std::string NoBetterThanCell(const DiagnosisState& st, const std::vector<double>& sd,
+                             const std::vector<int>& accepted,
+                             const std::vector<Fitted>& fits, int winner,
+                             double num_tests, const DiagnosisOptions& options) {
+  const TermSpec& term = fits[winner].terms.back();
+  if (term.term.form == TermForm::kCell || term.term.IsMeasurementTerm()) return "";
+  const double n = static_cast<double>(st.train.size());
+  for (int j : accepted) {
+    const TermSpec& cell = fits[j].terms.back();
+    if (j == winner || cell.term.form != TermForm::kCell) continue;
+    std::vector<TermSpec> both = fits[j].terms;
+    both.push_back(term);
+    const Fitted joint = Fit(st.td, st.train, sd, fits[j].log_k, both);
+    if (!joint.usable) continue;
+    const double lr = std::max(0.0, n * std::log(fits[j].rss / joint.rss));
+    const double p = ChiSquareSurvival(lr, term.term.NumParams());
+    if (p * num_tests >= options.alpha) {
+      char buf[200];
+      std::snprintf(buf, sizeof(buf),
+                    "no better than the cell %s (given the cell: LR %.1f, "
+                    "p adjusted %.2g)",
+                    cell.term.scope.Label().c_str(), lr,
+                    std::min(1.0, p * num_tests));
+      return buf;
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
+// A cell with a twin (TwinCell) describes the same data as its twin with
+// the inverse multiplier; the data cannot tell which place is the
+// exception. The finding is stated by one convention, the place that wears
+// MORE than the K structure predicts (multiplier >= 1), and says so: when
+// the fitted cell wears less, its twin is fitted instead (the roll type's or
+// grade's own K factor takes up the rest; the fit is the same up to the
+// cell prior) and `note` gets the sentence naming both.
+Fitted OrientTwinCell(const DiagnosisState& st, const std::vector<double>& sd,
+                      const Fitted& winner, std::string* note) {
+  const TermSpec& cell = winner.terms.back();
+  TermScope twin;
+  if (cell.term.form != TermForm::kCell || !TwinCell(st.td, st.train, cell.term.scope, &twin)) {
+    return winner;
+  }
+  const double b = cell.term.params[0];
+  Fitted out = winner;
+  TermScope other = twin;
+  if (b < 0) {
+    std::vector<TermSpec> terms = winner.terms;
+    terms.back().term.scope = twin;
+    terms.back().term.params = {-b};
+    const Fitted flipped = Fit(st.td, st.train, sd, winner.log_k, terms);
+    if (flipped.usable) {
+      out = flipped;
+      other = cell.term.scope;
+    }
+  }
+  const double m = std::exp(out.terms.back().term.params[0]);
+  char buf[320];
+  std::snprintf(buf, sizeof(buf),
+                " The data cannot tell this from rolls of %s wearing %.2f times the "
+                "prediction: the %s runs in these two places only and its own K "
+                "factor takes up the rest (stated here as the place that wears more).",
+                other.Label().c_str(), 1.0 / m,
+                cell.term.scope.roll_type.empty() ? "grade" : "roll type");
+  *note = buf;
+  return out;
+}
+
+// The first accepted candidate that passes the proxy guard, or -1; the
+// others tried become runners-up (and, when none passes, an inconsistent
+// effect's location is listed as unexplained).
+int GuardedWinner(int round, const Dataset& data, const DiagnosisOptions& options,
+                  const DiagnosisState& st, const std::vector<double>& sd,
+                  const std::vector<int>& accepted, const std::vector<Fitted>& fits,
+                  const std::vector<CandidateResult>& results,
+                  double num_tests, DiagnosisReport* report) {
+  if (accepted.empty()) return -1;
+  std::vector<double> clip;
+  for (int o : st.train) clip.push_back(sd[o]);
+  const std::vector<Breakdown> before = Locate(
+      st.td, data, st.train,
+      PredictTerms(st.td, st.train, st.current.log_k, st.current.terms), &clip);
+  std::vector<Unexplained> located;
+  for (int i : accepted) {
+    GuardResult g;
+    g.reason = NoBetterThanCell(st, sd, accepted, fits, i, num_tests, options);
+    g.pass = g.reason.empty();
+    if (g.pass) g = GuardAgainstProxy(data, st, options, sd, before, fits[i]);
+    if (g.pass) return i;
+    const CandidateResult& c = results[i];
+    report->runners_up.push_back(
+        {round, c.covariate, c.form, c.p_adjusted, c.cv_mse_ratio, g.reason});
+    const bool seen = std::any_of(
+        located.begin(), located.end(), [&](const Unexplained& u) {
+          return u.dimension == g.located.dimension && u.where == g.located.where;
+        });
+    if (!g.located.dimension.empty() && !seen) located.push_back(g.located);
+  }
+  for (const Unexplained& u : located) report->unexplained.push_back(u);
+  return -1;
 }
 
 }  // namespace rollwear::diag

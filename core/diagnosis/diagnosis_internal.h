@@ -8,6 +8,7 @@
 
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/diagnosis/diagnosis.h"
@@ -21,6 +22,16 @@ struct Candidate {
   // a length scale are tried on a small grid; the best fit is kept).
   std::vector<std::vector<double>> starts;
 };
+
+// A covariate's training values with their weights (the load of each pass
+// for a pass-level covariate, 1 per observation otherwise), sorted.
+struct WeightedValues {
+  std::vector<std::pair<double, double>> v;  // (value, weight), sorted
+  double total = 0;
+};
+WeightedValues Collect(const TermData& td, const std::vector<int>& obs, int k);
+// The weighted q-quantile of `w` (NaN when empty).
+double Quantile(const WeightedValues& w, double q);
 
 // Every candidate term over covariates not in `used`.
 std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>& train,

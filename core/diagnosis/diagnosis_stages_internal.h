@@ -105,6 +105,14 @@ bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
               PhaseClock* phase, DiagnosisState* state,
               DiagnosisReport* report);
 
+// Fits `terms` (their params are the start) with the baseline coefficients
+// `log_k` on `subset` (term_fit.h FitTerms); unusable when the fit fails.
+// With `errors`, the terms' standard errors go to *term_se.
+Fitted Fit(const TermData& td, const std::vector<int>& subset,
+           const std::vector<double>& sd, const std::vector<double>& log_k,
+           std::vector<TermSpec> terms, bool errors = false,
+           std::vector<double>* term_se = nullptr);
+
 // The proxy guard's answer on a round's winner (diagnosis_guard.cc).
 struct GuardResult {
   bool pass = true;
@@ -122,6 +130,21 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
                               const std::vector<double>& sd,
                               const std::vector<Breakdown>& located_before,
                               const Fitted& with_term);
+
+// The first accepted candidate of a round (`accepted`, best first) that is
+// distinct from the round's cells and passes GuardAgainstProxy, or -1; the
+// others tried become runners-up, and when none passes, where an
+// inconsistent effect lives is listed as unexplained (diagnosis_guard.cc).
+int GuardedWinner(int round, const Dataset& data, const DiagnosisOptions& options,
+                  const DiagnosisState& st, const std::vector<double>& sd,
+                  const std::vector<int>& accepted, const std::vector<Fitted>& fits,
+                  const std::vector<CandidateResult>& results,
+                  double num_tests, DiagnosisReport* report);
+
+// A winning cell with a twin (TwinCell) stated as the place that wears more;
+// `note` gets the sentence naming the twin (diagnosis_guard.cc).
+Fitted OrientTwinCell(const DiagnosisState& st, const std::vector<double>& sd,
+                      const Fitted& winner, std::string* note);
 
 // The verdict, final gaps, coefficients, terms, adopted model and the
 // per-observation points of the final model.
