@@ -163,6 +163,24 @@ std::vector<std::string> Quartiles(const TermData& td, const std::vector<int>& t
   return out;
 }
 
+// The guard's refusal of a term inconsistent over dimension `name`: the
+// reason and, as an unexplained location, the group where the effect lives.
+GuardResult Refused(const std::string& reason, const std::string& name,
+                    const Heterogeneity& h, const char* test, double statistic, double p,
+                    double dims) {
+  GuardResult r;
+  r.pass = false;
+  r.reason = reason;
+  r.located.dimension = "effect_by_" + name;
+  r.located.where = name + "=" + h.group;
+  r.located.test = test;
+  r.located.statistic = statistic;
+  r.located.mean_residual_um = h.group_mean_um;
+  r.located.p_value = p;
+  r.located.p_adjusted = std::min(1.0, dims * p);
+  return r;
+}
+
 // The dimensions of the consistency and within-group tests: stand, roll
 // position, roll type, the stand x roll type cell, and the quartiles of every
 // other numeric wear-rate covariate (an effect whose scale changes sign or
@@ -276,7 +294,6 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
     roll_type[i] = ob.roll_type >= 0 ? td.roll_types[ob.roll_type] : "?";
   }
   phi /= std::max<size_t>(1, n);
-  GuardResult result;
   std::vector<std::string> names;
   std::vector<std::vector<std::string>> labels;
   GuardDimensions(td, st.train, with_term.terms.back().term.covariate, stand, position,
@@ -287,32 +304,15 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
     const std::vector<std::string>* label = &labels[di];
     const Heterogeneity h = Cochran(*label, e, p0, d, w, before, phi);
     if (h.p * dims < options.alpha && h.max_dev >= kMaterialScale) {
-      result.pass = false;
-      result.reason = std::string("inconsistent across ") + name;
-      result.located.dimension = std::string("effect_by_") + name;
-      result.located.where = std::string(name) + "=" + h.group;
-      result.located.test = "cochran_q";
-      result.located.statistic = h.q;
-      result.located.mean_residual_um = h.group_mean_um;
-      result.located.p_value = h.p;
-      result.located.p_adjusted = std::min(1.0, dims * h.p);
-      return result;
+      return Refused(std::string("inconsistent across ") + name, name, h, "cochran_q", h.q,
+                     h.p, dims);
     }
     if (h.p_within * dims < options.alpha && std::abs(h.b_bar - 1) >= kMaterialScale) {
-      result.pass = false;
       char buf[120];
       std::snprintf(buf, sizeof(buf),
                     "effect lives between groups of %s, not within them (scale within %.2f)",
                     name, h.b_bar);
-      result.reason = buf;
-      result.located.dimension = std::string("effect_by_") + name;
-      result.located.where = std::string(name) + "=" + h.group;
-      result.located.test = "within_group_z";
-      result.located.statistic = h.b_bar;
-      result.located.mean_residual_um = h.group_mean_um;
-      result.located.p_value = h.p_within;
-      result.located.p_adjusted = std::min(1.0, dims * h.p_within);
-      return result;
+      return Refused(buf, name, h, "within_group_z", h.b_bar, h.p_within, dims);
     }
   }
   return LookAgain(data, st, options, located_before, clip, p1);
