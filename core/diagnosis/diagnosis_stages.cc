@@ -497,9 +497,12 @@ bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
   // 5. Adopt the winner.
   Finding f = FindingFromTests(cv, results, winner);
   std::string twin_note;
-  const Fitted chosen = OrientTwinCell(*st, sd, fits[winner], &twin_note);
+  ReferenceChoice reference;
+  const Fitted chosen = ChooseOffsetReference(
+      *st, sd, OrientTwinCell(*st, sd, fits[winner], &twin_note), &reference);
   Fitted adopted = AdoptWinner(*st, sd, chosen, &f);
   f.explanation += twin_note;
+  StateReferenceIdentification(reference, &f);
   report->findings.push_back(f);
   phase->Mark("adopt");
   used->insert(adopted.terms.back().covariate);

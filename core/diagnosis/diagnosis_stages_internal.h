@@ -146,6 +146,29 @@ int GuardedWinner(int round, const Dataset& data, const DiagnosisOptions& option
 Fitted OrientTwinCell(const DiagnosisState& st, const std::vector<double>& sd,
                       const Fitted& winner, std::string* note);
 
+// Which level of an offset-per-level winner reads true
+// (diagnosis_reference.cc): the reference with the least RSS, its label,
+// and the other levels the data cannot reject as reading true (with their
+// likelihood-ratio difference to the best, under `critical`).
+struct ReferenceChoice {
+  std::string reference;
+  std::vector<std::string> possible_true;
+  std::vector<double> delta;
+  double critical = 0;
+};
+
+// For an offset-per-level winner, refits it with each level that has
+// training readings in its scope as the reference and returns the fit with
+// the least RSS, filling *choice; any other winner is returned as is.
+Fitted ChooseOffsetReference(const DiagnosisState& st, const std::vector<double>& sd,
+                             const Fitted& winner, ReferenceChoice* choice);
+
+// When a level the finding names as reading off is one the data cannot
+// reject as reading true, states the offset between the levels instead:
+// shape "offset_between_levels", no level named, the reason appended to
+// the explanation.
+void StateReferenceIdentification(const ReferenceChoice& choice, Finding* f);
+
 // The verdict, final gaps, coefficients, terms, adopted model and the
 // per-observation points of the final model.
 void Summarise(const Dataset& data, const DiagnosisOptions& options,

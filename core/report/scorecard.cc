@@ -101,7 +101,7 @@ bool DimensionLocates(const std::string& part, const std::string& dimension) {
 std::vector<std::string> MismatchParts(const std::string& mismatch) {
   std::vector<std::string> parts;
   std::string rest = mismatch;
-  for (const std::string sep : {std::string(" x "), std::string(", by ")}) {
+  for (const std::string& sep : {std::string(" x "), std::string(", by ")}) {
     size_t at;
     while ((at = rest.find(sep)) != std::string::npos) {
       parts.push_back(rest.substr(0, at));
@@ -147,6 +147,16 @@ bool Describes(const Finding& f, const ConcealedEffect& e) {
                      [&](const std::string& l) { return found.count(l) > 0; });
 }
 
+// Not wrong physics: the finding describes the effect, or it is on the
+// effect's covariate and scope and names no level (an offset stated between
+// the levels because the data do not say which reads true says less, not
+// something wrong).
+bool NotWrong(const Finding& f, const ConcealedEffect& e) {
+  if (Describes(f, e)) return true;
+  return e.expressible && SameCovariate(e.covariate, f.covariate) &&
+         FindingScope(f) == e.scope && f.levels.empty();
+}
+
 CaseScore ScoreCase(const std::string& effect, uint64_t seed,
                     const DiagnosisReport& report, const ScoreTruth& truth) {
   CaseScore s;
@@ -163,7 +173,7 @@ CaseScore ScoreCase(const std::string& effect, uint64_t seed,
     s.findings.push_back(Describe(f));
     const bool right =
         std::any_of(truth.effects.begin(), truth.effects.end(),
-                    [&](const ConcealedEffect& e) { return Describes(f, e); });
+                    [&](const ConcealedEffect& e) { return NotWrong(f, e); });
     s.wrong_physics += right ? 0 : 1;
   }
   if (s.clean) {

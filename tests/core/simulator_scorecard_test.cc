@@ -1,6 +1,7 @@
 // The scorecard's scoring (core/report/scorecard.h) on hand-built reports:
 // named right needs covariate, scope and levels; anything else a finding
-// names is wrong physics; equivalent covariate names only within a class;
+// names is wrong physics (a finding on the right covariate and scope that
+// names no level is neither); equivalent covariate names only within a class;
 // an inexpressible effect is named right only by "unexplained" without a
 // finding; and on one small simulated clean case, the noise floor is the
 // truth's.
@@ -84,12 +85,14 @@ TEST(ScorecardTest, GradeAtF7NamedRightOnlyWithScopeAndLevel) {
                 truth);
   EXPECT_FALSE(s.named_right);
   EXPECT_EQ(s.wrong_physics, 1);
-  // Right cell, no level named: which grade is not said.
+  // Right cell, no level named: which grade is not said (says less, not
+  // something wrong: not wrong physics).
   s = ScoreCase("grade_stand", 3,
                 Report({Found("grade", {{"stand", "F7"}})},
                        "missing_physics_found"),
                 truth);
   EXPECT_FALSE(s.named_right);
+  EXPECT_EQ(s.wrong_physics, 0);
   // Right cell, wrong grade.
   s = ScoreCase("grade_stand", 3,
                 Report({Found("grade", {{"stand", "F7"}}, {"C45"})},
