@@ -84,7 +84,8 @@ MeasurementIn ToMeasurement(const Dataset& d, size_t i) {
                        m.roll_id,
                        m.measured_at,
                        m.wear_center_um,
-                       ExtraFieldsOfRow(d.measurement_extra, i)};
+                       ExtraFieldsOfRow(d.measurement_extra, i),
+                       /*suspect=*/""};
 }
 
 // `mounted[c]`: bit per roll position slot campaign c mounts.

@@ -134,7 +134,8 @@ Status WriteImport(Db* db, const Dataset& d,
     const Mount& m = d.mounts[i];
     const MountedRollIn in{m.stand,       m.position,
                            m.roll_id,     d.roll_types[m.roll_type],
-                           m.diameter_mm, m.hardness_hb};
+                           m.diameter_mm, m.hardness_hb,
+                           /*extra=*/{}};  // stored from mount_extra below
     ROLLWEAR_RETURN_IF_ERROR(InsertMount(db, campaign_rows[m.campaign], in,
                                          ExtraRowJson(d.mount_extra, i)));
   }
@@ -147,7 +148,8 @@ Status WriteImport(Db* db, const Dataset& d,
           coil_rows[p.coil],
           InsertCoil(db, campaign_rows[p.campaign], coils[p.coil]));
     }
-    const StoredPass sp{static_cast<const PassMeasures&>(p), p.rolled_at};
+    const StoredPass sp{static_cast<const PassMeasures&>(p), p.rolled_at,
+                        /*extra=*/{}};  // stored from pass_extra below
     ROLLWEAR_RETURN_IF_ERROR(InsertPass(db, coil_rows[p.coil],
                                         campaign_rows[p.campaign], sp,
                                         ExtraRowJson(d.pass_extra, i)));

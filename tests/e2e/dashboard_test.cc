@@ -18,7 +18,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
-#include <regex>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -80,24 +79,69 @@ struct PageRoll {
   std::string coils_text;
 };
 
+// The page is read by plain string search, not std::regex: libstdc++'s
+// matcher recurses once per character, and on the page with its profile
+// panels (long data-* lists) it overflows the stack under ASan.
+
+// The attribute text and the body of each element of `dom` that opens with
+// `open` (e.g. `<tr class="roll"`), the body up to the next `close` (no
+// body when `close` is empty).
+struct Element {
+  std::string attrs, body;
+};
+std::vector<Element> ElementsOf(const std::string& dom, const std::string& open,
+                                const std::string& close) {
+  std::vector<Element> out;
+  size_t pos = 0;
+  while ((pos = dom.find(open, pos)) != std::string::npos) {
+    const size_t gt = dom.find('>', pos + open.size());
+    if (gt == std::string::npos) break;
+    Element e;
+    e.attrs = dom.substr(pos + open.size(), gt - pos - open.size());
+    pos = gt + 1;
+    if (!close.empty()) {
+      const size_t end = dom.find(close, pos);
+      if (end == std::string::npos) break;
+      e.body = dom.substr(pos, end - pos);
+      pos = end + close.size();
+    }
+    out.push_back(std::move(e));
+  }
+  return out;
+}
+
+// The data-NAME="VALUE" attributes of an element's attribute text.
+std::map<std::string, std::string> DataAttributes(const std::string& attrs) {
+  std::map<std::string, std::string> out;
+  size_t pos = 0;
+  while ((pos = attrs.find(" data-", pos)) != std::string::npos) {
+    const size_t eq = attrs.find("=\"", pos);
+    if (eq == std::string::npos) break;
+    const size_t end = attrs.find('"', eq + 2);
+    if (end == std::string::npos) break;
+    out[attrs.substr(pos + 6, eq - pos - 6)] = attrs.substr(eq + 2, end - eq - 2);
+    pos = end + 1;
+  }
+  return out;
+}
+
+// The text of the first `<td class="CLS">TEXT</td>` in `cells`.
+std::string CellText(const std::string& cells, const std::string& cls) {
+  const std::string open = "<td class=\"" + cls + "\">";
+  const size_t b = cells.find(open);
+  if (b == std::string::npos) return "";
+  const size_t e = cells.find("</td>", b + open.size());
+  return e == std::string::npos ? "" : cells.substr(b + open.size(), e - b - open.size());
+}
+
 // The roll rows of a rendered page, keyed "F6/top".
 std::map<std::string, PageRoll> RollsOf(const std::string& dom) {
   std::map<std::string, PageRoll> rolls;
-  const std::regex row(R"(<tr class="roll"([^>]*)>([\s\S]*?)</tr>)");
-  const std::regex attr(R"re(data-([a-z-]+)="([^"]*)")re");
-  const std::regex wear(R"(<td class="wear">([^<]*)</td>)");
-  const std::regex coils(R"(<td class="coils">([^<]*)</td>)");
-  for (auto it = std::sregex_iterator(dom.begin(), dom.end(), row);
-       it != std::sregex_iterator(); ++it) {
+  for (const Element& row : ElementsOf(dom, "<tr class=\"roll\"", "</tr>")) {
     PageRoll r;
-    const std::string attrs = (*it)[1], cells = (*it)[2];
-    for (auto a = std::sregex_iterator(attrs.begin(), attrs.end(), attr);
-         a != std::sregex_iterator(); ++a) {
-      r.attrs[(*a)[1]] = (*a)[2];
-    }
-    std::smatch m;
-    if (std::regex_search(cells, m, wear)) r.wear_text = m[1];
-    if (std::regex_search(cells, m, coils)) r.coils_text = m[1];
+    r.attrs = DataAttributes(row.attrs);
+    r.wear_text = CellText(row.body, "wear");
+    r.coils_text = CellText(row.body, "coils");
     rolls["F" + r.attrs["stand"] + "/" + r.attrs["position"]] = r;
   }
   return rolls;
@@ -107,17 +151,8 @@ std::map<std::string, PageRoll> RollsOf(const std::string& dom) {
 std::vector<std::map<std::string, std::string>> DivsOf(const std::string& dom,
                                                        const std::string& cls) {
   std::vector<std::map<std::string, std::string>> out;
-  const std::regex div("<div class=\"" + cls + "\"([^>]*)>");
-  const std::regex attr(R"re(data-([a-z-]+)="([^"]*)")re");
-  for (auto it = std::sregex_iterator(dom.begin(), dom.end(), div);
-       it != std::sregex_iterator(); ++it) {
-    std::map<std::string, std::string> attrs;
-    const std::string text = (*it)[1];
-    for (auto a = std::sregex_iterator(text.begin(), text.end(), attr);
-         a != std::sregex_iterator(); ++a) {
-      attrs[(*a)[1]] = (*a)[2];
-    }
-    out.push_back(std::move(attrs));
+  for (const Element& div : ElementsOf(dom, "<div class=\"" + cls + "\"", "")) {
+    out.push_back(DataAttributes(div.attrs));
   }
   return out;
 }

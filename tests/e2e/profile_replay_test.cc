@@ -17,7 +17,6 @@
 #include "api/request_encode.h"
 #include "core/dataset/dataset_io.h"
 #include "core/fit/profile_fit.h"
-#include "tests/core/test_size.h"
 #include "tests/e2e/e2e_util.h"
 
 namespace rollwear::e2e {
@@ -95,7 +94,11 @@ void ExpectProfilesEqualOffline(const std::string& url, const Dataset& data,
 TEST(ProfileReplayTest, ServedProfilesEqualTheOfflinePredictionAfterReplay) {
   TempDir dir;
   std::string out, err;
-  const int campaigns = test_size::FullOr(40, 16);
+  // 40 campaigns also under the sanitizers: at 16 the calibration's 18
+  // coefficients overfit 40 training readings and it is rightly not
+  // promoted (validation gap 57.7 vs 39.8 um), and the second half of the
+  // test needs a promoted, calibrated shape.
+  const int campaigns = 40;
   ASSERT_EQ(
       RunRollwear({"simulate", "--out", dir / "d", "--campaigns",
                    std::to_string(campaigns), "--seed", "11", "--profiles"},
