@@ -40,6 +40,9 @@
 //      largest group mean residual at most half what it was. Otherwise the
 //      term fitted something else and the located structure is still
 //      there: not adopted.
+//  (c) Along time (diagnosis_along_time.cc): a calendar-time term must take
+//      away at least half of the lag-1 autocovariance of the time-ordered
+//      campaign means of the residuals, when that is significant.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -314,6 +317,11 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
                     name, h.b_bar);
       return Refused(buf, name, h, "within_group_z", h.b_bar, h.p_within, dims);
     }
+  }
+  const ModelTerm& term = with_term.terms.back().term;
+  if (IsCalendarTerm(td, term)) {
+    GuardResult t = LookAlongTime(data, st, options, sd, pc, p1, term.covariate);
+    if (!t.pass) return t;
   }
   return LookAgain(data, st, options, located_before, clip, p1);
 }

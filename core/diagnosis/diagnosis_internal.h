@@ -102,6 +102,16 @@ std::vector<Breakdown> NoiseChecks(const TermData& td, const Dataset& data,
                                    const std::vector<double>& pred,
                                    const std::vector<double>& sd);
 
+// Per campaign of `obs`, in time order (started_at): the mean of `u` and of
+// `um` (aligned with `obs`) over the campaign's observations.
+struct CampaignSeries {
+  std::vector<double> u, um;
+};
+CampaignSeries ByCampaignInTime(const TermData& td, const Dataset& data,
+                                const std::vector<int>& obs,
+                                const std::vector<double>& u,
+                                const std::vector<double>& um);
+
 // The checks significant at family-wise level `alpha` (Bonferroni over all
 // of `checks`) and of material size (a location group mean of at least
 // `material_um`; see diagnosis_noise.cc for the others), strongest first.

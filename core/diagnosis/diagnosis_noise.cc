@@ -60,36 +60,6 @@ std::string Ordinal(int i) {  // 1-based
   return std::to_string(i) + suffix;
 }
 
-// Per campaign (in time order): mean standardised and mean µm residual.
-struct CampaignSeries {
-  std::vector<double> u, um;
-};
-
-CampaignSeries ByCampaignInTime(const TermData& td, const Dataset& data,
-                                const std::vector<int>& obs,
-                                const std::vector<double>& u,
-                                const std::vector<double>& um) {
-  std::map<int, std::pair<double, double>> sum;
-  std::map<int, int> count;
-  for (size_t i = 0; i < obs.size(); ++i) {
-    const int c = td.obs[obs[i]].campaign;
-    sum[c].first += u[i];
-    sum[c].second += um[i];
-    ++count[c];
-  }
-  std::vector<int> camps;
-  for (const auto& [c, n] : count) camps.push_back(c);
-  std::stable_sort(camps.begin(), camps.end(), [&](int a, int b) {
-    return data.campaigns[a].started_at < data.campaigns[b].started_at;
-  });
-  CampaignSeries s;
-  for (int c : camps) {
-    s.u.push_back(sum[c].first / count[c]);
-    s.um.push_back(sum[c].second / count[c]);
-  }
-  return s;
-}
-
 // ANOVA of the standardised values `u` (the test) with the µm group means
 // of `um` (the size); groups in the order of `order`.
 Breakdown AnovaWithSize(const std::string& dimension,
@@ -261,6 +231,32 @@ std::string Where(const Breakdown& b, const Breakdown::Group& g) {
 }
 
 }  // namespace
+
+CampaignSeries ByCampaignInTime(const TermData& td, const Dataset& data,
+                                const std::vector<int>& obs,
+                                const std::vector<double>& u,
+                                const std::vector<double>& um) {
+  std::map<int, std::pair<double, double>> sum;
+  std::map<int, int> count;
+  for (size_t i = 0; i < obs.size(); ++i) {
+    const int c = td.obs[obs[i]].campaign;
+    sum[c].first += u[i];
+    sum[c].second += um[i];
+    ++count[c];
+  }
+  std::vector<int> camps;
+  for (const auto& [c, n] : count) camps.push_back(c);
+  std::stable_sort(camps.begin(), camps.end(), [&](int a, int b) {
+    return data.campaigns[a].started_at < data.campaigns[b].started_at;
+  });
+  CampaignSeries s;
+  for (int c : camps) {
+    s.u.push_back(sum[c].first / count[c]);
+    s.um.push_back(sum[c].second / count[c]);
+  }
+  return s;
+}
+
 
 std::vector<Breakdown> NoiseChecks(const TermData& td, const Dataset& data,
                                    const std::vector<int>& obs,

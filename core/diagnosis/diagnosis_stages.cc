@@ -561,6 +561,16 @@ void Summarise(const Dataset& data, const DiagnosisOptions& options,
                      [](const Unexplained& a, const Unexplained& b) {
                        return a.p_value < b.p_value;
                      });
+    // The lag-1 structure describes the whole series: the strongest entry
+    // only (the guard's, naming the time term that failed to take it away,
+    // and the final model's look again can both list it).
+    bool lag1_seen = false;
+    std::erase_if(report->unexplained, [&](const Unexplained& u) {
+      if (u.dimension != "lag1_along_time") return false;
+      const bool drop = lag1_seen;
+      lag1_seen = true;
+      return drop;
+    });
   }
   report->verdict = !report->findings.empty() ? "missing_physics_found"
                     : !report->unexplained.empty()

@@ -131,6 +131,20 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
                               const std::vector<Breakdown>& located_before,
                               const Fitted& with_term);
 
+// Whether `t` is a calendar-time term (its covariate is started_at or
+// measured_at).
+bool IsCalendarTerm(const TermData& td, const ModelTerm& t);
+
+// The guard's look along time for a calendar-time term
+// (diagnosis_along_time.cc): refused, with the lag-1 structure as `located`,
+// when the lag-1 autocovariance of the time-ordered campaign means of the
+// training residuals is significant with the predictions `before` (aligned
+// with state.train) and more than half of it remains with `after`.
+GuardResult LookAlongTime(const Dataset& data, const DiagnosisState& st,
+                          const DiagnosisOptions& options, const std::vector<double>& sd,
+                          const std::vector<double>& before, const std::vector<double>& after,
+                          const std::string& covariate);
+
 // The first accepted candidate of a round (`accepted`, best first) that is
 // distinct from the round's cells and passes GuardAgainstProxy, or -1; the
 // others tried become runners-up, and when none passes, where an
