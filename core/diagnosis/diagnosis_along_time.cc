@@ -14,9 +14,10 @@
 // independence (Bartlett 1946, J. R. Stat. Soc. Suppl. 8:27; Box, Jenkins &
 // Reinsel 2008, "Time Series Analysis", 4th ed., sec. 2.1.6).
 //
-// Rule. When gamma_1 before the term is significant (p < alpha) and more
-// than kLookAgainShrink (one half, the guard's look-again share) of it is
-// left after the term, the term is not named: it is a smooth part of a
+// Rule. When gamma_1 before the term is positive and significant (p <
+// alpha, two-sided; options.alpha = 0.001) and more than kAlongTimeShare
+// (one half) of it is left after the term, the term is not named: it is a
+// smooth part of a
 // structure along time it does not describe (a random walk of the wear rate
 // has structure at every time scale; a step or a trend, once fitted, leaves
 // campaign means that are close to independent). The lag-1 structure is
@@ -34,7 +35,10 @@
 namespace rollwear::diag {
 namespace {
 
-constexpr double kLookAgainShrink = 0.5;  // share of gamma_1 that may remain
+// The share of gamma_1 that may remain: half of the autocovariance (about
+// 71 % of its amplitude), the guard's look-again share applied to a
+// second-moment statistic.
+constexpr double kAlongTimeShare = 0.5;
 
 struct Lag1 {
   double gamma0 = 0, gamma1 = 0, r1 = 0, z = 0, p = 1, rms_um = 0;
@@ -44,7 +48,8 @@ struct Lag1 {
 // gamma_0, gamma_1, r1 and Bartlett's z of the campaign means of the
 // clipped standardised residuals measured - pred (pred aligned with train).
 Lag1 Lag1OfResiduals(const Dataset& data, const DiagnosisState& st,
-                     const std::vector<double>& sd, const std::vector<double>& pred) {
+                     const std::vector<double>& sd,
+                     const std::vector<double>& pred) {
   const size_t m = st.train.size();
   std::vector<double> u(m), um(m);
   for (size_t i = 0; i < m; ++i) {
@@ -60,7 +65,8 @@ Lag1 Lag1OfResiduals(const Dataset& data, const DiagnosisState& st,
   for (double v : s.u) mean += v;
   mean /= l.n;
   for (int t = 0; t < l.n; ++t) l.gamma0 += (s.u[t] - mean) * (s.u[t] - mean);
-  for (int t = 0; t + 1 < l.n; ++t) l.gamma1 += (s.u[t] - mean) * (s.u[t + 1] - mean);
+  for (int t = 0; t + 1 < l.n; ++t)
+    l.gamma1 += (s.u[t] - mean) * (s.u[t + 1] - mean);
   for (double v : s.um) l.rms_um += v * v;
   l.gamma0 /= l.n;
   l.gamma1 /= l.n;
@@ -82,32 +88,37 @@ bool IsCalendarTerm(const TermData& td, const ModelTerm& t) {
 }
 
 GuardResult LookAlongTime(const Dataset& data, const DiagnosisState& st,
-                          const DiagnosisOptions& options, const std::vector<double>& sd,
-                          const std::vector<double>& before, const std::vector<double>& after,
+                          const DiagnosisOptions& options,
+                          const std::vector<double>& sd,
+                          const std::vector<double>& before,
+                          const std::vector<double>& after,
                           const std::string& covariate) {
   GuardResult r;
   const Lag1 b = Lag1OfResiduals(data, st, sd, before);
   if (!(b.p < options.alpha) || !(b.gamma1 > 0)) return r;
   const Lag1 a = Lag1OfResiduals(data, st, sd, after);
-  if (a.gamma1 <= kLookAgainShrink * b.gamma1) return r;
+  if (a.gamma1 <= kAlongTimeShare * b.gamma1) return r;
   r.pass = false;
   char buf[200];
-  std::snprintf(buf, sizeof(buf),
-                "structure along time remains (lag-1 autocovariance of campaign means "
-                "%.3f -> %.3f, r1 %+.2f -> %+.2f)",
-                b.gamma1, a.gamma1, b.r1, a.r1);
+  std::snprintf(
+      buf, sizeof(buf),
+      "structure along time remains (lag-1 autocovariance of campaign means "
+      "%.3f -> %.3f, r1 %+.2f -> %+.2f)",
+      b.gamma1, a.gamma1, b.r1, a.r1);
   r.reason = buf;
+  // Listed (when no candidate of the round passes) with the statistics of
+  // the model that is kept, the one before the term: significant at alpha.
   r.located.dimension = "lag1_along_time";
   std::snprintf(buf, sizeof(buf),
-                "campaign order (lag-1 autocorrelation %+.2f after a %s term, %+.2f "
-                "before)",
-                a.r1, covariate.c_str(), b.r1);
+                "campaign order (lag-1 autocorrelation %+.2f; a %s term took "
+                "%.0f %% of its autocovariance)",
+                b.r1, covariate.c_str(), 100.0 * (1.0 - a.gamma1 / b.gamma1));
   r.located.where = buf;
   r.located.test = "lag1_autocorrelation";
-  r.located.statistic = a.z;
-  r.located.mean_residual_um = a.rms_um;
-  r.located.p_value = a.p;
-  r.located.p_adjusted = a.p;
+  r.located.statistic = b.z;
+  r.located.mean_residual_um = b.rms_um;
+  r.located.p_value = b.p;
+  r.located.p_adjusted = b.p;
   return r;
 }
 

@@ -201,7 +201,9 @@ void GuardDimensions(const TermData& td, const std::vector<int>& train, const st
   for (size_t i = 0; i < stand.size(); ++i) cell[i] = stand[i] + "/" + roll_type[i];
   *names = {"stand", "position", "roll_type", "stand_roll_type"};
   *labels = {stand, position, roll_type, cell};
-  const bool calendar = cov == "started_at" || cov == "measured_at";
+  ModelTerm term;
+  term.covariate = cov;
+  const bool calendar = IsCalendarTerm(td, term);
   for (int k = 0; k < static_cast<int>(td.catalog.size()); ++k) {
     const CovariateSpec& c = td.catalog[k];
     if (c.kind != CovariateKind::kNumeric || c.level == CovariateLevel::kMeasurement ||

@@ -257,7 +257,6 @@ CampaignSeries ByCampaignInTime(const TermData& td, const Dataset& data,
   return s;
 }
 
-
 std::vector<Breakdown> NoiseChecks(const TermData& td, const Dataset& data,
                                    const std::vector<int>& obs,
                                    const std::vector<double>& pred,

@@ -500,6 +500,14 @@ bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
   ReferenceChoice reference;
   const Fitted chosen = ChooseOffsetReference(
       *st, sd, OrientTwinCell(*st, sd, fits[winner], &twin_note), &reference);
+  if (chosen.usable && chosen.rss < fits[winner].rss) {
+    // Another reference fitted better: the finding's LR test is its own
+    // (the cross-validation figures stay the tested candidate's).
+    const double n = static_cast<double>(st->train.size());
+    f.lr = std::max(0.0, n * std::log(st->current.rss / chosen.rss));
+    f.p_value = ChiSquareSurvival(f.lr, f.df);
+    f.p_adjusted = std::min(1.0, f.p_value * screen.num_tests);
+  }
   Fitted adopted = AdoptWinner(*st, sd, chosen, &f);
   f.explanation += twin_note;
   StateReferenceIdentification(reference, &f);

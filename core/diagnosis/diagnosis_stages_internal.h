@@ -163,11 +163,15 @@ Fitted OrientTwinCell(const DiagnosisState& st, const std::vector<double>& sd,
 // Which level of an offset-per-level winner reads true
 // (diagnosis_reference.cc): the reference with the least RSS, its label,
 // and the other levels the data cannot reject as reading true (with their
-// likelihood-ratio difference to the best, under `critical`).
+// likelihood-ratio difference to the best, under `critical`; a level whose
+// refit failed is kept as possible).
 struct ReferenceChoice {
+  struct Possible {
+    std::string level;
+    double delta = 0;  // LR difference to the best; NaN if its refit failed
+  };
   std::string reference;
-  std::vector<std::string> possible_true;
-  std::vector<double> delta;
+  std::vector<Possible> possible;  // levels possibly reading true
   double critical = 0;
 };
 

@@ -64,7 +64,10 @@ struct CaseScore {
   // inexpressible: verdict mismatch_located_unexplained, no finding, and
   // the unexplained list locating each effect's mismatch (LocatesMismatch).
   bool named_right = false;
-  int wrong_physics = 0;  // findings that match no concealed effect
+  // Findings that match no concealed effect; a finding on an effect's
+  // covariate and scope that names no level (e.g. an offset stated between
+  // the levels) says less, not something wrong, and is not counted.
+  int wrong_physics = 0;
   int num_findings = 0;
   std::string verdict;
   double gap_val_um = 0;
