@@ -27,19 +27,11 @@ StatusOr<std::vector<std::string>> CampaignsWithProfiles(Db* db, int limit) {
                  "WHERE c.ended_at IS NOT NULL AND EXISTS (SELECT 1 FROM "
                  "profile_points p WHERE p.campaign = c.id) "
                  "ORDER BY c.started_at DESC, c.campaign_id DESC LIMIT ?"));
+  const ResetOnExit reset(st);
   st->BindInt(1, limit);
   std::vector<std::string> out;
-  Status status;
-  while (true) {
-    StatusOr<bool> row = st->Step();
-    if (!row.ok() || !*row) {
-      status = row.status();
-      break;
-    }
-    out.push_back(st->ColumnText(0));
-  }
-  st->Reset();
-  if (!status.ok()) return status;
+  ROLLWEAR_RETURN_IF_ERROR(ForEachRow(
+      st, [&](const Statement& row) { out.push_back(row.ColumnText(0)); }));
   return out;
 }
 

@@ -38,29 +38,23 @@ StatusOr<std::optional<ProfileIn>> LookupProfile(Db* db, const ProfileIn& key) {
                  "profile_points p JOIN campaigns c ON c.id = p.campaign "
                  "WHERE c.campaign_id = ? AND p.stand = ? AND p.position = ? "
                  "ORDER BY p.point"));
+  const ResetOnExit reset(st);
   st->BindText(1, key.campaign_id)
       .BindInt(2, key.stand)
       .BindInt(3, static_cast<int>(key.position));
   std::optional<ProfileIn> out;
-  Status status;
-  while (true) {
-    StatusOr<bool> row = st->Step();
-    if (!row.ok() || !*row) {
-      status = row.status();
-      break;
-    }
+  ROLLWEAR_RETURN_IF_ERROR(ForEachRow(st, [&](const Statement& row) {
     if (!out) {
       out.emplace();
       out->campaign_id = key.campaign_id;
       out->stand = key.stand;
       out->position = key.position;
-      out->roll_id = st->ColumnText(0);
-      out->measured_at = st->ColumnInt(1);
+      out->roll_id = row.ColumnText(0);
+      out->measured_at = row.ColumnInt(1);
     }
-    out->points.push_back(ProfilePointIn{st->ColumnDouble(2), st->ColumnDouble(3)});
-  }
-  st->Reset();
-  if (!status.ok()) return status;
+    out->points.push_back(
+        ProfilePointIn{row.ColumnDouble(2), row.ColumnDouble(3)});
+  }));
   return out;
 }
 

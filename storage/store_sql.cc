@@ -11,19 +11,6 @@
 namespace rollwear::storage::internal {
 namespace {
 
-// Resets a cached statement when the scope ends, so that no statement is
-// left mid-iteration holding a read snapshot on its connection.
-class ResetOnExit {
- public:
-  explicit ResetOnExit(Statement* st) : st_(st) {}
-  ~ResetOnExit() { st_->Reset(); }
-  ResetOnExit(const ResetOnExit&) = delete;
-  ResetOnExit& operator=(const ResetOnExit&) = delete;
-
- private:
-  Statement* st_;
-};
-
 // `var` names the declared variable, so it cannot be parenthesised.
 // NOLINTBEGIN(bugprone-macro-parentheses)
 #define ROLLWEAR_ASSIGN_STMT(var, db, sql)                      \
@@ -39,7 +26,8 @@ void BindExtra(Statement* st, int i, const std::string& extra_json) {
   }
 }
 
-// Steps `st` to its end, calling `visit` on each row.
+}  // namespace
+
 Status ForEachRow(Statement* st,
                   const std::function<void(const Statement&)>& visit) {
   while (true) {
@@ -48,8 +36,6 @@ Status ForEachRow(Statement* st,
     visit(*st);
   }
 }
-
-}  // namespace
 
 StatusOr<int64_t> InsertCampaign(Db* db, const std::string& campaign_id,
                                  UnixSeconds started_at,

@@ -28,6 +28,26 @@
 
 namespace rollwear::storage::internal {
 
+// ---- row iteration (store_sql.cc)
+// Resets a cached statement when the scope ends, so that no statement is
+// left mid-iteration holding a read snapshot on its connection.
+class ResetOnExit {
+ public:
+  explicit ResetOnExit(Statement* st) : st_(st) {}
+  ~ResetOnExit() { st_->Reset(); }
+  ResetOnExit(const ResetOnExit&) = delete;
+  ResetOnExit& operator=(const ResetOnExit&) = delete;
+
+ private:
+  Statement* st_;
+};
+
+// Steps `st` to its end, calling `visit` on each row (the first Step error
+// is returned; the statement is not reset: pair a cached one with
+// ResetOnExit).
+Status ForEachRow(Statement* st,
+                  const std::function<void(const Statement&)>& visit);
+
 // ---- campaigns, mounts, coils, passes, measurements (store_sql.cc)
 StatusOr<int64_t> InsertCampaign(Db* db, const std::string& campaign_id,
                                  UnixSeconds started_at,
