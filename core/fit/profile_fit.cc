@@ -71,18 +71,6 @@ PointZone ZoneOf(const RollSums& roll, double x_mm, double edge_zone_mm) {
   return PointZone::kOutside;
 }
 
-// The profile points of (campaign, slot) keys, in data order per key.
-std::map<std::pair<int, int>, std::vector<int>> PointsByRoll(
-    const Dataset& data) {
-  std::map<std::pair<int, int>, std::vector<int>> out;
-  for (size_t i = 0; i < data.profile_points.size(); ++i) {
-    const ProfilePoint& p = data.profile_points[i];
-    out[{p.campaign, RollPositionSlot(p.stand, p.position)}].push_back(
-        static_cast<int>(i));
-  }
-  return out;
-}
-
 ProfileRows RowsOf(const WearModel& model, const Dataset& data,
                    const DatasetIndex& index,
                    const std::map<std::pair<int, int>, std::vector<int>>& rolls,
@@ -220,6 +208,17 @@ Status SolveShape(const ProfileRows& rows, ProfileFit* fit) {
 
 }  // namespace
 
+std::map<std::pair<int, int>, std::vector<int>> ProfilePointsByRoll(
+    const Dataset& data) {
+  std::map<std::pair<int, int>, std::vector<int>> out;
+  for (size_t i = 0; i < data.profile_points.size(); ++i) {
+    const ProfilePoint& p = data.profile_points[i];
+    out[{p.campaign, RollPositionSlot(p.stand, p.position)}].push_back(
+        static_cast<int>(i));
+  }
+  return out;
+}
+
 const std::array<std::string, kProfileShapeParameters>& ProfileShapeNames() {
   static const std::array<std::string, kProfileShapeParameters> names = {
       "beta2", "beta4", "alpha1", "alpha2", "alpha3"};
@@ -237,7 +236,7 @@ StatusOr<ProfileFit> FitProfileShape(const WearModel& model,
                                      const DatasetIndex& index,
                                      const CampaignSplit& split,
                                      const ProfileFitOptions& options) {
-  const auto rolls = PointsByRoll(data);
+  const auto rolls = ProfilePointsByRoll(data);
   std::vector<int> train = split.train, val = split.validation;
   std::sort(train.begin(), train.end());
   std::sort(val.begin(), val.end());
@@ -255,7 +254,7 @@ ProfileGap ProfileGapOf(const WearModel& model, const ProfileShape& shape,
                         const Dataset& data, const DatasetIndex& index,
                         const std::vector<int>& campaigns,
                         const ProfileFitOptions& options) {
-  return GapOf(shape, RowsOf(model, data, index, PointsByRoll(data),
+  return GapOf(shape, RowsOf(model, data, index, ProfilePointsByRoll(data),
                              campaigns, options));
 }
 
@@ -275,7 +274,7 @@ std::vector<ProfileResidual> ProfileResiduals(
     const DatasetIndex& index, const std::vector<int>& campaigns,
     const ProfileFitOptions& options) {
   std::vector<ProfileResidual> out;
-  for (const auto& [key, points] : PointsByRoll(data)) {
+  for (const auto& [key, points] : ProfilePointsByRoll(data)) {
     const auto [campaign, slot] = key;
     if (!std::binary_search(campaigns.begin(), campaigns.end(), campaign) ||
         index.MountOf(campaign, slot) < 0) {

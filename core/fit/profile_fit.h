@@ -41,7 +41,9 @@
 
 #include <array>
 #include <limits>
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/base/status.h"
@@ -93,6 +95,11 @@ struct ProfileFit {
   ProfileGap train;
   ProfileGap validation;
 };
+
+// The indices of data.profile_points of each measured profile, keyed by
+// (campaign, roll position slot), in data order within a profile.
+std::map<std::pair<int, int>, std::vector<int>> ProfilePointsByRoll(
+    const Dataset& data);
 
 // Fits the shape on the profile points of split.train with `model`'s K and
 // measures the gap on both halves. Errors: fewer training points than

@@ -54,12 +54,8 @@ struct JointData {
 JointData Collect(const WearModel& model, const Dataset& data,
                   const DatasetIndex& index, const std::vector<int>& train,
                   const ProfileFitOptions& options) {
-  std::map<std::pair<int, int>, std::vector<int>> points;
-  for (size_t i = 0; i < data.profile_points.size(); ++i) {
-    const ProfilePoint& p = data.profile_points[i];
-    points[{p.campaign, RollPositionSlot(p.stand, p.position)}].push_back(
-        static_cast<int>(i));
-  }
+  const std::map<std::pair<int, int>, std::vector<int>> points =
+      ProfilePointsByRoll(data);
   std::map<std::pair<int, int>, MeasuredPrediction> readings;
   for (const MeasuredPrediction& m : PredictMeasured(model, data, index, train)) {
     readings[{m.campaign, m.slot}] = m;

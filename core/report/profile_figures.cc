@@ -21,14 +21,11 @@ StatusOr<SvgFigure> ProfileFigure(const std::string& title,
   std::vector<int> val = split.validation;
   std::sort(val.begin(), val.end());
   // The validation rolls with profiles, in (campaign, slot) order.
-  std::map<std::pair<int, int>, std::vector<int>> rolls;
-  for (size_t i = 0; i < data.profile_points.size(); ++i) {
-    const ProfilePoint& p = data.profile_points[i];
-    if (std::binary_search(val.begin(), val.end(), p.campaign)) {
-      rolls[{p.campaign, RollPositionSlot(p.stand, p.position)}].push_back(
-          static_cast<int>(i));
-    }
-  }
+  std::map<std::pair<int, int>, std::vector<int>> rolls =
+      ProfilePointsByRoll(data);
+  std::erase_if(rolls, [&](const auto& roll) {
+    return !std::binary_search(val.begin(), val.end(), roll.first.first);
+  });
   if (rolls.empty()) {
     return Status::FailedPrecondition(
         "no validation roll has a profile to draw");
