@@ -63,6 +63,38 @@ std::vector<double> QuantileEdges(const WeightedValues& w, int bins) {
   return edges;
 }
 
+// A change on one day of the calendar (a new roll supplier, a recalibrated
+// gauge): the binned form with a single edge t, so m = exp(b) (or the
+// reading + o) from t on. The change point t is scanned over the
+// kStepGrid inner quantiles of the covariate, one candidate each (the
+// round's Bonferroni count includes every grid point, which pays for the
+// scan; Andrews 1993, Econometrica 61:821, gives the exact sup-LR
+// reference this bound stands in for). Quantile bins put their edges where
+// the data fall, not where the change is: a step inside a bin leaves a
+// part of it unexplained. Calendar covariates (started_at, measured_at)
+// only: a step in another covariate is a threshold, which the binned form
+// describes.
+void AddSteps(int k, const CovariateSpec& c, const WeightedValues& w,
+              std::vector<Candidate>* out) {
+  if (c.source != CovariateSource::kStartedAt &&
+      c.source != CovariateSource::kMeasuredAt) {
+    return;
+  }
+  const bool reading = c.level == CovariateLevel::kMeasurement;
+  double last = -std::numeric_limits<double>::infinity();
+  for (int g = 1; g < kStepGrid; ++g) {
+    const double t = Quantile(w, static_cast<double>(g) / kStepGrid);
+    if (!(t > last) || !(t < w.v.back().first)) continue;
+    last = t;
+    TermSpec step =
+        reading
+            ? Spec(k, c, TermForm::kOffsetBinned, {0.0}, {-1000.0}, {1000.0})
+            : Spec(k, c, TermForm::kBinned, {0.0}, {-3.0}, {3.0});
+    step.term.edges = {t};
+    out->push_back({step, {}});
+  }
+}
+
 }  // namespace
 
 WeightedValues Collect(const TermData& td, const std::vector<int>& obs, int k) {
@@ -167,6 +199,7 @@ std::vector<Candidate> CandidatesOf(const TermData& td, const std::vector<int>& 
       for (double f : {0.25, 1.0, 4.0}) dec.starts.push_back({0.0, std::log(f * p50)});
       out.push_back(dec);
     }
+    AddSteps(k, c, w, &out);
     return out;
   }
   TermSpec ll = Spec(k, c, TermForm::kLogLinear, {0.0}, {-2.0}, {2.0});
@@ -186,6 +219,7 @@ std::vector<Candidate> CandidatesOf(const TermData& td, const std::vector<int>& 
     bin.term.edges = edges;
     out.push_back({bin, {}});
   }
+  AddSteps(k, c, w, &out);
   if (c.accumulates && p95 > 0 && p05 >= 0) {
     Candidate sat{Spec(k, c, TermForm::kSaturating, {0.0, std::log(p95)},
                        {-0.9, std::log(0.05 * p95)}, {10.0, std::log(20 * p95)}),

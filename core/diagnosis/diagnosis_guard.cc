@@ -59,6 +59,7 @@ namespace {
 constexpr double kMaterialScale = 0.5;    // |b_g - b_bar|, in effect units
 constexpr double kLookAgainShrink = 0.5;  // largest group mean must halve
 constexpr int kMinGroupObservations = 10;
+constexpr double kShadowDelta = 6.63;  // chi2(1) 1 % point
 
 struct Heterogeneity {
   double q = 0, p = 1, max_dev = 0;
@@ -320,6 +321,8 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
       return Refused(buf, name, h, "within_group_z", h.b_bar, h.p_within, dims);
     }
   }
+  const GuardResult siblings = LookAtSiblings(st, options, sd, with_term);
+  if (!siblings.pass) return siblings;
   const ModelTerm& term = with_term.terms.back().term;
   if (IsCalendarTerm(td, term)) {
     GuardResult t = LookAlongTime(data, st, options, sd, pc, p1, term.covariate);
@@ -371,6 +374,52 @@ std::string NoBetterThanCell(const DiagnosisState& st, const std::vector<double>
 }
 
 }  // namespace
+
+// The proxy guard's comparison with what it refused (issue 15): a candidate
+// that passes, ranked below a candidate the guard refused (inconsistent
+// across a dimension, living between groups, leaving the located structure,
+// not taking the autocorrelation along time) is a shadow of that structure
+// when the refused one fits the training data clearly better. Both add the
+// same kind of term to the same model; with p_w and p_r parameters,
+// Delta = n ln(RSS_winner / RSS_refused) - 2 (p_r - p_w) (Akaike 1974, IEEE
+// TAC 19:716, as a difference of AIC) above the chi2(1) 1 % point says the
+// refused description holds clearly more of the mismatch, and the winner's
+// passing the guard is only its lower power: e.g. a temperature x speed
+// interaction, refused as a temperature effect inconsistent across the
+// quartiles of rolled length, then read as a specific-force effect at F7.
+// Every refused candidate is compared (the largest Delta is reported). The
+// 6.63 is a chosen cut, not a test level: the two models are not nested,
+// and a cell's RSS carries its prior's pseudo-residual, which only makes a
+// cell look worse here (so the check can only withhold a cell's name).
+GuardResult FitsWorseThanRefused(const DiagnosisState& st,
+                                 const std::vector<Fitted>& fits, int winner,
+                                 const std::vector<int>& refused,
+                                 const std::vector<CandidateResult>& results) {
+  GuardResult r;
+  const double n = static_cast<double>(st.train.size());
+  double worst = kShadowDelta;
+  int by = -1;
+  for (int j : refused) {
+    const double extra = fits[j].terms.back().term.NumParams() -
+                         fits[winner].terms.back().term.NumParams();
+    const double delta =
+        n * std::log(fits[winner].rss / fits[j].rss) - 2 * extra;
+    if (delta > worst) {
+      worst = delta;
+      by = j;
+    }
+  }
+  if (by < 0) return r;
+  char buf[240];
+  std::snprintf(
+      buf, sizeof(buf),
+      "fits worse than %s, which the guard refused (AIC difference %.1f): a "
+      "shadow of the structure that candidate could not describe",
+      results[by].covariate.c_str(), worst);
+  r.pass = false;
+  r.reason = buf;
+  return r;
+}
 
 // A cell with a twin (TwinCell) describes the same data as its twin with
 // the inverse multiplier; the data cannot tell which place is the
@@ -426,12 +475,17 @@ int GuardedWinner(int round, const Dataset& data, const DiagnosisOptions& option
       st.td, data, st.train,
       PredictTerms(st.td, st.train, st.current.log_k, st.current.terms), &clip);
   std::vector<Unexplained> located;
+  std::vector<int> refused;  // the candidates the guard refused
   for (int i : accepted) {
     GuardResult g;
     g.reason = NoBetterThanCell(st, sd, accepted, fits, i, num_tests, options);
     g.pass = g.reason.empty();
+    const bool by_cell = !g.pass;
     if (g.pass) g = GuardAgainstProxy(data, st, options, sd, before, fits[i]);
+    if (g.pass && !refused.empty())
+      g = FitsWorseThanRefused(st, fits, i, refused, results);
     if (g.pass) return i;
+    if (!by_cell) refused.push_back(i);
     const CandidateResult& c = results[i];
     report->runners_up.push_back(
         {round, c.covariate, c.form, c.p_adjusted, c.cv_mse_ratio, g.reason});

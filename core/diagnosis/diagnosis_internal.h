@@ -63,6 +63,20 @@ void AddScopedCandidates(const TermData& td, const std::vector<int>& train,
 bool TwinCell(const TermData& td, const std::vector<int>& train, const TermScope& cell,
               TermScope* twin);
 
+// The single-factor scopes with enough training data (at least
+// kMinScopeObservations inside, and not all of them): each stand, position
+// (top, bottom), roll position (stand and position, "F7/top"), roll type and
+// grade (diagnosis_scoped.cc). With `keep_everywhere`, also a scope that
+// holds every training reading (a grade rolled in every campaign still
+// restricts passes: the sibling test must see it).
+std::vector<TermScope> SingleScopes(const TermData& td,
+                                    const std::vector<int>& train,
+                                    bool keep_everywhere = false);
+
+// Whether observation `ob` is inside `s` (a grade scope holds an observation
+// when any of its passes rolled the grade).
+bool InScope(const TermData& td, const TermObservation& ob, const TermScope& s);
+
 // Fills mechanism, shape and explanation of a finding from its fitted term
 // and the covariate's training range (reads f->parameter_std_errors when
 // set, to tell a noisy binned step from a peak).
@@ -76,6 +90,18 @@ std::vector<Breakdown> Locate(const TermData& td, const Dataset& data,
                               const std::vector<int>& obs,
                               const std::vector<double>& pred,
                               const std::vector<double>* clip_sd = nullptr);
+
+// The change-point grid of the calendar step candidates (AddSteps,
+// diagnosis_candidates.cc): one candidate per inner 1/kStepGrid quantile.
+inline constexpr int kStepGrid = 20;
+
+// Whether `spec` is a calendar step candidate (a binned or offset-binned
+// term with a single edge).
+inline bool IsStep(const TermSpec& spec) {
+  return (spec.term.form == TermForm::kBinned ||
+          spec.term.form == TermForm::kOffsetBinned) &&
+         spec.term.edges.size() == 1;
+}
 
 // Load-weighted quantile q in [0, 1] of covariate k over the passes of
 // `obs` (or of the aggregated values for non-pass covariates).

@@ -333,6 +333,13 @@ void NameFinding(const TermData& td, const std::vector<int>& train, const TermSp
       for (size_t i = 0; i < t.edges.size(); ++i) {
         f->parameters["edge" + std::to_string(i)] = t.edges[i];
       }
+      if (t.edges.size() ==
+          1) {  // a change point (diagnosis_candidates.cc AddSteps)
+        f->shape = m[1] >= 1 ? "step_up" : "step_down";
+        fitted = Format("a step: wear-rate multiplier %.3f from ", m[1]) +
+                 Readable(c.name, t.edges[0]) + " on, relative to before";
+        break;
+      }
       fitted = "wear-rate multipliers by quantile bin of the covariate:";
       for (size_t i = 0; i < m.size(); ++i) {
         fitted += Format(" %.3f", m[i]);
@@ -399,6 +406,12 @@ void NameFinding(const TermData& td, const std::vector<int>& train, const TermSp
       }
       for (size_t i = 0; i < t.edges.size(); ++i) {
         f->parameters["edge" + std::to_string(i)] = t.edges[i];
+      }
+      if (t.edges.size() ==
+          1) {  // a change point (diagnosis_candidates.cc AddSteps)
+        fitted = Format("a step: measured wear offset %+.1f µm from ", o[1]) +
+                 Readable(c.name, t.edges[0]) + " on, relative to before";
+        break;
       }
       fitted = "measured wear offsets by quantile bin of the covariate (µm):";
       for (size_t i = 0; i < o.size(); ++i) {

@@ -20,9 +20,11 @@
 //  - position_by_roll_type: ANOVA of u over roll position x roll type
 //    cells (a roll type that wears differently at one stand only), and
 //    position_by_grade over roll position x dominant grade cells.
-//  - spread_by_position, spread_by_time: Brown-Forsythe test of equal
-//    spread (Brown & Forsythe 1974, JASA 69:364): one-way ANOVA F of
-//    d_i = |u_i - median of u in i's group| over the groups.
+//  - spread_by_position, spread_by_time (calendar quarters) and
+//    spread_time_scale_S (S blocks of campaigns in time order, as
+//    time_scale_S): Brown-Forsythe test of equal spread (Brown & Forsythe
+//    1974, JASA 69:364): one-way ANOVA F of d_i = |u_i - median of u in
+//    i's group| over the groups.
 // Then every breakdown (Locate's and these) significant at the family-wise
 // level (Bonferroni over all of them) and of material size becomes an
 // Unexplained entry.
@@ -80,18 +82,28 @@ Breakdown AnovaWithSize(const std::string& dimension,
   return b;
 }
 
+// The labels of `blocks` consecutive blocks of n campaigns in time order,
+// campaign i (0-based) in block i * blocks / n: block b holds campaigns
+// ceil(b n / blocks) .. ceil((b + 1) n / blocks) - 1, printed 1-based.
+std::vector<std::string> BlockLabels(int n, int blocks) {
+  std::vector<std::string> order;
+  for (int b = 0; b < blocks; ++b) {
+    const int first = (b * n + blocks - 1) / blocks;
+    const int last = ((b + 1) * n + blocks - 1) / blocks - 1;
+    order.push_back("block " + Ordinal(b + 1) + " of " +
+                    std::to_string(blocks) + " (campaigns " +
+                    std::to_string(first + 1) + "-" + std::to_string(last + 1) +
+                    " in time order)");
+  }
+  return order;
+}
+
 void TimeChecks(const CampaignSeries& s, std::vector<Breakdown>* out) {
   const int n = static_cast<int>(s.u.size());
   if (n < 2 * kMinCampaignsPerBlock) return;
   for (int blocks = 2; n / blocks >= kMinCampaignsPerBlock; blocks *= 2) {
-    std::vector<std::string> label(n), order;
-    for (int b = 0; b < blocks; ++b) {
-      const int lo = b * n / blocks + 1, hi = (b + 1) * n / blocks;
-      order.push_back("block " + Ordinal(b + 1) + " of " +
-                      std::to_string(blocks) + " (campaigns " +
-                      std::to_string(lo) + "-" + std::to_string(hi) +
-                      " in time order)");
-    }
+    std::vector<std::string> label(n);
+    const std::vector<std::string> order = BlockLabels(n, blocks);
     for (int i = 0; i < n; ++i)
       label[i] = order[static_cast<size_t>(i) * blocks / n];
     out->push_back(AnovaWithSize("time_scale_" + std::to_string(blocks), label,
@@ -149,29 +161,19 @@ void TimeChecks(const CampaignSeries& s, std::vector<Breakdown>* out) {
   }
 }
 
-// Brown-Forsythe: ANOVA of |u - group median| over the groups; effect size
-// and group "mean" = the group's mean |u - median| relative to the
-// overall one, minus 1 (the µm size is carried in mean_relative).
-Breakdown SpreadCheck(const std::string& dimension,
-                      const std::vector<std::string>& label,
-                      const std::vector<double>& u,
-                      const std::vector<double>& um) {
-  std::map<std::string, std::vector<double>> by;
-  for (size_t i = 0; i < u.size(); ++i) by[label[i]].push_back(u[i]);
-  std::map<std::string, double> median;
-  for (auto& [k, v] : by) {
-    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-    median[k] = v[v.size() / 2];
-  }
-  std::vector<double> d(u.size()), d_um(u.size());
+// The Brown-Forsythe breakdown from the deviations `d` (|u - group
+// median|) and their µm sizes `d_um` (|residual|), one value per unit
+// (a reading, or a campaign's mean): ANOVA of d over the groups; effect
+// size and group "mean" = the group's mean d relative to the overall one,
+// minus 1 (the µm size is carried in mean_residual_um).
+Breakdown SpreadOfDeviations(const std::string& dimension,
+                             const std::vector<std::string>& label,
+                             const std::vector<double>& d,
+                             const std::vector<double>& d_um) {
   double overall = 0;
-  for (size_t i = 0; i < u.size(); ++i) {
-    d[i] = std::abs(u[i] - median[label[i]]);
-    d_um[i] = std::abs(um[i]);
-    overall += d[i];
-  }
-  overall /= std::max<size_t>(1, u.size());
-  const std::vector<double> zero(u.size(), 0.0);
+  for (double v : d) overall += v;
+  overall /= std::max<size_t>(1, d.size());
+  const std::vector<double> zero(d.size(), 0.0);
   Breakdown b = AnovaBreakdown(dimension, label, d, zero);
   b.test = "brown_forsythe";
   const Breakdown size = AnovaBreakdown(dimension, label, d_um, zero);
@@ -185,6 +187,32 @@ Breakdown SpreadCheck(const std::string& dimension,
         std::max(b.effect_size, std::abs(b.groups[g].mean_relative));
   }
   return b;
+}
+
+// |u_i - median of u in i's group| (Brown & Forsythe 1974).
+std::vector<double> DeviationsFromGroupMedian(
+    const std::vector<std::string>& label, const std::vector<double>& u) {
+  std::map<std::string, std::vector<double>> by;
+  for (size_t i = 0; i < u.size(); ++i) by[label[i]].push_back(u[i]);
+  std::map<std::string, double> median;
+  for (auto& [k, v] : by) {
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    median[k] = v[v.size() / 2];
+  }
+  std::vector<double> d(u.size());
+  for (size_t i = 0; i < u.size(); ++i) d[i] = std::abs(u[i] - median[label[i]]);
+  return d;
+}
+
+// Brown-Forsythe over the readings.
+Breakdown SpreadCheck(const std::string& dimension,
+                      const std::vector<std::string>& label,
+                      const std::vector<double>& u,
+                      const std::vector<double>& um) {
+  std::vector<double> d_um(um.size());
+  for (size_t i = 0; i < um.size(); ++i) d_um[i] = std::abs(um[i]);
+  return SpreadOfDeviations(dimension, label,
+                            DeviationsFromGroupMedian(label, u), d_um);
 }
 
 bool Material(const Breakdown& b, double material_um) {
@@ -257,6 +285,60 @@ CampaignSeries ByCampaignInTime(const TermData& td, const Dataset& data,
   return s;
 }
 
+namespace {
+
+// spread_time_scale_S: Brown-Forsythe over S consecutive blocks of
+// campaigns in time order (S = 2, 4, 8 ... while each block holds
+// kMinCampaignsPerBlock campaigns), the spread's counterpart of
+// time_scale_S: a few periods of extra scatter (a bad batch of rolls, an
+// unstable gauge for a month) are a small part of any calendar quarter but
+// most of a block of their own length. The unit is the campaign, as in
+// time_scale_S: its readings' mean deviation from their block's median,
+// so that what the readings of one campaign share is not counted as
+// independent evidence.
+void SpreadAlongTime(const TermData& td, const Dataset& data,
+                     const std::vector<int>& obs, const std::vector<double>& u,
+                     const std::vector<double>& um,
+                     std::vector<Breakdown>* out) {
+  std::vector<int> camps;
+  for (int o : obs) camps.push_back(td.obs[o].campaign);
+  std::sort(camps.begin(), camps.end());
+  camps.erase(std::unique(camps.begin(), camps.end()), camps.end());
+  std::stable_sort(camps.begin(), camps.end(), [&](int a, int b) {
+    return data.campaigns[a].started_at < data.campaigns[b].started_at;
+  });
+  std::map<int, int> rank;
+  for (size_t r = 0; r < camps.size(); ++r)
+    rank[camps[r]] = static_cast<int>(r);
+  const int n = static_cast<int>(camps.size());
+  for (int blocks = 2; n / blocks >= kMinCampaignsPerBlock; blocks *= 2) {
+    const std::vector<std::string> order = BlockLabels(n, blocks);
+    std::vector<std::string> label(obs.size());
+    for (size_t i = 0; i < obs.size(); ++i) {
+      label[i] = order[static_cast<size_t>(rank[td.obs[obs[i]].campaign]) *
+                       blocks / n];
+    }
+    const std::vector<double> d = DeviationsFromGroupMedian(label, u);
+    std::vector<double> d_c(n, 0.0), d_um_c(n, 0.0), count(n, 0.0);
+    for (size_t i = 0; i < obs.size(); ++i) {
+      const int r = rank[td.obs[obs[i]].campaign];
+      d_c[r] += d[i];
+      d_um_c[r] += std::abs(um[i]);
+      count[r] += 1;
+    }
+    std::vector<std::string> label_c(n);
+    for (int r = 0; r < n; ++r) {
+      d_c[r] /= count[r];
+      d_um_c[r] /= count[r];
+      label_c[r] = order[static_cast<size_t>(r) * blocks / n];
+    }
+    out->push_back(SpreadOfDeviations(
+        "spread_time_scale_" + std::to_string(blocks), label_c, d_c, d_um_c));
+  }
+}
+
+}  // namespace
+
 std::vector<Breakdown> NoiseChecks(const TermData& td, const Dataset& data,
                                    const std::vector<int>& obs,
                                    const std::vector<double>& pred,
@@ -297,6 +379,7 @@ std::vector<Breakdown> NoiseChecks(const TermData& td, const Dataset& data,
   out.push_back(AnovaWithSize("position_by_grade", pos_grade, u, um));
   out.push_back(SpreadCheck("spread_by_position", position, u, um));
   out.push_back(SpreadCheck("spread_by_time", quarter, u, um));
+  SpreadAlongTime(td, data, obs, u, um, &out);
   return out;
 }
 

@@ -2,8 +2,9 @@
 // vocabulary for effects that act on part of the mill only.
 //
 // Scoped variants: the simple one-parameter forms (log-linear, flag) of
-// every wear-rate covariate restricted to one stand, one roll position, one
-// roll type or one grade (TermScope, model_terms.h). The parameter count is
+// every wear-rate covariate restricted to one stand, one position (top or
+// bottom), one roll position (a stand's top or bottom, "F7/top"), one roll
+// type or one grade (TermScope, model_terms.h). The parameter count is
 // that of the unscoped form; the scope is chosen by the same evidence as
 // the form (score screen, LR, CV), and the Bonferroni count of the round
 // (diagnosis_stages.cc, Screen::num_tests) includes every scoped variant, so
@@ -13,9 +14,9 @@
 // type or grade) cell, the interactions the K structure (kF kR kS) cannot
 // express, with the normal prior b ~ N(0, kCellPriorSd^2) (model_terms.h).
 //
-// A scope (or cell) is offered only with at least kMinScopeObservations
-// training measurements inside it, and a scope covering every training
-// observation is no scope.
+// A scope is offered only with at least kMinScopeObservations training
+// measurements inside it, a cell with kMinCellObservations, and a scope
+// covering every training observation is no scope.
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -26,32 +27,43 @@ namespace rollwear::diag {
 namespace {
 
 constexpr int kMinScopeObservations = 30;
+// A cell needs fewer: its prior (kCellPriorSd) keeps a rare cell sane, and a
+// scope (a roll type, a grade) must not be offered for a covariate term
+// where the cells inside it, the structural alternative the proxy guard
+// compares it with, are not (a roll type with 27 and 24 training readings
+// at F6 and F7 had a reduction term and no cell).
+constexpr int kMinCellObservations = 10;
 
-// Training observations inside `s` (a grade scope counts an observation
-// when any of its passes rolled the grade).
-int CountInScope(const TermData& td, const std::vector<int>& train, const TermScope& s) {
-  const int grade = s.grade.empty()
-                        ? -1
-                        : static_cast<int>(std::find(td.grades.begin(), td.grades.end(),
-                                                     s.grade) -
-                                           td.grades.begin());
+// Training observations inside `s`.
+int CountInScope(const TermData& td, const std::vector<int>& train,
+                 const TermScope& s) {
   int n = 0;
-  for (int o : train) {
-    const TermObservation& ob = td.obs[o];
-    const std::string rt = ob.roll_type >= 0 ? td.roll_types[ob.roll_type] : "";
-    if (!s.CoversRoll(SlotStand(ob.slot), static_cast<int>(SlotPosition(ob.slot)), rt)) {
-      continue;
-    }
-    bool in = grade < 0;
-    for (int i = ob.pass_begin; i < ob.pass_end && !in; ++i) in = td.grade[i] == grade;
-    n += in ? 1 : 0;
-  }
+  for (int o : train) n += InScope(td, td.obs[o], s) ? 1 : 0;
   return n;
 }
 
-// The single-factor scopes with enough data: each stand, position, roll
-// type and grade.
-std::vector<TermScope> SingleScopes(const TermData& td, const std::vector<int>& train) {
+}  // namespace
+
+bool InScope(const TermData& td, const TermObservation& ob,
+             const TermScope& s) {
+  const std::string rt = ob.roll_type >= 0 ? td.roll_types[ob.roll_type] : "";
+  if (!s.CoversRoll(SlotStand(ob.slot), static_cast<int>(SlotPosition(ob.slot)),
+                    rt)) {
+    return false;
+  }
+  if (s.grade.empty()) return true;
+  const int grade =
+      static_cast<int>(std::find(td.grades.begin(), td.grades.end(), s.grade) -
+                       td.grades.begin());
+  for (int i = ob.pass_begin; i < ob.pass_end; ++i) {
+    if (td.grade[i] == grade) return true;
+  }
+  return false;
+}
+
+std::vector<TermScope> SingleScopes(const TermData& td,
+                                    const std::vector<int>& train,
+                                    bool keep_everywhere) {
   std::vector<TermScope> all;
   std::vector<bool> stands(kMaxStand + 1, false);
   for (const std::string& p : td.positions) {
@@ -63,16 +75,30 @@ std::vector<TermScope> SingleScopes(const TermData& td, const std::vector<int>& 
   }
   all.push_back({0, static_cast<int>(Position::kTop), "", ""});
   all.push_back({0, static_cast<int>(Position::kBottom), "", ""});
+  // One roll position ("F7/top"): the K structure's own place (kF).
+  for (const std::string& p : td.positions) {
+    const size_t slash = p.find('/');
+    Position pos;
+    const int st = ParseStand(p.substr(0, slash));
+    if (st > 0 && slash != std::string::npos &&
+        ParsePosition(p.substr(slash + 1), &pos)) {
+      all.push_back({st, static_cast<int>(pos), "", ""});
+    }
+  }
   for (const std::string& r : td.roll_types) all.push_back({0, -1, r, ""});
   for (const std::string& g : td.grades) all.push_back({0, -1, "", g});
   std::vector<TermScope> out;
   const int n = static_cast<int>(train.size());
   for (const TermScope& s : all) {
     const int in = CountInScope(td, train, s);
-    if (in >= kMinScopeObservations && in < n) out.push_back(s);
+    if (in >= kMinScopeObservations && (in < n || keep_everywhere)) {
+      out.push_back(s);
+    }
   }
   return out;
 }
+
+namespace {
 
 // The (stand or position) x (roll type or grade) cells with enough data.
 // When a roll type or grade runs in exactly two places of a kind (two
@@ -81,15 +107,16 @@ std::vector<TermScope> SingleScopes(const TermData& td, const std::vector<int>& 
 // the cell with fewer observations, the exception, is offered; and a cell
 // holding all of the level's data (a roll type used at one stand only) is
 // the level's own K coefficient, not a cell.
-std::vector<TermScope> CellScopes(const TermData& td, const std::vector<int>& train,
+std::vector<TermScope> CellScopes(const TermData& td,
+                                  const std::vector<int>& train,
                                   const std::vector<TermScope>& single) {
   std::vector<TermScope> where_stand, where_pos, what;
   for (const TermScope& s : single) {
-    if (s.stand > 0) {
+    if (s.stand > 0 && s.position < 0) {
       where_stand.push_back(s);
-    } else if (s.position >= 0) {
+    } else if (s.stand == 0 && s.position >= 0) {
       where_pos.push_back(s);
-    } else {
+    } else if (!s.roll_type.empty() || !s.grade.empty()) {
       what.push_back(s);
     }
   }
@@ -104,12 +131,13 @@ std::vector<TermScope> CellScopes(const TermData& td, const std::vector<int>& tr
         c.grade = b.grade;
         const int n = CountInScope(td, train, c);
         total += n;
-        if (n >= kMinScopeObservations) cells.emplace_back(n, c);
+        if (n >= kMinCellObservations) cells.emplace_back(n, c);
       }
       // A cell holding all of its factor level's data is that level's own K.
       if (cells.size() == 1 && cells[0].first == total) continue;
       if (cells.size() == 2 && cells[0].first + cells[1].first == total) {
-        out.push_back(cells[0].first <= cells[1].first ? cells[0].second : cells[1].second);
+        out.push_back(cells[0].first <= cells[1].first ? cells[0].second
+                                                       : cells[1].second);
         continue;
       }
       for (const auto& [n, c] : cells) out.push_back(c);
@@ -120,13 +148,13 @@ std::vector<TermScope> CellScopes(const TermData& td, const std::vector<int>& tr
 
 }  // namespace
 
-bool TwinCell(const TermData& td, const std::vector<int>& train, const TermScope& cell,
-              TermScope* twin) {
+bool TwinCell(const TermData& td, const std::vector<int>& train,
+              const TermScope& cell, TermScope* twin) {
   if (cell.roll_type.empty() == cell.grade.empty()) return false;
   std::vector<TermScope> places;
   if (cell.stand > 0) {
     for (const TermScope& s : SingleScopes(td, train)) {
-      if (s.stand > 0) places.push_back(s);
+      if (s.stand > 0 && s.position < 0) places.push_back(s);
     }
   } else if (cell.position >= 0) {
     places.push_back({0, static_cast<int>(Position::kTop), "", ""});
@@ -152,13 +180,15 @@ bool TwinCell(const TermData& td, const std::vector<int>& train, const TermScope
 }
 
 void AddScopedCandidates(const TermData& td, const std::vector<int>& train,
-                         const std::set<int>& used, std::vector<Candidate>* out) {
+                         const std::set<int>& used,
+                         std::vector<Candidate>* out) {
   const std::vector<TermScope> scopes = SingleScopes(td, train);
   // Scoped variants of the simple unscoped wear-rate candidates.
   const size_t unscoped = out->size();
   for (size_t i = 0; i < unscoped; ++i) {
     const TermSpec s = (*out)[i].spec;  // a copy: push_back reallocates
-    if (s.term.form != TermForm::kLogLinear && s.term.form != TermForm::kFlag) continue;
+    if (s.term.form != TermForm::kLogLinear && s.term.form != TermForm::kFlag)
+      continue;
     for (const TermScope& scope : scopes) {
       Candidate c{s, {}};
       c.spec.term.scope = scope;

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <map>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -99,6 +101,46 @@ struct Screen {
   std::vector<Candidate> best_start;
 };
 
+// A calendar step's change point, refined: the candidate's edge t is one of
+// kStepGrid grid quantiles; every distinct training value of the covariate
+// between the neighbouring grid points (and inside the trimmed range, the
+// 1/kStepGrid and 1 - 1/kStepGrid quantiles, so a step leaves at least a
+// twentieth of the data on each side) is tried as the edge, and the one
+// with the largest score statistic kept (its statistic and p-value with
+// it). Returns the number of edges the scan could have tried over the
+// whole trimmed range: the round's Bonferroni count takes all of them (a
+// union bound over the scan, conservative next to the sup-LR reference of
+// Andrews 1993, Econometrica 61:821).
+int RefineStep(const TermData& td, const std::vector<int>& train,
+               const ScoreScreen& score, Candidate* c, double* p) {
+  TermSpec spec = c->spec;
+  const WeightedValues w = Collect(td, train, spec.covariate);
+  const double t = spec.term.edges[0];
+  double below = 0;
+  for (const auto& [z, wt] : w.v) below += z < t ? wt : 0.0;
+  const double f = below / w.total, step = 1.0 / kStepGrid;
+  const double first = Quantile(w, step), final = Quantile(w, 1 - step);
+  const double lo = std::max(first, Quantile(w, std::max(0.0, f - step)));
+  const double hi = std::min(final, Quantile(w, std::min(1.0, f + step)));
+  int possible = 0;
+  double seen = -std::numeric_limits<double>::infinity();
+  for (const auto& [z, wt] : w.v) {
+    if (!(z > seen)) continue;
+    seen = z;
+    if (z >= first && z <= final) ++possible;
+    if (z < lo || z > hi) continue;
+    spec.term.edges = {z};
+    int df = 0;
+    const double s = score.Statistic(spec, &df);
+    const double pz = df > 0 ? ChiSquareSurvival(s, df) : 1.0;
+    if (pz < *p) {
+      *p = pz;
+      c->spec.term.edges = {z};
+    }
+  }
+  return possible;
+}
+
 // Screens every candidate (and every grid start of its non-linear
 // parameter) with the score test.
 Screen ScreenCandidates(const DiagnosisState& st, const std::vector<double>& sd,
@@ -130,6 +172,35 @@ Screen ScreenCandidates(const DiagnosisState& st, const std::vector<double>& sd,
       }
     }
   });
+  // The strongest grid step of each calendar covariate (and scope), refined.
+  std::map<std::pair<int, std::string>, int> strongest_step;
+  for (int i = 0; i < nc; ++i) {
+    if (!IsStep(cands[i].spec)) continue;
+    const auto key = std::make_pair(cands[i].spec.covariate,
+                                    cands[i].spec.term.scope.Label());
+    auto [it, fresh] = strongest_step.emplace(key, i);
+    if (!fresh && score_p[i] < score_p[it->second]) it->second = i;
+  }
+  std::vector<int> steps;
+  std::map<std::pair<int, std::string>, int> grid;  // step candidates per key
+  for (const auto& [key, i] : strongest_step) steps.push_back(i);
+  for (int i = 0; i < nc; ++i) {
+    if (IsStep(cands[i].spec)) {
+      ++grid[{cands[i].spec.covariate, cands[i].spec.term.scope.Label()}];
+    }
+  }
+  std::vector<int> possible(steps.size(), 0);
+  ParallelFor(static_cast<int>(steps.size()), num_threads, [&](int j) {
+    possible[j] = RefineStep(td, st.train, score, &best_start[steps[j]],
+                             &score_p[steps[j]]);
+  });
+  // Bonferroni over every edge the scan could have tried (the grid points
+  // are already counted).
+  for (size_t j = 0; j < steps.size(); ++j) {
+    const Candidate& c = cands[steps[j]];
+    screen.num_tests += std::max(
+        0, possible[j] - grid[{c.spec.covariate, c.spec.term.scope.Label()}]);
+  }
   return screen;
 }
 
@@ -149,6 +220,15 @@ std::vector<Fitted> RefitStrongest(const DiagnosisState& st,
   for (int i : by_score) {
     if (to_fit.size() >= 6 || score_p[i] * screen.num_tests > 0.5) break;
     to_fit.push_back(i);
+  }
+  // The strongest cell is always refitted, so the proxy guard can compare a
+  // covariate winner with the structural description (NoBetterThanCell,
+  // diagnosis_guard.cc) even when covariate variants crowd the top six.
+  for (int i : by_score) {
+    if (screen.best_start[i].spec.term.form != TermForm::kCell) continue;
+    if (std::find(to_fit.begin(), to_fit.end(), i) == to_fit.end())
+      to_fit.push_back(i);
+    break;
   }
   std::vector<Fitted> fits(nc);
   ParallelFor(static_cast<int>(to_fit.size()), num_threads, [&](int j) {
@@ -208,6 +288,17 @@ CvRound CrossValidateSignificant(const DiagnosisState& st,
         cv.to_cv.size() < 3) {
       cv.to_cv.push_back(i);
     }
+  }
+  // And the strongest significant cell, which the proxy guard compares
+  // covariate winners with (NoBetterThanCell takes accepted cells only).
+  for (int i : cv.order) {
+    if (!fits[i].usable || fits[i].terms.back().term.form != TermForm::kCell)
+      continue;
+    if (results[i].p_adjusted < options.alpha &&
+        std::find(cv.to_cv.begin(), cv.to_cv.end(), i) == cv.to_cv.end()) {
+      cv.to_cv.push_back(i);
+    }
+    break;
   }
   if (cv.to_cv.empty()) return cv;
   // The current model first, then the candidates.
@@ -270,7 +361,9 @@ Finding FindingFromTests(const CvRound& cv,
   }
   for (size_t j = 0; j < cv.to_cv.size(); ++j) {
     const CandidateResult& r = results[cv.to_cv[j]];
+    // A cell is a place, not a covariate: not an alternative name.
     if (r.accepted && r.covariate != wr.covariate &&
+        r.covariate != kCellCovariateName &&
         r.cv_mse_ratio <= wr.cv_mse_ratio + 0.01 &&
         std::find(f.alternatives.begin(), f.alternatives.end(), r.covariate) ==
             f.alternatives.end()) {

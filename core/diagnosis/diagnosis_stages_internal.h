@@ -131,6 +131,14 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
                               const std::vector<Breakdown>& located_before,
                               const Fitted& with_term);
 
+// The proxy guard's look at the siblings of a single-factor scope
+// (diagnosis_siblings.cc): fails when the last term of `with_term`, added
+// again at another level of its scope's factor, is significant there too.
+GuardResult LookAtSiblings(const DiagnosisState& st,
+                           const DiagnosisOptions& options,
+                           const std::vector<double>& sd,
+                           const Fitted& with_term);
+
 // Whether `t` is a calendar-time term (its covariate is started_at or
 // measured_at).
 bool IsCalendarTerm(const TermData& td, const ModelTerm& t);

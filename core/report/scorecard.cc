@@ -72,6 +72,7 @@ bool DimensionLocates(const std::string& part, const std::string& dimension) {
   if (time) {
     return StartsWith(dimension, "time_") || dimension == "lag1_along_time" ||
            dimension == "runs_along_time" || dimension == "spread_by_time" ||
+           StartsWith(dimension, "spread_time_scale_") ||
            dimension == "position_by_time_half" ||
            SameCovariate("started_at", dimension) || dimension == "measured_at";
   }

@@ -78,7 +78,8 @@ const Expected kExpected[] = {
     {"lubrication", "lubrication", {"lower_when_on"}, "roll_gap_lubrication"},
     {"hardness", "hardness_hb", {"decreasing"}, "roll_hardness"},
     {"speed", "speed_mps", {"increasing"}, "rolling_speed"},
-    {"supplier_change", "started_at", {"increasing", "saturating_growth"}, "drift_over_time"},
+    {"supplier_change", "started_at", {"step_up", "increasing", "saturating_growth"},
+     "drift_over_time"},
     {"reduction", "reduction", {"increasing"}, "roll_gap_slip"},
     {"diameter", "diameter_mm", {"decreasing"}, "roll_diameter"},
 };

@@ -197,6 +197,9 @@ TEST(ScorecardTest, InexpressibleNeedsTheRightLocation) {
                                     "time (spread by calendar period)"}});
   EXPECT_TRUE(ScoreCase("inexpressible_bursts", 1, Unexplained1("spread_by_time"), bursts)
                   .named_right);
+  EXPECT_TRUE(ScoreCase("inexpressible_bursts", 1,
+                        Unexplained1("spread_time_scale_16"), bursts)
+                  .named_right);
   EXPECT_FALSE(ScoreCase("inexpressible_bursts", 1, Unexplained1("dominant_grade"), bursts)
                    .named_right);
 }

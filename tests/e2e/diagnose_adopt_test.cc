@@ -2,7 +2,8 @@
 // holding a simulated mill with a concealed effect the new vocabulary
 // describes, POST /v1/diagnoses with adoption, then:
 //  - the adopted model version (GET /v1/models/{v}) carries the finding's
-//    term with its scope, or the grinder's offset_per_level term with its
+//    term with its scope (a scoped covariate term, or a factor cell), or
+//    the grinder's offset_per_level term with its
 //    level labels and reference level;
 //  - the wear of a campaign rolled after the adoption (GET /v1/wear, the
 //    daemon's coil-by-coil state) equals the offline prediction of the same
@@ -15,9 +16,9 @@
 // more; the daemon imports the shorter (the simulator draws campaign by
 // campaign, so it is the longer one's prefix) and is then sent the last
 // campaign's roll change and coils over HTTP.
-// Sizes (docs/development.md, sanitizer sizes): the scoped effect at 150
-// campaigns (Diagnose ≈ 3 s in Release), the grinder at 120 (≈ 5 s), both
-// at every build type.
+// Sizes (docs/development.md, sanitizer sizes): the scoped effect and the
+// cell at 150 campaigns (Diagnose ≈ 3 s in Release), the grinder at 120
+// (≈ 5 s), all at every build type.
 #include <cmath>
 #include <map>
 #include <string>
@@ -164,6 +165,32 @@ TEST_F(DiagnoseAdoptTest, ScopedFindingIsAdoptedWithItsScopeAndServedAsInBatch) 
   EXPECT_EQ(term.value("covariate", ""), "temperature_c");
   EXPECT_EQ(term.value("form", ""), "log_linear");
   EXPECT_EQ(term["scope"], json({{"stand", "F7"}})) << term.dump();
+  ExpectNewCampaignWearMatchesOffline(model);
+}
+
+// A factor cell (issue 15: "adoption works with scoped and factor-cell
+// terms"): roll type ICDP-S1 wearing x1.33 at F7 only (variant 0, seed 4),
+// which the K structure (kF kR kS) cannot express. The daemon's diagnosis
+// names the cell, the promoted model stores it as a cell term with its
+// scope, and the next campaign is served as the batch prediction.
+TEST_F(DiagnoseAdoptTest, FactorCellIsAdoptedAndServedAsInBatch) {
+  const json model = AdoptFromDiagnosis("roll_type_stand:0", 4, 150);
+  ASSERT_TRUE(model.is_object());
+  ASSERT_FALSE(report_["findings"].empty());
+  const json& finding = report_["findings"][0];
+  EXPECT_EQ(finding.value("covariate", ""), "roll_type") << finding.dump();
+  EXPECT_EQ(finding.value("form", ""), "cell") << finding.dump();
+  EXPECT_EQ(finding["scope"], json({{"stand", "F7"}})) << finding.dump();
+  EXPECT_EQ(finding["levels"], json::array({"ICDP-S1"})) << finding.dump();
+  // The simulator's multiplier is 1.33; the cell's prior shrinks it a little.
+  EXPECT_NEAR(finding["parameters"].value("multiplier", 0.0), 1.33, 0.1)
+      << finding.dump();
+  ASSERT_EQ(model["terms"].size(), 1u) << model.dump();
+  const json& term = model["terms"][0];
+  EXPECT_EQ(term.value("covariate", ""), "cell");
+  EXPECT_EQ(term.value("form", ""), "cell");
+  EXPECT_EQ(term["scope"], json({{"roll_type", "ICDP-S1"}, {"stand", "F7"}}))
+      << term.dump();
   ExpectNewCampaignWearMatchesOffline(model);
 }
 
