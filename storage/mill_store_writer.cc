@@ -22,7 +22,9 @@
 // with it, coils.wear); after the commit the copy is installed. Only this
 // thread changes the live state, so the copy cannot go stale.
 #include <algorithm>
+#include <mutex>
 #include <optional>
+#include <shared_mutex>
 #include <utility>
 
 #include "storage/extra_json.h"
@@ -111,6 +113,14 @@ void MillStoreImpl::WriterLoop() {
 
     bool needs_write = false;
     for (const ItemPtr& item : batch) needs_write |= !item->unchanged;
+    // A task that installs a model after its commit (a promotion, an
+    // activation) is published as one step: readers of runs and versions
+    // wait until the model is installed (publish_mu_, mill_store_impl.h).
+    std::unique_lock<std::shared_mutex> publish(publish_mu_, std::defer_lock);
+    if (batch.front()->kind == WriteKind::kTask &&
+        batch.front()->after_commit) {
+      publish.lock();
+    }
     Status status;
     if (needs_write) {
       StatusOr<Transaction> txn = Transaction::Begin(writer_db_.get());
@@ -132,6 +142,7 @@ void MillStoreImpl::WriterLoop() {
     } else {
       FailBatch(batch, status, &finished);
     }
+    if (publish.owns_lock()) publish.unlock();
     {
       std::lock_guard<std::mutex> lock(mu_);
       in_flight_ -= static_cast<int>(finished.size());

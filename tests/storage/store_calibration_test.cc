@@ -1,7 +1,12 @@
 // Calibration runs on stored data: a run on ~60 simulated campaigns
 // promotes its model (atomically, recorded with metrics), the open
 // campaign is re-predicted under it, and a run that cannot calibrate is
-// recorded as failed without touching the active model.
+// recorded as failed without touching the active model; nobody reads a
+// promotion before its model is installed.
+#include <atomic>
+#include <string>
+#include <thread>
+
 #include <gtest/gtest.h>
 
 #include "storage/mill_store.h"
@@ -127,6 +132,61 @@ TEST(StoreCalibrationTest, RunOnSimulatedDataPromotesAndRepredicts) {
   EXPECT_EQ(store->ActiveModel()->version, rec2->promoted ? 2 : 1);
   EXPECT_EQ(store->ListCalibrations(10).size(), 2u);
   EXPECT_EQ(store->ListCalibrations(1).size(), 1u);
+  ExpectWearMatchesBatch(*store);
+}
+
+// A promotion is published as one step: whoever reads the run as done and
+// promoted to version v, or v listed as active, then reads v as the active
+// model (and the open campaign's wear under it). The CI's TSan run of the
+// daemon once saw "done, model_version 1" and then GET /v1/models/active
+// answer version 0: the run's record was committed, and readable, while the
+// open campaign was still being re-predicted for the new model. A reader
+// polls all through the run; the open campaign is long so that the
+// re-prediction takes a while.
+TEST(StoreCalibrationTest, ReadersNeverSeeAPromotionBeforeItsModel) {
+  TempDir dir;
+  auto store = OpenStore(dir.File("mill.db"));
+  ASSERT_NE(store, nullptr);
+  ASSERT_TRUE(store->ImportDataset(SimulatedMill(11, 60, 60)).ok());
+  ASSERT_TRUE(
+      store->ApplyRollChange(MakeRollChange("OPEN", 1'900'000'000)).ok());
+  for (int i = 0; i < 300; ++i) {
+    ASSERT_TRUE(
+        store->AddCoil(MakeCoil("OK" + std::to_string(i), "OPEN", i + 1, i))
+            .ok());
+  }
+  StatusOr<int64_t> id = store->EnqueueCalibration("api", WearLaw::kWang, 1);
+  ASSERT_TRUE(id.ok()) << id.status().ToString();
+
+  std::atomic<bool> finished{false};
+  int polls = 0, seen_done = 0, mismatches = 0;
+  std::thread reader([&] {
+    while (!finished.load()) {
+      ++polls;
+      StatusOr<CalibrationRecord> rec = store->GetCalibration(*id);
+      if (rec.ok() && rec->status == CalibrationStatus::kDone &&
+          rec->promoted) {
+        ++seen_done;
+        if (store->ActiveModel()->version != rec->model_version) ++mismatches;
+        if (store->Wear().model_version != rec->model_version) ++mismatches;
+      }
+      for (const ModelVersion& m : store->ListModels()) {
+        if (m.active && store->ActiveModel()->version < m.version) {
+          ++mismatches;
+        }
+      }
+    }
+  });
+  const Status run = store->RunCalibration(*id);
+  finished.store(true);
+  reader.join();
+  ASSERT_TRUE(run.ok()) << run.ToString();
+  StatusOr<CalibrationRecord> rec = store->GetCalibration(*id);
+  ASSERT_TRUE(rec.ok());
+  ASSERT_TRUE(rec->promoted) << rec->message;
+  EXPECT_EQ(mismatches, 0) << "of " << polls << " polls";
+  EXPECT_GT(polls, 1);
+  EXPECT_EQ(store->ActiveModel()->version, rec->model_version);
   ExpectWearMatchesBatch(*store);
 }
 
