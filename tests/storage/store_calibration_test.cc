@@ -20,6 +20,7 @@ using testing::ExpectWearMatchesBatch;
 using testing::MakeCoil;
 using testing::MakeMeasurement;
 using testing::MakeRollChange;
+using testing::OpenCampaignWithCoils;
 using testing::OpenStore;
 using testing::SimulatedMill;
 using testing::TempDir;
@@ -32,13 +33,8 @@ TEST(StoreCalibrationTest, RunOnSimulatedDataPromotesAndRepredicts) {
   ASSERT_TRUE(store->ImportDataset(data).ok());
   EXPECT_GT(store->Counters().measurements_since_last_calibration, 0);
   // An open campaign with coils, re-predicted after the promotion.
-  ASSERT_TRUE(
-      store->ApplyRollChange(MakeRollChange("OPEN", 1'900'000'000)).ok());
-  for (int i = 0; i < 25; ++i) {
-    ASSERT_TRUE(
-        store->AddCoil(MakeCoil("OK" + std::to_string(i), "OPEN", i + 1, i))
-            .ok());
-  }
+  OpenCampaignWithCoils(store.get(), "OK", 25);
+  ASSERT_FALSE(HasFatalFailure());
   const double prior_wear = store->Wear().positions[0].predicted_wear_um;
   const int64_t version_before = store->ActiveModel()->version;
   EXPECT_EQ(version_before, 0);
@@ -148,13 +144,8 @@ TEST(StoreCalibrationTest, ReadersNeverSeeAPromotionBeforeItsModel) {
   auto store = OpenStore(dir.File("mill.db"));
   ASSERT_NE(store, nullptr);
   ASSERT_TRUE(store->ImportDataset(SimulatedMill(11, 60, 60)).ok());
-  ASSERT_TRUE(
-      store->ApplyRollChange(MakeRollChange("OPEN", 1'900'000'000)).ok());
-  for (int i = 0; i < 300; ++i) {
-    ASSERT_TRUE(
-        store->AddCoil(MakeCoil("OK" + std::to_string(i), "OPEN", i + 1, i))
-            .ok());
-  }
+  OpenCampaignWithCoils(store.get(), "OK", 300);
+  ASSERT_FALSE(HasFatalFailure());
   StatusOr<int64_t> id = store->EnqueueCalibration("api", WearLaw::kWang, 1);
   ASSERT_TRUE(id.ok()) << id.status().ToString();
 

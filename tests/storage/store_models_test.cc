@@ -17,6 +17,7 @@ namespace {
 
 using testing::MakeCoil;
 using testing::MakeRollChange;
+using testing::OpenCampaignWithCoils;
 using testing::OpenStore;
 using testing::RelDiff;
 using testing::SimulatedMill;
@@ -58,16 +59,6 @@ void ExpectLiveWearIsCoilByCoil(const MillStore& store) {
   }
 }
 
-void OpenCampaignWithCoils(MillStore* store, int coils) {
-  ASSERT_TRUE(
-      store->ApplyRollChange(MakeRollChange("OPEN", 1'900'000'000)).ok());
-  for (int i = 0; i < coils; ++i) {
-    ASSERT_TRUE(
-        store->AddCoil(MakeCoil("OC" + std::to_string(i), "OPEN", i + 1, i))
-            .ok());
-  }
-}
-
 TEST(StoreModelsTest, AdoptedTermsArePromotedServedAndKeptByTheNightlyRun) {
   TempDir dir;
   auto store = OpenStore(dir.File("mill.db"));
@@ -80,7 +71,7 @@ TEST(StoreModelsTest, AdoptedTermsArePromotedServedAndKeptByTheNightlyRun) {
   ASSERT_TRUE(store->RunCalibration(*id).ok());
   const CalibrationRecord classical = *store->GetCalibration(*id);
   ASSERT_TRUE(classical.promoted) << classical.message;
-  OpenCampaignWithCoils(store.get(), 40);
+  OpenCampaignWithCoils(store.get(), "OC", 40);
 
   // The diagnosis of the stored data, as the daemon's job runs it.
   StatusOr<Dataset> data = store->ExportDataset();
@@ -178,7 +169,7 @@ TEST(StoreModelsTest, AnnRunIsRecordedAndTheNetworkIsServedAcrossRestarts) {
   ASSERT_TRUE(
       store->ImportDataset(SimulatedMill(12, 160, 80, {"campaign_growth"}))
           .ok());
-  OpenCampaignWithCoils(store.get(), 30);
+  OpenCampaignWithCoils(store.get(), "OC", 30);
   StatusOr<int64_t> id = store->EnqueueAnnTraining("api");
   ASSERT_TRUE(id.ok());
   EXPECT_EQ(store->GetCalibration(*id)->model, "ann");

@@ -22,6 +22,7 @@ namespace {
 using testing::MakeCoil;
 using testing::MakeMeasurement;
 using testing::MakeRollChange;
+using testing::OpenCampaignWithCoils;
 using testing::OpenStore;
 using testing::RelDiff;
 using testing::SimulatedMill;
@@ -47,13 +48,8 @@ void TwoVersions(MillStore* store, WearSnapshot* v1_wear) {
   ASSERT_TRUE(id.ok());
   ASSERT_TRUE(store->RunCalibration(*id).ok());
   ASSERT_TRUE(store->GetCalibration(*id)->promoted);
-  ASSERT_TRUE(
-      store->ApplyRollChange(MakeRollChange("OPEN", 1'900'000'000)).ok());
-  for (int i = 0; i < 12; ++i) {
-    ASSERT_TRUE(
-        store->AddCoil(MakeCoil("OC" + std::to_string(i), "OPEN", i + 1, i))
-            .ok());
-  }
+  OpenCampaignWithCoils(store, "OC", 12);
+  ASSERT_FALSE(::testing::Test::HasFatalFailure());
   *v1_wear = store->Wear();
   ASSERT_EQ(v1_wear->model_version, 1);
   WearModel other = store->ActiveModel()->wear_model;

@@ -119,6 +119,21 @@ inline CoilIn MakeCoil(const std::string& coil_id,
   return c;
 }
 
+// Opens campaign "OPEN" (rolls of MakeRollChange, started 1.9e9) and adds
+// `coils` coils to it, named prefix0, prefix1, ...: an open campaign whose
+// rolls are re-predicted when the model changes. Fails the test (callers
+// check HasFatalFailure) when a write is refused.
+inline void OpenCampaignWithCoils(MillStore* store, const std::string& prefix,
+                                  int coils) {
+  ASSERT_TRUE(
+      store->ApplyRollChange(MakeRollChange("OPEN", 1'900'000'000)).ok());
+  for (int i = 0; i < coils; ++i) {
+    ASSERT_TRUE(
+        store->AddCoil(MakeCoil(prefix + std::to_string(i), "OPEN", i + 1, i))
+            .ok());
+  }
+}
+
 inline MeasurementIn MakeMeasurement(const std::string& campaign_id, int stand,
                                      Position p, const std::string& roll_id,
                                      double wear_um) {
