@@ -100,9 +100,13 @@ struct StoreFixture {
     for (int stand : {6, 7}) {
       for (Position pos : {Position::kTop, Position::kBottom}) {
         rc.rolls.push_back(
-            {stand, pos,
+            {stand,
+             pos,
              "R" + std::to_string(stand) + (pos == Position::kTop ? "T" : "B"),
-             "HSS", 700, 700});
+             "HSS",
+             700,
+             700,
+             {}});
       }
     }
     if (!store->ApplyRollChange(rc).ok()) std::abort();

@@ -878,8 +878,12 @@ TEST(HttpParserReviewTest, TrailerAtTheLimitInEverySplit) {
     EXPECT_EQ(ParseGrowing(data, limits), whole)
         << "trailer line of " << line << " bytes";
     // Short trailers pass, long ones are 431.
-    if (line + 2 <= 1024) EXPECT_EQ(whole.result, Result::kDone) << line;
-    if (line > 1024) EXPECT_EQ(whole.error_status, 431) << line;
+    if (line + 2 <= 1024) {
+      EXPECT_EQ(whole.result, Result::kDone) << line;
+    }
+    if (line > 1024) {
+      EXPECT_EQ(whole.error_status, 431) << line;
+    }
   }
 }
 

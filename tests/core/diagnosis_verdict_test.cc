@@ -224,7 +224,9 @@ TEST(DiagnosisVerdictTest, StandSpecificEffectIsNotNamedGlobally) {
   const DiagnosisReport r = Diagnosed(d);
   for (const Finding& f : r.findings) {
     EXPECT_FALSE(f.scope.empty()) << "global finding: " << Describe(r);
-    if (!f.scope.empty()) EXPECT_EQ(f.scope.at("stand"), "F7") << Describe(r);
+    if (!f.scope.empty()) {
+      EXPECT_EQ(f.scope.at("stand"), "F7") << Describe(r);
+    }
   }
   if (r.findings.empty()) {
     EXPECT_EQ(r.verdict, "mismatch_located_unexplained") << Describe(r);

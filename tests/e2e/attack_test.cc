@@ -403,7 +403,9 @@ TEST_F(AttackTest, MemoryOfBigFramingIsGivenBackAfterClose) {
         f.peak / 1024.0, f.after / 1024.0, f.sent_whole);
     // Under the sanitizers the allocator is theirs (ASan keeps freed memory
     // in quarantine), so the bound is the production allocator's only.
-    if (!test_size::kSanitized) EXPECT_LT(f.after - start, 50 * 1024);
+    if (!test_size::kSanitized) {
+      EXPECT_LT(f.after - start, 50 * 1024);
+    }
     EXPECT_EQ(TimedGet("127.0.0.2", daemon_->port(), &t), 200)
         << "the daemon no longer answers";
   }
