@@ -7,7 +7,6 @@
 // stored passes under the new model, before any reader of runs or versions
 // sees the promotion (publish_mu_, mill_store_impl.h).
 #include <mutex>
-#include <shared_mutex>
 #include <string>
 #include <utility>
 
@@ -65,7 +64,7 @@ StatusOr<ModelVersion> MillStoreImpl::ActiveModel() const {
 }
 
 std::vector<ModelVersion> MillStoreImpl::ListModels() const {
-  std::shared_lock<std::shared_mutex> published(publish_mu_);
+  std::lock_guard<std::mutex> published(publish_mu_);
   std::lock_guard<std::mutex> lock(read_mu_);
   StatusOr<std::vector<ModelVersion>> models = LoadModels(read_db_.get());
   if (!models.ok()) return {};
@@ -144,7 +143,7 @@ StatusOr<CalibrationRecord> MillStoreImpl::ProposeModel(
 }
 
 StatusOr<CalibrationRecord> MillStoreImpl::GetCalibration(int64_t id) const {
-  std::shared_lock<std::shared_mutex> published(publish_mu_);
+  std::lock_guard<std::mutex> published(publish_mu_);
   std::lock_guard<std::mutex> lock(read_mu_);
   ROLLWEAR_ASSIGN_OR_RETURN(std::optional<CalibrationRecord> rec,
                             LoadCalibration(read_db_.get(), id));
@@ -157,7 +156,7 @@ StatusOr<CalibrationRecord> MillStoreImpl::GetCalibration(int64_t id) const {
 
 std::vector<CalibrationRecord> MillStoreImpl::ListCalibrations(
     int limit) const {
-  std::shared_lock<std::shared_mutex> published(publish_mu_);
+  std::lock_guard<std::mutex> published(publish_mu_);
   std::lock_guard<std::mutex> lock(read_mu_);
   StatusOr<std::vector<CalibrationRecord>> recs =
       LoadCalibrations(read_db_.get(), limit);

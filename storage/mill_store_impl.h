@@ -19,12 +19,15 @@
 //   rolls_      the open campaign's roll states, updated after each commit.
 //   read_mu_ guards read_db_, the connection of the small read queries.
 //   publish_mu_ makes a model change visible at once: the writer holds it
-//       exclusively from the commit of a task that installs a model
-//       (promotion, activation) until the model is installed, and the
-//       reads of calibration runs, model versions and the audit trail hold
-//       it shared, so that nobody reads "done, promoted to version v" while
+//       from the commit of a task that installs a model (promotion,
+//       activation) until the model is installed, and the reads of
+//       calibration runs, model versions and the audit trail hold it too,
+//       so that nobody reads "done, promoted to version v" while
 //       GET /v1/models/active still answers the old version. Taken before
-//       read_mu_ or mu_, never while holding either.
+//       read_mu_ or mu_, never while holding either. A plain mutex, not a
+//       shared one: those reads are serialised by read_mu_ anyway, and
+//       glibc's rwlock prefers readers, so clients polling the runs could
+//       keep the writer (and every coil behind it) waiting.
 //   writer_db_ is used by the writer thread only (and by Init before it
 //   starts).
 //
@@ -41,7 +44,6 @@
 #include <memory>
 #include <mutex>
 #include <optional>
-#include <shared_mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -277,7 +279,7 @@ class MillStoreImpl final : public MillStore {
   std::unique_ptr<Db> lookup_db_;
   mutable std::mutex read_mu_;
   std::unique_ptr<Db> read_db_;
-  mutable std::shared_mutex publish_mu_;
+  mutable std::mutex publish_mu_;
 
   mutable std::mutex mu_;
   std::condition_variable cv_;

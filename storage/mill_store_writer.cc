@@ -24,7 +24,6 @@
 #include <algorithm>
 #include <mutex>
 #include <optional>
-#include <shared_mutex>
 #include <utility>
 
 #include "storage/extra_json.h"
@@ -116,7 +115,7 @@ void MillStoreImpl::WriterLoop() {
     // A task that installs a model after its commit (a promotion, an
     // activation) is published as one step: readers of runs and versions
     // wait until the model is installed (publish_mu_, mill_store_impl.h).
-    std::unique_lock<std::shared_mutex> publish(publish_mu_, std::defer_lock);
+    std::unique_lock<std::mutex> publish(publish_mu_, std::defer_lock);
     if (batch.front()->kind == WriteKind::kTask &&
         batch.front()->after_commit) {
       publish.lock();

@@ -7,7 +7,6 @@
 // runs respect the pin in FinishRun (mill_store_calibration.cc).
 #include <memory>
 #include <mutex>
-#include <shared_mutex>
 #include <string>
 #include <utility>
 
@@ -19,7 +18,7 @@ namespace rollwear::storage::internal {
 StatusOr<ModelVersion> MillStoreImpl::GetModel(int64_t version) const {
   std::optional<ModelVersion> m;
   if (version > 0) {
-    std::shared_lock<std::shared_mutex> published(publish_mu_);
+    std::lock_guard<std::mutex> published(publish_mu_);
     std::lock_guard<std::mutex> lock(read_mu_);
     ROLLWEAR_ASSIGN_OR_RETURN(m, LoadModel(read_db_.get(), version));
   }
@@ -58,7 +57,7 @@ StatusOr<ModelVersion> MillStoreImpl::ActivateModel(int64_t version,
 
 StatusOr<std::vector<ModelPromotion>> MillStoreImpl::ModelHistory(
     int limit) const {
-  std::shared_lock<std::shared_mutex> published(publish_mu_);
+  std::lock_guard<std::mutex> published(publish_mu_);
   std::lock_guard<std::mutex> lock(read_mu_);
   return LoadPromotions(read_db_.get(), limit);
 }
