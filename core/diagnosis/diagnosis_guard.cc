@@ -482,6 +482,7 @@ int GuardedWinner(int round, const Dataset& data, const DiagnosisOptions& option
     g.pass = g.reason.empty();
     const bool by_cell = !g.pass;
     if (g.pass) g = GuardAgainstProxy(data, st, options, sd, before, fits[i]);
+    if (g.pass) g = DistinctFromRivals(st, sd, accepted, fits, results, i);
     if (g.pass && !refused.empty())
       g = FitsWorseThanRefused(st, fits, i, refused, results);
     if (g.pass) return i;

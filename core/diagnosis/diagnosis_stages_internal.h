@@ -139,6 +139,18 @@ GuardResult LookAtSiblings(const DiagnosisState& st,
                            const std::vector<double>& sd,
                            const Fitted& with_term);
 
+// The proxy guard's comparison with the round's rivals
+// (diagnosis_rivals.cc): fails when the term of accepted candidate `winner`
+// adds nothing significant to the model of an accepted candidate over
+// another covariate (not a cell): the data do not say which of the two
+// drives the wear.
+GuardResult DistinctFromRivals(const DiagnosisState& st,
+                               const std::vector<double>& sd,
+                               const std::vector<int>& accepted,
+                               const std::vector<Fitted>& fits,
+                               const std::vector<CandidateResult>& results,
+                               int winner);
+
 // Whether `t` is a calendar-time term (its covariate is started_at or
 // measured_at).
 bool IsCalendarTerm(const TermData& td, const ModelTerm& t);

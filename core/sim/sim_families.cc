@@ -11,6 +11,7 @@
 // simulation stay as they were (sim_internal.h, Stream).
 //
 //   scoped            a covariate effect at one stand or one roll position
+//   scoped_factor     a covariate effect on one grade or one roll type
 //   grade_stand       one grade wears one stand (mostly the last) more
 //   roll_type_stand   one roll type wears more at one stand only
 //   grinder           a text column of measurements.csv; one level reads low
@@ -72,50 +73,87 @@ bool InScope(const std::map<std::string, std::string>& scope, int slot) {
          it->second == PositionName(static_cast<Position>(slot % 2));
 }
 
+// The old covariate effects the scoped families restrict: covariate k of
+// temperature (colder strip, harder scale), speed, roll hardness (Archard)
+// and campaign length, each with its form and strength range.
+constexpr const char* kScopedCovariates[] = {
+    "temperature_c", "speed_mps", "hardness_hb", "campaign_length_before_m"};
+constexpr const char* kScopedForms[] = {"exp(beta (900 - T) / 100)",
+                                        "(v / 10)^beta", "(560 / HB)^beta",
+                                        "1 + beta L_before / 100 km"};
+
+double DrawScopedBeta(int which, Random* rng) {
+  return which == 0   ? rng->Uniform(0.6, 1.0)
+         : which == 1 ? rng->Uniform(0.6, 1.0)
+         : which == 2 ? rng->Uniform(2.5, 4.0)
+                      : rng->Uniform(0.5, 0.9);
+}
+
+// The multiplier of covariate effect `which` with strength `beta`.
+double ScopedMultiplier(int which, double beta, const EffectContext& c) {
+  switch (which) {
+    case 0:
+      return std::exp(beta * (900 - c.pass->temperature_c) / 100);
+    case 1:
+      return std::pow(c.pass->speed_mps / 10, beta);
+    case 2:
+      return std::pow(560 / c.mount->hardness_hb, beta);
+    default:
+      return 1 + beta * c.campaign_length_before_m / 1e5;
+  }
+}
+
+// A scoped family's effect: covariate `which`, acting where `in_scope`
+// says (described as "acts only `where`").
+template <typename InScopeFn>
+FamilyEffect ScopedEffect(const char* name, int which, Random* rng,
+                          std::map<std::string, std::string> scope,
+                          const std::string& where, InScopeFn in_scope) {
+  const double beta = DrawScopedBeta(which, rng);
+  FamilyEffect f =
+      Base(name, kScopedCovariates[which], kScopedForms[which], beta);
+  f.truth.scope = std::move(scope);
+  f.truth.parameters = {{"beta", beta}};
+  f.truth.description = "the " + std::string(kScopedCovariates[which]) +
+                        " effect " + kScopedForms[which] + " acts only " +
+                        where + "; elsewhere the wear is Wang's law";
+  f.apply = [which, beta, in_scope](const EffectContext& c) {
+    return in_scope(c) ? ScopedMultiplier(which, beta, c) : 1.0;
+  };
+  return f;
+}
+
 // scoped: one of the old covariate effects, acting at one stand or one roll
 // position only. Variant k: covariate k % 4, scope k / 4 % 3.
 FamilyEffect Scoped(int variant, Random* rng, uint64_t, int) {
-  static const char* kCovariates[] = {
-      "temperature_c", "speed_mps", "hardness_hb", "campaign_length_before_m"};
-  const int which = variant % 4;
-  const double beta = which == 0   ? rng->Uniform(0.6, 1.0)
-                      : which == 1 ? rng->Uniform(0.6, 1.0)
-                      : which == 2 ? rng->Uniform(2.5, 4.0)
-                                   : rng->Uniform(0.5, 0.9);
-  static const char* kForms[] = {"exp(beta (900 - T) / 100)", "(v / 10)^beta",
-                                 "(560 / HB)^beta",
-                                 "1 + beta L_before / 100 km"};
-  FamilyEffect f = Base("scoped", kCovariates[which], kForms[which], beta);
-  switch (variant / 4 % 3) {
-    case 0:
-      f.truth.scope = {{"stand", "F7"}};
-      break;
-    case 1:
-      f.truth.scope = {{"stand", "F6"}};
-      break;
-    default:
-      f.truth.scope = {{"stand", "F7"}, {"position", "top"}};
-      break;
-  }
-  f.truth.parameters = {{"beta", beta}};
-  f.truth.description =
-      "the " + std::string(kCovariates[which]) + " effect " + kForms[which] +
-      " acts only where the scope says; elsewhere the wear is Wang's law";
-  const auto scope = f.truth.scope;
-  f.apply = [which, beta, scope](const EffectContext& c) {
-    if (!InScope(scope, c.slot)) return 1.0;
-    switch (which) {
-      case 0:
-        return std::exp(beta * (900 - c.pass->temperature_c) / 100);
-      case 1:
-        return std::pow(c.pass->speed_mps / 10, beta);
-      case 2:
-        return std::pow(560 / c.mount->hardness_hb, beta);
-      default:
-        return 1 + beta * c.campaign_length_before_m / 1e5;
-    }
-  };
-  return f;
+  static const std::map<std::string, std::string> kScopes[] = {
+      {{"stand", "F7"}},
+      {{"stand", "F6"}},
+      {{"stand", "F7"}, {"position", "top"}}};
+  const auto& scope = kScopes[variant / 4 % 3];
+  return ScopedEffect(
+      "scoped", variant % 4, rng, scope, "where the scope says",
+      [scope](const EffectContext& c) { return InScope(scope, c.slot); });
+}
+
+// scoped_factor: one of the old covariate effects, acting on one grade or
+// one roll type only (the scope a K structure by grade or roll type leaves
+// open: that grade's or type's K is right on average, its dependence on the
+// covariate is not). Variant k: covariate k % 4, scope k / 4 % 4 (grade
+// S355, roll type ICDP-S2, grade HSLA350, roll type ICDP-S1).
+FamilyEffect ScopedFactor(int variant, Random* rng, uint64_t, int) {
+  const int scope = variant / 4 % 4;
+  const bool by_grade = scope % 2 == 0;
+  const int level = scope == 0 ? 2 : scope == 1 ? 1 : scope == 2 ? 3 : 0;
+  const std::string label =
+      by_grade ? Grades()[level].label : RollTypes()[level].label;
+  return ScopedEffect(
+      "scoped_factor", variant % 4, rng,
+      {{by_grade ? "grade" : "roll_type", label}},
+      std::string("on ") + (by_grade ? "grade " : "roll type ") + label,
+      [by_grade, level](const EffectContext& c) {
+        return (by_grade ? c.grade : c.roll_type) == level;
+      });
 }
 
 // grade_stand: one grade wears one stand more (x1.2..1.5): the last stand
@@ -410,6 +448,10 @@ const std::vector<FamilySpec>& Families() {
        "a covariate effect (temperature, speed, hardness or campaign length) "
        "at one stand or one roll position only",
        12, &Scoped},
+      {"scoped_factor",
+       "a covariate effect (temperature, speed, hardness or campaign length) "
+       "on one grade or one roll type only",
+       16, &ScopedFactor},
       {"grade_stand", "one grade wears one stand (mostly F7) x1.2..1.5 more", 6,
        &GradeStand},
       {"roll_type_stand", "one roll type wears x1.2..1.5 more at one stand", 8,

@@ -1,0 +1,101 @@
+// The proxy guard's comparison with the round's rivals (docs/diagnosis.md,
+// "The proxy guard", "Rival covariates"): a winner names one covariate,
+// and so claims that the other accepted candidates of the round are worse
+// descriptions. Strip speed, coil length and entry thickness move together
+// (mass flow through the stands), so a speed effect on one roll type is
+// fitted almost as well by a length term on it (session-14 scorecard:
+// named `length_m` with p = 3e-16 while the truth was speed). The winner is
+// named only when it explains something each rival does not, by the
+// encompassing test (Mizon & Richard 1986, Econometrica 54:657): the
+// nested likelihood ratio of the winner's term added to the rival's model,
+// LR = n ln(RSS_rival / RSS_rival+winner) ~ chi2(df_winner) (Wilks 1938,
+// Ann. Math. Stat. 9:60), Bonferroni over the rivals, at kRivalAlpha.
+// Since RSS_rival+winner <= RSS_winner, n ln(RSS_rival / RSS_winner) is a
+// lower bound of that LR: a rival it already clears needs no joint fit.
+// A rival is an accepted candidate over another covariate that is not a
+// factor cell (NoBetterThanCell compares those). When the winner adds
+// nothing significant to a rival, the data do not say which of the two
+// quantities drives the wear: the winner is not named, and where the
+// mismatch lives (along the covariate, in the scope) is listed instead.
+// Thread-safety: reentrant (reads its arguments only).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "core/base/distributions.h"
+#include "core/diagnosis/diagnosis_stages_internal.h"
+
+namespace rollwear::diag {
+namespace {
+
+// The family-wise level of the rival test: the level of the other
+// guard-stage comparisons (diagnosis_siblings.cc). The winner has passed
+// the round's alpha already; this asks only whether the data prefer it to
+// an accepted rival, and a true effect's term typically adds LR 9..10 to a
+// collinear rival while the rival adds 0..1 to it (scorecard, session 14),
+// which the round's 0.001 would call a tie.
+constexpr double kRivalAlpha = 0.01;
+
+}  // namespace
+
+GuardResult DistinctFromRivals(const DiagnosisState& st,
+                               const std::vector<double>& sd,
+                               const std::vector<int>& accepted,
+                               const std::vector<Fitted>& fits,
+                               const std::vector<CandidateResult>& results,
+                               int winner) {
+  GuardResult r;
+  const TermSpec& term = fits[winner].terms.back();
+  if (term.term.form == TermForm::kCell) return r;
+  std::vector<int> rivals;
+  for (int j : accepted) {
+    if (j != winner && results[j].covariate != results[winner].covariate &&
+        fits[j].terms.back().term.form != TermForm::kCell && fits[j].usable) {
+      rivals.push_back(j);
+    }
+  }
+  if (rivals.empty()) return r;
+  const double k = static_cast<double>(rivals.size());  // Bonferroni
+  const double n = static_cast<double>(st.train.size());
+  const int df = term.term.NumParams();
+  for (int j : rivals) {
+    const double bound =
+        std::max(0.0, n * std::log(fits[j].rss / fits[winner].rss));
+    if (ChiSquareSurvival(bound, df) * k < kRivalAlpha) continue;
+    std::vector<TermSpec> both = fits[j].terms;
+    both.push_back(term);
+    const Fitted joint = Fit(st.td, st.train, sd, fits[j].log_k, both);
+    if (!joint.usable || !(joint.rss > 0)) continue;
+    const double lr = std::max(bound, n * std::log(fits[j].rss / joint.rss));
+    const double p = ChiSquareSurvival(lr, df);
+    if (p * k < kRivalAlpha) continue;
+    const TermScope& scope = term.term.scope;
+    const std::string where =
+        scope.Fields().empty() ? std::string("everywhere") : scope.Label();
+    const TermScope& rival_scope = fits[j].terms.back().term.scope;
+    const std::string rival =
+        results[j].covariate +
+        (rival_scope.Fields().empty() ? "" : " (" + rival_scope.Label() + ")");
+    char buf[320];
+    std::snprintf(buf, sizeof(buf),
+                  "not distinguishable from %s: given it, the term adds LR "
+                  "%.1f, p adjusted %.2g; the data do not say which "
+                  "quantity drives the wear",
+                  rival.c_str(), lr, std::min(1.0, p * k));
+    r.pass = false;
+    r.reason = buf;
+    r.located.dimension = results[winner].covariate;
+    r.located.where = where + ": along " + results[winner].covariate + " or " +
+                      results[j].covariate;
+    r.located.test = "likelihood_ratio";
+    r.located.statistic = results[winner].lr;
+    r.located.p_value = results[winner].p_value;
+    r.located.p_adjusted = results[winner].p_adjusted;
+    return r;
+  }
+  return r;
+}
+
+}  // namespace rollwear::diag
