@@ -4,6 +4,7 @@
 // should not, and switching the families in leaves the old effects' output
 // unchanged for the same seed (checksums taken before the families were
 // added).
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -243,6 +244,48 @@ TEST(SimulatorFamilyTest, ScopedTemperatureActsAtF7Only) {
       EXPECT_NEAR(r.noise_free / r.baseline, 1, 1e-9);
     }
   }
+}
+
+// scoped_factor acts on its grade (variant 0: temperature on S355) or its
+// roll type (variant 5: speed on ICDP-S2) only: a reading with none of
+// that grade's passes, or of another roll type, is Wang's law exactly.
+TEST(SimulatorFamilyTest, ScopedFactorActsOnItsGradeOrRollTypeOnly) {
+  const Simulation by_grade = Simulated(34, 60, {"scoped_factor:0"});
+  const SimulatedEffect& g = OnlyEffect(by_grade);
+  EXPECT_EQ(g.covariate, "temperature_c");
+  ASSERT_EQ(g.scope, (std::map<std::string, std::string>{{"grade", "S355"}}));
+  const int s355 =
+      static_cast<int>(std::find(by_grade.data.grades.begin(),
+                                 by_grade.data.grades.end(), "S355") -
+                       by_grade.data.grades.begin());
+  int changed = 0, untouched = 0;
+  for (const Row& r : Rows(by_grade, [s355](const Pass&p, const Mount&) {
+         return p.grade == s355;
+       })) {
+    if (r.share == 0) {
+      EXPECT_NEAR(r.noise_free / r.baseline, 1, 1e-9);
+      ++untouched;
+    } else {
+      changed += std::abs(r.noise_free / r.baseline - 1) > 0.01;
+    }
+  }
+  EXPECT_GT(changed, 20);
+  EXPECT_GT(untouched, 0);
+  const Simulation by_type = Simulated(34, 60, {"scoped_factor:5"});
+  const SimulatedEffect& t = OnlyEffect(by_type);
+  EXPECT_EQ(t.covariate, "speed_mps");
+  ASSERT_EQ(t.scope,
+            (std::map<std::string, std::string>{{"roll_type", "ICDP-S2"}}));
+  changed = 0;
+  for (const Row& r :
+       Rows(by_type, [](const Pass&, const Mount&) { return true; })) {
+    if (by_type.data.roll_types[r.mount->roll_type] != "ICDP-S2") {
+      EXPECT_NEAR(r.noise_free / r.baseline, 1, 1e-9);
+    } else {
+      changed += std::abs(r.noise_free / r.baseline - 1) > 0.01;
+    }
+  }
+  EXPECT_GT(changed, 10);
 }
 
 // The grinder column: measurements.csv gets it, its low level reads low by
