@@ -44,13 +44,20 @@ int RunDiagnose(const DiagnoseArgs& args) {
     // The size: a mean residual, the rms of the campaign means (time-order
     // checks) or the mean |residual| (spread checks); docs/diagnosis.md.
     const bool rms = u.test == "lag1_autocorrelation" || u.test == "runs";
-    const char* size = rms ? "campaign means %.1f µm rms"
+    // Collinear rivals (encompassing_lr): the rms of the winner's term.
+    const bool rivals = u.test == "encompassing_lr";
+    const char* size = rms      ? "campaign means %.1f µm rms"
+                       : rivals ? "term effect %.1f µm rms"
                        : u.test == "brown_forsythe" ? "mean |residual| %.1f µm"
                                                     : "%+.1f µm";
     char buf[64];
     std::snprintf(buf, sizeof(buf), size, u.mean_residual_um);
-    std::printf("mismatch at %s: %s, p = %.2g (%s); no recorded quantity explains it\n",
-                u.where.c_str(), buf, u.p_adjusted, u.dimension.c_str());
+    std::printf(
+        "mismatch at %s: %s, p = %.2g (%s); %s\n", u.where.c_str(), buf,
+        u.p_adjusted, u.dimension.c_str(),
+        rivals
+            ? "several recorded quantities describe it alike, so none is named"
+            : "no recorded quantity explains it");
   }
   for (const RunnerUp& u : r.runners_up) {
     std::printf("not adopted: %s (%s term), p = %.2g: %s\n", u.covariate.c_str(),

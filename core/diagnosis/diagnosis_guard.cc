@@ -490,9 +490,15 @@ int GuardedWinner(int round, const Dataset& data, const DiagnosisOptions& option
     const CandidateResult& c = results[i];
     report->runners_up.push_back(
         {round, c.covariate, c.form, c.p_adjusted, c.cv_mse_ratio, g.reason});
-    const bool seen = std::any_of(
-        located.begin(), located.end(), [&](const Unexplained& u) {
-          return u.dimension == g.located.dimension && u.where == g.located.where;
+    const bool seen =
+        std::any_of(located.begin(), located.end(), [&](const Unexplained& u) {
+          // Collinear rivals refused in turn describe one structure: one entry.
+          const bool rivals =
+              u.test == "encompassing_lr" && g.located.test == u.test &&
+              u.where.substr(0, u.where.find(':')) ==
+                  g.located.where.substr(0, g.located.where.find(':'));
+          return rivals || (u.dimension == g.located.dimension &&
+                            u.where == g.located.where);
         });
     if (!g.located.dimension.empty() && !seen) located.push_back(g.located);
   }

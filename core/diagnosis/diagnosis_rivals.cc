@@ -89,7 +89,22 @@ GuardResult DistinctFromRivals(const DiagnosisState& st,
     r.located.dimension = results[winner].covariate;
     r.located.where = where + ": along " + results[winner].covariate + " or " +
                       results[j].covariate;
-    r.located.test = "likelihood_ratio";
+    // The size of what the term describes: the rms of its contribution to
+    // the training readings in its scope (prediction with it minus the
+    // round's model without it).
+    const std::vector<double> with =
+        PredictTerms(st.td, st.train, fits[winner].log_k, fits[winner].terms);
+    const std::vector<double> without =
+        PredictTerms(st.td, st.train, st.current.log_k, st.current.terms);
+    double sum2 = 0;
+    int count = 0;
+    for (size_t i = 0; i < st.train.size(); ++i) {
+      if (!InScope(st.td, st.td.obs[st.train[i]], scope)) continue;
+      sum2 += (with[i] - without[i]) * (with[i] - without[i]);
+      ++count;
+    }
+    r.located.mean_residual_um = count > 0 ? std::sqrt(sum2 / count) : 0;
+    r.located.test = "encompassing_lr";
     r.located.statistic = results[winner].lr;
     r.located.p_value = results[winner].p_value;
     r.located.p_adjusted = results[winner].p_adjusted;
