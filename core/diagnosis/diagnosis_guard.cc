@@ -460,6 +460,27 @@ Fitted OrientTwinCell(const DiagnosisState& st, const std::vector<double>& sd,
   return out;
 }
 
+// Adds `u` to `located` unless the same place is there. Collinear rivals
+// refused in turn (test encompassing_lr, same scope) describe one
+// structure: one entry, whose `where` lists every covariate along which it
+// lives.
+void AddLocated(const Unexplained& u, std::vector<Unexplained>* located) {
+  auto scope_of = [](const std::string& where) {
+    return where.substr(0, where.find(':'));
+  };
+  for (Unexplained& v : *located) {
+    if (v.test == "encompassing_lr" && u.test == v.test &&
+        scope_of(v.where) == scope_of(u.where)) {
+      const std::string along = " or " + u.dimension;
+      if (v.where.find(" " + u.dimension) == std::string::npos)
+        v.where += along;
+      return;
+    }
+    if (v.dimension == u.dimension && v.where == u.where) return;
+  }
+  located->push_back(u);
+}
+
 // The first accepted candidate that passes the proxy guard, or -1; the
 // others tried become runners-up (and, when none passes, an inconsistent
 // effect's location is listed as unexplained).
@@ -490,17 +511,7 @@ int GuardedWinner(int round, const Dataset& data, const DiagnosisOptions& option
     const CandidateResult& c = results[i];
     report->runners_up.push_back(
         {round, c.covariate, c.form, c.p_adjusted, c.cv_mse_ratio, g.reason});
-    const bool seen =
-        std::any_of(located.begin(), located.end(), [&](const Unexplained& u) {
-          // Collinear rivals refused in turn describe one structure: one entry.
-          const bool rivals =
-              u.test == "encompassing_lr" && g.located.test == u.test &&
-              u.where.substr(0, u.where.find(':')) ==
-                  g.located.where.substr(0, g.located.where.find(':'));
-          return rivals || (u.dimension == g.located.dimension &&
-                            u.where == g.located.where);
-        });
-    if (!g.located.dimension.empty() && !seen) located.push_back(g.located);
+    if (!g.located.dimension.empty()) AddLocated(g.located, &located);
   }
   for (const Unexplained& u : located) report->unexplained.push_back(u);
   return -1;

@@ -292,7 +292,16 @@ TEST(DiagnosisProxyTest,
     EXPECT_EQ(few.report.verdict, "mismatch_located_unexplained");
     EXPECT_TRUE(
         RefusedBecause(few.report, "length_m", "not distinguishable from"));
-    EXPECT_TRUE(ListsDimension(few.report.unexplained, "speed_mps"));
+    // One place, along the collinear quantities, speed among them.
+    const auto along = std::find_if(
+        few.report.unexplained.begin(), few.report.unexplained.end(),
+        [](const Unexplained& u) { return u.test == "encompassing_lr"; });
+    ASSERT_NE(along, few.report.unexplained.end());
+    EXPECT_EQ(along->where.rfind("roll type ICDP-S2: along ", 0), 0u)
+        << along->where;
+    EXPECT_NE(along->where.find("speed_mps"), std::string::npos)
+        << along->where;
+    EXPECT_GT(along->mean_residual_um, 1.0);
   }
   const Diagnosed paper = DiagnoseSimulated(103, {"scoped_factor:5"});
   ASSERT_EQ(paper.report.findings.size(), 1u) << paper.report.verdict;
