@@ -328,6 +328,8 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
     GuardResult t = LookAlongTime(data, st, options, sd, pc, p1, term.covariate);
     if (!t.pass) return t;
   }
+  const GuardResult order = LookAtGradeOrder(st, options, sd, pc, p1);
+  if (!order.pass) return order;
   return LookAgain(data, st, options, located_before, clip, p1);
 }
 

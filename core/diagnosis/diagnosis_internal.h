@@ -128,6 +128,17 @@ std::vector<Breakdown> NoiseChecks(const TermData& td, const Dataset& data,
                                    const std::vector<double>& pred,
                                    const std::vector<double>& sd);
 
+// The grade x campaign-order check (diagnosis_order.cc): whether a grade's
+// coils in the campaign's opening window wear otherwise than its other
+// coils, from the standardised residuals `u` (and their µm `um`, for the
+// size), both aligned with `obs`; appends one breakdown
+// "grade_by_campaign_order" (test "partial_correlation", p-value
+// Bonferroni-adjusted over the grades and windows tried).
+void GradeByCampaignOrder(const TermData& td, const std::vector<int>& obs,
+                          const std::vector<double>& u,
+                          const std::vector<double>& um,
+                          std::vector<Breakdown>* out);
+
 // Per campaign of `obs`, in time order (started_at): the mean of `u` and of
 // `um` (aligned with `obs`) over the campaign's observations.
 struct CampaignSeries {

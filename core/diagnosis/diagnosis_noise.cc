@@ -380,6 +380,7 @@ std::vector<Breakdown> NoiseChecks(const TermData& td, const Dataset& data,
   out.push_back(SpreadCheck("spread_by_position", position, u, um));
   out.push_back(SpreadCheck("spread_by_time", quarter, u, um));
   SpreadAlongTime(td, data, obs, u, um, &out);
+  GradeByCampaignOrder(td, obs, u, um, &out);
   return out;
 }
 

@@ -151,6 +151,16 @@ GuardResult DistinctFromRivals(const DiagnosisState& st,
                                const std::vector<CandidateResult>& results,
                                int winner);
 
+// The guard's look at the grade x campaign-order check (diagnosis_order.cc):
+// refused, with where the structure lives after the term as `located`, when
+// the check is significant at alpha with the training predictions `before`
+// and still with `after` (both aligned with state.train).
+GuardResult LookAtGradeOrder(const DiagnosisState& st,
+                             const DiagnosisOptions& options,
+                             const std::vector<double>& sd,
+                             const std::vector<double>& before,
+                             const std::vector<double>& after);
+
 // Whether `t` is a calendar-time term (its covariate is started_at or
 // measured_at).
 bool IsCalendarTerm(const TermData& td, const ModelTerm& t);

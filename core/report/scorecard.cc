@@ -78,11 +78,15 @@ bool DimensionLocates(const std::string& part, const std::string& dimension) {
   }
   if (part.find("campaign order") != std::string::npos) {  // within a campaign
     return SameCovariate("campaign_coils_before", dimension) ||
-           dimension == "campaign_rolled_length_m" || dimension == "hours_since_mount";
+           dimension == "campaign_rolled_length_m" ||
+           dimension == "hours_since_mount" ||
+           dimension == "grade_by_campaign_order";
   }
   if (part.find("grade") != std::string::npos) {
     return dimension == "dominant_grade" || dimension == "grade" ||
-           StartsWith(dimension, "position_by_grade") || dimension == "effect_by_grade";
+           StartsWith(dimension, "position_by_grade") ||
+           dimension == "effect_by_grade" ||
+           dimension == "grade_by_campaign_order";
   }
   if (part.find("roll type") != std::string::npos) {
     return dimension == "roll_type" || dimension == "position_by_roll_type" ||

@@ -166,6 +166,20 @@ TEST(ScorecardTest, InexpressibleNeedsTheRightLocation) {
                   .named_right);
   EXPECT_TRUE(ScoreCase("inexpressible_order", 1, Unexplained1("dominant_grade"), order)
                   .named_right);
+  // The grade x campaign-order check locates both parts at once.
+  EXPECT_TRUE(ScoreCase("inexpressible_order", 1,
+                        Unexplained1("grade_by_campaign_order"), order)
+                  .named_right);
+  const ScoreTruth interaction_only = Truth({{"inexpressible_interaction",
+                                              "",
+                                              {},
+                                              {},
+                                              false,
+                                              "temperature_c x speed_mps"}});
+  EXPECT_FALSE(ScoreCase("inexpressible_interaction", 1,
+                         Unexplained1("grade_by_campaign_order"),
+                         interaction_only)
+                   .named_right);
   // ... but not a place the effect does not live.
   CaseScore s = ScoreCase("inexpressible_order", 1, Unexplained1("spread_by_position"), order);
   EXPECT_FALSE(s.named_right);
