@@ -38,7 +38,7 @@
 namespace rollwear::diag {
 namespace {
 
-// A (grade, window) needs this many readings with some of its load inside
+// A (grade, window) needs this many readings with some of the grade inside
 // the window to be tried.
 constexpr int kMinOpeningReadings = 30;
 
@@ -72,6 +72,74 @@ double Correlation(const std::vector<double>& a, const std::vector<double>& b) {
   return saa > 0 && sbb > 0 ? sab / std::sqrt(saa * sbb) : 0;
 }
 
+// One (grade, window) tried by the check: the regressor of
+// interest x and the control c (the grade's share) per reading, and the
+// labels of the groups that show the size and the place.
+struct Trial {
+  std::vector<double> x, c;
+  std::vector<std::string> group;
+};
+
+// Appends `dimension` for the trial with the smallest p of the partial
+// correlation of u with x given (1, c): t = r sqrt((m - 3) / (1 - r^2)) ~
+// t(m - 3), Bonferroni over the trials; nothing when there is no trial.
+void AppendBestTrial(const std::string& dimension,
+                     const std::vector<Trial>& trials,
+                     const std::vector<double>& u,
+                     const std::vector<double>& um,
+                     std::vector<Breakdown>* out) {
+  const size_t n = u.size();
+  if (trials.empty() || n < 8) return;
+  double best_p = 2, best_t = 0;
+  const Trial* best = nullptr;
+  for (const Trial& trial : trials) {
+    const double r =
+        Correlation(Residualise(u, trial.c), Residualise(trial.x, trial.c));
+    const double m = static_cast<double>(n);
+    const double t = r * std::sqrt((m - 3) / std::max(1e-300, 1 - r * r));
+    const double p = StudentTTwoSided(t, m - 3);
+    if (p < best_p) {
+      best_p = p;
+      best_t = t;
+      best = &trial;
+    }
+  }
+  if (best == nullptr) return;
+  const std::vector<double> zero(n, 0.0);
+  Breakdown b = AnovaBreakdown(dimension, best->group, um, zero);
+  b.test = "partial_correlation";
+  b.p_value = std::min(1.0, best_p * static_cast<double>(trials.size()));
+  b.statistic = best_t;
+  b.effect_size = 0;
+  for (const Breakdown::Group& grp : b.groups) {
+    b.effect_size = std::max(b.effect_size, std::abs(grp.mean_residual_um));
+  }
+  out->push_back(b);
+}
+
+// Per reading of `obs`, the share of its base load in grade g, and (with
+// `in`) the share of it in grade g on passes where in(pass) holds.
+template <typename In>
+void GradeShares(const TermData& td, const std::vector<int>& obs, int g, In in,
+                 std::vector<double>* share, std::vector<double>* share_in) {
+  share->assign(obs.size(), 0.0);
+  share_in->assign(obs.size(), 0.0);
+  for (size_t i = 0; i < obs.size(); ++i) {
+    const TermObservation& o = td.obs[obs[i]];
+    double total = 0;
+    for (int p = o.pass_begin; p < o.pass_end; ++p) {
+      total += td.load[p];
+      if (td.grade[p] != g) continue;
+      (*share)[i] += td.load[p];
+      if (in(p)) (*share_in)[i] += td.load[p];
+    }
+    if (total > 0) {
+      (*share)[i] /= total;
+      (*share_in)[i] /= total;
+    }
+  }
+}
+
 }  // namespace
 
 void GradeByCampaignOrder(const TermData& td, const std::vector<int>& obs,
@@ -79,82 +147,49 @@ void GradeByCampaignOrder(const TermData& td, const std::vector<int>& obs,
                           const std::vector<double>& um,
                           std::vector<Breakdown>* out) {
   const int k = td.CovariateIndex("campaign_coils_before");
-  const size_t n = obs.size();
-  if (k < 0 || n < 8 || td.grades.size() < 2) return;
+  if (k < 0 || td.grades.size() < 2) return;
   std::vector<double> coils;
   for (int o : obs) {
     for (int p = td.obs[o].pass_begin; p < td.obs[o].pass_end; ++p) {
-      coils.push_back(td.z[k][p]);
+      if (std::isfinite(td.z[k][p])) coils.push_back(td.z[k][p]);
     }
   }
   if (coils.empty()) return;
   std::sort(coils.begin(), coils.end());
   std::vector<double> windows;
   for (double q : {0.10, 0.25}) {
-    const double w = coils[static_cast<size_t>(q * (coils.size() - 1))];
+    const double w =
+        coils[static_cast<size_t>(q * static_cast<double>(coils.size() - 1))];
     if (w >= 1 && (windows.empty() || w > windows.back())) windows.push_back(w);
   }
-  double best_p = 1, best_t = 0;
-  int tried = 0;
-  std::vector<std::string> best_group;
+  std::vector<Trial> trials;
   for (size_t g = 0; g < td.grades.size(); ++g) {
     for (double w : windows) {
-      std::vector<double> s(n, 0.0), e(n, 0.0);
-      int opening = 0;
-      for (size_t i = 0; i < n; ++i) {
-        const TermObservation& o = td.obs[obs[i]];
-        double total = 0;
-        for (int p = o.pass_begin; p < o.pass_end; ++p) {
-          total += td.load[p];
-          if (td.grade[p] != static_cast<int>(g)) continue;
-          s[i] += td.load[p];
-          if (td.z[k][p] < w) e[i] += td.load[p];
-        }
-        if (total > 0) {
-          s[i] /= total;
-          e[i] /= total;
-        }
-        opening += e[i] > 0;
-      }
+      Trial t;
+      // NaN coils-before (not recorded) counts as outside the window.
+      GradeShares(
+          td, obs, static_cast<int>(g), [&](int p) { return td.z[k][p] < w; },
+          &t.c, &t.x);
+      const auto opening =
+          std::count_if(t.x.begin(), t.x.end(), [](double e) { return e > 0; });
       if (opening < kMinOpeningReadings) continue;
-      ++tried;
-      const std::vector<double> x = Residualise(e, s);
-      const double r = Correlation(Residualise(u, s), x);
-      const double m = static_cast<double>(n);
-      const double t = r * std::sqrt((m - 3) / std::max(1e-300, 1 - r * r));
-      const double p = StudentTTwoSided(t, m - 3);
-      if (p < best_p) {
-        best_p = p;
-        best_t = t;
-        char in[96], later[96];
-        std::snprintf(in, sizeof(in), "%s in the first %.0f coils",
-                      td.grades[g].c_str(), w);
-        std::snprintf(later, sizeof(later), "%s only after coil %.0f",
-                      td.grades[g].c_str(), w);
-        best_group.assign(n, "without " + td.grades[g]);
-        for (size_t i = 0; i < n; ++i) {
-          if (e[i] > 0) {
-            best_group[i] = in;
-          } else if (s[i] > 0) {
-            best_group[i] = later;
-          }
+      char in[96], later[96];
+      std::snprintf(in, sizeof(in), "%s in the first %.0f coils",
+                    td.grades[g].c_str(), w);
+      std::snprintf(later, sizeof(later), "%s only after coil %.0f",
+                    td.grades[g].c_str(), w);
+      t.group.assign(obs.size(), "without " + td.grades[g]);
+      for (size_t i = 0; i < obs.size(); ++i) {
+        if (t.x[i] > 0) {
+          t.group[i] = in;
+        } else if (t.c[i] > 0) {
+          t.group[i] = later;
         }
       }
+      trials.push_back(std::move(t));
     }
   }
-  if (tried == 0) return;
-  std::vector<std::string> label(n);
-  for (size_t i = 0; i < n; ++i) label[i] = best_group[i];
-  const std::vector<double> zero(n, 0.0);
-  Breakdown b = AnovaBreakdown("grade_by_campaign_order", label, um, zero);
-  b.test = "partial_correlation";
-  b.p_value = std::min(1.0, best_p * tried);  // Bonferroni inside the check
-  b.statistic = best_t;
-  b.effect_size = 0;
-  for (const Breakdown::Group& grp : b.groups) {
-    b.effect_size = std::max(b.effect_size, std::abs(grp.mean_residual_um));
-  }
-  out->push_back(b);
+  AppendBestTrial("grade_by_campaign_order", trials, u, um, out);
 }
 
 namespace {
