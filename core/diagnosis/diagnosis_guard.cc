@@ -335,6 +335,40 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
 
 namespace {
 
+// Adds `u` to `located` unless the same place is there. Collinear rivals
+// refused in turn (test encompassing_lr, same scope) describe one
+// structure: one entry, whose `where` lists every covariate along which it
+// lives.
+void AddLocated(const Unexplained& u, std::vector<Unexplained>* located) {
+  auto scope_of = [](const std::string& where) {
+    return where.substr(0, where.rfind(": along "));
+  };
+  // The covariates an entry lives along: "<scope>: along a or b or c".
+  auto along = [](const std::string& where) {
+    std::vector<std::string> out;
+    size_t at = where.rfind(": along ");
+    if (at == std::string::npos) return out;
+    std::string rest = where.substr(at + 8);
+    for (size_t sep; (sep = rest.find(" or ")) != std::string::npos;) {
+      out.push_back(rest.substr(0, sep));
+      rest = rest.substr(sep + 4);
+    }
+    out.push_back(rest);
+    return out;
+  };
+  for (Unexplained& v : *located) {
+    if (v.test == "encompassing_lr" && u.test == v.test &&
+        scope_of(v.where) == scope_of(u.where)) {
+      const std::string along = " or " + u.dimension;
+      if (v.where.find(" " + u.dimension) == std::string::npos)
+        v.where += along;
+      return;
+    }
+    if (v.dimension == u.dimension && v.where == u.where) return;
+  }
+  located->push_back(u);
+}
+
 // The proxy guard's comparison with the best factor cell (issue 15): a
 // winner that is not itself a cell must explain something an accepted cell
 // candidate of the round does not. Nested likelihood-ratio test of the
@@ -462,27 +496,6 @@ Fitted OrientTwinCell(const DiagnosisState& st, const std::vector<double>& sd,
   return out;
 }
 
-// Adds `u` to `located` unless the same place is there. Collinear rivals
-// refused in turn (test encompassing_lr, same scope) describe one
-// structure: one entry, whose `where` lists every covariate along which it
-// lives.
-void AddLocated(const Unexplained& u, std::vector<Unexplained>* located) {
-  auto scope_of = [](const std::string& where) {
-    return where.substr(0, where.find(':'));
-  };
-  for (Unexplained& v : *located) {
-    if (v.test == "encompassing_lr" && u.test == v.test &&
-        scope_of(v.where) == scope_of(u.where)) {
-      const std::string along = " or " + u.dimension;
-      if (v.where.find(" " + u.dimension) == std::string::npos)
-        v.where += along;
-      return;
-    }
-    if (v.dimension == u.dimension && v.where == u.where) return;
-  }
-  located->push_back(u);
-}
-
 // The first accepted candidate that passes the proxy guard, or -1; the
 // others tried become runners-up (and, when none passes, an inconsistent
 // effect's location is listed as unexplained).
@@ -505,11 +518,17 @@ int GuardedWinner(int round, const Dataset& data, const DiagnosisOptions& option
     g.pass = g.reason.empty();
     const bool by_cell = !g.pass;
     if (g.pass) g = GuardAgainstProxy(data, st, options, sd, before, fits[i]);
-    if (g.pass) g = DistinctFromRivals(st, sd, accepted, fits, results, i);
+    bool by_rival = false;
+    if (g.pass) {
+      g = DistinctFromRivals(st, sd, accepted, fits, results, i);
+      by_rival = !g.pass;
+    }
     if (g.pass && !refused.empty())
       g = FitsWorseThanRefused(st, fits, i, refused, results);
     if (g.pass) return i;
-    if (!by_cell) refused.push_back(i);
+    // A cell or a rival that describes the same data is not a structure
+    // the vocabulary failed on: not a reason to call the others shadows.
+    if (!by_cell && !by_rival) refused.push_back(i);
     const CandidateResult& c = results[i];
     report->runners_up.push_back(
         {round, c.covariate, c.form, c.p_adjusted, c.cv_mse_ratio, g.reason});

@@ -126,11 +126,10 @@ FamilyEffect ScopedEffect(const char* name, int which, Random* rng,
 // scoped: one of the old covariate effects, acting at one stand or one roll
 // position only. Variant k: covariate k % 4, scope k / 4 % 3.
 FamilyEffect Scoped(int variant, Random* rng, uint64_t, int) {
-  static const std::map<std::string, std::string> kScopes[] = {
-      {{"stand", "F7"}},
-      {{"stand", "F6"}},
-      {{"stand", "F7"}, {"position", "top"}}};
-  const auto& scope = kScopes[variant / 4 % 3];
+  const int where = variant / 4 % 3;
+  std::map<std::string, std::string> scope = {
+      {"stand", where == 1 ? "F6" : "F7"}};
+  if (where == 2) scope["position"] = "top";
   return ScopedEffect(
       "scoped", variant % 4, rng, scope, "where the scope says",
       [scope](const EffectContext& c) { return InScope(scope, c.slot); });

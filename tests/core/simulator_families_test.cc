@@ -277,15 +277,18 @@ TEST(SimulatorFamilyTest, ScopedFactorActsOnItsGradeOrRollTypeOnly) {
   ASSERT_EQ(t.scope,
             (std::map<std::string, std::string>{{"roll_type", "ICDP-S2"}}));
   changed = 0;
+  untouched = 0;
   for (const Row& r :
        Rows(by_type, [](const Pass&, const Mount&) { return true; })) {
     if (by_type.data.roll_types[r.mount->roll_type] != "ICDP-S2") {
       EXPECT_NEAR(r.noise_free / r.baseline, 1, 1e-9);
+      ++untouched;
     } else {
       changed += std::abs(r.noise_free / r.baseline - 1) > 0.01;
     }
   }
   EXPECT_GT(changed, 10);
+  EXPECT_GT(untouched, 10);
 }
 
 // The grinder column: measurements.csv gets it, its low level reads low by
