@@ -243,14 +243,7 @@ GuardResult LookAgain(const Dataset& data, const DiagnosisState& st,
       // Where the structure the candidate failed to take away lives: its
       // largest group after the term (listed as unexplained when no
       // candidate of the round passes, so the verdict cannot be "noise").
-      const Breakdown::Group* largest = nullptr;
-      for (const Breakdown::Group& g : b.groups) {
-        if (g.label == "missing") continue;
-        if (largest == nullptr ||
-            std::abs(g.mean_residual_um) > std::abs(largest->mean_residual_um)) {
-          largest = &g;
-        }
-      }
+      const Breakdown::Group* largest = Carrier(b);
       r.located.dimension = b.dimension;
       r.located.where =
           largest != nullptr ? b.dimension + "=" + largest->label : b.dimension;

@@ -128,6 +128,11 @@ std::vector<Breakdown> NoiseChecks(const TermData& td, const Dataset& data,
                                    const std::vector<double>& pred,
                                    const std::vector<double>& sd);
 
+// The group of a breakdown that carries its structure (diagnosis_noise.cc):
+// the largest |mean residual| (for a spread check, the largest relative
+// spread), groups labelled "missing" left out; nullptr when there is none.
+const Breakdown::Group* Carrier(const Breakdown& b);
+
 // The grade x campaign-order check (diagnosis_order.cc): whether a grade's
 // coils in the campaign's opening window wear otherwise than its other
 // coils, from the standardised residuals `u` (and their µm `um`, for the

@@ -227,20 +227,6 @@ bool Material(const Breakdown& b, double material_um) {
   return largest >= material_um;
 }
 
-// The group that carries the structure: the largest |mean| (or spread).
-const Breakdown::Group* Carrier(const Breakdown& b) {
-  const Breakdown::Group* best = nullptr;
-  auto size = [&](const Breakdown::Group& g) {
-    return b.test == "brown_forsythe" ? std::abs(g.mean_relative)
-                                      : std::abs(g.mean_residual_um);
-  };
-  for (const Breakdown::Group& g : b.groups) {
-    if (g.label == "missing") continue;
-    if (best == nullptr || size(g) > size(*best)) best = &g;
-  }
-  return best;
-}
-
 std::string Where(const Breakdown& b, const Breakdown::Group& g) {
   if (b.dimension.rfind("time_scale_", 0) == 0)
     return "calendar time, " + g.label;
@@ -259,6 +245,19 @@ std::string Where(const Breakdown& b, const Breakdown::Group& g) {
 }
 
 }  // namespace
+
+const Breakdown::Group* Carrier(const Breakdown& b) {
+  const Breakdown::Group* best = nullptr;
+  auto size = [&](const Breakdown::Group& g) {
+    return b.test == "brown_forsythe" ? std::abs(g.mean_relative)
+                                      : std::abs(g.mean_residual_um);
+  };
+  for (const Breakdown::Group& g : b.groups) {
+    if (g.label == "missing") continue;
+    if (best == nullptr || size(g) > size(*best)) best = &g;
+  }
+  return best;
+}
 
 CampaignSeries ByCampaignInTime(const TermData& td, const Dataset& data,
                                 const std::vector<int>& obs,

@@ -80,12 +80,13 @@ double Correlation(const std::vector<double>& a, const std::vector<double>& b) {
   return saa > 0 && sbb > 0 ? sab / std::sqrt(saa * sbb) : 0;
 }
 
-// One (grade, window) tried by the check: the regressor of
-// interest x and the control c (the grade's share) per reading, and the
-// labels of the groups that show the size and the place.
+// One (grade, window) tried by the check: per reading, the regressor of
+// interest x (the grade's share inside the window) and the control c (its
+// share overall).
 struct Trial {
+  int grade = 0;
+  double window = 0;
   std::vector<double> x, c;
-  std::vector<std::string> group;
 };
 
 // Means of v over the readings of each unit (unit[i] in 0..units-1).
@@ -100,16 +101,15 @@ std::vector<double> UnitMeans(const std::vector<double>& v,
   return sum;
 }
 
-// Appends `dimension` for the trial with the smallest p of the partial
+// Appends the check for the trial with the smallest p of the partial
 // correlation of u with x given (1, c), all three averaged over the
 // readings of a campaign first (`unit`: the campaign of each reading,
 // numbered 0..units-1): the rolls of one campaign share its coils, so
 // their readings are one piece of evidence, not four. t = r sqrt((m - 3) /
 // (1 - r^2)) ~ t(m - 3) over the m campaigns, Bonferroni over the trials;
 // nothing when there is no trial. The groups (for the size and the
-// place) are the readings with the grade, labelled by the trial.
-void AppendBestTrial(const std::string& dimension,
-                     const std::vector<Trial>& trials,
+// place) are the readings with the grade: in the window, or only after it.
+void AppendBestTrial(const TermData& td, const std::vector<Trial>& trials,
                      const std::vector<int>& unit, int units,
                      const std::vector<double>& u,
                      const std::vector<double>& um,
@@ -132,16 +132,22 @@ void AppendBestTrial(const std::string& dimension,
     }
   }
   if (best == nullptr) return;
+  char in[96], later[96];
+  const char* grade = td.grades[best->grade].c_str();
+  std::snprintf(in, sizeof(in), "%s in the first %.0f coils", grade,
+                best->window);
+  std::snprintf(later, sizeof(later), "%s only after coil %.0f", grade,
+                best->window);
   std::vector<std::string> label;
   std::vector<double> size;
   for (size_t i = 0; i < um.size(); ++i) {
     if (best->c[i] > 0) {
-      label.push_back(best->group[i]);
+      label.push_back(best->x[i] > 0 ? in : later);
       size.push_back(um[i]);
     }
   }
   const std::vector<double> zero(size.size(), 0.0);
-  Breakdown b = AnovaBreakdown(dimension, label, size, zero);
+  Breakdown b = AnovaBreakdown("grade_by_campaign_order", label, size, zero);
   b.test = "partial_correlation";
   b.p_value = std::min(1.0, best_p * static_cast<double>(trials.size()));
   b.statistic = best_t;
@@ -201,26 +207,14 @@ void GradeByCampaignOrder(const TermData& td, const std::vector<int>& obs,
   for (size_t g = 0; g < td.grades.size(); ++g) {
     for (double w : windows) {
       Trial t;
+      t.grade = static_cast<int>(g);
+      t.window = w;
       // NaN coils-before (not recorded) counts as outside the window.
       GradeShares(
-          td, obs, static_cast<int>(g), [&](int p) { return td.z[k][p] < w; },
-          &t.c, &t.x);
+          td, obs, t.grade, [&](int p) { return td.z[k][p] < w; }, &t.c, &t.x);
       const auto opening =
           std::count_if(t.x.begin(), t.x.end(), [](double e) { return e > 0; });
       if (opening < kMinOpeningReadings) continue;
-      char in[96], later[96];
-      std::snprintf(in, sizeof(in), "%s in the first %.0f coils",
-                    td.grades[g].c_str(), w);
-      std::snprintf(later, sizeof(later), "%s only after coil %.0f",
-                    td.grades[g].c_str(), w);
-      t.group.assign(obs.size(), "without " + td.grades[g]);
-      for (size_t i = 0; i < obs.size(); ++i) {
-        if (t.x[i] > 0) {
-          t.group[i] = in;
-        } else if (t.c[i] > 0) {
-          t.group[i] = later;
-        }
-      }
       trials.push_back(std::move(t));
     }
   }
@@ -231,8 +225,8 @@ void GradeByCampaignOrder(const TermData& td, const std::vector<int>& obs,
         number.emplace(td.obs[obs[i]].campaign, static_cast<int>(number.size()))
             .first->second;
   }
-  AppendBestTrial("grade_by_campaign_order", trials, unit,
-                  static_cast<int>(number.size()), u, um, out);
+  AppendBestTrial(td, trials, unit, static_cast<int>(number.size()), u, um,
+                  out);
 }
 
 namespace {
@@ -272,12 +266,7 @@ GuardResult LookAtGradeOrder(const DiagnosisState& st,
   if (a.statistic * a.statistic >
       (1 - kOrderTouchedShare) * b.statistic * b.statistic)
     return r;
-  const Breakdown::Group* g = nullptr;
-  for (const Breakdown::Group& x : a.groups) {
-    if (g == nullptr ||
-        std::abs(x.mean_residual_um) > std::abs(g->mean_residual_um))
-      g = &x;
-  }
+  const Breakdown::Group* g = Carrier(a);
   char buf[200];
   std::snprintf(buf, sizeof(buf),
                 "grade x campaign-order structure remains (p adjusted %.2g -> "

@@ -12,6 +12,7 @@
 #include <set>
 #include <string>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -246,6 +247,24 @@ TEST(SimulatorFamilyTest, ScopedTemperatureActsAtF7Only) {
   }
 }
 
+// Over `rows`, the readings outside the effect's scope (in_scope false),
+// each asserted to be Wang's law exactly, and the readings inside it that
+// the effect changes by more than 1 %.
+template <typename InScope>
+std::pair<int, int> UntouchedAndChanged(const std::vector<Row>& rows,
+                                        InScope in_scope) {
+  int untouched = 0, changed = 0;
+  for (const Row& r : rows) {
+    if (!in_scope(r)) {
+      EXPECT_NEAR(r.noise_free / r.baseline, 1, 1e-9);
+      ++untouched;
+    } else {
+      changed += std::abs(r.noise_free / r.baseline - 1) > 0.01;
+    }
+  }
+  return {untouched, changed};
+}
+
 // scoped_factor acts on its grade (variant 0: temperature on S355) or its
 // roll type (variant 5: speed on ICDP-S2) only: a reading with none of
 // that grade's passes, or of another roll type, is Wang's law exactly.
@@ -258,17 +277,10 @@ TEST(SimulatorFamilyTest, ScopedFactorActsOnItsGradeOrRollTypeOnly) {
       static_cast<int>(std::find(by_grade.data.grades.begin(),
                                  by_grade.data.grades.end(), "S355") -
                        by_grade.data.grades.begin());
-  int changed = 0, untouched = 0;
-  for (const Row& r : Rows(by_grade, [s355](const Pass&p, const Mount&) {
-         return p.grade == s355;
-       })) {
-    if (r.share == 0) {
-      EXPECT_NEAR(r.noise_free / r.baseline, 1, 1e-9);
-      ++untouched;
-    } else {
-      changed += std::abs(r.noise_free / r.baseline - 1) > 0.01;
-    }
-  }
+  const auto [untouched, changed] = UntouchedAndChanged(
+      Rows(by_grade,
+           [s355](const Pass& p, const Mount&) { return p.grade == s355; }),
+      [](const Row& r) { return r.share > 0; });
   EXPECT_GT(changed, 20);
   EXPECT_GT(untouched, 0);
   const Simulation by_type = Simulated(34, 60, {"scoped_factor:5"});
@@ -276,19 +288,13 @@ TEST(SimulatorFamilyTest, ScopedFactorActsOnItsGradeOrRollTypeOnly) {
   EXPECT_EQ(t.covariate, "speed_mps");
   ASSERT_EQ(t.scope,
             (std::map<std::string, std::string>{{"roll_type", "ICDP-S2"}}));
-  changed = 0;
-  untouched = 0;
-  for (const Row& r :
-       Rows(by_type, [](const Pass&, const Mount&) { return true; })) {
-    if (by_type.data.roll_types[r.mount->roll_type] != "ICDP-S2") {
-      EXPECT_NEAR(r.noise_free / r.baseline, 1, 1e-9);
-      ++untouched;
-    } else {
-      changed += std::abs(r.noise_free / r.baseline - 1) > 0.01;
-    }
-  }
-  EXPECT_GT(changed, 10);
-  EXPECT_GT(untouched, 10);
+  const auto [type_untouched, type_changed] = UntouchedAndChanged(
+      Rows(by_type, [](const Pass&, const Mount&) { return true; }),
+      [&by_type](const Row& r) {
+        return by_type.data.roll_types[r.mount->roll_type] == "ICDP-S2";
+      });
+  EXPECT_GT(type_changed, 10);
+  EXPECT_GT(type_untouched, 10);
 }
 
 // The grinder column: measurements.csv gets it, its low level reads low by
