@@ -94,7 +94,8 @@ nlohmann::json DiagnosisJson(const DiagnosisReport& r) {
                              {"cv_error_ratio", Num(f.cv_mse_ratio)},
                              {"gap_val_before_um", f.gap_val_before_um},
                              {"gap_val_after_um", f.gap_val_after_um},
-                             {"alternatives", f.alternatives}});
+                             {"alternatives", f.alternatives},
+                             {"scope_undetermined", f.scope_undetermined}});
   }
   j["unexplained"] = UnexplainedJson(r.unexplained);
   j["runners_up"] = RunnersUpJson(r.runners_up);

@@ -131,6 +131,10 @@ struct Finding {
   // column, "HSLA" of grade), as the contract's findings[].scope / levels.
   std::map<std::string, std::string> scope;
   std::vector<std::string> levels;
+  // The other levels of a one-level scope's factor for which the data
+  // cannot tell whether the finding holds there too ("API-X65"; the
+  // contract's findings[].scope_undetermined, docs/diagnosis.md).
+  std::vector<std::string> scope_undetermined;
   ModelTerm term;                         // the adopted term
 };
 

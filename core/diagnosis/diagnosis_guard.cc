@@ -352,9 +352,9 @@ void AddLocated(const Unexplained& u, std::vector<Unexplained>* located) {
   for (Unexplained& v : *located) {
     if (v.test == "encompassing_lr" && u.test == v.test &&
         scope_of(v.where) == scope_of(u.where)) {
-      const std::string along = " or " + u.dimension;
-      if (v.where.find(" " + u.dimension) == std::string::npos)
-        v.where += along;
+      const std::vector<std::string> listed = along(v.where);
+      if (std::find(listed.begin(), listed.end(), u.dimension) == listed.end())
+        v.where += " or " + u.dimension;
       return;
     }
     if (v.dimension == u.dimension && v.where == u.where) return;

@@ -63,6 +63,12 @@ void AddScopedCandidates(const TermData& td, const std::vector<int>& train,
 bool TwinCell(const TermData& td, const std::vector<int>& train, const TermScope& cell,
               TermScope* twin);
 
+// The end of a scoped finding's sentence "It applies only to F7; elsewhere
+// the wear law holds." (diagnosis_naming.cc), which the note on
+// undetermined siblings qualifies (diagnosis_siblings.cc).
+inline constexpr const char* kElsewhereTheLawHolds =
+    "; elsewhere the wear law holds";
+
 // The single-factor scopes with enough training data (at least
 // kMinScopeObservations inside, and not all of them): each stand, position
 // (top, bottom), roll position (stand and position, "F7/top"), roll type and

@@ -195,7 +195,7 @@ std::string DescribeScope(const ModelTerm& t, Finding* f) {
     f->scope.erase(f->covariate);
   }
   if (t.scope.IsAll()) return "";
-  return " It applies only to " + t.scope.Label() + "; elsewhere the wear law holds.";
+  return " It applies only to " + t.scope.Label() + kElsewhereTheLawHolds + ".";
 }
 
 // Offset-per-level parameters, the levels whose offset is significant

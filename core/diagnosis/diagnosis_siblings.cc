@@ -11,8 +11,15 @@
 // effect found in one grade only, or a calendar drift of the whole mill
 // found at F7 only. The term is not named, and the sibling is listed as
 // where the mismatch still lives.
+// A term that passes is named with its scope; UndeterminedSiblings then
+// lists the levels the data cannot place on either side: the same term
+// there is not significant (the test above) and not ruled out either (the
+// LR of the sibling's free copy against a copy tied to the winner's
+// parameters is below the 1 % critical value). "Only at DP600" is then stated
+// with the grades for which the data cannot tell.
 // Thread-safety: reentrant (reads its arguments only).
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -54,6 +61,51 @@ std::string LevelName(const TermScope& s) {
   return s.roll_type.empty() ? s.grade : s.roll_type;
 }
 
+// The other levels, with enough data, of the factor that the last term of
+// `with_term` is scoped to; none for cells, measurement terms and scopes of
+// two factors.
+std::vector<TermScope> Siblings(const DiagnosisState& st,
+                                const TermSpec& spec) {
+  std::vector<TermScope> siblings;
+  const std::string factor = FactorName(spec.term.scope);
+  if (spec.term.form == TermForm::kCell || spec.term.IsMeasurementTerm() ||
+      factor.empty()) {
+    return siblings;
+  }
+  for (const TermScope& s : SingleScopes(st.td, st.train, true)) {
+    if (FactorName(s) == factor && !(s == spec.term.scope))
+      siblings.push_back(s);
+  }
+  return siblings;
+}
+
+// `with_term` with a copy of its last term added at `sibling`: free,
+// starting from no effect, or `tied` to the last term's parameters.
+Fitted FitSibling(const DiagnosisState& st, const std::vector<double>& sd,
+                  const Fitted& with_term, const TermScope& sibling,
+                  bool tied) {
+  std::vector<TermSpec> terms = with_term.terms;
+  TermSpec copy = terms.back();
+  copy.term.scope = sibling;
+  for (size_t j = 0; j < copy.term.params.size(); ++j) {
+    const double v = copy.term.params[j];
+    if (!tied) {
+      copy.term.params[j] = 0;
+      continue;
+    }
+    // Ceres wants lower < upper: a band far inside the fit's tolerance.
+    copy.lower[j] = v - 1e-9 * (1 + std::abs(v));
+    copy.upper[j] = v + 1e-9 * (1 + std::abs(v));
+  }
+  terms.push_back(copy);
+  return Fit(st.td, st.train, sd, with_term.log_k, terms);
+}
+
+// n ln(RSS_a / RSS_b), floored at 0.
+double LogRatio(double n, double rss_a, double rss_b) {
+  return std::max(0.0, n * std::log(rss_a / rss_b));
+}
+
 }  // namespace
 
 GuardResult LookAtSiblings(const DiagnosisState& st,
@@ -64,28 +116,16 @@ GuardResult LookAtSiblings(const DiagnosisState& st,
   const TermSpec& spec = with_term.terms.back();
   const TermScope& scope = spec.term.scope;
   const std::string factor = FactorName(scope);
-  if (spec.term.form == TermForm::kCell || spec.term.IsMeasurementTerm() ||
-      factor.empty()) {
-    return r;
-  }
-  std::vector<TermScope> siblings;
-  for (const TermScope& s : SingleScopes(st.td, st.train, true)) {
-    if (FactorName(s) == factor && !(s == scope)) siblings.push_back(s);
-  }
+  const std::vector<TermScope> siblings = Siblings(st, spec);
   if (siblings.empty()) return r;
   const double k = static_cast<double>(siblings.size());  // Bonferroni
   const double n = static_cast<double>(st.train.size());
   double best_p = 1, best_lr = 0;
   const TermScope* best = nullptr;
   for (const TermScope& s : siblings) {
-    std::vector<TermSpec> terms = with_term.terms;
-    TermSpec sibling = spec;
-    sibling.term.scope = s;
-    std::fill(sibling.term.params.begin(), sibling.term.params.end(), 0.0);
-    terms.push_back(sibling);
-    const Fitted both = Fit(st.td, st.train, sd, with_term.log_k, terms);
+    const Fitted both = FitSibling(st, sd, with_term, s, false);
     if (!both.usable || !(both.rss > 0)) continue;
-    const double lr = std::max(0.0, n * std::log(with_term.rss / both.rss));
+    const double lr = LogRatio(n, with_term.rss, both.rss);
     const double p = ChiSquareSurvival(lr, spec.term.NumParams());
     if (p < best_p) {
       best_p = p;
@@ -124,6 +164,55 @@ GuardResult LookAtSiblings(const DiagnosisState& st,
   r.located.p_value = best_p;
   r.located.p_adjusted = std::min(1.0, best_p * k);
   return r;
+}
+
+void NoteUndeterminedSiblings(const DiagnosisState& st,
+                              const std::vector<double>& sd,
+                              const Fitted& with_term, Finding* f) {
+  const TermSpec& spec = with_term.terms.back();
+  const double n = static_cast<double>(st.train.size());
+  const int df = spec.term.NumParams();
+  std::vector<std::string> levels;
+  for (const TermScope& s : Siblings(st, spec)) {
+    const Fitted free = FitSibling(st, sd, with_term, s, false);
+    const Fitted tied = FitSibling(st, sd, with_term, s, true);
+    if (!free.usable || !tied.usable || !(free.rss > 0)) continue;
+    // The guard found the free copy not significant (family-wise); the
+    // level is undetermined when the tied copy is not rejected either.
+    const double p_same =
+        ChiSquareSurvival(LogRatio(n, tied.rss, free.rss), df);
+    if (p_same >= kSiblingAlpha) levels.push_back(LevelName(s));
+  }
+  f->scope_undetermined = levels;
+  if (levels.empty()) return;
+  std::string list = levels[0];
+  for (size_t i = 1; i < levels.size(); ++i) {
+    list += (i + 1 == levels.size() ? " and " : ", ") + levels[i];
+  }
+  const bool many = levels.size() > 1;
+  const std::string factor = FactorName(spec.term.scope);
+  std::string where;
+  if (factor == "grade") where = many ? "For grades " : "For grade ";
+  if (factor == "roll_type")
+    where = many ? "For roll types " : "For roll type ";
+  if (factor == "position") where = "For the ";
+  if (where.empty()) where = "At ";
+  const std::string note = where + list +
+                           (factor == "position" ? " rolls" : "") +
+                           " the data cannot tell: the same term there is "
+                           "neither significant nor ruled out.";
+  // "...; elsewhere the wear law holds, but for grades A and B the data
+  // cannot tell: ...".
+  const std::string elsewhere = std::string(kElsewhereTheLawHolds) + ".";
+  const size_t at = f->explanation.find(elsewhere);
+  if (at == std::string::npos) {
+    f->explanation += " " + note;
+    return;
+  }
+  std::string lower = note;
+  lower[0] = static_cast<char>(std::tolower(lower[0]));
+  f->explanation.replace(at, elsewhere.size(),
+                         std::string(kElsewhereTheLawHolds) + ", but " + lower);
 }
 
 }  // namespace rollwear::diag

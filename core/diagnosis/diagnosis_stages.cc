@@ -603,6 +603,7 @@ bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
   }
   Fitted adopted = AdoptWinner(*st, sd, chosen, &f);
   f.explanation += twin_note;
+  NoteUndeterminedSiblings(*st, sd, adopted, &f);
   StateReferenceIdentification(reference, &f);
   report->findings.push_back(f);
   phase->Mark("adopt");

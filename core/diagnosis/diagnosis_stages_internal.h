@@ -139,6 +139,17 @@ GuardResult LookAtSiblings(const DiagnosisState& st,
                            const std::vector<double>& sd,
                            const Fitted& with_term);
 
+// The levels of the scope's factor (labelled as in a breakdown: "API-X65",
+// "F6", "F7/top") for which the data cannot tell whether the last term of
+// `with_term` holds there too, into f->scope_undetermined, with a sentence
+// for f->explanation: the guard found the term not significant there
+// (LookAtSiblings), and a copy there tied to its own parameters is not
+// rejected against a free copy at 1 % (diagnosis_siblings.cc). None for
+// unscoped and cell terms.
+void NoteUndeterminedSiblings(const DiagnosisState& st,
+                              const std::vector<double>& sd,
+                              const Fitted& with_term, Finding* f);
+
 // The proxy guard's comparison with the round's rivals
 // (diagnosis_rivals.cc): fails when the term of accepted candidate `winner`
 // adds nothing significant to the model of an accepted candidate over

@@ -43,6 +43,11 @@ std::string Describe(const Finding& f) {
     }
     out += "]";
   }
+  // The siblings the data cannot place (docs/diagnosis.md, "The scope's
+  // siblings"): "campaign_coils_before {grade:DP600} ?API-X65,API-X70".
+  for (size_t i = 0; i < f.scope_undetermined.size(); ++i) {
+    out += (i ? "," : " ?") + f.scope_undetermined[i];
+  }
   return out;
 }
 

@@ -74,7 +74,8 @@ struct CaseScore {
   double noise_floor_um = 0;
   double gap_ratio = 0;               // gap_val_um / noise_floor_um
   double seconds = 0;                 // wall time of Diagnose
-  std::vector<std::string> findings;  // "covariate {scope} [levels]"
+  std::vector<std::string>
+      findings;  // "covariate {scope} [levels] ?undetermined"
 };
 
 // Per case name over its seeds.

@@ -63,6 +63,7 @@ TEST_F(DiagnosisRouterTest,
   // A global finding: scope null, no levels (api.md).
   EXPECT_TRUE(report["findings"][0]["scope"].is_null()) << report["findings"][0].dump();
   EXPECT_EQ(report["findings"][0]["levels"], json::array());
+  EXPECT_EQ(report["findings"][0]["scope_undetermined"], json::array());
   EXPECT_TRUE(report["unexplained"].is_array());
   EXPECT_TRUE(report["runners_up"].is_array());
   EXPECT_LT(report["findings"][0]["gap_val_after_um"].get<double>(),

@@ -17,7 +17,9 @@
 //  - a temperature x speed interaction, whose temperature term the guard
 //    refused, read as a specific-force effect at F7 (a shadow): not named;
 //  - a hard-grade effect early in the campaign, fitted in one grade only
-//    while another hard grade shows it too: not named for that grade;
+//    while another hard grade shows it too: not named for that grade; and
+//    where no other grade shows it, named with the hard grades whose data
+//    cannot tell listed as undetermined;
 //  - a calendar drift mixed with a random walk, read as a drift at F7
 //    only while F6 drifts too: not named at F7;
 //  - a roll type wearing more at F7 with 24 and 27 training readings at F7
@@ -211,6 +213,35 @@ TEST(DiagnosisProxyTest,
   EXPECT_TRUE(at_a_hard_grade);
 }
 
+// Held-out seed 204 of the same effect: only DP600's early coils show it
+// (another hard grade's data reject DP600's effect, docs/diagnosis.md,
+// Limits), and the term is named for DP600. The claim "elsewhere the wear
+// law holds" is qualified for the hard grades whose data cannot tell: a
+// copy of the term there is neither significant nor rejected against a
+// copy tied to DP600's parameters. Every grade so listed is a hard grade
+// of the truth, and the soft grades, whose data reject the tied copy, are
+// not listed.
+TEST(DiagnosisProxyTest, AOneGradeScopeListsTheGradesTheDataCannotPlace) {
+  const Diagnosed d = DiagnoseSimulated(204, {"inexpressible_order"});
+  const SimulatedEffect& truth = d.sim.truth.effects.at(0);
+  if (d.report.findings.empty()) {
+    EXPECT_EQ(d.report.verdict, "mismatch_located_unexplained");
+  }
+  for (const Finding& f : d.report.findings) {
+    if (f.scope.count("grade") == 0) continue;
+    ASSERT_FALSE(f.scope_undetermined.empty()) << f.explanation;
+    for (const std::string& g : f.scope_undetermined) {
+      EXPECT_TRUE(Lists(truth.levels, g)) << g << ": " << f.explanation;
+      EXPECT_NE(f.explanation.find(g), std::string::npos) << f.explanation;
+    }
+    EXPECT_NE(f.explanation.find("the data cannot tell"), std::string::npos)
+        << f.explanation;
+    EXPECT_EQ(f.explanation.find("elsewhere the wear law holds."),
+              std::string::npos)
+        << f.explanation;
+  }
+}
+
 // Seed 101's drift mixed with a random walk (session 11: named started_at
 // at F7 only, a wrong scope; docs/diagnosis.md, Limits): F6 drifts too
 // (LR 26), so the F7 scope is refused, and the unscoped drift is
@@ -272,6 +303,8 @@ TEST(DiagnosisProxyTest, AnEffectAtOneRollPositionIsNamedWithThatScope) {
   EXPECT_EQ(f.scope, truth.scope) << f.explanation;
   EXPECT_NE(f.explanation.find("F7, top rolls"), std::string::npos)
       << f.explanation;
+  // The other three roll positions have data enough to reject the term.
+  EXPECT_TRUE(f.scope_undetermined.empty()) << f.explanation;
 }
 
 // scoped_factor:5 seed 103: speed acting on roll type ICDP-S2 only. Speed,

@@ -151,6 +151,17 @@ TEST(ScorecardTest, InexpressibleIsRightOnlyAsUnexplained) {
   s = ScoreCase("inexpressible_order", 1, Report({}, "no_significant_mismatch"),
                 truth);
   EXPECT_FALSE(s.named_right);
+  // A name qualified by the levels the data cannot place is still a name:
+  // wrong for an inexpressible effect, and the listing shows the levels.
+  Finding qualified = Found("campaign_coils_before", {{"grade", "DP600"}});
+  qualified.scope_undetermined = {"API-X65", "API-X70"};
+  s = ScoreCase("inexpressible_order", 1,
+                Report({qualified}, "missing_physics_found"), truth);
+  EXPECT_FALSE(s.named_right);
+  EXPECT_EQ(s.wrong_physics, 1);
+  EXPECT_EQ(s.findings,
+            std::vector<std::string>{
+                "campaign_coils_before {grade:DP600} ?API-X65,API-X70"});
 }
 
 TEST(ScorecardTest, InexpressibleNeedsTheRightLocation) {

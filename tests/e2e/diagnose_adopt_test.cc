@@ -182,6 +182,8 @@ TEST_F(DiagnoseAdoptTest, FactorCellIsAdoptedAndServedAsInBatch) {
   EXPECT_EQ(finding.value("form", ""), "cell") << finding.dump();
   EXPECT_EQ(finding["scope"], json({{"stand", "F7"}})) << finding.dump();
   EXPECT_EQ(finding["levels"], json::array({"ICDP-S1"})) << finding.dump();
+  // A cell is one place by construction: no siblings to place.
+  EXPECT_EQ(finding["scope_undetermined"], json::array()) << finding.dump();
   // The simulator's multiplier is 1.33; the cell's prior shrinks it a little.
   EXPECT_NEAR(finding["parameters"].value("multiplier", 0.0), 1.33, 0.1)
       << finding.dump();
