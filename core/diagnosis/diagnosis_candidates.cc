@@ -250,21 +250,24 @@ std::vector<std::vector<Candidate>> UnscopedCandidates(const TermData& td,
 
 std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>& train,
                                       const std::set<int>& used,
-                                      const std::vector<std::vector<Candidate>>& unscoped) {
+                                      const std::vector<std::vector<Candidate>>& unscoped,
+                                      const std::vector<TermScope>& adopted_cells) {
   // Joined in catalogue order.
   std::vector<Candidate> out;
   for (size_t k = 0; k < unscoped.size(); ++k) {
     if (used.count(static_cast<int>(k)) > 0) continue;
     out.insert(out.end(), unscoped[k].begin(), unscoped[k].end());
   }
-  AddScopedCandidates(td, train, used, &out);
+  AddScopedCandidates(td, train, used, adopted_cells, &out);
   return out;
 }
 
 std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>& train,
                                       const std::set<int>& used,
-                                      const DiagnosisOptions& options) {
-  return MakeCandidates(td, train, used, UnscopedCandidates(td, train, options));
+                                      const DiagnosisOptions& options,
+                                      const std::vector<TermScope>& adopted_cells) {
+  return MakeCandidates(td, train, used, UnscopedCandidates(td, train, options),
+                        adopted_cells);
 }
 
 }  // namespace rollwear::diag

@@ -186,7 +186,8 @@ GuardResult Refused(const std::string& reason, const std::string& name,
 }
 
 // The dimensions of the consistency and within-group tests: stand, roll
-// position, roll type, the stand x roll type cell, and the quartiles of every
+// position, roll type, the stand x roll type cell, the levels of every text
+// column of mounts.csv and campaigns.csv, and the quartiles of every
 // other numeric wear-rate covariate (an effect whose scale changes sign or
 // size with another quantity is an interaction the term does not describe,
 // e.g. a temperature effect that exists only at high speed). A calendar-time
@@ -207,6 +208,21 @@ void GuardDimensions(const TermData& td, const std::vector<int>& train, const st
   const bool calendar = IsCalendarTerm(td, term);
   for (int k = 0; k < static_cast<int>(td.catalog.size()); ++k) {
     const CovariateSpec& c = td.catalog[k];
+    // A text column of mounts.csv or campaigns.csv holds one level per
+    // reading: its levels are groups like the stands (the pass-level ones
+    // are split by level in diagnosis_split.cc).
+    if (c.kind == CovariateKind::kFactor && c.name != cov &&
+        (c.level == CovariateLevel::kRoll || c.level == CovariateLevel::kCampaign)) {
+      std::vector<std::string> level(train.size());
+      for (size_t i = 0; i < train.size(); ++i) {
+        const double z = td.obs_z[k][train[i]];
+        const long l = std::isnan(z) ? -1 : std::lround(z);
+        if (l >= 0 && l < static_cast<long>(c.levels.size())) level[i] = c.levels[l];
+      }
+      names->push_back(c.name);
+      labels->push_back(std::move(level));
+      continue;
+    }
     if (c.kind != CovariateKind::kNumeric || c.level == CovariateLevel::kMeasurement ||
         c.source == CovariateSource::kCell || c.name == cov ||
         (calendar && c.source == CovariateSource::kStartedAt)) {
@@ -297,7 +313,17 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
   std::vector<std::vector<std::string>> labels;
   GuardDimensions(td, st.train, with_term.terms.back().term.covariate, stand, position,
                   roll_type, &names, &labels);
-  const double dims = static_cast<double>(names.size());  // Bonferroni
+  const std::vector<SplitHeterogeneity> split = SplitByPassFactors(st, with_term, w, before, phi);
+  const double dims = static_cast<double>(names.size() + split.size());  // Bonferroni
+  for (const SplitHeterogeneity& s : split) {
+    if (s.p * dims < options.alpha && s.max_dev >= kMaterialScale) {
+      Heterogeneity h;
+      h.group = s.level;
+      h.group_mean_um = s.level_mean_um;
+      return Refused("inconsistent across " + s.factor, s.factor, h, "wald_by_level", s.wald,
+                     s.p, dims);
+    }
+  }
   for (size_t di = 0; di < names.size(); ++di) {
     const char* name = names[di].c_str();
     const std::vector<std::string>* label = &labels[di];

@@ -33,10 +33,12 @@ WeightedValues Collect(const TermData& td, const std::vector<int>& obs, int k);
 // The weighted q-quantile of `w` (NaN when empty).
 double Quantile(const WeightedValues& w, double q);
 
-// Every candidate term over covariates not in `used`.
+// Every candidate term over covariates not in `used`; cells at every
+// place but those of `adopted_cells` (and their twins).
 std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>& train,
                                       const std::set<int>& used,
-                                      const DiagnosisOptions& options);
+                                      const DiagnosisOptions& options,
+                                      const std::vector<TermScope>& adopted_cells = {});
 
 // The unscoped candidates of each covariate on `train`, by catalogue index
 // (built on options.num_threads threads): the part of MakeCandidates that
@@ -48,12 +50,16 @@ std::vector<std::vector<Candidate>> UnscopedCandidates(const TermData& td,
 // MakeCandidates from UnscopedCandidates(td, train, options).
 std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>& train,
                                       const std::set<int>& used,
-                                      const std::vector<std::vector<Candidate>>& unscoped);
+                                      const std::vector<std::vector<Candidate>>& unscoped,
+                                      const std::vector<TermScope>& adopted_cells = {});
 
 // Appends the scoped variants of the simple candidates already in `out`
-// and the cell candidates (diagnosis_scoped.cc).
+// and the cell candidates but those of `adopted_cells` and their twins
+// (diagnosis_scoped.cc).
 void AddScopedCandidates(const TermData& td, const std::vector<int>& train,
-                         const std::set<int>& used, std::vector<Candidate>* out);
+                         const std::set<int>& used,
+                         const std::vector<TermScope>& adopted_cells,
+                         std::vector<Candidate>* out);
 
 // The twin of a cell: when the cell's roll type or grade runs (in the
 // training data) in exactly two places of the cell's kind (two stands, or

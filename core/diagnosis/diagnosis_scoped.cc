@@ -181,6 +181,7 @@ bool TwinCell(const TermData& td, const std::vector<int>& train,
 
 void AddScopedCandidates(const TermData& td, const std::vector<int>& train,
                          const std::set<int>& used,
+                         const std::vector<TermScope>& adopted_cells,
                          std::vector<Candidate>* out) {
   const std::vector<TermScope> scopes = SingleScopes(td, train);
   // Scoped variants of the simple unscoped wear-rate candidates.
@@ -197,7 +198,19 @@ void AddScopedCandidates(const TermData& td, const std::vector<int>& train,
   }
   const int cell = td.CovariateIndex(kCellCovariateName);
   if (cell < 0 || used.count(cell) > 0) return;
+  // Cells already in the model (and their twins, which describe the same
+  // data) are not offered again; every other cell is: a mill can have two
+  // factor combinations the K structure cannot express, and a round
+  // without the cell to compare with names a covariate stand-in for it.
+  const auto adopted = [&](const TermScope& scope) {
+    for (const TermScope& a : adopted_cells) {
+      TermScope twin;
+      if (a == scope || (TwinCell(td, train, a, &twin) && twin == scope)) return true;
+    }
+    return false;
+  };
   for (const TermScope& scope : CellScopes(td, train, scopes)) {
+    if (adopted(scope)) continue;
     Candidate c;
     c.spec.covariate = cell;
     c.spec.term.covariate = kCellCovariateName;

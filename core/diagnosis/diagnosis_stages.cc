@@ -564,7 +564,12 @@ bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
   if (!cur.usable) return false;
   st->current = cur;
   if (st->unscoped.empty()) st->unscoped = UnscopedCandidates(td, st->train, options);
-  const std::vector<Candidate> cands = MakeCandidates(td, st->train, *used, st->unscoped);
+  std::vector<TermScope> adopted_cells;
+  for (const TermSpec& t : st->current.terms) {
+    if (t.term.form == TermForm::kCell) adopted_cells.push_back(t.term.scope);
+  }
+  const std::vector<Candidate> cands =
+      MakeCandidates(td, st->train, *used, st->unscoped, adopted_cells);
   phase->Mark("candidates");
   if (cands.empty()) return false;
   // Screen every candidate with the score test, then refit only the
@@ -607,7 +612,10 @@ bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
   StateReferenceIdentification(reference, &f);
   report->findings.push_back(f);
   phase->Mark("adopt");
-  used->insert(adopted.terms.back().covariate);
+  // One term per covariate; cells stay on offer at the other places.
+  if (adopted.terms.back().term.form != TermForm::kCell) {
+    used->insert(adopted.terms.back().covariate);
+  }
   st->current = adopted;
   return true;
 }

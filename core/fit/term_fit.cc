@@ -636,6 +636,18 @@ std::vector<double> PredictTerms(const TermData& data, const std::vector<int>& s
   return out;
 }
 
+std::vector<double> PredictPassWear(const TermData& data, const std::vector<int>& subset,
+                                    const std::vector<double>& log_k,
+                                    const std::vector<TermSpec>& terms) {
+  TermModel model(data, terms);
+  const std::vector<double> full = FullParams(model, log_k, terms);
+  model.SetParams(full.data());
+  std::vector<double> out(data.load.size(), 0.0);
+  model.set_pass_contributions(&out);
+  for (int o : subset) model.Predict(full.data(), o, nullptr, true);
+  return out;
+}
+
 std::vector<double> TermNoiseSd(const TermData& td, const std::vector<int>& train,
                                 const std::vector<double>& log_k,
                                 const std::vector<TermSpec>& terms, WearModel* noise_out,

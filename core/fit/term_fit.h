@@ -92,6 +92,14 @@ std::vector<double> PredictTerms(const TermData& data, const std::vector<int>& s
                                  const std::vector<TermSpec>& terms,
                                  bool wear_only = false);
 
+// Each pass's wear contribution k_g * load * prod_t m_t (the terms whose
+// scope holds the pass) for the passes of the observations in `subset`,
+// indexed like TermData::load (0 for the other passes). PredictTerms'
+// wear_only value of an observation is the sum over its passes.
+std::vector<double> PredictPassWear(const TermData& data, const std::vector<int>& subset,
+                                    const std::vector<double>& log_k,
+                                    const std::vector<TermSpec>& terms);
+
 // Per-observation sd of every observation from the noise model
 // sigma0^2 + (rho yhat)^2 (wear_model.h) fitted on the residuals of the
 // training observations `train` under (log_k, terms); floored at 1e-6 µm.

@@ -103,7 +103,9 @@ bool DimensionLocates(const std::string& part, const std::string& dimension) {
            dimension == "spread_by_position" || dimension == "effect_by_position" ||
            dimension == "effect_by_stand";
   }
-  return SameCovariate(part, dimension);  // a covariate's own name
+  // A covariate's own name, or the guard's refusal across its levels
+  // ("effect_by_lubrication": a term whose scale differs between them).
+  return SameCovariate(part, dimension) || dimension == "effect_by_" + part;
 }
 
 }  // namespace

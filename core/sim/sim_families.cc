@@ -19,8 +19,10 @@
 //   calendar_drift    wear rate or reading drifting with calendar time
 //   stoppages         stoppages inside campaigns; wear grows with hours
 //   stoppages_null    the same stoppages, no wear effect (must stay quiet)
-//   inexpressible_*   order of grades, temperature x speed interaction,
-//                     autocorrelated roll factor, noise bursts by period
+//   inexpressible_*   order of grades, a covariate effect on dry (or
+//                     lubricated) passes only, temperature x speed
+//                     interaction, autocorrelated roll factor, noise
+//                     bursts by period
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -354,6 +356,26 @@ FamilyEffect InexpressibleOrder(int variant, Random* rng, uint64_t, int) {
   return f;
 }
 
+// inexpressible_lubrication: one of the old covariate effects (temperature,
+// speed, hardness, campaign length: variant k % 4) on the passes rolled
+// without roll-gap lubrication only (variant k / 4 == 1: with it only). The
+// vocabulary scopes a term by stand, position, roll type or grade, never by
+// the lubrication flag: an unscoped term of the covariate fits it with a
+// tiny p-value, and only its scale differing between lubricated and dry
+// passes says it is not the right description. Lives in covariate x
+// lubrication.
+FamilyEffect InexpressibleLubrication(int variant, Random* rng, uint64_t, int) {
+  const int which = variant % 4;
+  const bool on = variant / 4 % 2 == 1;
+  FamilyEffect f = ScopedEffect(
+      "inexpressible_lubrication", which, rng, {},
+      on ? "on lubricated passes" : "on passes rolled without lubrication",
+      [on](const EffectContext& c) { return c.pass->lubrication == on; });
+  f.truth.expressible = false;
+  f.truth.mismatch = std::string(kScopedCovariates[which]) + " x lubrication";
+  return f;
+}
+
 // inexpressible_interaction: temperature x speed with no main effect:
 // m = exp(b zT zv), zT = (900 - T) / 30 K, zv = ln(v / 10) / 0.25.
 FamilyEffect InexpressibleInteraction(int, Random* rng, uint64_t, int) {
@@ -475,6 +497,10 @@ const std::vector<FamilySpec>& Families() {
        "a hard grade right after the roll change wears more (campaign "
        "order x grade); not expressible",
        2, &InexpressibleOrder},
+      {"inexpressible_lubrication",
+       "a covariate effect (temperature, speed, hardness or campaign length) "
+       "on dry (or on lubricated) passes only; not expressible",
+       8, &InexpressibleLubrication},
       {"inexpressible_interaction",
        "temperature x speed interaction without main effects; not "
        "expressible",

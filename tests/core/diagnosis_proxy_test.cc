@@ -342,5 +342,49 @@ TEST(DiagnosisProxyTest,
   EXPECT_EQ(paper.report.findings[0].scope, truth.scope);
 }
 
+// Two factor combinations the K structure cannot express at once: a grade
+// wearing more at one stand and a roll type wearing more at one stand
+// (grade_stand+roll_type_stand, seed 103). Before session 16 one cell per
+// diagnosis was offered: an independent generator's two-cell mills had the
+// second cell named as reduction or contact length on the grade (p 1e-8 to
+// 1e-13 in 8 of 10 seeds). Both must now be named as their cells.
+TEST(DiagnosisProxyTest, TwoCellsAreBothNamedAsCells) {
+  const Diagnosed d = DiagnoseSimulated(103, {"grade_stand", "roll_type_stand"});
+  ASSERT_EQ(d.sim.truth.effects.size(), 2u);
+  ASSERT_EQ(d.report.findings.size(), 2u) << d.report.verdict;
+  for (const SimulatedEffect& truth : d.sim.truth.effects) {
+    const auto f = std::find_if(
+        d.report.findings.begin(), d.report.findings.end(),
+        [&](const Finding& x) { return x.covariate == truth.covariate; });
+    ASSERT_NE(f, d.report.findings.end()) << truth.covariate;
+    EXPECT_EQ(f->form, "cell");
+    EXPECT_EQ(f->scope, truth.scope) << f->explanation;
+    EXPECT_TRUE(Lists(f->levels, truth.levels.at(0))) << f->explanation;
+    EXPECT_NEAR(f->parameters.at("multiplier"), truth.strength, 0.1) << f->explanation;
+  }
+}
+
+// A temperature effect on the passes rolled without lubrication only
+// (inexpressible_lubrication, seed 101): an unscoped temperature term fits
+// it with p = 1e-65, and no scope of the vocabulary is the lubrication
+// flag. The guard splits the term's contribution by the flag of its passes
+// (diagnosis_split.cc): its scale on dry passes differs from that on
+// lubricated ones, so nothing is named and the place is located.
+TEST(DiagnosisProxyTest, AnEffectOnDryPassesOnlyIsLocatedNotNamedEverywhere) {
+  const Diagnosed d = DiagnoseSimulated(101, {"inexpressible_lubrication"});
+  const SimulatedEffect& truth = d.sim.truth.effects.at(0);
+  ASSERT_EQ(truth.covariate, "temperature_c");
+  ASSERT_NE(truth.description.find("without lubrication"), std::string::npos);
+  EXPECT_EQ(d.report.verdict, "mismatch_located_unexplained");
+  EXPECT_TRUE(d.report.findings.empty());
+  EXPECT_TRUE(RefusedBecause(d.report, "temperature_c", "inconsistent across lubrication"));
+  const auto u = std::find_if(
+      d.report.unexplained.begin(), d.report.unexplained.end(),
+      [](const Unexplained& x) { return x.dimension == "effect_by_lubrication"; });
+  ASSERT_NE(u, d.report.unexplained.end());
+  EXPECT_EQ(u->where, "lubrication=off");
+  EXPECT_LT(u->p_adjusted, 1e-10);
+}
+
 }  // namespace
 }  // namespace rollwear

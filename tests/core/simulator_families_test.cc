@@ -394,6 +394,28 @@ TEST(SimulatorFamilyTest, StoppagesPartHoursFromLength) {
   }
 }
 
+// A covariate effect on lubricated passes only: rolls of campaigns rolled
+// dry are untouched, mostly lubricated ones change; the truth says it
+// lives in temperature x lubrication and that no term describes it.
+TEST(SimulatorFamilyTest, LubricationScopedEffectActsOnItsPassesOnly) {
+  const Simulation sim = Simulated(38, 80, {"inexpressible_lubrication:4"});
+  const SimulatedEffect& e = OnlyEffect(sim);
+  EXPECT_FALSE(e.expressible);
+  EXPECT_EQ(e.mismatch, "temperature_c x lubrication");
+  int untouched = 0, changed = 0;
+  for (const Row& r :
+       Rows(sim, [](const Pass& p, const Mount&) { return p.lubrication; })) {
+    if (r.share == 0) {
+      EXPECT_NEAR(r.noise_free / r.baseline, 1, 1e-9);
+      ++untouched;
+    } else if (r.share > 0.5) {
+      changed += std::abs(r.noise_free / r.baseline - 1) > 0.01;
+    }
+  }
+  EXPECT_GT(untouched, 20);
+  EXPECT_GT(changed, 10);
+}
+
 TEST(SimulatorFamilyTest, InexpressibleEffectsSayWhereTheMismatchLives) {
   for (const char* name :
        {"inexpressible_order", "inexpressible_interaction",

@@ -227,6 +227,19 @@ TEST(ScorecardTest, InexpressibleNeedsTheRightLocation) {
                   .named_right);
   EXPECT_FALSE(ScoreCase("inexpressible_bursts", 1, Unexplained1("dominant_grade"), bursts)
                    .named_right);
+
+  // A covariate effect on dry passes only: located by the guard's refusal
+  // across the lubrication flag, or along the covariate; not by a grade.
+  const ScoreTruth dry = Truth({{"inexpressible_lubrication", "", {}, {}, false,
+                                 "temperature_c x lubrication"}});
+  EXPECT_TRUE(ScoreCase("inexpressible_lubrication", 1,
+                        Unexplained1("effect_by_lubrication"), dry)
+                  .named_right);
+  EXPECT_TRUE(ScoreCase("inexpressible_lubrication", 1, Unexplained1("temperature_c"), dry)
+                  .named_right);
+  EXPECT_FALSE(ScoreCase("inexpressible_lubrication", 1,
+                         Unexplained1("effect_by_grade"), dry)
+                   .named_right);
 }
 
 TEST(ScorecardTest, MismatchPartsSplitAtCrossAndBy) {
