@@ -6,6 +6,7 @@
 // sd's, each residual is first clipped to +-kHuberK sd (Huber's psi,
 // robust.h), so a few gross grinder errors cannot locate a mismatch.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -98,6 +99,32 @@ std::vector<std::string> Quartiles(const std::vector<double>& x, std::vector<std
   return out;
 }
 
+// Time of day (UTC) of each observation's load: the 6-hour block holding
+// most of it (a pass is rolled at started_at + hours_since_mount / 24 days).
+// A night shift that rolls otherwise (a crew, the cooling water's
+// temperature) lives here, and no recorded quantity follows it.
+constexpr std::array<const char*, 4> kDayBlocks = {"00-06 h UTC", "06-12 h UTC",
+                                                   "12-18 h UTC", "18-24 h UTC"};
+std::vector<std::string> TimeOfDay(const TermData& td, const std::vector<int>& obs) {
+  std::vector<std::string> block(obs.size(), "?");
+  const int k_day = td.CovariateIndex("started_at");
+  const int k_hours = td.CovariateIndex("hours_since_mount");
+  if (k_day < 0 || k_hours < 0) return block;
+  for (size_t i = 0; i < obs.size(); ++i) {
+    const TermObservation& o = td.obs[obs[i]];
+    std::array<double, 4> load{};
+    for (int p = o.pass_begin; p < o.pass_end; ++p) {
+      const double day = td.z[k_day][p] + td.z[k_hours][p] / 24;
+      if (!std::isfinite(day)) continue;
+      const double hour = (day - std::floor(day)) * 24;
+      load[std::clamp(static_cast<int>(hour / 6), 0, 3)] += td.load[p];
+    }
+    const auto most = std::max_element(load.begin(), load.end());
+    if (*most > 0) block[i] = kDayBlocks[most - load.begin()];
+  }
+  return block;
+}
+
 }  // namespace
 
 std::vector<Breakdown> Locate(const TermData& td, const Dataset& data,
@@ -143,6 +170,8 @@ std::vector<Breakdown> Locate(const TermData& td, const Dataset& data,
   order.clear();
   q = Quartiles(time, &order);
   out.push_back(AnovaBreakdown("time_started_at_days", q, resid, rel, order));
+  out.push_back(AnovaBreakdown("time_of_day", TimeOfDay(td, obs), resid, rel,
+                               {kDayBlocks.begin(), kDayBlocks.end()}));
   // Numeric covariates: correlation with the relative residual.
   for (size_t k = 0; k < td.catalog.size(); ++k) {
     if (td.catalog[k].kind == CovariateKind::kFactor) continue;

@@ -72,6 +72,7 @@ bool StartsWith(const std::string& s, const std::string& prefix) {
 // Whether residual check `dimension` (Unexplained::dimension) looks at the
 // place one part of a truth's location names (MismatchParts).
 bool DimensionLocates(const std::string& part, const std::string& dimension) {
+  if (part.find("time of day") != std::string::npos) return dimension == "time_of_day";
   const bool time = part.find("time") != std::string::npos ||
                     part.find("calendar") != std::string::npos;
   if (time) {

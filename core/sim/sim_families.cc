@@ -20,7 +20,7 @@
 //   stoppages         stoppages inside campaigns; wear grows with hours
 //   stoppages_null    the same stoppages, no wear effect (must stay quiet)
 //   inexpressible_*   order of grades, a covariate effect on dry (or
-//                     lubricated) passes only, temperature x speed
+//                     lubricated) passes only, a night shift, temperature x speed
 //                     interaction, autocorrelated roll factor, noise
 //                     bursts by period
 #include <array>
@@ -376,6 +376,29 @@ FamilyEffect InexpressibleLubrication(int variant, Random* rng, uint64_t, int) {
   return f;
 }
 
+// inexpressible_night_shift: coils rolled between 22:00 and 06:00 (UTC)
+// wear x(1 + s), s 0.15..0.35 (variant 0), or x1/(1 + s) (variant 1): a
+// night crew, the cooling water's temperature at night. Only the time of
+// day follows it, which no term of the vocabulary is about.
+FamilyEffect InexpressibleNightShift(int variant, Random* rng, uint64_t, int) {
+  const bool more = variant % 2 == 0;
+  const double s = rng->Uniform(0.15, 0.35);
+  FamilyEffect f = Inexpressible("inexpressible_night_shift",
+                                 more ? "x(1 + s) 22-06 h" : "x1/(1 + s) 22-06 h", s,
+                                 "time of day");
+  f.truth.parameters = {{"s", s}};
+  f.truth.description = std::string("coils rolled between 22:00 and 06:00 wear ") +
+                        (more ? "more" : "less") + " (a factor " +
+                        Fmt("%.2f", more ? 1 + s : 1 / (1 + s)) +
+                        "); no recorded quantity but the time of day follows it";
+  const double m = more ? 1 + s : 1 / (1 + s);
+  f.apply = [m](const EffectContext& c) {
+    const int64_t hour = (c.pass->rolled_at % 86400 + 86400) % 86400 / 3600;
+    return hour >= 22 || hour < 6 ? m : 1.0;
+  };
+  return f;
+}
+
 // inexpressible_interaction: temperature x speed with no main effect:
 // m = exp(b zT zv), zT = (900 - T) / 30 K, zv = ln(v / 10) / 0.25.
 FamilyEffect InexpressibleInteraction(int, Random* rng, uint64_t, int) {
@@ -501,6 +524,9 @@ const std::vector<FamilySpec>& Families() {
        "a covariate effect (temperature, speed, hardness or campaign length) "
        "on dry (or on lubricated) passes only; not expressible",
        8, &InexpressibleLubrication},
+      {"inexpressible_night_shift",
+       "coils rolled at night (22-06 h) wear more or less; not expressible",
+       2, &InexpressibleNightShift},
       {"inexpressible_interaction",
        "temperature x speed interaction without main effects; not "
        "expressible",

@@ -386,5 +386,22 @@ TEST(DiagnosisProxyTest, AnEffectOnDryPassesOnlyIsLocatedNotNamedEverywhere) {
   EXPECT_LT(u->p_adjusted, 1e-10);
 }
 
+// Coils rolled at night (22-06 h UTC) wearing more (inexpressible_night_shift,
+// seed 101): no recorded quantity but the time of day follows it. Before
+// session 16 the answer was `no_significant_mismatch` with the validation
+// gap far above the noise floor; now the time of day is a breakdown of its
+// own (diagnosis_locate.cc) and the night block is where it lives.
+TEST(DiagnosisProxyTest, ANightShiftIsLocatedAtTheTimeOfDay) {
+  const Diagnosed d = DiagnoseSimulated(101, {"inexpressible_night_shift:0"});
+  EXPECT_EQ(d.report.verdict, "mismatch_located_unexplained");
+  EXPECT_TRUE(d.report.findings.empty());
+  ASSERT_FALSE(d.report.unexplained.empty());
+  const Unexplained& u = d.report.unexplained.front();  // strongest first
+  EXPECT_EQ(u.dimension, "time_of_day");
+  EXPECT_EQ(u.where, "time_of_day=00-06 h UTC");
+  EXPECT_GT(u.mean_residual_um, 10.0);  // the night wears more
+  EXPECT_LT(u.p_adjusted, 1e-10);
+}
+
 }  // namespace
 }  // namespace rollwear

@@ -416,6 +416,30 @@ TEST(SimulatorFamilyTest, LubricationScopedEffectActsOnItsPassesOnly) {
   EXPECT_GT(changed, 10);
 }
 
+// The night shift changes the passes rolled 22-06 h UTC only: a roll whose
+// passes were all rolled by day is untouched.
+TEST(SimulatorFamilyTest, NightShiftActsOnNightPassesOnly) {
+  const Simulation sim = Simulated(39, 80, {"inexpressible_night_shift:0"});
+  const SimulatedEffect& e = OnlyEffect(sim);
+  EXPECT_FALSE(e.expressible);
+  EXPECT_EQ(e.mismatch, "time of day");
+  int day = 0, night = 0;
+  for (const Row& r : Rows(sim, [](const Pass& p, const Mount&) {
+         const int64_t hour = p.rolled_at % 86400 / 3600;
+         return hour >= 22 || hour < 6;
+       })) {
+    if (r.share == 0) {
+      EXPECT_NEAR(r.noise_free / r.baseline, 1, 1e-9);
+      ++day;
+    } else if (r.share == 1) {
+      EXPECT_NEAR(r.noise_free / r.baseline, 1 + e.strength, 1e-9);
+      ++night;
+    }
+  }
+  EXPECT_GT(day, 20);
+  EXPECT_GT(night, 20);
+}
+
 TEST(SimulatorFamilyTest, InexpressibleEffectsSayWhereTheMismatchLives) {
   for (const char* name :
        {"inexpressible_order", "inexpressible_interaction",
