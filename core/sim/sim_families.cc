@@ -20,7 +20,8 @@
 //   stoppages         stoppages inside campaigns; wear grows with hours
 //   stoppages_null    the same stoppages, no wear effect (must stay quiet)
 //   inexpressible_*   order of grades, a covariate effect on dry (or
-//                     lubricated) passes only, a night shift, temperature x speed
+//                     lubricated) passes only, a night shift, bad rolls
+//                     (by serial), temperature x speed
 //                     interaction, autocorrelated roll factor, noise
 //                     bursts by period
 #include <array>
@@ -399,6 +400,27 @@ FamilyEffect InexpressibleNightShift(int variant, Random* rng, uint64_t, int) {
   return f;
 }
 
+// inexpressible_bad_rolls: about one physical roll in ten (picked by its
+// serial, roll_id, with a salt drawn from the seed) wears x(1.25..1.45)
+// whenever it is mounted, while its recorded hardness and diameter are
+// those of its type (a bad heat treatment). Nothing recorded but the
+// serial follows it.
+FamilyEffect InexpressibleBadRolls(int, Random* rng, uint64_t, int) {
+  const double m = rng->Uniform(1.25, 1.45);
+  const uint64_t salt = rng->Below(1u << 30);
+  FamilyEffect f = Inexpressible("inexpressible_bad_rolls", "multiplier", m, "roll_id");
+  f.truth.parameters = {{"multiplier", m}};
+  f.truth.description = "about one roll in ten (by serial) wears " + Fmt("%.2f", m) +
+                        " times the wear law whenever mounted; its hardness and "
+                        "diameter are as recorded";
+  f.apply = [m, salt](const EffectContext& c) {
+    uint64_t h = 14695981039346656037ull ^ salt;  // FNV-1a of the serial
+    for (char ch : c.mount->roll_id) h = (h ^ static_cast<unsigned char>(ch)) * 1099511628211ull;
+    return (h >> 17) % 10 == 0 ? m : 1.0;
+  };
+  return f;
+}
+
 // inexpressible_interaction: temperature x speed with no main effect:
 // m = exp(b zT zv), zT = (900 - T) / 30 K, zv = ln(v / 10) / 0.25.
 FamilyEffect InexpressibleInteraction(int, Random* rng, uint64_t, int) {
@@ -527,6 +549,10 @@ const std::vector<FamilySpec>& Families() {
       {"inexpressible_night_shift",
        "coils rolled at night (22-06 h) wear more or less; not expressible",
        2, &InexpressibleNightShift},
+      {"inexpressible_bad_rolls",
+       "about one physical roll in ten wears more whenever mounted; not "
+       "expressible",
+       1, &InexpressibleBadRolls},
       {"inexpressible_interaction",
        "temperature x speed interaction without main effects; not "
        "expressible",

@@ -433,6 +433,28 @@ TEST(SimulatorFamilyTest, NightShiftActsOnNightPassesOnly) {
   EXPECT_GE(changed, all_night);
 }
 
+// Bad rolls: each physical roll either carries the multiplier on every
+// reading or on none, and about one in ten does.
+TEST(SimulatorFamilyTest, BadRollsWearMoreWheneverMounted) {
+  const Simulation sim = Simulated(40, 200, {"inexpressible_bad_rolls"});
+  const SimulatedEffect& e = OnlyEffect(sim);
+  EXPECT_EQ(e.mismatch, "roll_id");
+  std::map<std::string, std::set<bool>> bad;
+  for (const Row& r : Rows(sim, [](const Pass&, const Mount&) { return true; })) {
+    const double ratio = r.noise_free / r.baseline;
+    const bool more = std::abs(ratio - e.strength) < 1e-9;
+    EXPECT_TRUE(more || std::abs(ratio - 1) < 1e-9) << ratio;
+    bad[r.mount->roll_id].insert(more);
+  }
+  int num_bad = 0;
+  for (const auto& [id, kinds] : bad) {
+    EXPECT_EQ(kinds.size(), 1u) << id;
+    num_bad += kinds.count(true) > 0;
+  }
+  EXPECT_GE(num_bad, 2);
+  EXPECT_LE(num_bad, static_cast<int>(bad.size()) / 4);
+}
+
 TEST(SimulatorFamilyTest, InexpressibleEffectsSayWhereTheMismatchLives) {
   for (const char* name :
        {"inexpressible_order", "inexpressible_interaction",
