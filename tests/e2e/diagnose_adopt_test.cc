@@ -2,7 +2,8 @@
 // holding a simulated mill with a concealed effect the new vocabulary
 // describes, POST /v1/diagnoses with adoption, then:
 //  - the adopted model version (GET /v1/models/{v}) carries the finding's
-//    term with its scope (a scoped covariate term, or a factor cell), or
+//    term with its scope (a scoped covariate term, a factor cell, or two
+//    cells at once), or
 //    the grinder's offset_per_level term with its
 //    level labels and reference level;
 //  - the wear of a campaign rolled after the adoption (GET /v1/wear, the
@@ -193,6 +194,30 @@ TEST_F(DiagnoseAdoptTest, FactorCellIsAdoptedAndServedAsInBatch) {
   EXPECT_EQ(term.value("form", ""), "cell");
   EXPECT_EQ(term["scope"], json({{"roll_type", "ICDP-S1"}, {"stand", "F7"}}))
       << term.dump();
+  ExpectNewCampaignWearMatchesOffline(model);
+}
+
+// Two cells at once (session 16: a cell no longer ends the offer of
+// cells): roll type ICDP-S1 and grade S355 each wearing more at F7 (seed 4,
+// 150 campaigns). Both findings are adopted as two cell terms of one model
+// version, and the next campaign is served as the batch prediction.
+TEST_F(DiagnoseAdoptTest, TwoCellsAreAdoptedTogetherAndServedAsInBatch) {
+  const json model = AdoptFromDiagnosis("grade_stand,roll_type_stand", 4, 150);
+  ASSERT_TRUE(model.is_object());
+  ASSERT_EQ(report_["findings"].size(), 2u) << report_["findings"].dump();
+  ASSERT_EQ(model["terms"].size(), 2u) << model.dump();
+  std::map<std::string, json> scope_by_covariate;
+  for (const json& f : report_["findings"]) {
+    EXPECT_EQ(f.value("form", ""), "cell") << f.dump();
+    EXPECT_EQ(f["scope"], json({{"stand", "F7"}})) << f.dump();
+    scope_by_covariate[f.value("covariate", "")] = f["levels"];
+  }
+  EXPECT_EQ(scope_by_covariate["roll_type"], json::array({"ICDP-S1"}));
+  EXPECT_EQ(scope_by_covariate["grade"], json::array({"S355"}));
+  for (const json& term : model["terms"]) {
+    EXPECT_EQ(term.value("form", ""), "cell") << term.dump();
+    EXPECT_EQ(term["scope"].value("stand", ""), "F7") << term.dump();
+  }
   ExpectNewCampaignWearMatchesOffline(model);
 }
 
