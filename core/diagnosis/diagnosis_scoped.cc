@@ -110,18 +110,20 @@ namespace {
 std::vector<TermScope> CellScopes(const TermData& td,
                                   const std::vector<int>& train,
                                   const std::vector<TermScope>& single) {
-  std::vector<TermScope> where_stand, where_pos, what;
+  std::vector<TermScope> where_stand, where_pos, where_roll, what;
   for (const TermScope& s : single) {
     if (s.stand > 0 && s.position < 0) {
       where_stand.push_back(s);
     } else if (s.stand == 0 && s.position >= 0) {
       where_pos.push_back(s);
+    } else if (s.stand > 0 && s.position >= 0) {
+      where_roll.push_back(s);
     } else if (!s.roll_type.empty() || !s.grade.empty()) {
       what.push_back(s);
     }
   }
   std::vector<TermScope> out;
-  for (const std::vector<TermScope>* where : {&where_stand, &where_pos}) {
+  for (const std::vector<TermScope>* where : {&where_stand, &where_pos, &where_roll}) {
     for (const TermScope& b : what) {
       std::vector<std::pair<int, TermScope>> cells;
       int total = 0;

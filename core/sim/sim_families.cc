@@ -14,6 +14,7 @@
 //   scoped_factor     a covariate effect on one grade or one roll type
 //   grade_stand       one grade wears one stand (mostly the last) more
 //   roll_type_stand   one roll type wears more at one stand only
+//   grade_roll_position one grade wears one roll position more
 //   grinder           a text column of measurements.csv; one level reads low
 //   grinder_null      the same column, no offset (must stay quiet)
 //   calendar_drift    wear rate or reading drifting with calendar time
@@ -175,6 +176,33 @@ FamilyEffect GradeStand(int variant, Random* rng, uint64_t, int) {
                         " more; other stands and grades as Wang's law";
   f.apply = [grade, stand, m](const EffectContext& c) {
     return c.grade == grade && c.pass->stand == stand ? m : 1.0;
+  };
+  return f;
+}
+
+// grade_roll_position: one grade wears one roll position more (x1.2..1.5):
+// variant k: grade k % 4 of S355, HSLA350, CQ, HSLA420; F7/bottom for
+// k / 4 even, F6/top otherwise. The other roll position of the stand, and
+// the other stand, follow the wear law.
+FamilyEffect GradeRollPosition(int variant, Random* rng, uint64_t, int) {
+  static const int kGrades[] = {2, 3, 0, 4};
+  const int grade = kGrades[variant % 4];
+  const bool f7_bottom = variant / 4 % 2 == 0;
+  const int stand = f7_bottom ? 7 : 6;
+  const Position position = f7_bottom ? Position::kBottom : Position::kTop;
+  const double m = rng->Uniform(1.2, 1.5);
+  FamilyEffect f = Base("grade_roll_position", "grade", "multiplier", m);
+  f.truth.scope = {{"stand", "F" + std::to_string(stand)},
+                   {"position", PositionName(position)}};
+  f.truth.levels = {Grades()[grade].label};
+  f.truth.parameters = {{"multiplier", m}};
+  f.truth.description = std::string("grade ") + Grades()[grade].label +
+                        " wears the " + PositionName(position) + " work roll of F" +
+                        std::to_string(stand) + " by a factor " + Fmt("%.2f", m) +
+                        " more; other roll positions and grades as Wang's law";
+  const int slot = SimSlot(stand, position);
+  f.apply = [grade, slot, m](const EffectContext& c) {
+    return c.grade == grade && c.slot == slot ? m : 1.0;
   };
   return f;
 }
@@ -522,6 +550,10 @@ const std::vector<FamilySpec>& Families() {
        &GradeStand},
       {"roll_type_stand", "one roll type wears x1.2..1.5 more at one stand", 8,
        &RollTypeStand},
+      {"grade_roll_position",
+       "one grade wears one roll position (F7/bottom or F6/top) x1.2..1.5 "
+       "more",
+       8, &GradeRollPosition},
       {"grinder",
        "a text column of measurements.csv (grinder/gauge/crew); one level "
        "reads 8..25 um low",

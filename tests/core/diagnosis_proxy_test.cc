@@ -433,5 +433,15 @@ TEST(DiagnosisProxyTest, ABadRollIsLocatedAtItsSerial) {
   EXPECT_GE(readings, 5);
 }
 
+// A grade wearing more at one roll position only (grade_roll_position,
+// seed 102: S355 at F6/top). Before session 16 the cells were (stand or
+// position) x (roll type or grade); an independent generator's grade at
+// F7/bottom was named as the grade's cell on every bottom roll (p 9.5e-6)
+// in one seed of ten. Roll-position cells are offered now: the cell must
+// be named at its roll position, multiplier within 0.1.
+TEST(DiagnosisProxyTest, AGradeAtOneRollPositionIsNamedAsThatCell) {
+  ExpectCellNamed(DiagnoseSimulated(102, {"grade_roll_position"}));
+}
+
 }  // namespace
 }  // namespace rollwear

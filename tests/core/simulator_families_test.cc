@@ -455,6 +455,27 @@ TEST(SimulatorFamilyTest, BadRollsWearMoreWheneverMounted) {
   EXPECT_LE(num_bad, static_cast<int>(bad.size()) / 4);
 }
 
+// grade_roll_position (variant 0: S355 at F7/bottom): only the readings of
+// that roll position with S355 passes change, the others are Wang's law.
+TEST(SimulatorFamilyTest, GradeRollPositionActsAtItsRollPositionOnly) {
+  const Simulation sim = Simulated(41, 80, {"grade_roll_position:0"});
+  const SimulatedEffect& e = OnlyEffect(sim);
+  EXPECT_EQ(e.covariate, "grade");
+  EXPECT_EQ(e.scope,
+            (std::map<std::string, std::string>{{"stand", "F7"}, {"position", "bottom"}}));
+  ASSERT_EQ(e.levels, std::vector<std::string>{"S355"});
+  const int s355 = static_cast<int>(
+      std::find(sim.data.grades.begin(), sim.data.grades.end(), "S355") -
+      sim.data.grades.begin());
+  const auto [untouched, changed] = UntouchedAndChanged(
+      Rows(sim, [s355](const Pass& p, const Mount&) { return p.grade == s355; }),
+      [](const Row& r) {
+        return r.share > 0 && r.m->stand == 7 && r.m->position == Position::kBottom;
+      });
+  EXPECT_GT(untouched, 3 * changed);  // three other roll positions
+  EXPECT_GT(changed, 20);
+}
+
 TEST(SimulatorFamilyTest, InexpressibleEffectsSayWhereTheMismatchLives) {
   for (const char* name :
        {"inexpressible_order", "inexpressible_interaction",
