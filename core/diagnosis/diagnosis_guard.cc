@@ -313,13 +313,13 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
   std::vector<std::vector<std::string>> labels;
   GuardDimensions(td, st.train, with_term.terms.back().term.covariate, stand, position,
                   roll_type, &names, &labels);
-  const std::vector<SplitHeterogeneity> split = SplitByPassFactors(st, with_term, w, before, phi);
+  const std::vector<SplitHeterogeneity> split = SplitByPassFactors(st, with_term, w, phi);
   const double dims = static_cast<double>(names.size() + split.size());  // Bonferroni
   for (const SplitHeterogeneity& s : split) {
     if (s.p * dims < options.alpha && s.max_dev >= kMaterialScale) {
       Heterogeneity h;
       h.group = s.level;
-      h.group_mean_um = s.level_mean_um;
+      h.group_mean_um = s.level_size_um;  // the effect's size there
       return Refused("inconsistent across " + s.factor, s.factor, h, "wald_by_level", s.wald,
                      s.p, dims);
     }

@@ -68,140 +68,186 @@ std::vector<PassFactor> PassFactors(const TermData& td, const std::string& cov) 
   return out;
 }
 
+// Level l of pass p, or num_levels (pooled) for a pass without one.
+int LevelOf(const PassFactor& f, int p) {
+  const int n = static_cast<int>(f.labels.size());
+  return f.level[p] < 0 || f.level[p] >= n ? n : f.level[p];
+}
+
+// The term's per-pass contribution d = c1 - c0 and prediction c0 (per pass).
+struct PassSplit {
+  const std::vector<double>& c0;
+  const std::vector<double>& c1;
+};
+
+// Each level's column (-1: pooled) and the tested levels' labels: a level
+// is tested when it carries >= kMinLevelShare of the term's |D| in >=
+// kMinLevelReadings readings.
+std::vector<int> TestedColumns(const TermData& td, const std::vector<int>& train,
+                               const PassFactor& f, const PassSplit& c,
+                               std::vector<std::string>* tested) {
+  const int num_levels = static_cast<int>(f.labels.size());
+  std::vector<double> abs_d(num_levels + 1, 0.0);
+  std::vector<int> reach(num_levels + 1, 0);
+  double total = 0;
+  for (int o : train) {
+    const TermObservation& ob = td.obs[o];
+    std::vector<char> seen(num_levels + 1, 0);
+    for (int p = ob.pass_begin; p < ob.pass_end; ++p) {
+      const int l = LevelOf(f, p);
+      const double d = std::abs(c.c1[p] - c.c0[p]);
+      abs_d[l] += d;
+      total += d;
+      if (d > 0 && !seen[l]) {
+        seen[l] = 1;
+        ++reach[l];
+      }
+    }
+  }
+  std::vector<int> column(num_levels + 1, -1);
+  if (!(total > 0)) return column;
+  for (int l = 0; l < num_levels; ++l) {
+    if (abs_d[l] >= kMinLevelShare * total && reach[l] >= kMinLevelReadings) {
+      column[l] = static_cast<int>(tested->size());
+      tested->push_back(f.labels[l]);
+    }
+  }
+  return column;
+}
+
+// The Wald test of equal b over the tested levels: W, p, the largest
+// |b_l - b_bar| and the level with the largest |b_l|.
+void WaldEqual(const Eigen::VectorXd& b, const Eigen::MatrixXd& v,
+               const std::vector<std::string>& tested, SplitHeterogeneity* h) {
+  const Eigen::Index k = b.size();
+  Eigen::MatrixXd contrast = Eigen::MatrixXd::Zero(k - 1, k);
+  for (Eigen::Index r = 0; r + 1 < k; ++r) {
+    contrast(r, r) = 1;
+    contrast(r, r + 1) = -1;
+  }
+  const Eigen::VectorXd cb = contrast * b;
+  const Eigen::MatrixXd cvc = contrast * v * contrast.transpose();
+  h->wald = cb.dot(cvc.ldlt().solve(cb));
+  h->levels = static_cast<int>(k);
+  h->p = ChiSquareSurvival(std::max(0.0, h->wald), static_cast<double>(k - 1));
+  double sum_wb = 0, sum_w = 0;
+  for (Eigen::Index r = 0; r < k; ++r) {
+    sum_wb += b(r) / v(r, r);
+    sum_w += 1 / v(r, r);
+  }
+  const double b_bar = sum_wb / sum_w;
+  Eigen::Index largest = 0;
+  for (Eigen::Index r = 0; r < k; ++r) {
+    h->max_dev = std::max(h->max_dev, std::abs(b(r) - b_bar));
+    if (std::abs(b(r)) > std::abs(b(largest))) largest = r;
+  }
+  h->level = tested[largest];
+  h->scale = b(largest);
+}
+
+// The WLS fit e ~ sum_l a_l P_l + sum_l b_l D_l over the training readings
+// (columns: P of each tested level and the pool, then D likewise) and the
+// Wald test of its tested b_l; false when the design is not of full rank.
+bool FitLevelScales(const DiagnosisState& st, const PassFactor& f, const PassSplit& c,
+                    const std::vector<int>& column, const std::vector<std::string>& tested,
+                    const std::vector<double>& e, const std::vector<double>& w, double phi,
+                    SplitHeterogeneity* h) {
+  const TermData& td = st.td;
+  const auto n = static_cast<Eigen::Index>(st.train.size());
+  const int k = static_cast<int>(tested.size());
+  const int cols = k + 1;  // + the pool
+  Eigen::MatrixXd x = Eigen::MatrixXd::Zero(n, 2 * cols);
+  Eigen::VectorXd y(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const TermObservation& ob = td.obs[st.train[i]];
+    const double sw = std::sqrt(w[i]);
+    for (int p = ob.pass_begin; p < ob.pass_end; ++p) {
+      const int l = column[LevelOf(f, p)];
+      const int j = l < 0 ? k : l;
+      x(i, j) += sw * c.c0[p];
+      x(i, cols + j) += sw * (c.c1[p] - c.c0[p]);
+    }
+    y(i) = sw * e[i];
+  }
+  // Empty columns (a pool without passes) out, then full rank required.
+  std::vector<int> keep;
+  for (int j = 0; j < 2 * cols; ++j) {
+    if (x.col(j).squaredNorm() > 0) keep.push_back(j);
+  }
+  Eigen::MatrixXd xk(n, static_cast<Eigen::Index>(keep.size()));
+  std::vector<Eigen::Index> at(k, -1);  // tested levels' D columns in xk
+  for (size_t j = 0; j < keep.size(); ++j) {
+    xk.col(static_cast<Eigen::Index>(j)) = x.col(keep[j]);
+    if (keep[j] >= cols && keep[j] < cols + k) at[keep[j] - cols] = static_cast<Eigen::Index>(j);
+  }
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(xk);
+  qr.setThreshold(1e-10);
+  if (qr.rank() < xk.cols() ||
+      std::any_of(at.begin(), at.end(), [](Eigen::Index a) { return a < 0; })) {
+    return false;
+  }
+  const Eigen::VectorXd beta = qr.solve(y);
+  const Eigen::MatrixXd inv = (xk.transpose() * xk).inverse();
+  Eigen::VectorXd b(k);
+  Eigen::MatrixXd v(k, k);
+  for (int r = 0; r < k; ++r) {
+    b(r) = beta(at[r]);
+    for (int q = 0; q < k; ++q) v(r, q) = phi * inv(at[r], at[q]);
+  }
+  WaldEqual(b, v, tested, h);
+  return std::isfinite(h->wald);
+}
+
+// The size of the effect on a level's passes: the root mean square of
+// b_l * D_il over the readings its passes reach (the shape is what differs
+// between the levels, so a mean residual would say little), with the sign
+// of its mean.
+double LevelEffectSize(const DiagnosisState& st, const PassFactor& f, const PassSplit& c,
+                       const std::vector<int>& column, int tested_level, double scale) {
+  double sum = 0, sum2 = 0;
+  int n = 0;
+  for (int o : st.train) {
+    const TermObservation& ob = st.td.obs[o];
+    double d = 0;
+    for (int p = ob.pass_begin; p < ob.pass_end; ++p) {
+      if (column[LevelOf(f, p)] == tested_level) d += scale * (c.c1[p] - c.c0[p]);
+    }
+    if (d == 0) continue;
+    sum += d;
+    sum2 += d * d;
+    ++n;
+  }
+  if (n == 0) return 0;
+  return std::copysign(std::sqrt(sum2 / n), sum);
+}
+
 }  // namespace
 
 std::vector<SplitHeterogeneity> SplitByPassFactors(const DiagnosisState& st,
                                                    const Fitted& with_term,
                                                    const std::vector<double>& w,
-                                                   const std::vector<double>& before,
                                                    double phi) {
   const TermData& td = st.td;
   std::vector<TermSpec> without = with_term.terms;
   without.pop_back();
   const std::vector<double> c1 = PredictPassWear(td, st.train, with_term.log_k, with_term.terms);
   const std::vector<double> c0 = PredictPassWear(td, st.train, with_term.log_k, without);
+  const PassSplit c{c0, c1};
   // e_i: the residual without the term (measurement terms included).
   const std::vector<double> p0 = PredictTerms(td, st.train, with_term.log_k, without);
-  const size_t n = st.train.size();
+  std::vector<double> e(st.train.size());
+  for (size_t i = 0; i < e.size(); ++i) e[i] = td.obs[st.train[i]].measured_um - p0[i];
   std::vector<SplitHeterogeneity> out;
   for (const PassFactor& f : PassFactors(td, with_term.terms.back().term.covariate)) {
-    const int num_levels = static_cast<int>(f.labels.size());
-    // Per level: |D| and the readings it reaches.
-    std::vector<double> abs_d(num_levels + 1, 0.0);
-    std::vector<int> reach(num_levels + 1, 0);
-    double total = 0;
-    for (size_t i = 0; i < n; ++i) {
-      const TermObservation& ob = td.obs[st.train[i]];
-      std::vector<char> seen(num_levels + 1, 0);
-      for (int p = ob.pass_begin; p < ob.pass_end; ++p) {
-        const int l = f.level[p] < 0 || f.level[p] >= num_levels ? num_levels : f.level[p];
-        const double d = std::abs(c1[p] - c0[p]);
-        abs_d[l] += d;
-        total += d;
-        if (d > 0 && !seen[l]) {
-          seen[l] = 1;
-          ++reach[l];
-        }
-      }
-    }
-    if (!(total > 0)) continue;
-    // Tested levels get a column each; the rest is pooled (last column).
-    std::vector<int> column(num_levels + 1, -1);
     std::vector<std::string> tested;
-    for (int l = 0; l < num_levels; ++l) {
-      if (abs_d[l] >= kMinLevelShare * total && reach[l] >= kMinLevelReadings) {
-        column[l] = static_cast<int>(tested.size());
-        tested.push_back(f.labels[l]);
-      }
-    }
-    const int k = static_cast<int>(tested.size());
-    if (k < 2) continue;
-    const int cols = k + 1;  // + "other"
-    for (int l = 0; l <= num_levels; ++l) {
-      if (column[l] < 0) column[l] = k;
-    }
-    Eigen::MatrixXd x = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(n), 2 * cols);
-    Eigen::VectorXd y(static_cast<Eigen::Index>(n));
-    for (size_t i = 0; i < n; ++i) {
-      const TermObservation& ob = td.obs[st.train[i]];
-      const double sw = std::sqrt(w[i]);
-      for (int p = ob.pass_begin; p < ob.pass_end; ++p) {
-        const int l = f.level[p] < 0 || f.level[p] >= num_levels ? num_levels : f.level[p];
-        const int c = column[l];
-        x(static_cast<Eigen::Index>(i), c) += sw * c0[p];
-        x(static_cast<Eigen::Index>(i), cols + c) += sw * (c1[p] - c0[p]);
-      }
-      y(static_cast<Eigen::Index>(i)) = sw * (ob.measured_um - p0[i]);
-    }
-    // Drop empty columns (an "other" with no passes), then require full rank.
-    std::vector<int> keep;
-    for (int j = 0; j < 2 * cols; ++j) {
-      if (x.col(j).squaredNorm() > 0) keep.push_back(j);
-    }
-    Eigen::MatrixXd xk(x.rows(), static_cast<Eigen::Index>(keep.size()));
-    for (size_t j = 0; j < keep.size(); ++j) xk.col(static_cast<Eigen::Index>(j)) = x.col(keep[j]);
-    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(xk);
-    qr.setThreshold(1e-10);
-    if (qr.rank() < xk.cols()) continue;
-    const Eigen::VectorXd beta = qr.solve(y);
-    const Eigen::MatrixXd inv = (xk.transpose() * xk).inverse();
-    // Positions of the tested levels' D columns in `keep`.
-    std::vector<Eigen::Index> at(k, -1);
-    for (size_t j = 0; j < keep.size(); ++j) {
-      if (keep[j] >= cols && keep[j] < cols + k) at[keep[j] - cols] = static_cast<Eigen::Index>(j);
-    }
-    if (std::any_of(at.begin(), at.end(), [](Eigen::Index a) { return a < 0; })) continue;
-    Eigen::VectorXd b(k);
-    Eigen::MatrixXd v(k, k);
-    for (int r = 0; r < k; ++r) {
-      b(r) = beta(at[r]);
-      for (int c = 0; c < k; ++c) v(r, c) = phi * inv(at[r], at[c]);
-    }
-    Eigen::MatrixXd contrast = Eigen::MatrixXd::Zero(k - 1, k);
-    for (int r = 0; r + 1 < k; ++r) {
-      contrast(r, r) = 1;
-      contrast(r, r + 1) = -1;
-    }
-    const Eigen::VectorXd cb = contrast * b;
-    const Eigen::MatrixXd cvc = contrast * v * contrast.transpose();
-    const double wald = cb.dot(cvc.ldlt().solve(cb));
-    if (!std::isfinite(wald)) continue;
+    const std::vector<int> column = TestedColumns(td, st.train, f, c, &tested);
+    if (tested.size() < 2) continue;
     SplitHeterogeneity h;
     h.factor = f.name;
-    h.levels = k;
-    h.wald = wald;
-    h.p = ChiSquareSurvival(std::max(0.0, wald), k - 1);
-    double sum_wb = 0, sum_w = 0;
-    for (int r = 0; r < k; ++r) {
-      sum_wb += b(r) / v(r, r);
-      sum_w += 1 / v(r, r);
-    }
-    const double b_bar = sum_wb / sum_w;
-    int largest = 0;
-    for (int r = 0; r < k; ++r) {
-      h.max_dev = std::max(h.max_dev, std::abs(b(r) - b_bar));
-      if (std::abs(b(r)) > std::abs(b(largest))) largest = r;
-    }
-    h.level = tested[largest];
-    h.scale = b(largest);
-    // The level's mean residual before the round, over the readings its
-    // passes carry, weighted by their share of the term's contribution.
-    double num = 0, den = 0;
-    for (size_t i = 0; i < n; ++i) {
-      const TermObservation& ob = td.obs[st.train[i]];
-      double share = 0, all = 0;
-      for (int p = ob.pass_begin; p < ob.pass_end; ++p) {
-        const double d = std::abs(c1[p] - c0[p]);
-        all += d;
-        const int l = f.level[p] < 0 || f.level[p] >= num_levels ? num_levels : f.level[p];
-        if (column[l] == largest) share += d;
-      }
-      if (all > 0) {
-        num += share / all * before[i];
-        den += share / all;
-      }
-    }
-    h.level_mean_um = den > 0 ? num / den : 0;
+    if (!FitLevelScales(st, f, c, column, tested, e, w, phi, &h)) continue;
+    const int largest = static_cast<int>(
+        std::find(tested.begin(), tested.end(), h.level) - tested.begin());
+    h.level_size_um = LevelEffectSize(st, f, c, column, largest, h.scale);
     out.push_back(h);
   }
   return out;

@@ -135,24 +135,23 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
 // (grade, lubrication, a text column of coils.csv; diagnosis_split.cc):
 // the Wald statistic of equal scales b_l of the term's contribution on each
 // level's passes, its p, the largest |b_l - b_bar|, and the level with the
-// largest |b_l| (where the effect lives) with its mean residual before the
-// round.
+// largest |b_l| (where the effect lives) with its scale and the rms of the
+// effect on its readings (signed by its mean, µm).
 struct SplitHeterogeneity {
   std::string factor;
   int levels = 0;
   double wald = 0, p = 1, max_dev = 0;
   std::string level;
-  double scale = 0, level_mean_um = 0;
+  double scale = 0, level_size_um = 0;
 };
 // One entry per pass-level factor the last term of `with_term` is not
 // about and whose levels can be told apart (>= 2 levels with enough of the
-// term's contribution); `w` the training readings' weights 1/sd^2,
-// `before` their residuals before the round, `phi` the adopted model's
-// weighted mean square (all aligned with state.train).
+// term's contribution); `w` the training readings' weights 1/sd^2 and
+// `phi` the adopted model's weighted mean square (aligned with
+// state.train).
 std::vector<SplitHeterogeneity> SplitByPassFactors(const DiagnosisState& st,
                                                    const Fitted& with_term,
                                                    const std::vector<double>& w,
-                                                   const std::vector<double>& before,
                                                    double phi);
 // The proxy guard's look at the siblings of a single-factor scope
 // (diagnosis_siblings.cc): fails when the last term of `with_term`, added
