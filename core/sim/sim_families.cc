@@ -401,6 +401,7 @@ FamilyEffect InexpressibleLubrication(int variant, Random* rng, uint64_t, int) {
       on ? "on lubricated passes" : "on passes rolled without lubrication",
       [on](const EffectContext& c) { return c.pass->lubrication == on; });
   f.truth.expressible = false;
+  f.truth.covariate = "";  // no one covariate describes it
   f.truth.mismatch = std::string(kScopedCovariates[which]) + " x lubrication";
   return f;
 }

@@ -373,7 +373,7 @@ TEST(DiagnosisProxyTest, TwoCellsAreBothNamedAsCells) {
 TEST(DiagnosisProxyTest, AnEffectOnDryPassesOnlyIsLocatedNotNamedEverywhere) {
   const Diagnosed d = DiagnoseSimulated(101, {"inexpressible_lubrication"});
   const SimulatedEffect& truth = d.sim.truth.effects.at(0);
-  ASSERT_EQ(truth.covariate, "temperature_c");
+  ASSERT_EQ(truth.mismatch, "temperature_c x lubrication");
   ASSERT_NE(truth.description.find("without lubrication"), std::string::npos);
   EXPECT_EQ(d.report.verdict, "mismatch_located_unexplained");
   EXPECT_TRUE(d.report.findings.empty());
