@@ -45,6 +45,7 @@
 //      campaign means of the residuals, when that is significant.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <map>
 #include <string>
@@ -216,8 +217,8 @@ void GuardDimensions(const TermData& td, const std::vector<int>& train, const st
       std::vector<std::string> level(train.size());
       for (size_t i = 0; i < train.size(); ++i) {
         const double z = td.obs_z[k][train[i]];
-        const long l = std::isnan(z) ? -1 : std::lround(z);
-        if (l >= 0 && l < static_cast<long>(c.levels.size())) level[i] = c.levels[l];
+        const int64_t l = std::isnan(z) ? -1 : std::llround(z);
+        if (l >= 0 && l < static_cast<int64_t>(c.levels.size())) level[i] = c.levels[l];
       }
       names->push_back(c.name);
       labels->push_back(std::move(level));

@@ -62,8 +62,9 @@ void AddScopedCandidates(const TermData& td, const std::vector<int>& train,
                          std::vector<Candidate>* out);
 
 // The twin of a cell: when the cell's roll type or grade runs (in the
-// training data) in exactly two places of the cell's kind (two stands, or
-// top and bottom), the other place's cell, which describes the same data
+// training data) in exactly two places of the cell's kind (two stands, top
+// and bottom, or two roll positions such as F7/top and F7/bottom), the
+// other place's cell, which describes the same data
 // (x m at one place = x 1/m at the other, the level's own K factor taking
 // up the rest). False when there is no twin (diagnosis_scoped.cc).
 bool TwinCell(const TermData& td, const std::vector<int>& train, const TermScope& cell,

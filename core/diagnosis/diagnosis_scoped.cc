@@ -155,8 +155,11 @@ bool TwinCell(const TermData& td, const std::vector<int>& train,
   if (cell.roll_type.empty() == cell.grade.empty()) return false;
   std::vector<TermScope> places;
   if (cell.stand > 0) {
+    // A stand's cells, or a roll position's (F7/bottom): its places are the
+    // other scopes of the same kind.
+    const bool roll_position = cell.position >= 0;
     for (const TermScope& s : SingleScopes(td, train)) {
-      if (s.stand > 0 && s.position < 0) places.push_back(s);
+      if (s.stand > 0 && (s.position >= 0) == roll_position) places.push_back(s);
     }
   } else if (cell.position >= 0) {
     places.push_back({0, static_cast<int>(Position::kTop), "", ""});
@@ -204,12 +207,13 @@ void AddScopedCandidates(const TermData& td, const std::vector<int>& train,
   // data) are not offered again; every other cell is: a mill can have two
   // factor combinations the K structure cannot express, and a round
   // without the cell to compare with names a covariate stand-in for it.
+  std::vector<TermScope> taken = adopted_cells;
+  for (const TermScope& a : adopted_cells) {
+    TermScope twin;
+    if (TwinCell(td, train, a, &twin)) taken.push_back(twin);
+  }
   const auto adopted = [&](const TermScope& scope) {
-    for (const TermScope& a : adopted_cells) {
-      TermScope twin;
-      if (a == scope || (TwinCell(td, train, a, &twin) && twin == scope)) return true;
-    }
-    return false;
+    return std::find(taken.begin(), taken.end(), scope) != taken.end();
   };
   for (const TermScope& scope : CellScopes(td, train, scopes)) {
     if (adopted(scope)) continue;

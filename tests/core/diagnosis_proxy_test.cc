@@ -423,7 +423,9 @@ TEST(DiagnosisProxyTest, ABadRollIsLocatedAtItsSerial) {
   // later diameter a little, hence 0.005 and not exactly).
   const Simulation clean = simulator_test::Simulated(101, kPaperCampaigns, {});
   ASSERT_EQ(clean.truth.noise_free_wear_um.size(), d.sim.truth.noise_free_wear_um.size());
-  const std::string roll = u.where.substr(std::string("roll_id=").size());
+  const std::string prefix = "roll_id=";
+  ASSERT_EQ(u.where.rfind(prefix, 0), 0u) << u.where;
+  const std::string roll = u.where.substr(prefix.size());
   int readings = 0;
   for (size_t i = 0; i < d.sim.data.measurements.size(); ++i) {
     if (d.sim.data.measurements[i].roll_id != roll) continue;
