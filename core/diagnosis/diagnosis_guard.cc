@@ -150,7 +150,8 @@ double LargestGroupMean(const Breakdown& b) {
 
 // Each training observation's quartile ("Q1".."Q4") of covariate k as the
 // model aggregates it over the campaign (TermData::obs_z); "" where missing.
-std::vector<std::string> Quartiles(const TermData& td, const std::vector<int>& train, int k) {
+std::vector<std::string> Quartiles(const TermData& td,
+                                   const std::vector<int>& train, int k) {
   std::vector<std::string> out(train.size());
   std::vector<double> sorted;
   for (int o : train) {
@@ -158,7 +159,9 @@ std::vector<std::string> Quartiles(const TermData& td, const std::vector<int>& t
   }
   if (sorted.size() < 4) return out;
   std::sort(sorted.begin(), sorted.end());
-  const auto at = [&](double q) { return sorted[static_cast<size_t>(q * (sorted.size() - 1))]; };
+  const auto at = [&](double q) {
+    return sorted[static_cast<size_t>(q * (sorted.size() - 1))];
+  };
   const double q1 = at(0.25), q2 = at(0.5), q3 = at(0.75);
   for (size_t i = 0; i < train.size(); ++i) {
     const double t = td.obs_z[k][train[i]];
@@ -171,8 +174,8 @@ std::vector<std::string> Quartiles(const TermData& td, const std::vector<int>& t
 // The guard's refusal of a term inconsistent over dimension `name`: the
 // reason and, as an unexplained location, the group where the effect lives.
 GuardResult Refused(const std::string& reason, const std::string& name,
-                    const Heterogeneity& h, const char* test, double statistic, double p,
-                    double dims) {
+                    const Heterogeneity& h, const char* test, double statistic,
+                    double p, double dims) {
   GuardResult r;
   r.pass = false;
   r.reason = reason;
@@ -195,13 +198,16 @@ GuardResult Refused(const std::string& reason, const std::string& name,
 // term is itself about time: its shape inside a quarter of the period says
 // nothing (a step drift is flat in three of them), so started_at is not a
 // dimension for it.
-void GuardDimensions(const TermData& td, const std::vector<int>& train, const std::string& cov,
+void GuardDimensions(const TermData& td, const std::vector<int>& train,
+                     const std::string& cov,
                      const std::vector<std::string>& stand,
                      const std::vector<std::string>& position,
-                     const std::vector<std::string>& roll_type, std::vector<std::string>* names,
+                     const std::vector<std::string>& roll_type,
+                     std::vector<std::string>* names,
                      std::vector<std::vector<std::string>>* labels) {
   std::vector<std::string> cell(stand.size());
-  for (size_t i = 0; i < stand.size(); ++i) cell[i] = stand[i] + "/" + roll_type[i];
+  for (size_t i = 0; i < stand.size(); ++i)
+    cell[i] = stand[i] + "/" + roll_type[i];
   *names = {"stand", "position", "roll_type", "stand_roll_type"};
   *labels = {stand, position, roll_type, cell};
   ModelTerm term;
@@ -213,18 +219,21 @@ void GuardDimensions(const TermData& td, const std::vector<int>& train, const st
     // reading: its levels are groups like the stands (the pass-level ones
     // are split by level in diagnosis_split.cc).
     if (c.kind == CovariateKind::kFactor && c.name != cov &&
-        (c.level == CovariateLevel::kRoll || c.level == CovariateLevel::kCampaign)) {
+        (c.level == CovariateLevel::kRoll ||
+         c.level == CovariateLevel::kCampaign)) {
       std::vector<std::string> level(train.size());
       for (size_t i = 0; i < train.size(); ++i) {
         const double z = td.obs_z[k][train[i]];
         const int64_t l = std::isnan(z) ? -1 : std::llround(z);
-        if (l >= 0 && l < static_cast<int64_t>(c.levels.size())) level[i] = c.levels[l];
+        if (l >= 0 && l < static_cast<int64_t>(c.levels.size()))
+          level[i] = c.levels[l];
       }
       names->push_back(c.name);
       labels->push_back(std::move(level));
       continue;
     }
-    if (c.kind != CovariateKind::kNumeric || c.level == CovariateLevel::kMeasurement ||
+    if (c.kind != CovariateKind::kNumeric ||
+        c.level == CovariateLevel::kMeasurement ||
         c.source == CovariateSource::kCell || c.name == cov ||
         (calendar && c.source == CovariateSource::kStartedAt)) {
       continue;
@@ -312,17 +321,19 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
   phi /= std::max<size_t>(1, n);
   std::vector<std::string> names;
   std::vector<std::vector<std::string>> labels;
-  GuardDimensions(td, st.train, with_term.terms.back().term.covariate, stand, position,
-                  roll_type, &names, &labels);
-  const std::vector<SplitHeterogeneity> split = SplitByPassFactors(st, with_term, w, phi);
-  const double dims = static_cast<double>(names.size() + split.size());  // Bonferroni
+  GuardDimensions(td, st.train, with_term.terms.back().term.covariate, stand,
+                  position, roll_type, &names, &labels);
+  const std::vector<SplitHeterogeneity> split =
+      SplitByPassFactors(st, with_term, w, phi);
+  const double dims =
+      static_cast<double>(names.size() + split.size());  // Bonferroni
   for (const SplitHeterogeneity& s : split) {
     if (s.p * dims < options.alpha && s.max_dev >= kMaterialScale) {
       Heterogeneity h;
       h.group = s.level;
       h.group_mean_um = s.level_size_um;  // the effect's size there
-      return Refused("inconsistent across " + s.factor, s.factor, h, "wald_by_level", s.wald,
-                     s.p, dims);
+      return Refused("inconsistent across " + s.factor, s.factor, h,
+                     "wald_by_level", s.wald, s.p, dims);
     }
   }
   for (size_t di = 0; di < names.size(); ++di) {
@@ -330,13 +341,15 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
     const std::vector<std::string>* label = &labels[di];
     const Heterogeneity h = Cochran(*label, e, p0, d, w, before, phi);
     if (h.p * dims < options.alpha && h.max_dev >= kMaterialScale) {
-      return Refused(std::string("inconsistent across ") + name, name, h, "cochran_q", h.q,
-                     h.p, dims);
+      return Refused(std::string("inconsistent across ") + name, name, h,
+                     "cochran_q", h.q, h.p, dims);
     }
-    if (h.p_within * dims < options.alpha && std::abs(h.b_bar - 1) >= kMaterialScale) {
+    if (h.p_within * dims < options.alpha &&
+        std::abs(h.b_bar - 1) >= kMaterialScale) {
       char buf[120];
       std::snprintf(buf, sizeof(buf),
-                    "effect lives between groups of %s, not within them (scale within %.2f)",
+                    "effect lives between groups of %s, not within them (scale "
+                    "within %.2f)",
                     name, h.b_bar);
       return Refused(buf, name, h, "within_group_z", h.b_bar, h.p_within, dims);
     }
@@ -345,7 +358,8 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
   if (!siblings.pass) return siblings;
   const ModelTerm& term = with_term.terms.back().term;
   if (IsCalendarTerm(td, term)) {
-    GuardResult t = LookAlongTime(data, st, options, sd, pc, p1, term.covariate);
+    GuardResult t =
+        LookAlongTime(data, st, options, sd, pc, p1, term.covariate);
     if (!t.pass) return t;
   }
   const GuardResult order = LookAtGradeOrder(st, options, sd, pc, p1);
@@ -400,12 +414,15 @@ void AddLocated(const Unexplained& u, std::vector<Unexplained>* located) {
 // structural description is preferred: a factor combination the K structure
 // cannot express needs no covariate to be true. Returns why the winner is
 // not named, or "" when it is distinct from every accepted cell.
-std::string NoBetterThanCell(const DiagnosisState& st, const std::vector<double>& sd,
+std::string NoBetterThanCell(const DiagnosisState& st,
+                             const std::vector<double>& sd,
                              const std::vector<int>& accepted,
                              const std::vector<Fitted>& fits, int winner,
-                             double num_tests, const DiagnosisOptions& options) {
+                             double num_tests,
+                             const DiagnosisOptions& options) {
   const TermSpec& term = fits[winner].terms.back();
-  if (term.term.form == TermForm::kCell || term.term.IsMeasurementTerm()) return "";
+  if (term.term.form == TermForm::kCell || term.term.IsMeasurementTerm())
+    return "";
   const double n = static_cast<double>(st.train.size());
   for (int j : accepted) {
     const TermSpec& cell = fits[j].terms.back();
@@ -488,7 +505,8 @@ Fitted OrientTwinCell(const DiagnosisState& st, const std::vector<double>& sd,
                       const Fitted& winner, std::string* note) {
   const TermSpec& cell = winner.terms.back();
   TermScope twin;
-  if (cell.term.form != TermForm::kCell || !TwinCell(st.td, st.train, cell.term.scope, &twin)) {
+  if (cell.term.form != TermForm::kCell ||
+      !TwinCell(st.td, st.train, cell.term.scope, &twin)) {
     return winner;
   }
   const double b = cell.term.params[0];
@@ -506,12 +524,13 @@ Fitted OrientTwinCell(const DiagnosisState& st, const std::vector<double>& sd,
   }
   const double m = std::exp(out.terms.back().term.params[0]);
   char buf[320];
-  std::snprintf(buf, sizeof(buf),
-                " The data cannot tell this from rolls of %s wearing %.2f times the "
-                "prediction: the %s runs in these two places only and its own K "
-                "factor takes up the rest (stated here as the place that wears more).",
-                other.Label().c_str(), 1.0 / m,
-                cell.term.scope.roll_type.empty() ? "grade" : "roll type");
+  std::snprintf(
+      buf, sizeof(buf),
+      " The data cannot tell this from rolls of %s wearing %.2f times the "
+      "prediction: the %s runs in these two places only and its own K "
+      "factor takes up the rest (stated here as the place that wears more).",
+      other.Label().c_str(), 1.0 / m,
+      cell.term.scope.roll_type.empty() ? "grade" : "roll type");
   *note = buf;
   return out;
 }
@@ -519,11 +538,13 @@ Fitted OrientTwinCell(const DiagnosisState& st, const std::vector<double>& sd,
 // The first accepted candidate that passes the proxy guard, or -1; the
 // others tried become runners-up (and, when none passes, an inconsistent
 // effect's location is listed as unexplained).
-int GuardedWinner(int round, const Dataset& data, const DiagnosisOptions& options,
-                  const DiagnosisState& st, const std::vector<double>& sd,
-                  const std::vector<int>& accepted, const std::vector<Fitted>& fits,
-                  const std::vector<CandidateResult>& results,
-                  double num_tests, DiagnosisReport* report) {
+int GuardedWinner(int round, const Dataset& data,
+                  const DiagnosisOptions& options, const DiagnosisState& st,
+                  const std::vector<double>& sd,
+                  const std::vector<int>& accepted,
+                  const std::vector<Fitted>& fits,
+                  const std::vector<CandidateResult>& results, double num_tests,
+                  DiagnosisReport* report) {
   if (accepted.empty()) return -1;
   std::vector<double> clip;
   for (int o : st.train) clip.push_back(sd[o]);
@@ -533,10 +554,16 @@ int GuardedWinner(int round, const Dataset& data, const DiagnosisOptions& option
   std::vector<Unexplained> located;
   std::vector<int> refused;  // the candidates the guard refused
   for (int i : accepted) {
-    GuardResult g;
-    g.reason = NoBetterThanCell(st, sd, accepted, fits, i, num_tests, options);
-    g.pass = g.reason.empty();
-    const bool by_cell = !g.pass;
+    // A locate-only covariate is a structure the vocabulary cannot name:
+    // refused like an inconsistent effect (what fits worse is its shadow).
+    GuardResult g = NotNameable(st, fits, results, i);
+    bool by_cell = false;
+    if (g.pass) {
+      g.reason =
+          NoBetterThanCell(st, sd, accepted, fits, i, num_tests, options);
+      g.pass = g.reason.empty();
+      by_cell = !g.pass;
+    }
     if (g.pass) g = GuardAgainstProxy(data, st, options, sd, before, fits[i]);
     bool by_rival = false;
     if (g.pass) {

@@ -20,6 +20,11 @@
 // nothing significant to a rival, the data do not say which of the two
 // quantities drives the wear: the winner is not named, and where the
 // mismatch lives (along the covariate, in the scope) is listed instead.
+// A rival may be locate-only (roll_campaigns_before, covariates.h): a
+// calendar drift must add to a roll's service to be named, since rolls
+// serve in turn and a roll's service follows the calendar (correlation
+// 0.83 in an independent generator's mills). NotNameable refuses such a
+// candidate itself and lists where it lives.
 // Thread-safety: reentrant (reads its arguments only).
 #include <algorithm>
 #include <cmath>
@@ -29,6 +34,7 @@
 
 #include "core/base/distributions.h"
 #include "core/diagnosis/diagnosis_stages_internal.h"
+#include "core/model/covariates.h"
 
 namespace rollwear::diag {
 namespace {
@@ -41,7 +47,52 @@ namespace {
 // round's 0.001 would call a tie.
 constexpr double kRivalAlpha = 0.01;
 
+// The size of what a term describes: the rms of its contribution to the
+// training readings in its scope (prediction with it minus the round's
+// model without it).
+double TermSizeUm(const DiagnosisState& st, const Fitted& with_term) {
+  const TermScope& scope = with_term.terms.back().term.scope;
+  const std::vector<double> with =
+      PredictTerms(st.td, st.train, with_term.log_k, with_term.terms);
+  const std::vector<double> without =
+      PredictTerms(st.td, st.train, st.current.log_k, st.current.terms);
+  double sum2 = 0;
+  int count = 0;
+  for (size_t i = 0; i < st.train.size(); ++i) {
+    if (!InScope(st.td, st.td.obs[st.train[i]], scope)) continue;
+    sum2 += (with[i] - without[i]) * (with[i] - without[i]);
+    ++count;
+  }
+  return count > 0 ? std::sqrt(sum2 / count) : 0;
+}
+
 }  // namespace
+
+GuardResult NotNameable(const DiagnosisState& st,
+                        const std::vector<Fitted>& fits,
+                        const std::vector<CandidateResult>& results,
+                        int candidate) {
+  GuardResult r;
+  const TermSpec& term = fits[candidate].terms.back();
+  if (!st.td.catalog[term.covariate].locate_only) return r;
+  const CandidateResult& c = results[candidate];
+  r.pass = false;
+  r.reason = "follows " + c.covariate +
+             ", a quantity derived from the roll serials that the data format "
+             "does not name: located, not named";
+  r.located.dimension = c.covariate;
+  // One entry per covariate (AddLocated drops a same-place repeat): the
+  // strongest form's, refused first.
+  r.located.where = c.covariate == kRollCampaignsBeforeName
+                        ? "each roll's earlier campaigns (roll_id)"
+                        : c.covariate;
+  r.located.mean_residual_um = TermSizeUm(st, fits[candidate]);
+  r.located.test = "lr";
+  r.located.statistic = c.lr;
+  r.located.p_value = c.p_value;
+  r.located.p_adjusted = c.p_adjusted;
+  return r;
+}
 
 GuardResult DistinctFromRivals(const DiagnosisState& st,
                                const std::vector<double>& sd,
@@ -94,21 +145,7 @@ GuardResult DistinctFromRivals(const DiagnosisState& st,
     r.located.dimension = results[winner].covariate;
     r.located.where = where + ": along " + results[winner].covariate + " or " +
                       results[j].covariate;
-    // The size of what the term describes: the rms of its contribution to
-    // the training readings in its scope (prediction with it minus the
-    // round's model without it).
-    const std::vector<double> with =
-        PredictTerms(st.td, st.train, fits[winner].log_k, fits[winner].terms);
-    const std::vector<double> without =
-        PredictTerms(st.td, st.train, st.current.log_k, st.current.terms);
-    double sum2 = 0;
-    int count = 0;
-    for (size_t i = 0; i < st.train.size(); ++i) {
-      if (!InScope(st.td, st.td.obs[st.train[i]], scope)) continue;
-      sum2 += (with[i] - without[i]) * (with[i] - without[i]);
-      ++count;
-    }
-    r.located.mean_residual_um = count > 0 ? std::sqrt(sum2 / count) : 0;
+    r.located.mean_residual_um = TermSizeUm(st, fits[winner]);
     r.located.test = "encompassing_lr";
     r.located.statistic = results[winner].lr;
     r.located.p_value = results[winner].p_value;

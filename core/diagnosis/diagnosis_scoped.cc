@@ -195,6 +195,7 @@ void AddScopedCandidates(const TermData& td, const std::vector<int>& train,
     const TermSpec s = (*out)[i].spec;  // a copy: push_back reallocates
     if (s.term.form != TermForm::kLogLinear && s.term.form != TermForm::kFlag)
       continue;
+    if (td.catalog[s.covariate].locate_only) continue;  // a rival, never named
     for (const TermScope& scope : scopes) {
       Candidate c{s, {}};
       c.spec.term.scope = scope;

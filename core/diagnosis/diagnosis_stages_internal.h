@@ -172,6 +172,12 @@ void NoteUndeterminedSiblings(const DiagnosisState& st,
                               const std::vector<double>& sd,
                               const Fitted& with_term, Finding* f);
 
+// A candidate over a locate-only covariate (CovariateSpec::locate_only,
+// roll_campaigns_before): always fails, with where it lives and its LR as
+// `located` (diagnosis_rivals.cc). Passes every other candidate.
+GuardResult NotNameable(const DiagnosisState& st, const std::vector<Fitted>& fits,
+                        const std::vector<CandidateResult>& results, int candidate);
+
 // The proxy guard's comparison with the round's rivals
 // (diagnosis_rivals.cc): fails when the term of accepted candidate `winner`
 // adds nothing significant to the model of an accepted candidate over

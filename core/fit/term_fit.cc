@@ -36,6 +36,7 @@ StatusOr<TermData> BuildTermData(const Dataset& data, WearLaw law) {
   const UnixSeconds origin = 0;  // started_at in days since 1970 (covariates.h)
   td.z.resize(td.catalog.size());
   td.obs_z.resize(td.catalog.size());
+  const std::vector<int> service = RollCampaignsBefore(data);
   for (const MountedRoll& roll : MountedRolls(data, index)) {
     if (roll.measurement < 0) continue;
     const Mount& mount = data.mounts[roll.mount];
@@ -45,6 +46,7 @@ StatusOr<TermData> BuildTermData(const Dataset& data, WearLaw law) {
     PassContext ctx;
     ctx.mount = &mount;
     ctx.mount_row = roll.mount;
+    ctx.roll_campaigns_before = service[roll.mount];
     ctx.campaign = &data.campaigns[roll.campaign];
     ctx.campaign_row = roll.campaign;
     ctx.measurement_row = roll.measurement;

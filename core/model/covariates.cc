@@ -1,7 +1,11 @@
 #include "core/model/covariates.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
+#include <unordered_map>
+#include <utility>
 
 namespace rollwear {
 namespace {
@@ -16,8 +20,9 @@ void AddExtras(const ExtraColumns& extra, CovariateLevel level,
                     CovariateKind::kNumeric, static_cast<int>(i)});
   }
   for (size_t i = 0; i < extra.factor_names.size(); ++i) {
-    out->push_back({extra.factor_names[i], factor, level, CovariateKind::kFactor,
-                    static_cast<int>(i), false, extra.factor_levels[i]});
+    out->push_back({extra.factor_names[i], factor, level,
+                    CovariateKind::kFactor, static_cast<int>(i), false,
+                    extra.factor_levels[i]});
   }
 }
 
@@ -40,23 +45,35 @@ std::vector<CovariateSpec> CovariateCatalog(const Dataset& data) {
       {"specific_force_kn_per_mm", S::kSpecificForce, L::kPass, K::kNumeric},
       {"contact_length_mm", S::kContactLength, L::kPass, K::kNumeric},
       {"reduction", S::kReduction, L::kPass, K::kNumeric},
-      {"campaign_length_before_m", S::kLengthBefore, L::kPass, K::kNumeric, -1, true},
-      {"campaign_coils_before", S::kCoilsBefore, L::kPass, K::kNumeric, -1, true},
-      {"hours_since_mount", S::kHoursSinceMount, L::kPass, K::kNumeric, -1, true},
+      {"campaign_length_before_m", S::kLengthBefore, L::kPass, K::kNumeric, -1,
+       true},
+      {"campaign_coils_before", S::kCoilsBefore, L::kPass, K::kNumeric, -1,
+       true},
+      {"hours_since_mount", S::kHoursSinceMount, L::kPass, K::kNumeric, -1,
+       true},
       {"diameter_mm", S::kDiameter, L::kRoll, K::kNumeric},
       {"hardness_hb", S::kHardness, L::kRoll, K::kNumeric},
       {"started_at", S::kStartedAt, L::kCampaign, K::kNumeric},
       {kCoolingHoursName, S::kCoolingHours, L::kMeasurement, K::kNumeric},
       {"measured_at", S::kMeasuredAt, L::kMeasurement, K::kNumeric},
       {kCellCovariateName, S::kCell, L::kPass, K::kNumeric},
+      {kRollCampaignsBeforeName,
+       S::kRollCampaignsBefore,
+       L::kRoll,
+       K::kNumeric,
+       -1,
+       false,
+       {},
+       /*locate_only=*/true},
   };
-  AddExtras(data.pass_extra, L::kPass, S::kPassExtraNumeric, S::kPassExtraFactor, &c);
+  AddExtras(data.pass_extra, L::kPass, S::kPassExtraNumeric,
+            S::kPassExtraFactor, &c);
   AddExtras(data.mount_extra, L::kRoll, S::kMountExtraNumeric,
             S::kMountExtraFactor, &c);
   AddExtras(data.campaign_extra, L::kCampaign, S::kCampaignExtraNumeric,
             S::kCampaignExtraFactor, &c);
-  AddExtras(data.measurement_extra, L::kMeasurement, S::kMeasurementExtraNumeric,
-            S::kMeasurementExtraFactor, &c);
+  AddExtras(data.measurement_extra, L::kMeasurement,
+            S::kMeasurementExtraNumeric, S::kMeasurementExtraFactor, &c);
   return c;
 }
 
@@ -73,32 +90,52 @@ double CovariateValue(const CovariateSpec& spec, const Dataset& data,
   const Pass& p = ctx.pass != nullptr ? *ctx.pass : kNoPass;
   const Mount& m = ctx.mount != nullptr ? *ctx.mount : kNoMount;
   switch (spec.source) {
-    case CovariateSource::kForce: return p.force_kn;
-    case CovariateSource::kWidth: return p.width_mm;
-    case CovariateSource::kLength: return p.length_m;
-    case CovariateSource::kEntryThickness: return p.entry_thickness_mm;
-    case CovariateSource::kExitThickness: return p.exit_thickness_mm;
-    case CovariateSource::kTemperature: return p.temperature_c;
-    case CovariateSource::kSpeed: return p.speed_mps;
-    case CovariateSource::kLubrication: return p.lubrication ? 1.0 : 0.0;
-    case CovariateSource::kShift: return p.shift_mm;
-    case CovariateSource::kSpecificForce: return SpecificForce(p);
-    case CovariateSource::kContactLength: return ContactLength(p, m.diameter_mm);
-    case CovariateSource::kReduction: return Reduction(p);
-    case CovariateSource::kLengthBefore: return ctx.length_before_m;
-    case CovariateSource::kCoilsBefore: return ctx.coils_before;
+    case CovariateSource::kForce:
+      return p.force_kn;
+    case CovariateSource::kWidth:
+      return p.width_mm;
+    case CovariateSource::kLength:
+      return p.length_m;
+    case CovariateSource::kEntryThickness:
+      return p.entry_thickness_mm;
+    case CovariateSource::kExitThickness:
+      return p.exit_thickness_mm;
+    case CovariateSource::kTemperature:
+      return p.temperature_c;
+    case CovariateSource::kSpeed:
+      return p.speed_mps;
+    case CovariateSource::kLubrication:
+      return p.lubrication ? 1.0 : 0.0;
+    case CovariateSource::kShift:
+      return p.shift_mm;
+    case CovariateSource::kSpecificForce:
+      return SpecificForce(p);
+    case CovariateSource::kContactLength:
+      return ContactLength(p, m.diameter_mm);
+    case CovariateSource::kReduction:
+      return Reduction(p);
+    case CovariateSource::kLengthBefore:
+      return ctx.length_before_m;
+    case CovariateSource::kCoilsBefore:
+      return ctx.coils_before;
     case CovariateSource::kHoursSinceMount:
-      return static_cast<double>(p.rolled_at - ctx.campaign->started_at) / 3600.0;
-    case CovariateSource::kDiameter: return m.diameter_mm;
-    case CovariateSource::kHardness: return m.hardness_hb;
+      return static_cast<double>(p.rolled_at - ctx.campaign->started_at) /
+             3600.0;
+    case CovariateSource::kDiameter:
+      return m.diameter_mm;
+    case CovariateSource::kHardness:
+      return m.hardness_hb;
     case CovariateSource::kStartedAt:
       return static_cast<double>(ctx.campaign->started_at - origin) / 86400.0;
     case CovariateSource::kMeasuredAt:
       if (ctx.measurement_row < 0) return kNaN;
-      return static_cast<double>(data.measurements[ctx.measurement_row].measured_at -
-                                 origin) /
+      return static_cast<double>(
+                 data.measurements[ctx.measurement_row].measured_at - origin) /
              86400.0;
-    case CovariateSource::kCell: return 1.0;
+    case CovariateSource::kCell:
+      return 1.0;
+    case CovariateSource::kRollCampaignsBefore:
+      return ctx.roll_campaigns_before;
     case CovariateSource::kCoolingHours:
       if (ctx.measurement_row < 0) return kNaN;
       return CoolingHours(data.measurements[ctx.measurement_row].measured_at,
@@ -111,7 +148,8 @@ double CovariateValue(const CovariateSpec& spec, const Dataset& data,
       return data.campaign_extra.numeric[spec.extra_column][ctx.campaign_row];
     case CovariateSource::kMeasurementExtraNumeric:
       if (ctx.measurement_row < 0) return kNaN;
-      return data.measurement_extra.numeric[spec.extra_column][ctx.measurement_row];
+      return data.measurement_extra
+          .numeric[spec.extra_column][ctx.measurement_row];
     case CovariateSource::kPassExtraFactor:
       return data.pass_extra.factor[spec.extra_column][ctx.pass_row];
     case CovariateSource::kMountExtraFactor:
@@ -120,9 +158,40 @@ double CovariateValue(const CovariateSpec& spec, const Dataset& data,
       return data.campaign_extra.factor[spec.extra_column][ctx.campaign_row];
     case CovariateSource::kMeasurementExtraFactor:
       if (ctx.measurement_row < 0) return kNaN;
-      return data.measurement_extra.factor[spec.extra_column][ctx.measurement_row];
+      return data.measurement_extra
+          .factor[spec.extra_column][ctx.measurement_row];
   }
   return kNaN;
+}
+
+std::vector<int> RollCampaignsBefore(const Dataset& data) {
+  std::vector<int> order(data.mounts.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  const auto started = [&](int row) {
+    const int c = data.mounts[row].campaign;
+    return c >= 0 && c < static_cast<int>(data.campaigns.size())
+               ? data.campaigns[c].started_at
+               : UnixSeconds{0};
+  };
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return started(a) < started(b); });
+  // Counted per roll over distinct campaigns: a roll listed twice in one
+  // campaign (a data error the import rejects) counts once.
+  std::unordered_map<std::string, std::pair<int, int>>
+      seen;  // id -> (count, last campaign)
+  std::vector<int> out(data.mounts.size(), 0);
+  for (int row : order) {
+    const Mount& m = data.mounts[row];
+    auto [it, fresh] = seen.try_emplace(m.roll_id, 0, -1);
+    if (!fresh && it->second.second != m.campaign) {
+      ++it->second.first;
+      it->second.second = m.campaign;
+    } else if (fresh) {
+      it->second.second = m.campaign;
+    }
+    out[row] = it->second.first;
+  }
+  return out;
 }
 
 }  // namespace rollwear

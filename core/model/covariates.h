@@ -20,11 +20,18 @@
 // drift between two names.
 // "cell" (kCellCovariateName, model_terms.h) is the constant 1: the
 // covariate of cell terms, whose scope says where they act.
+// roll_campaigns_before (kRollCampaignsBeforeName): how many earlier
+// campaigns of the data mounted the same physical roll (roll_id), at any
+// stand: a roll's service. The data format names no such quantity, so it
+// is `locate_only`: the diagnosis tests and locates along it (a mismatch
+// that follows a roll's service is not calendar time) but never names it
+// as physics, and the predictor never serves it (NaN there).
 //
 // Thread-safety: pure functions and immutable values.
 #ifndef ROLLWEAR_CORE_MODEL_COVARIATES_H_
 #define ROLLWEAR_CORE_MODEL_COVARIATES_H_
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -37,13 +44,35 @@ enum class CovariateLevel { kPass, kRoll, kCampaign, kMeasurement };
 enum class CovariateKind { kNumeric, kFlag, kFactor };
 
 enum class CovariateSource {
-  kForce, kWidth, kLength, kEntryThickness, kExitThickness, kTemperature,
-  kSpeed, kLubrication, kShift, kSpecificForce, kContactLength, kReduction,
-  kLengthBefore, kCoilsBefore, kHoursSinceMount, kDiameter, kHardness,
-  kStartedAt, kCoolingHours, kMeasuredAt, kCell,
-  kPassExtraNumeric, kMountExtraNumeric, kCampaignExtraNumeric,
+  kForce,
+  kWidth,
+  kLength,
+  kEntryThickness,
+  kExitThickness,
+  kTemperature,
+  kSpeed,
+  kLubrication,
+  kShift,
+  kSpecificForce,
+  kContactLength,
+  kReduction,
+  kLengthBefore,
+  kCoilsBefore,
+  kHoursSinceMount,
+  kDiameter,
+  kHardness,
+  kStartedAt,
+  kCoolingHours,
+  kMeasuredAt,
+  kCell,
+  kRollCampaignsBefore,
+  kPassExtraNumeric,
+  kMountExtraNumeric,
+  kCampaignExtraNumeric,
   kMeasurementExtraNumeric,
-  kPassExtraFactor, kMountExtraFactor, kCampaignExtraFactor,
+  kPassExtraFactor,
+  kMountExtraFactor,
+  kCampaignExtraFactor,
   kMeasurementExtraFactor,
 };
 
@@ -59,6 +88,9 @@ struct CovariateSpec {
   bool accumulates = false;
   // Factors: the level labels (ExtraColumns::factor_levels of the column).
   std::vector<std::string> levels = {};
+  // A derived quantity the data format does not name: tested and located
+  // along, never named as a finding (see roll_campaigns_before above).
+  bool locate_only = false;
 };
 
 // Every covariate the dataset supports, canonical ones first.
@@ -75,7 +107,16 @@ struct PassContext {
   int measurement_row = -1;  // -1 when not measured
   double length_before_m = 0;
   int coils_before = 0;
+  // The roll's earlier campaigns in the data (RollCampaignsBefore); NaN
+  // where no history is at hand (the predictor).
+  double roll_campaigns_before = std::numeric_limits<double>::quiet_NaN();
 };
+
+inline constexpr const char* kRollCampaignsBeforeName = "roll_campaigns_before";
+
+// Per row of data.mounts: the number of campaigns started before this
+// mount's campaign (ties: earlier row first) that mounted the same roll_id.
+std::vector<int> RollCampaignsBefore(const Dataset& data);
 
 // cooling_h: hours from the campaign's end to the grinder's measurement
 // (negative when measured before the recorded end).

@@ -22,7 +22,7 @@
 //   stoppages_null    the same stoppages, no wear effect (must stay quiet)
 //   inexpressible_*   order of grades, a covariate effect on dry (or
 //                     lubricated) passes only, a night shift, bad rolls
-//                     (by serial), temperature x speed
+//                     (by serial), a roll's service, temperature x speed
 //                     interaction, autocorrelated roll factor, noise
 //                     bursts by period
 #include <array>
@@ -34,10 +34,23 @@
 #include <utility>
 #include <vector>
 
+#include "core/sim/sim_families_internal.h"
 #include "core/sim/sim_internal.h"
 
 namespace rollwear::sim {
 namespace {
+
+using families::Base;
+using families::Fmt;
+using families::InexpressibleBadRolls;
+using families::InexpressibleBursts;
+using families::InexpressibleInteraction;
+using families::InexpressibleLubrication;
+using families::InexpressibleNightShift;
+using families::InexpressibleOrder;
+using families::InexpressibleRandomWalk;
+using families::InexpressibleRollService;
+using families::ScopedEffect;
 
 using Draw = FamilyEffect (*)(int variant, Random* rng, uint64_t seed,
                               int num_campaigns);
@@ -49,22 +62,6 @@ struct FamilySpec {
   Draw draw;
 };
 
-std::string Fmt(const char* format, double x) {
-  char buf[96];
-  std::snprintf(buf, sizeof(buf), format, x);
-  return buf;
-}
-
-FamilyEffect Base(const char* name, const char* covariate, std::string form,
-                  double strength) {
-  FamilyEffect f;
-  f.truth.name = name;
-  f.truth.covariate = covariate;
-  f.truth.form = std::move(form);
-  f.truth.strength = strength;
-  return f;
-}
-
 // Stand and position of a sim slot as a scope.
 bool InScope(const std::map<std::string, std::string>& scope, int slot) {
   const int stand = 6 + slot / 2;
@@ -75,56 +72,6 @@ bool InScope(const std::map<std::string, std::string>& scope, int slot) {
   it = scope.find("position");
   return it == scope.end() ||
          it->second == PositionName(static_cast<Position>(slot % 2));
-}
-
-// The old covariate effects the scoped families restrict: covariate k of
-// temperature (colder strip, harder scale), speed, roll hardness (Archard)
-// and campaign length, each with its form and strength range.
-constexpr const char* kScopedCovariates[] = {
-    "temperature_c", "speed_mps", "hardness_hb", "campaign_length_before_m"};
-constexpr const char* kScopedForms[] = {"exp(beta (900 - T) / 100)",
-                                        "(v / 10)^beta", "(560 / HB)^beta",
-                                        "1 + beta L_before / 100 km"};
-
-double DrawScopedBeta(int which, Random* rng) {
-  return which == 0   ? rng->Uniform(0.6, 1.0)
-         : which == 1 ? rng->Uniform(0.6, 1.0)
-         : which == 2 ? rng->Uniform(2.5, 4.0)
-                      : rng->Uniform(0.5, 0.9);
-}
-
-// The multiplier of covariate effect `which` with strength `beta`.
-double ScopedMultiplier(int which, double beta, const EffectContext& c) {
-  switch (which) {
-    case 0:
-      return std::exp(beta * (900 - c.pass->temperature_c) / 100);
-    case 1:
-      return std::pow(c.pass->speed_mps / 10, beta);
-    case 2:
-      return std::pow(560 / c.mount->hardness_hb, beta);
-    default:
-      return 1 + beta * c.campaign_length_before_m / 1e5;
-  }
-}
-
-// A scoped family's effect: covariate `which`, acting where `in_scope`
-// says (described as "acts only `where`").
-template <typename InScopeFn>
-FamilyEffect ScopedEffect(const char* name, int which, Random* rng,
-                          std::map<std::string, std::string> scope,
-                          const std::string& where, InScopeFn in_scope) {
-  const double beta = DrawScopedBeta(which, rng);
-  FamilyEffect f =
-      Base(name, kScopedCovariates[which], kScopedForms[which], beta);
-  f.truth.scope = std::move(scope);
-  f.truth.parameters = {{"beta", beta}};
-  f.truth.description = "the " + std::string(kScopedCovariates[which]) +
-                        " effect " + kScopedForms[which] + " acts only " +
-                        where + "; elsewhere the wear is Wang's law";
-  f.apply = [which, beta, in_scope](const EffectContext& c) {
-    return in_scope(c) ? ScopedMultiplier(which, beta, c) : 1.0;
-  };
-  return f;
 }
 
 // scoped: one of the old covariate effects, acting at one stand or one roll
@@ -197,8 +144,9 @@ FamilyEffect GradeRollPosition(int variant, Random* rng, uint64_t, int) {
   f.truth.levels = {Grades()[grade].label};
   f.truth.parameters = {{"multiplier", m}};
   f.truth.description = std::string("grade ") + Grades()[grade].label +
-                        " wears the " + PositionName(position) + " work roll of F" +
-                        std::to_string(stand) + " by a factor " + Fmt("%.2f", m) +
+                        " wears the " + PositionName(position) +
+                        " work roll of F" + std::to_string(stand) +
+                        " by a factor " + Fmt("%.2f", m) +
                         " more; other roll positions and grades as Wang's law";
   const int slot = SimSlot(stand, position);
   f.apply = [grade, slot, m](const EffectContext& c) {
@@ -353,190 +301,6 @@ FamilyEffect StoppagesNull(int variant, Random* rng, uint64_t, int) {
   return Stoppages(variant, rng, true);
 }
 
-FamilyEffect Inexpressible(const char* name, std::string form, double strength,
-                           std::string mismatch) {
-  FamilyEffect f = Base(name, "", std::move(form), strength);
-  f.truth.expressible = false;
-  f.truth.mismatch = std::move(mismatch);
-  return f;
-}
-
-// inexpressible_order: a hard grade (kS >= 1.24) rolled soon after the roll
-// change wears more: x(1 + s) within the first N coils (step) or
-// x(1 + s exp(-coils_before / N)) (decay). Lives in campaign order x grade.
-FamilyEffect InexpressibleOrder(int variant, Random* rng, uint64_t, int) {
-  const bool decay = variant % 2 == 1;
-  const double s = rng->Uniform(0.6, 1.0);
-  const double n = rng->Uniform(20, 35);
-  FamilyEffect f =
-      Inexpressible("inexpressible_order", decay ? "decay" : "step", s,
-                    "campaign order x grade");
-  f.truth.parameters = {{"s", s}, {"n_coils", n}};
-  f.truth.levels = {"HSLA420", "DP600", "API-X65", "API-X70"};
-  f.truth.description =
-      "a hard grade rolled soon after the roll change (first ~" +
-      Fmt("%.0f", n) + " coils) wears the fresh surface more; its wear " +
-      "depends on where in the campaign it comes";
-  f.apply = [decay, s, n](const EffectContext& c) {
-    if (Grades()[c.grade].k_grade < 1.24) return 1.0;
-    if (decay) return 1 + s * std::exp(-c.coils_before / n);
-    return c.coils_before < n ? 1 + s : 1.0;
-  };
-  return f;
-}
-
-// inexpressible_lubrication: one of the old covariate effects (temperature,
-// speed, hardness, campaign length: variant k % 4) on the passes rolled
-// without roll-gap lubrication only (variant k / 4 == 1: with it only). The
-// vocabulary scopes a term by stand, position, roll type or grade, never by
-// the lubrication flag: an unscoped term of the covariate fits it with a
-// tiny p-value, and only its scale differing between lubricated and dry
-// passes says it is not the right description. Lives in covariate x
-// lubrication.
-FamilyEffect InexpressibleLubrication(int variant, Random* rng, uint64_t, int) {
-  const int which = variant % 4;
-  const bool on = variant / 4 % 2 == 1;
-  FamilyEffect f = ScopedEffect(
-      "inexpressible_lubrication", which, rng, {},
-      on ? "on lubricated passes" : "on passes rolled without lubrication",
-      [on](const EffectContext& c) { return c.pass->lubrication == on; });
-  f.truth.expressible = false;
-  f.truth.covariate = "";  // no one covariate describes it
-  f.truth.mismatch = std::string(kScopedCovariates[which]) + " x lubrication";
-  return f;
-}
-
-// inexpressible_night_shift: coils rolled between 22:00 and 06:00 (UTC)
-// wear x(1 + s), s 0.15..0.35 (variant 0), or x1/(1 + s) (variant 1): a
-// night crew, the cooling water's temperature at night. Only the time of
-// day follows it, which no term of the vocabulary is about.
-FamilyEffect InexpressibleNightShift(int variant, Random* rng, uint64_t, int) {
-  const bool more = variant % 2 == 0;
-  const double s = rng->Uniform(0.15, 0.35);
-  FamilyEffect f = Inexpressible("inexpressible_night_shift",
-                                 more ? "x(1 + s) 22-06 h" : "x1/(1 + s) 22-06 h", s,
-                                 "time of day");
-  f.truth.parameters = {{"s", s}};
-  f.truth.description = std::string("coils rolled between 22:00 and 06:00 wear ") +
-                        (more ? "more" : "less") + " (a factor " +
-                        Fmt("%.2f", more ? 1 + s : 1 / (1 + s)) +
-                        "); no recorded quantity but the time of day follows it";
-  const double m = more ? 1 + s : 1 / (1 + s);
-  f.apply = [m](const EffectContext& c) {
-    const int64_t hour = (c.pass->rolled_at % 86400 + 86400) % 86400 / 3600;
-    return hour >= 22 || hour < 6 ? m : 1.0;
-  };
-  return f;
-}
-
-// inexpressible_bad_rolls: about one physical roll in ten (picked by its
-// serial, roll_id, with a salt drawn from the seed) wears x(1.25..1.45)
-// whenever it is mounted, while its recorded hardness and diameter are
-// those of its type (a bad heat treatment). Nothing recorded but the
-// serial follows it.
-FamilyEffect InexpressibleBadRolls(int, Random* rng, uint64_t, int) {
-  const double m = rng->Uniform(1.25, 1.45);
-  const uint64_t salt = rng->Below(1u << 30);
-  FamilyEffect f = Inexpressible("inexpressible_bad_rolls", "multiplier", m, "roll_id");
-  f.truth.parameters = {{"multiplier", m}};
-  f.truth.description = "about one roll in ten (by serial) wears " + Fmt("%.2f", m) +
-                        " times the wear law whenever mounted; its hardness and "
-                        "diameter are as recorded";
-  f.apply = [m, salt](const EffectContext& c) {
-    uint64_t h = 14695981039346656037ull ^ salt;  // FNV-1a of the serial
-    for (char ch : c.mount->roll_id) h = (h ^ static_cast<unsigned char>(ch)) * 1099511628211ull;
-    return (h >> 17) % 10 == 0 ? m : 1.0;
-  };
-  return f;
-}
-
-// inexpressible_interaction: temperature x speed with no main effect:
-// m = exp(b zT zv), zT = (900 - T) / 30 K, zv = ln(v / 10) / 0.25.
-FamilyEffect InexpressibleInteraction(int, Random* rng, uint64_t, int) {
-  const double b = rng->Uniform(0.15, 0.25);
-  FamilyEffect f = Inexpressible("inexpressible_interaction",
-                                 "exp(b (900 - T) / 30 * ln(v / 10) / 0.25)", b,
-                                 "temperature_c x speed_mps");
-  f.truth.parameters = {{"b", b}};
-  f.truth.description =
-      "cold strip wears more only at high speed and less at low speed (a "
-      "temperature x speed interaction without main effects)";
-  f.apply = [b](const EffectContext& c) {
-    const double zt = (900 - c.pass->temperature_c) / 30;
-    const double zv = std::log(c.pass->speed_mps / 10) / 0.25;
-    return std::exp(b * zt * zv);
-  };
-  return f;
-}
-
-// inexpressible_random_walk: each roll position's wear rate carries a
-// factor exp(x) with x an AR(1) over consecutive campaigns, x_c = rho
-// x_{c-1} + sd sqrt(1 - rho^2) z (rho 0.9..0.97, sd 0.12..0.2).
-FamilyEffect InexpressibleRandomWalk(int, Random* rng, uint64_t seed,
-                                     int num_campaigns) {
-  const double rho = rng->Uniform(0.9, 0.97);
-  const double sd = rng->Uniform(0.12, 0.2);
-  FamilyEffect f = Inexpressible("inexpressible_random_walk", "ar1", sd,
-                                 "time (campaign order), by roll position");
-  f.truth.parameters = {{"rho", rho}, {"sd", sd}};
-  f.truth.description =
-      "each roll position's wear rate wanders slowly from campaign to "
-      "campaign (AR(1) in log, rho " +
-      Fmt("%.2f", rho) + ", sd " + Fmt("%.2f", sd) +
-      "): no recorded quantity follows it";
-  auto walk = std::make_shared<std::vector<double>>(4 * num_campaigns);
-  Random noise = MakeRandom(seed, Stream::kFamilyNoise, 0);
-  std::array<double, 4> x{};
-  for (double& v : x) v = sd * noise.Normal();
-  for (int c = 0; c < num_campaigns; ++c) {
-    for (int s = 0; s < 4; ++s) {
-      if (c > 0) {
-        x[s] = rho * x[s] + sd * std::sqrt(1 - rho * rho) * noise.Normal();
-      }
-      (*walk)[4 * c + s] = std::exp(x[s] - 0.5 * sd * sd);
-    }
-  }
-  f.apply = [walk](const EffectContext& c) {
-    return (*walk)[4 * c.campaign + c.slot];
-  };
-  return f;
-}
-
-// inexpressible_bursts: in 2..3 calendar periods (runs of 15..30
-// consecutive campaigns) every roll's wear carries an extra lognormal
-// factor (sd 0.2..0.35), fixed per roll and campaign: the spread grows in
-// those periods, the mean does not move.
-FamilyEffect InexpressibleBursts(int, Random* rng, uint64_t seed,
-                                 int num_campaigns) {
-  const double sd = rng->Uniform(0.2, 0.35);
-  const int periods = 2 + static_cast<int>(rng->Below(2));
-  FamilyEffect f = Inexpressible("inexpressible_bursts", "lognormal", sd,
-                                 "time (spread by calendar period)");
-  f.truth.parameters = {{"sd", sd}, {"periods", periods}};
-  auto factor = std::make_shared<std::vector<double>>(4 * num_campaigns, 1.0);
-  Random noise = MakeRandom(seed, Stream::kFamilyNoise, 1);
-  for (int p = 0; p < periods; ++p) {
-    const int length = 15 + static_cast<int>(rng->Below(16));
-    const int first = static_cast<int>(
-        rng->Below(static_cast<uint64_t>(std::max(1, num_campaigns - length))));
-    for (int c = first; c < std::min(num_campaigns, first + length); ++c) {
-      for (int s = 0; s < 4; ++s) {
-        (*factor)[4 * c + s] = LogNormalMeanOne(&noise, sd);
-      }
-    }
-    f.truth.levels.push_back("campaigns " + std::to_string(first + 1) + ".." +
-                             std::to_string(first + length));
-  }
-  f.truth.description =
-      "in a few calendar periods the wear of every roll scatters more (extra "
-      "lognormal factor, sd " +
-      Fmt("%.2f", sd) + ", mean 1)";
-  f.apply = [factor](const EffectContext& c) {
-    return (*factor)[4 * c.campaign + c.slot];
-  };
-  return f;
-}
-
 const std::vector<FamilySpec>& Families() {
   static const std::vector<FamilySpec> kFamilies = {
       {"scoped",
@@ -580,12 +344,16 @@ const std::vector<FamilySpec>& Families() {
        "on dry (or on lubricated) passes only; not expressible",
        8, &InexpressibleLubrication},
       {"inexpressible_night_shift",
-       "coils rolled at night (22-06 h) wear more or less; not expressible",
-       2, &InexpressibleNightShift},
+       "coils rolled at night (22-06 h) wear more or less; not expressible", 2,
+       &InexpressibleNightShift},
       {"inexpressible_bad_rolls",
        "about one physical roll in ten wears more whenever mounted; not "
        "expressible",
        1, &InexpressibleBadRolls},
+      {"inexpressible_roll_service",
+       "a roll wears more the more campaigns it has served (linear or "
+       "from the third); not expressible",
+       2, &InexpressibleRollService},
       {"inexpressible_interaction",
        "temperature x speed interaction without main effects; not "
        "expressible",

@@ -197,6 +197,7 @@ struct EffectContext {
   int grade = -1;         // index into Grades()
   int roll_type = -1;     // index into RollTypes()
   int column_level = -1;  // measurement effects: level of the column
+  int roll_campaigns_before = 0;  // the mounted roll's earlier campaigns
 };
 
 enum class EffectKind {

@@ -42,6 +42,7 @@ struct Roll {
   double diameter_mm = 0;
   double new_hardness_hb = 0;
   UnixSeconds available_at = 0;
+  int campaigns = 0;  // campaigns served so far (in this simulation)
 };
 
 std::string Serial(char prefix, int n, int width) {
@@ -399,6 +400,7 @@ std::array<double, 4> MillRun::RollCoils(
           ctx.slot = slot;
           ctx.grade = coil.grade;
           ctx.roll_type = rolls_[mounted_[slot]].type;
+          ctx.roll_campaigns_before = rolls_[mounted_[slot]].campaigns;
           for (const sim::FamilyEffect& f : families_) {
             if (f.kind == EffectKind::kWearRate && f.apply) k *= f.apply(ctx);
           }
@@ -536,6 +538,7 @@ void MillRun::MeasureAndRegrind(int campaign,
         RoundTo(roll.diameter_mm - 2 * (true_wear_um * 1e-3 + safety_mm), 2);
     roll.available_at = measured_at + static_cast<UnixSeconds>(
                                           regrind_rng.Uniform(3600, 3 * 3600));
+    roll.campaigns += 1;
     if (roll.diameter_mm < sim::kScrapDiameterMm) {
       const UnixSeconds ready = roll.available_at;
       roll = NewRoll(next_serial_++, roll.type, &regrind_rng);

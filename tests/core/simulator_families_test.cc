@@ -17,6 +17,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/model/covariates.h"
 #include "core/model/wear_law.h"
 #include "core/sim/simulator.h"
 #include "tests/core/simulator_test_util.h"
@@ -440,7 +441,8 @@ TEST(SimulatorFamilyTest, BadRollsWearMoreWheneverMounted) {
   const SimulatedEffect& e = OnlyEffect(sim);
   EXPECT_EQ(e.mismatch, "roll_id");
   std::map<std::string, std::set<bool>> bad;
-  for (const Row& r : Rows(sim, [](const Pass&, const Mount&) { return true; })) {
+  for (const Row& r :
+       Rows(sim, [](const Pass&, const Mount&) { return true; })) {
     const double ratio = r.noise_free / r.baseline;
     const bool more = std::abs(ratio - e.strength) < 1e-9;
     EXPECT_TRUE(more || std::abs(ratio - 1) < 1e-9) << ratio;
@@ -455,22 +457,56 @@ TEST(SimulatorFamilyTest, BadRollsWearMoreWheneverMounted) {
   EXPECT_LE(num_bad, static_cast<int>(bad.size()) / 4);
 }
 
+// Roll service: each reading carries the multiplier of its roll's earlier
+// campaigns n, as RollCampaignsBefore counts them from the serials and the
+// campaign order (the diagnosis's locate-only covariate): 1 + s n for the
+// linear variant, 1 + s from the third earlier campaign for the step.
+TEST(SimulatorFamilyTest, RollServiceFollowsEachRollsEarlierCampaigns) {
+  for (int variant : {0, 1}) {
+    const Simulation sim = Simulated(
+        42, 120, {"inexpressible_roll_service:" + std::to_string(variant)});
+    const SimulatedEffect& e = OnlyEffect(sim);
+    EXPECT_EQ(e.mismatch, "roll_campaigns_before");
+    EXPECT_TRUE(e.covariate.empty());
+    const std::vector<int> n = RollCampaignsBefore(sim.data);
+    ASSERT_EQ(n.size(), sim.data.mounts.size());
+    int max_n = 0, stepped = 0, rows = 0;
+    for (const Row& r :
+         Rows(sim, [](const Pass&, const Mount&) { return true; })) {
+      const int k = n[r.mount - sim.data.mounts.data()];
+      const double m = variant == 0 ? 1 + e.strength * k
+                       : k >= 3     ? 1 + e.strength
+                                    : 1.0;
+      EXPECT_NEAR(r.noise_free / r.baseline, m, 1e-9) << "n = " << k;
+      max_n = std::max(max_n, k);
+      stepped += k >= 3;
+      ++rows;
+    }
+    // Rolls come back: most readings are of rolls that served before.
+    EXPECT_GE(max_n, 5);
+    EXPECT_GT(stepped, rows / 4);
+    EXPECT_LT(stepped, rows);
+  }
+}
+
 // grade_roll_position (variant 0: S355 at F7/bottom): only the readings of
 // that roll position with S355 passes change, the others are Wang's law.
 TEST(SimulatorFamilyTest, GradeRollPositionActsAtItsRollPositionOnly) {
   const Simulation sim = Simulated(41, 80, {"grade_roll_position:0"});
   const SimulatedEffect& e = OnlyEffect(sim);
   EXPECT_EQ(e.covariate, "grade");
-  EXPECT_EQ(e.scope,
-            (std::map<std::string, std::string>{{"stand", "F7"}, {"position", "bottom"}}));
+  EXPECT_EQ(e.scope, (std::map<std::string, std::string>{
+                         {"stand", "F7"}, {"position", "bottom"}}));
   ASSERT_EQ(e.levels, std::vector<std::string>{"S355"});
   const int s355 = static_cast<int>(
       std::find(sim.data.grades.begin(), sim.data.grades.end(), "S355") -
       sim.data.grades.begin());
   const auto [untouched, changed] = UntouchedAndChanged(
-      Rows(sim, [s355](const Pass& p, const Mount&) { return p.grade == s355; }),
+      Rows(sim,
+           [s355](const Pass& p, const Mount&) { return p.grade == s355; }),
       [](const Row& r) {
-        return r.share > 0 && r.m->stand == 7 && r.m->position == Position::kBottom;
+        return r.share > 0 && r.m->stand == 7 &&
+               r.m->position == Position::kBottom;
       });
   EXPECT_GT(untouched, 3 * changed);  // three other roll positions
   EXPECT_GT(changed, 20);
