@@ -66,6 +66,29 @@ double TermSizeUm(const DiagnosisState& st, const Fitted& with_term) {
   return count > 0 ? std::sqrt(sum2 / count) : 0;
 }
 
+// A locate-only rival (a quantity the data format does not name) that adds
+// nothing to the winner either is the same description, and the recorded
+// covariate is named: a mill's own column of each roll's regrinds is a
+// roll's earlier campaigns (an independent generator's `regrinds`, named
+// before the rival existed and refused as "not distinguishable" with it).
+// The reverse encompassing test: the rival's term added to the winner's
+// model, LR = n ln(RSS_winner / RSS_joint) ~ chi2(df_rival), at the same
+// kRivalAlpha; its lower bound n ln(RSS_winner / RSS_rival) first.
+bool EncompassesLocateOnly(const DiagnosisState& st,
+                           const std::vector<Fitted>& fits, int winner,
+                           int rival, const Fitted& joint) {
+  const TermSpec& rival_term = fits[rival].terms.back();
+  if (!st.td.catalog[rival_term.covariate].locate_only) return false;
+  const double n = static_cast<double>(st.train.size());
+  const int df = rival_term.term.NumParams();
+  double lr = std::max(0.0, n * std::log(fits[winner].rss / fits[rival].rss));
+  if (ChiSquareSurvival(lr, df) < kRivalAlpha) return false;
+  if (!joint.usable || !(joint.rss > 0))
+    return false;  // cannot tell: not named
+  lr = std::max(lr, n * std::log(fits[winner].rss / joint.rss));
+  return ChiSquareSurvival(lr, df) >= kRivalAlpha;
+}
+
 }  // namespace
 
 GuardResult NotNameable(const DiagnosisState& st,
@@ -127,6 +150,7 @@ GuardResult DistinctFromRivals(const DiagnosisState& st,
             : bound;
     const double p = ChiSquareSurvival(lr, df);
     if (p < kRivalAlpha) continue;
+    if (EncompassesLocateOnly(st, fits, winner, j, joint)) continue;
     const TermScope& scope = term.term.scope;
     const std::string where =
         scope.Fields().empty() ? std::string("everywhere") : scope.Label();

@@ -40,6 +40,7 @@
 #include <gtest/gtest.h>
 
 #include "core/diagnosis/diagnosis.h"
+#include "core/model/covariates.h"
 #include "core/sim/simulator.h"
 #include "tests/core/simulator_test_util.h"
 
@@ -480,6 +481,29 @@ TEST(DiagnosisProxyTest, ARollsServiceIsLocatedNotNamedAsCalendarTime) {
   ASSERT_NE(first, d.report.runners_up.end());
   EXPECT_NE(first->reason.find("roll_campaigns_before"), std::string::npos)
       << first->reason;
+}
+
+// The same effect when the mill records each roll's regrinds in a column of
+// mounts.csv (here: the count RollCampaignsBefore gives, as an independent
+// generator's `regrinds`): the recorded column is the quantity and is
+// named; the locate-only rival describes the same data and adds nothing to
+// it (before the reverse encompassing test, session 17, it was refused as
+// "not distinguishable from roll_campaigns_before").
+TEST(DiagnosisProxyTest,
+     ARecordedRegrindCountIsNamedThoughARollsServiceIsItsTwin) {
+  Simulation sim = simulator_test::Simulated(101, kPaperCampaigns,
+                                             {"inexpressible_roll_service:0"});
+  const std::vector<int> n = RollCampaignsBefore(sim.data);
+  sim.data.mount_extra.numeric_names.push_back("regrinds");
+  sim.data.mount_extra.numeric.emplace_back(n.begin(), n.end());
+  const StatusOr<DiagnosisReport> r = Diagnose(sim.data, DiagnosisOptions{});
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  EXPECT_EQ(r->verdict, "missing_physics_found");
+  ASSERT_FALSE(r->findings.empty());
+  EXPECT_EQ(r->findings.front().covariate, "regrinds");
+  EXPECT_EQ(r->findings.front().shape, "increasing");
+  EXPECT_TRUE(r->findings.front().scope.empty());
+  for (const Finding& f : r->findings) EXPECT_NE(f.covariate, "started_at");
 }
 
 // A grade wearing more at one roll position only (grade_roll_position,
