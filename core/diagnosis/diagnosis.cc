@@ -57,6 +57,7 @@ StatusOr<DiagnosisReport> Diagnose(const Dataset& data,
   for (int round = 0; round < options.max_findings; ++round) {
     if (!diag::RunRound(round, data, options, &used, &phase, &state, &report)) break;
   }
+  diag::WithdrawTiedCellSets(options, &state, &report);
 
   diag::Summarise(data, options, state, &report);
   // Along the barrel, when the grinder measured profiles: what the final

@@ -70,6 +70,18 @@ void AddScopedCandidates(const TermData& td, const std::vector<int>& train,
 bool TwinCell(const TermData& td, const std::vector<int>& train, const TermScope& cell,
               TermScope* twin);
 
+// The complementary description of a set of stand cells of one factor
+// (roll types, or grades, all at one stand s) in a mill whose training
+// readings come from exactly two stands s and t: the factor's other levels
+// that run at both stands, as cells at t. Multiplying stand s's K by m and
+// those levels' K by 1/m, the set at s x m is those cells at t x m: the
+// same predictions (the interaction of a two-row table is identified only
+// up to a constant). False (and empty) when `cells` is not such a set or
+// the mill has not two stands (diagnosis_scoped.cc).
+bool ComplementCells(const TermData& td, const std::vector<int>& train,
+                     const std::vector<TermScope>& cells,
+                     std::vector<TermScope>* complement);
+
 // The end of a scoped finding's sentence "It applies only to F7; elsewhere
 // the wear law holds." (diagnosis_naming.cc), which the note on
 // undetermined siblings qualifies (diagnosis_siblings.cc).

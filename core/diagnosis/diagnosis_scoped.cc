@@ -123,7 +123,8 @@ std::vector<TermScope> CellScopes(const TermData& td,
     }
   }
   std::vector<TermScope> out;
-  for (const std::vector<TermScope>* where : {&where_stand, &where_pos, &where_roll}) {
+  for (const std::vector<TermScope>* where :
+       {&where_stand, &where_pos, &where_roll}) {
     for (const TermScope& b : what) {
       std::vector<std::pair<int, TermScope>> cells;
       int total = 0;
@@ -159,7 +160,8 @@ bool TwinCell(const TermData& td, const std::vector<int>& train,
     // other scopes of the same kind.
     const bool roll_position = cell.position >= 0;
     for (const TermScope& s : SingleScopes(td, train)) {
-      if (s.stand > 0 && (s.position >= 0) == roll_position) places.push_back(s);
+      if (s.stand > 0 && (s.position >= 0) == roll_position)
+        places.push_back(s);
     }
   } else if (cell.position >= 0) {
     places.push_back({0, static_cast<int>(Position::kTop), "", ""});
@@ -180,6 +182,45 @@ bool TwinCell(const TermData& td, const std::vector<int>& train,
     *twin = with_data[0];
   } else {
     return false;
+  }
+  return true;
+}
+
+bool ComplementCells(const TermData& td, const std::vector<int>& train,
+                     const std::vector<TermScope>& cells,
+                     std::vector<TermScope>* complement) {
+  complement->clear();
+  if (cells.empty()) return false;
+  const TermScope& first = cells.front();
+  const bool by_type = !first.roll_type.empty();
+  for (const TermScope& c : cells) {
+    if (c.stand != first.stand || c.stand <= 0 || c.position >= 0 ||
+        c.roll_type.empty() == by_type || c.grade.empty() != by_type) {
+      return false;
+    }
+  }
+  std::vector<int> stands;
+  for (const TermScope& s : SingleScopes(td, train, true)) {
+    if (s.stand > 0 && s.position < 0) stands.push_back(s.stand);
+  }
+  if (stands.size() != 2 ||
+      std::find(stands.begin(), stands.end(), first.stand) == stands.end()) {
+    return false;
+  }
+  const int other = stands[0] == first.stand ? stands[1] : stands[0];
+  for (const std::string& level : by_type ? td.roll_types : td.grades) {
+    const bool named =
+        std::any_of(cells.begin(), cells.end(), [&](const TermScope& c) {
+          return (by_type ? c.roll_type : c.grade) == level;
+        });
+    if (named) continue;
+    TermScope here{first.stand, -1, by_type ? level : "", by_type ? "" : level};
+    TermScope there = here;
+    there.stand = other;
+    if (CountInScope(td, train, here) > 0 &&
+        CountInScope(td, train, there) > 0) {
+      complement->push_back(there);
+    }
   }
   return true;
 }

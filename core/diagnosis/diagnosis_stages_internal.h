@@ -105,6 +105,14 @@ bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
               PhaseClock* phase, DiagnosisState* state,
               DiagnosisReport* report);
 
+// After the rounds: withdraws each set of adopted stand cells of one factor
+// whose complementary description (ComplementCells) has no more cells: its
+// findings become runners-up, its terms leave state->current (refitted),
+// and the mismatch is listed as located with both descriptions
+// (diagnosis_complement.cc).
+void WithdrawTiedCellSets(const DiagnosisOptions& options, DiagnosisState* state,
+                          DiagnosisReport* report);
+
 // Fits `terms` (their params are the start) with the baseline coefficients
 // `log_k` on `subset` (term_fit.h FitTerms); unusable when the fit fails.
 // With `errors`, the terms' standard errors go to *term_se.

@@ -72,7 +72,8 @@ bool StartsWith(const std::string& s, const std::string& prefix) {
 // Whether residual check `dimension` (Unexplained::dimension) looks at the
 // place one part of a truth's location names (MismatchParts).
 bool DimensionLocates(const std::string& part, const std::string& dimension) {
-  if (part.find("time of day") != std::string::npos) return dimension == "time_of_day";
+  if (part.find("time of day") != std::string::npos)
+    return dimension == "time_of_day";
   const bool time = part.find("time") != std::string::npos ||
                     part.find("calendar") != std::string::npos;
   if (time) {
@@ -91,18 +92,21 @@ bool DimensionLocates(const std::string& part, const std::string& dimension) {
   if (part.find("grade") != std::string::npos) {
     return dimension == "dominant_grade" || dimension == "grade" ||
            StartsWith(dimension, "position_by_grade") ||
-           dimension == "effect_by_grade" ||
+           dimension == "effect_by_grade" || dimension == "stand_by_grade" ||
            dimension == "grade_by_campaign_order";
   }
   if (part.find("roll type") != std::string::npos) {
     return dimension == "roll_type" || dimension == "position_by_roll_type" ||
-           dimension == "effect_by_roll_type";
+           dimension == "effect_by_roll_type" ||
+           dimension == "stand_by_roll_type";
   }
   if (part.find("position") != std::string::npos ||
       part.find("stand") != std::string::npos) {
-    return dimension == "roll_position" || StartsWith(dimension, "position_by_") ||
-           dimension == "spread_by_position" || dimension == "effect_by_position" ||
-           dimension == "effect_by_stand";
+    return dimension == "roll_position" ||
+           StartsWith(dimension, "position_by_") ||
+           dimension == "spread_by_position" ||
+           dimension == "effect_by_position" ||
+           dimension == "effect_by_stand" || StartsWith(dimension, "stand_by_");
   }
   // A covariate's own name, or the guard's refusal across its levels
   // ("effect_by_lubrication": a term whose scale differs between them).
@@ -129,14 +133,16 @@ std::vector<std::string> MismatchParts(const std::string& mismatch) {
   return parts;
 }
 
-bool LocatesMismatch(const DiagnosisReport& report, const std::string& mismatch) {
+bool LocatesMismatch(const DiagnosisReport& report,
+                     const std::string& mismatch) {
   if (mismatch.empty()) return false;
   const std::vector<std::string> parts = MismatchParts(mismatch);
   return std::any_of(report.unexplained.begin(), report.unexplained.end(),
                      [&](const Unexplained& u) {
                        return std::any_of(parts.begin(), parts.end(),
                                           [&](const std::string& part) {
-                                            return DimensionLocates(part, u.dimension);
+                                            return DimensionLocates(
+                                                part, u.dimension);
                                           });
                      });
 }
@@ -194,11 +200,13 @@ CaseScore ScoreCase(const std::string& effect, uint64_t seed,
   } else if (!s.expressible) {
     // The verdict, and the unexplained list naming where each inexpressible
     // effect lives.
-    s.named_right =
-        report.findings.empty() && report.verdict == "mismatch_located_unexplained" &&
-        std::all_of(truth.effects.begin(), truth.effects.end(), [&](const ConcealedEffect& e) {
-          return e.expressible || LocatesMismatch(report, e.mismatch);
-        });
+    s.named_right = report.findings.empty() &&
+                    report.verdict == "mismatch_located_unexplained" &&
+                    std::all_of(truth.effects.begin(), truth.effects.end(),
+                                [&](const ConcealedEffect& e) {
+                                  return e.expressible ||
+                                         LocatesMismatch(report, e.mismatch);
+                                });
   } else {
     s.named_right = std::all_of(
         truth.effects.begin(), truth.effects.end(),

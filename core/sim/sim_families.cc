@@ -14,6 +14,8 @@
 //   scoped_factor     a covariate effect on one grade or one roll type
 //   grade_stand       one grade wears one stand (mostly the last) more
 //   roll_type_stand   one roll type wears more at one stand only
+//   roll_type_pair_stand two roll types wear more at one stand (not
+//                     identifiable in a two-stand mill)
 //   grade_roll_position one grade wears one roll position more
 //   grinder           a text column of measurements.csv; one level reads low
 //   grinder_null      the same column, no offset (must stay quiet)
@@ -177,6 +179,41 @@ FamilyEffect RollTypeStand(int variant, Random* rng, uint64_t, int) {
   return f;
 }
 
+// roll_type_pair_stand: two of the four roll types used at both stands
+// wear more at one stand only (x1.2..1.5 each, one draw): variant k takes
+// pair k % 6 of (ICDP-S1, ICDP-S2, HiCr-S2, HSS-S2), at F7 for k even, F6
+// otherwise. In a mill measured at two stands that is the same data as the
+// other two types wearing as much more at the other stand (the stands' and
+// types' K take up the factor): expressible, but not identifiable, so the
+// answer must locate it (roll type x stand) and name neither pair.
+FamilyEffect RollTypePairStand(int variant, Random* rng, uint64_t, int) {
+  static const int kTypes[] = {0, 1, 5, 7};
+  static const int kPairs[6][2] = {{0, 1}, {0, 2}, {0, 3},
+                                   {1, 2}, {1, 3}, {2, 3}};
+  const int a = kTypes[kPairs[variant % 6][0]],
+            b = kTypes[kPairs[variant % 6][1]];
+  const int stand = variant % 2 == 0 ? 7 : 6;
+  const double m = rng->Uniform(1.2, 1.5);
+  FamilyEffect f = Base("roll_type_pair_stand", "", "multiplier", m);
+  f.truth.expressible = false;
+  f.truth.mismatch = "roll type x stand";
+  f.truth.scope = {{"stand", "F" + std::to_string(stand)}};
+  f.truth.levels = {RollTypes()[a].label, RollTypes()[b].label};
+  f.truth.parameters = {{"multiplier", m}};
+  f.truth.description =
+      std::string("rolls of types ") + RollTypes()[a].label + " and " +
+      RollTypes()[b].label + " wear by a factor " + Fmt("%.2f", m) +
+      " more at F" + std::to_string(stand) +
+      " only; the other two types wearing as much more at the "
+      "other stand is the same data";
+  f.apply = [a, b, stand, m](const EffectContext& c) {
+    return (c.roll_type == a || c.roll_type == b) && c.pass->stand == stand
+               ? m
+               : 1.0;
+  };
+  return f;
+}
+
 // grinder: a text column of measurements.csv naming who or what took the
 // reading; one level reads low by 8..25 um on its share (20..50 %) of the
 // readings. Variant: column grinder (G1/G2), gauge (GA/GB/GC), crew
@@ -315,6 +352,10 @@ const std::vector<FamilySpec>& Families() {
        &GradeStand},
       {"roll_type_stand", "one roll type wears x1.2..1.5 more at one stand", 8,
        &RollTypeStand},
+      {"roll_type_pair_stand",
+       "two roll types wear more at one stand only: the same data as the "
+       "other two at the other stand; not identifiable",
+       6, &RollTypePairStand},
       {"grade_roll_position",
        "one grade wears one roll position (F7/bottom or F6/top) x1.2..1.5 "
        "more",

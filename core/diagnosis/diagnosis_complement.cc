@@ -1,0 +1,135 @@
+// A set of adopted stand cells that the data cannot tell from its
+// complement (docs/diagnosis.md, "Cell sets at two stands"). In a mill
+// measured at two stands s and t, with K by roll position, roll type and
+// grade (option 1), the cells of one factor form a two-row table whose
+// interaction is identified only up to a constant: roll types A and B
+// wearing x m more at s predict every reading exactly as the factor's other
+// types that run at both stands wearing x m more at t (ComplementCells). The
+// data then prefer the sparser description, and when the complement has no
+// more cells than the named set (two of four roll types at F7: an
+// independent generator's `two_types_f7`, named as the other two types at
+// F6 in 7 of 10 seeds in session 16) neither is identified. The set is
+// withdrawn: its findings become runners-up, its terms leave the model
+// (refitted without them), and the mismatch is listed as located,
+// `stand_by_roll_type` or `stand_by_grade`, naming both descriptions.
+// A set whose complement has more cells (one roll type of four at F7, one
+// grade of ten) stays named: it is the sparsest description.
+// Thread-safety: reentrant (changes only its arguments).
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "core/diagnosis/diagnosis_stages_internal.h"
+
+namespace rollwear::diag {
+namespace {
+
+std::string Levels(const std::vector<TermScope>& cells, bool by_type) {
+  std::string out;
+  for (size_t i = 0; i < cells.size(); ++i) {
+    if (i > 0) out += i + 1 == cells.size() ? " and " : ", ";
+    out += by_type ? cells[i].roll_type : cells[i].grade;
+  }
+  return out;
+}
+
+// The rms of what the withdrawn cells add to the training predictions
+// inside their scopes (the model with them minus the refitted one).
+double CellsSizeUm(const DiagnosisState& st, const Fitted& with,
+                   const Fitted& without, const std::vector<TermScope>& cells) {
+  const std::vector<double> a =
+      PredictTerms(st.td, st.train, with.log_k, with.terms);
+  const std::vector<double> b =
+      PredictTerms(st.td, st.train, without.log_k, without.terms);
+  double sum2 = 0;
+  int count = 0;
+  for (size_t i = 0; i < st.train.size(); ++i) {
+    const TermObservation& ob = st.td.obs[st.train[i]];
+    if (std::none_of(cells.begin(), cells.end(), [&](const TermScope& c) {
+          return InScope(st.td, ob, c);
+        })) {
+      continue;
+    }
+    sum2 += (a[i] - b[i]) * (a[i] - b[i]);
+    ++count;
+  }
+  return count > 0 ? std::sqrt(sum2 / count) : 0;
+}
+
+// Withdraws the stand cells of one factor when their complement is no
+// sparser; true when it did.
+bool WithdrawIfTied(const DiagnosisOptions& options, bool by_type,
+                    DiagnosisState* st, DiagnosisReport* report) {
+  std::vector<int> index;
+  std::vector<TermScope> cells;
+  for (size_t i = 0; i < report->findings.size(); ++i) {
+    const ModelTerm& t = report->findings[i].term;
+    if (t.form != TermForm::kCell || t.scope.stand <= 0 ||
+        t.scope.position >= 0 ||
+        (by_type ? t.scope.roll_type : t.scope.grade).empty()) {
+      continue;
+    }
+    index.push_back(static_cast<int>(i));
+    cells.push_back(t.scope);
+  }
+  std::vector<TermScope> complement;
+  if (!ComplementCells(st->td, st->train, cells, &complement) ||
+      complement.size() > cells.size()) {
+    return false;
+  }
+  std::vector<TermSpec> kept;
+  for (const TermSpec& t : st->current.terms) {
+    const bool withdrawn =
+        t.term.form == TermForm::kCell &&
+        std::find(cells.begin(), cells.end(), t.term.scope) != cells.end();
+    if (!withdrawn) kept.push_back(t);
+  }
+  const std::vector<double> sd = TermNoiseSd(
+      st->td, st->train, st->current.log_k, kept, nullptr, options.robust);
+  const Fitted refit = Fit(st->td, st->train, sd, st->current.log_k, kept);
+  if (!refit.usable) return false;  // keep what was adopted rather than nothing
+
+  const char* what = by_type ? "roll types " : "grades ";
+  const std::string named = what + Levels(cells, by_type) + " at F" +
+                            std::to_string(cells.front().stand);
+  const std::string twin =
+      complement.empty() ? std::string("stand F") +
+                               std::to_string(cells.front().stand) + "'s own K"
+                         : what + Levels(complement, by_type) + " at F" +
+                               std::to_string(complement.front().stand);
+  Unexplained u;
+  u.dimension = by_type ? "stand_by_roll_type" : "stand_by_grade";
+  u.where = named + ", or equally " + twin;
+  u.test = "lr";
+  u.mean_residual_um = CellsSizeUm(*st, st->current, refit, cells);
+  const std::string reason =
+      "withdrawn: " + named + " wearing more predicts every reading as " +
+      twin +
+      " wearing more (two stands: the stands' and the levels' K take up the "
+      "factor); the data cannot tell which";
+  for (int i : index) {
+    const Finding& f = report->findings[i];
+    u.statistic += f.lr;
+    u.p_value = std::min(u.p_value, f.p_value);
+    u.p_adjusted = std::min(u.p_adjusted, f.p_adjusted);
+    report->runners_up.push_back(
+        {i, f.covariate, f.form, f.p_adjusted, f.cv_mse_ratio, reason});
+  }
+  for (auto it = index.rbegin(); it != index.rend(); ++it) {
+    report->findings.erase(report->findings.begin() + *it);
+  }
+  report->unexplained.push_back(u);
+  st->current = refit;
+  return true;
+}
+
+}  // namespace
+
+void WithdrawTiedCellSets(const DiagnosisOptions& options, DiagnosisState* st,
+                          DiagnosisReport* report) {
+  for (bool by_type : {true, false})
+    WithdrawIfTied(options, by_type, st, report);
+}
+
+}  // namespace rollwear::diag
