@@ -507,11 +507,12 @@ TEST(DiagnosisProxyTest,
 }
 
 // Two of the four roll types that run at both stands wearing more at one
-// stand (roll_type_pair_stand, seed 103: ICDP-S1 and HiCr-S2... as drawn).
-// In a two-stand mill that is the same data as the other two types wearing
-// as much more at the other stand, and before session 17 the engine named
-// one of the pairs (the other one in this seed: wrong physics, 4 of seeds
-// 101-105). Neither is identified: the set is withdrawn and located with
+// stand (roll_type_pair_stand, seed 103: ICDP-S1 and HiCr-S2 at F6). In a
+// two-stand mill that is the same data as the other two types wearing as
+// much more at the other stand. Before session 17 the engine named one of
+// the pairs in 4 of seeds 101-105, whichever its fit landed on (here the
+// truth's; an independent generator's `two_types_f7` got the other pair in
+// 7 of 10). Neither is identified: the set is withdrawn and located with
 // both descriptions.
 TEST(DiagnosisProxyTest,
      TwoRollTypesAtOneStandAreLocatedWithTheirEquivalentPair) {
