@@ -224,8 +224,8 @@ void GuardDimensions(const TermData& td, const std::vector<int>& train,
       std::vector<std::string> level(train.size());
       for (size_t i = 0; i < train.size(); ++i) {
         const double z = td.obs_z[k][train[i]];
-        const int64_t l = std::isnan(z) ? -1 : std::llround(z);
-        if (l >= 0 && l < static_cast<int64_t>(c.levels.size()))
+        const int l = LevelIndex(z);
+        if (l >= 0 && l < static_cast<int>(c.levels.size()))
           level[i] = c.levels[l];
       }
       names->push_back(c.name);
@@ -324,7 +324,7 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
   GuardDimensions(td, st.train, with_term.terms.back().term.covariate, stand,
                   position, roll_type, &names, &labels);
   const std::vector<SplitHeterogeneity> split =
-      SplitByPassFactors(st, with_term, w, phi);
+      SplitByPassFactors(st, with_term, e, w, phi);
   const double dims =
       static_cast<double>(names.size() + split.size());  // Bonferroni
   for (const SplitHeterogeneity& s : split) {

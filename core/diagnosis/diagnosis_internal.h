@@ -6,6 +6,7 @@
 #ifndef ROLLWEAR_CORE_DIAGNOSIS_DIAGNOSIS_INTERNAL_H_
 #define ROLLWEAR_CORE_DIAGNOSIS_DIAGNOSIS_INTERNAL_H_
 
+#include <cmath>
 #include <set>
 #include <string>
 #include <utility>
@@ -35,23 +36,24 @@ double Quantile(const WeightedValues& w, double q);
 
 // Every candidate term over covariates not in `used`; cells at every
 // place but those of `adopted_cells` (and their twins).
-std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>& train,
-                                      const std::set<int>& used,
-                                      const DiagnosisOptions& options,
-                                      const std::vector<TermScope>& adopted_cells = {});
+std::vector<Candidate> MakeCandidates(
+    const TermData& td, const std::vector<int>& train,
+    const std::set<int>& used, const DiagnosisOptions& options,
+    const std::vector<TermScope>& adopted_cells = {});
 
 // The unscoped candidates of each covariate on `train`, by catalogue index
 // (built on options.num_threads threads): the part of MakeCandidates that
 // does not depend on `used`, so a diagnosis builds it once for its rounds.
-std::vector<std::vector<Candidate>> UnscopedCandidates(const TermData& td,
-                                                       const std::vector<int>& train,
-                                                       const DiagnosisOptions& options);
+std::vector<std::vector<Candidate>> UnscopedCandidates(
+    const TermData& td, const std::vector<int>& train,
+    const DiagnosisOptions& options);
 
 // MakeCandidates from UnscopedCandidates(td, train, options).
-std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>& train,
-                                      const std::set<int>& used,
-                                      const std::vector<std::vector<Candidate>>& unscoped,
-                                      const std::vector<TermScope>& adopted_cells = {});
+std::vector<Candidate> MakeCandidates(
+    const TermData& td, const std::vector<int>& train,
+    const std::set<int>& used,
+    const std::vector<std::vector<Candidate>>& unscoped,
+    const std::vector<TermScope>& adopted_cells = {});
 
 // Appends the scoped variants of the simple candidates already in `out`
 // and the cell candidates but those of `adopted_cells` and their twins
@@ -67,8 +69,8 @@ void AddScopedCandidates(const TermData& td, const std::vector<int>& train,
 // other place's cell, which describes the same data
 // (x m at one place = x 1/m at the other, the level's own K factor taking
 // up the rest). False when there is no twin (diagnosis_scoped.cc).
-bool TwinCell(const TermData& td, const std::vector<int>& train, const TermScope& cell,
-              TermScope* twin);
+bool TwinCell(const TermData& td, const std::vector<int>& train,
+              const TermScope& cell, TermScope* twin);
 
 // The complementary description of a set of stand cells of one factor
 // (roll types, or grades, all at one stand s) in a mill whose training
@@ -81,6 +83,14 @@ bool TwinCell(const TermData& td, const std::vector<int>& train, const TermScope
 bool ComplementCells(const TermData& td, const std::vector<int>& train,
                      const std::vector<TermScope>& cells,
                      std::vector<TermScope>* complement);
+
+// The level of a factor covariate's value (TermData::z holds the level
+// index as a double; NaN, an empty cell, and anything that cannot be a
+// level index are -1).
+inline int LevelIndex(double z) {
+  if (!(z > -0.5 && z < 1e9)) return -1;
+  return static_cast<int>(std::lround(z));
+}
 
 // The end of a scoped finding's sentence "It applies only to F7; elsewhere
 // the wear law holds." (diagnosis_naming.cc), which the note on
@@ -105,8 +115,8 @@ bool InScope(const TermData& td, const TermObservation& ob, const TermScope& s);
 // Fills mechanism, shape and explanation of a finding from its fitted term
 // and the covariate's training range (reads f->parameter_std_errors when
 // set, to tell a noisy binned step from a peak).
-void NameFinding(const TermData& td, const std::vector<int>& train, const TermSpec& spec,
-                 Finding* finding);
+void NameFinding(const TermData& td, const std::vector<int>& train,
+                 const TermSpec& spec, Finding* finding);
 
 // Residual breakdowns of `pred` (aligned with `obs`), strongest first;
 // with `clip_sd` (aligned with `obs`) each residual is clipped to
@@ -130,13 +140,16 @@ inline bool IsStep(const TermSpec& spec) {
 
 // Load-weighted quantile q in [0, 1] of covariate k over the passes of
 // `obs` (or of the aggregated values for non-pass covariates).
-double CovariateQuantile(const TermData& td, const std::vector<int>& obs, int k, double q);
+double CovariateQuantile(const TermData& td, const std::vector<int>& obs, int k,
+                         double q);
 
 // One-way ANOVA F test (F = MSB / MSW, Fisher 1925) of `resid` over the
 // groups named by `label` (in the order of `order`, else by label), with
 // each group's mean residual and mean relative residual `rel`.
-Breakdown AnovaBreakdown(const std::string& dimension, const std::vector<std::string>& label,
-                         const std::vector<double>& resid, const std::vector<double>& rel,
+Breakdown AnovaBreakdown(const std::string& dimension,
+                         const std::vector<std::string>& label,
+                         const std::vector<double>& resid,
+                         const std::vector<double>& rel,
                          const std::vector<std::string>& order = {});
 
 // The grade with the largest share of the observation's load ("?" if none).
@@ -182,8 +195,8 @@ CampaignSeries ByCampaignInTime(const TermData& td, const Dataset& data,
 // The checks significant at family-wise level `alpha` (Bonferroni over all
 // of `checks`) and of material size (a location group mean of at least
 // `material_um`; see diagnosis_noise.cc for the others), strongest first.
-std::vector<Unexplained> UnexplainedStructure(const std::vector<Breakdown>& checks,
-                                              double alpha, double material_um);
+std::vector<Unexplained> UnexplainedStructure(
+    const std::vector<Breakdown>& checks, double alpha, double material_um);
 
 // The material size of a located mean residual: a quarter of the median
 // noise sd.

@@ -43,7 +43,8 @@ struct PassFactor {
 };
 
 // The pass-level factors the term `cov` is not itself about.
-std::vector<PassFactor> PassFactors(const TermData& td, const std::string& cov) {
+std::vector<PassFactor> PassFactors(const TermData& td,
+                                    const std::string& cov) {
   std::vector<PassFactor> out;
   if (cov != "grade") out.push_back({"grade", td.grade, td.grades});
   for (int k = 0; k < static_cast<int>(td.catalog.size()); ++k) {
@@ -61,7 +62,7 @@ std::vector<PassFactor> PassFactors(const TermData& td, const std::string& cov) 
     f.level.resize(td.z[k].size());
     for (size_t i = 0; i < f.level.size(); ++i) {
       const double z = td.z[k][i];
-      f.level[i] = std::isnan(z) ? -1 : static_cast<int>(std::lround(z));
+      f.level[i] = LevelIndex(z);
     }
     out.push_back(std::move(f));
   }
@@ -83,7 +84,8 @@ struct PassSplit {
 // Each level's column (-1: pooled) and the tested levels' labels: a level
 // is tested when it carries >= kMinLevelShare of the term's |D| in >=
 // kMinLevelReadings readings.
-std::vector<int> TestedColumns(const TermData& td, const std::vector<int>& train,
+std::vector<int> TestedColumns(const TermData& td,
+                               const std::vector<int>& train,
                                const PassFactor& f, const PassSplit& c,
                                std::vector<std::string>* tested) {
   const int num_levels = static_cast<int>(f.labels.size());
@@ -148,10 +150,11 @@ void WaldEqual(const Eigen::VectorXd& b, const Eigen::MatrixXd& v,
 // The WLS fit e ~ sum_l a_l P_l + sum_l b_l D_l over the training readings
 // (columns: P of each tested level and the pool, then D likewise) and the
 // Wald test of its tested b_l; false when the design is not of full rank.
-bool FitLevelScales(const DiagnosisState& st, const PassFactor& f, const PassSplit& c,
-                    const std::vector<int>& column, const std::vector<std::string>& tested,
-                    const std::vector<double>& e, const std::vector<double>& w, double phi,
-                    SplitHeterogeneity* h) {
+bool FitLevelScales(const DiagnosisState& st, const PassFactor& f,
+                    const PassSplit& c, const std::vector<int>& column,
+                    const std::vector<std::string>& tested,
+                    const std::vector<double>& e, const std::vector<double>& w,
+                    double phi, SplitHeterogeneity* h) {
   const TermData& td = st.td;
   const auto n = static_cast<Eigen::Index>(st.train.size());
   const int k = static_cast<int>(tested.size());
@@ -178,7 +181,8 @@ bool FitLevelScales(const DiagnosisState& st, const PassFactor& f, const PassSpl
   std::vector<Eigen::Index> at(k, -1);  // tested levels' D columns in xk
   for (size_t j = 0; j < keep.size(); ++j) {
     xk.col(static_cast<Eigen::Index>(j)) = x.col(keep[j]);
-    if (keep[j] >= cols && keep[j] < cols + k) at[keep[j] - cols] = static_cast<Eigen::Index>(j);
+    if (keep[j] >= cols && keep[j] < cols + k)
+      at[keep[j] - cols] = static_cast<Eigen::Index>(j);
   }
   Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(xk);
   qr.setThreshold(1e-10);
@@ -202,15 +206,17 @@ bool FitLevelScales(const DiagnosisState& st, const PassFactor& f, const PassSpl
 // b_l * D_il over the readings its passes reach (the shape is what differs
 // between the levels, so a mean residual would say little), with the sign
 // of its mean.
-double LevelEffectSize(const DiagnosisState& st, const PassFactor& f, const PassSplit& c,
-                       const std::vector<int>& column, int tested_level, double scale) {
+double LevelEffectSize(const DiagnosisState& st, const PassFactor& f,
+                       const PassSplit& c, const std::vector<int>& column,
+                       int tested_level, double scale) {
   double sum = 0, sum2 = 0;
   int n = 0;
   for (int o : st.train) {
     const TermObservation& ob = st.td.obs[o];
     double d = 0;
     for (int p = ob.pass_begin; p < ob.pass_end; ++p) {
-      if (column[LevelOf(f, p)] == tested_level) d += scale * (c.c1[p] - c.c0[p]);
+      if (column[LevelOf(f, p)] == tested_level)
+        d += scale * (c.c1[p] - c.c0[p]);
     }
     if (d == 0) continue;
     sum += d;
@@ -225,20 +231,20 @@ double LevelEffectSize(const DiagnosisState& st, const PassFactor& f, const Pass
 
 std::vector<SplitHeterogeneity> SplitByPassFactors(const DiagnosisState& st,
                                                    const Fitted& with_term,
+                                                   const std::vector<double>& e,
                                                    const std::vector<double>& w,
                                                    double phi) {
   const TermData& td = st.td;
   std::vector<TermSpec> without = with_term.terms;
   without.pop_back();
-  const std::vector<double> c1 = PredictPassWear(td, st.train, with_term.log_k, with_term.terms);
-  const std::vector<double> c0 = PredictPassWear(td, st.train, with_term.log_k, without);
+  const std::vector<double> c1 =
+      PredictPassWear(td, st.train, with_term.log_k, with_term.terms);
+  const std::vector<double> c0 =
+      PredictPassWear(td, st.train, with_term.log_k, without);
   const PassSplit c{c0, c1};
-  // e_i: the residual without the term (measurement terms included).
-  const std::vector<double> p0 = PredictTerms(td, st.train, with_term.log_k, without);
-  std::vector<double> e(st.train.size());
-  for (size_t i = 0; i < e.size(); ++i) e[i] = td.obs[st.train[i]].measured_um - p0[i];
   std::vector<SplitHeterogeneity> out;
-  for (const PassFactor& f : PassFactors(td, with_term.terms.back().term.covariate)) {
+  for (const PassFactor& f :
+       PassFactors(td, with_term.terms.back().term.covariate)) {
     std::vector<std::string> tested;
     const std::vector<int> column = TestedColumns(td, st.train, f, c, &tested);
     if (tested.size() < 2) continue;

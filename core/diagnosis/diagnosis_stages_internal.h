@@ -101,8 +101,7 @@ void MakeFolds(const DiagnosisOptions& options, const CampaignSplit& split,
 // `used`). Round 0 also fills report->first_round. Returns false when the
 // round adopted nothing, which ends the search.
 bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
-              std::set<int>* used,
-              PhaseClock* phase, DiagnosisState* state,
+              std::set<int>* used, PhaseClock* phase, DiagnosisState* state,
               DiagnosisReport* report);
 
 // After the rounds: withdraws each set of adopted stand cells of one factor
@@ -110,8 +109,8 @@ bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
 // findings become runners-up, its terms leave state->current (refitted),
 // and the mismatch is listed as located with both descriptions
 // (diagnosis_complement.cc).
-void WithdrawTiedCellSets(const DiagnosisOptions& options, DiagnosisState* state,
-                          DiagnosisReport* report);
+void WithdrawTiedCellSets(const DiagnosisOptions& options,
+                          DiagnosisState* state, DiagnosisReport* report);
 
 // Fits `terms` (their params are the start) with the baseline coefficients
 // `log_k` on `subset` (term_fit.h FitTerms); unusable when the fit fails.
@@ -124,8 +123,8 @@ Fitted Fit(const TermData& td, const std::vector<int>& subset,
 // The proxy guard's answer on a round's winner (diagnosis_guard.cc).
 struct GuardResult {
   bool pass = true;
-  std::string reason;     // why not, e.g. "inconsistent across stand"
-  Unexplained located;    // for an inconsistent effect: where it lives
+  std::string reason;   // why not, e.g. "inconsistent across stand"
+  Unexplained located;  // for an inconsistent effect: where it lives
 };
 
 // The proxy guard (diagnosis_guard.cc): (a) is the effect of the last term
@@ -154,11 +153,12 @@ struct SplitHeterogeneity {
 };
 // One entry per pass-level factor the last term of `with_term` is not
 // about and whose levels can be told apart (>= 2 levels with enough of the
-// term's contribution); `w` the training readings' weights 1/sd^2 and
-// `phi` the adopted model's weighted mean square (aligned with
-// state.train).
+// term's contribution); `e` the training readings' residuals without the
+// term, `w` their weights 1/sd^2 and `phi` the adopted model's weighted
+// mean square (all aligned with state.train).
 std::vector<SplitHeterogeneity> SplitByPassFactors(const DiagnosisState& st,
                                                    const Fitted& with_term,
+                                                   const std::vector<double>& e,
                                                    const std::vector<double>& w,
                                                    double phi);
 // The proxy guard's look at the siblings of a single-factor scope
@@ -183,8 +183,10 @@ void NoteUndeterminedSiblings(const DiagnosisState& st,
 // A candidate over a locate-only covariate (CovariateSpec::locate_only,
 // roll_campaigns_before): always fails, with where it lives and its LR as
 // `located` (diagnosis_rivals.cc). Passes every other candidate.
-GuardResult NotNameable(const DiagnosisState& st, const std::vector<Fitted>& fits,
-                        const std::vector<CandidateResult>& results, int candidate);
+GuardResult NotNameable(const DiagnosisState& st,
+                        const std::vector<Fitted>& fits,
+                        const std::vector<CandidateResult>& results,
+                        int candidate);
 
 // The proxy guard's comparison with the round's rivals
 // (diagnosis_rivals.cc): fails when the term of accepted candidate `winner`
@@ -218,19 +220,23 @@ bool IsCalendarTerm(const TermData& td, const ModelTerm& t);
 // training residuals is significant with the predictions `before` (aligned
 // with state.train) and more than half of it remains with `after`.
 GuardResult LookAlongTime(const Dataset& data, const DiagnosisState& st,
-                          const DiagnosisOptions& options, const std::vector<double>& sd,
-                          const std::vector<double>& before, const std::vector<double>& after,
+                          const DiagnosisOptions& options,
+                          const std::vector<double>& sd,
+                          const std::vector<double>& before,
+                          const std::vector<double>& after,
                           const std::string& covariate);
 
 // The first accepted candidate of a round (`accepted`, best first) that is
 // distinct from the round's cells and passes GuardAgainstProxy, or -1; the
 // others tried become runners-up, and when none passes, where an
 // inconsistent effect lives is listed as unexplained (diagnosis_guard.cc).
-int GuardedWinner(int round, const Dataset& data, const DiagnosisOptions& options,
-                  const DiagnosisState& st, const std::vector<double>& sd,
-                  const std::vector<int>& accepted, const std::vector<Fitted>& fits,
-                  const std::vector<CandidateResult>& results,
-                  double num_tests, DiagnosisReport* report);
+int GuardedWinner(int round, const Dataset& data,
+                  const DiagnosisOptions& options, const DiagnosisState& st,
+                  const std::vector<double>& sd,
+                  const std::vector<int>& accepted,
+                  const std::vector<Fitted>& fits,
+                  const std::vector<CandidateResult>& results, double num_tests,
+                  DiagnosisReport* report);
 
 // A winning cell with a twin (TwinCell) stated as the place that wears more;
 // `note` gets the sentence naming the twin (diagnosis_guard.cc).
@@ -255,7 +261,8 @@ struct ReferenceChoice {
 // For an offset-per-level winner, refits it with each level that has
 // training readings in its scope as the reference and returns the fit with
 // the least RSS, filling *choice; any other winner is returned as is.
-Fitted ChooseOffsetReference(const DiagnosisState& st, const std::vector<double>& sd,
+Fitted ChooseOffsetReference(const DiagnosisState& st,
+                             const std::vector<double>& sd,
                              const Fitted& winner, ReferenceChoice* choice);
 
 // When a level the finding names as reading off is one the data cannot
