@@ -327,14 +327,29 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
       SplitByPassFactors(st, with_term, e, w, phi);
   const double dims =
       static_cast<double>(names.size() + split.size());  // Bonferroni
+  // The strongest inconsistent split names where the effect lives (a flag
+  // term is split by every pass-level quartile factor too, and the
+  // covariate the effect follows differs most): by the standardised
+  // statistic (W - df) / sqrt(2 df), df = levels - 1, since p-values this
+  // small underflow alike.
+  const auto standardised = [](const SplitHeterogeneity& s) {
+    const double df = std::max(1, s.levels - 1);
+    return (s.wald - df) / std::sqrt(2 * df);
+  };
+  const SplitHeterogeneity* strongest = nullptr;
   for (const SplitHeterogeneity& s : split) {
-    if (s.p * dims < options.alpha && s.max_dev >= kMaterialScale) {
-      Heterogeneity h;
-      h.group = s.level;
-      h.group_mean_um = s.level_size_um;  // the effect's size there
-      return Refused("inconsistent across " + s.factor, s.factor, h,
-                     "wald_by_level", s.wald, s.p, dims);
+    if (s.p * dims < options.alpha && s.max_dev >= kMaterialScale &&
+        (strongest == nullptr || standardised(s) > standardised(*strongest))) {
+      strongest = &s;
     }
+  }
+  if (strongest != nullptr) {
+    Heterogeneity h;
+    h.group = strongest->level;
+    h.group_mean_um = strongest->level_size_um;  // the effect's size there
+    return Refused("inconsistent across " + strongest->factor,
+                   strongest->factor, h, "wald_by_level", strongest->wald,
+                   strongest->p, dims);
   }
   for (size_t di = 0; di < names.size(); ++di) {
     const char* name = names[di].c_str();

@@ -403,6 +403,37 @@ TEST(DiagnosisProxyTest, AnEffectOnDryPassesOnlyIsLocatedNotNamedEverywhere) {
   EXPECT_LT(u->p_adjusted, 1e-10);
 }
 
+// The same family on held-out seed 201: campaign growth on dry passes only.
+// Its mean is a flag effect, and the lubrication flag was named (as in 3
+// of held-out seeds 201-210) until session 17: a term with one multiplier
+// on a set of passes is now also split by the quartiles of every numeric
+// pass-level covariate, and on dry passes late in the campaign it is far
+// stronger than early. The strongest inconsistent split must be the
+// truth's covariate.
+TEST(DiagnosisProxyTest, AnEffectOnDryPassesIsNotNamedAsTheLubricationFlag) {
+  const Diagnosed d = DiagnoseSimulated(201, {"inexpressible_lubrication"});
+  const SimulatedEffect& truth = d.sim.truth.effects.at(0);
+  const std::string covariate =
+      truth.mismatch.substr(0, truth.mismatch.find(" x "));
+  ASSERT_EQ(truth.mismatch, covariate + " x lubrication");
+  EXPECT_EQ(d.report.verdict, "mismatch_located_unexplained");
+  for (const Finding& f : d.report.findings)
+    EXPECT_NE(f.covariate, "lubrication");
+  const auto first = std::find_if(
+      d.report.runners_up.begin(), d.report.runners_up.end(),
+      [](const RunnerUp& r) { return r.covariate == "lubrication"; });
+  ASSERT_NE(first, d.report.runners_up.end());
+  EXPECT_EQ(first->reason, "inconsistent across " + covariate);
+  const auto u =
+      std::find_if(d.report.unexplained.begin(), d.report.unexplained.end(),
+                   [&](const Unexplained& x) {
+                     return x.dimension == "effect_by_" + covariate;
+                   });
+  ASSERT_NE(u, d.report.unexplained.end());
+  EXPECT_EQ(u->where.rfind(covariate + "=Q", 0), 0u) << u->where;
+  EXPECT_LT(u->p_adjusted, 1e-10);
+}
+
 // Coils rolled at night (22-06 h UTC) wearing more (inexpressible_night_shift,
 // seed 101): no recorded quantity but the time of day follows it. Before
 // session 16 the answer was `no_significant_mismatch` with the validation
