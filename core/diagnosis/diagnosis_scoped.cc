@@ -19,6 +19,7 @@
 // covering every training observation is no scope.
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <string>
 
 #include "core/diagnosis/diagnosis_internal.h"
@@ -146,6 +147,18 @@ std::vector<TermScope> CellScopes(const TermData& td,
       for (const auto& [n, c] : cells) out.push_back(c);
     }
   }
+  // Two cells over the same training readings are one description (a roll
+  // type that runs on top rolls only: its stand cell and its F7/top cell):
+  // the first, the wider place, is kept (from session 17; both used to be
+  // offered and counted in the Bonferroni factor).
+  std::set<std::vector<int>> seen;
+  std::erase_if(out, [&](const TermScope& c) {
+    std::vector<int> inside;
+    for (int o : train) {
+      if (InScope(td, td.obs[o], c)) inside.push_back(o);
+    }
+    return !seen.insert(std::move(inside)).second;
+  });
   return out;
 }
 
