@@ -34,29 +34,6 @@ std::string Levels(const std::vector<TermScope>& cells, bool by_type) {
   return out;
 }
 
-// The rms of what the withdrawn cells add to the training predictions
-// inside their scopes (the model with them minus the refitted one).
-double CellsSizeUm(const DiagnosisState& st, const Fitted& with,
-                   const Fitted& without, const std::vector<TermScope>& cells) {
-  const std::vector<double> a =
-      PredictTerms(st.td, st.train, with.log_k, with.terms);
-  const std::vector<double> b =
-      PredictTerms(st.td, st.train, without.log_k, without.terms);
-  double sum2 = 0;
-  int count = 0;
-  for (size_t i = 0; i < st.train.size(); ++i) {
-    const TermObservation& ob = st.td.obs[st.train[i]];
-    if (std::none_of(cells.begin(), cells.end(), [&](const TermScope& c) {
-          return InScope(st.td, ob, c);
-        })) {
-      continue;
-    }
-    sum2 += (a[i] - b[i]) * (a[i] - b[i]);
-    ++count;
-  }
-  return count > 0 ? std::sqrt(sum2 / count) : 0;
-}
-
 // Withdraws the stand cells of one factor when their complement is no
 // sparser; true when it did.
 bool WithdrawIfTied(const DiagnosisOptions& options, bool by_type,
@@ -102,7 +79,7 @@ bool WithdrawIfTied(const DiagnosisOptions& options, bool by_type,
   u.dimension = by_type ? "stand_by_roll_type" : "stand_by_grade";
   u.where = named + ", or equally " + twin;
   u.test = "lr";
-  u.mean_residual_um = CellsSizeUm(*st, st->current, refit, cells);
+  u.mean_residual_um = ContributionRmsUm(*st, st->current, refit, cells);
   const std::string reason =
       "withdrawn: " + named + " wearing more predicts every reading as " +
       twin +

@@ -550,9 +550,7 @@ Fitted OrientTwinCell(const DiagnosisState& st, const std::vector<double>& sd,
   return out;
 }
 
-// The first accepted candidate that passes the proxy guard, or -1; the
-// others tried become runners-up (and, when none passes, an inconsistent
-// effect's location is listed as unexplained).
+// See diagnosis_stages_internal.h.
 int GuardedWinner(int round, const Dataset& data,
                   const DiagnosisOptions& options, const DiagnosisState& st,
                   const std::vector<double>& sd,

@@ -47,25 +47,6 @@ namespace {
 // round's 0.001 would call a tie.
 constexpr double kRivalAlpha = 0.01;
 
-// The size of what a term describes: the rms of its contribution to the
-// training readings in its scope (prediction with it minus the round's
-// model without it).
-double TermSizeUm(const DiagnosisState& st, const Fitted& with_term) {
-  const TermScope& scope = with_term.terms.back().term.scope;
-  const std::vector<double> with =
-      PredictTerms(st.td, st.train, with_term.log_k, with_term.terms);
-  const std::vector<double> without =
-      PredictTerms(st.td, st.train, st.current.log_k, st.current.terms);
-  double sum2 = 0;
-  int count = 0;
-  for (size_t i = 0; i < st.train.size(); ++i) {
-    if (!InScope(st.td, st.td.obs[st.train[i]], scope)) continue;
-    sum2 += (with[i] - without[i]) * (with[i] - without[i]);
-    ++count;
-  }
-  return count > 0 ? std::sqrt(sum2 / count) : 0;
-}
-
 // A locate-only rival (a quantity the data format does not name) that adds
 // nothing to the winner either is the same description, and the recorded
 // covariate is named: a mill's own column of each roll's regrinds is a
@@ -91,6 +72,28 @@ bool EncompassesLocateOnly(const DiagnosisState& st,
 
 }  // namespace
 
+double ContributionRmsUm(const DiagnosisState& st, const Fitted& with,
+                         const Fitted& without,
+                         const std::vector<TermScope>& scopes) {
+  const std::vector<double> a =
+      PredictTerms(st.td, st.train, with.log_k, with.terms);
+  const std::vector<double> b =
+      PredictTerms(st.td, st.train, without.log_k, without.terms);
+  double sum2 = 0;
+  int count = 0;
+  for (size_t i = 0; i < st.train.size(); ++i) {
+    const TermObservation& ob = st.td.obs[st.train[i]];
+    if (std::none_of(scopes.begin(), scopes.end(), [&](const TermScope& s) {
+          return InScope(st.td, ob, s);
+        })) {
+      continue;
+    }
+    sum2 += (a[i] - b[i]) * (a[i] - b[i]);
+    ++count;
+  }
+  return count > 0 ? std::sqrt(sum2 / count) : 0;
+}
+
 GuardResult NotNameable(const DiagnosisState& st,
                         const std::vector<Fitted>& fits,
                         const std::vector<CandidateResult>& results,
@@ -109,7 +112,9 @@ GuardResult NotNameable(const DiagnosisState& st,
   r.located.where = c.covariate == kRollCampaignsBeforeName
                         ? "each roll's earlier campaigns (roll_id)"
                         : c.covariate;
-  r.located.mean_residual_um = TermSizeUm(st, fits[candidate]);
+  r.located.mean_residual_um =
+      ContributionRmsUm(st, fits[candidate], st.current,
+                        {fits[candidate].terms.back().term.scope});
   r.located.test = "lr";
   r.located.statistic = c.lr;
   r.located.p_value = c.p_value;
@@ -169,7 +174,8 @@ GuardResult DistinctFromRivals(const DiagnosisState& st,
     r.located.dimension = results[winner].covariate;
     r.located.where = where + ": along " + results[winner].covariate + " or " +
                       results[j].covariate;
-    r.located.mean_residual_um = TermSizeUm(st, fits[winner]);
+    r.located.mean_residual_um =
+        ContributionRmsUm(st, fits[winner], st.current, {scope});
     r.located.test = "encompassing_lr";
     r.located.statistic = results[winner].lr;
     r.located.p_value = results[winner].p_value;

@@ -180,6 +180,14 @@ void NoteUndeterminedSiblings(const DiagnosisState& st,
                               const std::vector<double>& sd,
                               const Fitted& with_term, Finding* f);
 
+// The size of what a model adds to another: the rms of the difference of
+// their training predictions over the readings inside any of `scopes` (an
+// empty scope holds every reading); 0 when none is inside
+// (diagnosis_rivals.cc).
+double ContributionRmsUm(const DiagnosisState& st, const Fitted& with,
+                         const Fitted& without,
+                         const std::vector<TermScope>& scopes);
+
 // A candidate over a locate-only covariate (CovariateSpec::locate_only,
 // roll_campaigns_before): always fails, with where it lives and its LR as
 // `located` (diagnosis_rivals.cc). Passes every other candidate.
