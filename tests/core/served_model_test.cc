@@ -24,6 +24,7 @@
 #include "core/fit/study.h"
 #include "core/fit/term_refit.h"
 #include "tests/core/simulator_test_util.h"
+#include "tests/core/test_size.h"
 
 namespace rollwear {
 namespace {
@@ -151,12 +152,16 @@ TEST(TermRefitTest, UnknownCovariateOrWrongParameterCountIsRefused) {
   EXPECT_NE(r.status().message().find("expected 2"), std::string::npos);
 }
 
+// Under the sanitizers (test_size.h) 80 campaigns and 30 epochs instead of
+// 120 and 60: 45 s under ASan in session 16, a third of it now (Release:
+// 3.3 s -> 1.1 s); the same assertions hold there (seeds 43-45 checked).
 TEST(ServedAnnTest, NetworkServedCoilByCoilEqualsBatchAndItsIntervalCovers) {
-  const Simulation sim = Mill(43, 120, {"campaign_growth"});
+  const Simulation sim =
+      Mill(43, test_size::FullOr(120, 80), {"campaign_growth"});
   const Split s(sim.data);
   AnnTrainingOptions o;
   o.members = 3;
-  o.max_epochs = 60;
+  o.max_epochs = test_size::FullOr(60, 30);
   StatusOr<WearModel> m = TrainServableAnn(sim.data, s.split.train, o);
   ASSERT_TRUE(m.ok()) << m.status().ToString();
   ASSERT_TRUE(m->is_ann());
@@ -196,7 +201,8 @@ TEST(ServedAnnTest, NetworkServedCoilByCoilEqualsBatchAndItsIntervalCovers) {
     EXPECT_GT(hi, st.wear_um);
     covered += x.measured_um >= lo && x.measured_um <= hi;
   }
-  // A 95 % interval: 85-100 % of held-out measurements inside (n ~ 160).
+  // A 95 % interval: 85-100 % of held-out measurements inside (n ~ 160;
+  // ~ 105 at the sanitizers' size).
   const double coverage = static_cast<double>(covered) / p.size();
   RecordProperty("coverage", std::to_string(coverage));
   EXPECT_GE(coverage, 0.85);
