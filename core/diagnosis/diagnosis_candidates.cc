@@ -72,7 +72,8 @@ std::vector<double> QuantileEdges(const WeightedValues& w, int bins) {
 // reference this bound stands in for). Quantile bins put their edges where
 // the data fall, not where the change is: a step inside a bin leaves a
 // part of it unexplained. Calendar covariates (started_at, measured_at)
-// only: a step in another covariate is a threshold, which the binned form
+// and a roll's earlier campaigns (roll_campaigns_before, locate-only) only:
+// a step in another covariate is a threshold, which the binned form
 // describes.
 void AddSteps(int k, const CovariateSpec& c, const WeightedValues& w,
               std::vector<Candidate>* out) {

@@ -35,9 +35,11 @@ std::string Levels(const std::vector<TermScope>& cells, bool by_type) {
 }
 
 // Withdraws the stand cells of one factor when their complement is no
-// sparser; true when it did.
+// sparser; true when it did. `rounds` holds the round each finding was
+// adopted in (aligned with report->findings, erased along with them).
 bool WithdrawIfTied(const DiagnosisOptions& options, bool by_type,
-                    DiagnosisState* st, DiagnosisReport* report) {
+                    DiagnosisState* st, DiagnosisReport* report,
+                    std::vector<int>* rounds) {
   std::vector<int> index;
   std::vector<TermScope> cells;
   for (size_t i = 0; i < report->findings.size(); ++i) {
@@ -90,11 +92,12 @@ bool WithdrawIfTied(const DiagnosisOptions& options, bool by_type,
     u.statistic += f.lr;
     u.p_value = std::min(u.p_value, f.p_value);
     u.p_adjusted = std::min(u.p_adjusted, f.p_adjusted);
-    report->runners_up.push_back(
-        {i, f.covariate, f.form, f.p_adjusted, f.cv_mse_ratio, reason});
+    report->runners_up.push_back({(*rounds)[i], f.covariate, f.form,
+                                  f.p_adjusted, f.cv_mse_ratio, reason});
   }
   for (auto it = index.rbegin(); it != index.rend(); ++it) {
     report->findings.erase(report->findings.begin() + *it);
+    rounds->erase(rounds->begin() + *it);
   }
   report->unexplained.push_back(u);
   st->current = refit;
@@ -105,8 +108,12 @@ bool WithdrawIfTied(const DiagnosisOptions& options, bool by_type,
 
 void WithdrawTiedCellSets(const DiagnosisOptions& options, DiagnosisState* st,
                           DiagnosisReport* report) {
-  for (bool by_type : {true, false})
-    WithdrawIfTied(options, by_type, st, report);
+  // Findings are adopted one per round, in order.
+  std::vector<int> rounds(report->findings.size());
+  for (size_t i = 0; i < rounds.size(); ++i) rounds[i] = static_cast<int>(i);
+  for (bool by_type : {true, false}) {
+    WithdrawIfTied(options, by_type, st, report, &rounds);
+  }
 }
 
 }  // namespace rollwear::diag

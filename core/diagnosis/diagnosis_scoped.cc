@@ -147,12 +147,15 @@ std::vector<TermScope> CellScopes(const TermData& td,
       for (const auto& [n, c] : cells) out.push_back(c);
     }
   }
-  // Two cells over the same training readings are one description (a roll
-  // type that runs on top rolls only: its stand cell and its F7/top cell):
-  // the first, the wider place, is kept (from session 17; both used to be
-  // offered and counted in the Bonferroni factor).
+  // Two roll-type cells over the same training readings are one
+  // description (a roll type that runs on top rolls only: its stand cell
+  // and its F7/top cell): the first, the wider place, is kept (from
+  // session 17; both used to be offered and counted in the Bonferroni
+  // factor). Not grade cells: a grade cell acts on its grade's passes, and
+  // two of them can hold the same readings with different passes.
   std::set<std::vector<int>> seen;
   std::erase_if(out, [&](const TermScope& c) {
+    if (!c.grade.empty()) return false;
     std::vector<int> inside;
     for (int o : train) {
       if (InScope(td, td.obs[o], c)) inside.push_back(o);

@@ -235,7 +235,9 @@ GuardResult LookAlongTime(const Dataset& data, const DiagnosisState& st,
                           const std::string& covariate);
 
 // The first accepted candidate of a round (`accepted`, best first) that is
-// distinct from the round's cells and passes GuardAgainstProxy, or -1; the
+// not locate-only (NotNameable), is distinct from the round's cells, passes
+// GuardAgainstProxy, is distinct from its rivals (DistinctFromRivals) and
+// fits no worse than what the guard refused (FitsWorseThanRefused), or -1; the
 // others tried become runners-up, and when none passes, where an
 // inconsistent effect lives is listed as unexplained (diagnosis_guard.cc).
 int GuardedWinner(int round, const Dataset& data,

@@ -34,7 +34,10 @@ std::vector<TermScope> OfferedCells(const TermData& td,
 // A roll type mounted on top rolls only: its stand cell (F7) and its
 // roll-position cell (F7/top) cover the same readings, one description.
 // Before session 17 both were offered (and counted in the Bonferroni
-// factor). Every offered cell must hold a set of readings of its own.
+// factor). Every offered roll-type cell must hold a set of readings of its
+// own; grade cells act on their grade's passes, so two grades' cells over
+// the same readings are two descriptions and both stay: each grade's
+// stand cells are offered (all grades roll at both stands here).
 TEST(DiagnosisCellsTest, CellsOverTheSameReadingsAreOfferedOnce) {
   Simulation sim = simulator_test::Simulated(73, 120, {});
   Dataset& d = sim.data;
@@ -55,7 +58,12 @@ TEST(DiagnosisCellsTest, CellsOverTheSameReadingsAreOfferedOnce) {
   const std::vector<int> train = All(*td);
   std::set<std::vector<int>> seen;
   int of_moved = 0;
+  std::set<std::string> graded;
   for (const TermScope& c : OfferedCells(*td, train)) {
+    if (!c.grade.empty()) {
+      if (c.stand > 0 && c.position < 0) graded.insert(c.grade);
+      continue;
+    }
     std::vector<int> inside;
     for (int o : train) {
       if (diag::InScope(*td, td->obs[o], c)) inside.push_back(o);
@@ -66,6 +74,21 @@ TEST(DiagnosisCellsTest, CellsOverTheSameReadingsAreOfferedOnce) {
   // ICDP-S1 runs at both stands, top only: one cell for the pair of places
   // (the twin rule keeps one of F6 and F7), not one per kind of place.
   EXPECT_EQ(of_moved, 1);
+  // A grade's two stand cells are twins (one offered); a grade with too
+  // few readings has none. (Here the frequent grades' reading sets differ,
+  // so this checks that grade cells are offered, not that two grades over
+  // the same readings both stay.)
+  int frequent = 0;
+  for (const std::string& g : d.grades) {
+    const TermScope at_f7{7, -1, "", g};
+    int n = 0;
+    for (int o : train) n += diag::InScope(*td, td->obs[o], at_f7) ? 1 : 0;
+    if (n >= 40 && n < static_cast<int>(train.size()) / 2) {
+      ++frequent;
+      EXPECT_EQ(graded.count(g), 1u) << g;
+    }
+  }
+  EXPECT_GE(frequent, 2);
 }
 
 // In the simulator's two-stand mill four roll types run at both stands:
