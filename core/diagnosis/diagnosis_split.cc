@@ -53,8 +53,8 @@ struct PassFactor {
 bool QuartileFactor(const TermData& td, const std::vector<int>& train, int k,
                     PassFactor* f) {
   double edges[3];
-  for (int q = 0; q < 3; ++q)
-    edges[q] = CovariateQuantile(td, train, k, 0.25 * (q + 1));
+  const WeightedValues values = Collect(td, train, k);  // sorted once
+  for (int q = 0; q < 3; ++q) edges[q] = Quantile(values, 0.25 * (q + 1));
   if (!std::isfinite(edges[0]) || !std::isfinite(edges[2]) ||
       !(edges[2] > edges[0])) {
     return false;
