@@ -16,13 +16,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-void MeanSd(const WeightedValues& w, double* mean, double* sd) {
-  double s = 0, s2 = 0;
-  for (const auto& [z, wt] : w.v) s += wt * z;
-  *mean = s / w.total;
-  for (const auto& [z, wt] : w.v) s2 += wt * (z - *mean) * (z - *mean);
-  *sd = std::sqrt(s2 / w.total);
-}
 
 TermSpec Spec(int k, const CovariateSpec& c, TermForm form, std::vector<double> start,
               std::vector<double> lo, std::vector<double> hi) {
@@ -104,6 +97,15 @@ void AddSteps(int k, const CovariateSpec& c, const WeightedValues& w,
 }
 
 }  // namespace
+
+// See diagnosis_internal.h.
+void MeanSd(const WeightedValues& w, double* mean, double* sd) {
+  double s = 0, s2 = 0;
+  for (const auto& [z, wt] : w.v) s += wt * z;
+  *mean = s / w.total;
+  for (const auto& [z, wt] : w.v) s2 += wt * (z - *mean) * (z - *mean);
+  *sd = std::sqrt(s2 / w.total);
+}
 
 WeightedValues Collect(const TermData& td, const std::vector<int>& obs, int k) {
   WeightedValues w;

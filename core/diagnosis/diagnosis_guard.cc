@@ -369,6 +369,10 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
       return Refused(buf, name, h, "within_group_z", h.b_bar, h.p_within, dims);
     }
   }
+  const GuardResult inside = LookInsideCell(st, options, sd, with_term);
+  if (!inside.pass) return inside;
+  const GuardResult within = LookWithinScope(st, options, sd, with_term);
+  if (!within.pass) return within;
   const GuardResult siblings = LookAtSiblings(st, options, sd, with_term);
   if (!siblings.pass) return siblings;
   const ModelTerm& term = with_term.terms.back().term;

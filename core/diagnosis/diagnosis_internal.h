@@ -33,6 +33,8 @@ struct WeightedValues {
 WeightedValues Collect(const TermData& td, const std::vector<int>& obs, int k);
 // The weighted q-quantile of `w` (NaN when empty).
 double Quantile(const WeightedValues& w, double q);
+// The weighted mean and standard deviation of `w` (w.total > 0).
+void MeanSd(const WeightedValues& w, double* mean, double* sd);
 
 // Every candidate term over covariates not in `used`; cells at every
 // place but those of `adopted_cells` (and their twins).

@@ -161,6 +161,25 @@ std::vector<SplitHeterogeneity> SplitByPassFactors(const DiagnosisState& st,
                                                    const std::vector<double>& e,
                                                    const std::vector<double>& w,
                                                    double phi);
+// The proxy guard's look inside a cell (diagnosis_inside_cell.cc): fails
+// when the last term of `with_term` is a cell whose effect, on its place or
+// its twin's, varies with a numeric pass-level covariate (a log-linear term
+// there, added on top, is significant and explains more than the same term
+// everywhere); the place is then located along that covariate.
+GuardResult LookInsideCell(const DiagnosisState& st,
+                           const DiagnosisOptions& options,
+                           const std::vector<double>& sd,
+                           const Fitted& with_term);
+// The proxy guard's look within a single-factor scope
+// (diagnosis_siblings.cc): fails when the last term of `with_term`, scoped
+// to a roll type or grade (a stand), added again on one of the stands it
+// runs at (one of the stand's roll types or grades), is significant there:
+// the effect is not uniform inside the scope, so a place of two factors,
+// which no covariate term can be scoped to, holds it.
+GuardResult LookWithinScope(const DiagnosisState& st,
+                            const DiagnosisOptions& options,
+                            const std::vector<double>& sd,
+                            const Fitted& with_term);
 // The proxy guard's look at the siblings of a single-factor scope
 // (diagnosis_siblings.cc): fails when the last term of `with_term`, added
 // again at another level of its scope's factor, is significant there too.

@@ -98,6 +98,7 @@ bool DimensionLocates(const std::string& part, const std::string& dimension) {
   if (part.find("roll type") != std::string::npos) {
     return dimension == "roll_type" || dimension == "position_by_roll_type" ||
            dimension == "effect_by_roll_type" ||
+           dimension == "effect_by_stand_roll_type" ||
            dimension == "stand_by_roll_type";
   }
   if (part.find("position") != std::string::npos ||

@@ -46,6 +46,7 @@ using families::Base;
 using families::Fmt;
 using families::InexpressibleBadRolls;
 using families::InexpressibleBursts;
+using families::InexpressibleCellCovariate;
 using families::InexpressibleInteraction;
 using families::InexpressibleLubrication;
 using families::InexpressibleNightShift;
@@ -395,6 +396,10 @@ const std::vector<FamilySpec>& Families() {
        "a roll wears more the more campaigns it has served (linear or "
        "from the third); not expressible",
        2, &InexpressibleRollService},
+      {"inexpressible_cell_covariate",
+       "a covariate effect (temperature, speed, hardness or campaign length) "
+       "on one roll type at one stand only; not expressible",
+       8, &InexpressibleCellCovariate},
       {"inexpressible_interaction",
        "temperature x speed interaction without main effects; not "
        "expressible",

@@ -150,6 +150,35 @@ FamilyEffect InexpressibleRollService(int variant, Random* rng, uint64_t, int) {
   return f;
 }
 
+// inexpressible_cell_covariate: one of the old covariate effects
+// (temperature, speed, hardness, campaign length: variant k % 4, strength
+// as the scoped families) on one roll type at one stand only (F7 for
+// k / 4 even, F6 otherwise; the type, of the four used at both stands, is
+// drawn). A covariate term scoped to a stand and a roll type at once is not
+// in the diagnosis's vocabulary: a cell takes the effect's mean there (or
+// its twin at the other stand does), a term on the roll type or the stand
+// is not uniform; the answer must locate it, never name the cell or a
+// single-factor scope.
+FamilyEffect InexpressibleCellCovariate(int variant, Random* rng, uint64_t,
+                                        int) {
+  static const int kTypes[] = {0, 1, 5, 7};
+  const int which = variant % 4;
+  const int stand = variant / 4 % 2 == 0 ? 7 : 6;
+  const int type = kTypes[std::min(3, static_cast<int>(rng->Uniform(0, 4)))];
+  const std::string label = RollTypes()[type].label;
+  FamilyEffect f = ScopedEffect(
+      "inexpressible_cell_covariate", which, rng,
+      {{"stand", "F" + std::to_string(stand)}, {"roll_type", label}},
+      "on roll type " + label + " at F" + std::to_string(stand),
+      [type, stand](const EffectContext& c) {
+        return c.roll_type == type && c.pass->stand == stand;
+      });
+  f.truth.expressible = false;
+  f.truth.mismatch =
+      std::string("roll type x stand x ") + kScopedCovariates[which];
+  return f;
+}
+
 // inexpressible_interaction: temperature x speed with no main effect:
 // m = exp(b zT zv), zT = (900 - T) / 30 K, zv = ln(v / 10) / 0.25.
 FamilyEffect InexpressibleInteraction(int, Random* rng, uint64_t, int) {

@@ -97,6 +97,8 @@ FamilyEffect InexpressibleBadRolls(int variant, Random* rng, uint64_t seed,
                                    int num_campaigns);
 FamilyEffect InexpressibleRollService(int variant, Random* rng, uint64_t seed,
                                       int num_campaigns);
+FamilyEffect InexpressibleCellCovariate(int variant, Random* rng,
+                                        uint64_t seed, int num_campaigns);
 FamilyEffect InexpressibleInteraction(int variant, Random* rng, uint64_t seed,
                                       int num_campaigns);
 FamilyEffect InexpressibleRandomWalk(int variant, Random* rng, uint64_t seed,
