@@ -15,11 +15,16 @@
 // (Wilks 1938, Ann. Math. Stat. 9:60), Bonferroni over places x
 // covariates, at the sibling test's family-wise level (the burden of proof
 // is on the cell's "constant"), asks whether the cell's effect varies with
-// the covariate there. When it does, and the same term over every pass does
-// not explain as much (an effect of the whole mill is not the cell's), the
-// cell is refused and the place is located along the covariate: the
-// vocabulary has no covariate scoped to two factors at once, so the
-// mismatch is located, not named.
+// the covariate there. A slope inside the cell can also come from another
+// structure the model still lacks: a grade wearing F7 more, whose coils are
+// wider, makes width matter inside every F7 cell. So the slope must also
+// add given each other cell the candidates offer, one at a time (at 1 %,
+// unadjusted: each is a rival explanation of a slope already significant
+// over the family). A wider slope (everywhere, at the stand, on the roll
+// type) is no such rival: it holds the cell's place too, and the cell's
+// multiplier would still vary there. When it adds, the cell is refused and the place is
+// located along the covariate: the vocabulary has no covariate scoped to
+// two factors at once, so the mismatch is located, not named.
 // Thread-safety: reentrant (reads its arguments only).
 #include <algorithm>
 #include <cmath>
@@ -38,27 +43,90 @@ constexpr double kInsideAlpha = 0.01;
 // The smallest slope worth a refusal: 5 % of wear per sd of the covariate.
 constexpr double kMaterialSlope = 0.05;
 
-// `with_term` plus a log-linear term in covariate k over `scope`.
-Fitted FitInside(const DiagnosisState& st, const std::vector<double>& sd,
-                 const Fitted& with_term, int k, double mean, double spread,
-                 const TermScope& scope) {
-  TermSpec s;
-  s.covariate = k;
-  s.term.covariate = st.td.catalog[k].name;
-  s.term.form = TermForm::kLogLinear;
-  s.term.params = {0.0};
-  s.term.center = mean;
-  s.term.scale = spread;
-  s.term.scope = scope;
-  s.lower = {-2.0};
-  s.upper = {2.0};
-  std::vector<TermSpec> terms = with_term.terms;
-  terms.push_back(s);
-  return Fit(st.td, st.train, sd, with_term.log_k, terms);
-}
-
 double LogRatio(double n, double rss_a, double rss_b) {
   return std::max(0.0, n * std::log(rss_a / rss_b));
+}
+
+// A log-linear term in covariate k over `scope`, centred and scaled by the
+// covariate's training mean and sd.
+struct Slope {
+  int k = -1;
+  double mean = 0, spread = 1;
+  TermScope place;
+  double lr = 0, p = 1, b = 0;
+};
+
+TermSpec SlopeSpec(const DiagnosisState& st, const Slope& s,
+                   const TermScope& scope, double start) {
+  TermSpec t;
+  t.covariate = s.k;
+  t.term.covariate = st.td.catalog[s.k].name;
+  t.term.form = TermForm::kLogLinear;
+  t.term.params = {start};
+  t.term.center = s.mean;
+  t.term.scale = s.spread;
+  t.term.scope = scope;
+  t.lower = {-2.0};
+  t.upper = {2.0};
+  return t;
+}
+
+Fitted FitWith(const DiagnosisState& st, const std::vector<double>& sd,
+               const Fitted& base, const TermSpec& extra) {
+  std::vector<TermSpec> terms = base.terms;
+  terms.push_back(extra);
+  return Fit(st.td, st.train, sd, base.log_k, terms);
+}
+
+// A cell term over `scope` (as the candidates make it).
+TermSpec CellSpec(const DiagnosisState& st, const TermScope& scope) {
+  TermSpec t;
+  t.covariate = st.td.CovariateIndex(kCellCovariateName);
+  t.term.covariate = kCellCovariateName;
+  t.term.form = TermForm::kCell;
+  t.term.params = {0.0};
+  t.term.scope = scope;
+  t.lower = {-3.0};
+  t.upper = {3.0};
+  t.prior_sd = kCellPriorSd;
+  return t;
+}
+
+// The alternatives a slope inside the cell must add to: every other offered
+// cell (a grade wearing F7 more, whose coils are wider, makes width matter
+// inside every F7 roll-type cell). A wider slope (everywhere, at the stand,
+// on the roll type) is not one: it holds the cell's place too, so the
+// cell's multiplier would still vary with the covariate there.
+std::vector<TermSpec> Alternatives(const DiagnosisState& st,
+                                   const std::vector<TermScope>& cells,
+                                   const std::vector<TermScope>& skip) {
+  std::vector<TermSpec> out;
+  for (const TermScope& c : cells) {
+    if (std::find(skip.begin(), skip.end(), c) == skip.end())
+      out.push_back(CellSpec(st, c));
+  }
+  return out;
+}
+
+// Whether slope `s` adds to `with_term` plus each alternative at `alpha`,
+// unadjusted: the slope is already significant over the family (the plain
+// test), and each alternative here is a rival explanation of it, which
+// explains it when the slope no longer adds at that level.
+bool AddsToEveryAlternative(const DiagnosisState& st,
+                            const std::vector<double>& sd,
+                            const Fitted& with_term, const Slope& s,
+                            const std::vector<TermSpec>& alternatives,
+                            double alpha) {
+  const double n = static_cast<double>(st.train.size());
+  for (const TermSpec& alt : alternatives) {
+    const Fitted base = FitWith(st, sd, with_term, alt);
+    if (!base.usable) continue;
+    const Fitted full = FitWith(st, sd, base, SlopeSpec(st, s, s.place, s.b));
+    if (!full.usable) continue;
+    const double lr = LogRatio(n, base.rss, full.rss);
+    if (!(ChiSquareSurvival(lr, 1) < alpha)) return false;
+  }
+  return true;
 }
 
 // The training readings' mean residual inside `scope` under `fitted`.
@@ -77,6 +145,48 @@ double MeanResidualIn(const DiagnosisState& st, const Fitted& fitted,
   return count > 0 ? sum / count : 0;
 }
 
+// The significant, material slopes inside `places`, strongest first.
+std::vector<Slope> SignificantSlopes(const DiagnosisState& st,
+                                     const std::vector<double>& sd,
+                                     const Fitted& with_term,
+                                     const std::vector<TermScope>& places,
+                                     double alpha, double* tests) {
+  std::vector<int> covariates;
+  for (int k = 0; k < static_cast<int>(st.td.catalog.size()); ++k) {
+    const CovariateSpec& c = st.td.catalog[k];
+    if (c.level != CovariateLevel::kMeasurement &&
+        c.kind == CovariateKind::kNumeric &&
+        c.source != CovariateSource::kCell && !c.locate_only) {
+      covariates.push_back(k);
+    }
+  }
+  *tests = static_cast<double>(places.size() * covariates.size());
+  const double n = static_cast<double>(st.train.size());
+  std::vector<Slope> out;
+  for (int k : covariates) {
+    Slope s;
+    s.k = k;
+    const WeightedValues w = Collect(st.td, st.train, k);
+    if (!(w.total > 0)) continue;
+    MeanSd(w, &s.mean, &s.spread);
+    if (!(s.spread > 0)) continue;
+    for (const TermScope& place : places) {
+      s.place = place;
+      const Fitted inside =
+          FitWith(st, sd, with_term, SlopeSpec(st, s, place, 0.0));
+      if (!inside.usable || !(inside.rss > 0)) continue;
+      s.b = inside.terms.back().term.params[0];
+      s.lr = LogRatio(n, with_term.rss, inside.rss);
+      s.p = ChiSquareSurvival(s.lr, 1);
+      if (std::abs(s.b) >= kMaterialSlope && s.p * *tests < alpha)
+        out.push_back(s);
+    }
+  }
+  std::sort(out.begin(), out.end(),
+            [](const Slope& a, const Slope& b) { return a.p < b.p; });
+  return out;
+}
+
 }  // namespace
 
 GuardResult LookInsideCell(const DiagnosisState& st,
@@ -89,69 +199,40 @@ GuardResult LookInsideCell(const DiagnosisState& st,
   std::vector<TermScope> places = {cell.term.scope};
   TermScope twin;
   if (TwinCell(st.td, st.train, cell.term.scope, &twin)) places.push_back(twin);
-  std::vector<int> covariates;
-  for (int k = 0; k < static_cast<int>(st.td.catalog.size()); ++k) {
-    const CovariateSpec& c = st.td.catalog[k];
-    if (c.level != CovariateLevel::kMeasurement &&
-        c.kind == CovariateKind::kNumeric &&
-        c.source != CovariateSource::kCell && !c.locate_only) {
-      covariates.push_back(k);
+  const double alpha = std::max(kInsideAlpha, options.alpha);
+  double tests = 0;
+  const std::vector<Slope> slopes =
+      SignificantSlopes(st, sd, with_term, places, alpha, &tests);
+  if (slopes.empty()) return r;
+  const std::vector<TermScope> cells = OfferedCellScopes(st.td, st.train);
+  const Slope* found = nullptr;
+  for (const Slope& s : slopes) {
+    if (AddsToEveryAlternative(st, sd, with_term, s,
+                               Alternatives(st, cells, places), alpha)) {
+      found = &s;
+      break;
     }
   }
-  const double tests = static_cast<double>(places.size() * covariates.size());
-  const double n = static_cast<double>(st.train.size());
-  double best_p = 1, best_lr = 0, best_slope = 0;
-  int best_k = -1;
-  const TermScope* best_place = nullptr;
-  for (int k : covariates) {
-    double mean = 0, spread = 0;
-    const WeightedValues w = Collect(st.td, st.train, k);
-    if (!(w.total > 0)) continue;
-    MeanSd(w, &mean, &spread);
-    if (!(spread > 0)) continue;
-    for (const TermScope& place : places) {
-      const Fitted inside =
-          FitInside(st, sd, with_term, k, mean, spread, place);
-      if (!inside.usable || !(inside.rss > 0)) continue;
-      const double slope = inside.terms.back().term.params[0];
-      const double lr = LogRatio(n, with_term.rss, inside.rss);
-      const double p = ChiSquareSurvival(lr, 1);
-      if (std::abs(slope) < kMaterialSlope || p >= best_p) continue;
-      // An effect of every pass is not the cell's: the same term over the
-      // whole mill must explain less.
-      const Fitted everywhere =
-          FitInside(st, sd, with_term, k, mean, spread, TermScope{});
-      if (everywhere.usable && everywhere.rss <= inside.rss) continue;
-      best_p = p;
-      best_lr = lr;
-      best_slope = slope;
-      best_k = k;
-      best_place = &place;
-    }
-  }
-  if (best_place == nullptr ||
-      !(best_p * tests < std::max(kInsideAlpha, options.alpha))) {
-    return r;
-  }
-  const std::string& name = st.td.catalog[best_k].name;
+  if (found == nullptr) return r;
+  const std::string& name = st.td.catalog[found->k].name;
+  const double p_adjusted = std::min(1.0, found->p * tests);
   char buf[320];
   std::snprintf(buf, sizeof(buf),
                 "not constant inside the cell: on %s the effect varies with "
                 "%s (%+.0f %% per sd; LR %.1f, p adjusted %.2g), and no "
                 "covariate term is scoped to a stand and a %s at once",
-                best_place->Label().c_str(), name.c_str(),
-                100 * (std::exp(best_slope) - 1), best_lr,
-                std::min(1.0, best_p * tests),
+                found->place.Label().c_str(), name.c_str(),
+                100 * (std::exp(found->b) - 1), found->lr, p_adjusted,
                 cell.term.scope.roll_type.empty() ? "grade" : "roll type");
   r.pass = false;
   r.reason = buf;
   r.located.dimension = "effect_by_" + name;
-  r.located.where = best_place->Label() + ": along " + name;
+  r.located.where = found->place.Label() + ": along " + name;
   r.located.test = "likelihood_ratio";
-  r.located.statistic = best_lr;
-  r.located.mean_residual_um = MeanResidualIn(st, with_term, *best_place);
-  r.located.p_value = best_p;
-  r.located.p_adjusted = std::min(1.0, best_p * tests);
+  r.located.statistic = found->lr;
+  r.located.mean_residual_um = MeanResidualIn(st, with_term, found->place);
+  r.located.p_value = found->p;
+  r.located.p_adjusted = p_adjusted;
   return r;
 }
 

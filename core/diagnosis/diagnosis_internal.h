@@ -65,6 +65,11 @@ void AddScopedCandidates(const TermData& td, const std::vector<int>& train,
                          const std::vector<TermScope>& adopted_cells,
                          std::vector<Candidate>* out);
 
+// The cells with enough training data, as the candidates offer them (one
+// of two twin cells; diagnosis_scoped.cc).
+std::vector<TermScope> OfferedCellScopes(const TermData& td,
+                                         const std::vector<int>& train);
+
 // The twin of a cell: when the cell's roll type or grade runs (in the
 // training data) in exactly two places of the cell's kind (two stands, top
 // and bottom, or two roll positions such as F7/top and F7/bottom), the

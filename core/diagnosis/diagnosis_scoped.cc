@@ -167,6 +167,11 @@ std::vector<TermScope> CellScopes(const TermData& td,
 
 }  // namespace
 
+std::vector<TermScope> OfferedCellScopes(const TermData& td,
+                                         const std::vector<int>& train) {
+  return CellScopes(td, train, SingleScopes(td, train));
+}
+
 bool TwinCell(const TermData& td, const std::vector<int>& train,
               const TermScope& cell, TermScope* twin) {
   if (cell.roll_type.empty() == cell.grade.empty()) return false;

@@ -206,8 +206,9 @@ std::vector<TermScope> Parts(const DiagnosisState& st, const TermSpec& spec) {
 // When the parts do not differ significantly, the whole scope is still
 // not established if, of its two parts A and B, the effect at A is not
 // required: the term on B alone (moved there, parameters free) against the
-// term free on each, LR = n ln(RSS_B / RSS_AB) ~ chi2(params), is below the
-// family-wise level. Naming the whole scope would claim the effect at A on
+// term free on each, LR = n ln(RSS_B / RSS_AB) ~ chi2(params), has p at or
+// above 1 % (unadjusted: any part not required refuses, so a Bonferroni
+// factor would make refusing easier). Naming the whole scope would claim the effect at A on
 // no evidence (width acting on a roll type at F7 only, fitted on the roll
 // type at F6 and F7 with p = 1e-7: the F6 part's LR 4.3): refused, and the
 // effect is located on the scope with the part that carries it. Two parts
@@ -230,7 +231,10 @@ GuardResult PartNotRequired(const DiagnosisState& st,
     if (!moved.usable) continue;
     const double lr = LogRatio(n, moved.rss, rss_ab);
     const double p = ChiSquareSurvival(lr, df);
-    if (p * 2 < kSiblingAlpha) continue;  // the effect at part a is needed
+    // The effect at part a is needed. Unadjusted: a refusal follows when
+    // any part is not required, so a Bonferroni factor would make refusing
+    // easier, not harder.
+    if (p < kSiblingAlpha) continue;
     // The effect itself, against the model before the term.
     const double lr_term = LogRatio(n, st.current.rss, with_term.rss);
     char buf[320];

@@ -174,6 +174,7 @@ FamilyEffect InexpressibleCellCovariate(int variant, Random* rng, uint64_t,
         return c.roll_type == type && c.pass->stand == stand;
       });
   f.truth.expressible = false;
+  f.truth.covariate.clear();  // not expressible: where, not what
   f.truth.mismatch =
       std::string("roll type x stand x ") + kScopedCovariates[which];
   return f;

@@ -65,7 +65,7 @@ TEST(DiagnosisInsideCellTest, ACovariateInsideACellIsLocatedAlongItThere) {
     SCOPED_TRACE(seed);
     const Diagnosed d = DiagnoseCellCovariate(seed);
     const SimulatedEffect& truth = d.sim.truth.effects.at(0);
-    ASSERT_EQ(truth.covariate, "hardness_hb");
+    ASSERT_EQ(truth.mismatch, "roll type x stand x hardness_hb");
     EXPECT_EQ(d.report.verdict, "mismatch_located_unexplained");
     EXPECT_TRUE(d.report.findings.empty());
     const Unexplained* u = Entry(d.report, "effect_by_hardness_hb");
@@ -84,7 +84,7 @@ TEST(DiagnosisInsideCellTest, ACovariateInsideACellIsLocatedAlongItThere) {
 TEST(DiagnosisInsideCellTest, AScopeWhosePartIsNotRequiredIsNotNamed) {
   const Diagnosed d = DiagnoseCellCovariate(119);
   const SimulatedEffect& truth = d.sim.truth.effects.at(0);
-  ASSERT_EQ(truth.covariate, "speed_mps");
+  ASSERT_EQ(truth.mismatch, "roll type x stand x speed_mps");
   ASSERT_EQ(truth.scope.at("stand"), "F7");
   EXPECT_EQ(d.report.verdict, "mismatch_located_unexplained");
   EXPECT_TRUE(d.report.findings.empty());

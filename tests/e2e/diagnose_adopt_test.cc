@@ -199,10 +199,14 @@ TEST_F(DiagnoseAdoptTest, FactorCellIsAdoptedAndServedAsInBatch) {
 
 // Two cells at once (session 16: a cell no longer ends the offer of
 // cells): roll type ICDP-S1 and grade S355 each wearing more at F7 (seed 4,
-// 150 campaigns). Both findings are adopted as two cell terms of one model
-// version, and the next campaign is served as the batch prediction.
+// the paper's 395 campaigns). Both findings are adopted as two cell terms
+// of one model version, and the next campaign is served as the batch
+// prediction. At 150 campaigns (this test's size before session 18) the
+// ICDP-S1 cell is refused since then: inside it, wear follows width (LR
+// 14.2, p adjusted 0.0055; S355's wider coils at F7 take only part of it),
+// the guard's look inside a cell; located, not named.
 TEST_F(DiagnoseAdoptTest, TwoCellsAreAdoptedTogetherAndServedAsInBatch) {
-  const json model = AdoptFromDiagnosis("grade_stand,roll_type_stand", 4, 150);
+  const json model = AdoptFromDiagnosis("grade_stand,roll_type_stand", 4, 395);
   ASSERT_TRUE(model.is_object());
   ASSERT_EQ(report_["findings"].size(), 2u) << report_["findings"].dump();
   ASSERT_EQ(model["terms"].size(), 2u) << model.dump();
