@@ -43,10 +43,6 @@ constexpr double kInsideAlpha = 0.01;
 // The smallest slope worth a refusal: 5 % of wear per sd of the covariate.
 constexpr double kMaterialSlope = 0.05;
 
-double LogRatio(double n, double rss_a, double rss_b) {
-  return std::max(0.0, n * std::log(rss_a / rss_b));
-}
-
 // A log-linear term in covariate k over `scope`, centred and scaled by the
 // covariate's training mean and sd.
 struct Slope {
@@ -78,20 +74,6 @@ Fitted FitWith(const DiagnosisState& st, const std::vector<double>& sd,
   return Fit(st.td, st.train, sd, base.log_k, terms);
 }
 
-// A cell term over `scope` (as the candidates make it).
-TermSpec CellSpec(const DiagnosisState& st, const TermScope& scope) {
-  TermSpec t;
-  t.covariate = st.td.CovariateIndex(kCellCovariateName);
-  t.term.covariate = kCellCovariateName;
-  t.term.form = TermForm::kCell;
-  t.term.params = {0.0};
-  t.term.scope = scope;
-  t.lower = {-3.0};
-  t.upper = {3.0};
-  t.prior_sd = kCellPriorSd;
-  return t;
-}
-
 // The alternatives a slope inside the cell must add to: every other offered
 // cell (a grade wearing F7 more, whose coils are wider, makes width matter
 // inside every F7 roll-type cell). A wider slope (everywhere, at the stand,
@@ -103,7 +85,7 @@ std::vector<TermSpec> Alternatives(const DiagnosisState& st,
   std::vector<TermSpec> out;
   for (const TermScope& c : cells) {
     if (std::find(skip.begin(), skip.end(), c) == skip.end())
-      out.push_back(CellSpec(st, c));
+      out.push_back(CellTermSpec(st.td, c));
   }
   return out;
 }
@@ -123,7 +105,7 @@ bool AddsToEveryAlternative(const DiagnosisState& st,
     if (!base.usable) continue;
     const Fitted full = FitWith(st, sd, base, SlopeSpec(st, s, s.place, s.b));
     if (!full.usable) continue;
-    const double lr = LogRatio(n, base.rss, full.rss);
+    const double lr = NestedLr(n, base.rss, full.rss);
     if (!(ChiSquareSurvival(lr, 1) < alpha)) return false;
   }
   return true;
@@ -176,7 +158,7 @@ std::vector<Slope> SignificantSlopes(const DiagnosisState& st,
           FitWith(st, sd, with_term, SlopeSpec(st, s, place, 0.0));
       if (!inside.usable || !(inside.rss > 0)) continue;
       s.b = inside.terms.back().term.params[0];
-      s.lr = LogRatio(n, with_term.rss, inside.rss);
+      s.lr = NestedLr(n, with_term.rss, inside.rss);
       s.p = ChiSquareSurvival(s.lr, 1);
       if (std::abs(s.b) >= kMaterialSlope && s.p * *tests < alpha)
         out.push_back(s);

@@ -65,6 +65,13 @@ void AddScopedCandidates(const TermData& td, const std::vector<int>& train,
                          const std::vector<TermScope>& adopted_cells,
                          std::vector<Candidate>* out);
 
+// A cell term over `scope` as the candidates offer it: m = exp(b), b from
+// 0 within [-3, 3], prior sd kCellPriorSd (diagnosis_scoped.cc).
+TermSpec CellTermSpec(const TermData& td, const TermScope& scope);
+// Whether two cells are of one kind: the same place factor (stand, roll
+// position or position) and the same level factor (roll type or grade).
+bool SameCellKind(const TermScope& a, const TermScope& b);
+
 // The cells with enough training data, as the candidates offer them (one
 // of two twin cells; diagnosis_scoped.cc).
 std::vector<TermScope> OfferedCellScopes(const TermData& td,

@@ -167,6 +167,25 @@ std::vector<TermScope> CellScopes(const TermData& td,
 
 }  // namespace
 
+TermSpec CellTermSpec(const TermData& td, const TermScope& scope) {
+  TermSpec t;
+  t.covariate = td.CovariateIndex(kCellCovariateName);
+  t.term.covariate = kCellCovariateName;
+  t.term.form = TermForm::kCell;
+  t.term.params = {0.0};
+  t.term.scope = scope;
+  t.lower = {-3.0};
+  t.upper = {3.0};
+  t.prior_sd = kCellPriorSd;
+  return t;
+}
+
+bool SameCellKind(const TermScope& a, const TermScope& b) {
+  return (a.stand > 0) == (b.stand > 0) &&
+         (a.position >= 0) == (b.position >= 0) &&
+         a.roll_type.empty() == b.roll_type.empty();
+}
+
 std::vector<TermScope> OfferedCellScopes(const TermData& td,
                                          const std::vector<int>& train) {
   return CellScopes(td, train, SingleScopes(td, train));
@@ -281,14 +300,7 @@ void AddScopedCandidates(const TermData& td, const std::vector<int>& train,
   for (const TermScope& scope : CellScopes(td, train, scopes)) {
     if (adopted(scope)) continue;
     Candidate c;
-    c.spec.covariate = cell;
-    c.spec.term.covariate = kCellCovariateName;
-    c.spec.term.form = TermForm::kCell;
-    c.spec.term.params = {0.0};
-    c.spec.term.scope = scope;
-    c.spec.lower = {-3.0};
-    c.spec.upper = {3.0};
-    c.spec.prior_sd = kCellPriorSd;
+    c.spec = CellTermSpec(td, scope);
     out->push_back(std::move(c));
   }
 }

@@ -104,13 +104,27 @@ Fitted FitSibling(const DiagnosisState& st, const std::vector<double>& sd,
   return Fit(st.td, st.train, sd, with_term.log_k, terms);
 }
 
-// n ln(RSS_a / RSS_b), floored at 0.
-double LogRatio(double n, double rss_a, double rss_b) {
-  return std::max(0.0, n * std::log(rss_a / rss_b));
-}
 
 
 }  // namespace
+
+double NestedLr(double n, double rss_a, double rss_b) {
+  return std::max(0.0, n * std::log(rss_a / rss_b));
+}
+
+StrongestAddition StrongestOf(
+    const std::vector<TermScope>& scopes, double n, double base_rss, int df,
+    const std::function<Fitted(const TermScope&)>& fit) {
+  StrongestAddition best;
+  for (const TermScope& s : scopes) {
+    const Fitted with = fit(s);
+    if (!with.usable || !(with.rss > 0)) continue;
+    const double lr = NestedLr(n, base_rss, with.rss);
+    const double p = ChiSquareSurvival(lr, df);
+    if (p < best.p) best = {&s, lr, p};
+  }
+  return best;
+}
 
 GuardResult LookAtSiblings(const DiagnosisState& st,
                            const DiagnosisOptions& options,
@@ -123,20 +137,13 @@ GuardResult LookAtSiblings(const DiagnosisState& st,
   const std::vector<TermScope> siblings = Siblings(st, spec);
   if (siblings.empty()) return r;
   const double k = static_cast<double>(siblings.size());  // Bonferroni
-  const double n = static_cast<double>(st.train.size());
-  double best_p = 1, best_lr = 0;
-  const TermScope* best = nullptr;
-  for (const TermScope& s : siblings) {
-    const Fitted both = FitSibling(st, sd, with_term, s, false);
-    if (!both.usable || !(both.rss > 0)) continue;
-    const double lr = LogRatio(n, with_term.rss, both.rss);
-    const double p = ChiSquareSurvival(lr, spec.term.NumParams());
-    if (p < best_p) {
-      best_p = p;
-      best_lr = lr;
-      best = &s;
-    }
-  }
+  const StrongestAddition a = StrongestOf(
+      siblings, static_cast<double>(st.train.size()), with_term.rss,
+      spec.term.NumParams(), [&](const TermScope& s) {
+        return FitSibling(st, sd, with_term, s, false);
+      });
+  const TermScope* best = a.scope;
+  const double best_p = a.p, best_lr = a.lr;
   if (best == nullptr || !(best_p * k < std::max(kSiblingAlpha, options.alpha)))
     return r;
   // The mean residual, with the term, of the training readings in the
@@ -229,14 +236,14 @@ GuardResult PartNotRequired(const DiagnosisState& st,
     terms.back().term.scope = carrier;
     const Fitted moved = Fit(st.td, st.train, sd, with_term.log_k, terms);
     if (!moved.usable) continue;
-    const double lr = LogRatio(n, moved.rss, rss_ab);
+    const double lr = NestedLr(n, moved.rss, rss_ab);
     const double p = ChiSquareSurvival(lr, df);
     // The effect at part a is needed. Unadjusted: a refusal follows when
     // any part is not required, so a Bonferroni factor would make refusing
     // easier, not harder.
     if (p < kSiblingAlpha) continue;
     // The effect itself, against the model before the term.
-    const double lr_term = LogRatio(n, st.current.rss, with_term.rss);
+    const double lr_term = NestedLr(n, st.current.rss, with_term.rss);
     char buf[320];
     std::snprintf(buf, sizeof(buf),
                   "the data cannot tell whether it acts on %s: there the term "
@@ -273,21 +280,16 @@ GuardResult LookWithinScope(const DiagnosisState& st,
   const std::vector<TermScope> parts = Parts(st, spec);
   if (parts.size() < 2) return r;
   const double k = static_cast<double>(parts.size());  // Bonferroni
-  const double n = static_cast<double>(st.train.size());
-  double best_p = 1, best_lr = 0, rss_ab = 0;
-  const TermScope* best = nullptr;
-  for (const TermScope& part : parts) {
-    const Fitted both = FitSibling(st, sd, with_term, part, false);
-    if (!both.usable || !(both.rss > 0)) continue;
-    rss_ab = both.rss;  // with two parts, the same model for either
-    const double lr = LogRatio(n, with_term.rss, both.rss);
-    const double p = ChiSquareSurvival(lr, spec.term.NumParams());
-    if (p < best_p) {
-      best_p = p;
-      best_lr = lr;
-      best = &part;
-    }
-  }
+  double rss_ab = 0;  // with two parts, the same model for either
+  const StrongestAddition a = StrongestOf(
+      parts, static_cast<double>(st.train.size()), with_term.rss,
+      spec.term.NumParams(), [&](const TermScope& part) {
+        Fitted both = FitSibling(st, sd, with_term, part, false);
+        if (both.usable) rss_ab = both.rss;
+        return both;
+      });
+  const TermScope* best = a.scope;
+  const double best_p = a.p, best_lr = a.lr;
   if (best == nullptr) return r;
   if (!(best_p * k < std::max(kSiblingAlpha, options.alpha)))
     return PartNotRequired(st, sd, with_term, parts, rss_ab);
@@ -326,7 +328,7 @@ void NoteUndeterminedSiblings(const DiagnosisState& st,
     // The guard found the free copy not significant (family-wise); the
     // level is undetermined when the tied copy is not rejected either.
     const double p_same =
-        ChiSquareSurvival(LogRatio(n, tied.rss, free.rss), df);
+        ChiSquareSurvival(NestedLr(n, tied.rss, free.rss), df);
     if (p_same >= kSiblingAlpha) levels.push_back(LevelName(s));
   }
   f->scope_undetermined = levels;

@@ -12,6 +12,7 @@
 #define ROLLWEAR_CORE_DIAGNOSIS_DIAGNOSIS_STAGES_INTERNAL_H_
 
 #include <chrono>
+#include <functional>
 #include <set>
 #include <string>
 #include <unordered_set>
@@ -108,7 +109,9 @@ bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
 // whose complementary description (ComplementCells) has no more cells: its
 // findings become runners-up, its terms leave state->current (refitted),
 // and the mismatch is listed as located with both descriptions
-// (diagnosis_complement.cc).
+// (diagnosis_complement.cc). Then withdraws, one at a time, each adopted
+// cell that another cell of its kind joins significantly in the final
+// model (1 %, Bonferroni over the siblings), located with that sibling.
 void WithdrawTiedCellSets(const DiagnosisOptions& options,
                           DiagnosisState* state, DiagnosisReport* report);
 
@@ -180,6 +183,20 @@ GuardResult LookWithinScope(const DiagnosisState& st,
                             const DiagnosisOptions& options,
                             const std::vector<double>& sd,
                             const Fitted& with_term);
+// The nested likelihood-ratio statistic of model b extending model a,
+// LR = n ln(RSS_a / RSS_b) ~ chi2(extra params) (Wilks 1938, Ann. Math.
+// Stat. 9:60), floored at 0 (diagnosis_siblings.cc).
+double NestedLr(double n, double rss_a, double rss_b);
+// Of `scopes`, the one whose extra term (`fit` returns the model with it)
+// adds most to a model of RSS `base_rss` on n readings, by the p of
+// NestedLr with `df`; scope nullptr when no fit was usable.
+struct StrongestAddition {
+  const TermScope* scope = nullptr;
+  double lr = 0, p = 1;
+};
+StrongestAddition StrongestOf(
+    const std::vector<TermScope>& scopes, double n, double base_rss, int df,
+    const std::function<Fitted(const TermScope&)>& fit);
 // The proxy guard's look at the siblings of a single-factor scope
 // (diagnosis_siblings.cc): fails when the last term of `with_term`, added
 // again at another level of its scope's factor, is significant there too.

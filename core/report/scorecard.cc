@@ -177,6 +177,28 @@ bool NotWrong(const Finding& f, const ConcealedEffect& e) {
          FindingScope(f) == e.scope && f.levels.empty();
 }
 
+// Whether the cell findings on e's covariate and scope, each naming some of
+// e's levels, name all of them together (two grades wearing F7 more, named
+// as two cells): `f`, when given, must be one of them.
+bool CoveredByCells(const DiagnosisReport& report, const ConcealedEffect& e,
+                    const Finding* f) {
+  if (!e.expressible || e.levels.size() < 2) return false;
+  const std::set<std::string> want(e.levels.begin(), e.levels.end());
+  std::set<std::string> got;
+  bool member = f == nullptr;
+  for (const Finding& g : report.findings) {
+    if (!SameCovariate(e.covariate, g.covariate) || FindingScope(g) != e.scope ||
+        g.levels.empty() ||
+        !std::all_of(g.levels.begin(), g.levels.end(),
+                     [&](const std::string& l) { return want.count(l) > 0; })) {
+      continue;
+    }
+    got.insert(g.levels.begin(), g.levels.end());
+    member = member || &g == f;
+  }
+  return member && got == want;
+}
+
 CaseScore ScoreCase(const std::string& effect, uint64_t seed,
                     const DiagnosisReport& report, const ScoreTruth& truth) {
   CaseScore s;
@@ -191,9 +213,11 @@ CaseScore ScoreCase(const std::string& effect, uint64_t seed,
   }
   for (const Finding& f : report.findings) {
     s.findings.push_back(Describe(f));
-    const bool right =
-        std::any_of(truth.effects.begin(), truth.effects.end(),
-                    [&](const ConcealedEffect& e) { return NotWrong(f, e); });
+    const bool right = std::any_of(
+        truth.effects.begin(), truth.effects.end(),
+        [&](const ConcealedEffect& e) {
+          return NotWrong(f, e) || CoveredByCells(report, e, &f);
+        });
     s.wrong_physics += right ? 0 : 1;
   }
   if (s.clean) {
@@ -212,7 +236,8 @@ CaseScore ScoreCase(const std::string& effect, uint64_t seed,
     s.named_right = std::all_of(
         truth.effects.begin(), truth.effects.end(),
         [&](const ConcealedEffect& e) {
-          return std::any_of(report.findings.begin(), report.findings.end(),
+          return CoveredByCells(report, e, nullptr) ||
+                 std::any_of(report.findings.begin(), report.findings.end(),
                              [&](const Finding& f) { return Describes(f, e); });
         });
   }

@@ -215,6 +215,33 @@ FamilyEffect RollTypePairStand(int variant, Random* rng, uint64_t, int) {
   return f;
 }
 
+// grade_pair_stand: two of four grades (S355, HSLA350, CQ, HSLA420; pair
+// k % 6) wear more at one stand only (x1.2..1.5, one draw), F7 for k even,
+// F6 otherwise. Two cells: named right only as both (two findings, one
+// level each); one of them named alone says "elsewhere the law holds" of
+// the other, which is wrong physics.
+FamilyEffect GradePairStand(int variant, Random* rng, uint64_t, int) {
+  static const int kGrades[] = {2, 3, 0, 4};
+  static const int kPairs[6][2] = {{0, 1}, {0, 2}, {0, 3},
+                                   {1, 2}, {1, 3}, {2, 3}};
+  const int a = kGrades[kPairs[variant % 6][0]],
+            b = kGrades[kPairs[variant % 6][1]];
+  const int stand = variant % 2 == 0 ? 7 : 6;
+  const double m = rng->Uniform(1.2, 1.5);
+  FamilyEffect f = Base("grade_pair_stand", "grade", "multiplier", m);
+  f.truth.scope = {{"stand", "F" + std::to_string(stand)}};
+  f.truth.levels = {Grades()[a].label, Grades()[b].label};
+  f.truth.parameters = {{"multiplier", m}};
+  f.truth.description = std::string("grades ") + Grades()[a].label + " and " +
+                        Grades()[b].label + " wear the work rolls of F" +
+                        std::to_string(stand) + " by a factor " +
+                        Fmt("%.2f", m) + " more: two cells";
+  f.apply = [a, b, stand, m](const EffectContext& c) {
+    return (c.grade == a || c.grade == b) && c.pass->stand == stand ? m : 1.0;
+  };
+  return f;
+}
+
 // grinder: a text column of measurements.csv naming who or what took the
 // reading; one level reads low by 8..25 um on its share (20..50 %) of the
 // readings. Variant: column grinder (G1/G2), gauge (GA/GB/GC), crew
@@ -357,6 +384,10 @@ const std::vector<FamilySpec>& Families() {
        "two roll types wear more at one stand only: the same data as the "
        "other two at the other stand; not identifiable",
        6, &RollTypePairStand},
+      {"grade_pair_stand",
+       "two grades wear x1.2..1.5 more at one stand only: two cells, named "
+       "right only as both",
+       6, &GradePairStand},
       {"grade_roll_position",
        "one grade wears one roll position (F7/bottom or F6/top) x1.2..1.5 "
        "more",

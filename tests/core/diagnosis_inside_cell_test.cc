@@ -8,14 +8,13 @@
 // independent generator's width effect on a roll type at F7 was named as the
 // roll type's cell at F6 (3 of 3) or as width on the roll type at both
 // stands (2 of 6). The engine is told nothing; the place and covariate are
-// read from the simulator's truth.
+// read from the simulator's truth. And a set of two cells at one stand,
+// of which the rounds adopted one: withdrawn, never named alone.
 #include <algorithm>
 #include <string>
 
 #include <gtest/gtest.h>
 
-#include "core/diagnosis/diagnosis.h"
-#include "core/sim/simulator.h"
 #include "tests/core/simulator_test_util.h"
 
 namespace rollwear {
@@ -23,19 +22,12 @@ namespace {
 
 constexpr int kPaperCampaigns = 395;
 
-struct Diagnosed {
-  Simulation sim;
-  DiagnosisReport report;
-};
+using simulator_test::Diagnosed;
+using simulator_test::DiagnoseSimulated;
 
 Diagnosed DiagnoseCellCovariate(uint64_t seed) {
-  Diagnosed d;
-  d.sim = simulator_test::Simulated(seed, kPaperCampaigns,
-                                    {"inexpressible_cell_covariate"});
-  StatusOr<DiagnosisReport> r = Diagnose(d.sim.data, DiagnosisOptions{});
-  EXPECT_TRUE(r.ok()) << r.status().ToString();
-  if (r.ok()) d.report = std::move(r).value();
-  return d;
+  return DiagnoseSimulated(seed, {"inexpressible_cell_covariate"},
+                           kPaperCampaigns);
 }
 
 // "F7, roll type HiCr-S2": the truth's place as TermScope::Label says it.
@@ -97,6 +89,42 @@ TEST(DiagnosisInsideCellTest, AScopeWhosePartIsNotRequiredIsNotNamed) {
             std::string::npos)
       << u->where;
   EXPECT_LT(u->p_value, 1e-6);
+}
+
+// Two grades wearing more at one stand (grade_pair_stand). Seed 102: S355
+// and HSLA350 at F7, both adopted as cells; neither is withdrawn for the
+// other. Seed 101: the rounds adopted one cell only (S355, stated at F6,
+// p 4e-6 before session 18), whose sibling cells join it in the final
+// model: withdrawn, located with the sibling, nothing named.
+TEST(DiagnosisInsideCellTest, ACellIsWithdrawnWhenItsSetWasAdoptedInPart) {
+  Diagnosed d = DiagnoseSimulated(102, {"grade_pair_stand"}, kPaperCampaigns);
+  const SimulatedEffect& both = d.sim.truth.effects.at(0);
+  ASSERT_EQ(d.report.findings.size(), 2u) << d.report.verdict;
+  for (const Finding& f : d.report.findings) {
+    EXPECT_EQ(f.covariate, "grade");
+    EXPECT_EQ(f.scope, both.scope);
+    ASSERT_EQ(f.levels.size(), 1u);
+    EXPECT_NE(std::find(both.levels.begin(), both.levels.end(), f.levels[0]),
+              both.levels.end())
+        << f.levels[0];
+  }
+  EXPECT_NE(d.report.findings[0].levels, d.report.findings[1].levels);
+  EXPECT_FALSE(RunnerUpSays(d.report, "withdrawn: not confined"));
+
+  d = DiagnoseSimulated(101, {"grade_pair_stand"}, kPaperCampaigns);
+  const std::vector<std::string>& levels = d.sim.truth.effects.at(0).levels;
+  EXPECT_EQ(d.report.verdict, "mismatch_located_unexplained");
+  EXPECT_TRUE(d.report.findings.empty());
+  EXPECT_TRUE(RunnerUpSays(d.report, "withdrawn: not confined to "));
+  const Unexplained* u = Entry(d.report, "stand_by_grade");
+  ASSERT_NE(u, nullptr);
+  EXPECT_TRUE(std::any_of(levels.begin(), levels.end(),
+                          [&](const std::string& g) {
+                            return u->where.find("grade " + g) !=
+                                   std::string::npos;
+                          }))
+      << u->where;
+  EXPECT_LT(u->p_adjusted, 1e-3);
 }
 
 }  // namespace

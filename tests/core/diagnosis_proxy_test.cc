@@ -51,19 +51,12 @@ namespace {
 // Release): the seeds below are the scorecard's, checked at this size.
 constexpr int kPaperCampaigns = 395;
 
-struct Diagnosed {
-  Simulation sim;
-  DiagnosisReport report;
-};
+using simulator_test::Diagnosed;
 
 Diagnosed DiagnoseSimulated(uint64_t seed, std::vector<std::string> effects,
                             int campaigns = kPaperCampaigns) {
-  Diagnosed d;
-  d.sim = simulator_test::Simulated(seed, campaigns, std::move(effects));
-  StatusOr<DiagnosisReport> r = Diagnose(d.sim.data, DiagnosisOptions{});
-  EXPECT_TRUE(r.ok()) << r.status().ToString();
-  if (r.ok()) d.report = std::move(r).value();
-  return d;
+  return simulator_test::DiagnoseSimulated(seed, std::move(effects),
+                                           campaigns);
 }
 
 bool Lists(const std::vector<std::string>& v, const std::string& s) {

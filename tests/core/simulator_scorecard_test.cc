@@ -109,6 +109,41 @@ TEST(ScorecardTest, GradeAtF7NamedRightOnlyWithScopeAndLevel) {
   EXPECT_EQ(s.wrong_physics, 1);
 }
 
+// Two grades wearing F7 more (grade_pair_stand): named right as two cell
+// findings, one level each; one of them alone says the other follows the
+// law, which is wrong physics; a third grade beside them is wrong too.
+TEST(ScorecardTest, APairOfCellsIsNamedRightOnlyAsBoth) {
+  const ScoreTruth truth = Truth({{"grade_pair_stand",
+                                   "grade",
+                                   {{"stand", "F7"}},
+                                   {"S355", "CQ"},
+                                   true,
+                                   ""}});
+  const Finding s355 = Found("grade", {{"stand", "F7"}}, {"S355"});
+  const Finding cq = Found("grade", {{"stand", "F7"}}, {"CQ"});
+  CaseScore s = ScoreCase("grade_pair_stand", 1,
+                          Report({s355, cq}, "missing_physics_found"), truth);
+  EXPECT_TRUE(s.named_right);
+  EXPECT_EQ(s.wrong_physics, 0);
+  s = ScoreCase("grade_pair_stand", 1, Report({s355}, "missing_physics_found"),
+                truth);
+  EXPECT_FALSE(s.named_right);
+  EXPECT_EQ(s.wrong_physics, 1);
+  s = ScoreCase("grade_pair_stand", 1,
+                Report({s355, cq, Found("grade", {{"stand", "F7"}}, {"C45"})},
+                       "missing_physics_found"),
+                truth);
+  EXPECT_TRUE(s.named_right);
+  EXPECT_EQ(s.wrong_physics, 1);
+  // At the other stand: not this effect.
+  s = ScoreCase("grade_pair_stand", 1,
+                Report({Found("grade", {{"stand", "F6"}}, {"S355"}), cq},
+                       "missing_physics_found"),
+                truth);
+  EXPECT_FALSE(s.named_right);
+  EXPECT_EQ(s.wrong_physics, 2);
+}
+
 TEST(ScorecardTest, EquivalentNamesOnlyWithinTheirClass) {
   EXPECT_TRUE(SameCovariate("rolled_at", "started_at"));
   // A drift of the reading is not a drift of the wear rate.

@@ -1,4 +1,5 @@
-// Helpers shared by the simulator tests: running the simulator, and each
+// Helpers shared by the simulator tests: running the simulator (and the
+// diagnosis on its data), and each
 // measurement seen through its rows (the baseline wear recomputed from the
 // true factors with Wang's law, and covariates weighted by baseline wear).
 //
@@ -16,6 +17,7 @@
 #include <gtest/gtest.h>
 
 #include "core/dataset/dataset.h"
+#include "core/diagnosis/diagnosis.h"
 #include "core/sim/simulator.h"
 #include "core/model/wear_law.h"
 
@@ -32,6 +34,22 @@ inline Simulation Simulated(uint64_t seed, int campaigns,
   StatusOr<Simulation> s = Simulate(o);
   EXPECT_TRUE(s.ok()) << s.status().ToString();
   return std::move(s).value();
+}
+
+// A simulated mill and its diagnosis with the default options.
+struct Diagnosed {
+  Simulation sim;
+  DiagnosisReport report;
+};
+inline Diagnosed DiagnoseSimulated(uint64_t seed,
+                                   std::vector<std::string> effects,
+                                   int campaigns) {
+  Diagnosed d;
+  d.sim = Simulated(seed, campaigns, std::move(effects));
+  StatusOr<DiagnosisReport> r = Diagnose(d.sim.data, DiagnosisOptions{});
+  EXPECT_TRUE(r.ok()) << r.status().ToString();
+  if (r.ok()) d.report = std::move(r).value();
+  return d;
 }
 
 // Mounts by (campaign, stand, position) and passes by (campaign, stand).
