@@ -16,7 +16,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-
 TermSpec Spec(int k, const CovariateSpec& c, TermForm form, std::vector<double> start,
               std::vector<double> lo, std::vector<double> hi) {
   TermSpec s;

@@ -594,6 +594,9 @@ int GuardedWinner(int round, const Dataset& data,
     // the vocabulary failed on: not a reason to call the others shadows.
     if (!by_cell && !by_rival) refused.push_back(i);
     const CandidateResult& c = results[i];
+    // A refusal that locates the candidate's own effect leaves its
+    // adjusted p to the round (PartNotRequired).
+    if (std::isnan(g.located.p_adjusted)) g.located.p_adjusted = c.p_adjusted;
     report->runners_up.push_back(
         {round, c.covariate, c.form, c.p_adjusted, c.cv_mse_ratio, g.reason});
     if (!g.located.dimension.empty()) AddLocated(g.located, &located);

@@ -22,9 +22,11 @@
 // unadjusted: each is a rival explanation of a slope already significant
 // over the family). A wider slope (everywhere, at the stand, on the roll
 // type) is no such rival: it holds the cell's place too, and the cell's
-// multiplier would still vary there. When it adds, the cell is refused and the place is
-// located along the covariate: the vocabulary has no covariate scoped to
-// two factors at once, so the mismatch is located, not named.
+// multiplier would still vary there. When it adds, the cell is refused and
+// the place is located along the covariate: the vocabulary has no
+// covariate scoped to two factors at once, so the mismatch is located, not
+// named. An alternative whose fit fails is no explanation (the slope
+// counts as adding given it).
 // Thread-safety: reentrant (reads its arguments only).
 #include <algorithm>
 #include <cmath>
@@ -111,22 +113,6 @@ bool AddsToEveryAlternative(const DiagnosisState& st,
   return true;
 }
 
-// The training readings' mean residual inside `scope` under `fitted`.
-double MeanResidualIn(const DiagnosisState& st, const Fitted& fitted,
-                      const TermScope& scope) {
-  const std::vector<double> pred =
-      PredictTerms(st.td, st.train, fitted.log_k, fitted.terms);
-  double sum = 0;
-  int count = 0;
-  for (size_t i = 0; i < st.train.size(); ++i) {
-    const TermObservation& ob = st.td.obs[st.train[i]];
-    if (!InScope(st.td, ob, scope)) continue;
-    sum += ob.measured_um - pred[i];
-    ++count;
-  }
-  return count > 0 ? sum / count : 0;
-}
-
 // The significant, material slopes inside `places`, strongest first.
 std::vector<Slope> SignificantSlopes(const DiagnosisState& st,
                                      const std::vector<double>& sd,
@@ -186,11 +172,20 @@ GuardResult LookInsideCell(const DiagnosisState& st,
   const std::vector<Slope> slopes =
       SignificantSlopes(st, sd, with_term, places, alpha, &tests);
   if (slopes.empty()) return r;
-  const std::vector<TermScope> cells = OfferedCellScopes(st.td, st.train);
+  // The model's cells and their twins are in it already.
+  std::vector<TermScope> skip = places;
+  for (const TermSpec& t : with_term.terms) {
+    if (t.term.form != TermForm::kCell) continue;
+    skip.push_back(t.term.scope);
+    TermScope t_twin;
+    if (TwinCell(st.td, st.train, t.term.scope, &t_twin))
+      skip.push_back(t_twin);
+  }
+  const std::vector<TermSpec> alternatives =
+      Alternatives(st, OfferedCellScopes(st.td, st.train), skip);
   const Slope* found = nullptr;
   for (const Slope& s : slopes) {
-    if (AddsToEveryAlternative(st, sd, with_term, s,
-                               Alternatives(st, cells, places), alpha)) {
+    if (AddsToEveryAlternative(st, sd, with_term, s, alternatives, alpha)) {
       found = &s;
       break;
     }
@@ -202,7 +197,7 @@ GuardResult LookInsideCell(const DiagnosisState& st,
   std::snprintf(buf, sizeof(buf),
                 "not constant inside the cell: on %s the effect varies with "
                 "%s (%+.0f %% per sd; LR %.1f, p adjusted %.2g), and no "
-                "covariate term is scoped to a stand and a %s at once",
+                "covariate term is scoped to a place and a %s at once",
                 found->place.Label().c_str(), name.c_str(),
                 100 * (std::exp(found->b) - 1), found->lr, p_adjusted,
                 cell.term.scope.roll_type.empty() ? "grade" : "roll type");

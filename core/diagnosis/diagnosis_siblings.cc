@@ -17,11 +17,17 @@
 // LR of the sibling's free copy against a copy tied to the winner's
 // parameters is below the 1 % critical value). "Only at DP600" is then stated
 // with the grades for which the data cannot tell.
+// LookWithinScope looks the other way, at the parts of the scope along the
+// other factor (the roll type at each stand it runs at; the stand on each
+// of its roll types and grades): a part where the same term adds
+// significantly, or of two parts that split the scope one the effect does
+// not require, means the scope is not the place ("Within the scope").
 // Thread-safety: reentrant (reads its arguments only).
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
 
 #include "core/base/distributions.h"
@@ -104,9 +110,22 @@ Fitted FitSibling(const DiagnosisState& st, const std::vector<double>& sd,
   return Fit(st.td, st.train, sd, with_term.log_k, terms);
 }
 
-
-
 }  // namespace
+
+double MeanResidualIn(const DiagnosisState& st, const Fitted& fitted,
+                      const TermScope& scope) {
+  const std::vector<double> pred =
+      PredictTerms(st.td, st.train, fitted.log_k, fitted.terms);
+  double sum = 0;
+  int count = 0;
+  for (size_t i = 0; i < st.train.size(); ++i) {
+    const TermObservation& ob = st.td.obs[st.train[i]];
+    if (!InScope(st.td, ob, scope)) continue;
+    sum += ob.measured_um - pred[i];
+    ++count;
+  }
+  return count > 0 ? sum / count : 0;
+}
 
 double NestedLr(double n, double rss_a, double rss_b) {
   return std::max(0.0, n * std::log(rss_a / rss_b));
@@ -146,18 +165,6 @@ GuardResult LookAtSiblings(const DiagnosisState& st,
   const double best_p = a.p, best_lr = a.lr;
   if (best == nullptr || !(best_p * k < std::max(kSiblingAlpha, options.alpha)))
     return r;
-  // The mean residual, with the term, of the training readings in the
-  // sibling: where the structure the scope leaves out lives.
-  const std::vector<double> pred =
-      PredictTerms(st.td, st.train, with_term.log_k, with_term.terms);
-  double sum = 0;
-  int count = 0;
-  for (size_t i = 0; i < st.train.size(); ++i) {
-    const TermObservation& ob = st.td.obs[st.train[i]];
-    if (!InScope(st.td, ob, *best)) continue;
-    sum += ob.measured_um - pred[i];
-    ++count;
-  }
   char buf[240];
   std::snprintf(
       buf, sizeof(buf),
@@ -171,7 +178,8 @@ GuardResult LookAtSiblings(const DiagnosisState& st,
   r.located.where = factor + "=" + LevelName(*best);
   r.located.test = "likelihood_ratio";
   r.located.statistic = best_lr;
-  r.located.mean_residual_um = count > 0 ? sum / count : 0;
+  // Where the structure the scope leaves out lives.
+  r.located.mean_residual_um = MeanResidualIn(st, with_term, *best);
   r.located.p_value = best_p;
   r.located.p_adjusted = std::min(1.0, best_p * k);
   return r;
@@ -210,24 +218,41 @@ std::vector<TermScope> Parts(const DiagnosisState& st, const TermSpec& spec) {
   return parts;
 }
 
+// Training readings inside `s`.
+int CountIn(const DiagnosisState& st, const TermScope& s) {
+  int n = 0;
+  for (int o : st.train) n += InScope(st.td, st.td.obs[o], s) ? 1 : 0;
+  return n;
+}
+
 // When the parts do not differ significantly, the whole scope is still
 // not established if, of its two parts A and B, the effect at A is not
-// required: the term on B alone (moved there, parameters free) against the
-// term free on each, LR = n ln(RSS_B / RSS_AB) ~ chi2(params), has p at or
-// above 1 % (unadjusted: any part not required refuses, so a Bonferroni
-// factor would make refusing easier). Naming the whole scope would claim the effect at A on
-// no evidence (width acting on a roll type at F7 only, fitted on the roll
-// type at F6 and F7 with p = 1e-7: the F6 part's LR 4.3): refused, and the
-// effect is located on the scope with the part that carries it. Two parts
-// only (a roll type at two measured stands); `rss_ab` is RSS_AB.
+// required: the term on B alone (moved there, parameters free) against
+// free terms on A and on B, LR = n ln(RSS_B / RSS_AB) ~ chi2(params), has
+// p at or above 1 % (unadjusted: any part not required refuses, so a
+// Bonferroni factor would make refusing easier). Naming the whole scope
+// would claim the effect at A on no evidence (width acting on a roll type
+// at F7 only, fitted on the roll type at F6 and F7 with p = 1e-7: the F6
+// part's LR 4.3): refused, and the effect is located on the scope with the
+// part that carries it. Only when A and B split the scope's training
+// readings between them (a roll type at two measured stands; grade parts
+// of a stand share readings, and a part too small to test leaves a rest).
 GuardResult PartNotRequired(const DiagnosisState& st,
                             const std::vector<double>& sd,
                             const Fitted& with_term,
-                            const std::vector<TermScope>& parts,
-                            double rss_ab) {
+                            const std::vector<TermScope>& parts) {
   GuardResult r;
   const TermSpec& spec = with_term.terms.back();
-  if (parts.size() != 2 || !(rss_ab > 0)) return r;
+  // A stand's grade parts share readings (a reading sums several grades).
+  const bool by_grade_at_stand = FactorName(spec.term.scope) == "stand" &&
+                                 (parts.size() != 2 ||
+                                  parts[0].roll_type.empty() ||
+                                  parts[1].roll_type.empty());
+  if (parts.size() != 2 || by_grade_at_stand ||
+      CountIn(st, parts[0]) + CountIn(st, parts[1]) !=
+          CountIn(st, spec.term.scope)) {
+    return r;
+  }
   const double n = static_cast<double>(st.train.size());
   const int df = spec.term.NumParams();
   for (int a = 0; a < 2; ++a) {
@@ -236,14 +261,11 @@ GuardResult PartNotRequired(const DiagnosisState& st,
     terms.back().term.scope = carrier;
     const Fitted moved = Fit(st.td, st.train, sd, with_term.log_k, terms);
     if (!moved.usable) continue;
-    const double lr = NestedLr(n, moved.rss, rss_ab);
+    const Fitted each = FitSibling(st, sd, moved, parts[a], false);
+    if (!each.usable || !(each.rss > 0)) continue;
+    const double lr = NestedLr(n, moved.rss, each.rss);
     const double p = ChiSquareSurvival(lr, df);
-    // The effect at part a is needed. Unadjusted: a refusal follows when
-    // any part is not required, so a Bonferroni factor would make refusing
-    // easier, not harder.
-    if (p < kSiblingAlpha) continue;
-    // The effect itself, against the model before the term.
-    const double lr_term = NestedLr(n, st.current.rss, with_term.rss);
+    if (p < kSiblingAlpha) continue;  // the effect at part a is needed
     char buf[320];
     std::snprintf(buf, sizeof(buf),
                   "the data cannot tell whether it acts on %s: there the term "
@@ -253,17 +275,17 @@ GuardResult PartNotRequired(const DiagnosisState& st,
                   spec.term.scope.Label().c_str(), carrier.Label().c_str());
     r.pass = false;
     r.reason = buf;
-    r.located.dimension =
-        "effect_by_" + std::string(FactorName(spec.term.scope) == "stand"
-                                       ? (carrier.roll_type.empty() ? "grade"
-                                                                    : "roll_type")
-                                       : "stand");
+    const bool stand = FactorName(spec.term.scope) == "stand";
+    r.located.dimension = stand ? "effect_by_roll_type" : "effect_by_stand";
     r.located.where = spec.term.scope.Label() + ", or " + carrier.Label() +
                       " alone: along " + spec.term.covariate;
     r.located.test = "likelihood_ratio";
-    r.located.statistic = lr_term;
-    r.located.p_value = ChiSquareSurvival(lr_term, df);
-    r.located.p_adjusted = r.located.p_value;
+    // The effect itself, against the model before the term; the round's
+    // adjusted p is the candidate's (GuardedWinner fills it in).
+    r.located.statistic = NestedLr(n, st.current.rss, with_term.rss);
+    r.located.p_value = ChiSquareSurvival(r.located.statistic, df);
+    r.located.p_adjusted = std::numeric_limits<double>::quiet_NaN();
+    r.located.mean_residual_um = MeanResidualIn(st, with_term, carrier);
     return r;
   }
   return r;
@@ -280,19 +302,16 @@ GuardResult LookWithinScope(const DiagnosisState& st,
   const std::vector<TermScope> parts = Parts(st, spec);
   if (parts.size() < 2) return r;
   const double k = static_cast<double>(parts.size());  // Bonferroni
-  double rss_ab = 0;  // with two parts, the same model for either
   const StrongestAddition a = StrongestOf(
       parts, static_cast<double>(st.train.size()), with_term.rss,
       spec.term.NumParams(), [&](const TermScope& part) {
-        Fitted both = FitSibling(st, sd, with_term, part, false);
-        if (both.usable) rss_ab = both.rss;
-        return both;
+        return FitSibling(st, sd, with_term, part, false);
       });
   const TermScope* best = a.scope;
   const double best_p = a.p, best_lr = a.lr;
   if (best == nullptr) return r;
   if (!(best_p * k < std::max(kSiblingAlpha, options.alpha)))
-    return PartNotRequired(st, sd, with_term, parts, rss_ab);
+    return PartNotRequired(st, sd, with_term, parts);
   const std::string other =
       FactorName(spec.term.scope) == "stand"
           ? (best->roll_type.empty() ? "grade" : "roll_type")

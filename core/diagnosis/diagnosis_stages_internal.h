@@ -166,9 +166,11 @@ std::vector<SplitHeterogeneity> SplitByPassFactors(const DiagnosisState& st,
                                                    double phi);
 // The proxy guard's look inside a cell (diagnosis_inside_cell.cc): fails
 // when the last term of `with_term` is a cell whose effect, on its place or
-// its twin's, varies with a numeric pass-level covariate (a log-linear term
-// there, added on top, is significant and explains more than the same term
-// everywhere); the place is then located along that covariate.
+// its twin's, varies with a numeric wear-rate covariate (of the pass, roll
+// or campaign): a log-linear term there, added on top, is significant over
+// places x covariates (1 %) and still adds (1 %) given each other offered
+// cell the model does not hold; the place is then located along that
+// covariate.
 GuardResult LookInsideCell(const DiagnosisState& st,
                            const DiagnosisOptions& options,
                            const std::vector<double>& sd,
@@ -178,11 +180,18 @@ GuardResult LookInsideCell(const DiagnosisState& st,
 // to a roll type or grade (a stand), added again on one of the stands it
 // runs at (one of the stand's roll types or grades), is significant there:
 // the effect is not uniform inside the scope, so a place of two factors,
-// which no covariate term can be scoped to, holds it.
+// which no covariate term can be scoped to, holds it. Also fails when the
+// scope has two parts that split its readings and the effect on one of
+// them is not required (PartNotRequired): then located with p_adjusted NaN,
+// for the caller to fill in with the candidate's.
 GuardResult LookWithinScope(const DiagnosisState& st,
                             const DiagnosisOptions& options,
                             const std::vector<double>& sd,
                             const Fitted& with_term);
+// The training readings' mean residual inside `scope` under `fitted`
+// (diagnosis_siblings.cc).
+double MeanResidualIn(const DiagnosisState& st, const Fitted& fitted,
+                      const TermScope& scope);
 // The nested likelihood-ratio statistic of model b extending model a,
 // LR = n ln(RSS_a / RSS_b) ~ chi2(extra params) (Wilks 1938, Ann. Math.
 // Stat. 9:60), floored at 0 (diagnosis_siblings.cc).

@@ -187,8 +187,8 @@ bool CoveredByCells(const DiagnosisReport& report, const ConcealedEffect& e,
   std::set<std::string> got;
   bool member = f == nullptr;
   for (const Finding& g : report.findings) {
-    if (!SameCovariate(e.covariate, g.covariate) || FindingScope(g) != e.scope ||
-        g.levels.empty() ||
+    if (!SameCovariate(e.covariate, g.covariate) ||
+        FindingScope(g) != e.scope || g.levels.empty() ||
         !std::all_of(g.levels.begin(), g.levels.end(),
                      [&](const std::string& l) { return want.count(l) > 0; })) {
       continue;

@@ -109,10 +109,12 @@ std::vector<std::string> MismatchParts(const std::string& mismatch);
 // position_by_time_half, a calendar-time covariate); "campaign order"
 // (without time: the order within a campaign) by campaign_coils_before,
 // campaign_length_before_m, campaign_rolled_length_m or hours_since_mount;
-// "grade" by dominant_grade, position_by_grade or effect_by_grade; "roll
-// type" by roll_type, position_by_roll_type or effect_by_roll_type;
-// "position" or "stand" by roll_position, position_by_*,
-// spread_by_position, effect_by_position or effect_by_stand; any other
+// "grade" by dominant_grade, position_by_grade*, effect_by_grade,
+// stand_by_grade or grade_by_campaign_order; "roll type" by roll_type,
+// position_by_roll_type, effect_by_roll_type, effect_by_stand_roll_type or
+// stand_by_roll_type; "time of day" by time_of_day; "position" or "stand"
+// by roll_position, position_by_*, spread_by_position, effect_by_position,
+// effect_by_stand or stand_by_*; any other
 // part is a covariate name, located by that covariate's own breakdown
 // (SameCovariate).
 bool LocatesMismatch(const DiagnosisReport& report, const std::string& mismatch);
