@@ -513,47 +513,6 @@ GuardResult FitsWorseThanRefused(const DiagnosisState& st,
   return r;
 }
 
-// A cell with a twin (TwinCell) describes the same data as its twin with
-// the inverse multiplier; the data cannot tell which place is the
-// exception. The finding is stated by one convention, the place that wears
-// MORE than the K structure predicts (multiplier >= 1), and says so: when
-// the fitted cell wears less, its twin is fitted instead (the roll type's or
-// grade's own K factor takes up the rest; the fit is the same up to the
-// cell prior) and `note` gets the sentence naming both.
-Fitted OrientTwinCell(const DiagnosisState& st, const std::vector<double>& sd,
-                      const Fitted& winner, std::string* note) {
-  const TermSpec& cell = winner.terms.back();
-  TermScope twin;
-  if (cell.term.form != TermForm::kCell ||
-      !TwinCell(st.td, st.train, cell.term.scope, &twin)) {
-    return winner;
-  }
-  const double b = cell.term.params[0];
-  Fitted out = winner;
-  TermScope other = twin;
-  if (b < 0) {
-    std::vector<TermSpec> terms = winner.terms;
-    terms.back().term.scope = twin;
-    terms.back().term.params = {-b};
-    const Fitted flipped = Fit(st.td, st.train, sd, winner.log_k, terms);
-    if (flipped.usable) {
-      out = flipped;
-      other = cell.term.scope;
-    }
-  }
-  const double m = std::exp(out.terms.back().term.params[0]);
-  char buf[320];
-  std::snprintf(
-      buf, sizeof(buf),
-      " The data cannot tell this from rolls of %s wearing %.2f times the "
-      "prediction: the %s runs in these two places only and its own K "
-      "factor takes up the rest (stated here as the place that wears more).",
-      other.Label().c_str(), 1.0 / m,
-      cell.term.scope.roll_type.empty() ? "grade" : "roll type");
-  *note = buf;
-  return out;
-}
-
 // See diagnosis_stages_internal.h.
 int GuardedWinner(int round, const Dataset& data,
                   const DiagnosisOptions& options, const DiagnosisState& st,

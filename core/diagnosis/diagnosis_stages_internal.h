@@ -294,7 +294,7 @@ int GuardedWinner(int round, const Dataset& data,
                   DiagnosisReport* report);
 
 // A winning cell with a twin (TwinCell) stated as the place that wears more;
-// `note` gets the sentence naming the twin (diagnosis_guard.cc).
+// `note` gets the sentence naming the twin (diagnosis_inside_cell.cc).
 Fitted OrientTwinCell(const DiagnosisState& st, const std::vector<double>& sd,
                       const Fitted& winner, std::string* note);
 
