@@ -112,20 +112,6 @@ bool WithdrawIfTied(const DiagnosisOptions& options, bool by_type,
 // diagnosis_siblings.cc: it guards the claim "elsewhere the law holds").
 constexpr double kSiblingCellAlpha = 0.01;
 
-// The cells the model holds after the rounds, and their twins (taken once,
-// before any withdrawal, so that a withdrawn cell does not become a
-// sibling of the next).
-std::vector<TermScope> HeldCells(const DiagnosisState& st) {
-  std::vector<TermScope> held;
-  for (const TermSpec& t : st.current.terms) {
-    if (t.term.form != TermForm::kCell) continue;
-    held.push_back(t.term.scope);
-    TermScope twin;
-    if (TwinCell(st.td, st.train, t.term.scope, &twin)) held.push_back(twin);
-  }
-  return held;
-}
-
 bool SamePlace(const TermScope& a, const TermScope& b) {
   return a.stand == b.stand && a.position == b.position;
 }
@@ -174,9 +160,7 @@ bool WithdrawUnconfinedCell(const DiagnosisOptions& options,
     const std::vector<TermScope> siblings = SiblingCells(*st, cell, held);
     const StrongestAddition a =
         StrongestOf(siblings, n, base.rss, 1, [&](const TermScope& s) {
-          std::vector<TermSpec> terms = base.terms;
-          terms.push_back(CellTermSpec(st->td, s));
-          return Fit(st->td, st->train, sd, base.log_k, terms);
+          return FitWith(*st, sd, base, CellTermSpec(st->td, s));
         });
     const double k = static_cast<double>(siblings.size());
     if (a.scope == nullptr || !(a.p * k < alpha)) continue;
@@ -199,8 +183,8 @@ bool WithdrawUnconfinedCell(const DiagnosisOptions& options,
                   cell.Label().c_str(), a.scope->Label().c_str(), a.lr,
                   p_adjusted);
     const Finding& f = report->findings[i];
-    report->runners_up.push_back({(*rounds)[i], f.covariate, f.form,
-                                  f.p_adjusted, f.cv_mse_ratio, buf});
+    report->runners_up.push_back(
+        {(*rounds)[i], f.covariate, f.form, f.p_adjusted, f.cv_mse_ratio, buf});
     Unexplained u;
     u.dimension =
         std::string(cell.position >= 0 ? "position_by_" : "stand_by_") +
@@ -230,7 +214,10 @@ void WithdrawTiedCellSets(const DiagnosisOptions& options, DiagnosisState* st,
   for (bool by_type : {true, false}) {
     WithdrawIfTied(options, by_type, st, report, &rounds);
   }
-  const std::vector<TermScope> held = HeldCells(*st);
+  // The cells the model holds after the rounds, and their twins, taken
+  // once: a withdrawn cell does not become a sibling of the next.
+  const std::vector<TermScope> held =
+      WithTwins(st->td, st->train, ModelCells(st->current.terms));
   while (WithdrawUnconfinedCell(options, held, st, report, &rounds)) {
   }
 }

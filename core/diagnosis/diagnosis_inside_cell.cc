@@ -1,9 +1,10 @@
 // Cells in the proxy guard: a winning cell stated as the place of its twin
 // pair that wears more (OrientTwinCell), and the look inside a cell
-// (docs/diagnosis.md, "The proxy guard", "Inside a cell"): a cell term claims one constant multiplier on
-// the passes of its place (a stand or roll position x a roll type or
-// grade). An effect that lives on that place but varies with a pass-level
-// quantity is taken by the cell as its mean: width acting on roll type X at
+// (docs/diagnosis.md, "The proxy guard", "Inside a cell"): a cell term
+// claims one constant multiplier on the passes of its place (a stand or
+// roll position x a roll type or grade). An effect that lives on that
+// place but varies with a wear-rate quantity is taken by the cell as its
+// mean: width acting on roll type X at
 // F7 only, (1000/w)^1.2, is fitted as "X at F7 x 0.78", or as its twin "X
 // at F6 x 1.28", with p = 1e-37, and the width is never seen, since an
 // unscoped or single-scoped width term is inconsistent across the other
@@ -68,13 +69,6 @@ TermSpec SlopeSpec(const DiagnosisState& st, const Slope& s,
   t.lower = {-2.0};
   t.upper = {2.0};
   return t;
-}
-
-Fitted FitWith(const DiagnosisState& st, const std::vector<double>& sd,
-               const Fitted& base, const TermSpec& extra) {
-  std::vector<TermSpec> terms = base.terms;
-  terms.push_back(extra);
-  return Fit(st.td, st.train, sd, base.log_k, terms);
 }
 
 // The alternatives a slope inside the cell must add to: every other offered
@@ -173,15 +167,10 @@ GuardResult LookInsideCell(const DiagnosisState& st,
   const std::vector<Slope> slopes =
       SignificantSlopes(st, sd, with_term, places, alpha, &tests);
   if (slopes.empty()) return r;
-  // The model's cells and their twins are in it already.
-  std::vector<TermScope> skip = places;
-  for (const TermSpec& t : with_term.terms) {
-    if (t.term.form != TermForm::kCell) continue;
-    skip.push_back(t.term.scope);
-    TermScope t_twin;
-    if (TwinCell(st.td, st.train, t.term.scope, &t_twin))
-      skip.push_back(t_twin);
-  }
+  // The model's cells (this one among them) and their twins are in it
+  // already.
+  const std::vector<TermScope> skip =
+      WithTwins(st.td, st.train, ModelCells(with_term.terms));
   const std::vector<TermSpec> alternatives =
       Alternatives(st, OfferedCellScopes(st.td, st.train), skip);
   const Slope* found = nullptr;

@@ -72,6 +72,14 @@ TermSpec CellTermSpec(const TermData& td, const TermScope& scope);
 // position or position) and the same level factor (roll type or grade).
 bool SameCellKind(const TermScope& a, const TermScope& b);
 
+// `cells` followed by the twin (TwinCell) of each that has one: the places
+// a set of cells describes (diagnosis_scoped.cc).
+std::vector<TermScope> WithTwins(const TermData& td,
+                                 const std::vector<int>& train,
+                                 const std::vector<TermScope>& cells);
+// The scopes of the cell terms among `terms`.
+std::vector<TermScope> ModelCells(const std::vector<TermSpec>& terms);
+
 // The cells with enough training data, as the candidates offer them (one
 // of two twin cells; diagnosis_scoped.cc).
 std::vector<TermScope> OfferedCellScopes(const TermData& td,

@@ -186,6 +186,25 @@ bool SameCellKind(const TermScope& a, const TermScope& b) {
          a.roll_type.empty() == b.roll_type.empty();
 }
 
+std::vector<TermScope> WithTwins(const TermData& td,
+                                 const std::vector<int>& train,
+                                 const std::vector<TermScope>& cells) {
+  std::vector<TermScope> out = cells;
+  for (const TermScope& c : cells) {
+    TermScope twin;
+    if (TwinCell(td, train, c, &twin)) out.push_back(twin);
+  }
+  return out;
+}
+
+std::vector<TermScope> ModelCells(const std::vector<TermSpec>& terms) {
+  std::vector<TermScope> out;
+  for (const TermSpec& t : terms) {
+    if (t.term.form == TermForm::kCell) out.push_back(t.term.scope);
+  }
+  return out;
+}
+
 std::vector<TermScope> OfferedCellScopes(const TermData& td,
                                          const std::vector<int>& train) {
   return CellScopes(td, train, SingleScopes(td, train));
@@ -289,11 +308,7 @@ void AddScopedCandidates(const TermData& td, const std::vector<int>& train,
   // data) are not offered again; every other cell is: a mill can have two
   // factor combinations the K structure cannot express, and a round
   // without the cell to compare with names a covariate stand-in for it.
-  std::vector<TermScope> taken = adopted_cells;
-  for (const TermScope& a : adopted_cells) {
-    TermScope twin;
-    if (TwinCell(td, train, a, &twin)) taken.push_back(twin);
-  }
+  const std::vector<TermScope> taken = WithTwins(td, train, adopted_cells);
   const auto adopted = [&](const TermScope& scope) {
     return std::find(taken.begin(), taken.end(), scope) != taken.end();
   };

@@ -93,8 +93,7 @@ std::vector<TermScope> Siblings(const DiagnosisState& st,
 Fitted FitSibling(const DiagnosisState& st, const std::vector<double>& sd,
                   const Fitted& with_term, const TermScope& sibling,
                   bool tied) {
-  std::vector<TermSpec> terms = with_term.terms;
-  TermSpec copy = terms.back();
+  TermSpec copy = with_term.terms.back();
   copy.term.scope = sibling;
   for (size_t j = 0; j < copy.term.params.size(); ++j) {
     const double v = copy.term.params[j];
@@ -106,11 +105,17 @@ Fitted FitSibling(const DiagnosisState& st, const std::vector<double>& sd,
     copy.lower[j] = v - 1e-9 * (1 + std::abs(v));
     copy.upper[j] = v + 1e-9 * (1 + std::abs(v));
   }
-  terms.push_back(copy);
-  return Fit(st.td, st.train, sd, with_term.log_k, terms);
+  return FitWith(st, sd, with_term, copy);
 }
 
 }  // namespace
+
+Fitted FitWith(const DiagnosisState& st, const std::vector<double>& sd,
+               const Fitted& base, const TermSpec& extra) {
+  std::vector<TermSpec> terms = base.terms;
+  terms.push_back(extra);
+  return Fit(st.td, st.train, sd, base.log_k, terms);
+}
 
 double MeanResidualIn(const DiagnosisState& st, const Fitted& fitted,
                       const TermScope& scope) {
@@ -156,11 +161,11 @@ GuardResult LookAtSiblings(const DiagnosisState& st,
   const std::vector<TermScope> siblings = Siblings(st, spec);
   if (siblings.empty()) return r;
   const double k = static_cast<double>(siblings.size());  // Bonferroni
-  const StrongestAddition a = StrongestOf(
-      siblings, static_cast<double>(st.train.size()), with_term.rss,
-      spec.term.NumParams(), [&](const TermScope& s) {
-        return FitSibling(st, sd, with_term, s, false);
-      });
+  const StrongestAddition a =
+      StrongestOf(siblings, static_cast<double>(st.train.size()), with_term.rss,
+                  spec.term.NumParams(), [&](const TermScope& s) {
+                    return FitSibling(st, sd, with_term, s, false);
+                  });
   const TermScope* best = a.scope;
   const double best_p = a.p, best_lr = a.lr;
   if (best == nullptr || !(best_p * k < std::max(kSiblingAlpha, options.alpha)))
@@ -244,10 +249,10 @@ GuardResult PartNotRequired(const DiagnosisState& st,
   GuardResult r;
   const TermSpec& spec = with_term.terms.back();
   // A stand's grade parts share readings (a reading sums several grades).
-  const bool by_grade_at_stand = FactorName(spec.term.scope) == "stand" &&
-                                 (parts.size() != 2 ||
-                                  parts[0].roll_type.empty() ||
-                                  parts[1].roll_type.empty());
+  const bool by_grade_at_stand =
+      FactorName(spec.term.scope) == "stand" &&
+      (parts.size() != 2 || parts[0].roll_type.empty() ||
+       parts[1].roll_type.empty());
   if (parts.size() != 2 || by_grade_at_stand ||
       CountIn(st, parts[0]) + CountIn(st, parts[1]) !=
           CountIn(st, spec.term.scope)) {
@@ -302,11 +307,11 @@ GuardResult LookWithinScope(const DiagnosisState& st,
   const std::vector<TermScope> parts = Parts(st, spec);
   if (parts.size() < 2) return r;
   const double k = static_cast<double>(parts.size());  // Bonferroni
-  const StrongestAddition a = StrongestOf(
-      parts, static_cast<double>(st.train.size()), with_term.rss,
-      spec.term.NumParams(), [&](const TermScope& part) {
-        return FitSibling(st, sd, with_term, part, false);
-      });
+  const StrongestAddition a =
+      StrongestOf(parts, static_cast<double>(st.train.size()), with_term.rss,
+                  spec.term.NumParams(), [&](const TermScope& part) {
+                    return FitSibling(st, sd, with_term, part, false);
+                  });
   const TermScope* best = a.scope;
   const double best_p = a.p, best_lr = a.lr;
   if (best == nullptr) return r;

@@ -188,6 +188,10 @@ GuardResult LookWithinScope(const DiagnosisState& st,
                             const DiagnosisOptions& options,
                             const std::vector<double>& sd,
                             const Fitted& with_term);
+// `base`'s terms plus `extra`, fitted from base's coefficients on the
+// training readings (diagnosis_siblings.cc).
+Fitted FitWith(const DiagnosisState& st, const std::vector<double>& sd,
+               const Fitted& base, const TermSpec& extra);
 // The training readings' mean residual inside `scope` under `fitted`
 // (diagnosis_siblings.cc).
 double MeanResidualIn(const DiagnosisState& st, const Fitted& fitted,

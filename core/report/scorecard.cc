@@ -213,11 +213,11 @@ CaseScore ScoreCase(const std::string& effect, uint64_t seed,
   }
   for (const Finding& f : report.findings) {
     s.findings.push_back(Describe(f));
-    const bool right = std::any_of(
-        truth.effects.begin(), truth.effects.end(),
-        [&](const ConcealedEffect& e) {
-          return NotWrong(f, e) || CoveredByCells(report, e, &f);
-        });
+    const bool right =
+        std::any_of(truth.effects.begin(), truth.effects.end(),
+                    [&](const ConcealedEffect& e) {
+                      return NotWrong(f, e) || CoveredByCells(report, e, &f);
+                    });
     s.wrong_physics += right ? 0 : 1;
   }
   if (s.clean) {

@@ -64,8 +64,8 @@ TEST(DiagnosisInsideCellTest, ACovariateInsideACellIsLocatedAlongItThere) {
     ASSERT_NE(u, nullptr);
     EXPECT_EQ(u->where, TruthPlace(truth) + ": along hardness_hb");
     EXPECT_LT(u->p_adjusted, 1e-6);
-    EXPECT_TRUE(RunnerUpSays(d.report, "not constant inside the cell: on " +
-                                           TruthPlace(truth)));
+    EXPECT_TRUE(RunnerUpSays(
+        d.report, "not constant inside the cell: on " + TruthPlace(truth)));
   }
 }
 
@@ -80,9 +80,10 @@ TEST(DiagnosisInsideCellTest, AScopeWhosePartIsNotRequiredIsNotNamed) {
   ASSERT_EQ(truth.scope.at("stand"), "F7");
   EXPECT_EQ(d.report.verdict, "mismatch_located_unexplained");
   EXPECT_TRUE(d.report.findings.empty());
-  EXPECT_TRUE(RunnerUpSays(d.report, "the data cannot tell whether it acts on "
-                                     "F6, roll type " +
-                                         truth.scope.at("roll_type")));
+  EXPECT_TRUE(RunnerUpSays(d.report,
+                           "the data cannot tell whether it acts on "
+                           "F6, roll type " +
+                               truth.scope.at("roll_type")));
   const Unexplained* u = Entry(d.report, "effect_by_stand");
   ASSERT_NE(u, nullptr);
   EXPECT_NE(u->where.find(TruthPlace(truth) + " alone: along speed_mps"),
@@ -122,8 +123,8 @@ TEST(DiagnosisInsideCellTest, ACellIsWithdrawnWhenItsSetWasAdoptedInPart) {
   ASSERT_EQ(truth.scope.at("stand"), "F6");
   EXPECT_EQ(d.report.verdict, "mismatch_located_unexplained");
   EXPECT_TRUE(d.report.findings.empty());
-  EXPECT_TRUE(RunnerUpSays(d.report, "withdrawn: not confined to F6, grade " +
-                                         truth.levels.at(0)));
+  EXPECT_TRUE(RunnerUpSays(
+      d.report, "withdrawn: not confined to F6, grade " + truth.levels.at(0)));
   const Unexplained* u = Entry(d.report, "stand_by_grade");
   ASSERT_NE(u, nullptr);
   EXPECT_EQ(u->where.rfind("F6, grade " + truth.levels.at(0) + " and F6, ", 0),

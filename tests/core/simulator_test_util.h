@@ -18,8 +18,8 @@
 
 #include "core/dataset/dataset.h"
 #include "core/diagnosis/diagnosis.h"
-#include "core/sim/simulator.h"
 #include "core/model/wear_law.h"
+#include "core/sim/simulator.h"
 
 namespace rollwear::simulator_test {
 
