@@ -344,8 +344,9 @@ void RecordFirstRound(const std::vector<int>& order,
 }
 
 // The winner's test figures and the accepted alternatives that explain the
-// data about as well (CV ratio within 0.01) over another covariate.
-Finding FindingFromTests(const CvRound& cv,
+// data about as well (CV ratio within 0.01) over another covariate that
+// could be named (not a cell, not a locate-only covariate).
+Finding FindingFromTests(const TermData& td, const CvRound& cv,
                          const std::vector<CandidateResult>& results,
                          int winner) {
   Finding f;
@@ -361,9 +362,12 @@ Finding FindingFromTests(const CvRound& cv,
   }
   for (size_t j = 0; j < cv.to_cv.size(); ++j) {
     const CandidateResult& r = results[cv.to_cv[j]];
-    // A cell is a place, not a covariate: not an alternative name.
+    // A cell is a place, not a covariate: not an alternative name; nor is
+    // a covariate the diagnosis only locates along (roll_campaigns_before).
+    const int c = td.CovariateIndex(r.covariate);
     if (r.accepted && r.covariate != wr.covariate &&
         r.covariate != kCellCovariateName &&
+        !(c >= 0 && td.catalog[c].locate_only) &&
         r.cv_mse_ratio <= wr.cv_mse_ratio + 0.01 &&
         std::find(f.alternatives.begin(), f.alternatives.end(), r.covariate) ==
             f.alternatives.end()) {
@@ -593,7 +597,7 @@ bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
   if (winner < 0) return false;
 
   // 5. Adopt the winner.
-  Finding f = FindingFromTests(cv, results, winner);
+  Finding f = FindingFromTests(st->td, cv, results, winner);
   std::string twin_note;
   ReferenceChoice reference;
   const Fitted chosen = ChooseOffsetReference(

@@ -527,21 +527,40 @@ TEST(DiagnosisProxyTest, ARollsServiceIsLocatedNotNamedAsCalendarTime) {
 // named; the locate-only rival describes the same data and adds nothing to
 // it (before the reverse encompassing test, session 17, it was refused as
 // "not distinguishable from roll_campaigns_before").
-TEST(DiagnosisProxyTest,
-     ARecordedRegrindCountIsNamedThoughARollsServiceIsItsTwin) {
-  Simulation sim = simulator_test::Simulated(101, kPaperCampaigns,
-                                             {"inexpressible_roll_service:0"});
+// The locate-only rival is not offered as an alternative name either (it
+// was, in the finding's `alternatives`, until session 19). Variant 1 is a
+// step (x(1 + s) from the third campaign on): named as the same column, a
+// step up (its quantile bins 1, 1.21, 1.20, 1.21 read as
+// "saturating_growth" until session 19).
+StatusOr<DiagnosisReport> DiagnoseWithRegrinds(const std::string& effect) {
+  Simulation sim =
+      simulator_test::Simulated(101, kPaperCampaigns, {effect});
   const std::vector<int> n = RollCampaignsBefore(sim.data);
   sim.data.mount_extra.numeric_names.push_back("regrinds");
   sim.data.mount_extra.numeric.emplace_back(n.begin(), n.end());
-  const StatusOr<DiagnosisReport> r = Diagnose(sim.data, DiagnosisOptions{});
-  ASSERT_TRUE(r.ok()) << r.status().ToString();
-  EXPECT_EQ(r->verdict, "missing_physics_found");
-  ASSERT_FALSE(r->findings.empty());
-  EXPECT_EQ(r->findings.front().covariate, "regrinds");
-  EXPECT_EQ(r->findings.front().shape, "increasing");
-  EXPECT_TRUE(r->findings.front().scope.empty());
-  for (const Finding& f : r->findings) EXPECT_NE(f.covariate, "started_at");
+  return Diagnose(sim.data, DiagnosisOptions{});
+}
+TEST(DiagnosisProxyTest,
+     ARecordedRegrindCountIsNamedThoughARollsServiceIsItsTwin) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"inexpressible_roll_service:0", "increasing"},
+      {"inexpressible_roll_service:1", "step_up"}};
+  for (const auto& [effect, shape] : cases) {
+    SCOPED_TRACE(effect);
+    const StatusOr<DiagnosisReport> r = DiagnoseWithRegrinds(effect);
+    ASSERT_TRUE(r.ok()) << r.status().ToString();
+    EXPECT_EQ(r->verdict, "missing_physics_found");
+    ASSERT_FALSE(r->findings.empty());
+    const Finding& f = r->findings.front();
+    EXPECT_EQ(f.covariate, "regrinds");
+    EXPECT_EQ(f.shape, shape) << f.explanation;
+    EXPECT_TRUE(f.scope.empty());
+    EXPECT_LT(f.p_value, 1e-10);
+    for (const std::string& a : f.alternatives) {
+      EXPECT_NE(a, "roll_campaigns_before");
+    }
+    for (const Finding& g : r->findings) EXPECT_NE(g.covariate, "started_at");
+  }
 }
 
 // Two of the four roll types that run at both stands wearing more at one
