@@ -14,9 +14,10 @@
 // `stand_by_roll_type` or `stand_by_grade`, naming both descriptions.
 // A set whose complement has more cells (one roll type of four at F7, one
 // grade of ten) stays named: it is the sparsest description, unless
-// another cell of its kind joins one of its cells significantly in the
-// final model (WithdrawUnconfinedCell): then the set the rounds adopted is
-// incomplete, and that cell is withdrawn and located with its sibling.
+// other cells of its kind join one of its cells significantly in the final
+// model, or two of them describe the data about as well as it does
+// (WithdrawUnconfinedCell): then the set the rounds adopted is incomplete,
+// or not identified, and that cell is withdrawn and located with them.
 // Thread-safety: reentrant (changes only its arguments).
 #include <algorithm>
 #include <cmath>
@@ -212,10 +213,10 @@ Joining SiblingsJoin(const DiagnosisState& st, const std::vector<double>& sd,
   j.strongest = a.scope;
   j.lr = a.lr;
   j.p = a.p;
-  j.p_adjusted =
-      std::min(1.0, a.p * 2 * static_cast<double>(siblings.size()));
+  j.p_adjusted = std::min(1.0, a.p * 2 * static_cast<double>(siblings.size()));
   int df = 0;
-  const std::vector<TermScope> all = AllSiblingsAtPlace(st, cell, siblings, &df);
+  const std::vector<TermScope> all =
+      AllSiblingsAtPlace(st, cell, siblings, &df);
   if (df < 2) return j;
   std::vector<TermSpec> terms = base.terms;
   for (const TermScope& s : all) terms.push_back(CellTermSpec(st.td, s));
@@ -253,9 +254,8 @@ struct RivalPair {
 // The best pair of `siblings` in place of `cell` in `base` (fitted with
 // the noise sd `sd`); label empty when no pair comes within
 // kRivalPairMargin of the cell.
-RivalPair BestRivalPair(const DiagnosisState& st,
-                        const std::vector<double>& sd, const Fitted& base,
-                        const TermScope& cell,
+RivalPair BestRivalPair(const DiagnosisState& st, const std::vector<double>& sd,
+                        const Fitted& base, const TermScope& cell,
                         const std::vector<TermScope>& siblings) {
   RivalPair r;
   std::vector<TermSpec> without;
@@ -347,17 +347,17 @@ bool WithdrawUnconfinedCell(const DiagnosisOptions& options,
     u.test = "likelihood_ratio";
     if (joined) {
       const std::string joiners =
-          j.df == 1 ? "the cell " + j.strongest->Label()
-                    : "the other " + kind + " there (" + std::to_string(j.df) +
-                          " free cells; the strongest " +
-                          j.strongest->Label() + ")";
+          j.df == 1
+              ? "the cell " + j.strongest->Label()
+              : "the other " + kind + " there (" + std::to_string(j.df) +
+                    " free cells; the strongest " + j.strongest->Label() + ")";
       std::snprintf(buf, sizeof(buf),
                     "withdrawn: not confined to %s: %s join%s it "
                     "significantly (LR %.1f, p adjusted %.2g); a set of cells "
                     "of which one named alone would say the rest follow the "
                     "law",
-                    cell.Label().c_str(), joiners.c_str(),
-                    j.df == 1 ? "s" : "", j.lr, j.p_adjusted);
+                    cell.Label().c_str(), joiners.c_str(), j.df == 1 ? "s" : "",
+                    j.lr, j.p_adjusted);
       u.where = cell.Label() + " and " +
                 (j.df == 1 ? j.strongest->Label()
                            : "the other " + kind + " there, the strongest " +

@@ -25,30 +25,37 @@ struct Mechanism {
 // Physical reading of a dependence on each canonical covariate.
 constexpr Mechanism kMechanisms[] = {
     {"campaign_length_before_m", "wear_rate_growth_along_campaign",
-     "Each km of strip wears the roll more than the one before: the roll surface "
-     "degrades along the campaign (fire cracks, banding, loss of the protective "
-     "oxide layer), which the wear law, summing independent strips, leaves out.",
+     "Each km of strip wears the roll more than the one before: the roll "
+     "surface "
+     "degrades along the campaign (fire cracks, banding, loss of the "
+     "protective "
+     "oxide layer), which the wear law, summing independent strips, leaves "
+     "out.",
      "run_in_of_fresh_surface",
-     "A freshly ground roll wears faster at first (grinding roughness peaks are "
+     "A freshly ground roll wears faster at first (grinding roughness peaks "
+     "are "
      "worn off) and then settles; the wear law treats every strip alike."},
     {"campaign_coils_before", "wear_rate_growth_along_campaign",
      "Wear per coil rises with the number of coils already rolled: the roll "
      "surface degrades along the campaign.",
      "run_in_of_fresh_surface",
-     "The first coils after a roll change wear the roll more: run-in of a freshly "
+     "The first coils after a roll change wear the roll more: run-in of a "
+     "freshly "
      "ground surface."},
     {"hours_since_mount", "thermal_growth_with_time_in_service",
      "Wear rate rises with hours in service, not with the rolled length: the "
      "roll heats up and thermal fatigue accumulates with time in the stand "
      "(stoppages included).",
      "run_in_of_fresh_surface",
-     "Wear is highest in the first hours after mounting: run-in and the thermal "
+     "Wear is highest in the first hours after mounting: run-in and the "
+     "thermal "
      "transient of a cold roll."},
     {"temperature_c", "hot_strip_oxide_abrasion",
      "Hotter strip wears the roll more: thicker, abrasive oxide scale and a "
      "hotter roll surface at higher entry temperature.",
      "cold_strip_hardness_and_scale",
-     "Colder strip wears the roll more: it is harder and carries a harder, more "
+     "Colder strip wears the roll more: it is harder and carries a harder, "
+     "more "
      "abrasive tertiary scale."},
     {"lubrication", "lubrication_increases_wear",
      "Passes with roll-gap lubrication on wear more than the law predicts.",
@@ -56,55 +63,71 @@ constexpr Mechanism kMechanisms[] = {
      "Roll-gap lubrication lowers friction and slip in the bite and with them "
      "the abrasive wear, beyond what the lower force already accounts for."},
     {"hardness_hb", "hardness_increases_wear",
-     "Harder rolls wear more than the law predicts (e.g. a harder but more brittle "
+     "Harder rolls wear more than the law predicts (e.g. a harder but more "
+     "brittle "
      "roll grade).",
      "roll_hardness",
-     "Softer rolls wear faster: Archard wear scales with 1/hardness, which Wang's "
+     "Softer rolls wear faster: Archard wear scales with 1/hardness, which "
+     "Wang's "
      "law does not contain (and rolls get softer as they are ground down)."},
     {"speed_mps", "rolling_speed",
      "Faster rolling wears the roll more per km: more sliding and a higher "
      "thermal load of the roll surface.",
      "rolling_speed_decrease",
-     "Slower rolling wears the roll more per km: longer contact time and hotter "
+     "Slower rolling wears the roll more per km: longer contact time and "
+     "hotter "
      "contact per revolution."},
     {"force_kn", "superlinear_load_dependence",
-     "Wear grows faster than linearly with rolling force (pressure exponent above "
+     "Wear grows faster than linearly with rolling force (pressure exponent "
+     "above "
      "one in the Archard law).",
      "sublinear_load_dependence",
      "Wear grows slower than linearly with rolling force."},
     {"specific_force_kn_per_mm", "superlinear_load_dependence",
      "Wear grows faster than linearly with specific force (pressure exponent "
      "above one).",
-     "sublinear_load_dependence", "Wear grows slower than linearly with specific force."},
-    {"width_mm", "strip_width", "Wider strips wear the barrel centre more per unit load.",
+     "sublinear_load_dependence",
+     "Wear grows slower than linearly with specific force."},
+    {"width_mm", "strip_width",
+     "Wider strips wear the barrel centre more per unit load.",
      "narrow_strip_concentration",
      "Narrow strips concentrate the contact at the barrel centre, wearing it "
      "more per unit load."},
     {"shift_mm", "axial_shift_position",
-     "Centre wear depends on the axial shift position: shifting moves the contact "
+     "Centre wear depends on the axial shift position: shifting moves the "
+     "contact "
      "zone along the barrel.",
      "axial_shift_position",
-     "Centre wear depends on the axial shift position: shifting moves the contact "
+     "Centre wear depends on the axial shift position: shifting moves the "
+     "contact "
      "zone along the barrel."},
     {"reduction", "roll_gap_slip",
-     "Heavier reductions wear the roll more: more forward slip and sliding in a "
+     "Heavier reductions wear the roll more: more forward slip and sliding in "
+     "a "
      "longer bite.",
-     "roll_gap_slip_decrease", "Lighter reductions wear the roll more per unit load."},
+     "roll_gap_slip_decrease",
+     "Lighter reductions wear the roll more per unit load."},
     {"contact_length_mm", "roll_gap_slip",
      "Longer contact arcs wear the roll more: more sliding per revolution.",
-     "roll_gap_slip_decrease", "Shorter contact arcs wear the roll more per unit load."},
-    {"entry_thickness_mm", "strip_thickness", "Thicker entry strip wears the roll more.",
-     "thin_strip", "Thinner entry strip wears the roll more per unit load."},
-    {"exit_thickness_mm", "strip_thickness", "Thicker exit strip wears the roll more.",
-     "thin_strip", "Thinner strip wears the roll more per unit load."},
-    {"length_m", "coil_length", "Longer coils wear more per metre than short ones.",
-     "coil_length", "Short coils wear more per metre (threading and tail-out)."},
+     "roll_gap_slip_decrease",
+     "Shorter contact arcs wear the roll more per unit load."},
+    {"entry_thickness_mm", "strip_thickness",
+     "Thicker entry strip wears the roll more.", "thin_strip",
+     "Thinner entry strip wears the roll more per unit load."},
+    {"exit_thickness_mm", "strip_thickness",
+     "Thicker exit strip wears the roll more.", "thin_strip",
+     "Thinner strip wears the roll more per unit load."},
+    {"length_m", "coil_length",
+     "Longer coils wear more per metre than short ones.", "coil_length",
+     "Short coils wear more per metre (threading and tail-out)."},
     {"diameter_mm", "roll_diameter",
-     "Larger rolls wear more per unit load than the law predicts.", "roll_diameter",
+     "Larger rolls wear more per unit load than the law predicts.",
+     "roll_diameter",
      "Smaller (more reground) rolls wear more per unit load: higher contact "
      "pressure and more revolutions per km."},
     {"started_at", "drift_over_time",
-     "Wear rates drift upward over the months (e.g. a new roll supplier or batch, "
+     "Wear rates drift upward over the months (e.g. a new roll supplier or "
+     "batch, "
      "a changed cooling practice).",
      "drift_over_time", "Wear rates drift downward over the months."},
     {"measured_at", "measurement_drift_over_time",
@@ -117,8 +140,10 @@ constexpr Mechanism kMechanisms[] = {
      "Rolls measured soon after the campaign read a different wear: the roll "
      "still carries thermal expansion at the barrel centre when gauged warm.",
      "thermal_expansion_at_measurement",
-     "Rolls measured soon after the campaign read less wear: a warm roll is still "
-     "expanded at the barrel centre, which hides part of the wear until it cools."},
+     "Rolls measured soon after the campaign read less wear: a warm roll is "
+     "still "
+     "expanded at the barrel centre, which hides part of the wear until it "
+     "cools."},
 };
 
 const Mechanism* FindMechanism(const std::string& covariate) {
@@ -128,7 +153,8 @@ const Mechanism* FindMechanism(const std::string& covariate) {
   return nullptr;
 }
 
-std::string Format(const char* fmt, double a, double b = 0, double c = 0, double d = 0) {
+std::string Format(const char* fmt, double a, double b = 0, double c = 0,
+                   double d = 0) {
   char buf[256];
   std::snprintf(buf, sizeof(buf), fmt, a, b, c, d);
   return buf;
@@ -136,7 +162,8 @@ std::string Format(const char* fmt, double a, double b = 0, double c = 0, double
 
 bool EndsWith(const std::string& s, const char* suffix) {
   const std::string x(suffix);
-  return s.size() >= x.size() && s.compare(s.size() - x.size(), x.size(), x) == 0;
+  return s.size() >= x.size() &&
+         s.compare(s.size() - x.size(), x.size(), x) == 0;
 }
 
 // A covariate value with its unit and a readable magnitude: "96.7 km",
@@ -154,10 +181,12 @@ std::string Readable(const std::string& name, double v) {
   if (EndsWith(name, "_kn_per_mm")) return Format("%.2f kN/mm", v);
   if (EndsWith(name, "_mm")) return Format("%.4g mm", v);
   if (EndsWith(name, "_m")) {
-    return std::abs(v) >= 1000 ? Format("%.1f km", v / 1000) : Format("%.0f m", v);
+    return std::abs(v) >= 1000 ? Format("%.1f km", v / 1000)
+                               : Format("%.0f m", v);
   }
   if (EndsWith(name, "_c")) return Format("%.0f °C", v);
-  if (EndsWith(name, "_h") || name == "hours_since_mount") return Format("%.1f h", v);
+  if (EndsWith(name, "_h") || name == "hours_since_mount")
+    return Format("%.1f h", v);
   if (EndsWith(name, "_kn")) return Format("%.0f kN", v);
   if (EndsWith(name, "_mps")) return Format("%.2f m/s", v);
   if (EndsWith(name, "_hb")) return Format("%.0f HB", v);
@@ -176,7 +205,8 @@ const char* ThresholdShape(const std::vector<double>& v) {
     hi = std::max(hi, v[i]);
   }
   const double last = v.back() - v[v.size() - 2];
-  if (std::abs(last) > 0.75 * std::abs(total) && hi - lo < 0.25 * std::abs(last)) {
+  if (std::abs(last) > 0.75 * std::abs(total) &&
+      hi - lo < 0.25 * std::abs(last)) {
     return last > 0 ? "threshold_rise" : "threshold_drop";
   }
   return nullptr;
@@ -226,11 +256,13 @@ std::string DescribeScope(const ModelTerm& t, Finding* f) {
 void OffsetLevels(const ModelTerm& t, Finding* f, std::string* fitted) {
   f->shape = "offset_per_level";
   f->levels.clear();
-  const std::string ref =
-      t.reference_level < static_cast<int>(t.levels.size()) ? t.levels[t.reference_level] : "";
+  const std::string ref = t.reference_level < static_cast<int>(t.levels.size())
+                              ? t.levels[t.reference_level]
+                              : "";
   for (size_t j = 0; j < t.params.size(); ++j) {
     const size_t l = static_cast<int>(j) < t.reference_level ? j : j + 1;
-    const std::string label = l < t.levels.size() ? t.levels[l] : std::to_string(l);
+    const std::string label =
+        l < t.levels.size() ? t.levels[l] : std::to_string(l);
     f->parameters["offset_um[" + label + "]"] = t.params[j];
     auto se = f->parameter_std_errors.find("param" + std::to_string(j));
     const bool significant = se == f->parameter_std_errors.end() ||
@@ -248,8 +280,8 @@ void OffsetLevels(const ModelTerm& t, Finding* f, std::string* fitted) {
 
 }  // namespace
 
-void NameFinding(const TermData& td, const std::vector<int>& train, const TermSpec& spec,
-                 Finding* f) {
+void NameFinding(const TermData& td, const std::vector<int>& train,
+                 const TermSpec& spec, Finding* f) {
   const ModelTerm& t = spec.term;
   const CovariateSpec& c = td.catalog[spec.covariate];
   const WeightedValues w = Collect(td, train, spec.covariate);
@@ -257,10 +289,18 @@ void NameFinding(const TermData& td, const std::vector<int>& train, const TermSp
   f->covariate = c.name;
   f->form = TermFormName(t.form);
   switch (c.level) {
-    case CovariateLevel::kPass: f->level = "pass"; break;
-    case CovariateLevel::kRoll: f->level = "roll"; break;
-    case CovariateLevel::kCampaign: f->level = "campaign"; break;
-    case CovariateLevel::kMeasurement: f->level = "measurement"; break;
+    case CovariateLevel::kPass:
+      f->level = "pass";
+      break;
+    case CovariateLevel::kRoll:
+      f->level = "roll";
+      break;
+    case CovariateLevel::kCampaign:
+      f->level = "campaign";
+      break;
+    case CovariateLevel::kMeasurement:
+      f->level = "measurement";
+      break;
   }
   const double* p = t.params.data();
   bool up = true;
@@ -299,11 +339,13 @@ void NameFinding(const TermData& td, const std::vector<int>& train, const TermSp
       if (t.form == TermForm::kBinned && ThresholdShape(v) != nullptr) {
         return std::string(ThresholdShape(v));
       }
-      return std::string((v[2] - v[0]) > 0.75 * (v[4] - v[0]) ? "saturating_growth"
-                                                              : "increasing");
+      return std::string((v[2] - v[0]) > 0.75 * (v[4] - v[0])
+                             ? "saturating_growth"
+                             : "increasing");
     }
     if (dec && !inc) {
-      return std::string((v[0] - v[2]) > 0.75 * (v[0] - v[4]) ? "decaying" : "decreasing");
+      return std::string((v[0] - v[2]) > 0.75 * (v[0] - v[4]) ? "decaying"
+                                                              : "decreasing");
     }
     if (t.form == TermForm::kBinned) {
       if (const char* th = ThresholdShape(v)) return std::string(th);
@@ -315,7 +357,8 @@ void NameFinding(const TermData& td, const std::vector<int>& train, const TermSp
     return std::string(up ? "increasing" : "decreasing");
   };
   const std::string range_text =
-      Format("wear-rate multiplier %.3f at the 5th percentile (", TermMultiplier(t, lo, nullptr)) +
+      Format("wear-rate multiplier %.3f at the 5th percentile (",
+             TermMultiplier(t, lo, nullptr)) +
       Readable(c.name, lo) +
       Format(") and %.3f at the 95th (", TermMultiplier(t, hi, nullptr)) +
       Readable(c.name, hi) + ")";
@@ -324,7 +367,8 @@ void NameFinding(const TermData& td, const std::vector<int>& train, const TermSp
     case TermForm::kPower: {
       f->shape = profile_shape();
       if (t.form == TermForm::kLogLinear) {
-        f->parameters = {{"beta", p[0]}, {"center", t.center}, {"scale", t.scale}};
+        f->parameters = {
+            {"beta", p[0]}, {"center", t.center}, {"scale", t.scale}};
       } else {
         f->parameters = {{"exponent", p[0]}, {"reference", t.center}};
       }
@@ -365,24 +409,29 @@ void NameFinding(const TermData& td, const std::vector<int>& train, const TermSp
       fitted = "wear-rate multipliers by quantile bin of the covariate:";
       for (size_t i = 0; i < m.size(); ++i) {
         fitted += Format(" %.3f", m[i]);
-        if (i < t.edges.size()) fitted += " | " + Readable(c.name, t.edges[i]) + " |";
+        if (i < t.edges.size())
+          fitted += " | " + Readable(c.name, t.edges[i]) + " |";
       }
-      if (const int j = SingleJump(m); j > 0 && f->shape.rfind("threshold", 0) != 0) {
+      if (const int j = SingleJump(m);
+          j > 0 && f->shape.rfind("threshold", 0) != 0) {
         f->shape = m[j] > m[j - 1] ? "step_up" : "step_down";
-        fitted += Format("; a step: %.3f times the rate below ", m[j] / m[j - 1]) +
-                  Readable(c.name, t.edges[j - 1]) + " from there on";
+        fitted +=
+            Format("; a step: %.3f times the rate below ", m[j] / m[j - 1]) +
+            Readable(c.name, t.edges[j - 1]) + " from there on";
       }
       break;
     }
     case TermForm::kPerLevel:
       f->shape = "per_level";
       for (size_t i = 0; i < t.params.size(); ++i) {
-        f->parameters["level" + std::to_string(i + 1) + "_multiplier"] = std::exp(t.params[i]);
+        f->parameters["level" + std::to_string(i + 1) + "_multiplier"] =
+            std::exp(t.params[i]);
       }
       fitted = "wear-rate multipliers";
       f->levels.clear();
       for (size_t i = 0; i < t.params.size(); ++i) {
-        const std::string label = i + 1 < t.levels.size() ? t.levels[i + 1] : std::to_string(i + 1);
+        const std::string label =
+            i + 1 < t.levels.size() ? t.levels[i + 1] : std::to_string(i + 1);
         fitted += Format(" %.3f", std::exp(t.params[i])) + " (" + label + ")";
         // The affected levels (the contract's levels): those whose
         // multiplier is more than 2 standard errors from the reference's 1.
@@ -405,11 +454,13 @@ void NameFinding(const TermData& td, const std::vector<int>& train, const TermSp
       break;
     case TermForm::kOffsetDecay:
       up = p[0] > 0;
-      f->shape = p[0] < 0 ? "reads_low_when_measured_early" : "reads_high_when_measured_early";
+      f->shape = p[0] < 0 ? "reads_low_when_measured_early"
+                          : "reads_high_when_measured_early";
       f->parameters = {{"amplitude_um", p[0]}, {"tau", std::exp(p[1])}};
-      fitted = Format("measured wear offset %.1f µm right after the campaign, fading with "
-                      "time constant %.3g",
-                      p[0], std::exp(p[1]));
+      fitted = Format(
+          "measured wear offset %.1f µm right after the campaign, fading with "
+          "time constant %.3g",
+          p[0], std::exp(p[1]));
       break;
     case TermForm::kOffsetBinned: {
       // Offsets by quantile bin (bin 0 reads as is): a step when one jump
@@ -425,9 +476,9 @@ void NameFinding(const TermData& td, const std::vector<int>& train, const TermSp
         monotone = monotone && (up ? jump >= -1.0 : jump <= 1.0);  // 1 µm slack
       }
       const double total = std::abs(o.back() - o.front());
-      f->shape = !monotone            ? "uneven"
+      f->shape = !monotone                 ? "uneven"
                  : largest >= 0.75 * total ? (up ? "step_up" : "step_down")
-                                     : (up ? "increasing" : "decreasing");
+                                           : (up ? "increasing" : "decreasing");
       for (size_t i = 0; i < o.size(); ++i) {
         f->parameters["bin" + std::to_string(i) + "_offset_um"] = o[i];
       }
@@ -443,32 +494,38 @@ void NameFinding(const TermData& td, const std::vector<int>& train, const TermSp
       fitted = "measured wear offsets by quantile bin of the covariate (µm):";
       for (size_t i = 0; i < o.size(); ++i) {
         fitted += Format(" %+.1f", o[i]);
-        if (i < t.edges.size()) fitted += " | " + Readable(c.name, t.edges[i]) + " |";
+        if (i < t.edges.size())
+          fitted += " | " + Readable(c.name, t.edges[i]) + " |";
       }
       break;
     }
     case TermForm::kOffsetLinear:
       up = p[0] > 0;
       f->shape = up ? "increasing" : "decreasing";
-      f->parameters = {{"slope_um_per_sd", p[0]}, {"center", t.center}, {"scale", t.scale}};
-      fitted = Format("measured wear offset of %.1f µm per standard deviation (%.4g)", p[0],
-                      t.scale);
+      f->parameters = {
+          {"slope_um_per_sd", p[0]}, {"center", t.center}, {"scale", t.scale}};
+      fitted = Format(
+          "measured wear offset of %.1f µm per standard deviation (%.4g)", p[0],
+          t.scale);
       break;
   }
   const Mechanism* m = FindMechanism(c.name);
   std::string text;
   if (t.form == TermForm::kCell) {
-    f->mechanism = std::string(t.scope.roll_type.empty() ? "grade" : "roll_type") + "_by_" +
-                   (t.scope.stand > 0 ? "stand" : "position") + "_interaction";
-    text = "Rolls of " + t.scope.Label() + " wear " + Format("%.2f", std::exp(p[0])) +
+    f->mechanism =
+        std::string(t.scope.roll_type.empty() ? "grade" : "roll_type") +
+        "_by_" + (t.scope.stand > 0 ? "stand" : "position") + "_interaction";
+    text = "Rolls of " + t.scope.Label() + " wear " +
+           Format("%.2f", std::exp(p[0])) +
            " times what the K structure (position x roll type x grade factors, "
            "which multiply independently) predicts: an interaction no single "
            "factor expresses.";
   } else if (t.form == TermForm::kOffsetPerLevel) {
     f->mechanism = "measurement_offset_by_" + c.name;
-    text = "The grinder's reading depends on " + c.name +
-           ": an instrument, gauge or crew offset on the measured value, not wear "
-           "physics.";
+    text =
+        "The grinder's reading depends on " + c.name +
+        ": an instrument, gauge or crew offset on the measured value, not wear "
+        "physics.";
   } else if (m != nullptr) {
     f->mechanism = up ? m->up : m->down;
     text = up ? m->up_text : m->down_text;

@@ -304,7 +304,8 @@ CvRound CrossValidateSignificant(const DiagnosisState& st,
   // The current model first, then the candidates.
   std::vector<const Fitted*> models = {&st.current};
   for (int i : cv.to_cv) models.push_back(&fits[i]);
-  std::vector<CvResult> res = CrossValidate(st, sd, models, options.num_threads);
+  std::vector<CvResult> res =
+      CrossValidate(st, sd, models, options.num_threads);
   cv.base = res[0];
   cv.cand.assign(res.begin() + 1, res.end());
   return cv;
@@ -312,7 +313,8 @@ CvRound CrossValidateSignificant(const DiagnosisState& st,
 
 // Sets cv_mse_ratio and accepted of the cross-validated results; returns
 // the accepted ones by penalised CV ratio, best first.
-std::vector<int> RankAccepted(const CvRound& cv, const DiagnosisOptions& options,
+std::vector<int> RankAccepted(const CvRound& cv,
+                              const DiagnosisOptions& options,
                               std::vector<CandidateResult>* results) {
   std::vector<int> accepted;
   for (size_t j = 0; j < cv.to_cv.size(); ++j) {
@@ -429,8 +431,8 @@ void AddPoints(const Dataset& data, const DiagnosisState& st,
 // The readings of `all` more than kOutlierSigmas sd's of `noise` off the
 // final prediction, largest first.
 void ListOutliers(const Dataset& data, const DiagnosisState& st,
-                  const std::vector<double>& after_all, const RobustNoise& noise,
-                  DiagnosisReport* report) {
+                  const std::vector<double>& after_all,
+                  const RobustNoise& noise, DiagnosisReport* report) {
   for (int o : st.all) {
     const TermObservation& ob = st.td.obs[o];
     const double u = (ob.measured_um - after_all[o]) / noise.SdAt(after_all[o]);
@@ -558,16 +560,18 @@ void MakeFolds(const DiagnosisOptions& options, const CampaignSplit& split,
 }
 
 bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
-              std::set<int>* used,
-              PhaseClock* phase, DiagnosisState* st, DiagnosisReport* report) {
+              std::set<int>* used, PhaseClock* phase, DiagnosisState* st,
+              DiagnosisReport* report) {
   const TermData& td = st->td;
-  const std::vector<double> sd = TermNoiseSd(
-      td, st->train, st->current.log_k, st->current.terms, nullptr, options.robust);
+  const std::vector<double> sd =
+      TermNoiseSd(td, st->train, st->current.log_k, st->current.terms, nullptr,
+                  options.robust);
   Fitted cur = Fit(td, st->train, sd, st->current.log_k, st->current.terms);
   phase->Mark("round_fit");
   if (!cur.usable) return false;
   st->current = cur;
-  if (st->unscoped.empty()) st->unscoped = UnscopedCandidates(td, st->train, options);
+  if (st->unscoped.empty())
+    st->unscoped = UnscopedCandidates(td, st->train, options);
   std::vector<TermScope> adopted_cells;
   for (const TermSpec& t : st->current.terms) {
     if (t.term.form == TermForm::kCell) adopted_cells.push_back(t.term.scope);

@@ -110,8 +110,10 @@ bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
 // findings become runners-up, its terms leave state->current (refitted),
 // and the mismatch is listed as located with both descriptions
 // (diagnosis_complement.cc). Then withdraws, one at a time, each adopted
-// cell that another cell of its kind joins significantly in the final
-// model (1 %, Bonferroni over the siblings), located with that sibling.
+// cell that other cells of its kind join significantly in the final model
+// (the strongest alone, Bonferroni over the siblings, or all at once; 1 %
+// over the two tests), or that a pair of them describes about as well
+// (LR within 5), located with them.
 void WithdrawTiedCellSets(const DiagnosisOptions& options,
                           DiagnosisState* state, DiagnosisReport* report);
 

@@ -55,8 +55,7 @@ using simulator_test::Diagnosed;
 
 Diagnosed DiagnoseSimulated(uint64_t seed, std::vector<std::string> effects,
                             int campaigns = kPaperCampaigns) {
-  return simulator_test::DiagnoseSimulated(seed, std::move(effects),
-                                           campaigns);
+  return simulator_test::DiagnoseSimulated(seed, std::move(effects), campaigns);
 }
 
 bool Lists(const std::vector<std::string>& v, const std::string& s) {
@@ -533,8 +532,7 @@ TEST(DiagnosisProxyTest, ARollsServiceIsLocatedNotNamedAsCalendarTime) {
 // step up (its quantile bins 1, 1.21, 1.20, 1.21 read as
 // "saturating_growth" until session 19).
 StatusOr<DiagnosisReport> DiagnoseWithRegrinds(const std::string& effect) {
-  Simulation sim =
-      simulator_test::Simulated(101, kPaperCampaigns, {effect});
+  Simulation sim = simulator_test::Simulated(101, kPaperCampaigns, {effect});
   const std::vector<int> n = RollCampaignsBefore(sim.data);
   sim.data.mount_extra.numeric_names.push_back("regrinds");
   sim.data.mount_extra.numeric.emplace_back(n.begin(), n.end());
