@@ -336,21 +336,25 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
     const double df = std::max(1, s.levels - 1);
     return (s.wald - df) / std::sqrt(2 * df);
   };
-  const SplitHeterogeneity* strongest = nullptr;
-  for (const SplitHeterogeneity& s : split) {
-    if (s.p * dims < options.alpha && s.max_dev >= kMaterialScale &&
-        (strongest == nullptr || standardised(s) > standardised(*strongest))) {
-      strongest = &s;
+  const auto strongest_split = [&](bool deferred) -> GuardResult {
+    const SplitHeterogeneity* strongest = nullptr;
+    for (const SplitHeterogeneity& s : split) {
+      if (s.deferred == deferred && s.p * dims < options.alpha &&
+          s.max_dev >= kMaterialScale &&
+          (strongest == nullptr ||
+           standardised(s) > standardised(*strongest))) {
+        strongest = &s;
+      }
     }
-  }
-  if (strongest != nullptr) {
+    if (strongest == nullptr) return GuardResult{};
     Heterogeneity h;
     h.group = strongest->level;
     h.group_mean_um = strongest->level_size_um;  // the effect's size there
     return Refused("inconsistent across " + strongest->factor,
                    strongest->factor, h, "wald_by_level", strongest->wald,
                    strongest->p, dims);
-  }
+  };
+  if (GuardResult r = strongest_split(false); !r.pass) return r;
   for (size_t di = 0; di < names.size(); ++di) {
     const char* name = names[di].c_str();
     const std::vector<std::string>* label = &labels[di];
@@ -369,6 +373,8 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
       return Refused(buf, name, h, "within_group_z", h.b_bar, h.p_within, dims);
     }
   }
+  // A slope's quartile splits, after the places they may stand in for.
+  if (GuardResult r = strongest_split(true); !r.pass) return r;
   const GuardResult inside = LookInsideCell(st, options, sd, with_term);
   if (!inside.pass) return inside;
   const GuardResult within = LookWithinScope(st, options, sd, with_term);

@@ -41,6 +41,7 @@ struct PassFactor {
   std::string name;
   std::vector<int> level;  // per pass (TermData::load indexing)
   std::vector<std::string> labels;
+  bool deferred = false;  // SplitHeterogeneity::deferred
 };
 
 // The quartiles of numeric pass-level covariate k over the training
@@ -85,13 +86,18 @@ bool QuartileFactor(const TermData& td, const std::vector<int>& train, int k,
   return true;
 }
 
-// The pass-level factors the last term of `terms` is not itself about; for
-// a term with one multiplier per set of passes (flag, per level), also the
-// quartiles of the numeric pass-level covariates.
+// The pass-level factors the last term of `terms` is not itself about, and
+// the quartiles of the numeric pass-level covariates other than its own
+// (not for a cell, whose inside LookInsideCell checks): a flag or a text
+// level must hold on all of its passes (session 17), and a slope along one
+// covariate must hold at every value of another; from session 19, when the
+// simulator's temperature x speed interaction without main effects was
+// named as contact length or speed at one stand (2 of seeds 106-125).
 std::vector<PassFactor> PassFactors(const TermData& td,
                                     const std::vector<int>& train,
                                     const ModelTerm& term) {
   const std::string& cov = term.covariate;
+  const bool quartiles = term.form != TermForm::kCell;
   const bool constant_on_passes =
       term.form == TermForm::kFlag || term.form == TermForm::kPerLevel;
   std::vector<PassFactor> out;
@@ -105,8 +111,9 @@ std::vector<PassFactor> PassFactors(const TermData& td,
     } else if (c.kind == CovariateKind::kFactor) {
       f.labels = c.levels;
     } else {
-      if (constant_on_passes && c.source != CovariateSource::kCell &&
+      if (quartiles && c.source != CovariateSource::kCell &&
           QuartileFactor(td, train, k, &f)) {
+        f.deferred = !constant_on_passes;
         out.push_back(std::move(f));
       }
       continue;
@@ -301,6 +308,7 @@ std::vector<SplitHeterogeneity> SplitByPassFactors(const DiagnosisState& st,
     if (tested.size() < 2) continue;
     SplitHeterogeneity h;
     h.factor = f.name;
+    h.deferred = f.deferred;
     if (!FitLevelScales(st, f, c, column, tested, e, w, phi, &h)) continue;
     const int largest = static_cast<int>(
         std::find(tested.begin(), tested.end(), h.level) - tested.begin());

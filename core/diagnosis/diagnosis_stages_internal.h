@@ -155,6 +155,11 @@ struct SplitHeterogeneity {
   double wald = 0, p = 1, max_dev = 0;
   std::string level;
   double scale = 0, level_size_um = 0;
+  // A split by the quartiles of a numeric covariate of a term that is not
+  // one multiplier on a set of passes (from session 19): the guard weighs
+  // it after the stands, positions and roll types, which it may stand in
+  // for (contact length differs between stands).
+  bool deferred = false;
 };
 // One entry per pass-level factor the last term of `with_term` is not
 // about and whose levels can be told apart (>= 2 levels with enough of the
