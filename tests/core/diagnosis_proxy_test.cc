@@ -188,6 +188,26 @@ TEST(DiagnosisProxyTest,
   EXPECT_TRUE(ListsDimension(d.report.unexplained, "temperature_c"));
 }
 
+// Seed 109's interaction (named contact_length_mm, p < 1e-10, until
+// session 19): the slope of each candidate along its covariate changes
+// with temperature pass by pass, which the campaign-aggregated quartiles
+// did not show. Every term but a cell is now split by the pass quartiles
+// of the other numeric covariates: refused as inconsistent across
+// temperature_c, located there.
+TEST(DiagnosisProxyTest, AnInteractionIsRefusedAcrossThePassQuartiles) {
+  const Diagnosed d = DiagnoseSimulated(109, {"inexpressible_interaction"});
+  ASSERT_FALSE(d.sim.truth.effects.at(0).expressible);
+  EXPECT_TRUE(d.report.findings.empty()) << d.report.findings[0].explanation;
+  EXPECT_EQ(d.report.verdict, "mismatch_located_unexplained");
+  const bool refused = std::any_of(
+      d.report.runners_up.begin(), d.report.runners_up.end(),
+      [](const RunnerUp& u) {
+        return u.reason == "inconsistent across temperature_c";
+      });
+  EXPECT_TRUE(refused);
+  EXPECT_TRUE(ListsDimension(d.report.unexplained, "effect_by_temperature_c"));
+}
+
 // Seed 105's hard grades rolled early in the campaign (session 11: named
 // campaign_coils_before "only in grade DP600", p = 1.8e-13): the same term
 // added at API-X70, another hard grade, is significant too (LR 17.8), so
