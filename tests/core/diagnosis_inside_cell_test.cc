@@ -97,6 +97,16 @@ TEST(DiagnosisInsideCellTest, AScopeWhosePartIsNotRequiredIsNotNamed) {
 // other. Seed 101: the rounds adopted one cell only (S355, stated at F6,
 // p 4e-6 before session 18), whose sibling cells join it in the final
 // model: withdrawn, located with the sibling, nothing named.
+// Two grades wearing F6 more (grade_pair_stand, seed `seed`), diagnosed:
+// located, nothing named.
+Diagnosed GradePairNamingNothing(uint64_t seed) {
+  Diagnosed d = DiagnoseSimulated(seed, {"grade_pair_stand"}, kPaperCampaigns);
+  EXPECT_EQ(d.sim.truth.effects.at(0).scope.at("stand"), "F6");
+  EXPECT_EQ(d.report.verdict, "mismatch_located_unexplained");
+  EXPECT_TRUE(d.report.findings.empty());
+  return d;
+}
+
 TEST(DiagnosisInsideCellTest, ACellIsWithdrawnWhenItsSetWasAdoptedInPart) {
   {
     const Diagnosed d =
@@ -118,12 +128,8 @@ TEST(DiagnosisInsideCellTest, ACellIsWithdrawnWhenItsSetWasAdoptedInPart) {
   // the other F6 grade cells join it in the final model (the strongest
   // alone: LR 11.7, p adjusted 0.0088 over the siblings and the two tests;
   // all of them at once, from session 19, more so).
-  const Diagnosed d =
-      DiagnoseSimulated(101, {"grade_pair_stand"}, kPaperCampaigns);
+  const Diagnosed d = GradePairNamingNothing(101);
   const SimulatedEffect& truth = d.sim.truth.effects.at(0);
-  ASSERT_EQ(truth.scope.at("stand"), "F6");
-  EXPECT_EQ(d.report.verdict, "mismatch_located_unexplained");
-  EXPECT_TRUE(d.report.findings.empty());
   EXPECT_TRUE(RunnerUpSays(
       d.report, "withdrawn: not confined to F6, grade " + truth.levels.at(0)));
   const Unexplained* u = Entry(d.report, "stand_by_grade");
@@ -151,12 +157,8 @@ TEST(DiagnosisInsideCellTest, ACellIsWithdrawnWhenItsSetWasAdoptedInPart) {
 // cell more): before session 19 DP600 at F7 was named, neither true grade.
 // Now it is withdrawn and located with both descriptions.
 TEST(DiagnosisInsideCellTest, ACellThatTwoOthersDescribeAsWellIsWithdrawn) {
-  const Diagnosed d =
-      DiagnoseSimulated(114, {"grade_pair_stand"}, kPaperCampaigns);
+  const Diagnosed d = GradePairNamingNothing(114);
   const SimulatedEffect& truth = d.sim.truth.effects.at(0);
-  ASSERT_EQ(truth.scope.at("stand"), "F6");
-  EXPECT_EQ(d.report.verdict, "mismatch_located_unexplained");
-  EXPECT_TRUE(d.report.findings.empty());
   EXPECT_TRUE(RunnerUpSays(d.report, "withdrawn: F6, grade "));
   const Unexplained* u = Entry(d.report, "stand_by_grade");
   ASSERT_NE(u, nullptr);
