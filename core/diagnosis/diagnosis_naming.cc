@@ -26,37 +26,31 @@ struct Mechanism {
 constexpr Mechanism kMechanisms[] = {
     {"campaign_length_before_m", "wear_rate_growth_along_campaign",
      "Each km of strip wears the roll more than the one before: the roll "
-     "surface "
-     "degrades along the campaign (fire cracks, banding, loss of the "
-     "protective "
-     "oxide layer), which the wear law, summing independent strips, leaves "
-     "out.",
+     "surface degrades along the campaign (fire cracks, banding, loss of the "
+     "protective oxide layer), which the wear law, summing independent strips, "
+     "leaves out.",
      "run_in_of_fresh_surface",
      "A freshly ground roll wears faster at first (grinding roughness peaks "
-     "are "
-     "worn off) and then settles; the wear law treats every strip alike."},
+     "are worn off) and then settles; the wear law treats every strip alike."},
     {"campaign_coils_before", "wear_rate_growth_along_campaign",
      "Wear per coil rises with the number of coils already rolled: the roll "
      "surface degrades along the campaign.",
      "run_in_of_fresh_surface",
      "The first coils after a roll change wear the roll more: run-in of a "
-     "freshly "
-     "ground surface."},
+     "freshly ground surface."},
     {"hours_since_mount", "thermal_growth_with_time_in_service",
      "Wear rate rises with hours in service, not with the rolled length: the "
      "roll heats up and thermal fatigue accumulates with time in the stand "
      "(stoppages included).",
      "run_in_of_fresh_surface",
      "Wear is highest in the first hours after mounting: run-in and the "
-     "thermal "
-     "transient of a cold roll."},
+     "thermal transient of a cold roll."},
     {"temperature_c", "hot_strip_oxide_abrasion",
      "Hotter strip wears the roll more: thicker, abrasive oxide scale and a "
      "hotter roll surface at higher entry temperature.",
      "cold_strip_hardness_and_scale",
      "Colder strip wears the roll more: it is harder and carries a harder, "
-     "more "
-     "abrasive tertiary scale."},
+     "more abrasive tertiary scale."},
     {"lubrication", "lubrication_increases_wear",
      "Passes with roll-gap lubrication on wear more than the law predicts.",
      "roll_gap_lubrication",
@@ -64,23 +58,20 @@ constexpr Mechanism kMechanisms[] = {
      "the abrasive wear, beyond what the lower force already accounts for."},
     {"hardness_hb", "hardness_increases_wear",
      "Harder rolls wear more than the law predicts (e.g. a harder but more "
-     "brittle "
-     "roll grade).",
+     "brittle roll grade).",
      "roll_hardness",
      "Softer rolls wear faster: Archard wear scales with 1/hardness, which "
-     "Wang's "
-     "law does not contain (and rolls get softer as they are ground down)."},
+     "Wang's law does not contain (and rolls get softer as they are ground "
+     "down)."},
     {"speed_mps", "rolling_speed",
      "Faster rolling wears the roll more per km: more sliding and a higher "
      "thermal load of the roll surface.",
      "rolling_speed_decrease",
      "Slower rolling wears the roll more per km: longer contact time and "
-     "hotter "
-     "contact per revolution."},
+     "hotter contact per revolution."},
     {"force_kn", "superlinear_load_dependence",
      "Wear grows faster than linearly with rolling force (pressure exponent "
-     "above "
-     "one in the Archard law).",
+     "above one in the Archard law).",
      "sublinear_load_dependence",
      "Wear grows slower than linearly with rolling force."},
     {"specific_force_kn_per_mm", "superlinear_load_dependence",
@@ -95,16 +86,13 @@ constexpr Mechanism kMechanisms[] = {
      "more per unit load."},
     {"shift_mm", "axial_shift_position",
      "Centre wear depends on the axial shift position: shifting moves the "
-     "contact "
-     "zone along the barrel.",
+     "contact zone along the barrel.",
      "axial_shift_position",
      "Centre wear depends on the axial shift position: shifting moves the "
-     "contact "
-     "zone along the barrel."},
+     "contact zone along the barrel."},
     {"reduction", "roll_gap_slip",
      "Heavier reductions wear the roll more: more forward slip and sliding in "
-     "a "
-     "longer bite.",
+     "a longer bite.",
      "roll_gap_slip_decrease",
      "Lighter reductions wear the roll more per unit load."},
     {"contact_length_mm", "roll_gap_slip",
@@ -127,12 +115,11 @@ constexpr Mechanism kMechanisms[] = {
      "pressure and more revolutions per km."},
     {"started_at", "drift_over_time",
      "Wear rates drift upward over the months (e.g. a new roll supplier or "
-     "batch, "
-     "a changed cooling practice).",
+     "batch, a changed cooling practice).",
      "drift_over_time", "Wear rates drift downward over the months."},
     {"measured_at", "measurement_drift_over_time",
-     "What the grinder reads drifts upward over the months: a gauge or "
-     "grinder calibration drift on the measured value, not wear physics.",
+     "What the grinder reads drifts upward over the months: a gauge or grinder "
+     "calibration drift on the measured value, not wear physics.",
      "measurement_drift_over_time",
      "What the grinder reads drifts downward over the months: a gauge or "
      "grinder calibration drift on the measured value, not wear physics."},
@@ -141,9 +128,8 @@ constexpr Mechanism kMechanisms[] = {
      "still carries thermal expansion at the barrel centre when gauged warm.",
      "thermal_expansion_at_measurement",
      "Rolls measured soon after the campaign read less wear: a warm roll is "
-     "still "
-     "expanded at the barrel centre, which hides part of the wear until it "
-     "cools."},
+     "still expanded at the barrel centre, which hides part of the wear until "
+     "it cools."},
 };
 
 const Mechanism* FindMechanism(const std::string& covariate) {
