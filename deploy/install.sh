@@ -44,6 +44,7 @@ readonly PACKAGES=(
   chromium
   python3-yaml
   python3-jsonschema
+  python3-openpyxl
 )
 
 usage() {

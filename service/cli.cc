@@ -116,6 +116,9 @@ Command AddSimulate(CLI::App* app) {
             "mean coils per campaign");
   AddNumber(c, "--missing", args->options.missing_measurement_fraction,
             "fraction of grinder measurements left out");
+  AddNumber(c, "--roll-wear-factor", args->options.roll_wear_factor_sd,
+            "sd of the log of a lifelong wear factor per physical roll "
+            "(0: none; truth: roll_wear_factor)");
   AddNumber(c, "--gross-errors", args->options.gross_error_fraction,
             "fraction of readings with gross grinder errors, on top of any "
             "effect (0 = none)");
@@ -150,6 +153,13 @@ Command AddCalibrate(CLI::App* app) {
             "derivatives: exact (automatic) or paper (forward differences, "
             "the study's protocol)");
   AddCount(c, "--split-seed", args->split_seed, "seed of the campaign split");
+  AddPath(c, "--split", args->split, "FILE", "use the split of FILE (CSV campaign_id,stand,position,set; set = train or validation) instead of the seeded one; readings not listed are not used");
+  AddPath(c, "--predictions", args->predictions, "FILE",
+          "write one CSV row per measured reading used: campaign_id,stand,"
+          "position,roll_id,set,measured_um,predicted_um,lo_um,hi_um");
+  c->add_flag("--per-roll", args->per_roll,
+              "give every physical roll its own wear multiplier, shrunk "
+              "towards its roll type (empirical Bayes random effect)");
   AddCount(c, "--seed", args->options.seed, "seed of --start random");
   AddPath(c, "--json", args->json, "FILE", "write the result as JSON");
   AddPath(c, "--figures", args->figures, "DIR",
@@ -174,6 +184,7 @@ Command AddStudy(CLI::App* app) {
           "write the study's measured vs calculated figures as SVG into DIR");
   AddCount(c, "--split-seed", args->options.split_seed,
            "seed of the campaign split");
+  AddPath(c, "--split", args->split, "FILE", "use the split of FILE (CSV campaign_id,stand,position,set; set = train or validation) instead of the seeded one; readings not listed are not used");
   AddCount(c, "--seed", args->options.random_start_seed,
            "seed of the random initial sets");
   return {c, [args] { return RunStudy(*args); }};
@@ -192,6 +203,7 @@ Command AddAnn(CLI::App* app) {
   AddCount(c, "--seeds", t.members, "ensemble members (training seeds)");
   AddCount(c, "--split-seed", args->options.split_seed,
            "seed of the campaign split");
+  AddPath(c, "--split", args->split, "FILE", "use the split of FILE (CSV campaign_id,stand,position,set; set = train or validation) instead of the seeded one; readings not listed are not used");
   AddCount(c, "--seed", t.seed, "first training seed");
   AddChoice(c, "--select", args->select, {"mean", "best"},
             "ensemble: mean of the members, or the best on the holdout");
@@ -323,6 +335,7 @@ Command AddDiagnose(CLI::App* app) {
   AddPath(c, "--html", args->html, "FILE", "write the report as HTML");
   AddCount(c, "--split-seed", args->options.split_seed,
            "seed of the campaign split");
+  AddPath(c, "--split", args->split, "FILE", "use the split of FILE (CSV campaign_id,stand,position,set; set = train or validation) instead of the seeded one; readings not listed are not used");
   AddLaw(c, args->model, "wear law of the baseline");
   AddCount(c, "--threads", args->options.num_threads, "threads");
   return {c, [args] { return RunDiagnose(*args); }};

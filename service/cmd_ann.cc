@@ -124,6 +124,10 @@ int RunAnn(const AnnArgs& args) {
   if (int code = ReadCheckedDataset("ann", args.data, args.strict, &checked)) {
     return code;
   }
+  if (int code = ApplySplitFile("ann", args.split, &checked,
+                                &options.given_split)) {
+    return code;
+  }
   const Dataset* data = &checked.fit;
   StatusOr<AnnComparison> c = CompareAnnWithClassical(*data, options);
   if (!c.ok()) return Fail(c.status().message(), 1);

@@ -24,6 +24,7 @@
 
 #include "core/dataset/dataset_io.h"
 #include "core/model/metrics.h"
+#include "core/fit/identification.h"
 #include "core/fit/profile_fit.h"
 #include "core/fit/profile_joint.h"
 #include "core/fit/study.h"
@@ -32,6 +33,8 @@
 #include "service/calibrate_terms.h"
 #include "service/commands.h"
 #include "service/data_quality_cli.h"
+#include "service/calibrate_per_roll.h"
+#include "service/predictions_csv.h"
 
 namespace rollwear::cli {
 namespace {
@@ -128,8 +131,9 @@ void PrintCalibration(const CalibrationOptions& options,
   std::printf("%s\n", r.summary.BriefReport().c_str());
   if (r.summary.usable && !usable) {
     std::printf(
-        "not usable: a roll position received no pass (see the data "
-        "quality above)\n");
+        "not usable: a roll position received no pass, or the fit is not "
+        "identified (see the data quality above and the identification "
+        "below)\n");
   }
   std::printf("%-28s %12s %10s\n", "coefficient", "value", "rel. s.e.");
   const auto named = m.NamedCoefficients();
@@ -302,6 +306,11 @@ int RunCalibrate(const CalibrateArgs& args) {
   if (int code = ReadCheckedDataset("calibrate", args.data, args.strict, &checked)) {
     return code;
   }
+  std::optional<CampaignSplit> given;
+  SplitDataset applied;
+  if (int code = ApplySplitFile("calibrate", args.split, &checked, &given, &applied)) {
+    return code;
+  }
   const Dataset* data = &checked.fit;
   const DatasetIndex index(*data);
   StatusOr<WearStatistics> stats = Aggregate(*data, index, options.law);
@@ -309,19 +318,36 @@ int RunCalibrate(const CalibrateArgs& args) {
     std::fprintf(stderr, "rollwear calibrate: %s\n", stats.status().message().c_str());
     return 1;
   }
-  const CampaignSplit split =
-      SplitCampaigns(*stats, 2.0 / 3.0, args.split_seed);
+  const CampaignSplit split = SplitOrGiven(*stats, args.split_seed, given);
+  if (args.per_roll) {
+    return RunCalibratePerRoll(args, options, checked, *stats, split,
+                               applied.original_id);
+  }
   StatusOr<SplitCalibration> run = CalibrateOnSplit(*stats, split, options);
   if (!run.ok()) {
     std::fprintf(stderr, "rollwear calibrate: %s\n", run.status().message().c_str());
     return 1;
   }
   // Not "usable" on data a calibration cannot stand for (a roll position
-  // without a pass: its measurements compare with a zero prediction).
-  const bool usable =
-      run->result.summary.usable && !SpoilsCalibration(checked.quality);
+  // without a pass: its measurements compare with a zero prediction), nor
+  // when the data do not identify the fit (identification.h).
+  const Identification id =
+      JudgeIdentification(run->result, run->train, run->validation);
+  const bool usable = run->result.summary.usable && id.identified &&
+                      !SpoilsCalibration(checked.quality);
   NameOutliers(*data, &run->suspected_outliers);
   PrintCalibration(options, args.protocol, *run, usable);
+  std::printf("identification: %s\n", id.Sentence().c_str());
+  if (!args.predictions.empty()) {
+    const Status written = WritePredictionsCsv(
+        args.predictions,
+        PredictionRows(*data, *stats, split, applied.original_id,
+                       LawPredictor(run->result.model, *stats)));
+    if (!written.ok()) {
+      std::fprintf(stderr, "rollwear calibrate: %s\n", written.message().c_str());
+      return 1;
+    }
+  }
   if (options.robust && options.derivatives == DerivativeMode::kExact) {
     PrintSuspectedOutliers(run->suspected_outliers);
   }
@@ -335,6 +361,7 @@ int RunCalibrate(const CalibrateArgs& args) {
   if (!args.json.empty()) {
     nlohmann::json j =
         CalibrationJson(args, options, *run, checked.quality, usable);
+    j["identification"] = IdentificationJson(id);
     if (profile) j["profile"] = *profile;
     std::ofstream out(args.json);
     out << j.dump(2) << "\n";

@@ -24,6 +24,10 @@ int RunDiagnose(const DiagnoseArgs& args) {
   if (int code = ReadCheckedDataset("diagnose", args.data, args.strict, &checked)) {
     return code;
   }
+  if (int code = ApplySplitFile("diagnose", args.split, &checked,
+                                &options.given_split)) {
+    return code;
+  }
   StatusOr<DiagnosisReport> report = Diagnose(checked.fit, options);
   if (!report.ok()) {
     std::fprintf(stderr, "rollwear diagnose: %s\n", report.status().message().c_str());

@@ -45,9 +45,13 @@ nlohmann::json RowJson(const StudyRow& r) {
 }  // namespace
 
 int RunStudy(const StudyArgs& args) {
-  const StudyOptions& options = args.options;
+  StudyOptions options = args.options;
   CheckedDataset checked;
   if (int code = ReadCheckedDataset("study", args.data, args.strict, &checked)) {
+    return code;
+  }
+  if (int code = ApplySplitFile("study", args.split, &checked,
+                                &options.given_split)) {
     return code;
   }
   const Dataset* data = &checked.fit;

@@ -46,6 +46,9 @@ struct CalibrateArgs {
   std::string json;     // empty: no JSON file
   std::string figures;  // empty: no figures
   std::string terms;    // non-empty: service/calibrate_terms.h
+  std::string split;        // --split FILE (core/model/given_split.h)
+  std::string predictions;  // --predictions FILE: one row per reading
+  bool per_roll = false;    // --per-roll: shrunk per-roll multipliers
   uint64_t split_seed = kDefaultSplitSeed;
   CalibrationOptions options;  // option, seed
 };
@@ -56,6 +59,7 @@ struct StudyArgs {
   std::string data;
   std::string out;       // empty: Markdown on stdout only
   std::string figures;   // empty: no figures
+  std::string split;     // --split FILE
   StudyOptions options;  // split_seed, random_start_seed
 };
 int RunStudy(const StudyArgs& args);
@@ -66,6 +70,7 @@ struct AnnArgs {
   std::string json;
   std::string figures;
   std::string model_out;
+  std::string split;  // --split FILE
   std::string select = "mean";
   bool no_early_stopping = false;
   AnnComparisonOptions options;  // split seed, training, compare_adopted
@@ -77,6 +82,7 @@ struct DiagnoseArgs {
   std::string data;
   std::string json;
   std::string html;
+  std::string split;  // --split FILE
   std::string model = "wang";
   DiagnosisOptions options;  // split_seed, num_threads
 };

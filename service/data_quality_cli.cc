@@ -1,6 +1,9 @@
 #include "service/data_quality_cli.h"
 
 #include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <utility>
 
 #include "core/dataset/dataset_io.h"
 
@@ -52,6 +55,35 @@ void PrintSuspectedOutliers(const std::vector<SuspectedOutlier>& outliers,
 
 bool SpoilsCalibration(const DataQuality& quality) {
   return quality.Count(DataQualityKind::kNoPasses) > 0;
+}
+
+}  // namespace rollwear::cli
+
+namespace rollwear::cli {
+
+int ApplySplitFile(const char* tool, const std::string& file,
+                   CheckedDataset* out, std::optional<CampaignSplit>* split,
+                   SplitDataset* applied) {
+  if (file.empty()) return 0;
+  std::ifstream in(file, std::ios::binary);
+  if (!in) {
+    std::fprintf(stderr, "rollwear %s: cannot read --split %s\n", tool, file.c_str());
+    return 1;
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  StatusOr<std::vector<SplitRow>> rows = ParseSplitCsv(text.str(), file);
+  StatusOr<SplitDataset> s =
+      rows.ok() ? ApplySplit(out->fit, *rows) : StatusOr<SplitDataset>(rows.status());
+  if (!s.ok()) {
+    std::fprintf(stderr, "rollwear %s: --split: %s\n", tool, s.status().message().c_str());
+    return 1;
+  }
+  std::printf("%s\n", DescribeSplit(*s, file).c_str());
+  *split = s->split;
+  out->fit = s->data;
+  if (applied != nullptr) *applied = std::move(*s);
+  return 0;
 }
 
 }  // namespace rollwear::cli

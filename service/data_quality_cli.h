@@ -9,6 +9,7 @@
 #ifndef ROLLWEAR_SERVICE_DATA_QUALITY_CLI_H_
 #define ROLLWEAR_SERVICE_DATA_QUALITY_CLI_H_
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,7 @@
 #include "api/data_quality_json.h"
 #include "core/dataset/data_quality.h"
 #include "core/dataset/dataset.h"
+#include "core/model/given_split.h"
 
 namespace rollwear::cli {
 
@@ -32,6 +34,14 @@ struct CheckedDataset {
 // folder is rejected, or when `strict` and there is a warning.
 int ReadCheckedDataset(const char* tool, const std::string& dir, bool strict,
                        CheckedDataset* out);
+
+// --split FILE (core/model/given_split.h): replaces out->fit with the
+// readings of the file's split (a campaign with readings in both sets
+// split in two) and sets *split; prints DescribeSplit. Nothing when `file`
+// is empty. 0, or exit code 1 after the message on stderr.
+int ApplySplitFile(const char* tool, const std::string& file,
+                   CheckedDataset* out, std::optional<CampaignSplit>* split,
+                   SplitDataset* applied = nullptr);
 
 // The `data_quality` object (api/data_quality_json.h).
 using api::DataQualityJson;

@@ -53,6 +53,9 @@ std::string TruthJson(const SimulationTruth& truth) {
   doc["noise_floor_um"] = Number(truth.noise_floor_um);
   doc["grinder_noise_sd_um"] = Number(truth.grinder_noise_sd_um);
   doc["roll_scatter_sd"] = Number(truth.roll_scatter_sd);
+  if (!truth.roll_wear_factor.empty()) {
+    doc["roll_wear_factor"] = truth.roll_wear_factor;
+  }
   // One row per Dataset::measurements row; plain numbers when the keys are
   // missing (older callers fill only the values).
   const bool keyed =

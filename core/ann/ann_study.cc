@@ -51,7 +51,7 @@ StatusOr<AnnComparison> CompareAnnWithClassical(
   ROLLWEAR_ASSIGN_OR_RETURN(WearStatistics stats,
                             Aggregate(data, index, WearLaw::kWang));
   const CampaignSplit split =
-      SplitCampaigns(stats, 2.0 / 3.0, options.split_seed);
+      SplitOrGiven(stats, options.split_seed, options.given_split);
   // Observation indices double as sequence indices (BuildAnnInputs keeps the
   // order of stats.observations).
   const std::vector<int> train = stats.MeasuredObservations(split.train);
@@ -109,6 +109,7 @@ StatusOr<AnnComparison> CompareAnnWithClassical(
   if (options.compare_adopted) {
     DiagnosisOptions d;
     d.split_seed = options.split_seed;
+    d.given_split = options.given_split;
     ROLLWEAR_ASSIGN_OR_RETURN(DiagnosisReport r, Diagnose(data, d));
     c.has_adopted = true;
     c.adopted_seconds = r.seconds;

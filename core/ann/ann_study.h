@@ -17,6 +17,7 @@
 #define ROLLWEAR_CORE_ANN_ANN_STUDY_H_
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,8 @@ namespace rollwear {
 
 struct AnnComparisonOptions {
   uint64_t split_seed = kDefaultSplitSeed;
+  // A split file's split (core/model/given_split.h); replaces the seeded one.
+  std::optional<CampaignSplit> given_split;
   AnnTrainingOptions training;
   CalibrationOptions classical;  // default: Wang, option 1, empirical start
   // Also run the diagnosis (diagnosis.h, default options, same split seed)

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -55,6 +56,30 @@ namespace {
 // study's rolls hundreds of µm in campaigns of tens of km), so a roll that
 // rolled >= 10 km has lost >= ~10 µm: a median three orders of magnitude
 // smaller is the factor between µm and mm.
+//
+// low_wear: the mirror of excess_wear, for a reading near zero where its
+// campaign predicts far more (a gauge that read nothing, a reading taken
+// on the wrong roll): max(wear, sigma0) below e / exp(kExcessSigmas * s)
+// and wear more than kNoiseSigmas * sigma0 below e. Only when the spread s
+// is known.
+//
+// profile_not_wear: a whole profile whose median |value| exceeds
+// kProfileNotWearUm. A work roll of a hot strip mill loses at most about a
+// millimetre of radius in a campaign (the study's rolls: hundreds of µm);
+// 5 mm is five times that, while a profile file holding roll diameters
+// (~750 mm = 750,000 µm) or positions read from a datum lies orders of
+// magnitude beyond. Its points are set aside, never the dataset.
+//
+// centre_vs_profile: the profile's centre, the median of its points within
+// kProfileCentreHalfWidthMm of x = 0 (at least 2), differs from the centre
+// reading of the same roll by more than kNoiseSigmas * sqrt(2) * sigma0 +
+// kProfileCentreRelative of the larger of the two: two readings of one
+// surface by one grinder differ by the gauge's noise of each, plus the
+// crown a slice of +-100 mm holds (25 % is a generous bound of a work
+// roll's wear gradient there).
+constexpr double kProfileNotWearUm = 5000.0;
+constexpr double kProfileCentreHalfWidthMm = 100.0;
+constexpr double kProfileCentreRelative = 0.25;
 constexpr int kMinNoiseSample = 8;
 constexpr double kFallbackNoiseSdUm = 12.5;  // 4 * 12.5 = the old -50 µm
 constexpr double kMinNoiseSdUm = 1.0;
@@ -232,6 +257,56 @@ void FlagUnpassedPositions(const Dataset& data, const DatasetIndex& index,
   }
 }
 
+// The profiles' checks (profile_not_wear, centre_vs_profile: top).
+void FlagProfiles(const Dataset& data, const DatasetIndex& index,
+                  DataQuality* q) {
+  std::map<std::pair<int, int>, std::vector<int>> profiles;  // (c, slot)
+  for (size_t i = 0; i < data.profile_points.size(); ++i) {
+    const ProfilePoint& p = data.profile_points[i];
+    profiles[{p.campaign, RollPositionSlot(p.stand, p.position)}].push_back(
+        static_cast<int>(i));
+  }
+  for (const auto& [key, points] : profiles) {
+    const ProfilePoint& first = data.profile_points[points.front()];
+    std::vector<double> abs_wear, centre;
+    for (int i : points) {
+      const ProfilePoint& p = data.profile_points[i];
+      abs_wear.push_back(std::fabs(p.wear_um));
+      if (std::fabs(p.x_mm) <= kProfileCentreHalfWidthMm) centre.push_back(p.wear_um);
+    }
+    DataQualityIssue issue;
+    issue.where = WhereOf(data, first.campaign, first.stand, first.position);
+    const double median_abs = Median(abs_wear);
+    if (median_abs > kProfileNotWearUm) {
+      issue.kind = DataQualityKind::kProfileNotWear;
+      issue.profile_point = points.front();
+      issue.reason = Fmt(
+          "the profile's %.0f points have a median |value| of %.0f µm, beyond "
+          "any campaign's wear (%.0f µm): diameters or positions, not wear; "
+          "its points are set aside",
+          static_cast<double>(points.size()), median_abs, kProfileNotWearUm);
+      for (int i : points) q->suspect_point[i] = true;
+      q->issues.push_back(std::move(issue));
+      continue;
+    }
+    const int me = index.MeasurementOf(key.first, key.second);
+    if (me < 0 || centre.size() < 2 || !q->suspect[me].empty()) continue;
+    const double w = data.measurements[me].wear_center_um, c = Median(centre);
+    const double limit = kNoiseSigmas * std::sqrt(2.0) * q->noise_sd_um +
+                         kProfileCentreRelative * std::max(std::fabs(w), std::fabs(c));
+    if (!(std::fabs(w - c) > limit)) continue;
+    issue.kind = DataQualityKind::kCentreVsProfile;
+    issue.measurement = me;
+    issue.value_um = w;
+    issue.reason = Fmt(
+        "centre reading %.1f µm, its own profile reads %.1f µm at the centre "
+        "(limit %.1f µm apart)",
+        w, c, limit);
+    q->suspect[me] = issue.reason;
+    q->issues.push_back(std::move(issue));
+  }
+}
+
 }  // namespace
 
 const char* DataQualityKindName(DataQualityKind kind) {
@@ -240,6 +315,9 @@ const char* DataQualityKindName(DataQualityKind kind) {
     case DataQualityKind::kExcessWear: return "excess_wear";
     case DataQualityKind::kUnitMm: return "unit_mm";
     case DataQualityKind::kNoPasses: return "no_passes";
+    case DataQualityKind::kLowWear: return "low_wear";
+    case DataQualityKind::kProfileNotWear: return "profile_not_wear";
+    case DataQualityKind::kCentreVsProfile: return "centre_vs_profile";
   }
   return "unknown";
 }
@@ -263,6 +341,14 @@ std::string SuspectReading(double wear_um, const ReadingBounds& b,
     return Fmt("%.1f µm is negative on a roll expected to have lost ~%.1f "
                "µm (more than 4 sd's, %.1f µm, below)",
                wear_um, b.expected_um, sd);
+  }
+  if (std::isfinite(b.relative_sd) && b.expected_um > 0 && b.excess_factor > 1 &&
+      std::max(wear_um, b.noise_sd_um) < b.expected_um / b.excess_factor &&
+      wear_um < b.expected_um - noise_limit) {
+    *kind = DataQualityKind::kLowWear;
+    return Fmt("%.1f µm where its campaign predicts ~%.1f µm: below %.1f µm, "
+               "the low bound of the data's spread of wear rates",
+               wear_um, b.expected_um, b.expected_um / b.excess_factor);
   }
   const double limit = b.expected_um * b.excess_factor + noise_limit;
   if (wear_um > limit) {
@@ -297,6 +383,7 @@ DataQuality AssessDataQuality(const Dataset& data,
   const DatasetLines& lines_of = source != nullptr ? *source : no_lines;
   DataQuality q;
   q.suspect.assign(data.measurements.size(), "");
+  q.suspect_point.assign(data.profile_points.size(), false);
   const DatasetIndex index(data);
   const MeasuredLoad loads = LoadsOf(data, index);
   const bool spread_known = EstimateBounds(data, loads, &q);
@@ -304,12 +391,19 @@ DataQuality AssessDataQuality(const Dataset& data,
     FlagReadings(data, loads, spread_known, &q);
   }
   FlagUnpassedPositions(data, index, &q);
+  FlagProfiles(data, index, &q);
   for (DataQualityIssue& issue : q.issues) {
     const bool on_mount = issue.mount >= 0;
-    issue.file = on_mount ? "mounts.csv" : "measurements.csv";
-    const std::vector<int>& lines =
-        on_mount ? lines_of.mounts : lines_of.measurements;
-    const size_t row = on_mount ? issue.mount : issue.measurement;
+    const bool on_profile = issue.profile_point >= 0;
+    issue.file = on_mount     ? "mounts.csv"
+                 : on_profile ? "profiles.csv"
+                              : "measurements.csv";
+    const std::vector<int>& lines = on_mount     ? lines_of.mounts
+                                    : on_profile ? lines_of.profile_points
+                                                 : lines_of.measurements;
+    const size_t row = on_mount     ? issue.mount
+                       : on_profile ? issue.profile_point
+                                    : issue.measurement;
     if (row < lines.size()) issue.line = lines[row];
   }
   return q;
@@ -330,6 +424,11 @@ Dataset WithoutSuspects(const Dataset& data, const DataQuality& quality) {
     for (size_t c = 0; c < extra.factor.size(); ++c) {
       extra.factor[c].push_back(data.measurement_extra.factor[c][i]);
     }
+  }
+  out.profile_points.clear();
+  for (size_t i = 0; i < data.profile_points.size(); ++i) {
+    if (i < quality.suspect_point.size() && quality.suspect_point[i]) continue;
+    out.profile_points.push_back(data.profile_points[i]);
   }
   return out;
 }

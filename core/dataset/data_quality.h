@@ -10,6 +10,13 @@
 //   unit_mm        a whole measurements.csv whose values look like mm
 //   no_passes      a mounted roll position without a pass in a campaign
 //                  that has coils (a warning; nothing is flagged)
+//   low_wear       near zero (or mildly negative) where the campaign
+//                  predicts far more: the mirror of excess_wear
+//   profile_not_wear  a profile whose values are not wear (diameters or
+//                  offsets: its median |value| beyond any campaign's wear);
+//                  all its points are set aside
+//   centre_vs_profile  a centre reading far from its own profile's centre
+//                  (the reading is set aside, the profile kept)
 // The thresholds and why they are what they are: data_quality.cc, top.
 //
 // Thread-safety: pure functions of their arguments.
@@ -28,9 +35,13 @@ namespace rollwear {
 // negative_wear (see data_quality.cc for why 4).
 inline constexpr double kSuspectNoiseSigmas = 4.0;
 
-enum class DataQualityKind { kNegativeWear, kExcessWear, kUnitMm, kNoPasses };
-inline constexpr int kNumDataQualityKinds = 4;
-// "negative_wear", "excess_wear", "unit_mm", "no_passes".
+enum class DataQualityKind {
+  kNegativeWear, kExcessWear, kUnitMm, kNoPasses, kLowWear, kProfileNotWear,
+  kCentreVsProfile,
+};
+inline constexpr int kNumDataQualityKinds = 7;
+// "negative_wear", "excess_wear", "unit_mm", "no_passes", "low_wear",
+// "profile_not_wear", "centre_vs_profile".
 const char* DataQualityKindName(DataQualityKind kind);
 
 struct DataQualityIssue {
@@ -39,6 +50,7 @@ struct DataQualityIssue {
   int line = 0;      // line in `file`; 0 when its line is not known
   int measurement = -1;  // index into Dataset::measurements, or -1
   int mount = -1;        // index into Dataset::mounts, or -1
+  int profile_point = -1;  // first point of a flagged profile, or -1
   std::string where;     // "F6/top of campaign 'C0042'"
   double value_um = 0;   // the reading (measurement kinds)
   std::string reason;    // one sentence, with the threshold it broke
@@ -59,8 +71,9 @@ struct ReadingBounds {
 
 // The reason a single reading is suspect, or "" when it is plausible:
 // negative beyond -4 sigma0 (or negative and 4 sd's below expected_um, sd
-// = hypot(noise_sd_um, relative_sd * expected_um)), or beyond the excess
-// bound. (The mm-for-µm
+// = hypot(noise_sd_um, relative_sd * expected_um)), beyond the excess
+// bound, or (relative_sd known) below its mirror: max(wear, sigma0) under
+// expected_um / excess_factor and more than 4 sigma0 below expected_um. (The mm-for-µm
 // check needs a whole file: AssessDataQuality.) `kind` is set when suspect.
 std::string SuspectReading(double wear_um, const ReadingBounds& bounds,
                            DataQualityKind* kind);
@@ -69,6 +82,9 @@ struct DataQuality {
   std::vector<DataQualityIssue> issues;  // in file order per kind
   // Parallel to Dataset::measurements: "" = plausible, else the reason.
   std::vector<std::string> suspect;
+  // Parallel to Dataset::profile_points: true = set aside (its profile is
+  // profile_not_wear).
+  std::vector<bool> suspect_point;
   // The figures the thresholds were derived from (reported in JSON).
   double wear_rate_um_per_unit = 0;  // median wear / Wang load (um·mm/kN/m)
   double noise_sd_um = 0;            // sigma0

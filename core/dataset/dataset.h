@@ -60,6 +60,10 @@ struct Campaign {
   UnixSeconds ended_at = 0;
 };
 
+// The roll-type label of a roll whose type a real mill export does not
+// record (mounts.csv roll_type empty or "unknown": data-format.md).
+inline constexpr const char* kUnknownRollType = "unknown";
+
 struct Mount {
   int campaign = -1;  // index into Dataset::campaigns
   int stand = 0;      // 1..7
@@ -67,7 +71,7 @@ struct Mount {
   std::string roll_id;
   int roll_type = -1;  // index into Dataset::roll_types
   double diameter_mm = 0;
-  double hardness_hb = 0;
+  double hardness_hb = 0;  // NaN: not recorded (only Nikitenko needs it)
 };
 
 // What one coil brings to one stand: the measured quantities of a

@@ -34,6 +34,18 @@ int InternView(std::string_view label, LabelIndex* index,
   return i;
 }
 
+// A grinder time, or, where the export does not record it (an empty
+// field, data-format.md's real mill exports), the campaign's end: cooling_h
+// is then 0 for every such reading and carries no information.
+Status MeasuredAtOrEnd(const FileView& f, size_t r, int k,
+                       const Campaign& campaign, UnixSeconds* out) {
+  if (csv::Trim(f.Raw(r, k)).empty()) {
+    *out = campaign.ended_at;
+    return Status::Ok();
+  }
+  return f.Time(r, k, out);
+}
+
 Status ReadCampaigns(const FileView& f, Dataset* d, LabelIndex* ids,
                      std::vector<int>* lines) {
   namespace col = campaign_col;
@@ -80,12 +92,23 @@ Status ReadMounts(const FileView& f, LabelIndex* campaigns, Dataset* d,
     ROLLWEAR_RETURN_IF_ERROR(f.PositionOf(r, col::kPosition, &m.position));
     std::string_view roll_id, roll_type;
     ROLLWEAR_RETURN_IF_ERROR(f.Text(r, col::kRollId, &roll_id));
-    ROLLWEAR_RETURN_IF_ERROR(f.Text(r, col::kRollType, &roll_type));
+    // Real mill exports (data-format.md): a roll type that is not known is
+    // empty or "unknown", one label; an empty hardness is NaN (only the
+    // Nikitenko law needs it and refuses then: Aggregate).
+    roll_type = csv::Trim(f.Raw(r, col::kRollType));
+    if (roll_type.empty()) roll_type = kUnknownRollType;
     ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kDiameter, &m.diameter_mm));
-    ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kHardness, &m.hardness_hb));
+    if (csv::Trim(f.Raw(r, col::kHardness)).empty()) {
+      m.hardness_hb = std::nan("");
+    } else {
+      ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kHardness, &m.hardness_hb));
+    }
     ROLLWEAR_RETURN_IF_ERROR(
         f.Check(r, MountRules({m.stand, m.position, roll_id, roll_type,
-                               m.diameter_mm, m.hardness_hb})));
+                               m.diameter_mm,
+                               // not recorded: no rule to break (the
+                               // daemon's roll changes still need it)
+                               std::isnan(m.hardness_hb) ? 1.0 : m.hardness_hb})));
     int& slot = (*mount_of)[m.campaign * kNumRollPositionSlots +
                             RollPositionSlot(m.stand, m.position)];
     if (slot >= 0) {
@@ -157,11 +180,11 @@ Status ReadCoils(const FileView& f, LabelIndex* campaigns,
     ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kExit, &p.exit_thickness_mm));
     ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kTemperature, &p.temperature_c));
     ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kSpeed, &p.speed_mps));
+    // Empty where the stand has no lubrication sensor (data-format.md, real
+    // mill exports): read as off, so a lubrication term can only be
+    // identified where it was recorded.
     const std::string_view lub = csv::Trim(f.Raw(r, col::kLubrication));
-    if (lub.empty()) {
-      return f.Error(r, col::kLubrication, "required field is empty");
-    }
-    if (lub != "0" && lub != "1") {
+    if (!lub.empty() && lub != "0" && lub != "1") {
       return f.Error(r, col::kLubrication, "must be 0 or 1, got " + Quote(lub));
     }
     p.lubrication = lub == "1";
@@ -257,7 +280,9 @@ Status ReadMeasurements(const FileView& f, LabelIndex* campaigns,
     ROLLWEAR_RETURN_IF_ERROR(f.Stand(r, col::kStand, &m.stand));
     ROLLWEAR_RETURN_IF_ERROR(f.PositionOf(r, col::kPosition, &m.position));
     ROLLWEAR_RETURN_IF_ERROR(f.Text(r, col::kRollId, &roll_id));
-    ROLLWEAR_RETURN_IF_ERROR(f.Time(r, col::kMeasuredAt, &m.measured_at));
+    ROLLWEAR_RETURN_IF_ERROR(
+        MeasuredAtOrEnd(f, r, col::kMeasuredAt, d->campaigns[m.campaign],
+                        &m.measured_at));
     ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kWear, &m.wear_center_um));
     ROLLWEAR_RETURN_IF_ERROR(
         f.Check(r, MeasurementRules(f.Raw(r, col::kCampaign), m.stand,
@@ -303,7 +328,9 @@ Status ReadProfiles(const FileView& f, LabelIndex* campaigns,
     ROLLWEAR_RETURN_IF_ERROR(f.Stand(r, col::kStand, &p.stand));
     ROLLWEAR_RETURN_IF_ERROR(f.PositionOf(r, col::kPosition, &p.position));
     ROLLWEAR_RETURN_IF_ERROR(f.Text(r, col::kRollId, &roll_id));
-    ROLLWEAR_RETURN_IF_ERROR(f.Time(r, col::kMeasuredAt, &p.measured_at));
+    ROLLWEAR_RETURN_IF_ERROR(
+        MeasuredAtOrEnd(f, r, col::kMeasuredAt, d->campaigns[p.campaign],
+                        &p.measured_at));
     ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kX, &p.x_mm));
     ROLLWEAR_RETURN_IF_ERROR(f.Number(r, col::kWear, &p.wear_um));
     ROLLWEAR_RETURN_IF_ERROR(f.Check(

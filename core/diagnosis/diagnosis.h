@@ -46,11 +46,13 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/dataset/dataset.h"
 #include "core/fit/robust.h"
+#include "core/model/metrics.h"
 #include "core/model/model_terms.h"
 #include "core/base/status.h"
 #include "core/model/wear_law.h"
@@ -61,6 +63,8 @@ namespace rollwear {
 struct DiagnosisOptions {
   WearLaw law = WearLaw::kWang;
   uint64_t split_seed = 1;
+  // A split file's split (core/model/given_split.h); replaces the seeded one.
+  std::optional<CampaignSplit> given_split;
   int cv_folds = 5;
   double alpha = 0.001;              // family-wise level per round
   double min_cv_improvement = 0.03;  // relative CV weighted-MSE reduction

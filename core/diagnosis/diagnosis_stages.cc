@@ -493,7 +493,7 @@ StatusOr<Baseline> RunBaseline(const Dataset& data,
   ROLLWEAR_ASSIGN_OR_RETURN(WearStatistics stats,
                             Aggregate(data, index, options.law));
   Baseline base;
-  base.split = SplitCampaigns(stats, 2.0 / 3.0, options.split_seed);
+  base.split = SplitOrGiven(stats, options.split_seed, options.given_split);
   CalibrationOptions co;
   co.law = options.law;
   co.option = 1;

@@ -269,6 +269,41 @@ struct SolverSetup {
   std::unique_ptr<BudgetCallback> budget;
 };
 
+// The bounds of layout parameter i in the solver's space.
+void BoundsOf(const Layout& layout, int i, const CalibrationOptions& options,
+              bool paper, double* lo, double* hi) {
+  if (!layout.IsLog(i)) {
+    *lo = options.cao_a_lower;
+    *hi = options.cao_a_upper;
+  } else if (paper) {
+    *lo = options.paper_k_lower;
+    *hi = options.paper_k_upper;
+  } else {
+    *lo = -options.log_bound;
+    *hi = options.log_bound;
+  }
+}
+
+// Per reported parameter (n_rep): whether the solver's value of its free
+// layout parameter sits within 1e-6 (relative) of a bound. Coefficient i of
+// the layout is coefficient i of the reported model (GaugeTransform); Cao's
+// a is the last.
+std::vector<bool> AtBound(const Layout& layout, const std::vector<int>& free,
+                          const SolverSetup& setup,
+                          const CalibrationOptions& options, int n_rep) {
+  std::vector<bool> at(n_rep, false);
+  for (size_t j = 0; j < free.size() && j < setup.x.size(); ++j) {
+    const int i = free[j];
+    double lo, hi;
+    BoundsOf(layout, i, options, setup.paper, &lo, &hi);
+    const double tol = 1e-6 * std::max({1.0, std::abs(lo), std::abs(hi)});
+    if (setup.x[j] <= lo + tol || setup.x[j] >= hi - tol) {
+      at[layout.IsLog(i) ? i : n_rep - 1] = true;
+    }
+  }
+  return at;
+}
+
 // Stage 5. The residual block (analytic Jacobian, or forward differences
 // within the evaluation budget in paper mode) and the bounds; x starts at
 // theta, clamped into its bounds.
@@ -303,18 +338,8 @@ void SetUpSolver(Fit* fit, const std::vector<double>& theta,
                                 x.data());
   }
   for (int j = 0; j < nf; ++j) {
-    const int i = free[j];
     double lo, hi;
-    if (!layout.IsLog(i)) {
-      lo = options.cao_a_lower;
-      hi = options.cao_a_upper;
-    } else if (paper) {
-      lo = options.paper_k_lower;
-      hi = options.paper_k_upper;
-    } else {
-      lo = -options.log_bound;
-      hi = options.log_bound;
-    }
+    BoundsOf(layout, free[j], options, paper, &lo, &hi);
     x[j] = std::clamp(x[j], lo, hi);
     s->problem.SetParameterLowerBound(x.data(), j, lo);
     s->problem.SetParameterUpperBound(x.data(), j, hi);
@@ -479,6 +504,7 @@ StatusOr<CalibrationResult> Calibrate(const WearStatistics& stats,
   const Eigen::MatrixXd transform = ci::GaugeTransform(fit);
   WearModel model = ci::ReportedModel(fit, transform, theta);
   const int n_rep = model.num_parameters();
+  result.at_bound = ci::AtBound(fit.layout(), free, *solver, options, n_rep);
   const std::vector<double>& load = fit.coef_load();
   result.identified.assign(n_rep, true);
   for (int i = 0; i < fit.layout().n_coef; ++i)

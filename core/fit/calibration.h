@@ -110,6 +110,10 @@ struct CalibrationResult {
   // gauge; NaN where the training data do not identify it.
   std::vector<double> std_error;
   std::vector<bool> identified;
+  // Per parameter of model: the solution sits at one of its bounds
+  // (|log k| = log_bound, a paper-mode k or Cao's a at its limit); its
+  // standard error is then not meaningful (identification.h).
+  std::vector<bool> at_bound;
   // Robust loss: the final Huber weight of each training observation
   // (aligned with `train`; empty without the robust loss).
   std::vector<double> robust_weight;

@@ -117,6 +117,7 @@ std::vector<int> FreeParameters(const Fit& fit,
 // T * theta with T (num_parameters x n_full) returned here.
 Eigen::MatrixXd GaugeTransform(const Fit& fit);
 
+
 // Stage 7. A copy of the fit's model at theta_rep = transform * theta.
 WearModel ReportedModel(const Fit& fit, const Eigen::MatrixXd& transform,
                         const std::vector<double>& theta);

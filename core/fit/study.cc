@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "core/fit/identification.h"
 #include "core/fit/profile_fit.h"
 
 namespace rollwear {
@@ -80,8 +81,11 @@ StatusOr<StudyRow> Row(const Dataset& data, const DatasetIndex& index,
   row.iterations = s.iterations;
   row.evaluations = s.evaluations;
   row.seconds = s.seconds;
-  row.usable = s.usable;
+  const Identification id =
+      JudgeIdentification(run.result, run.train, run.validation);
+  row.usable = s.usable && id.identified;
   row.termination = s.termination;
+  if (s.usable && !id.identified) row.termination = id.Sentence();
   if (!data.profile_points.empty() && s.usable) {
     StatusOr<ProfileFit> profile =
         FitProfileShape(run.result.model, data, index, split);
@@ -109,7 +113,7 @@ StatusOr<StudyReport> RunStudy(const Dataset& data, const StudyOptions& options)
     ROLLWEAR_ASSIGN_OR_RETURN(const WearStatistics stats,
                               Aggregate(data, index, law));
     const CampaignSplit split =
-        SplitCampaigns(stats, 2.0 / 3.0, options.split_seed);
+        SplitOrGiven(stats, options.split_seed, options.given_split);
     report.n_train =
         static_cast<int>(stats.MeasuredObservations(split.train).size());
     report.n_val =
@@ -195,7 +199,9 @@ std::string StudyMarkdown(const StudyReport& r) {
           Fmt("%.1f", w.gap_val_um).c_str(),
           Fmt("%+.1f", w.bias_above_300_um).c_str(), w.n_above_300, w.iterations,
           w.evaluations, Fmt("%.3f", w.seconds).c_str(),
-          w.usable ? w.termination.c_str() : ("unusable: " + w.termination).c_str());
+          w.usable || w.termination.starts_with("not identified")
+              ? w.termination.c_str()
+              : ("unusable: " + w.termination).c_str());
       out += line;
       if (profiles) {
         out.pop_back();  // the row's newline

@@ -19,6 +19,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -97,6 +98,8 @@ StatusOr<SplitCalibration> CalibrateOnSplit(const WearStatistics& stats,
 
 struct StudyOptions {
   uint64_t split_seed = 1;
+  // A split file's split (given_split.h); replaces the seeded one.
+  std::optional<CampaignSplit> given_split;
   uint64_t random_start_seed = 1;
 };
 

@@ -83,6 +83,14 @@ StatusOr<WearStatistics> Aggregate(const Dataset& data,
       law == WearLaw::kCao ? num_grades : 0);
   for (const MountedRoll& roll : MountedRolls(data, index)) {
     const Mount& mount = data.mounts[roll.mount];
+    if (law == WearLaw::kNikitenko && std::isnan(mount.hardness_hb)) {
+      return Status::InvalidArgument(
+          "mounts.csv: hardness_hb is empty for roll " + mount.roll_id +
+          " at " + RollPositionName(mount.stand, mount.position) +
+          " of campaign " + data.campaigns[mount.campaign].id +
+          ": the Nikitenko law needs the roll's hardness (Wang and Cao do "
+          "not)");
+    }
     Observation obs;
     static_cast<MountedRoll&>(obs) = roll;
     std::fill(grade_load.begin(), grade_load.end(), 0.0);

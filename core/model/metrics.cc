@@ -30,6 +30,11 @@ CampaignSplit SplitCampaigns(const WearStatistics& stats, double train_fraction,
   return split;
 }
 
+CampaignSplit SplitOrGiven(const WearStatistics& stats, uint64_t seed,
+                           const std::optional<CampaignSplit>& given) {
+  return given ? *given : SplitCampaigns(stats, 2.0 / 3.0, seed);
+}
+
 std::vector<double> PredictAll(const WearModel& model,
                                const WearStatistics& stats,
                                const std::vector<int>& obs) {
@@ -74,7 +79,17 @@ FitMetrics Evaluate(const WearModel& model, const WearStatistics& stats,
     measured.push_back(stats.observations[i].measured_um);
     position.push_back(stats.observations[i].position);
   }
-  return MetricsOf(position, measured, PredictAll(model, stats, obs));
+  const std::vector<double> predicted = PredictAll(model, stats, obs);
+  FitMetrics m = MetricsOf(position, measured, predicted);
+  if (model.noise_sd_um > 0 || model.noise_rel > 0) {
+    double sum = 0;
+    for (size_t i = 0; i < predicted.size(); ++i) {
+      const double sd = std::hypot(model.noise_sd_um, model.noise_rel * predicted[i]);
+      sum += std::abs(measured[i] - predicted[i]) / sd;
+    }
+    if (!predicted.empty()) m.std_gap = sum / static_cast<double>(predicted.size());
+  }
+  return m;
 }
 
 }  // namespace rollwear

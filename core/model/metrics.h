@@ -14,6 +14,8 @@
 #define ROLLWEAR_CORE_MODEL_METRICS_H_
 
 #include <cstdint>
+#include <limits>
+#include <optional>
 #include <vector>
 
 #include "core/model/aggregation.h"
@@ -32,10 +34,19 @@ CampaignSplit SplitCampaigns(const WearStatistics& stats,
                              double train_fraction = 2.0 / 3.0,
                              uint64_t seed = kDefaultSplitSeed);
 
+// `given` when there is one (a split file: given_split.h), otherwise the
+// seeded split: what every command splits on.
+CampaignSplit SplitOrGiven(const WearStatistics& stats, uint64_t seed,
+                           const std::optional<CampaignSplit>& given);
+
 struct FitMetrics {
   double cost = 0;    // Eq. 9, µm^2
   double gap_um = 0;  // mean absolute difference, µm
   int n = 0;          // observations
+  // Mean |difference| / sd under the model's own noise model (wear_model.h:
+  // sd^2 = noise_sd_um^2 + (noise_rel * wear)^2); NaN when the model has
+  // none (Evaluate fills it).
+  double std_gap = std::numeric_limits<double>::quiet_NaN();
 };
 
 // Metrics of `model` on the measured observations `obs`.

@@ -44,10 +44,10 @@ struct LawRun {
 };
 
 StatusOr<LawRun> Prepare(const Dataset& data, const DatasetIndex& index,
-                         WearLaw law, uint64_t split_seed) {
+                         WearLaw law, const StudyOptions& options) {
   LawRun run;
   ROLLWEAR_ASSIGN_OR_RETURN(run.stats, Aggregate(data, index, law));
-  run.split = SplitCampaigns(run.stats, 2.0 / 3.0, split_seed);
+  run.split = SplitOrGiven(run.stats, options.split_seed, options.given_split);
   run.train = run.stats.MeasuredObservations(run.split.train);
   run.val = run.stats.MeasuredObservations(run.split.validation);
   return run;
@@ -146,7 +146,7 @@ StatusOr<std::vector<SvgFigure>> StudyFigures(const Dataset& data,
   const DatasetIndex index(data);
   const uint64_t seed = options.random_start_seed;
   ROLLWEAR_ASSIGN_OR_RETURN(
-      LawRun wang, Prepare(data, index, WearLaw::kWang, options.split_seed));
+      LawRun wang, Prepare(data, index, WearLaw::kWang, options));
   std::vector<int> keys, stands;
   std::vector<double> measured;
   for (int o : wang.val) {
@@ -212,7 +212,7 @@ StatusOr<std::vector<SvgFigure>> StudyFigures(const Dataset& data,
         s.calculated_um = PredictAt(wang1, wang, keys);
       } else {
         ROLLWEAR_ASSIGN_OR_RETURN(
-            LawRun run, Prepare(data, index, law, options.split_seed));
+            LawRun run, Prepare(data, index, law, options));
         ROLLWEAR_ASSIGN_OR_RETURN(WearModel m, Fit(run, law, 1, seed));
         s.calculated_um = PredictAt(m, run, keys);
       }
@@ -257,7 +257,7 @@ StatusOr<SvgFigure> AnnFigure(const Dataset& data,
   ROLLWEAR_ASSIGN_OR_RETURN(WearStatistics stats,
                             Aggregate(data, index, WearLaw::kWang));
   const CampaignSplit split =
-      SplitCampaigns(stats, 2.0 / 3.0, options.split_seed);
+      SplitOrGiven(stats, options.split_seed, options.given_split);
   const std::vector<int> val = stats.MeasuredObservations(split.validation);
   ROLLWEAR_ASSIGN_OR_RETURN(SplitCalibration classical,
                             CalibrateOnSplit(stats, split, options.classical));

@@ -46,6 +46,7 @@ enum class Stream : uint64_t {
   kStoppage = 13,
   kColumn = 14,
   kFamilyNoise = 15,
+  kRollWearFactor = 16,  // index: the roll's serial
 };
 Random MakeRandom(uint64_t seed, Stream stream, uint64_t index);
 // exp(sigma*z - sigma^2/2), z ~ N(0,1): lognormal with mean exactly 1.

@@ -26,6 +26,10 @@ bool SimulatorOptions::IsValid(std::string* error) const {
     *error = "missing_measurement_fraction must be in [0, 1]";
     return false;
   }
+  if (!(roll_wear_factor_sd >= 0 && roll_wear_factor_sd <= 1)) {
+    *error = "roll_wear_factor_sd must be in [0, 1]";
+    return false;
+  }
   if (!(gross_error_fraction >= 0 && gross_error_fraction <= 0.5)) {
     *error = "gross_error_fraction must be in [0, 0.5]";
     return false;

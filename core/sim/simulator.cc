@@ -43,6 +43,7 @@ struct Roll {
   double new_hardness_hb = 0;
   UnixSeconds available_at = 0;
   int campaigns = 0;  // campaigns served so far (in this simulation)
+  double wear_factor = 1;  // SimulatorOptions::roll_wear_factor_sd
 };
 
 std::string Serial(char prefix, int n, int width) {
@@ -138,6 +139,9 @@ class MillRun {
   // With a stoppages family: idle hours after some coils of campaign c.
   void AddStoppages(int c, std::vector<sim::CoilPlan>* coils) const;
   void BuildInventory();
+  // Draws the roll's lifelong wear factor from its own stream (options'
+  // roll_wear_factor_sd; 1 when 0) and records it in the truth.
+  void AssignWearFactor(int serial, Roll* roll);
   // Chooses the four work rolls (mounted_); may delay *start until enough
   // rolls are ready.
   void ChooseRolls(UnixSeconds* start, Random* rng);
@@ -265,6 +269,14 @@ void MillRun::InitFamilies() {
   }
 }
 
+void MillRun::AssignWearFactor(int serial, Roll* roll) {
+  if (!(options_.roll_wear_factor_sd > 0)) return;
+  Random rng = MakeRandom(options_.seed, Stream::kRollWearFactor,
+                          static_cast<uint64_t>(serial));
+  roll->wear_factor = sim::LogNormalMeanOne(&rng, options_.roll_wear_factor_sd);
+  truth_.roll_wear_factor[roll->id] = roll->wear_factor;
+}
+
 // Roll inventory: 12..16 rolls per type, at diameters spread over their
 // working layer (a shop in steady state).
 void MillRun::BuildInventory() {
@@ -272,7 +284,9 @@ void MillRun::BuildInventory() {
   for (int t = 0; t < sim::kNumRollTypes; ++t) {
     const int n = 12 + static_cast<int>(rng.Below(5));
     for (int i = 0; i < n; ++i) {
-      Roll r = NewRoll(next_serial_++, t, &rng);
+      const int serial = next_serial_++;
+      Roll r = NewRoll(serial, t, &rng);
+      AssignWearFactor(serial, &r);
       r.diameter_mm =
           RoundTo(rng.Uniform(sim::kScrapDiameterMm + 4, r.new_diameter_mm), 2);
       rolls_.push_back(std::move(r));
@@ -501,7 +515,7 @@ void MillRun::MeasureAndRegrind(int campaign,
         offset_um += f.apply(ctx);
       }
     }
-    const double true_wear_um = scatter * wear_um[slot];
+    const double true_wear_um = scatter * roll.wear_factor * wear_um[slot];
     double gross_um = 0;
     for (const ActiveEffect& e : gross_effects_) {
       gross_um += sim::GrossError(&gross_rng, e.parameters.data());
@@ -516,7 +530,7 @@ void MillRun::MeasureAndRegrind(int campaign,
       meas.wear_center_um =
           RoundTo(std::max(1.0, true_wear_um + offset_um + grinder) + gross_um,
                   1);
-      const double noise_free = wear_um[slot] + offset_um;
+      const double noise_free = roll.wear_factor * wear_um[slot] + offset_um;
       abs_noise_sum_ += std::fabs(meas.wear_center_um - noise_free);
       truth_.noise_free_wear_um.push_back(noise_free);
       truth_.noise_free_keys.push_back({cp.id, m.stand, m.position});
@@ -526,7 +540,7 @@ void MillRun::MeasureAndRegrind(int campaign,
         data_.measurement_extra.factor[i].push_back(levels[i]);
       }
       if (options_.profiles && profile_rng.Uniform() < kProfileShare) {
-        AddProfile(campaign, slot, measured_at, scatter, offset_um,
+        AddProfile(campaign, slot, measured_at, scatter * roll.wear_factor, offset_um,
                    &profile_rng);
       }
     }
@@ -541,7 +555,9 @@ void MillRun::MeasureAndRegrind(int campaign,
     roll.campaigns += 1;
     if (roll.diameter_mm < sim::kScrapDiameterMm) {
       const UnixSeconds ready = roll.available_at;
-      roll = NewRoll(next_serial_++, roll.type, &regrind_rng);
+      const int serial = next_serial_++;
+      roll = NewRoll(serial, roll.type, &regrind_rng);
+      AssignWearFactor(serial, &roll);
       roll.available_at = ready;
     }
   }

@@ -49,6 +49,11 @@ struct SimulatorOptions {
   // any effect (the gross_errors effect with fraction = this; not with
   // --effect gross_errors as well).
   double gross_error_fraction = 0;
+  // > 0: every physical roll wears by its own factor for life (material,
+  // supplier batch, heat treatment), lognormal with mean 1 and this sd of
+  // its log, drawn from its serial (truth: roll_wear_factor). 0 leaves
+  // every other draw of the simulation as it was.
+  double roll_wear_factor_sd = 0;
 
   bool IsValid(std::string* error) const;
 };
@@ -112,6 +117,8 @@ struct SimulationTruth {
   double noise_floor_um = 0;
   double grinder_noise_sd_um = 0;
   double roll_scatter_sd = 0;  // relative, per physical roll and campaign
+  // SimulatorOptions::roll_wear_factor_sd > 0: each roll's lifelong factor.
+  std::map<std::string, double> roll_wear_factor;
 };
 
 struct Simulation {

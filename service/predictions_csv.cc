@@ -1,0 +1,83 @@
+#include "service/predictions_csv.h"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+namespace rollwear::cli {
+
+// 95 % two-sided normal quantile.
+constexpr double kZ95 = 1.959964;
+
+std::vector<PredictionRow> PredictionRows(
+    const Dataset& data, const WearStatistics& stats,
+    const CampaignSplit& split, const std::vector<std::string>& original_id,
+    const ObservationPredictor& predict) {
+  std::vector<PredictionRow> rows;
+  for (const bool train : {true, false}) {
+    for (int o :
+         stats.MeasuredObservations(train ? split.train : split.validation)) {
+      const Observation& ob = stats.observations[o];
+      const Measurement& m = data.measurements[ob.measurement];
+      PredictionRow r;
+      r.campaign_id = ob.campaign < static_cast<int>(original_id.size())
+                          ? original_id[ob.campaign]
+                          : data.campaigns[ob.campaign].id;
+      r.roll_id = m.roll_id;
+      r.stand = m.stand;
+      r.position = m.position;
+      r.train = train;
+      r.measured_um = ob.measured_um;
+      double sd = NAN;
+      predict(o, &r.predicted_um, &sd);
+      r.lo_um = r.predicted_um - kZ95 * sd;
+      r.hi_um = r.predicted_um + kZ95 * sd;
+      rows.push_back(std::move(r));
+    }
+  }
+  return rows;
+}
+
+ObservationPredictor LawPredictor(const WearModel& model,
+                                  const WearStatistics& stats) {
+  return [&model, &stats](int o, double* pred, double* sd) {
+    *pred = PredictObservation(model, stats, stats.observations[o]);
+    *sd = std::sqrt(model.noise_sd_um * model.noise_sd_um +
+                    std::pow(model.noise_rel * *pred, 2));
+  };
+}
+
+Status WritePredictionsCsv(const std::string& file,
+                           const std::vector<PredictionRow>& rows) {
+  std::ofstream out(file);
+  out << "campaign_id,stand,position,roll_id,set,measured_um,predicted_um,"
+         "lo_um,hi_um\n";
+  char buf[160];
+  for (const PredictionRow& r : rows) {
+    auto num = [](double v) {
+      if (!std::isfinite(v)) return std::string();
+      char b[32];
+      std::snprintf(b, sizeof(b), "%.2f", v);
+      return std::string(b);
+    };
+    std::snprintf(buf, sizeof(buf), "%s,%s,", StandName(r.stand).c_str(),
+                  PositionName(r.position));
+    // Ids are written as read: the format's ids carry no comma or quote
+    // (dataset_io rejects neither, so quote when needed).
+    auto field = [](const std::string& s) {
+      if (s.find_first_of(",\"\n") == std::string::npos) return s;
+      std::string q = "\"";
+      for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+      return q + "\"";
+    };
+    out << field(r.campaign_id) << "," << buf << field(r.roll_id) << ","
+        << (r.train ? "train" : "validation") << "," << num(r.measured_um)
+        << "," << num(r.predicted_um) << "," << num(r.lo_um) << ","
+        << num(r.hi_um) << "\n";
+  }
+  out.close();
+  if (!out) return Status::InvalidArgument("cannot write " + file);
+  return Status::Ok();
+}
+
+}  // namespace rollwear::cli
