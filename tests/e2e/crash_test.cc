@@ -7,6 +7,7 @@
 // twice.
 #include <chrono>
 #include <cstdlib>
+#include <map>
 #include <random>
 #include <thread>
 
@@ -76,6 +77,15 @@ TEST(CrashTest, KillNineDuringReplayLosesNothingAndCountsNothingTwice) {
       dir / "replay.log");
   std::mt19937 rng(20260301);
   std::uniform_int_distribution<int> wait_ms(200, 800);
+  // The first kill waits for the replay's first stored coil (a sanitized
+  // replay may take longer to make its first request than the first wait:
+  // it then met a refused connection before any answer and stopped).
+  for (int waited_ms = 0; waited_ms < 60'000; waited_ms += 50) {
+    const std::map<std::string, double> m = ScrapeMetrics(daemon.url());
+    auto it = m.find("rollwear_coils_stored");
+    if (it != m.end() && it->second > 0) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
   int kills_during_replay = 0;
   std::unique_ptr<Daemon> current;
   Daemon* running = &daemon;
