@@ -297,8 +297,11 @@ std::vector<bool> AtBound(const Layout& layout, const std::vector<int>& free,
     double lo, hi;
     BoundsOf(layout, i, options, setup.paper, &lo, &hi);
     const double tol = 1e-6 * std::max({1.0, std::abs(lo), std::abs(hi)});
-    if (setup.x[j] <= lo + tol || setup.x[j] >= hi - tol) {
-      at[layout.IsLog(i) ? i : n_rep - 1] = true;
+    if (!(setup.x[j] <= lo + tol || setup.x[j] >= hi - tol)) continue;
+    if (!layout.IsLog(i)) {
+      at[n_rep - 1] = true;  // Cao's a
+    } else if (i < layout.n_coef) {
+      at[i] = true;  // option 2's prior surface (u, v) is not reported
     }
   }
   return at;
