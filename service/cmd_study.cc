@@ -72,6 +72,7 @@ int RunStudy(const StudyArgs& args) {
     j["n_train"] = report->n_train;
     j["n_val"] = report->n_val;
     j["split_seed"] = report->split_seed;
+    j["notes"] = report->notes;
     j["data_quality"] = DataQualityJson(checked.quality);
     for (const char* name : {"table1", "table2", "table3"}) j[name] = nlohmann::json::array();
     for (const StudyRow& r : report->table1) j["table1"].push_back(RowJson(r));

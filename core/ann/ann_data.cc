@@ -7,10 +7,12 @@
 namespace rollwear {
 namespace {
 
-// Running mean and population variance (Welford 1962, Technometrics 4(3)).
+// Running mean and population variance (Welford 1962, Technometrics 4(3));
+// a value not recorded (NaN: a real export's hardness) is skipped.
 struct Moments {
   double n = 0, mean = 0, m2 = 0;
   void Add(double x) {
+    if (std::isnan(x)) return;
     n += 1;
     const double d = x - mean;
     mean += d / n;

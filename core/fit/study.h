@@ -75,6 +75,9 @@ std::string StudyDatasetMarkdown(const StudyDataset& d);
 
 struct StudyReport : StudyDataset {
   bool has_profiles = false;  // the dataset has profiles.csv points
+  // Laws not run and why ("nikitenko: not run: mounts.csv: hardness_hb is
+  // empty ..."): printed after the tables.
+  std::vector<std::string> notes;
   std::vector<StudyRow> table1, table2, table3;
 };
 

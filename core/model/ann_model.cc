@@ -132,7 +132,8 @@ Eigen::VectorXd AnnModel::EncodeStatic(int position, int roll_type,
   if (position >= 0 && position < np) s[position] = 1;
   if (roll_type >= 0 && roll_type < nr) s[np + roll_type] = 1;
   const int h = np + nr;
-  s[h] = (hardness_hb - input_mean[h]) / input_sd[h];
+  // Not recorded (a real export): the training mean, i.e. no information.
+  s[h] = std::isnan(hardness_hb) ? 0.0 : (hardness_hb - input_mean[h]) / input_sd[h];
   s[h + 1] = (diameter_mm - input_mean[h + 1]) / input_sd[h + 1];
   return s;
 }

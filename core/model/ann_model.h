@@ -17,7 +17,8 @@
 // member feeds back its own W). selu: Klambauer et al., "Self-normalizing
 // neural networks", NIPS 2017.
 //
-// Inputs: s = one-hot roll position, one-hot roll type, hardness_hb,
+// Inputs: s = one-hot roll position, one-hot roll type, hardness_hb (0,
+// the training mean, when not recorded),
 // diameter_mm; p_i = one-hot grade, force_kn, width_mm, specific force,
 // length_m, entry/exit thickness, reduction, contact length, temperature_c,
 // speed_mps, lubrication, shift_mm. Continuous inputs are standardised with

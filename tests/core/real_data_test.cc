@@ -326,3 +326,23 @@ TEST(RealReadingsTest, NearZeroWearAndADiameterProfileAreSetAside) {
 
 }  // namespace
 }  // namespace rollwear
+
+namespace rollwear {
+namespace {
+
+// Without any roll hardness the study runs Wang and Cao and says why
+// Nikitenko did not run.
+TEST(RealExportTest, TheStudyRunsWithoutHardnessAndSaysWhatItLeftOut) {
+  Simulation sim = simulator_test::Simulated(3, 12);
+  for (Mount& m : sim.data.mounts) m.hardness_hb = std::nan("");
+  StatusOr<StudyReport> r = RunStudy(sim.data, StudyOptions{});
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  ASSERT_EQ(r->notes.size(), 1u);
+  EXPECT_NE(r->notes[0].find("nikitenko: not run: mounts.csv: hardness_hb"),
+            std::string::npos);
+  for (const StudyRow& row : r->table1) EXPECT_NE(row.law, "nikitenko");
+  EXPECT_EQ(r->table1.size(), 6u);  // Wang and Cao x three starts
+}
+
+}  // namespace
+}  // namespace rollwear
