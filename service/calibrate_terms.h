@@ -8,14 +8,16 @@
 #include <cstdint>
 #include <string>
 
+#include "service/commands.h"
+
 namespace rollwear::cli {
 
-// Returns the exit code (0 ok, 1 failure); `json_file` empty = no JSON.
-// Suspect measurements are left out (service/data_quality_cli.h); `strict`
-// refuses a dataset with data-quality warnings.
-int RunCalibrateWithTerms(const std::string& data_dir,
-                          const std::string& terms_file, uint64_t split_seed,
-                          const std::string& json_file, bool strict);
+// Returns the exit code (0 ok, 1 failure). Reads args.data, args.terms,
+// args.split_seed or args.split, args.json, args.predictions and
+// args.strict. Suspect measurements are left out (service/
+// data_quality_cli.h); `strict` refuses a dataset with data-quality
+// warnings.
+int RunCalibrateWithTerms(const CalibrateArgs& args);
 
 }  // namespace rollwear::cli
 

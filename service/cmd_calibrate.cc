@@ -297,8 +297,11 @@ int RunCalibrate(const CalibrateArgs& args) {
       std::fprintf(stderr, "rollwear calibrate: --terms refits Wang's law, option 1\n");
       return 2;
     }
-    return RunCalibrateWithTerms(args.data, args.terms, args.split_seed,
-                                 args.json, args.strict);
+    if (args.per_roll) {
+      std::fprintf(stderr, "rollwear calibrate: --per-roll does not take --terms\n");
+      return 2;
+    }
+    return RunCalibrateWithTerms(args);
   }
   if (int code = CheckCalibrationOptions(args, &options)) return code;
 

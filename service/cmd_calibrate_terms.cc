@@ -1,4 +1,5 @@
-// `rollwear calibrate --data DIR --terms FILE [--split-seed N] [--json FILE]`:
+// `rollwear calibrate --data DIR --terms FILE [--split-seed N | --split FILE]
+// [--predictions FILE] [--json FILE]`:
 // recalibrates a model whose definition includes terms adopted from a
 // diagnosis. FILE is the JSON of `rollwear diagnose --json` (its
 // "adopted_model") or a model JSON with a "terms" array. The option-1
@@ -7,6 +8,7 @@
 // validation campaigns (core/model/model_eval.h), beside the plain option-1
 // calibration on the same split, so the gain of the adopted physics is shown.
 #include <chrono>
+#include <optional>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -20,13 +22,15 @@
 #include "core/fit/term_refit.h"
 #include "service/calibrate_terms.h"
 #include "service/data_quality_cli.h"
+#include "service/predictions_csv.h"
 #include "storage/model_codec.h"
 
 namespace rollwear::cli {
 
-int RunCalibrateWithTerms(const std::string& data_dir,
-                          const std::string& terms_file, uint64_t split_seed,
-                          const std::string& json_file, bool strict) {
+int RunCalibrateWithTerms(const CalibrateArgs& args) {
+  const std::string& terms_file = args.terms;
+  const std::string& json_file = args.json;
+  const uint64_t split_seed = args.split_seed;
   const auto start = std::chrono::steady_clock::now();
   std::ifstream in(terms_file);
   if (!in) {
@@ -44,7 +48,12 @@ int RunCalibrateWithTerms(const std::string& data_dir,
     return 1;
   }
   CheckedDataset checked;
-  if (int code = ReadCheckedDataset("calibrate", data_dir, strict, &checked)) {
+  if (int code = ReadCheckedDataset("calibrate", args.data, args.strict, &checked)) {
+    return code;
+  }
+  std::optional<CampaignSplit> given;
+  SplitDataset applied;
+  if (int code = ApplySplitFile("calibrate", args.split, &checked, &given, &applied)) {
     return code;
   }
   const Dataset* data = &checked.fit;
@@ -55,7 +64,7 @@ int RunCalibrateWithTerms(const std::string& data_dir,
                  stats.status().message().c_str());
     return 1;
   }
-  const CampaignSplit split = SplitCampaigns(*stats, 2.0 / 3.0, split_seed);
+  const CampaignSplit split = SplitOrGiven(*stats, split_seed, given);
   StatusOr<SplitCalibration> baseline =
       CalibrateOnSplit(*stats, split, CalibrationOptions{});
   if (!baseline.ok()) {
@@ -70,10 +79,24 @@ int RunCalibrateWithTerms(const std::string& data_dir,
                  model.status().message().c_str());
     return 1;
   }
-  const FitMetrics train =
-      MetricsOfPredictions(PredictMeasured(*model, *data, index, split.train));
-  const FitMetrics val = MetricsOfPredictions(
-      PredictMeasured(*model, *data, index, split.validation));
+  const std::vector<MeasuredPrediction> pred_train =
+      PredictMeasured(*model, *data, index, split.train);
+  const std::vector<MeasuredPrediction> pred_val =
+      PredictMeasured(*model, *data, index, split.validation);
+  const FitMetrics train = MetricsOfPredictions(pred_train);
+  const FitMetrics val = MetricsOfPredictions(pred_val);
+  if (!args.predictions.empty()) {
+    std::vector<PredictionRow> rows =
+        MeasuredPredictionRows(*data, *model, pred_train, true, applied.original_id);
+    const std::vector<PredictionRow> v =
+        MeasuredPredictionRows(*data, *model, pred_val, false, applied.original_id);
+    rows.insert(rows.end(), v.begin(), v.end());
+    const Status written = WritePredictionsCsv(args.predictions, rows);
+    if (!written.ok()) {
+      std::fprintf(stderr, "rollwear calibrate: %s\n", written.message().c_str());
+      return 1;
+    }
+  }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();

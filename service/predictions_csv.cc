@@ -47,6 +47,32 @@ ObservationPredictor LawPredictor(const WearModel& model,
   };
 }
 
+std::vector<PredictionRow> MeasuredPredictionRows(
+    const Dataset& data, const WearModel& model,
+    const std::vector<MeasuredPrediction>& predictions, bool train,
+    const std::vector<std::string>& original_id) {
+  std::vector<PredictionRow> rows;
+  for (const MeasuredPrediction& p : predictions) {
+    const Measurement& m = data.measurements[p.measurement];
+    PredictionRow r;
+    r.campaign_id = p.campaign < static_cast<int>(original_id.size())
+                        ? original_id[p.campaign]
+                        : data.campaigns[p.campaign].id;
+    r.roll_id = m.roll_id;
+    r.stand = m.stand;
+    r.position = m.position;
+    r.train = train;
+    r.measured_um = p.measured_um;
+    r.predicted_um = p.expected_um;
+    const double sd =
+        std::hypot(model.noise_sd_um, model.noise_rel * p.wear_um);
+    r.lo_um = r.predicted_um - kZ95 * sd;
+    r.hi_um = r.predicted_um + kZ95 * sd;
+    rows.push_back(std::move(r));
+  }
+  return rows;
+}
+
 Status WritePredictionsCsv(const std::string& file,
                            const std::vector<PredictionRow>& rows) {
   std::ofstream out(file);

@@ -19,6 +19,7 @@
 #include "core/dataset/dataset.h"
 #include "core/model/aggregation.h"
 #include "core/model/metrics.h"
+#include "core/model/model_eval.h"
 #include "core/model/wear_model.h"
 
 namespace rollwear::cli {
@@ -48,6 +49,14 @@ std::vector<PredictionRow> PredictionRows(
 // (sd^2 = noise_sd_um^2 + (noise_rel * wear)^2, wear_model.h).
 ObservationPredictor LawPredictor(const WearModel& model,
                                   const WearStatistics& stats);
+
+// The rows of a model evaluated coil by coil (core/model/model_eval.h: a
+// model with terms), all in one set; the interval from the model's noise
+// model about what the grinder is expected to read.
+std::vector<PredictionRow> MeasuredPredictionRows(
+    const Dataset& data, const WearModel& model,
+    const std::vector<MeasuredPrediction>& predictions, bool train,
+    const std::vector<std::string>& original_id);
 
 Status WritePredictionsCsv(const std::string& file,
                            const std::vector<PredictionRow>& rows);
