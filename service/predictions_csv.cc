@@ -9,6 +9,30 @@ namespace rollwear::cli {
 // 95 % two-sided normal quantile.
 constexpr double kZ95 = 1.959964;
 
+namespace {
+
+// The row of measurement `me` of campaign `campaign` (index into data).
+PredictionRow RowOf(const Dataset& data, int campaign, int me, bool train,
+                    double measured_um, double predicted_um, double sd_um,
+                    const std::vector<std::string>& original_id) {
+  const Measurement& m = data.measurements[me];
+  PredictionRow r;
+  r.campaign_id = campaign < static_cast<int>(original_id.size())
+                      ? original_id[campaign]
+                      : data.campaigns[campaign].id;
+  r.roll_id = m.roll_id;
+  r.stand = m.stand;
+  r.position = m.position;
+  r.train = train;
+  r.measured_um = measured_um;
+  r.predicted_um = predicted_um;
+  r.lo_um = predicted_um - kZ95 * sd_um;
+  r.hi_um = predicted_um + kZ95 * sd_um;
+  return r;
+}
+
+}  // namespace
+
 std::vector<PredictionRow> PredictionRows(
     const Dataset& data, const WearStatistics& stats,
     const CampaignSplit& split, const std::vector<std::string>& original_id,
@@ -18,21 +42,10 @@ std::vector<PredictionRow> PredictionRows(
     for (int o :
          stats.MeasuredObservations(train ? split.train : split.validation)) {
       const Observation& ob = stats.observations[o];
-      const Measurement& m = data.measurements[ob.measurement];
-      PredictionRow r;
-      r.campaign_id = ob.campaign < static_cast<int>(original_id.size())
-                          ? original_id[ob.campaign]
-                          : data.campaigns[ob.campaign].id;
-      r.roll_id = m.roll_id;
-      r.stand = m.stand;
-      r.position = m.position;
-      r.train = train;
-      r.measured_um = ob.measured_um;
-      double sd = NAN;
-      predict(o, &r.predicted_um, &sd);
-      r.lo_um = r.predicted_um - kZ95 * sd;
-      r.hi_um = r.predicted_um + kZ95 * sd;
-      rows.push_back(std::move(r));
+      double pred = 0, sd = NAN;
+      predict(o, &pred, &sd);
+      rows.push_back(RowOf(data, ob.campaign, ob.measurement, train,
+                           ob.measured_um, pred, sd, original_id));
     }
   }
   return rows;
@@ -42,8 +55,7 @@ ObservationPredictor LawPredictor(const WearModel& model,
                                   const WearStatistics& stats) {
   return [&model, &stats](int o, double* pred, double* sd) {
     *pred = PredictObservation(model, stats, stats.observations[o]);
-    *sd = std::sqrt(model.noise_sd_um * model.noise_sd_um +
-                    std::pow(model.noise_rel * *pred, 2));
+    *sd = std::hypot(model.noise_sd_um, model.noise_rel * *pred);
   };
 }
 
@@ -53,22 +65,10 @@ std::vector<PredictionRow> MeasuredPredictionRows(
     const std::vector<std::string>& original_id) {
   std::vector<PredictionRow> rows;
   for (const MeasuredPrediction& p : predictions) {
-    const Measurement& m = data.measurements[p.measurement];
-    PredictionRow r;
-    r.campaign_id = p.campaign < static_cast<int>(original_id.size())
-                        ? original_id[p.campaign]
-                        : data.campaigns[p.campaign].id;
-    r.roll_id = m.roll_id;
-    r.stand = m.stand;
-    r.position = m.position;
-    r.train = train;
-    r.measured_um = p.measured_um;
-    r.predicted_um = p.expected_um;
     const double sd =
         std::hypot(model.noise_sd_um, model.noise_rel * p.wear_um);
-    r.lo_um = r.predicted_um - kZ95 * sd;
-    r.hi_um = r.predicted_um + kZ95 * sd;
-    rows.push_back(std::move(r));
+    rows.push_back(RowOf(data, p.campaign, p.measurement, train, p.measured_um,
+                         p.expected_um, sd, original_id));
   }
   return rows;
 }
