@@ -16,6 +16,7 @@
 #include "core/model/aggregation.h"
 #include "core/model/given_split.h"
 #include "dataset_test_util.h"
+#include "profile_test_util.h"
 #include "simulator_test_util.h"
 #include "test_size.h"
 
@@ -300,15 +301,8 @@ TEST(RealReadingsTest, NearZeroWearAndADiameterProfileAreSetAside) {
   // A profile of another roll holding diameters.
   const Measurement& other = data.measurements[worst == 0 ? 1 : 0];
   for (int k = -5; k <= 5; ++k) {
-    ProfilePoint p;
-    p.campaign = other.campaign;
-    p.stand = other.stand;
-    p.position = other.position;
-    p.roll_id = other.roll_id;
-    p.measured_at = other.measured_at;
-    p.x_mm = 100.0 * k;
-    p.wear_um = 748'000 + 10 * k;
-    data.profile_points.push_back(p);
+    data.profile_points.push_back(
+        ProfilePointOf(other, 100.0 * k, 748'000 + 10 * k));
   }
   const DataQuality q = AssessDataQuality(data);
   EXPECT_EQ(q.Count(DataQualityKind::kLowWear), 1);
