@@ -23,20 +23,20 @@ using codec_internal::Json;
 using codec_internal::ObjectReader;
 using codec_internal::OutcomeName;
 
-enum PointMember { kX, kWearUm };
+enum PointMember { kPointX, kPointWearUm };
 constexpr std::string_view kPointMembers[] = {"x_mm", "wear_um"};
 constexpr ObjectShape kPointShape{kPointMembers};
 enum ProfileMember {
-  kCampaignId,
-  kStand,
-  kPosition,
-  kRollId,
-  kMeasuredAt,
-  kPoints
+  kProfileCampaignId,
+  kProfileStand,
+  kProfilePosition,
+  kProfileRollId,
+  kProfileMeasuredAt,
+  kProfilePoints
 };
 constexpr std::string_view kProfileMembers[] = {
     "campaign_id", "stand", "position", "roll_id", "measured_at", "points"};
-constexpr ObjectShape kProfileShape{kProfileMembers, kPoints, &kPointShape,
+constexpr ObjectShape kProfileShape{kProfileMembers, kProfilePoints, &kPointShape,
                                     kMaxProfilePoints};
 
 }  // namespace
@@ -46,10 +46,10 @@ bool DecodeProfile(std::string_view body, int max_depth,
   ScannedObject scanned;
   if (!ScanBody(body, max_depth, kProfileShape, &scanned, error)) return false;
   ObjectReader r(scanned, kProfileShape, error);
-  if (!r.Text(kCampaignId, &out->campaign_id) || !r.Stand(kStand, &out->stand) ||
-      !r.PositionOf(kPosition, &out->position) ||
-      !r.Text(kRollId, &out->roll_id) ||
-      !r.Timestamp(kMeasuredAt, &out->measured_at) || !r.List(kPoints)) {
+  if (!r.Text(kProfileCampaignId, &out->campaign_id) || !r.Stand(kProfileStand, &out->stand) ||
+      !r.PositionOf(kProfilePosition, &out->position) ||
+      !r.Text(kProfileRollId, &out->roll_id) ||
+      !r.Timestamp(kProfileMeasuredAt, &out->measured_at) || !r.List(kProfilePoints)) {
     return false;
   }
   out->points.reserve(scanned.elements.size());
@@ -58,7 +58,7 @@ bool DecodeProfile(std::string_view body, int max_depth,
     ObjectReader e(scanned.elements[i], kPointShape, error, "points",
                    static_cast<int>(i));
     storage::ProfilePointIn& p = out->points.emplace_back();
-    if (!e.Number(kX, &p.x_mm) || !e.Number(kWearUm, &p.wear_um)) return false;
+    if (!e.Number(kPointX, &p.x_mm) || !e.Number(kPointWearUm, &p.wear_um)) return false;
   }
   // The ids' rules, those of a profile point at a valid place (the points'
   // own rules are the store's: CheckProfileFields).

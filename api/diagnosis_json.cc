@@ -8,14 +8,11 @@
 #include <nlohmann/json.hpp>
 
 #include "api/data_quality_json.h"
+#include "api/json_number.h"
 #include "storage/model_codec.h"
 
 namespace rollwear::api {
 namespace {
-
-nlohmann::json Num(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-}
 
 // A term as the stored model writes it (storage/model_codec.h: scope,
 // reference level and all), so that `calibrate --terms` and clients read
@@ -38,10 +35,10 @@ nlohmann::json UnexplainedJson(const std::vector<Unexplained>& list) {
     j.push_back({{"dimension", u.dimension},
                  {"where", u.where},
                  {"test", u.test},
-                 {"statistic", Num(u.statistic)},
-                 {"mean_residual_um", Num(u.mean_residual_um)},
-                 {"p_value", Num(u.p_adjusted)},
-                 {"p_value_unadjusted", Num(u.p_value)}});
+                 {"statistic", JsonNumber(u.statistic)},
+                 {"mean_residual_um", JsonNumber(u.mean_residual_um)},
+                 {"p_value", JsonNumber(u.p_adjusted)},
+                 {"p_value_unadjusted", JsonNumber(u.p_value)}});
   }
   return j;
 }
@@ -52,8 +49,8 @@ nlohmann::json RunnersUpJson(const std::vector<RunnerUp>& list) {
     j.push_back({{"round", u.round},
                  {"covariate", u.covariate},
                  {"form", u.form},
-                 {"p_value", Num(u.p_adjusted)},
-                 {"cv_error_ratio", Num(u.cv_mse_ratio)},
+                 {"p_value", JsonNumber(u.p_adjusted)},
+                 {"cv_error_ratio", JsonNumber(u.cv_mse_ratio)},
                  {"reason", u.reason}});
   }
   return j;
@@ -72,8 +69,8 @@ nlohmann::json DiagnosisJson(const DiagnosisReport& r) {
   j["findings"] = nlohmann::json::array();
   for (const Finding& f : r.findings) {
     nlohmann::json params = nlohmann::json::object(), se = nlohmann::json::object();
-    for (const auto& [k, v] : f.parameters) params[k] = Num(v);
-    for (const auto& [k, v] : f.parameter_std_errors) se[k] = Num(v);
+    for (const auto& [k, v] : f.parameters) params[k] = JsonNumber(v);
+    for (const auto& [k, v] : f.parameter_std_errors) se[k] = JsonNumber(v);
     j["findings"].push_back({{"covariate", f.covariate},
                              {"scope", ScopeJson(f.scope)},
                              {"levels", f.levels},
@@ -87,11 +84,11 @@ nlohmann::json DiagnosisJson(const DiagnosisReport& r) {
                              {"term_param_std_errors", se},
                              {"lr_statistic", f.lr},
                              {"df", f.df},
-                             {"p_value", Num(f.p_adjusted)},
-                             {"p_value_unadjusted", Num(f.p_value)},
+                             {"p_value", JsonNumber(f.p_adjusted)},
+                             {"p_value_unadjusted", JsonNumber(f.p_value)},
                              {"cv_gap_before_um", f.cv_gap_before_um},
                              {"cv_gap_after_um", f.cv_gap_after_um},
-                             {"cv_error_ratio", Num(f.cv_mse_ratio)},
+                             {"cv_error_ratio", JsonNumber(f.cv_mse_ratio)},
                              {"gap_val_before_um", f.gap_val_before_um},
                              {"gap_val_after_um", f.gap_val_after_um},
                              {"alternatives", f.alternatives},
@@ -110,9 +107,9 @@ nlohmann::json DiagnosisJson(const DiagnosisReport& r) {
     }
     j["locate"].push_back({{"dimension", b.dimension},
                            {"test", b.test},
-                           {"statistic", Num(b.statistic)},
-                           {"p_value", Num(b.p_value)},
-                           {"effect_size", Num(b.effect_size)},
+                           {"statistic", JsonNumber(b.statistic)},
+                           {"p_value", JsonNumber(b.p_value)},
+                           {"effect_size", JsonNumber(b.effect_size)},
                            {"groups", groups}});
   }
   j["candidates_first_round"] = nlohmann::json::array();
@@ -121,8 +118,8 @@ nlohmann::json DiagnosisJson(const DiagnosisReport& r) {
                                            {"form", c.form},
                                            {"df", c.df},
                                            {"lr_statistic", c.lr},
-                                           {"p_value", Num(c.p_adjusted)},
-                                           {"cv_error_ratio", Num(c.cv_mse_ratio)},
+                                           {"p_value", JsonNumber(c.p_adjusted)},
+                                           {"cv_error_ratio", JsonNumber(c.cv_mse_ratio)},
                                            {"accepted", c.accepted}});
   }
   nlohmann::json coef = nlohmann::json::object();

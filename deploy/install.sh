@@ -2,9 +2,15 @@
 # deploy/install.sh: installs the Debian 12 packages rollwear needs and builds
 # it (Release, CMake + Ninja, -j2) into ./build of the repository.
 #
-#   bash deploy/install.sh               # packages, then build (default)
+#   bash deploy/install.sh               # packages, then the rollwear binary
+#   bash deploy/install.sh --tests       # packages, then everything: the
+#                                        # binary, the tests, the benchmarks
 #   bash deploy/install.sh --deps-only   # packages only (needs root or sudo)
-#   bash deploy/install.sh --build-only  # build only (packages already there)
+#   bash deploy/install.sh --build-only  # build only (packages already there;
+#                                        # with --tests: everything)
+#
+# The main job (README) needs only the binary; the tests command adds
+# --tests and builds the rest into the same tree, reusing what is built.
 #
 # Idempotent: packages that are already installed are left alone and an
 # existing ./build is reconfigured and built incrementally. Works from any
@@ -48,7 +54,7 @@ readonly PACKAGES=(
 )
 
 usage() {
-  sed -n '2,19s/^# \{0,1\}//p' "${BASH_SOURCE[0]}"
+  sed -n '2,25s/^# \{0,1\}//p' "${BASH_SOURCE[0]}"
 }
 
 log() { printf '[install] %s\n' "$*"; }
@@ -56,9 +62,11 @@ die() { printf '[install] error: %s\n' "$*" >&2; exit 1; }
 
 do_deps=1
 do_build=1
+build_all=0
 for arg in "$@"; do
   case "${arg}" in
     --deps-only) do_build=0 ;;
+    --tests) build_all=1 ;;
     --build-only) do_deps=0 ;;
     -h | --help) usage; exit 0 ;;
     *) usage >&2; die "unknown option '${arg}'" ;;
@@ -137,14 +145,20 @@ build() {
     -DROLLWEAR_BUILD_TESTS=ON \
     -DROLLWEAR_BUILD_BENCH=ON \
     "${extra[@]}"
-  log "building with ${jobs} jobs"
+  local target=(--target rollwear)
+  [[ ${build_all} -eq 1 ]] && target=()
+  log "building $([[ ${build_all} -eq 1 ]] && echo 'everything (binary, tests, benchmarks)' || echo 'the rollwear binary') with ${jobs} jobs"
   local start=${SECONDS}
-  cmake --build "${build_dir}" --parallel "${jobs}"
+  cmake --build "${build_dir}" --parallel "${jobs}" "${target[@]}"
   log "build finished in $((SECONDS - start)) s"
   local bin="${repo_root}/${build_dir}/service/rollwear"
   [[ -x "${bin}" ]] || die "build finished but ${bin} is missing"
   log "binary: ${bin}"
-  log "next:   bash deploy/demo.sh   |   ctest --test-dir ${build_dir} --output-on-failure -j2"
+  if [[ ${build_all} -eq 1 ]]; then
+    log "next:   ctest --test-dir ${build_dir} --output-on-failure -j2"
+  else
+    log "next:   bash deploy/demo.sh   (tests: bash deploy/install.sh --tests)"
+  fi
 }
 
 if [[ ${do_deps} -eq 1 ]]; then install_deps; fi

@@ -5,16 +5,13 @@
 #include <cstdio>
 #include <fstream>
 
+#include "api/json_number.h"
 #include "service/predictions_csv.h"
 
 namespace rollwear::cli {
 namespace {
 
 constexpr double kZ95 = 1.959964;
-
-nlohmann::json Number(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-}
 
 void PrintPerRoll(const CalibrationOptions& options, const RollEffectsFit& fit,
                   const Identification& id) {
@@ -63,9 +60,9 @@ nlohmann::json IdentificationJson(const Identification& id) {
           {"sentence", id.Sentence()},
           {"at_bound", id.at_bound},
           {"large_error", id.large_error},
-          {"gap_ratio", Number(id.gap_ratio)},
-          {"expected_ratio", Number(id.expected_ratio)},
-          {"z", Number(id.z)}};
+          {"gap_ratio", JsonNumber(id.gap_ratio)},
+          {"expected_ratio", JsonNumber(id.expected_ratio)},
+          {"z", JsonNumber(id.z)}};
 }
 
 nlohmann::json RollEffectsJson(const RollEffects& e) {
@@ -75,7 +72,7 @@ nlohmann::json RollEffectsJson(const RollEffects& e) {
         {{"roll_id", r.roll_id},
          {"value", r.value},
          {"interval", {r.value - kZ95 * r.sd, r.value + kZ95 * r.sd}},
-         {"raw", Number(r.raw)},
+         {"raw", JsonNumber(r.raw)},
          {"readings", r.readings}});
   }
   return {{"tau", e.tau},

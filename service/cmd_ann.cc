@@ -15,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "api/json_number.h"
 #include "core/ann/ann_study.h"
 #include "core/dataset/dataset_io.h"
 #include "core/report/study_figures.h"
@@ -24,16 +25,12 @@
 namespace rollwear::cli {
 namespace {
 
-nlohmann::json Num(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-}
-
 nlohmann::json Gaps(const FitMetrics& train, const FitMetrics& val) {
-  return {{"gap_train_um", Num(train.gap_um)},
-          {"gap_val_um", Num(val.gap_um)},
-          {"cost_train", Num(train.cost)},
-          {"cost_val", Num(val.cost)},
-          {"val_over_train", Num(val.gap_um / train.gap_um)}};
+  return {{"gap_train_um", JsonNumber(train.gap_um)},
+          {"gap_val_um", JsonNumber(val.gap_um)},
+          {"cost_train", JsonNumber(train.cost)},
+          {"cost_val", JsonNumber(val.cost)},
+          {"val_over_train", JsonNumber(val.gap_um / train.gap_um)}};
 }
 
 int Fail(const std::string& message, int code) {
@@ -46,10 +43,10 @@ int Fail(const std::string& message, int code) {
 nlohmann::json SeedSpread(const AnnComparison& c, bool validation) {
   double mean, sd, lo, hi;
   MemberGapSpread(c, validation, &mean, &sd, &lo, &hi);
-  return {{"mean_um", Num(mean)},
-          {"sd_um", Num(sd)},
-          {"min_um", Num(lo)},
-          {"max_um", Num(hi)}};
+  return {{"mean_um", JsonNumber(mean)},
+          {"sd_um", JsonNumber(sd)},
+          {"min_um", JsonNumber(lo)},
+          {"max_um", JsonNumber(hi)}};
 }
 
 // --json FILE: the comparison as one JSON object.
@@ -61,7 +58,7 @@ nlohmann::json AnnJson(const AnnComparison& c,
   j["classical"]["model"] = "wang";
   j["classical"]["option"] = options.classical.option;
   j["classical"]["parameters"] = c.classical_parameters;
-  j["classical"]["bias_above_300_um"] = Num(c.classical_bias_above_300_um);
+  j["classical"]["bias_above_300_um"] = JsonNumber(c.classical_bias_above_300_um);
   j["classical"]["seconds"] = c.classical_seconds;
   j["ann"] = Gaps(c.ann_train, c.ann_val);
   j["ann"]["mode"] = c.ann_mode;
@@ -71,7 +68,7 @@ nlohmann::json AnnJson(const AnnComparison& c,
   j["ann"]["early_stopping"] = options.training.early_stopping;
   j["ann"]["linear_skip"] = options.training.linear_skip;
   j["ann"]["max_epochs"] = options.training.max_epochs;
-  j["ann"]["bias_above_300_um"] = Num(c.ann_bias_above_300_um);
+  j["ann"]["bias_above_300_um"] = JsonNumber(c.ann_bias_above_300_um);
   j["ann"]["seconds"] = c.ann_seconds;
   j["ann"]["best_member"] = c.best_member;
   if (c.has_adopted) {
@@ -81,9 +78,9 @@ nlohmann::json AnnJson(const AnnComparison& c,
     j["adopted"]["seconds"] = c.adopted_seconds;
   }
   j["delta_percent"] = {
-      {"train", Num(100 * (c.ann_train.gap_um - c.classical_train.gap_um) /
+      {"train", JsonNumber(100 * (c.ann_train.gap_um - c.classical_train.gap_um) /
                     c.classical_train.gap_um)},
-      {"val", Num(100 * (c.ann_val.gap_um - c.classical_val.gap_um) /
+      {"val", JsonNumber(100 * (c.ann_val.gap_um - c.classical_val.gap_um) /
                   c.classical_val.gap_um)}};
   j["seed_spread"]["train"] = SeedSpread(c, false);
   j["seed_spread"]["val"] = SeedSpread(c, true);
@@ -92,9 +89,9 @@ nlohmann::json AnnJson(const AnnComparison& c,
     members.push_back({{"seed", f.training.seed},
                        {"epochs", f.training.epochs},
                        {"best_epoch", f.training.best_epoch},
-                       {"holdout_gap_um", Num(f.training.holdout_gap_um)},
-                       {"gap_train_um", Num(f.train.gap_um)},
-                       {"gap_val_um", Num(f.validation.gap_um)}});
+                       {"holdout_gap_um", JsonNumber(f.training.holdout_gap_um)},
+                       {"gap_train_um", JsonNumber(f.train.gap_um)},
+                       {"gap_val_um", JsonNumber(f.validation.gap_um)}});
   }
   j["members"] = members;
   j["split_seed"] = options.split_seed;

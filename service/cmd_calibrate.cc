@@ -22,6 +22,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "api/json_number.h"
 #include "core/dataset/dataset_io.h"
 #include "core/model/metrics.h"
 #include "core/fit/identification.h"
@@ -45,10 +46,6 @@ bool ParseStart(const std::string& s, InitialSet* out) {
   else if (s == "empirical") *out = InitialSet::kEmpirical;
   else return false;
   return true;
-}
-
-nlohmann::json Number(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
 }
 
 // --figures DIR: the calibrated model's measured vs calculated wear per
@@ -174,19 +171,19 @@ nlohmann::json ProfileJson(const ProfileFit& fit) {
   const auto values = ProfileShapeValues(fit.shape);
   for (int i = 0; i < kProfileShapeParameters; ++i) {
     shape[ProfileShapeNames()[i]] = values[i];
-    se[ProfileShapeNames()[i]] = Number(fit.std_error[i]);
+    se[ProfileShapeNames()[i]] = JsonNumber(fit.std_error[i]);
   }
-  return {{"gap_train_um", Number(fit.train.gap_um)},
-          {"gap_val_um", Number(fit.validation.gap_um)},
+  return {{"gap_train_um", JsonNumber(fit.train.gap_um)},
+          {"gap_val_um", JsonNumber(fit.validation.gap_um)},
           {"n_points_train", fit.train.n_points},
           {"n_points_val", fit.validation.n_points},
-          {"gap_edge_train_um", Number(fit.train.edge_um)},
-          {"gap_body_train_um", Number(fit.train.body_um)},
-          {"gap_edge_val_um", Number(fit.validation.edge_um)},
-          {"gap_body_val_um", Number(fit.validation.body_um)},
+          {"gap_edge_train_um", JsonNumber(fit.train.edge_um)},
+          {"gap_body_train_um", JsonNumber(fit.train.body_um)},
+          {"gap_edge_val_um", JsonNumber(fit.validation.edge_um)},
+          {"gap_body_val_um", JsonNumber(fit.validation.body_um)},
           {"n_profiles_train", fit.train.n_profiles},
           {"n_profiles_val", fit.validation.n_profiles},
-          {"residual_sd_um", Number(fit.residual_sd_um)},
+          {"residual_sd_um", JsonNumber(fit.residual_sd_um)},
           {"shape", shape},
           {"standard_errors", se}};
 }
@@ -235,8 +232,8 @@ std::optional<nlohmann::json> FitProfile(const SplitCalibration& run,
   }
   nlohmann::json j = ProfileJson(joint->profile);
   j["stage"] = "joint";
-  j["centre_gap_train_um"] = Number(joint->centre_gap_train_um);
-  j["centre_gap_val_um"] = Number(joint->centre_gap_val_um);
+  j["centre_gap_train_um"] = JsonNumber(joint->centre_gap_train_um);
+  j["centre_gap_val_um"] = JsonNumber(joint->centre_gap_val_um);
   j["intra_roll_correlation"] = joint->intra_roll_correlation;
   j["converged"] = joint->converged;
   j["at_bound"] = joint->at_bound;
@@ -263,7 +260,7 @@ nlohmann::json CalibrationJson(const CalibrateArgs& args,
   const auto named = m.NamedCoefficients();
   for (size_t i = 0; i < named.size(); ++i) {
     coef[named[i].first] = named[i].second;
-    se[named[i].first] = Number(r.std_error[i]);
+    se[named[i].first] = JsonNumber(r.std_error[i]);
   }
   j["coefficients"] = coef;
   j["std_errors_log"] = se;
@@ -280,7 +277,7 @@ nlohmann::json CalibrationJson(const CalibrateArgs& args,
   j["usable"] = usable;
   j["data_quality"] = DataQualityJson(quality, &run.suspected_outliers);
   j["noise"] = {{"sd_um", m.noise_sd_um}, {"rel", m.noise_rel}};
-  j["bias_above_300_um"] = Number(run.bias_above_300_um);
+  j["bias_above_300_um"] = JsonNumber(run.bias_above_300_um);
   return j;
 }
 

@@ -21,7 +21,7 @@
 namespace rollwear::cli {
 namespace {
 
-using Json = nlohmann::ordered_json;
+using OrderedJson = nlohmann::ordered_json;
 
 std::vector<std::string> Split(const std::string& text, char sep) {
   std::vector<std::string> out;
@@ -62,7 +62,7 @@ ScoreTruth ToScoreTruth(const Simulation& sim) {
   return t;
 }
 
-Json CaseJson(const CaseScore& c) {
+OrderedJson CaseJson(const CaseScore& c) {
   return {{"effect", c.effect},
           {"seed", c.seed},
           {"clean", c.clean},
@@ -77,7 +77,7 @@ Json CaseJson(const CaseScore& c) {
           {"seconds", c.seconds}};
 }
 
-Json SummaryJson(const EffectScore& e) {
+OrderedJson SummaryJson(const EffectScore& e) {
   return {{"effect", e.effect},
           {"cases", e.cases},
           {"clean", e.clean},
@@ -146,9 +146,9 @@ int RunScorecard(const ScorecardArgs& args) {
   const std::vector<EffectScore> summary = Summarise(scores);
   std::fputs(ScorecardTable(summary).c_str(), stdout);
   if (!args.json.empty()) {
-    Json doc = {{"seeds", args.seeds},         {"first_seed", args.first_seed},
+    OrderedJson doc = {{"seeds", args.seeds},         {"first_seed", args.first_seed},
                 {"campaigns", args.campaigns}, {"threads", args.threads},
-                {"cases", Json::array()},      {"summary", Json::array()}};
+                {"cases", OrderedJson::array()},      {"summary", OrderedJson::array()}};
     for (const CaseScore& c : scores) doc["cases"].push_back(CaseJson(c));
     for (const EffectScore& e : summary)
       doc["summary"].push_back(SummaryJson(e));

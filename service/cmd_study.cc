@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "api/json_number.h"
 #include "core/dataset/dataset_io.h"
 #include "core/fit/study.h"
 #include "core/report/study_figures.h"
@@ -19,22 +20,19 @@ namespace rollwear::cli {
 namespace {
 
 nlohmann::json RowJson(const StudyRow& r) {
-  auto num = [](double v) {
-    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-  };
   return {{"law", r.law},
           {"option", r.option},
           {"start", r.initial_set},
           {"derivatives", r.derivatives},
           {"num_parameters", r.num_parameters},
-          {"initial_cost", num(r.initial_cost)},
-          {"cost", num(r.cost)},
-          {"gap_train_um", num(r.gap_train_um)},
-          {"gap_val_um", num(r.gap_val_um)},
-          {"bias_above_300_um", num(r.bias_above_300_um)},
+          {"initial_cost", JsonNumber(r.initial_cost)},
+          {"cost", JsonNumber(r.cost)},
+          {"gap_train_um", JsonNumber(r.gap_train_um)},
+          {"gap_val_um", JsonNumber(r.gap_val_um)},
+          {"bias_above_300_um", JsonNumber(r.bias_above_300_um)},
           {"n_above_300", r.n_above_300},
-          {"profile_gap_val_um", num(r.profile_gap_val_um)},
-          {"profile_edge_val_um", num(r.profile_edge_val_um)},
+          {"profile_gap_val_um", JsonNumber(r.profile_gap_val_um)},
+          {"profile_edge_val_um", JsonNumber(r.profile_edge_val_um)},
           {"iterations", r.iterations},
           {"evaluations", r.evaluations},
           {"seconds", r.seconds},

@@ -6,17 +6,16 @@
 
 #include <nlohmann/json.hpp>
 
+#include "api/json_number.h"
+
 namespace rollwear {
 namespace {
 
 using Json = nlohmann::ordered_json;
 
-// A finite number as itself, anything else as null (JSON has no NaN).
-Json Number(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
-
 Json Object(const std::map<std::string, double>& m) {
   Json out = Json::object();
-  for (const auto& [key, value] : m) out[key] = Number(value);
+  for (const auto& [key, value] : m) out[key] = JsonNumber<Json>(value);
   return out;
 }
 
@@ -40,7 +39,7 @@ std::string TruthJson(const SimulationTruth& truth) {
     // applies (null = everywhere), affected levels, expressibility.
     if (!e.form.empty()) {
       effect["form"] = e.form;
-      effect["strength"] = Number(e.strength);
+      effect["strength"] = JsonNumber<Json>(e.strength);
       effect["scope"] = e.scope.empty() ? Json(nullptr) : Json(e.scope);
       effect["levels"] = e.levels;
       effect["expressible"] = e.expressible;
@@ -50,9 +49,9 @@ std::string TruthJson(const SimulationTruth& truth) {
     effects.push_back(std::move(effect));
   }
   doc["effects"] = std::move(effects);
-  doc["noise_floor_um"] = Number(truth.noise_floor_um);
-  doc["grinder_noise_sd_um"] = Number(truth.grinder_noise_sd_um);
-  doc["roll_scatter_sd"] = Number(truth.roll_scatter_sd);
+  doc["noise_floor_um"] = JsonNumber<Json>(truth.noise_floor_um);
+  doc["grinder_noise_sd_um"] = JsonNumber<Json>(truth.grinder_noise_sd_um);
+  doc["roll_scatter_sd"] = JsonNumber<Json>(truth.roll_scatter_sd);
   if (!truth.roll_wear_factor.empty()) {
     doc["roll_wear_factor"] = truth.roll_wear_factor;
   }
@@ -68,16 +67,16 @@ std::string TruthJson(const SimulationTruth& truth) {
   Json rows = Json::array();
   for (size_t i = 0; i < truth.noise_free_wear_um.size(); ++i) {
     if (!keyed) {
-      rows.push_back(Number(truth.noise_free_wear_um[i]));
+      rows.push_back(JsonNumber<Json>(truth.noise_free_wear_um[i]));
       continue;
     }
     const SimulatedMeasurementKey& k = truth.noise_free_keys[i];
     Json row = {{"campaign_id", k.campaign_id},
                 {"stand", "F" + std::to_string(k.stand)},
                 {"position", PositionName(k.position)},
-                {"noise_free_wear_um", Number(truth.noise_free_wear_um[i])}};
+                {"noise_free_wear_um", JsonNumber<Json>(truth.noise_free_wear_um[i])}};
     if (gross) {
-      row["gross_error_um"] = Number(truth.gross_error_um[i]);
+      row["gross_error_um"] = JsonNumber<Json>(truth.gross_error_um[i]);
       num_gross += truth.gross_error_um[i] != 0;
     }
     rows.push_back(std::move(row));
@@ -92,11 +91,11 @@ std::string TruthJson(const SimulationTruth& truth) {
     doc["profile"] = {
         {"form", "1 + body_beta2 (u/b)^2 + edge_amplitude (exp(-d/edge_decay_mm)"
                  " - exp(-b/edge_decay_mm)), d = b - |u|"},
-        {"body_beta2", Number(s.body_beta2)},
-        {"edge_amplitude", Number(s.edge_amplitude)},
-        {"edge_decay_mm", Number(s.edge_decay_mm)},
-        {"point_noise_sd_um", Number(s.point_noise_sd_um)},
-        {"noise_floor_um", Number(truth.profile_noise_floor_um)}};
+        {"body_beta2", JsonNumber<Json>(s.body_beta2)},
+        {"edge_amplitude", JsonNumber<Json>(s.edge_amplitude)},
+        {"edge_decay_mm", JsonNumber<Json>(s.edge_decay_mm)},
+        {"point_noise_sd_um", JsonNumber<Json>(s.point_noise_sd_um)},
+        {"noise_floor_um", JsonNumber<Json>(truth.profile_noise_floor_um)}};
   }
   return doc.dump(2) + "\n";
 }

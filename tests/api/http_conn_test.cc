@@ -91,7 +91,7 @@ class Client {
   bool closed_ = false;
 };
 
-int Status(const std::string& answer) {
+int StatusCode(const std::string& answer) {
   return answer.size() >= 12 ? std::stoi(answer.substr(9, 3)) : 0;
 }
 
@@ -117,7 +117,7 @@ class HttpConnTest : public RouterTest {
 TEST_F(HttpConnTest, EveryAnswerHasADateAndKeptAliveOnesAKeepAliveHint) {
   Start();
   const std::string kept = Exchange("GET /v1/wear HTTP/1.1\r\nHost: x\r\n\r\n");
-  EXPECT_EQ(Status(kept), 200) << kept;
+  EXPECT_EQ(StatusCode(kept), 200) << kept;
   const std::regex date(
       "\r\nDate: (Mon|Tue|Wed|Thu|Fri|Sat|Sun), [0-9]{2} "
       "(Jan|Feb|Mar|Apr|May|Jun|Jul|Aug|Sep|Oct|Nov|Dec) 20[0-9]{2} "
@@ -126,28 +126,28 @@ TEST_F(HttpConnTest, EveryAnswerHasADateAndKeptAliveOnesAKeepAliveHint) {
   EXPECT_NE(kept.find("\r\nKeep-Alive: timeout=5\r\n"), std::string::npos);
   const std::string closed =
       Exchange("GET /nope HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");
-  EXPECT_EQ(Status(closed), 404);
+  EXPECT_EQ(StatusCode(closed), 404);
   EXPECT_TRUE(std::regex_search(closed, date)) << closed;
   EXPECT_EQ(closed.find("Keep-Alive:"), std::string::npos) << closed;
 }
 
 TEST_F(HttpConnTest, HostIsRequiredOnceOnHttp11) {
   Start();
-  EXPECT_EQ(Status(Exchange("GET /v1/wear HTTP/1.1\r\n\r\n")), 400);
+  EXPECT_EQ(StatusCode(Exchange("GET /v1/wear HTTP/1.1\r\n\r\n")), 400);
   EXPECT_EQ(
-      Status(Exchange("GET /v1/wear HTTP/1.1\r\nHost: a\r\nHost: a\r\n\r\n")),
+      StatusCode(Exchange("GET /v1/wear HTTP/1.1\r\nHost: a\r\nHost: a\r\n\r\n")),
       400);
-  EXPECT_EQ(Status(Exchange("GET /v1/wear HTTP/1.0\r\n\r\n")), 200);
+  EXPECT_EQ(StatusCode(Exchange("GET /v1/wear HTTP/1.0\r\n\r\n")), 200);
 }
 
 TEST_F(HttpConnTest, AbsoluteFormIsRoutedOnItsPath) {
   Start();
   const std::string port = std::to_string(server_->port());
-  EXPECT_EQ(Status(Exchange("GET http://127.0.0.1:" + port +
+  EXPECT_EQ(StatusCode(Exchange("GET http://127.0.0.1:" + port +
                             "/v1/wear HTTP/1.1\r\nHost: 127.0.0.1:" + port +
                             "\r\n\r\n")),
             200);
-  EXPECT_EQ(Status(Exchange("GET HTTP://x/healthz?a=1 HTTP/1.1\r\n"
+  EXPECT_EQ(StatusCode(Exchange("GET HTTP://x/healthz?a=1 HTTP/1.1\r\n"
                             "Host: x\r\n\r\n")),
             200);
 }
@@ -157,12 +157,12 @@ TEST_F(HttpConnTest, AbsoluteFormIsRoutedOnItsPath) {
 TEST_F(HttpConnTest, EncodedSlashIsNotDecodedBeforeRouting) {
   Start();
   EXPECT_EQ(
-      Status(Exchange("GET /v1%2Fcalibrations HTTP/1.1\r\nHost: x\r\n\r\n")),
+      StatusCode(Exchange("GET /v1%2Fcalibrations HTTP/1.1\r\nHost: x\r\n\r\n")),
       404);
-  EXPECT_EQ(Status(Exchange("GET /v1%2fwear HTTP/1.1\r\nHost: x\r\n\r\n")),
+  EXPECT_EQ(StatusCode(Exchange("GET /v1%2fwear HTTP/1.1\r\nHost: x\r\n\r\n")),
             404);
   // The campaign-end route (POST only) matched with an id holding '/'.
-  EXPECT_EQ(Status(Exchange(
+  EXPECT_EQ(StatusCode(Exchange(
                 "GET /v1/campaigns/a%2Fb/end HTTP/1.1\r\nHost: x\r\n\r\n")),
             405);
 }
@@ -174,10 +174,10 @@ TEST_F(HttpConnTest, ConnectionsOverThePerClientLimitAre503) {
   Client a(server_->port()), b(server_->port());
   ASSERT_TRUE(a.ok() && b.ok());
   ASSERT_TRUE(a.Send("GET /v1/wear HTTP/1.1\r\nHost: x\r\n\r\n"));
-  ASSERT_EQ(Status(a.Read()), 200);  // both are counted by now
+  ASSERT_EQ(StatusCode(a.Read()), 200);  // both are counted by now
   Client c(server_->port());
   const std::string refused = c.Read();
-  EXPECT_EQ(Status(refused), 503) << refused;
+  EXPECT_EQ(StatusCode(refused), 503) << refused;
   EXPECT_NE(refused.find("\r\nRetry-After: 1\r\n"), std::string::npos);
   EXPECT_NE(refused.find("\r\nConnection: close\r\n"), std::string::npos);
   const auto body = nlohmann::json::parse(refused.substr(refused.find("{")));
@@ -186,7 +186,7 @@ TEST_F(HttpConnTest, ConnectionsOverThePerClientLimitAre503) {
   // Another address is not limited.
   Client other(server_->port(), "127.0.0.2");
   ASSERT_TRUE(other.Send("GET /v1/wear HTTP/1.1\r\nHost: x\r\n\r\n"));
-  EXPECT_EQ(Status(other.Read()), 200);
+  EXPECT_EQ(StatusCode(other.Read()), 200);
   EXPECT_NE(
       router_->metrics()
           ->Render(StoreFigures{})
@@ -204,13 +204,13 @@ TEST_F(HttpConnTest, AtTheCapNewConnectionsWaitInTheBacklog) {
   auto a = std::make_unique<Client>(server_->port());
   Client b(server_->port(), "127.0.0.2");
   ASSERT_TRUE(a->Send("GET /v1/wear HTTP/1.1\r\nHost: x\r\n\r\n"));
-  ASSERT_EQ(Status(a->Read()), 200);
+  ASSERT_EQ(StatusCode(a->Read()), 200);
   Client waiting(server_->port(), "127.0.0.3");
   ASSERT_TRUE(waiting.ok());
   ASSERT_TRUE(waiting.Send("GET /v1/wear HTTP/1.1\r\nHost: x\r\n\r\n"));
   EXPECT_EQ(waiting.Read(500), "");  // not accepted yet
   a.reset();
-  EXPECT_EQ(Status(waiting.Read()), 200);
+  EXPECT_EQ(StatusCode(waiting.Read()), 200);
 }
 
 // The head has head_timeout_s from its first byte, however it trickles.
@@ -248,7 +248,7 @@ TEST_F(HttpConnTest, RefusedHeadDrawsNoContinue) {
     Client c(server_->port());
     ASSERT_TRUE(c.Send(line + upload));
     const std::string answer = c.Read();
-    EXPECT_EQ(Status(answer),
+    EXPECT_EQ(StatusCode(answer),
               line.find("nope") != std::string::npos ? 404 : 405)
         << answer;
     EXPECT_EQ(answer.find("100 Continue"), std::string::npos);
@@ -268,7 +268,7 @@ TEST_F(HttpConnTest, HeadRefusalIsCountedUnderTheRequestsMethod) {
   Client c(server_->port());
   ASSERT_TRUE(
       c.Send("PUT /v1/coils HTTP/1.1\r\nHost: x\r\nContent-Length: 2\r\n\r\n"));
-  EXPECT_EQ(Status(c.Read()), 405);
+  EXPECT_EQ(StatusCode(c.Read()), 405);
   const std::string metrics = router_->metrics()->Render(StoreFigures{});
   EXPECT_NE(metrics.find("rollwear_http_requests_total{route=\"/v1/coils\","
                          "method=\"PUT\",code=\"405\"} 1\n"),

@@ -16,11 +16,11 @@
 #include <gtest/gtest.h>
 
 #include "tests/core/simulator_test_util.h"
+#include "tests/core/test_size.h"
 
 namespace rollwear {
 namespace {
 
-constexpr int kPaperCampaigns = 395;
 
 using simulator_test::Diagnosed;
 using simulator_test::DiagnoseSimulated;

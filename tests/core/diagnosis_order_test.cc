@@ -16,15 +16,15 @@
 #include "core/diagnosis/diagnosis.h"
 #include "core/sim/simulator.h"
 #include "tests/core/simulator_test_util.h"
+#include "tests/core/test_size.h"
 
 namespace rollwear {
 namespace {
 
 // The paper's size, also under the sanitizers: these seeds were checked at
 // this size (the effect is weak: at 300 campaigns seed 102 is quiet).
-constexpr int kPaperCampaigns = 395;
 
-DiagnosisReport Diagnosed(uint64_t seed) {
+DiagnosisReport DiagnoseSeed(uint64_t seed) {
   const Simulation sim =
       simulator_test::Simulated(seed, kPaperCampaigns, {"inexpressible_order"});
   StatusOr<DiagnosisReport> r = Diagnose(sim.data, DiagnosisOptions{});
@@ -45,7 +45,7 @@ const Unexplained* OrderEntry(const DiagnosisReport& r) {
 // whose coils rolled only later in the campaign are over-predicted: its K
 // took up the opening coils' extra wear.
 TEST(DiagnosisOrderTest, AHardGradesOpeningCoilsAreLocatedNotCalledNoise) {
-  const DiagnosisReport r = Diagnosed(102);
+  const DiagnosisReport r = DiagnoseSeed(102);
   EXPECT_TRUE(r.findings.empty());
   EXPECT_EQ(r.verdict, "mismatch_located_unexplained");
   const Unexplained* u = OrderEntry(r);
@@ -58,7 +58,7 @@ TEST(DiagnosisOrderTest, AHardGradesOpeningCoilsAreLocatedNotCalledNoise) {
 // Seed 109: campaign-order terms everywhere fit part of it; the guard
 // looks again with the check and refuses them, so nothing is named.
 TEST(DiagnosisOrderTest, ACampaignOrderTermEverywhereIsNotNamedForIt) {
-  const DiagnosisReport r = Diagnosed(109);
+  const DiagnosisReport r = DiagnoseSeed(109);
   EXPECT_TRUE(r.findings.empty()) << r.findings.front().covariate;
   EXPECT_EQ(r.verdict, "mismatch_located_unexplained");
   ASSERT_NE(OrderEntry(r), nullptr);

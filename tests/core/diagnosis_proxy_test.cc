@@ -43,20 +43,16 @@
 #include "core/model/covariates.h"
 #include "core/sim/simulator.h"
 #include "tests/core/simulator_test_util.h"
+#include "tests/core/test_size.h"
 
 namespace rollwear {
 namespace {
 
 // The paper's size, also under the sanitizers (about 1 s per diagnosis in
 // Release): the seeds below are the scorecard's, checked at this size.
-constexpr int kPaperCampaigns = 395;
 
 using simulator_test::Diagnosed;
-
-Diagnosed DiagnoseSimulated(uint64_t seed, std::vector<std::string> effects,
-                            int campaigns = kPaperCampaigns) {
-  return simulator_test::DiagnoseSimulated(seed, std::move(effects), campaigns);
-}
+using simulator_test::DiagnoseSimulated;
 
 bool Lists(const std::vector<std::string>& v, const std::string& s) {
   return std::find(v.begin(), v.end(), s) != v.end();

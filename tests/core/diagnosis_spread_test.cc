@@ -13,11 +13,11 @@
 #include "core/diagnosis/diagnosis.h"
 #include "core/sim/simulator.h"
 #include "tests/core/simulator_test_util.h"
+#include "tests/core/test_size.h"
 
 namespace rollwear {
 namespace {
 
-constexpr int kPaperCampaigns = 395;
 
 struct Range {
   int first = 0, last = -1;

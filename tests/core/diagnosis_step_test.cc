@@ -14,11 +14,11 @@
 #include "core/diagnosis/diagnosis.h"
 #include "core/sim/simulator.h"
 #include "tests/core/simulator_test_util.h"
+#include "tests/core/test_size.h"
 
 namespace rollwear {
 namespace {
 
-constexpr int kPaperCampaigns = 395;
 constexpr double kSecondsPerDay = 86400.0;
 
 // The first campaign's start, in days since the epoch (the covariate's

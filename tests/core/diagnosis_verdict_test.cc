@@ -30,7 +30,6 @@ constexpr int kCampaigns = test_size::FullOr(395, 200);
 // evidence is too weak at 200 campaigns (session-9 ASan run: the square
 // wave and the grade cell went unlocated, the roll-type cell was named as
 // `reduction`; docs/diagnosis.md, Limits).
-constexpr int kPaperCampaigns = 395;
 
 Dataset Clean(uint64_t seed, int campaigns = kCampaigns) {
   SimulatorOptions o;

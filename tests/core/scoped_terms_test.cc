@@ -31,7 +31,6 @@ constexpr int kCampaigns = test_size::FullOr(395, 200);
 // compares a winner with the round's cells and the scorecard names the cell
 // at 200 campaigns too (docs/diagnosis.md, Limits); the size was kept
 // because this test's own data were not re-checked at 200.
-constexpr int kPaperCampaigns = 395;
 
 Simulation Clean(uint64_t seed, int campaigns) {
   return simulator_test::Simulated(seed, campaigns);

@@ -20,6 +20,7 @@
 #include "core/diagnosis/diagnosis.h"
 #include "core/model/wear_law.h"
 #include "core/sim/simulator.h"
+#include "tests/core/test_size.h"
 
 namespace rollwear::simulator_test {
 
@@ -43,7 +44,7 @@ struct Diagnosed {
 };
 inline Diagnosed DiagnoseSimulated(uint64_t seed,
                                    std::vector<std::string> effects,
-                                   int campaigns) {
+                                   int campaigns = kPaperCampaigns) {
   Diagnosed d;
   d.sim = Simulated(seed, campaigns, std::move(effects));
   StatusOr<DiagnosisReport> r = Diagnose(d.sim.data, DiagnosisOptions{});

@@ -27,4 +27,11 @@ constexpr T FullOr(T full, T sanitized) {
 
 }  // namespace rollwear::test_size
 
+namespace rollwear {
+
+// The study's mill: 395 campaigns (the paper's size).
+inline constexpr int kPaperCampaigns = 395;
+
+}  // namespace rollwear
+
 #endif  // ROLLWEAR_TESTS_CORE_TEST_SIZE_H_

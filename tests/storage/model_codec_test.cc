@@ -9,9 +9,12 @@
 #include <gtest/gtest.h>
 
 #include "storage/model_levels.h"
+#include "tests/storage/store_test_util.h"
 
 namespace rollwear::storage {
 namespace {
+
+using testing::BitEqual;
 
 WearModel MakeModel(WearLaw law, int option) {
   StatusOr<KStructure> ks = KStructure::ForOption(
@@ -36,8 +39,6 @@ WearModel MakeModel(WearLaw law, int option) {
   m.noise_rel = 0.0512345678901;
   return m;
 }
-
-bool BitEqual(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 void ExpectSame(const WearModel& a, const WearModel& b) {
   EXPECT_EQ(a.law, b.law);

@@ -11,14 +11,14 @@
 namespace rollwear::storage {
 namespace {
 
+using testing::BitEqual;
+
 using testing::ExpectWearMatchesBatch;
 using testing::MakeCoil;
 using testing::MakeMeasurement;
 using testing::MakeRollChange;
 using testing::OpenStore;
 using testing::TempDir;
-
-bool BitEqual(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 void ExpectSameSnapshot(const WearSnapshot& a, const WearSnapshot& b) {
   EXPECT_EQ(a.model_version, b.model_version);

@@ -22,7 +22,7 @@ using testing::TempDir;
 
 // More coils than the filter's initial table holds, so opening a store
 // that has them grows it several times.
-constexpr int kCoils = 150;
+constexpr int kFilterCoils = 150;
 
 CoilIn Coil(int i, const std::string& campaign = "C1") {
   return MakeCoil("K" + std::to_string(i), campaign, i + 1, i);
@@ -66,7 +66,7 @@ TEST(StoreCoilFilterTest, CoilsOfAnEndedCampaignAreKnownAfterReopening) {
     auto store = OpenStore(dir.File("mill.db"));
     ASSERT_NE(store, nullptr);
     ASSERT_TRUE(store->ApplyRollChange(MakeRollChange("C1", 1000)).ok());
-    for (int i = 0; i < kCoils; ++i) {
+    for (int i = 0; i < kFilterCoils; ++i) {
       coils.push_back(Coil(i));
       StatusOr<CoilOutcome> r = store->AddCoil(coils.back());
       ASSERT_TRUE(r.ok()) << r.status().ToString();
@@ -77,31 +77,31 @@ TEST(StoreCoilFilterTest, CoilsOfAnEndedCampaignAreKnownAfterReopening) {
   }
   auto store = OpenStore(dir.File("mill.db"));
   ASSERT_NE(store, nullptr);
-  ASSERT_EQ(store->Counters().coils, kCoils);
+  ASSERT_EQ(store->Counters().coils, kFilterCoils);
   ExpectAllStored(store.get(), coils, first);
   // An id not stored goes on to validation: C1 has ended.
-  EXPECT_EQ(store->AddCoil(Coil(kCoils)).status().code(),
+  EXPECT_EQ(store->AddCoil(Coil(kFilterCoils)).status().code(),
             StatusCode::kFailedPrecondition);
   // A new coil of the open campaign, then its repeat (known from the
   // commit, not from the open).
-  const CoilIn fresh = Coil(kCoils, "C2");
+  const CoilIn fresh = Coil(kFilterCoils, "C2");
   StatusOr<CoilOutcome> created = store->AddCoil(fresh);
   ASSERT_TRUE(created.ok()) << created.status().ToString();
   EXPECT_EQ(created->outcome, WriteOutcome::kCreated);
   ExpectAllStored(store.get(), {fresh}, {*created});
-  EXPECT_EQ(store->Counters().coils, kCoils + 1);
+  EXPECT_EQ(store->Counters().coils, kFilterCoils + 1);
 }
 
 TEST(StoreCoilFilterTest, ImportedCoilsAreKnownBeforeAndAfterReopening) {
   TempDir dir;
-  // The dataset: kCoils coils of an ended campaign, from a first store.
+  // The dataset: kFilterCoils coils of an ended campaign, from a first store.
   std::vector<CoilIn> coils;
   Dataset data;
   {
     auto source = OpenStore(dir.File("source.db"));
     ASSERT_NE(source, nullptr);
     ASSERT_TRUE(source->ApplyRollChange(MakeRollChange("C1", 1000)).ok());
-    for (int i = 0; i < kCoils; ++i) {
+    for (int i = 0; i < kFilterCoils; ++i) {
       coils.push_back(Coil(i));
       ASSERT_TRUE(source->AddCoil(coils.back()).ok());
     }
@@ -114,7 +114,7 @@ TEST(StoreCoilFilterTest, ImportedCoilsAreKnownBeforeAndAfterReopening) {
   ASSERT_NE(store, nullptr);
   Status s = store->ImportDataset(data);
   ASSERT_TRUE(s.ok()) << s.ToString();
-  ASSERT_EQ(store->Counters().coils, kCoils);
+  ASSERT_EQ(store->Counters().coils, kFilterCoils);
   ExpectAllStored(store.get(), coils, {});
   // The import itself again: every coil found stored and equal.
   s = store->ImportDataset(data);
@@ -134,7 +134,7 @@ TEST(StoreCoilFilterTest, ImportedCoilsAreKnownBeforeAndAfterReopening) {
   EXPECT_NE(s.message().find(data.coil_ids[data.passes.back().coil]),
             std::string::npos)
       << s.ToString();
-  EXPECT_EQ(store->Counters().coils, kCoils);
+  EXPECT_EQ(store->Counters().coils, kFilterCoils);
 }
 
 }  // namespace

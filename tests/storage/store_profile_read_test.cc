@@ -23,7 +23,7 @@ using testing::MakeRollChange;
 using testing::OpenStore;
 using testing::TempDir;
 
-constexpr UnixSeconds kStart = 1'769'000'000;
+constexpr UnixSeconds kReadStart = 1'769'000'000;
 constexpr UnixSeconds kMeasured = 1'780'000'000;
 
 ProfileIn Profile(const std::string& campaign, int stand, Position p,
@@ -47,7 +47,7 @@ TEST(StoreProfileReadTest,
   std::vector<ProfileWear> live;  // C1's F6/top, then C2's F7/bottom
   for (int c = 1; c <= 2; ++c) {
     const std::string id = "C" + std::to_string(c);
-    const UnixSeconds start = kStart + c * 86'400;
+    const UnixSeconds start = kReadStart + c * 86'400;
     ASSERT_TRUE(store->ApplyRollChange(MakeRollChange(id, start, id)).ok());
     for (int i = 1; i <= 6; ++i) {
       ASSERT_TRUE(store
@@ -63,7 +63,7 @@ TEST(StoreProfileReadTest,
     ASSERT_TRUE(store->EndCampaign(id, start + 43'200).ok());
   }
   ASSERT_TRUE(
-      store->ApplyRollChange(MakeRollChange("C3", kStart + 4 * 86'400, "C3"))
+      store->ApplyRollChange(MakeRollChange("C3", kReadStart + 4 * 86'400, "C3"))
           .ok());
   ASSERT_TRUE(
       store->AddProfile(Profile("C1", 6, Position::kTop, "R6TC1")).ok());

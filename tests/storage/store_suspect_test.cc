@@ -25,8 +25,8 @@ using testing::TempDir;
 using internal::ReadStoredDataset;
 using internal::RecentCampaignsStart;
 
-constexpr UnixSeconds kStart = 1'769'000'000;
-constexpr UnixSeconds kEnd = 1'775'000'000;
+constexpr UnixSeconds kSuspectStart = 1'769'000'000;
+constexpr UnixSeconds kSuspectEnd = 1'775'000'000;
 
 std::unique_ptr<Db> MustOpen(const std::string& path) {
   StatusOr<std::unique_ptr<Db>> db = Db::Open(path);
@@ -45,12 +45,12 @@ std::string QueryText(Db* db, const std::string& sql) {
 
 // One ended campaign C1 with 30 coils on F6/F7, nothing measured.
 void StoreEndedCampaign(MillStore* store) {
-  ASSERT_TRUE(store->ApplyRollChange(MakeRollChange("C1", kStart)).ok());
+  ASSERT_TRUE(store->ApplyRollChange(MakeRollChange("C1", kSuspectStart)).ok());
   for (int i = 1; i <= 30; ++i) {
     ASSERT_TRUE(
         store->AddCoil(MakeCoil("K" + std::to_string(i), "C1", i, i)).ok());
   }
-  ASSERT_TRUE(store->EndCampaign("C1", kEnd).ok());
+  ASSERT_TRUE(store->EndCampaign("C1", kSuspectEnd).ok());
 }
 
 TEST(StoreSuspectTest, NegativeReadingIsStoredFlaggedAndAnsweredOnRepeat) {

@@ -7,6 +7,7 @@
 #define ROLLWEAR_TESTS_STORAGE_STORE_TEST_UTIL_H_
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <memory>
 #include <random>
@@ -20,6 +21,9 @@
 #include "storage/mill_store.h"
 
 namespace rollwear::storage::testing {
+
+// True when a and b have the same bits (a round trip that keeps every digit).
+inline bool BitEqual(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 // A fresh directory under the system temp dir, removed afterwards.
 class TempDir {
