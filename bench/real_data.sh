@@ -86,8 +86,9 @@ for split in split_authors split_time_forward; do
   echo "${split}: study (Tables 1-3) $(took "$t") s"
   t=$(now_s)
   "${R}" ann --data "${ds}" --split "${ds}/${split}.csv" --json "${work}/${split}.ann.json" \
-    > "${work}/${split}.ann.log" 2>&1 || true
+    --predictions "${work}/${split}.ann.csv" > "${work}/${split}.ann.log" 2>&1 || true
   echo "${split}: ann $(took "$t") s: $(grep -m1 'ANN, ' "${work}/${split}.ann.log" | cut -d'|' -f2,4,5)"
+  rows+=("${split}|rollwear_ann|$(took "$t")|${work}/${split}.ann.csv|network (no identification verdict)")
 done
 
 # The table: each predictions file's validation gap, and the authors'

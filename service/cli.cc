@@ -204,6 +204,9 @@ Command AddAnn(CLI::App* app) {
   AddCount(c, "--split-seed", args->options.split_seed,
            "seed of the campaign split");
   AddPath(c, "--split", args->split, "FILE", "use the split of FILE (CSV campaign_id,stand,position,set; set = train or validation) instead of the seeded one; readings not listed are not used");
+  AddPath(c, "--predictions", args->predictions, "FILE",
+          "write the network's prediction of every measured reading used "
+          "as CSV (as calibrate --predictions; lo_um, hi_um empty)");
   AddCount(c, "--seed", t.seed, "first training seed");
   AddChoice(c, "--select", args->select, {"mean", "best"},
             "ensemble: mean of the members, or the best on the holdout");

@@ -1,26 +1,34 @@
 // `rollwear ann --data DIR [--json FILE] [--seeds N] [--split-seed N]
 //  [--seed N] [--select mean|best] [--max-epochs N] [--threads N]
 //  [--weight-decay X] [--no-early-stopping] [--linear-skip]
-//  [--model-out FILE] [--with-diagnosis] [--figures DIR]`
+//  [--model-out FILE] [--with-diagnosis] [--figures DIR] [--split FILE]
+//  [--predictions FILE]`
 // Trains the recurrent K-estimator and compares it with classical
 // calibration (Wang, option 1) on the same split as `calibrate`: the study's
 // Table 4 analogue (core/ann/ann_study.h). --model-out writes the trained model
 // in its text form (core/model/ann_model.h). --with-diagnosis adds the diagnosis
 // engine's adopted model on the same split as a third row. --figures DIR
 // writes measured vs calculated wear per stand, classical against the ANN
-// (core/report/study_figures.h).
+// (core/report/study_figures.h). --predictions FILE writes the network's
+// prediction of every measured reading of the split, in the format of
+// `calibrate --predictions` (service/predictions_csv.h), without an
+// interval: the network has no noise model.
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <unordered_map>
 
 #include <nlohmann/json.hpp>
 
 #include "api/json_number.h"
+#include "core/ann/ann_bptt.h"
+#include "core/ann/ann_data.h"
 #include "core/ann/ann_study.h"
 #include "core/dataset/dataset_io.h"
 #include "core/report/study_figures.h"
 #include "service/commands.h"
 #include "service/data_quality_cli.h"
+#include "service/predictions_csv.h"
 
 namespace rollwear::cli {
 namespace {
@@ -103,6 +111,36 @@ nlohmann::json AnnJson(const AnnComparison& c,
   return j;
 }
 
+// --predictions FILE: the ensemble's prediction of each measured reading of
+// the comparison's split (the same split and inputs as AnnFigure), train
+// then validation, lo_um/hi_um empty.
+Status WriteAnnPredictions(const std::string& file, const Dataset& data,
+                           const AnnComparisonOptions& options,
+                           const AnnComparison& c,
+                           const std::vector<std::string>& original_id) {
+  const DatasetIndex index(data);
+  ROLLWEAR_ASSIGN_OR_RETURN(WearStatistics stats,
+                            Aggregate(data, index, WearLaw::kWang));
+  const CampaignSplit split =
+      SplitOrGiven(stats, options.split_seed, options.given_split);
+  const AnnInputs inputs = BuildAnnInputs(c.model, data, index, stats);
+  std::vector<int> observations = stats.MeasuredObservations(split.train);
+  for (int o : stats.MeasuredObservations(split.validation)) {
+    observations.push_back(o);
+  }
+  const std::vector<double> predicted = PredictAnn(c.model, inputs, observations);
+  std::unordered_map<int, double> of;
+  for (size_t i = 0; i < observations.size(); ++i) {
+    of[observations[i]] = predicted[i];
+  }
+  return WritePredictionsCsv(
+      file, PredictionRows(data, stats, split, original_id,
+                           [&of](int o, double* p, double* sd) {
+                             *p = of.at(o);
+                             *sd = NAN;
+                           }));
+}
+
 }  // namespace
 
 int RunAnn(const AnnArgs& args) {
@@ -121,8 +159,9 @@ int RunAnn(const AnnArgs& args) {
   if (int code = ReadCheckedDataset("ann", args.data, args.strict, &checked)) {
     return code;
   }
+  SplitDataset applied;
   if (int code = ApplySplitFile("ann", args.split, &checked,
-                                &options.given_split)) {
+                                &options.given_split, &applied)) {
     return code;
   }
   const Dataset* data = &checked.fit;
@@ -138,6 +177,11 @@ int RunAnn(const AnnArgs& args) {
     std::printf("wrote %s/%s\n", args.figures.c_str(), figure->file_name.c_str());
   }
 
+  if (!args.predictions.empty()) {
+    const Status written = WriteAnnPredictions(args.predictions, *data, options,
+                                               *c, applied.original_id);
+    if (!written.ok()) return Fail(written.message(), 1);
+  }
   if (!args.model_out.empty()) {
     std::ofstream out(args.model_out);
     out << SerializeAnnModel(c->model);

@@ -70,7 +70,8 @@ struct AnnArgs {
   std::string json;
   std::string figures;
   std::string model_out;
-  std::string split;  // --split FILE
+  std::string split;        // --split FILE
+  std::string predictions;  // --predictions FILE
   std::string select = "mean";
   bool no_early_stopping = false;
   AnnComparisonOptions options;  // split seed, training, compare_adopted

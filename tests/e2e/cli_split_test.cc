@@ -1,7 +1,7 @@
 // The common footing through the binary: `calibrate --split FILE
-// --predictions FILE` (plain, --per-roll and --terms) on a split that puts
-// the rolls of one campaign in both sets, and a bad split file refused
-// with its line.
+// --predictions FILE` (plain, --per-roll and --terms) and `ann --split FILE
+// --predictions FILE` on a split that puts the rolls of one campaign in
+// both sets, and a bad split file refused with its line.
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -20,6 +20,7 @@ namespace {
 
 struct PredictionCsv {
   int rows = 0, train = 0, validation = 0;
+  int without_interval = 0;  // rows with lo_um and hi_um empty
   double gap_val_um = 0;
   bool intervals_hold_predictions = true;
   std::map<std::string, std::string> set_of;  // "campaign/F6/top" -> set
@@ -38,14 +39,19 @@ PredictionCsv ReadPredictions(const std::string& path) {
     std::vector<std::string> f;
     std::stringstream ss(line);
     for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
+    if (!line.empty() && line.back() == ',') f.emplace_back();  // getline drops it
     EXPECT_EQ(f.size(), 9u) << line;
     if (f.size() != 9) continue;
     ++p.rows;
     p.set_of[f[0] + "/" + f[1] + "/" + f[2]] = f[4];
     const double measured = std::stod(f[5]), predicted = std::stod(f[6]);
-    p.intervals_hold_predictions = p.intervals_hold_predictions &&
-                                   std::stod(f[7]) < predicted &&
-                                   predicted < std::stod(f[8]);
+    if (f[7].empty() && f[8].empty()) {
+      ++p.without_interval;
+    } else {
+      p.intervals_hold_predictions = p.intervals_hold_predictions &&
+                                     std::stod(f[7]) < predicted &&
+                                     predicted < std::stod(f[8]);
+    }
     if (f[4] == "validation") {
       ++p.validation;
       sum += std::abs(measured - predicted);
@@ -100,6 +106,7 @@ TEST(CliSplitTest, AGivenSplitIsUsedReadingByReadingAndEachReadingIsWritten) {
     const PredictionCsv p = ReadPredictions(dir / "p.csv");
     EXPECT_EQ(p.set_of, expected) << "every listed reading once, in its set";
     EXPECT_TRUE(p.intervals_hold_predictions);
+    EXPECT_EQ(p.without_interval, 0);
     const nlohmann::json j = nlohmann::json::parse(ReadFile(dir / "c.json"));
     EXPECT_EQ(j["n_val"].get<int>(), p.validation);
     EXPECT_NEAR(j["gap_val_um"].get<double>(), p.gap_val_um, 0.02) << out;
@@ -114,6 +121,24 @@ TEST(CliSplitTest, AGivenSplitIsUsedReadingByReadingAndEachReadingIsWritten) {
             0)
       << out;
   EXPECT_EQ(ReadPredictions(dir / "t.csv").set_of, expected);
+
+  // The network on the same split (one member, a few epochs: the rows, not
+  // the network's quality, are checked): every reading once, in its set,
+  // without an interval, and the validation gap of its JSON recomputed
+  // from the rows.
+  ASSERT_EQ(RunRollwear({"ann", "--data", dir / "data", "--split",
+                         dir / "split.csv", "--predictions", dir / "a.csv",
+                         "--json", dir / "a.json", "--seeds", "1",
+                         "--max-epochs", "3", "--threads", "1"},
+                        &out),
+            0)
+      << out;
+  const PredictionCsv a = ReadPredictions(dir / "a.csv");
+  EXPECT_EQ(a.set_of, expected);
+  EXPECT_EQ(a.without_interval, a.rows);
+  const nlohmann::json aj = nlohmann::json::parse(ReadFile(dir / "a.json"));
+  EXPECT_EQ(aj["n_val"].get<int>(), a.validation);
+  EXPECT_NEAR(aj["ann"]["gap_val_um"].get<double>(), a.gap_val_um, 0.02) << out;
 
   // A bad set is refused with the file and line.
   {
