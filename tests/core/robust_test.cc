@@ -210,10 +210,10 @@ TEST(RobustTest, CalibrationGapWithGrossErrorsWithin5Percent) {
   }
 }
 
-// FullOr(20, 4) seeds with and without 3 % gross errors, paper size: at
-// least 19 of 20 (all of 4) quiet in each.
+// FullOr(20, 2) seeds with and without 3 % gross errors, paper size: at
+// least 19 of 20 (all of 2) quiet in each.
 TEST(RobustTest, DiagnosisQuietWithAndWithoutGrossErrors) {
-  const int num_seeds = test_size::FullOr(20, 4);
+  const int num_seeds = test_size::FullOr(20, 2);
   const int need = num_seeds - num_seeds / 20;
   int quiet_clean = 0, quiet_gross = 0;
   std::string spurious;
