@@ -21,8 +21,6 @@
 #include <nlohmann/json.hpp>
 
 #include "api/json_number.h"
-#include "core/ann/ann_bptt.h"
-#include "core/ann/ann_data.h"
 #include "core/ann/ann_study.h"
 #include "core/dataset/dataset_io.h"
 #include "core/report/study_figures.h"
@@ -112,31 +110,22 @@ nlohmann::json AnnJson(const AnnComparison& c,
 }
 
 // --predictions FILE: the ensemble's prediction of each measured reading of
-// the comparison's split (the same split and inputs as AnnFigure), train
+// the comparison's split (core/ann/ann_study.h PredictAnnOnSplit), train
 // then validation, lo_um/hi_um empty.
 Status WriteAnnPredictions(const std::string& file, const Dataset& data,
                            const AnnComparisonOptions& options,
                            const AnnComparison& c,
                            const std::vector<std::string>& original_id) {
-  const DatasetIndex index(data);
-  ROLLWEAR_ASSIGN_OR_RETURN(WearStatistics stats,
-                            Aggregate(data, index, WearLaw::kWang));
-  const CampaignSplit split =
-      SplitOrGiven(stats, options.split_seed, options.given_split);
-  const AnnInputs inputs = BuildAnnInputs(c.model, data, index, stats);
-  std::vector<int> observations = stats.MeasuredObservations(split.train);
-  for (int o : stats.MeasuredObservations(split.validation)) {
-    observations.push_back(o);
-  }
-  const std::vector<double> predicted = PredictAnn(c.model, inputs, observations);
+  ROLLWEAR_ASSIGN_OR_RETURN(AnnSplitPredictions p,
+                            PredictAnnOnSplit(data, options, c));
   std::unordered_map<int, double> of;
-  for (size_t i = 0; i < observations.size(); ++i) {
-    of[observations[i]] = predicted[i];
+  for (size_t i = 0; i < p.observations.size(); ++i) {
+    of[p.observations[i]] = p.predicted_um[i];
   }
   return WritePredictionsCsv(
-      file, PredictionRows(data, stats, split, original_id,
-                           [&of](int o, double* p, double* sd) {
-                             *p = of.at(o);
+      file, PredictionRows(data, p.stats, p.split, original_id,
+                           [&of](int o, double* predicted, double* sd) {
+                             *predicted = of.at(o);
                              *sd = NAN;
                            }));
 }

@@ -130,6 +130,24 @@ StatusOr<AnnComparison> CompareAnnWithClassical(
   return c;
 }
 
+StatusOr<AnnSplitPredictions> PredictAnnOnSplit(
+    const Dataset& data, const AnnComparisonOptions& options,
+    const AnnComparison& comparison) {
+  const DatasetIndex index(data);
+  AnnSplitPredictions p;
+  ROLLWEAR_ASSIGN_OR_RETURN(p.stats, Aggregate(data, index, WearLaw::kWang));
+  p.split = SplitOrGiven(p.stats, options.split_seed, options.given_split);
+  p.observations = p.stats.MeasuredObservations(p.split.train);
+  p.num_train = static_cast<int>(p.observations.size());
+  for (int o : p.stats.MeasuredObservations(p.split.validation)) {
+    p.observations.push_back(o);
+  }
+  // Observation indices double as sequence indices (BuildAnnInputs).
+  const AnnInputs inputs = BuildAnnInputs(comparison.model, data, index, p.stats);
+  p.predicted_um = PredictAnn(comparison.model, inputs, p.observations);
+  return p;
+}
+
 StatusOr<WearModel> TrainServableAnn(const Dataset& data,
                                      const std::vector<int>& train_campaigns,
                                      const AnnTrainingOptions& options) {

@@ -80,6 +80,22 @@ struct AnnComparison : StudyDataset {
 StatusOr<AnnComparison> CompareAnnWithClassical(
     const Dataset& data, const AnnComparisonOptions& options);
 
+// The comparison's split seen reading by reading: the Wang statistics the
+// split is drawn on and the split (both as CompareAnnWithClassical drew
+// them), and the trained ensemble's prediction of each measured reading of
+// the training then the validation campaigns. For the figures and
+// `ann --predictions`, which must score exactly the comparison's readings.
+struct AnnSplitPredictions {
+  WearStatistics stats;
+  CampaignSplit split;
+  std::vector<int> observations;     // measured: training, then validation
+  std::vector<double> predicted_um;  // the ensemble mean, same order
+  int num_train = 0;                 // the first num_train are training
+};
+StatusOr<AnnSplitPredictions> PredictAnnOnSplit(
+    const Dataset& data, const AnnComparisonOptions& options,
+    const AnnComparison& comparison);
+
 // Mean and sample standard deviation of the members' validation (or
 // training) gaps.
 void MemberGapSpread(const AnnComparison& c, bool validation, double* mean,

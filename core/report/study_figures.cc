@@ -8,8 +8,6 @@
 #include <map>
 #include <utility>
 
-#include "core/ann/ann_data.h"
-#include "core/ann/ann_bptt.h"
 #include "core/fit/calibration.h"
 #include "core/fit/profile_fit.h"
 #include "core/model/metrics.h"
@@ -253,15 +251,13 @@ StatusOr<SvgFigure> AnnFigure(const Dataset& data,
                               const AnnComparison& comparison) {
   // The comparison's split and models again: the classical fit is
   // deterministic and the network is evaluated as trained.
-  const DatasetIndex index(data);
-  ROLLWEAR_ASSIGN_OR_RETURN(WearStatistics stats,
-                            Aggregate(data, index, WearLaw::kWang));
-  const CampaignSplit split =
-      SplitOrGiven(stats, options.split_seed, options.given_split);
-  const std::vector<int> val = stats.MeasuredObservations(split.validation);
+  ROLLWEAR_ASSIGN_OR_RETURN(AnnSplitPredictions p,
+                            PredictAnnOnSplit(data, options, comparison));
+  const WearStatistics& stats = p.stats;
+  const std::vector<int> val(p.observations.begin() + p.num_train,
+                             p.observations.end());
   ROLLWEAR_ASSIGN_OR_RETURN(SplitCalibration classical,
-                            CalibrateOnSplit(stats, split, options.classical));
-  const AnnInputs inputs = BuildAnnInputs(comparison.model, data, index, stats);
+                            CalibrateOnSplit(stats, p.split, options.classical));
   std::vector<double> measured;
   for (int o : val) measured.push_back(stats.observations[o].measured_um);
   ParitySeries cl, ann;
@@ -269,7 +265,8 @@ StatusOr<SvgFigure> AnnFigure(const Dataset& data,
   cl.name = GapLabel("classical (Wang, option " +
                          std::to_string(options.classical.option) + ")",
                      measured, cl.calculated_um);
-  ann.calculated_um = PredictAnn(comparison.model, inputs, val);
+  ann.calculated_um.assign(p.predicted_um.begin() + p.num_train,
+                           p.predicted_um.end());
   ann.name = GapLabel("ANN", measured, ann.calculated_um);
   char title[160];
   std::snprintf(title, sizeof(title),
