@@ -137,7 +137,7 @@ class RequestParser {
   std::string error_message_;
 };
 
-// PercentDecode (api/router.h) for a request path, except that "%2F" and
+// PercentDecode (api/routes.h) for a request path, except that "%2F" and
 // "%25" (any case) stay encoded, spelled "%2F" and "%25".
 bool DecodePath(std::string_view in, std::string* out);
 

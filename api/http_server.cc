@@ -37,9 +37,10 @@ namespace rollwear::api {
 namespace {
 
 // Router::Handle, with an exception turned into a 500 answer.
-HttpResponse SafeHandle(Router* router, const HttpRequest& request) {
+HttpResponse SafeHandle(Router* router, const HttpRequest& request,
+                        const Router::Routed& routed) {
   try {
-    return router->Handle(request);
+    return router->Handle(request, routed);
   } catch (const std::exception& e) {
     return InternalError(e.what());
   } catch (...) {
@@ -183,21 +184,24 @@ void HttpServer::Impl::Dispatch(Conn* c, HttpRequest request) {
   c->path = request.path;
   c->request_bytes = request.body.size();
   c->started = Clock::now();
-  Execution execution = Execution::kBlocking;
+  // Matched once: the route found here is the one Handle answers from.
+  Router::Routed routed;
   try {
-    execution = router->Plan(request);
+    routed = router->RouteRequest(request);
   } catch (...) {
+    Complete(c, InternalError("routing failed"));
+    return;
   }
   const uint64_t id = c->id;
-  switch (execution) {
+  switch (routed.execution) {
     case Execution::kInline:
-      Complete(c, SafeHandle(router, request));
+      Complete(c, SafeHandle(router, request, routed));
       return;
     case Execution::kAsync:
       ++in_flight;
       try {
         router->HandleAsync(
-            request,
+            request, routed,
             [this, id](HttpResponse response) {
               Post(Completion{id, std::move(response)});
             },
@@ -212,8 +216,9 @@ void HttpServer::Impl::Dispatch(Conn* c, HttpRequest request) {
       return;
     case Execution::kBlocking:
       ++in_flight;
-      pool->Post([this, id, request = std::move(request)] {
-        Post(Completion{id, SafeHandle(router, request)});
+      pool->Post([this, id, request = std::move(request),
+                  routed = std::move(routed)] {
+        Post(Completion{id, SafeHandle(router, request, routed)});
       });
       return;
   }

@@ -12,44 +12,6 @@
 namespace rollwear::api {
 namespace {
 
-struct RouteInfo {
-  const char* path;
-  const char* method;
-};
-
-constexpr RouteInfo kRoutes[kNumRoutes] = {
-    {"/v1/roll-changes", "POST"},
-    {"/v1/campaigns/{campaign_id}/end", "POST"},
-    {"/v1/coils", "POST"},
-    {"/v1/wear", "GET"},
-    {"/v1/wear/{stand}/{position}", "GET"},
-    {"/v1/measurements", "POST"},
-    {"/v1/calibrations", "POST"},
-    {"/v1/calibrations", "GET"},
-    {"/v1/calibrations/{id}", "GET"},
-    {"/v1/models/active", "GET"},
-    {"/v1/models", "GET"},
-    {"/healthz", "GET"},
-    {"/metrics", "GET"},
-    {"/v1/diagnoses", "POST"},
-    {"/v1/diagnoses/{id}", "GET"},
-    {"/", "GET"},
-    {"/v1/limits", "GET"},
-    {"/v1/limits/{stand}/{position}", "POST"},
-    {"/v1/forecast", "POST"},
-    {"/v1/models/{version}", "GET"},
-    {"/v1/models/{version}/activate", "POST"},
-    {"/v1/models/history", "GET"},
-    {"/v1/rolls", "GET"},
-    {"/v1/rolls/{roll_id}", "GET"},
-    {"/v1/diagnoses", "GET"},
-    {"/v1/diagnoses/{id}/report", "GET"},
-    {"/rolls/{roll_id}", "GET"},
-    {"/v1/profiles", "POST"},
-    {"/v1/wear/{stand}/{position}/profile", "GET"},
-    {"unmatched", ""},
-};
-
 // Prometheus float: shortest round-trip form, "+Inf"/"NaN" spelled out.
 std::string Float(double v) {
   if (std::isnan(v)) return "NaN";
@@ -94,7 +56,8 @@ constexpr const char* kMethods[kNumMethods] = {
     "GET", "HEAD", "POST", "PUT", "DELETE", "PATCH", "OPTIONS", "OTHER"};
 
 std::string RouteLabels(int r, int m) {
-  return std::string("route=\"") + kRoutes[r].path + "\",method=\"" +
+  return std::string("route=\"") + RoutePath(static_cast<RouteId>(r)) +
+         "\",method=\"" +
          kMethods[m] + "\"";
 }
 
@@ -110,12 +73,8 @@ std::string Escaped(std::string_view value) {
 
 }  // namespace
 
-const char* RoutePath(RouteId route) {
-  return kRoutes[static_cast<int>(route)].path;
-}
-const char* RouteMethod(RouteId route) {
-  return kRoutes[static_cast<int>(route)].method;
-}
+const char* RoutePath(RouteId route) { return RouteSpecOf(route).pattern; }
+const char* RouteMethod(RouteId route) { return RouteSpecOf(route).method; }
 
 HttpMethod ParseHttpMethod(std::string_view method) {
   for (int m = 0; m < kNumMethods - 1; ++m) {

@@ -35,45 +35,11 @@
 #include <utility>
 #include <vector>
 
+#include "api/routes.h"
 #include "storage/store_types.h"
 
 namespace rollwear::api {
 
-// Every route of the API, the label of the request metrics.
-enum class RouteId : int {
-  kRollChanges = 0,   // POST /v1/roll-changes
-  kCampaignEnd,       // POST /v1/campaigns/{campaign_id}/end
-  kCoils,             // POST /v1/coils
-  kWear,              // GET  /v1/wear
-  kWearAt,            // GET  /v1/wear/{stand}/{position}
-  kMeasurements,      // POST /v1/measurements
-  kCalibrationsPost,  // POST /v1/calibrations
-  kCalibrationsList,  // GET  /v1/calibrations
-  kCalibration,       // GET  /v1/calibrations/{id}
-  kModelsActive,      // GET  /v1/models/active
-  kModels,            // GET  /v1/models
-  kHealthz,           // GET  /healthz
-  kMetrics,           // GET  /metrics
-  kDiagnosesPost,     // POST /v1/diagnoses
-  kDiagnosis,         // GET  /v1/diagnoses/{id}
-  kDashboard,         // GET  / (HTML, api/dashboard.cc)
-  kLimits,            // GET  /v1/limits
-  kLimitSet,          // POST /v1/limits/{stand}/{position}
-  kForecast,          // POST /v1/forecast
-  kModel,             // GET  /v1/models/{version}
-  kModelActivate,     // POST /v1/models/{version}/activate
-  kModelHistory,      // GET  /v1/models/history
-  kRolls,             // GET  /v1/rolls
-  kRoll,              // GET  /v1/rolls/{roll_id}
-  kDiagnosesList,     // GET  /v1/diagnoses
-  kDiagnosisReport,   // GET  /v1/diagnoses/{id}/report (HTML)
-  kRollPage,          // GET  /rolls/{roll_id} (HTML, api/dashboard_roll.cc)
-  kProfiles,          // POST /v1/profiles
-  kWearProfile,       // GET  /v1/wear/{stand}/{position}/profile
-  kUnmatched,         // anything else (404/405)
-  kCount
-};
-constexpr int kNumRoutes = static_cast<int>(RouteId::kCount);
 // "/v1/wear/{stand}/{position}".
 const char* RoutePath(RouteId route);
 // "GET" or "POST" ("" for kUnmatched).

@@ -22,42 +22,6 @@ using router_internal::ParseInt64;
 
 namespace {
 
-constexpr std::string_view kCampaignsPrefix = "/v1/campaigns/";
-constexpr std::string_view kEndSuffix = "/end";
-constexpr std::string_view kWearPrefix = "/v1/wear/";
-constexpr std::string_view kLimitsPrefix = "/v1/limits/";
-constexpr std::string_view kCalibrationsPrefix = "/v1/calibrations/";
-constexpr std::string_view kDiagnosesPrefix = "/v1/diagnoses/";
-constexpr std::string_view kModelsPrefix = "/v1/models/";
-constexpr std::string_view kRollsPrefix = "/v1/rolls/";
-constexpr std::string_view kRollPagePrefix = "/rolls/";
-constexpr std::string_view kActivateSuffix = "/activate";
-constexpr std::string_view kReportSuffix = "/report";
-
-// A path parameter: the parser leaves "%2F" and "%25" encoded in the path
-// (api/http_parser.h) so that they do not split segments; decode them here.
-std::string Segment(std::string_view raw) {
-  std::string out;
-  if (!PercentDecode(raw, false, &out)) return std::string(raw);
-  return out;
-}
-
-// `p` is prefix + one non-empty segment without '/' (+ suffix): the
-// segment, decoded, or nullopt.
-std::optional<std::string> ParamBetween(std::string_view p,
-                                        std::string_view prefix,
-                                        std::string_view suffix = "") {
-  if (p.size() <= prefix.size() + suffix.size() ||
-      p.substr(0, prefix.size()) != prefix ||
-      p.substr(p.size() - suffix.size()) != suffix) {
-    return std::nullopt;
-  }
-  const std::string_view mid =
-      p.substr(prefix.size(), p.size() - prefix.size() - suffix.size());
-  if (mid.find('/') != std::string_view::npos) return std::nullopt;
-  return Segment(mid);
-}
-
 bool IsPathChar(char c) {
   return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
          (c >= '0' && c <= '9') || c == '_' || c == '.' || c == '[' || c == ']';
@@ -100,129 +64,6 @@ bool ConstantTimeEquals(std::string_view a, std::string_view b) {
     diff |= x ^ y;
   }
   return diff == 0;
-}
-
-HttpResponse MethodNotAllowed(RouteId route, const std::string& method) {
-  HttpResponse r =
-      Error(405, "method_not_allowed",
-            "method " + method + " is not allowed on " + RoutePath(route));
-  const bool both = route == RouteId::kCalibrationsPost ||
-                    route == RouteId::kCalibrationsList ||
-                    route == RouteId::kDiagnosesPost ||
-                    route == RouteId::kDiagnosesList;
-  const bool post = std::string_view(RouteMethod(route)) == "POST";
-  r.headers.emplace_back("Allow", both   ? "GET, HEAD, POST"
-                                  : post ? "POST"
-                                         : "GET, HEAD");
-  r.route = route;
-  return r;
-}
-
-
-// "{a}/{b}" after `prefix` into *arg1, *arg2 (both non-empty, no more
-// slashes); false when `path` is not of that form.
-bool MatchTwoParams(std::string_view path, std::string_view prefix,
-                    std::string* arg1, std::string* arg2) {
-  if (path.substr(0, prefix.size()) != prefix) return false;
-  const std::string_view rest = path.substr(prefix.size());
-  const size_t slash = rest.find('/');
-  if (slash == std::string_view::npos || slash == 0 ||
-      slash + 1 >= rest.size() ||
-      rest.find('/', slash + 1) != std::string_view::npos) {
-    return false;
-  }
-  *arg1 = Segment(rest.substr(0, slash));
-  *arg2 = Segment(rest.substr(slash + 1));
-  return true;
-}
-
-// The route of `path` (kUnmatched when none) and its path parameters.
-RouteId MatchRoute(const std::string& path, bool post, std::string* arg1,
-                   std::string* arg2) {
-  if (path == "/v1/roll-changes") return RouteId::kRollChanges;
-  if (path == "/v1/coils") return RouteId::kCoils;
-  if (path == "/v1/wear") return RouteId::kWear;
-  if (path == "/v1/measurements") return RouteId::kMeasurements;
-  if (path == "/v1/calibrations") {
-    return post ? RouteId::kCalibrationsPost : RouteId::kCalibrationsList;
-  }
-  if (path == "/v1/models/active") return RouteId::kModelsActive;
-  if (path == "/v1/models") return RouteId::kModels;
-  if (path == "/healthz") return RouteId::kHealthz;
-  if (path == "/metrics") return RouteId::kMetrics;
-  if (path == "/v1/diagnoses") {
-    return post ? RouteId::kDiagnosesPost : RouteId::kDiagnosesList;
-  }
-  if (path == "/v1/models/history") return RouteId::kModelHistory;
-  if (path == "/v1/rolls") return RouteId::kRolls;
-  if (path == "/") return RouteId::kDashboard;
-  if (path == "/v1/limits") return RouteId::kLimits;
-  if (path == "/v1/forecast") return RouteId::kForecast;
-  if (path == "/v1/profiles") return RouteId::kProfiles;
-  const std::string_view p(path);
-  if (std::optional<std::string> a = ParamBetween(p, kModelsPrefix)) {
-    *arg1 = std::move(*a);
-    return RouteId::kModel;
-  }
-  if (std::optional<std::string> a =
-          ParamBetween(p, kModelsPrefix, kActivateSuffix)) {
-    *arg1 = std::move(*a);
-    return RouteId::kModelActivate;
-  }
-  if (std::optional<std::string> a =
-          ParamBetween(p, kDiagnosesPrefix, kReportSuffix)) {
-    *arg1 = std::move(*a);
-    return RouteId::kDiagnosisReport;
-  }
-  // A roll id may hold any character, '/' included (sent as %2F).
-  if (p.size() > kRollsPrefix.size() &&
-      p.substr(0, kRollsPrefix.size()) == kRollsPrefix) {
-    *arg1 = Segment(p.substr(kRollsPrefix.size()));
-    return RouteId::kRoll;
-  }
-  if (p.size() > kRollPagePrefix.size() &&
-      p.substr(0, kRollPagePrefix.size()) == kRollPagePrefix) {
-    *arg1 = Segment(p.substr(kRollPagePrefix.size()));
-    return RouteId::kRollPage;
-  }
-  if (p.size() > kCampaignsPrefix.size() + kEndSuffix.size() &&
-      p.substr(0, kCampaignsPrefix.size()) == kCampaignsPrefix &&
-      p.substr(p.size() - kEndSuffix.size()) == kEndSuffix) {
-    // The id may hold any character, '/' included (sent as %2F).
-    *arg1 = Segment(
-        p.substr(kCampaignsPrefix.size(),
-                 p.size() - kCampaignsPrefix.size() - kEndSuffix.size()));
-    return RouteId::kCampaignEnd;
-  }
-  if (p.substr(0, kWearPrefix.size()) == kWearPrefix) {
-    constexpr std::string_view kProfileSuffix = "/profile";
-    if (p.size() > kWearPrefix.size() + kProfileSuffix.size() &&
-        p.substr(p.size() - kProfileSuffix.size()) == kProfileSuffix) {
-      return MatchTwoParams(p.substr(0, p.size() - kProfileSuffix.size()),
-                            kWearPrefix, arg1, arg2)
-                 ? RouteId::kWearProfile
-                 : RouteId::kUnmatched;
-    }
-    return MatchTwoParams(p, kWearPrefix, arg1, arg2) ? RouteId::kWearAt
-                                                      : RouteId::kUnmatched;
-  }
-  if (p.substr(0, kLimitsPrefix.size()) == kLimitsPrefix) {
-    return MatchTwoParams(p, kLimitsPrefix, arg1, arg2) ? RouteId::kLimitSet
-                                                        : RouteId::kUnmatched;
-  }
-  if (p.substr(0, kCalibrationsPrefix.size()) == kCalibrationsPrefix &&
-      p.size() > kCalibrationsPrefix.size() &&
-      p.find('/', kCalibrationsPrefix.size()) == std::string_view::npos) {
-    *arg1 = Segment(p.substr(kCalibrationsPrefix.size()));
-    return RouteId::kCalibration;
-  }
-  if (p.substr(0, kDiagnosesPrefix.size()) == kDiagnosesPrefix &&
-      p.size() > kDiagnosesPrefix.size() &&
-      p.find('/', kDiagnosesPrefix.size()) == std::string_view::npos) {
-    *arg1 = Segment(p.substr(kDiagnosesPrefix.size()));
-    return RouteId::kDiagnosis;
-  }
-  return RouteId::kUnmatched;
 }
 
 const char* ErrorCodeFor(StatusCode code) {
@@ -348,20 +189,6 @@ int HttpStatusFor(StatusCode code) {
 Router::Router(storage::MillStore* store, ApiOptions options)
     : store_(store), options_(std::move(options)), metrics_(options_.build) {}
 
-HttpResponse Router::Handle(const HttpRequest& request) {
-  HttpResponse response;
-  try {
-    response = Dispatch(request);
-  } catch (const std::exception& e) {
-    response =
-        Error(500, "internal", std::string("internal error: ") + e.what());
-  } catch (...) {
-    response = Error(500, "internal", "internal error");
-  }
-  response.route.method = ParseHttpMethod(request.method);
-  return response;
-}
-
 bool Router::Authorized(const HttpRequest& request) const {
   if (options_.token.empty()) return true;
   const std::string* value = FindHeader(request, "Authorization");
@@ -381,136 +208,79 @@ bool Router::Authorized(const HttpRequest& request) const {
   return ConstantTimeEquals(presented, options_.token);
 }
 
-std::optional<HttpResponse> Router::PreCheck(const HttpRequest& head,
-                                             RouteId* route, std::string* arg1,
-                                             std::string* arg2) const {
-  const bool get = head.method == "GET" || head.method == "HEAD";
-  const bool post = head.method == "POST";
-  *route = MatchRoute(head.path, post, arg1, arg2);
-  if (*route == RouteId::kUnmatched) {
-    return Error(404, "not_found", "no such endpoint: " + head.path);
+Router::Routed Router::RouteRequest(const HttpRequest& request) const {
+  Routed routed;
+  RouteMatch match = Match(request.path, request.method);
+  if (match.route == nullptr) {
+    routed.refused =
+        Error(404, "not_found", "no such endpoint: " + request.path);
+    return routed;
   }
-  const bool wants_post = std::string_view(RouteMethod(*route)) == "POST";
-  if ((wants_post && !post) || (!wants_post && !get)) {
-    return MethodNotAllowed(*route, head.method);
+  const RouteSpec& spec = match.route->spec;
+  routed.route = match.route;
+  routed.args = std::move(match.args);
+  if (!match.method_allowed) {
+    HttpResponse r = Error(405, "method_not_allowed",
+                           "method " + request.method +
+                               " is not allowed on " + spec.pattern);
+    r.headers.emplace_back("Allow", AllowedMethods(spec.pattern));
+    r.route = spec.id;
+    routed.refused = std::move(r);
+    return routed;
   }
-  if (post) return RefusePost(head, *route);
-  return std::nullopt;
+  routed.refused = RefuseBeforeHandler(request, spec);
+  routed.execution = routed.refused ? Execution::kInline : spec.execution;
+  return routed;
 }
 
 std::optional<HttpResponse> Router::PreCheck(const HttpRequest& head) const {
-  RouteId route;
-  std::string arg1, arg2;
-  std::optional<HttpResponse> refused = PreCheck(head, &route, &arg1, &arg2);
+  Routed routed = RouteRequest(head);
   // Labelled with the request's own method, as Handle() labels: a PUT
   // refused from its head alone is counted as PUT, not as the route's POST.
-  if (refused) refused->route.method = ParseHttpMethod(head.method);
-  return refused;
+  if (routed.refused) {
+    routed.refused->route.method = ParseHttpMethod(head.method);
+  }
+  return std::move(routed.refused);
 }
 
-HttpResponse Router::Dispatch(const HttpRequest& request) {
-  const std::string& path = request.path;
-  std::string arg1, arg2;
-  RouteId route;
-  if (std::optional<HttpResponse> refused =
-          PreCheck(request, &route, &arg1, &arg2)) {
-    return std::move(*refused);
-  }
+HttpResponse Router::Handle(const HttpRequest& request) {
+  return Handle(request, RouteRequest(request));
+}
+
+HttpResponse Router::Handle(const HttpRequest& request, const Routed& routed) {
   HttpResponse response;
-  switch (route) {
-    case RouteId::kRollChanges:
-      response = PostRollChange(request);
-      break;
-    case RouteId::kCampaignEnd:
-      response = PostCampaignEnd(request, arg1);
-      break;
-    case RouteId::kCoils:
-      response = PostCoil(request);
-      break;
-    case RouteId::kWear:
-      response = GetWear();
-      break;
-    case RouteId::kWearAt:
-      response = GetWearAt(arg1, arg2);
-      break;
-    case RouteId::kWearProfile:
-      response = GetWearProfile(arg1, arg2);
-      break;
-    case RouteId::kMeasurements:
-      response = PostMeasurement(request);
-      break;
-    case RouteId::kCalibrationsPost:
-      response = PostCalibration(request);
-      break;
-    case RouteId::kCalibrationsList:
-      response = ListCalibrations(request);
-      break;
-    case RouteId::kCalibration:
-      response = GetCalibration(arg1);
-      break;
-    case RouteId::kModelsActive:
-      response = GetActiveModel();
-      break;
-    case RouteId::kModels:
-      response = ListModels(request);
-      break;
-    case RouteId::kHealthz:
-      response = GetHealth();
-      break;
-    case RouteId::kMetrics:
-      response = GetMetrics();
-      break;
-    case RouteId::kDiagnosesPost:
-      response = PostDiagnosis(request);
-      break;
-    case RouteId::kDiagnosis:
-      response = GetDiagnosis(arg1);
-      break;
-    case RouteId::kDashboard:
-      response = GetDashboard();
-      break;
-    case RouteId::kLimits:
-      response = GetLimits();
-      break;
-    case RouteId::kLimitSet:
-      response = PostLimit(request, arg1, arg2);
-      break;
-    case RouteId::kForecast:
-      response = PostForecast(request);
-      break;
-    case RouteId::kModel:
-    case RouteId::kModelActivate:
-    case RouteId::kModelHistory:
-    case RouteId::kRolls:
-    case RouteId::kRoll:
-    case RouteId::kDiagnosesList:
-    case RouteId::kDiagnosisReport:
-    case RouteId::kRollPage:
-    case RouteId::kProfiles:
-      response = DispatchShop(route, request, arg1);  // router_shop.cc
-      break;
-    default:
-      response = Error(404, "not_found", "no such endpoint: " + path);
-      break;
+  try {
+    if (routed.refused) {
+      response = *routed.refused;
+    } else {
+      response = routed.route->handler(*this, request, routed.args);
+      response.route = routed.route->spec.id;
+    }
+  } catch (const std::exception& e) {
+    response =
+        Error(500, "internal", std::string("internal error: ") + e.what());
+  } catch (...) {
+    response = Error(500, "internal", "internal error");
   }
-  response.route = route;
+  response.route.method = ParseHttpMethod(request.method);
   return response;
 }
 
-std::optional<HttpResponse> Router::RefusePost(const HttpRequest& request,
-                                               RouteId route) const {
+std::optional<HttpResponse> Router::RefuseBeforeHandler(
+    const HttpRequest& request, const RouteSpec& spec) const {
   std::optional<HttpResponse> response;
-  if (!Authorized(request)) {
+  if (spec.needs_token && !Authorized(request)) {
     response = Error(401, "unauthorized",
                      "this endpoint needs the header 'Authorization: "
                      "Bearer <token>' with the configured token");
-  } else if (request.body.size() > options_.body_limit_bytes) {
+  } else if (std::string_view(spec.method) == "POST" &&
+             request.body.size() > options_.body_limit_bytes) {
     response = Error(413, "payload_too_large",
                      "the body has " + std::to_string(request.body.size()) +
                          " bytes; the limit is " +
                          std::to_string(options_.body_limit_bytes));
   }
-  if (response) response->route = route;
+  if (response) response->route = spec.id;
   return response;
 }
 
@@ -541,36 +311,16 @@ HttpResponse Router::CoilAnswer(const storage::CoilIn& in,
   return Answer(created ? 201 : 200, EncodeCoilAnswer(in, *outcome, -1));
 }
 
-Execution Router::Plan(const HttpRequest& request) const {
-  const bool post = request.method == "POST";
-  std::string arg1, arg2;
-  switch (MatchRoute(request.path, post, &arg1, &arg2)) {
-    case RouteId::kCoils:
-      return post ? Execution::kAsync : Execution::kInline;
-    case RouteId::kWear:
-    case RouteId::kWearAt:
-    case RouteId::kUnmatched:
-      return Execution::kInline;
-    default:
-      return Execution::kBlocking;
-  }
-}
-
-void Router::HandleAsync(const HttpRequest& request, Done done,
+void Router::HandleAsync(const HttpRequest& request, const Routed& routed,
+                         Done done,
                          const storage::MillStore::Executor& blocking) {
-  std::string arg1, arg2;
-  if (request.method != "POST" || MatchRoute(request.path, /*post=*/true, &arg1,
-                                             &arg2) != RouteId::kCoils) {
-    done(Handle(request));
+  if (routed.refused || routed.route == nullptr ||
+      routed.route->spec.id != RouteId::kCoils) {
+    done(Handle(request, routed));
     return;
   }
-  // Only a POST gets here, and RefusePost/DecodeCoilBody label kCoils,
-  // whose own method is POST.
-  std::optional<HttpResponse> refused = RefusePost(request, RouteId::kCoils);
-  if (refused) {
-    done(std::move(*refused));
-    return;
-  }
+  // Only an accepted POST /v1/coils gets here; DecodeCoilBody labels
+  // kCoils, whose own method is POST.
   auto in = std::make_shared<storage::CoilIn>();
   if (std::optional<HttpResponse> refused = DecodeCoilBody(request, in.get())) {
     done(std::move(*refused));

@@ -6,10 +6,12 @@
 //   {"error": {"code": "...", "message": "...", "field": "passes[1].force_kn"}}
 // HTTP status codes exist in the api layer only; HttpStatusFor() is the one
 // mapping from core's StatusCode. A rejected request never reaches a write
-// of the store, so it changes nothing. router.cc holds the matching, the
-// token check, the dispatch, the asynchronous coil path, measurements and
-// metrics; router_handlers.cc the other endpoints; router_forecast.cc the
-// wear limits and the forecast; dashboard.cc the page.
+// of the store, so it changes nothing. router_routes.cc holds the route
+// table (each endpoint declared once: api/routes.h) and the matching;
+// router.cc the checks, the dispatch, the asynchronous coil path,
+// measurements and metrics; router_handlers.cc, router_shop.cc and
+// router_profile.cc the other endpoints; router_forecast.cc the wear limits
+// and the forecast; dashboard.cc the page.
 //
 // Thread-safety: Handle() is thread-safe (the store is; the router's own
 // state is immutable options and the lock-free Metrics).
@@ -29,6 +31,7 @@
 
 #include "api/diagnosis_job.h"
 #include "api/metrics.h"
+#include "api/routes.h"
 #include "core/base/status.h"
 #include "core/model/wear_law.h"
 #include "storage/mill_store.h"
@@ -44,11 +47,6 @@ struct HttpRequest {
   std::string body;
   std::map<std::string, std::string> params;  // decoded query parameters
 };
-
-// Percent-decodes `in` (and '+' to a space when `plus_is_space`, for query
-// strings). Returns false on a malformed escape. (Defined with the request
-// parser, api/http_parser.cc; the router decodes path parameters with it.)
-bool PercentDecode(std::string_view in, bool plus_is_space, std::string* out);
 
 struct HttpResponse {
   int status = 200;
@@ -91,20 +89,9 @@ struct ApiOptions {
 // else 500.
 int HttpStatusFor(StatusCode code);
 
-// Where a server should run a request (Router::Plan).
-enum class Execution {
-  // Handle() answers from memory without waiting on the disk or a lock held
-  // across SQL (wear reads, 404/405 answers): run it on the I/O thread.
-  kInline,
-  // POST /v1/coils: HandleAsync() queues it for the group commit and
-  // answers from the store's writer thread.
-  kAsync,
-  // Anything else may wait on SQLite or a calibration: run Handle() on a
-  // worker thread.
-  kBlocking,
-};
-
 class Router {
+  struct Route;
+
  public:
   // `store` must outlive the router.
   Router(storage::MillStore* store, ApiOptions options);
@@ -112,18 +99,30 @@ class Router {
   Router(const Router&) = delete;
   Router& operator=(const Router&) = delete;
 
+  // A request routed once (RouteRequest): the route that took it (null:
+  // none took the path) and its path parameters, the refusal its head alone
+  // gets (404 no route, 405 method, 401 token, 413 body over the limit, for
+  // what is already in), and how the server should run it. Handle and
+  // HandleAsync take it, so a request is matched once.
+  struct Routed {
+    const Route* route = nullptr;
+    PathArgs args;
+    std::optional<HttpResponse> refused;
+    Execution execution = Execution::kInline;
+  };
+  // Cheap and without side effects: the server asks it as soon as a
+  // request is in (and PreCheck as soon as its head is).
+  Routed RouteRequest(const HttpRequest& request) const;
+
+  // The answer to a routed request (the refusal, or the handler's answer).
+  HttpResponse Handle(const HttpRequest& request, const Routed& routed);
+  // RouteRequest then Handle (tests, and callers without a server).
   HttpResponse Handle(const HttpRequest& request);
 
-  // The refusal Handle() would give from the request's head alone - 404
-  // (no route), 405 (method), 401 (token), 413 (body over the limit, for
-  // what is already in) - or nullopt. Cheap and without side effects: the
-  // server asks it as soon as a head is in, before "100 Continue" and
-  // before reading the body.
+  // The refusal Handle() would give from the request's head alone, or
+  // nullopt: before "100 Continue" and before reading the body.
   std::optional<HttpResponse> PreCheck(const HttpRequest& head) const;
 
-  // Cheap and without side effects: how Handle()/HandleAsync() will run
-  // this request.
-  Execution Plan(const HttpRequest& request) const;
   // The answer of Handle(), given to `done` exactly once: for a coil that
   // is queued, on the store's writer thread after its group commit; for
   // the repeat of a stored coil, through `blocking` (it reads the first
@@ -131,7 +130,7 @@ class Router {
   // HandleAsync returns (so only kAsync and kInline requests belong here).
   // `done` must be quick.
   using Done = std::function<void(HttpResponse)>;
-  void HandleAsync(const HttpRequest& request, Done done,
+  void HandleAsync(const HttpRequest& request, const Routed& routed, Done done,
                    const storage::MillStore::Executor& blocking);
 
   // Request and calibration figures exposed by GET /metrics; the HTTP server
@@ -140,7 +139,32 @@ class Router {
   const ApiOptions& options() const { return options_; }
 
  private:
-  HttpResponse Dispatch(const HttpRequest& request);
+  friend const RouteSpec& RouteSpecOf(RouteId id);
+  // One row of the route table: the spec and the handler that answers
+  // what passed the checks.
+  struct Route {
+    RouteSpec spec;
+    HttpResponse (*handler)(Router& router, const HttpRequest& request,
+                            const PathArgs& args);
+  };
+  // The route table (api/router_routes.cc).
+  static const std::vector<Route>& Routes();
+  // The first route whose pattern takes `path` (null: none) and its
+  // parameters; `method_allowed` when it, or a route declared with the
+  // same pattern, answers `method` (then that route).
+  struct RouteMatch {
+    const Route* route = nullptr;
+    bool method_allowed = false;
+    PathArgs args;
+  };
+  static RouteMatch Match(const std::string& path, const std::string& method);
+  // "GET, HEAD", "POST" or "GET, HEAD, POST": what the routes declared with
+  // `pattern` answer (a 405's Allow header).
+  static std::string AllowedMethods(const char* pattern);
+  // The refusal before a handler runs (401 token, 413 body), or nullopt.
+  std::optional<HttpResponse> RefuseBeforeHandler(const HttpRequest& request,
+                                                  const RouteSpec& spec) const;
+
   HttpResponse PostRollChange(const HttpRequest& request);
   HttpResponse PostCampaignEnd(const HttpRequest& request,
                                const std::string& campaign_id);
@@ -150,14 +174,6 @@ class Router {
                                              storage::CoilIn* in) const;
   HttpResponse CoilAnswer(const storage::CoilIn& in,
                           const StatusOr<storage::CoilOutcome>& outcome);
-  // PreCheck, also giving the route and its path parameters.
-  std::optional<HttpResponse> PreCheck(const HttpRequest& head, RouteId* route,
-                                       std::string* arg1,
-                                       std::string* arg2) const;
-  // The refusal Dispatch gives before a POST's handler runs (401, 413), or
-  // an empty optional.
-  std::optional<HttpResponse> RefusePost(const HttpRequest& request,
-                                         RouteId route) const;
   HttpResponse GetWear();
   HttpResponse GetWearAt(const std::string& stand, const std::string& position);
   HttpResponse PostMeasurement(const HttpRequest& request);
@@ -175,10 +191,7 @@ class Router {
   HttpResponse PostLimit(const HttpRequest& request, const std::string& stand,
                          const std::string& position);
   HttpResponse PostForecast(const HttpRequest& request);
-  // router_shop.cc: models under control, rolls, stored diagnoses,
-  // profiles (router_profile.cc).
-  HttpResponse DispatchShop(RouteId route, const HttpRequest& request,
-                            const std::string& arg);
+  // router_shop.cc: models under control, rolls, stored diagnoses.
   HttpResponse GetModel(const std::string& version);
   HttpResponse PostActivate(const HttpRequest& request,
                             const std::string& version);

@@ -33,35 +33,9 @@ HttpResponse UnknownDiagnosis(const std::string& text) {
 
 }  // namespace
 
-HttpResponse Router::DispatchShop(RouteId route, const HttpRequest& request,
-                                  const std::string& arg) {
-  switch (route) {
-    case RouteId::kModel:
-      return GetModel(arg);
-    case RouteId::kModelActivate:
-      return PostActivate(request, arg);
-    case RouteId::kModelHistory:
-      return GetModelHistory(request);
-    case RouteId::kRolls:
-      return GetRolls();
-    case RouteId::kRoll:
-      return GetRoll(arg);
-    case RouteId::kDiagnosesList:
-      return ListDiagnoses(request);
-    case RouteId::kDiagnosisReport:
-      return GetDiagnosisReport(arg);
-    case RouteId::kRollPage:
-      return GetRollPage(arg);
-    case RouteId::kProfiles:
-      return PostProfile(request);
-    default:
-      return Error(404, "not_found", "no such endpoint: " + request.path);
-  }
-}
-
 HttpResponse Router::GetModel(const std::string& text) {
   int64_t version = 0;
-  if (!ParseInt64(text, &version) || version <= 0) return UnknownModel(text);
+  if (!ParseInt64(text, &version) || version < 0) return UnknownModel(text);
   StatusOr<storage::ModelVersion> model = store_->GetModel(version);
   if (!model.ok()) return FromStatus(model.status());
   return Answer(200, EncodeModel(*model));

@@ -345,6 +345,28 @@ TEST_F(RouterTest, UnknownRoutesAre404AndWrongMethods405) {
                  "method_not_allowed", nullptr, before);
   ExpectRejected(Send("PUT", "/v1/coils", CoilBody("K1", "C1", 1).dump()), 405,
                  "method_not_allowed", nullptr, before);
+  // The Allow header lists what the routes declared with that pattern
+  // answer; the 405 is labelled with the first of them.
+  const auto allow = [](const HttpResponse& r) {
+    for (const auto& [name, value] : r.headers) {
+      if (name == "Allow") return value;
+    }
+    return std::string("<none>");
+  };
+  EXPECT_EQ(allow(Send("DELETE", "/v1/calibrations", "")), "GET, HEAD, POST");
+  EXPECT_EQ(allow(Get("/v1/coils")), "POST");
+  EXPECT_EQ(allow(Send("PUT", "/v1/wear/F6/top", "")), "GET, HEAD");
+  EXPECT_EQ(Send("DELETE", "/v1/diagnoses", "").route.route_id,
+            RouteId::kDiagnosesList);
+  EXPECT_EQ(Get("/v1/nothing").route.route_id, RouteId::kUnmatched);
+  // A literal route comes before the parameter that would take its path.
+  EXPECT_EQ(Get("/v1/models/active").route.route_id, RouteId::kModelsActive);
+  EXPECT_EQ(Get("/v1/models/history").route.route_id, RouteId::kModelHistory);
+  EXPECT_EQ(Get("/v1/models/7").route.route_id, RouteId::kModel);
+  EXPECT_EQ(Get("/v1/wear/F6/top/profile").route.route_id,
+            RouteId::kWearProfile);
+  EXPECT_EQ(Get("/v1/diagnoses/3/report").route.route_id,
+            RouteId::kDiagnosisReport);
 }
 
 TEST_F(RouterTest, UnknownOrUnmountedWearPositionIs404) {

@@ -10,12 +10,12 @@ Schema 2020-12, python3-jsonschema). Fails when an operation of the file
 was never answered with a 2xx, or when a path the daemon serves is not in
 the file.
 
-The daemon's own list of routes is read from the RouteId enum of
-api/metrics.h (each enumerator's comment is "METHOD /path"): every one must
-be in the file.
+The daemon's own list of routes is read from its route table,
+api/router_routes.cc (each endpoint declared once, with its method and path
+pattern): every one must be in the file.
 
 Usage: openapi_test.py --rollwear BIN --spec docs/openapi.yaml
-                       --routes api/metrics.h
+                       --routes api/router_routes.cc
 Run by ctest as `openapi_test` (tests/CMakeLists.txt).
 """
 import argparse
@@ -147,15 +147,17 @@ def start_daemon(rollwear, db, log_path, env):
     raise RuntimeError("daemon did not start:\n" + open(log_path).read())
 
 
-def daemon_routes(header):
-    """(method, path) of every route in the RouteId enum's comments."""
+def daemon_routes(table):
+    """(method, path) of every route declared in the route table
+    (api/router_routes.cc: rows `{{RouteId::k..., "METHOD", "/pattern", ...`);
+    a "{name*}" parameter is the OpenAPI "{name}"."""
     routes = []
-    with open(header, encoding="utf-8") as f:
+    with open(table, encoding="utf-8") as f:
         for line in f:
-            m = re.search(r"^\s+k\w+(?: = 0)?,\s+//\s+(GET|POST|PUT|DELETE)"
-                          r"\s+(/\S*)", line)
+            m = re.search(r'\{\{RouteId::k\w+,\s*"(GET|POST|PUT|DELETE)",\s*'
+                          r'"(/[^"]*)"', line)
             if m:
-                routes.append((m.group(1), m.group(2)))
+                routes.append((m.group(1), m.group(2).replace("*}", "}")))
     if len(routes) < 10:
         raise RuntimeError(f"{header}: found only {len(routes)} routes")
     return routes
