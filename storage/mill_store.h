@@ -133,8 +133,9 @@ class MillStore {
   // Models.
   virtual StatusOr<ModelVersion> ActiveModel() const = 0;
   virtual std::vector<ModelVersion> ListModels() const = 0;
-  // One stored version; NotFound when unknown (version 0, the prior, is
-  // never stored).
+  // One stored version, or version 0: the prior (the configured law, option
+  // and initial K, never stored; `active` while nothing was promoted), so
+  // every version an answer names can be read. NotFound when unknown.
   virtual StatusOr<ModelVersion> GetModel(int64_t version) const = 0;
   // Makes a stored version active by hand, records it in the audit trail
   // with `reason` (required), re-predicts the open campaign under it, and,

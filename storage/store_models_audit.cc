@@ -16,6 +16,21 @@
 namespace rollwear::storage::internal {
 
 StatusOr<ModelVersion> MillStoreImpl::GetModel(int64_t version) const {
+  // Version 0 is the prior (the configured law, option and initial K),
+  // never stored: the one answers name before the first promotion. Active
+  // while nothing was promoted; else rebuilt for the positions seen.
+  if (version == 0) {
+    std::shared_ptr<const ModelVersion> active = ActiveVersion();
+    if (active->version == 0) return *active;
+    uint32_t seen = 0;
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      seen = committed_.positions_seen;
+    }
+    ModelVersion prior = *MakePrior(seen);
+    prior.active = false;
+    return prior;
+  }
   std::optional<ModelVersion> m;
   if (version > 0) {
     std::lock_guard<std::mutex> published(publish_mu_);
@@ -39,6 +54,11 @@ StatusOr<ModelVersion> MillStoreImpl::ActivateModel(int64_t version,
   // One activation, run or proposal at a time, so each promotion names the
   // version it replaced and a run never promotes over a fresh pin.
   std::lock_guard<std::mutex> runs(calibration_mu_);
+  if (version <= 0) {
+    return Status::NotFound("model version " + std::to_string(version) +
+                            ": only a stored version can be activated "
+                            "(version 0, the prior, is not stored)");
+  }
   ROLLWEAR_ASSIGN_OR_RETURN(ModelVersion target, GetModel(version));
   const int64_t previous = ActiveVersion()->version;
   target.active = true;

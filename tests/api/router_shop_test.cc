@@ -52,6 +52,40 @@ class ShopRouterTest : public RouterTest {
   std::string db_;
 };
 
+// Every version an answer names can be read: before the first promotion
+// the answers name version 0, the prior (never stored), and
+// GET /v1/models/0 serves it; after promotions it is still served, no
+// longer active, with the same coefficients; it cannot be activated.
+TEST_F(ShopRouterTest, TheVersionEveryAnswerNamesCanBeRead) {
+  ASSERT_NO_FATAL_FAILURE(UseSimulatedMill("prior.db", 30));
+  ApiOptions options;
+  options.token = "s3cret";
+  MakeRouter(options);
+  const json active = Parse(Get("/v1/models/active"));
+  ASSERT_EQ(active["version"], 0) << active.dump();
+  EXPECT_EQ(Parse(Get("/v1/wear"))["model_version"], 0);
+  HttpResponse r = Get("/v1/models/0");
+  ASSERT_EQ(r.status, 200) << r.body;
+  const json prior = Parse(r);
+  EXPECT_EQ(prior, active);
+  EXPECT_EQ(prior["run"], nullptr);
+  EXPECT_EQ(prior["active"], true);
+
+  ASSERT_NO_FATAL_FAILURE(TwoVersions());
+  r = Get("/v1/models/0");
+  ASSERT_EQ(r.status, 200) << r.body;
+  EXPECT_EQ(Parse(r)["version"], 0);
+  EXPECT_EQ(Parse(r)["active"], false);
+  EXPECT_EQ(Parse(r)["coefficients"], prior["coefficients"]);
+  EXPECT_EQ(Parse(r)["model"], prior["model"]);
+  const std::string before = State();
+  ExpectRejected(Get("/v1/models/-1"), 404, "not_found", nullptr, before);
+  ExpectRejected(
+      Post("/v1/models/0/activate", json{{"reason", "back"}}, "Bearer s3cret"),
+      404, "not_found", nullptr, before);
+  EXPECT_EQ(Parse(Get("/v1/models/active"))["version"], 2);
+}
+
 TEST_F(ShopRouterTest, ModelsAreListedReadAndActivatedWithTokenAndReason) {
   ASSERT_NO_FATAL_FAILURE(UseSimulatedMill("models.db", 30));
   ASSERT_NO_FATAL_FAILURE(TwoVersions());
