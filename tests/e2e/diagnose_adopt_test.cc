@@ -31,6 +31,7 @@
 #include "core/model/aggregation.h"
 #include "core/model/model_eval.h"
 #include "storage/model_codec.h"
+#include "tests/core/test_size.h"
 #include "tests/e2e/e2e_util.h"
 
 namespace rollwear::e2e {
@@ -204,9 +205,12 @@ TEST_F(DiagnoseAdoptTest, FactorCellIsAdoptedAndServedAsInBatch) {
 // prediction. At 150 campaigns (this test's size before session 18) the
 // ICDP-S1 cell is refused since then: inside it, wear follows width (LR
 // 14.2, p adjusted 0.0055; S355's wider coils at F7 take only part of it),
-// the guard's look inside a cell; located, not named.
+// the guard's look inside a cell; located, not named. Under the sanitizers
+// (test_size.h) the mill is 200 campaigns, where the offline diagnosis of
+// the same seed names both cells too (186 s under TSan at 395).
 TEST_F(DiagnoseAdoptTest, TwoCellsAreAdoptedTogetherAndServedAsInBatch) {
-  const json model = AdoptFromDiagnosis("grade_stand,roll_type_stand", 4, 395);
+  const json model = AdoptFromDiagnosis("grade_stand,roll_type_stand", 4,
+                                        test_size::FullOr(395, 200));
   ASSERT_TRUE(model.is_object());
   ASSERT_EQ(report_["findings"].size(), 2u) << report_["findings"].dump();
   ASSERT_EQ(model["terms"].size(), 2u) << model.dump();
