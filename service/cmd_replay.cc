@@ -226,6 +226,10 @@ struct Counters {
   std::mutex print_mu;
   int printed_errors = 0;
   std::string stop_reason;  // guarded by print_mu
+  // Seconds from the start at which each quarter of the timeline's coils
+  // had been answered (written by the timeline's thread only; 0 when the
+  // replay stopped before): whether ingestion slows as the history grows.
+  double quarter_end_s[4] = {};
 };
 
 // Stops the replay with `reason` (the first reason wins).
@@ -435,8 +439,21 @@ void PlayTimeline(const std::vector<Event>& timeline, const Requests& requests,
   client_options.token = options.token;
   api::HttpClient main_client(options.url, client_options);
   const UnixSeconds t0 = timeline.empty() ? 0 : timeline.front().at;
+  const auto total_coils = static_cast<int64_t>(
+      std::count_if(timeline.begin(), timeline.end(),
+                    [](const Event& e) { return e.kind == Kind::kCoil; }));
+  int64_t pushed_coils = 0;
+  int quarter = 0;
   for (const Event& e : timeline) {
     if (counters->stopped.load()) break;
+    // A quarter of the coils sent: wait for their answers and note the time.
+    while (quarter < 4 && pushed_coils >= total_coils * (quarter + 1) / 4 &&
+           total_coils > 0) {
+      pool.Drain();
+      counters->quarter_end_s[quarter++] =
+          std::chrono::duration<double>(Clock::now() - start).count();
+    }
+    if (e.kind == Kind::kCoil) ++pushed_coils;
     if (speed > 0) {
       const auto due =
           start + std::chrono::microseconds(static_cast<int64_t>(
@@ -451,6 +468,23 @@ void PlayTimeline(const std::vector<Event>& timeline, const Requests& requests,
     }
   }
   pool.Drain();
+  if (quarter == 3 && !counters->stopped.load()) {
+    counters->quarter_end_s[3] =
+        std::chrono::duration<double>(Clock::now() - start).count();
+  }
+}
+
+// Coils per second in each quarter of the timeline's coils (null for a
+// quarter the replay did not finish).
+Json QuarterRates(const Counters& counters) {
+  Json rates = Json::array();
+  const double quarter_coils = counters.sent[1].load() / 4.0;
+  double from = 0;
+  for (double to : counters.quarter_end_s) {
+    rates.push_back(to > from ? Json(quarter_coils / (to - from)) : Json());
+    from = to;
+  }
+  return rates;
 }
 
 // The closing summary line, and the summary as JSON into `json_path` (when
@@ -484,7 +518,8 @@ void PrintSummary(const Counters& counters, double seconds,
                        {"errors", counters.errors.load()},
                        {"retries", counters.retries.load()},
                        {"seconds", seconds},
-                       {"coils_per_second", rate}};
+                       {"coils_per_second", rate},
+                       {"coils_per_second_by_quarter", QuarterRates(counters)}};
     std::ofstream out(json_path);
     out << summary.dump(2) << "\n";
   }

@@ -2,8 +2,10 @@
 // reading everything back as a core Dataset, including the extra columns a
 // dataset folder may carry (stored per row as a JSON object in `extra`).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <unordered_map>
 #include <utility>
 
@@ -188,11 +190,63 @@ StatusOr<int64_t> RecentCampaignsStart(Db* db, const std::string& campaign_id,
   return st.ColumnInt(0);
 }
 
-StatusOr<Dataset> ReadStoredDataset(Db* db, std::vector<std::string>* suspect,
-                                    int64_t first_campaign_row) {
+std::array<std::string, 4> StoredDatasetQueries(int64_t first_campaign_row) {
   // Rows of the campaigns from `first_campaign_row` on (row ids are
   // positive: 0 reads everything).
   const std::string from = std::to_string(first_campaign_row);
+  const std::string pass_columns =
+      "SELECT p.campaign, c.coil_id, c.seq, c.grade, p.stand, p.rolled_at, "
+      "p.force_kn, p.width_mm, p.length_m, p.entry_thickness_mm, "
+      "p.exit_thickness_mm, p.temperature_c, p.speed_mps, p.lubrication, "
+      "p.shift_mm, p.extra ";
+  // passes has no campaign index (schema version 3 dropped it), but its
+  // rows are stored in coil order: a coil's passes are inserted right
+  // after the coil (ImportDataset, AddCoil), so every pass of a recent
+  // campaign has a row id at least that of the first pass of the recent
+  // campaigns' first coil. A recent read scans passes from there in row
+  // order. The bound costs one walk of coils' (campaign, seq) index over
+  // the recent coils ("+c2.id" keeps MIN() from walking coils in row order
+  // from the first) and one look-up in passes' (coil, stand) index; the
+  // campaign test keeps out any older campaign's row stored later. With
+  // no recent coil there is no recent pass: the bound is past every row.
+  // A whole read scans passes in row order.
+  const bool recent = first_campaign_row > 0;
+  const std::string first_pass =
+      "COALESCE((SELECT MIN(p2.id) FROM passes p2 WHERE p2.coil = (SELECT "
+      "MIN(+c2.id) FROM coils c2 WHERE c2.campaign >= " +
+      from + ")), 9223372036854775807)";
+  const std::string passes =
+      pass_columns + "FROM passes p JOIN coils c ON c.id = p.coil " +
+      (recent
+           ? "WHERE p.id >= " + first_pass + " AND p.campaign >= " + from + " "
+           : std::string()) +
+      "ORDER BY p.id";
+  // mounts and measurements hold a few rows per campaign, found by their
+  // (campaign, stand, position) index. An ORDER BY on the row id would make
+  // SQLite's planner prefer a scan in row order (it needs no sort); the
+  // unary "+" in "+id" keeps that term from steering the plan
+  // (https://sqlite.org/optoverview.html, manual control with unary "+"),
+  // so the recent rows are found by the index and sorted.
+  // StoreQueryPlanTest checks the plans.
+  const std::string order = recent ? " ORDER BY +id" : " ORDER BY id";
+  return {
+      "SELECT id, campaign_id, started_at, ended_at, extra FROM campaigns "
+      "WHERE id >= " +
+          from + " ORDER BY id",
+      "SELECT campaign, stand, position, roll_id, roll_type, diameter_mm, "
+      "hardness_hb, extra FROM mounts WHERE campaign >= " +
+          from + order,
+      passes,
+      "SELECT campaign, stand, position, roll_id, measured_at, "
+      "wear_center_um, extra, suspect FROM measurements "
+      "WHERE campaign >= " +
+          from + order};
+}
+
+StatusOr<Dataset> ReadStoredDataset(Db* db, std::vector<std::string>* suspect,
+                                    int64_t first_campaign_row) {
+  const std::array<std::string, 4> queries =
+      StoredDatasetQueries(first_campaign_row);
   // One read transaction, so the four tables are read at one instant.
   ROLLWEAR_RETURN_IF_ERROR(db->Exec("BEGIN"));
   struct EndRead {
@@ -204,102 +258,81 @@ StatusOr<Dataset> ReadStoredDataset(Db* db, std::vector<std::string>* suspect,
   std::unordered_map<int64_t, int> campaign_index;
   std::vector<int> open;
   ExtraBuilder campaign_extra, mount_extra, pass_extra, measurement_extra;
-  ROLLWEAR_RETURN_IF_ERROR(ForEachRow(
-      db,
-      "SELECT id, campaign_id, started_at, ended_at, extra FROM campaigns "
-      "WHERE id >= " + from + " ORDER BY id",
-      [&](Statement& st) {
-        Campaign c;
-        c.id = st.ColumnText(1);
-        c.started_at = st.ColumnInt(2);
-        if (st.ColumnIsNull(3)) {
-          open.push_back(static_cast<int>(d.campaigns.size()));
-          c.ended_at = c.started_at;
-        } else {
-          c.ended_at = st.ColumnInt(3);
-        }
-        campaign_index[st.ColumnInt(0)] = static_cast<int>(d.campaigns.size());
-        d.campaigns.push_back(std::move(c));
-        return campaign_extra.AddRow(st.ColumnText(4));
-      }));
+  ROLLWEAR_RETURN_IF_ERROR(ForEachRow(db, queries[0], [&](Statement& st) {
+    Campaign c;
+    c.id = st.ColumnText(1);
+    c.started_at = st.ColumnInt(2);
+    if (st.ColumnIsNull(3)) {
+      open.push_back(static_cast<int>(d.campaigns.size()));
+      c.ended_at = c.started_at;
+    } else {
+      c.ended_at = st.ColumnInt(3);
+    }
+    campaign_index[st.ColumnInt(0)] = static_cast<int>(d.campaigns.size());
+    d.campaigns.push_back(std::move(c));
+    return campaign_extra.AddRow(st.ColumnText(4));
+  }));
   std::unordered_map<std::string, int> roll_types;
-  ROLLWEAR_RETURN_IF_ERROR(ForEachRow(
-      db,
-      "SELECT campaign, stand, position, roll_id, roll_type, diameter_mm, "
-      "hardness_hb, extra FROM mounts WHERE campaign >= " + from +
-          " ORDER BY id",
-      [&](Statement& st) {
-        Mount m;
-        m.campaign = campaign_index.at(st.ColumnInt(0));
-        m.stand = static_cast<int>(st.ColumnInt(1));
-        m.position = static_cast<Position>(st.ColumnInt(2));
-        m.roll_id = st.ColumnText(3);
-        auto [it, fresh] = roll_types.emplace(
-            st.ColumnText(4), static_cast<int>(d.roll_types.size()));
-        if (fresh) d.roll_types.push_back(it->first);
-        m.roll_type = it->second;
-        m.diameter_mm = st.ColumnDouble(5);
-        m.hardness_hb = st.ColumnDouble(6);
-        d.mounts.push_back(std::move(m));
-        return mount_extra.AddRow(st.ColumnText(7));
-      }));
+  ROLLWEAR_RETURN_IF_ERROR(ForEachRow(db, queries[1], [&](Statement& st) {
+    Mount m;
+    m.campaign = campaign_index.at(st.ColumnInt(0));
+    m.stand = static_cast<int>(st.ColumnInt(1));
+    m.position = static_cast<Position>(st.ColumnInt(2));
+    m.roll_id = st.ColumnText(3);
+    auto [it, fresh] = roll_types.emplace(
+        st.ColumnText(4), static_cast<int>(d.roll_types.size()));
+    if (fresh) d.roll_types.push_back(it->first);
+    m.roll_type = it->second;
+    m.diameter_mm = st.ColumnDouble(5);
+    m.hardness_hb = st.ColumnDouble(6);
+    d.mounts.push_back(std::move(m));
+    return mount_extra.AddRow(st.ColumnText(7));
+  }));
   std::unordered_map<std::string, int> coils, grades;
-  ROLLWEAR_RETURN_IF_ERROR(ForEachRow(
-      db,
-      "SELECT p.campaign, c.coil_id, c.seq, c.grade, p.stand, p.rolled_at, "
-      "p.force_kn, p.width_mm, p.length_m, p.entry_thickness_mm, "
-      "p.exit_thickness_mm, p.temperature_c, p.speed_mps, p.lubrication, "
-      "p.shift_mm, p.extra FROM passes p JOIN coils c ON c.id = p.coil "
-      "WHERE p.campaign >= " + from + " ORDER BY p.id",
-      [&](Statement& st) {
-        Pass p;
-        p.campaign = campaign_index.at(st.ColumnInt(0));
-        auto [coil, new_coil] = coils.emplace(
-            st.ColumnText(1), static_cast<int>(d.coil_ids.size()));
-        if (new_coil) d.coil_ids.push_back(coil->first);
-        p.coil = coil->second;
-        p.seq = static_cast<int>(st.ColumnInt(2));
-        auto [grade, new_grade] =
-            grades.emplace(st.ColumnText(3), static_cast<int>(d.grades.size()));
-        if (new_grade) d.grades.push_back(grade->first);
-        p.grade = grade->second;
-        p.stand = static_cast<int>(st.ColumnInt(4));
-        p.rolled_at = st.ColumnInt(5);
-        p.force_kn = st.ColumnDouble(6);
-        p.width_mm = st.ColumnDouble(7);
-        p.length_m = st.ColumnDouble(8);
-        p.entry_thickness_mm = st.ColumnDouble(9);
-        p.exit_thickness_mm = st.ColumnDouble(10);
-        p.temperature_c = st.ColumnDouble(11);
-        p.speed_mps = st.ColumnDouble(12);
-        p.lubrication = st.ColumnInt(13) != 0;
-        p.shift_mm = st.ColumnDouble(14);
-        Campaign& c = d.campaigns[p.campaign];
-        if (std::find(open.begin(), open.end(), p.campaign) != open.end()) {
-          c.ended_at = std::max(c.ended_at, p.rolled_at);
-        }
-        d.passes.push_back(p);
-        return pass_extra.AddRow(st.ColumnText(15));
-      }));
-  ROLLWEAR_RETURN_IF_ERROR(
-      ForEachRow(db,
-                 "SELECT campaign, stand, position, roll_id, measured_at, "
-                 "wear_center_um, extra, suspect FROM measurements "
-                 "WHERE campaign >= " + from + " ORDER BY id",
-                 [&](Statement& st) {
-                   Measurement m;
-                   m.campaign = campaign_index.at(st.ColumnInt(0));
-                   m.stand = static_cast<int>(st.ColumnInt(1));
-                   m.position = static_cast<Position>(st.ColumnInt(2));
-                   m.roll_id = st.ColumnText(3);
-                   m.measured_at = st.ColumnInt(4);
-                   m.wear_center_um = st.ColumnDouble(5);
-                   d.measurements.push_back(std::move(m));
-                   if (suspect != nullptr) {
-                     suspect->push_back(st.ColumnText(7));
-                   }
-                   return measurement_extra.AddRow(st.ColumnText(6));
-                 }));
+  ROLLWEAR_RETURN_IF_ERROR(ForEachRow(db, queries[2], [&](Statement& st) {
+    Pass p;
+    p.campaign = campaign_index.at(st.ColumnInt(0));
+    auto [coil, new_coil] =
+        coils.emplace(st.ColumnText(1), static_cast<int>(d.coil_ids.size()));
+    if (new_coil) d.coil_ids.push_back(coil->first);
+    p.coil = coil->second;
+    p.seq = static_cast<int>(st.ColumnInt(2));
+    auto [grade, new_grade] =
+        grades.emplace(st.ColumnText(3), static_cast<int>(d.grades.size()));
+    if (new_grade) d.grades.push_back(grade->first);
+    p.grade = grade->second;
+    p.stand = static_cast<int>(st.ColumnInt(4));
+    p.rolled_at = st.ColumnInt(5);
+    p.force_kn = st.ColumnDouble(6);
+    p.width_mm = st.ColumnDouble(7);
+    p.length_m = st.ColumnDouble(8);
+    p.entry_thickness_mm = st.ColumnDouble(9);
+    p.exit_thickness_mm = st.ColumnDouble(10);
+    p.temperature_c = st.ColumnDouble(11);
+    p.speed_mps = st.ColumnDouble(12);
+    p.lubrication = st.ColumnInt(13) != 0;
+    p.shift_mm = st.ColumnDouble(14);
+    Campaign& c = d.campaigns[p.campaign];
+    if (std::find(open.begin(), open.end(), p.campaign) != open.end()) {
+      c.ended_at = std::max(c.ended_at, p.rolled_at);
+    }
+    d.passes.push_back(p);
+    return pass_extra.AddRow(st.ColumnText(15));
+  }));
+  ROLLWEAR_RETURN_IF_ERROR(ForEachRow(db, queries[3], [&](Statement& st) {
+    Measurement m;
+    m.campaign = campaign_index.at(st.ColumnInt(0));
+    m.stand = static_cast<int>(st.ColumnInt(1));
+    m.position = static_cast<Position>(st.ColumnInt(2));
+    m.roll_id = st.ColumnText(3);
+    m.measured_at = st.ColumnInt(4);
+    m.wear_center_um = st.ColumnDouble(5);
+    d.measurements.push_back(std::move(m));
+    if (suspect != nullptr) {
+      suspect->push_back(st.ColumnText(7));
+    }
+    return measurement_extra.AddRow(st.ColumnText(6));
+  }));
   ROLLWEAR_RETURN_IF_ERROR(ReadStoredProfiles(db, campaign_index, &d));
   d.campaign_extra = campaign_extra.Finish();
   d.mount_extra = mount_extra.Finish();

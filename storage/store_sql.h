@@ -154,6 +154,13 @@ Status WriteImport(Db* db, const Dataset& data,
 StatusOr<Dataset> ReadStoredDataset(Db* db,
                                     std::vector<std::string>* suspect = nullptr,
                                     int64_t first_campaign_row = 0);
+// The four queries ReadStoredDataset runs, in its order (campaigns, mounts,
+// passes, measurements), for the campaigns from row `first_campaign_row` on
+// (0: all). With a first row, each reaches its rows through an index or a
+// row-id range, so a recent read costs what the recent campaigns hold, not
+// the mill's whole history (StoreQueryPlanTest checks EXPLAIN QUERY PLAN);
+// a whole read scans.
+std::array<std::string, 4> StoredDatasetQueries(int64_t first_campaign_row);
 // The first campaign row of the `campaigns` most recently stored ones,
 // extended back to `campaign_id`'s own row when that is older.
 StatusOr<int64_t> RecentCampaignsStart(Db* db, const std::string& campaign_id,
