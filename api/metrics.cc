@@ -73,7 +73,7 @@ std::string Escaped(std::string_view value) {
 
 }  // namespace
 
-const char* RoutePath(RouteId route) { return RouteSpecOf(route).pattern; }
+const char* RoutePath(RouteId route) { return RouteLabel(route); }
 const char* RouteMethod(RouteId route) { return RouteSpecOf(route).method; }
 
 HttpMethod ParseHttpMethod(std::string_view method) {

@@ -121,7 +121,8 @@ std::optional<HttpResponse> ParseRollPosition(const std::string& stand_text,
                                               const std::string& position_text,
                                               int* stand, Position* position) {
   *stand = ParseStand(stand_text);
-  if (*stand != 0 && ParsePosition(position_text, position)) return std::nullopt;
+  if (*stand != 0 && ParsePosition(position_text, position))
+    return std::nullopt;
   return Error(404, "not_found",
                "unknown roll position '" + stand_text + "/" + position_text +
                    "' (stands F1..F7, positions top or bottom)");
@@ -221,8 +222,8 @@ Router::Routed Router::RouteRequest(const HttpRequest& request) const {
   routed.args = std::move(match.args);
   if (!match.method_allowed) {
     HttpResponse r = Error(405, "method_not_allowed",
-                           "method " + request.method +
-                               " is not allowed on " + spec.pattern);
+                           "method " + request.method + " is not allowed on " +
+                               RouteLabel(spec.id));
     r.headers.emplace_back("Allow", AllowedMethods(spec.pattern));
     r.route = spec.id;
     routed.refused = std::move(r);
@@ -244,7 +245,16 @@ std::optional<HttpResponse> Router::PreCheck(const HttpRequest& head) const {
 }
 
 HttpResponse Router::Handle(const HttpRequest& request) {
-  return Handle(request, RouteRequest(request));
+  Routed routed;
+  try {
+    routed = RouteRequest(request);
+  } catch (const std::exception& e) {
+    routed.refused =
+        Error(500, "internal", std::string("internal error: ") + e.what());
+  } catch (...) {
+    routed.refused = Error(500, "internal", "internal error");
+  }
+  return Handle(request, routed);
 }
 
 HttpResponse Router::Handle(const HttpRequest& request, const Routed& routed) {

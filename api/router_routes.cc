@@ -95,7 +95,8 @@ const std::vector<Router::Route>& Router::Routes() {
 
 const RouteSpec& RouteSpecOf(RouteId id) {
   // Indexed by RouteId once, from the table (every id but kUnmatched is
-  // declared exactly once: RouteTableTest).
+  // declared exactly once: RouteTableTest; a second declaration stops the
+  // process at its first request).
   static const auto* by_id = [] {
     auto* specs = new std::array<RouteSpec, kNumRoutes>();
     (*specs)[static_cast<int>(RouteId::kUnmatched)] =
@@ -112,6 +113,21 @@ const RouteSpec& RouteSpecOf(RouteId id) {
     return specs;
   }();
   return (*by_id)[static_cast<int>(id)];
+}
+
+const char* RouteLabel(RouteId id) {
+  // The patterns without the '*' of a rest parameter, once.
+  static const auto* labels = [] {
+    auto* out = new std::array<std::string, kNumRoutes>();
+    for (int i = 0; i < kNumRoutes; ++i) {
+      for (const char* c = RouteSpecOf(static_cast<RouteId>(i)).pattern;
+           *c != '\0'; ++c) {
+        if (*c != '*') (*out)[i] += *c;
+      }
+    }
+    return out;
+  }();
+  return (*labels)[static_cast<int>(id)].c_str();
 }
 
 Router::RouteMatch Router::Match(const std::string& path,

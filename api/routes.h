@@ -95,8 +95,12 @@ bool MatchPattern(std::string_view pattern, std::string_view path,
                   PathArgs* args);
 
 // The declared spec of `id` (for kUnmatched: method "", pattern
-// "unmatched", the metrics label of a request no route took).
+// "unmatched").
 const RouteSpec& RouteSpecOf(RouteId id);
+// The `route` label of the request metrics and the path named in messages:
+// the pattern with a rest parameter written as the OpenAPI path template
+// ("/v1/rolls/{roll_id}"); "unmatched" for kUnmatched.
+const char* RouteLabel(RouteId id);
 
 }  // namespace rollwear::api
 

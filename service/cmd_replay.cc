@@ -226,10 +226,11 @@ struct Counters {
   std::mutex print_mu;
   int printed_errors = 0;
   std::string stop_reason;  // guarded by print_mu
-  // Seconds from the start at which each quarter of the timeline's coils
-  // had been answered (written by the timeline's thread only; 0 when the
-  // replay stopped before): whether ingestion slows as the history grows.
+  // When each quarter of the timeline's coils had been answered (s from the
+  // start, the first quarter with the clients' connecting) and its coils;
+  // 0 if not reached or < 4 coils. Written by the timeline's thread only.
   double quarter_end_s[4] = {};
+  int64_t quarter_coils[4] = {};
 };
 
 // Stops the replay with `reason` (the first reason wins).
@@ -447,9 +448,11 @@ void PlayTimeline(const std::vector<Event>& timeline, const Requests& requests,
   for (const Event& e : timeline) {
     if (counters->stopped.load()) break;
     // A quarter of the coils sent: wait for their answers and note the time.
-    while (quarter < 4 && pushed_coils >= total_coils * (quarter + 1) / 4 &&
-           total_coils > 0) {
+    while (quarter < 4 && total_coils >= 4 &&
+           pushed_coils >= total_coils * (quarter + 1) / 4) {
       pool.Drain();
+      counters->quarter_coils[quarter] = total_coils * (quarter + 1) / 4 -
+                                         total_coils * quarter / 4;
       counters->quarter_end_s[quarter++] =
           std::chrono::duration<double>(Clock::now() - start).count();
     }
@@ -468,7 +471,8 @@ void PlayTimeline(const std::vector<Event>& timeline, const Requests& requests,
     }
   }
   pool.Drain();
-  if (quarter == 3 && !counters->stopped.load()) {
+  if (quarter == 3 && total_coils >= 4 && !counters->stopped.load()) {
+    counters->quarter_coils[3] = total_coils - total_coils * 3 / 4;
     counters->quarter_end_s[3] =
         std::chrono::duration<double>(Clock::now() - start).count();
   }
@@ -478,10 +482,13 @@ void PlayTimeline(const std::vector<Event>& timeline, const Requests& requests,
 // quarter the replay did not finish).
 Json QuarterRates(const Counters& counters) {
   Json rates = Json::array();
-  const double quarter_coils = counters.sent[1].load() / 4.0;
   double from = 0;
-  for (double to : counters.quarter_end_s) {
-    rates.push_back(to > from ? Json(quarter_coils / (to - from)) : Json());
+  for (int q = 0; q < 4; ++q) {
+    const double to = counters.quarter_end_s[q];
+    const int64_t coils = counters.quarter_coils[q];
+    rates.push_back(coils > 0 && to > from
+                        ? Json(static_cast<double>(coils) / (to - from))
+                        : Json());
     from = to;
   }
   return rates;

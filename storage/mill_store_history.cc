@@ -29,10 +29,9 @@ Status ReplayInto(Db* db, const CampaignRec& rec, const WearModel& model,
   for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
     const auto& m = rec.mounts[slot];
     if (!m.has_value()) continue;
-    states[slot] =
-        MountRoll(model, RollPositionName(m->stand, m->position), m->roll_type,
-                  m->diameter_mm, m->hardness_hb, rec.started_at, m->extra,
-                  rec.extra);
+    states[slot] = MountRoll(model, RollPositionName(m->stand, m->position),
+                             m->roll_type, m->diameter_mm, m->hardness_hb,
+                             rec.started_at, m->extra, rec.extra);
     RollWearHistory h;
     h.stand = m->stand;
     h.position = m->position;
@@ -47,10 +46,8 @@ Status ReplayInto(Db* db, const CampaignRec& rec, const WearModel& model,
   ROLLWEAR_ASSIGN_OR_RETURN(
       Statement st,
       db->Prepare(
-          "SELECT c.grade, p.stand, p.rolled_at, p.force_kn, "
-          "p.width_mm, p.length_m, p.entry_thickness_mm, p.exit_thickness_mm, "
-          "p.temperature_c, p.speed_mps, p.lubrication, p.shift_mm, p.extra "
-          "FROM passes p JOIN coils c ON c.id = p.coil "
+          std::string("SELECT c.grade, ") + kPassMeasureColumns +
+          ", p.extra FROM passes p JOIN coils c ON c.id = p.coil "
           "WHERE c.campaign = (SELECT id FROM campaigns WHERE campaign_id = ?) "
           "ORDER BY c.id, p.id"));
   st.BindText(1, rec.id);
@@ -58,17 +55,7 @@ Status ReplayInto(Db* db, const CampaignRec& rec, const WearModel& model,
   while (true) {
     ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
     if (!row) break;
-    pass.stand = static_cast<int>(st.ColumnInt(1));
-    pass.rolled_at = st.ColumnInt(2);
-    pass.force_kn = st.ColumnDouble(3);
-    pass.width_mm = st.ColumnDouble(4);
-    pass.length_m = st.ColumnDouble(5);
-    pass.entry_thickness_mm = st.ColumnDouble(6);
-    pass.exit_thickness_mm = st.ColumnDouble(7);
-    pass.temperature_c = st.ColumnDouble(8);
-    pass.speed_mps = st.ColumnDouble(9);
-    pass.lubrication = st.ColumnInt(10) != 0;
-    pass.shift_mm = st.ColumnDouble(11);
+    ReadPassMeasures(st, 1, &pass, &pass.rolled_at);
     ROLLWEAR_ASSIGN_OR_RETURN(pass.extra, ParseExtraFields(st.ColumnText(12)));
     const PassInput in = ToPassInput(st.ColumnText(0), pass);
     for (Position p : {Position::kTop, Position::kBottom}) {
@@ -100,10 +87,12 @@ bool HasMeasurement(const CampaignRec& rec) {
 
 }  // namespace
 
-double StoredReadingOffset(const WearModel& model, const CampaignRec& rec, int slot) {
+double StoredReadingOffset(const WearModel& model, const CampaignRec& rec,
+                           int slot) {
   const auto& measured = rec.measurements[slot];
   const auto& m = rec.mounts[slot];
-  if (!measured.has_value() || !m.has_value() || !rec.ended_at.has_value()) return 0;
+  if (!measured.has_value() || !m.has_value() || !rec.ended_at.has_value())
+    return 0;
   ReadingContext reading;
   reading.stand = m->stand;
   reading.position = static_cast<int>(m->position);

@@ -195,26 +195,24 @@ std::array<std::string, 4> StoredDatasetQueries(int64_t first_campaign_row) {
   // positive: 0 reads everything).
   const std::string from = std::to_string(first_campaign_row);
   const std::string pass_columns =
-      "SELECT p.campaign, c.coil_id, c.seq, c.grade, p.stand, p.rolled_at, "
-      "p.force_kn, p.width_mm, p.length_m, p.entry_thickness_mm, "
-      "p.exit_thickness_mm, p.temperature_c, p.speed_mps, p.lubrication, "
-      "p.shift_mm, p.extra ";
-  // passes has no campaign index (schema version 3 dropped it), but its
-  // rows are stored in coil order: a coil's passes are inserted right
-  // after the coil (ImportDataset, AddCoil), so every pass of a recent
-  // campaign has a row id at least that of the first pass of the recent
-  // campaigns' first coil. A recent read scans passes from there in row
-  // order. The bound costs one walk of coils' (campaign, seq) index over
-  // the recent coils ("+c2.id" keeps MIN() from walking coils in row order
-  // from the first) and one look-up in passes' (coil, stand) index; the
-  // campaign test keeps out any older campaign's row stored later. With
-  // no recent coil there is no recent pass: the bound is past every row.
-  // A whole read scans passes in row order.
+      std::string("SELECT p.campaign, c.coil_id, c.seq, c.grade, ") +
+      kPassMeasureColumns + ", p.extra ";
+  // passes has no campaign index (schema version 3 dropped it), but row ids
+  // only grow and a coil is stored just before its first pass (AddCoil;
+  // ImportDataset stores a coil when it meets the coil's first pass), so
+  // no pass of a recent campaign has a row id below the first pass of the
+  // recent campaigns' first-stored coil. A recent read scans passes from
+  // there in row order. The bound costs one walk of coils' (campaign, seq)
+  // index over the recent coils ("+c2.id" keeps MIN() from walking coils in
+  // row order from the first) and one look-up in passes' (coil, stand)
+  // index; the campaign test keeps out any older campaign's row stored
+  // later. Without that pass (no recent coil) the read scans from row 0:
+  // slower, never short. A whole read scans passes in row order.
   const bool recent = first_campaign_row > 0;
   const std::string first_pass =
       "COALESCE((SELECT MIN(p2.id) FROM passes p2 WHERE p2.coil = (SELECT "
       "MIN(+c2.id) FROM coils c2 WHERE c2.campaign >= " +
-      from + ")), 9223372036854775807)";
+      from + ")), 0)";
   const std::string passes =
       pass_columns + "FROM passes p JOIN coils c ON c.id = p.coil " +
       (recent
@@ -301,17 +299,7 @@ StatusOr<Dataset> ReadStoredDataset(Db* db, std::vector<std::string>* suspect,
         grades.emplace(st.ColumnText(3), static_cast<int>(d.grades.size()));
     if (new_grade) d.grades.push_back(grade->first);
     p.grade = grade->second;
-    p.stand = static_cast<int>(st.ColumnInt(4));
-    p.rolled_at = st.ColumnInt(5);
-    p.force_kn = st.ColumnDouble(6);
-    p.width_mm = st.ColumnDouble(7);
-    p.length_m = st.ColumnDouble(8);
-    p.entry_thickness_mm = st.ColumnDouble(9);
-    p.exit_thickness_mm = st.ColumnDouble(10);
-    p.temperature_c = st.ColumnDouble(11);
-    p.speed_mps = st.ColumnDouble(12);
-    p.lubrication = st.ColumnInt(13) != 0;
-    p.shift_mm = st.ColumnDouble(14);
+    ReadPassMeasures(st, 4, &p, &p.rolled_at);
     Campaign& c = d.campaigns[p.campaign];
     if (std::find(open.begin(), open.end(), p.campaign) != open.end()) {
       c.ended_at = std::max(c.ended_at, p.rolled_at);

@@ -1,12 +1,12 @@
 #include "storage/store_sql.h"
 
-#include "storage/extra_json.h"
-
 #include <bit>
 #include <cstring>
 #include <functional>
 #include <string_view>
 #include <utility>
+
+#include "storage/extra_json.h"
 
 namespace rollwear::storage::internal {
 namespace {
@@ -35,6 +35,21 @@ Status ForEachRow(Statement* st,
     if (!row) return Status::Ok();
     visit(*st);
   }
+}
+
+void ReadPassMeasures(const Statement& st, int first, PassMeasures* measures,
+                      UnixSeconds* rolled_at) {
+  measures->stand = static_cast<int>(st.ColumnInt(first));
+  *rolled_at = st.ColumnInt(first + 1);
+  measures->force_kn = st.ColumnDouble(first + 2);
+  measures->width_mm = st.ColumnDouble(first + 3);
+  measures->length_m = st.ColumnDouble(first + 4);
+  measures->entry_thickness_mm = st.ColumnDouble(first + 5);
+  measures->exit_thickness_mm = st.ColumnDouble(first + 6);
+  measures->temperature_c = st.ColumnDouble(first + 7);
+  measures->speed_mps = st.ColumnDouble(first + 8);
+  measures->lubrication = st.ColumnInt(first + 9) != 0;
+  measures->shift_mm = st.ColumnDouble(first + 10);
 }
 
 StatusOr<int64_t> InsertCampaign(Db* db, const std::string& campaign_id,
@@ -436,19 +451,16 @@ StatusOr<RollStates> ReplayCampaignCoils(Db* db, const CampaignRec& campaign,
   for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
     const auto& m = campaign.mounts[slot];
     if (!m.has_value()) continue;
-    states[slot] =
-        MountRoll(model, RollPositionName(m->stand, m->position), m->roll_type,
-                  m->diameter_mm, m->hardness_hb, campaign.started_at,
-                  m->extra, campaign.extra);
+    states[slot] = MountRoll(model, RollPositionName(m->stand, m->position),
+                             m->roll_type, m->diameter_mm, m->hardness_hb,
+                             campaign.started_at, m->extra, campaign.extra);
     if (track_profiles) TrackProfile(&*states[slot]);
   }
   ROLLWEAR_ASSIGN_OR_RETURN(
       Statement st,
       db->Prepare(
-          "SELECT c.coil_id, c.grade, p.stand, p.rolled_at, p.force_kn, "
-          "p.width_mm, p.length_m, p.entry_thickness_mm, p.exit_thickness_mm, "
-          "p.temperature_c, p.speed_mps, p.lubrication, p.shift_mm, c.id, "
-          "c.wear IS NULL, p.extra "
+          std::string("SELECT c.coil_id, c.grade, ") + kPassMeasureColumns +
+          ", c.id, c.wear IS NULL, p.extra "
           "FROM passes p JOIN coils c ON c.id = p.coil "
           "WHERE c.campaign = (SELECT id FROM campaigns WHERE campaign_id = ?) "
           "ORDER BY c.id, p.id"));
@@ -475,17 +487,7 @@ StatusOr<RollStates> ReplayCampaignCoils(Db* db, const CampaignRec& campaign,
       coil.coil_id = st.ColumnText(0);
       coil.wear_missing = st.ColumnInt(14) != 0;
     }
-    pass.stand = static_cast<int>(st.ColumnInt(2));
-    pass.rolled_at = st.ColumnInt(3);
-    pass.force_kn = st.ColumnDouble(4);
-    pass.width_mm = st.ColumnDouble(5);
-    pass.length_m = st.ColumnDouble(6);
-    pass.entry_thickness_mm = st.ColumnDouble(7);
-    pass.exit_thickness_mm = st.ColumnDouble(8);
-    pass.temperature_c = st.ColumnDouble(9);
-    pass.speed_mps = st.ColumnDouble(10);
-    pass.lubrication = st.ColumnInt(11) != 0;
-    pass.shift_mm = st.ColumnDouble(12);
+    ReadPassMeasures(st, 2, &pass, &pass.rolled_at);
     ROLLWEAR_ASSIGN_OR_RETURN(pass.extra, ParseExtraFields(st.ColumnText(15)));
     const PassInput in = ToPassInput(st.ColumnText(1), pass);
     for (Position p : {Position::kTop, Position::kBottom}) {

@@ -48,6 +48,17 @@ class ResetOnExit {
 Status ForEachRow(Statement* st,
                   const std::function<void(const Statement&)>& visit);
 
+// The columns of a stored pass that its readers share, in this order:
+// stand, rolled_at, then the measures force_kn .. shift_mm (11 columns, `p`
+// the passes table's alias). ReadPassMeasures reads them back.
+inline constexpr const char* kPassMeasureColumns =
+    "p.stand, p.rolled_at, p.force_kn, p.width_mm, p.length_m, "
+    "p.entry_thickness_mm, p.exit_thickness_mm, p.temperature_c, "
+    "p.speed_mps, p.lubrication, p.shift_mm";
+// The kPassMeasureColumns of the row `st` is on, from column `first`.
+void ReadPassMeasures(const Statement& st, int first, PassMeasures* measures,
+                      UnixSeconds* rolled_at);
+
 // ---- campaigns, mounts, coils, passes, measurements (store_sql.cc)
 StatusOr<int64_t> InsertCampaign(Db* db, const std::string& campaign_id,
                                  UnixSeconds started_at,

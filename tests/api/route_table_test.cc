@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "api/metrics.h"
 #include "api/routes.h"
 
 namespace rollwear::api {
@@ -34,6 +35,22 @@ TEST(RouteTableTest, EveryRouteIsDeclaredOnceWithAMethodAndPattern) {
     EXPECT_EQ(spec.execution == Execution::kAsync, id == RouteId::kCoils);
     EXPECT_EQ(spec.execution == Execution::kInline,
               id == RouteId::kWear || id == RouteId::kWearAt);
+  }
+}
+
+// The metrics label is the OpenAPI path template: a rest parameter's '*'
+// is the table's, not the label's (dashboards keep their series).
+TEST(RouteTableTest, LabelsAreThePathTemplates) {
+  EXPECT_STREQ(RouteLabel(RouteId::kCampaignEnd),
+               "/v1/campaigns/{campaign_id}/end");
+  EXPECT_STREQ(RouteLabel(RouteId::kRoll), "/v1/rolls/{roll_id}");
+  EXPECT_STREQ(RouteLabel(RouteId::kRollPage), "/rolls/{roll_id}");
+  EXPECT_STREQ(RouteLabel(RouteId::kWearAt), "/v1/wear/{stand}/{position}");
+  EXPECT_STREQ(RouteLabel(RouteId::kUnmatched), "unmatched");
+  EXPECT_STREQ(RoutePath(RouteId::kRoll), RouteLabel(RouteId::kRoll));
+  for (int i = 0; i < kNumRoutes; ++i) {
+    EXPECT_EQ(std::string(RouteLabel(static_cast<RouteId>(i))).find('*'),
+              std::string::npos);
   }
 }
 

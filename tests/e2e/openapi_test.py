@@ -159,7 +159,7 @@ def daemon_routes(table):
             if m:
                 routes.append((m.group(1), m.group(2).replace("*}", "}")))
     if len(routes) < 10:
-        raise RuntimeError(f"{header}: found only {len(routes)} routes")
+        raise RuntimeError(f"{table}: found only {len(routes)} routes")
     return routes
 
 
