@@ -66,6 +66,17 @@ bool ConstantTimeEquals(std::string_view a, std::string_view b) {
   return diff == 0;
 }
 
+// The 500 answer for the exception being handled (call inside a catch).
+HttpResponse InternalErrorAnswer() {
+  try {
+    throw;
+  } catch (const std::exception& e) {
+    return Error(500, "internal", std::string("internal error: ") + e.what());
+  } catch (...) {
+    return Error(500, "internal", "internal error");
+  }
+}
+
 const char* ErrorCodeFor(StatusCode code) {
   switch (code) {
     case StatusCode::kInvalidArgument:
@@ -248,11 +259,8 @@ HttpResponse Router::Handle(const HttpRequest& request) {
   Routed routed;
   try {
     routed = RouteRequest(request);
-  } catch (const std::exception& e) {
-    routed.refused =
-        Error(500, "internal", std::string("internal error: ") + e.what());
   } catch (...) {
-    routed.refused = Error(500, "internal", "internal error");
+    routed.refused = InternalErrorAnswer();
   }
   return Handle(request, routed);
 }
@@ -266,11 +274,8 @@ HttpResponse Router::Handle(const HttpRequest& request, const Routed& routed) {
       response = routed.route->handler(*this, request, routed.args);
       response.route = routed.route->spec.id;
     }
-  } catch (const std::exception& e) {
-    response =
-        Error(500, "internal", std::string("internal error: ") + e.what());
   } catch (...) {
-    response = Error(500, "internal", "internal error");
+    response = InternalErrorAnswer();
   }
   response.route.method = ParseHttpMethod(request.method);
   return response;
@@ -343,11 +348,8 @@ void Router::HandleAsync(const HttpRequest& request, const Routed& routed,
         HttpResponse response;
         try {
           response = CoilAnswer(*in, outcome);
-        } catch (const std::exception& e) {
-          response = Error(500, "internal",
-                           std::string("internal error: ") + e.what());
         } catch (...) {
-          response = Error(500, "internal", "internal error");
+          response = InternalErrorAnswer();
         }
         response.route = RouteId::kCoils;
         done(std::move(response));
