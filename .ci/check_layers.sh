@@ -7,7 +7,9 @@
 # build (target rollwear_layer_check), so a wrong-way include fails to build.
 #
 # The layers, each may include only itself and those to its right:
-#   service -> api -> storage -> core
+#   service -> api -> engine -> storage -> core
+# storage holds the records, not the engine: of core it may include only
+# base, dataset and model (no fitting, diagnosis, network or simulator).
 # and inside core (docs/architecture.md), each folder only the folders named
 # after it:
 set -euo pipefail
@@ -23,21 +25,23 @@ declare -A allowed=(
   [core/diagnosis]="core/base core/dataset core/model core/fit core/diagnosis"
   [core/ann]="core/base core/dataset core/model core/fit core/diagnosis core/ann"
   [core/report]="core/base core/dataset core/model core/fit core/diagnosis core/ann core/report"
-  [storage]="core storage"
-  [api]="core storage api"
-  [service]="core storage api service"
+  [storage]="core/base core/dataset core/model storage"
+  [engine]="core storage engine"
+  [api]="core storage engine api"
+  [service]="core storage engine api service"
 )
 # Third-party headers a layer must not include (extended regex on the
 # include's path).
 declare -A forbidden=(
   [core]='^(sqlite3\.h|httplib\.h|nlohmann/|simdjson|spdlog/)'
   [storage]='^(httplib\.h|simdjson|CLI/)'
+  [engine]='^(sqlite3\.h|httplib\.h|simdjson|CLI/)'
   [api]='^(sqlite3\.h|CLI/)'
 )
 
 # Layers whose units (a .cc with its .h) must not include each other in a
 # loop: all of them.
-loop_checked="core service storage api"
+loop_checked="core service storage engine api"
 
 bad=0
 edges="$(mktemp)"
@@ -50,7 +54,7 @@ owner() {
   case "${f}" in
     core/*/*) echo "$(echo "${f}" | cut -d/ -f1-2)" ;;
     core/*) echo "core/" ;;  # a source directly in core/ has no folder
-    storage/* | api/* | service/*) echo "${f%%/*}" ;;
+    storage/* | engine/* | api/* | service/*) echo "${f%%/*}" ;;
     *) echo "" ;;
   esac
 }
@@ -68,7 +72,7 @@ while IFS= read -r file; do
   while IFS=: read -r line inc; do
     # Project headers are spelled from the repository root, in quotes or
     # angle brackets alike (the root is on every target's include path).
-    if [[ "${inc}" =~ ^[\"\<]((core|storage|api|service)/[^\"\>]+)[\"\>] ]]; then
+    if [[ "${inc}" =~ ^[\"\<]((core|storage|engine|api|service)/[^\"\>]+)[\"\>] ]]; then
       target="${BASH_REMATCH[1]}"
       # A source and its header are one unit for loops (x.cc -> y.h -> x.h);
       # a folder's *_internal.h is part of the units that include it.
@@ -87,7 +91,7 @@ while IFS= read -r file; do
         bad=1
       fi
     elif [[ "${inc}" =~ ^\"((tests|bench|fuzz|deploy)/[^\"]*|[^\"]*\.\./[^\"]*)\" ]]; then
-      echo "${file}:${line}: includes \"${BASH_REMATCH[1]}\": spell project headers from the root (core/..., storage/..., api/..., service/...); tests, bench and fuzz are not libraries"
+      echo "${file}:${line}: includes \"${BASH_REMATCH[1]}\": spell project headers from the root (core/..., storage/..., engine/..., api/..., service/...); tests, bench and fuzz are not libraries"
       bad=1
     elif [[ "${inc}" =~ ^[\"\<]([^\"\>]+)[\"\>] ]]; then
       sys="${BASH_REMATCH[1]}"
@@ -99,8 +103,8 @@ while IFS= read -r file; do
     fi
   done < <(grep -n -E '^[[:space:]]*#[[:space:]]*include' "${file}" |
            sed -E 's/^([0-9]+):[[:space:]]*#[[:space:]]*include[[:space:]]*/\1:/')
-done < <(git ls-files -co --exclude-standard -- core storage api service 2>/dev/null |
-         grep -E '\.(h|cc)$' || find core storage api service -name '*.h' -o -name '*.cc')
+done < <(git ls-files -co --exclude-standard -- core storage engine api service 2>/dev/null |
+         grep -E '\.(h|cc)$' || find core storage engine api service -name '*.h' -o -name '*.cc')
 
 # Loops between units: tsort names the units of each cycle it finds.
 if ! tsort "${edges}" >/dev/null 2>"${edges}.err"; then

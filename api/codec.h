@@ -101,7 +101,7 @@ bool DecodeCalibrationRequest(std::string_view body, int max_depth,
                               CalibrationRequest* out, ApiError* error);
 // POST /v1/diagnoses: optional {"adopt": true|false} (default false): when
 // the diagnosis finds missing physics, propose its adopted model
-// (MillStore::ProposeModel).
+// (engine::CalibrationRuns::Propose).
 struct DiagnosisRequest {
   bool adopt = false;
 };

@@ -19,6 +19,7 @@
 
 #include "api/http_server.h"
 #include "api/router.h"
+#include "engine/calibration_runs.h"
 #include "service/commands.h"
 #include "service/config.h"
 #include "service/cpu_latency.h"
@@ -197,6 +198,21 @@ void WaitForStopSignal(const sigset_t& stop_signals) {
       signal_number == SIGTERM ? "SIGTERM" : "SIGINT");
 }
 
+// Each connection is a descriptor: takes the hard limit, and says so when
+// even that is below the connection cap.
+void RaiseOpenFileLimit(int max_connections) {
+  rlimit files{};
+  if (getrlimit(RLIMIT_NOFILE, &files) == 0 &&
+      files.rlim_cur < files.rlim_max) {
+    files.rlim_cur = files.rlim_max;
+    setrlimit(RLIMIT_NOFILE, &files);
+  }
+  if (files.rlim_cur < static_cast<rlim_t>(max_connections) + 64) {
+    spdlog::warn("open file limit {} is below max_connections={} + 64",
+                 files.rlim_cur, max_connections);
+  }
+}
+
 }  // namespace
 
 int RunServe(const ServeArgs& args) {
@@ -240,26 +256,17 @@ int RunServe(const ServeArgs& args) {
     }
     service::LogCalibrationFinished(r, seconds);
   };
-  service::Scheduler scheduler(store.get(), scheduler_options, on_calibration);
-  service::DiagnosisJobs diagnoses(store.get(), on_calibration);
+  engine::CalibrationRuns runs(store.get());
+  service::Scheduler scheduler(store.get(), &runs, scheduler_options,
+                               on_calibration);
+  service::DiagnosisJobs diagnoses(store.get(), &runs, on_calibration);
 
   api::ApiOptions api_options = ApiOptionsFor(config, &scheduler, &diagnoses);
   api_options.build = {args.build.version, args.build.commit};
   api::Router router(store.get(), std::move(api_options));
   router_ptr = &router;
 
-  // Each connection is a descriptor: take the hard limit, and say so when
-  // even that is below the connection cap.
-  rlimit files{};
-  if (getrlimit(RLIMIT_NOFILE, &files) == 0 &&
-      files.rlim_cur < files.rlim_max) {
-    files.rlim_cur = files.rlim_max;
-    setrlimit(RLIMIT_NOFILE, &files);
-  }
-  if (files.rlim_cur < static_cast<rlim_t>(config.max_connections) + 64) {
-    spdlog::warn("open file limit {} is below max_connections={} + 64",
-                 files.rlim_cur, config.max_connections);
-  }
+  RaiseOpenFileLimit(config.max_connections);
   api::HttpServer server(&router, HttpOptions(config, cpu_latency.get()));
   const Status started = server.Start();
   if (!started.ok()) {

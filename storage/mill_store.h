@@ -27,6 +27,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -88,7 +89,7 @@ class MillStore {
   // The predicted profile across the barrel of the roll at (stand,
   // position), read from its profile sums (core/model/predictor.h) with the
   // active model's profile shape, or the default g = 1 when it has none
-  // (core/fit/profile_interval.h); errors as WearAt.
+  // (core/model/profile_interval.h); errors as WearAt.
   virtual StatusOr<ProfileWear> WearProfileAt(int stand,
                                               Position position) const = 0;
 
@@ -142,8 +143,8 @@ class MillStore {
   // with `pin`, pins it (calibration runs and diagnosis adoptions then
   // record their result without promoting); without, it is not pinned
   // (activating the active version with pin false unpins it). Returns the
-  // version as now active. InvalidArgument "reason: ..." when the reason is empty,
-  // NotFound for an unknown version.
+  // version as now active. InvalidArgument "reason: ..." when the reason is
+  // empty, NotFound for an unknown version.
   virtual StatusOr<ModelVersion> ActivateModel(int64_t version,
                                                const std::string& reason,
                                                bool pin) = 0;
@@ -169,32 +170,37 @@ class MillStore {
   // The largest stored diagnosis id (0: none), so ids go on after a restart.
   virtual StatusOr<int64_t> LastDiagnosisId() const = 0;
 
-  // Calibration runs: Enqueue records a queued run and returns its id;
-  // RunCalibration executes a queued run (called by the calibration
-  // worker, service/jobs/scheduler.h): has core (core/fit/candidate_model.h)
-  // fit the candidate on the stored data with the seeded 2/3-1/3 split and
-  // compare it with the active model on the same validation campaigns,
-  // promotes atomically when no worse, and re-predicts open campaigns.
-  // RunCalibration returns OK once the run is recorded, done or failed
-  // (see GetCalibration); NotFound for an unknown id, FailedPrecondition
-  // when the run is not queued, the database error when it could not be
-  // recorded. The List* calls answer newest first (limit <= 0: all).
+  // Calibration runs, as records: the engine (engine/calibration_runs.h)
+  // fits, scores and decides; the store queues, claims and records them and
+  // promotes atomically. EnqueueCalibration records a queued run of a wear
+  // law and K option and returns its id; EnqueueAnnTraining a queued
+  // training run of the recurrent network (model "ann").
   virtual StatusOr<int64_t> EnqueueCalibration(const std::string& trigger,
                                                WearLaw law, int option) = 0;
-  virtual Status RunCalibration(int64_t id) = 0;
-  // Queues a training run of the recurrent network (model "ann",
-  // core/ann/ann_study.h); RunCalibration runs it like any other run.
   virtual StatusOr<int64_t> EnqueueAnnTraining(const std::string& trigger) = 0;
-  // Records and runs at once a run for a model fitted elsewhere (a
-  // diagnosis's adopted model: option 1 plus terms) on `data`, the data it
-  // was fitted on: it and the active model are scored coil by coil on the
-  // validation campaigns of `data` under `split_seed` (the campaigns the
-  // candidate was not fitted on), and it is promoted when no worse. Runs
-  // one at a time with RunCalibration. Returns the run's record (done or
-  // failed); an error only when the run could not be recorded.
-  virtual StatusOr<CalibrationRecord> ProposeModel(
-      const std::string& trigger, const std::string& model, int option,
-      const WearModel& candidate, const Dataset& data, uint64_t split_seed) = 0;
+  // Claims a queued run: it is running from now, and the measurements
+  // committed so far are the ones it sees ("since last calibration"
+  // restarts). Returns its record; NotFound for an unknown id,
+  // FailedPrecondition when it is not (or no longer) queued.
+  virtual StatusOr<CalibrationRecord> ClaimCalibration(int64_t id) = 0;
+  // Records a run that is already running (claimed in the same
+  // transaction, so no worker picks it up): a model fitted elsewhere, such
+  // as a diagnosis's adoption. Returns its record.
+  virtual StatusOr<CalibrationRecord> StartProposal(const std::string& trigger,
+                                                    const std::string& model,
+                                                    int option) = 0;
+  // Records the outcome of a claimed run (`run`'s status, figures and
+  // message as given) and, with `promoted`, stores that model as a new
+  // version, makes it active, writes the audit trail's row (replacing
+  // `replaced_version`), all in one transaction; then re-predicts the open
+  // campaign under it before any reader of runs or versions sees the
+  // promotion. Fills run->model_version and run->promoted. Not promoted
+  // (said in run->message) when the active version is no longer
+  // `replaced_version` or is pinned: a version activated by hand during the
+  // run stays. The database error when it could not be recorded.
+  virtual Status FinishCalibration(CalibrationRecord* run,
+                                   std::optional<ModelVersion> promoted,
+                                   int64_t replaced_version) = 0;
   virtual StatusOr<CalibrationRecord> GetCalibration(int64_t id) const = 0;
   virtual std::vector<CalibrationRecord> ListCalibrations(int limit) const = 0;
 

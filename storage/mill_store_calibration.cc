@@ -1,63 +1,18 @@
-// MillStore: models and calibration runs. The store records each run,
-// hands the fitting and scoring to core (core/fit/candidate_model.h: which
-// candidate, fitted on the seeded 2/3 training campaigns, scored with the
-// active model on the same 1/3 validation campaigns, promoted or not), and
-// promotes the candidate (model row + active flag + run record in one
-// transaction); then the open campaign's rolls are re-predicted from their
-// stored passes under the new model, before any reader of runs or versions
-// sees the promotion (publish_mu_, mill_store_impl.h).
+// MillStore: models and the records of calibration runs. The engine
+// (engine/calibration_runs.h) fits, scores and decides; the store queues a
+// run, claims it, records its outcome and, when the engine promotes,
+// stores the model version, makes it active and writes the audit trail's
+// row in one transaction; then the open campaign's rolls are re-predicted
+// from their stored passes under the new model, before any reader of runs
+// or versions sees the promotion (publish_mu_, mill_store_impl.h).
 #include <mutex>
 #include <string>
 #include <utility>
 
-#include "core/ann/ann_study.h"
-#include "core/fit/candidate_model.h"
-#include "core/fit/profile_fit.h"
 #include "storage/mill_store_impl.h"
 #include "storage/store_sql.h"
 
 namespace rollwear::storage::internal {
-namespace {
-
-// The recurrent network of a run with model "ann" (core/fit sits below
-// core/ann, so FitCandidate is handed the trainer).
-StatusOr<FittedCandidate> TrainNetwork(
-    const Dataset& data, const std::vector<int>& train_campaigns) {
-  const AnnTrainingOptions options;
-  ROLLWEAR_ASSIGN_OR_RETURN(WearModel ann,
-                            TrainServableAnn(data, train_campaigns, options));
-  return FittedCandidate{std::move(ann), "recurrent network, ensemble of " +
-                                             std::to_string(options.members) +
-                                             " members"};
-}
-
-// The profile shape of `model` (core/fit/profile_fit.h) fitted on the
-// stored grinder profiles of the run's training campaigns (the same split),
-// when there are any; why not is appended to *summary. The shape's
-// covariance is the roll-clustered sandwich (a roll's points share its
-// scatter), stored with the model version and read by the served interval
-// (core/fit/profile_interval.h). K stays the centre fit's, which the
-// promotion rule scored; the joint fit (profile_joint.h) would move it.
-std::optional<ProfileFit> FitStoredProfileShape(const WearModel& model,
-                                                const Dataset& data,
-                                                uint64_t split_seed,
-                                                std::string* summary) {
-  if (data.profile_points.empty() || model.is_ann()) return std::nullopt;
-  const DatasetIndex index(data);
-  StatusOr<CampaignSplit> split = SplitOf(data, index, split_seed);
-  StatusOr<ProfileFit> fit = split.ok()
-                                 ? FitProfileShape(model, data, index, *split)
-                                 : StatusOr<ProfileFit>(split.status());
-  if (!fit.ok()) {
-    *summary += "; no profile shape: " + fit.status().message();
-    return std::nullopt;
-  }
-  *summary += "; profile shape on " + std::to_string(fit->train.n_points) +
-              " points (roll-clustered s.e.)";
-  return std::move(fit).value();
-}
-
-}  // namespace
 
 StatusOr<ModelVersion> MillStoreImpl::ActiveModel() const {
   return *ActiveVersion();
@@ -103,7 +58,7 @@ StatusOr<int64_t> MillStoreImpl::InsertRun(const std::string& trigger,
       ClaimTask([&rec, &id, claim](Db* db) -> StatusOr<bool> {
         ROLLWEAR_ASSIGN_OR_RETURN(id, InsertCalibration(db, rec));
         if (!claim) return false;
-        return ClaimCalibration(db, id, rec.queued_at);
+        return internal::ClaimCalibration(db, id, rec.queued_at);
       }).status());
   return id;
 }
@@ -124,22 +79,11 @@ StatusOr<bool> MillStoreImpl::ClaimTask(
   return claimed;
 }
 
-StatusOr<CalibrationRecord> MillStoreImpl::ProposeModel(
-    const std::string& trigger, const std::string& model, int option,
-    const WearModel& candidate, const Dataset& data, uint64_t split_seed) {
-  std::lock_guard<std::mutex> runs(calibration_mu_);
-  // Recorded as a run that is already running (claimed in the same
-  // transaction), so the job worker never picks it up as a queued one.
+StatusOr<CalibrationRecord> MillStoreImpl::StartProposal(
+    const std::string& trigger, const std::string& model, int option) {
   ROLLWEAR_ASSIGN_OR_RETURN(const int64_t id,
                             InsertRun(trigger, model, option, /*claim=*/true));
-  ROLLWEAR_ASSIGN_OR_RETURN(CalibrationRecord rec, GetCalibration(id));
-  const std::shared_ptr<const ModelVersion> active = ActiveVersion();
-  CandidateEvaluation result =
-      ScoreCandidate(candidate, active->wear_model, data, split_seed);
-  result.summary = "proposed by " + rec.trigger;
-  rec.finished_at = NowSeconds();
-  ROLLWEAR_RETURN_IF_ERROR(FinishRun(std::move(result), active, &rec));
-  return rec;
+  return GetCalibration(id);
 }
 
 StatusOr<CalibrationRecord> MillStoreImpl::GetCalibration(int64_t id) const {
@@ -164,51 +108,24 @@ std::vector<CalibrationRecord> MillStoreImpl::ListCalibrations(
   return std::move(recs).value();
 }
 
-Status MillStoreImpl::RunCalibration(int64_t id) {
+StatusOr<CalibrationRecord> MillStoreImpl::ClaimCalibration(int64_t id) {
   ROLLWEAR_ASSIGN_OR_RETURN(CalibrationRecord rec, GetCalibration(id));
   if (rec.status != CalibrationStatus::kQueued) {
     return Status::FailedPrecondition(
         "calibration " + std::to_string(id) + " is " +
         CalibrationStatusName(rec.status) + ", not queued");
   }
-
-  // 1. Claim the run; the measurements committed so far are the ones it
-  //    sees ("since last calibration" restarts from here).
   rec.started_at = NowSeconds();
-  ROLLWEAR_ASSIGN_OR_RETURN(const bool claimed,
-                            ClaimTask([&](Db* db) -> StatusOr<bool> {
-                              return ClaimCalibration(db, id, rec.started_at);
-                            }));
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      const bool claimed, ClaimTask([&](Db* db) -> StatusOr<bool> {
+        return internal::ClaimCalibration(db, id, rec.started_at);
+      }));
   if (!claimed) {
     return Status::FailedPrecondition("calibration " + std::to_string(id) +
                                       " is no longer queued");
   }
-
-  // 2. Fit and score the candidate (the store's locks are not held; this
-  //    takes seconds). One run or proposal at a time, from reading the
-  //    active model to the promotion.
-  std::lock_guard<std::mutex> runs(calibration_mu_);
-  const std::shared_ptr<const ModelVersion> active = ActiveVersion();
-  CandidateEvaluation result;
-  // Suspect measurements (storage/store_quality.h) are not fitted.
-  StatusOr<FittingData> data = ReadFittingData();
-  if (!data.ok()) {
-    result.error = data.status();
-  } else {
-    CandidateRequest request;
-    request.model = rec.model;
-    request.option = rec.option;
-    request.split_seed = options_.split_seed;
-    request.train_network = TrainNetwork;
-    result = FitCandidate(data->fit, request, active->wear_model);
-  }
-  std::optional<ProfileFit> profile;
-  if (data.ok() && result.error.ok()) {
-    profile = FitStoredProfileShape(result.candidate, data->fit,
-                                    options_.split_seed, &result.summary);
-  }
-  rec.finished_at = NowSeconds();
-  return FinishRun(std::move(result), active, &rec, std::move(profile));
+  rec.status = CalibrationStatus::kRunning;
+  return rec;
 }
 
 std::shared_ptr<const ModelVersion> MillStoreImpl::ActiveVersion() const {
@@ -216,69 +133,53 @@ std::shared_ptr<const ModelVersion> MillStoreImpl::ActiveVersion() const {
   return model_;
 }
 
-Status MillStoreImpl::FinishRun(
-    CandidateEvaluation result,
-    const std::shared_ptr<const ModelVersion>& active, CalibrationRecord* run,
-    std::optional<ProfileFit> profile) {
+Status MillStoreImpl::FinishCalibration(CalibrationRecord* run,
+                                        std::optional<ModelVersion> promoted,
+                                        int64_t replaced_version) {
   CalibrationRecord& rec = *run;
-  const CandidateScore& score = result.score;
-  rec.cost = score.cost;
-  rec.gap_train_um = score.gap_train_um;
-  rec.gap_val_um = score.gap_val_um;
-  rec.active_gap_val_um = score.active_gap_val_um;
-  rec.n_train = score.n_train;
-  rec.n_val = score.n_val;
-  rec.coefficients = score.coefficients;
-  // 3. Record the run; promote when core's rule says so.
-  rec.promoted = false;
-  if (!result.error.ok()) {
-    rec.status = CalibrationStatus::kFailed;
-    rec.message = result.error.message();
-  } else {
-    const PromotionDecision decision = DecidePromotion(score, active->version);
-    rec.status = decision.comparable ? CalibrationStatus::kDone
-                                     : CalibrationStatus::kFailed;
-    rec.promoted = decision.promote;
-    rec.message = result.summary + decision.reason;
-    if (rec.promoted && active->pinned) {
-      // Recorded, not promoted: a version activated by hand stays until
-      // unpinned (MillStore::ActivateModel).
-      rec.promoted = false;
-      rec.message += "; not promoted: model pinned (version " +
-                     std::to_string(active->version) +
-                     " was activated by hand; unpin it to let runs promote)";
+  std::lock_guard<std::mutex> promoting(promote_mu_);
+  if (promoted.has_value()) {
+    // The run was compared with `replaced_version`; a version activated by
+    // hand since then stays (ActivateModel holds promote_mu_ too).
+    const std::shared_ptr<const ModelVersion> now = ActiveVersion();
+    if (now->version != replaced_version || now->pinned) {
+      promoted.reset();
+      rec.message += "; not promoted: version " + std::to_string(now->version) +
+                     " was activated by hand during the run (compared with "
+                     "version " +
+                     std::to_string(replaced_version) + ")";
     }
   }
+  rec.promoted = promoted.has_value();
   if (!rec.promoted) {
     return RunTask([&rec](Db* db) { return UpdateCalibration(db, rec); },
                    nullptr);
   }
-  auto promoted = std::make_shared<ModelVersion>();
-  promoted->created_at = rec.finished_at;
-  promoted->model = rec.model;
-  promoted->option = rec.option;
-  promoted->active = true;
-  promoted->gap_val_um = rec.gap_val_um;
-  promoted->wear_model = std::move(result.candidate);
-  promoted->profile = std::move(profile);
+  auto version = std::make_shared<ModelVersion>(std::move(*promoted));
+  version->created_at = rec.finished_at;
+  version->model = rec.model;
+  version->option = rec.option;
+  version->active = true;
+  version->pinned = false;
+  version->gap_val_um = rec.gap_val_um;
   return RunTask(
-      [&rec, &active, promoted](Db* db) -> Status {
-        ROLLWEAR_ASSIGN_OR_RETURN(const int64_t version,
-                                  InsertActiveModel(db, *promoted, rec.id));
-        promoted->version = version;
-        rec.model_version = version;
-        promoted->calibration_id = rec.id;
-        promoted->trigger = rec.trigger;
-        promoted->source = ModelSource(rec.trigger);
-        promoted->gap_train_um = rec.gap_train_um;
-        promoted->n_train = rec.n_train;
-        promoted->n_val = rec.n_val;
+      [&rec, replaced_version, version](Db* db) -> Status {
+        ROLLWEAR_ASSIGN_OR_RETURN(const int64_t id,
+                                  InsertActiveModel(db, *version, rec.id));
+        version->version = id;
+        rec.model_version = id;
+        version->calibration_id = rec.id;
+        version->trigger = rec.trigger;
+        version->source = ModelSource(rec.trigger);
+        version->gap_train_um = rec.gap_train_um;
+        version->n_train = rec.n_train;
+        version->n_val = rec.n_val;
         ROLLWEAR_RETURN_IF_ERROR(InsertPromotion(
-            db, ModelPromotion{0, version, active->version, promoted->source,
+            db, ModelPromotion{0, id, replaced_version, version->source,
                                rec.message, rec.finished_at, false}));
         return UpdateCalibration(db, rec);
       },
-      [this, promoted](Db*) { InstallModel(promoted); });
+      [this, version](Db*) { InstallModel(version); });
 }
 
 }  // namespace rollwear::storage::internal

@@ -1,7 +1,7 @@
 // Internal to storage: the MillStore implementation (declared here, defined
 // in mill_store_impl.cc (opening, admission, reads), mill_store_writer.cc (the
 // group-commit writer and publishing), mill_store_calibration.cc (models and
-// calibration runs)).
+// the records of calibration runs)).
 //
 // State and locks:
 //   mu_ guards the catalogs, the queue, the live roll states, the active
@@ -48,7 +48,6 @@
 #include <thread>
 #include <vector>
 
-#include "core/fit/candidate_model.h"
 #include "core/model/predictor.h"
 #include "storage/coil_id_filter.h"
 #include "storage/import_plan.h"
@@ -74,20 +73,20 @@ struct WriteItem {
   // acknowledged with the batch (so never before its twin is durable).
   bool unchanged = false;
 
-  RollChangeIn roll_change;               // kRollChange
-  std::string campaign_id;                // kEndCampaign
-  UnixSeconds ended_at = 0;               // kEndCampaign
-  CoilIn coil_in;                         // kCoil, as posted
-  StoredCoil coil;                        // kCoil, canonical
-  std::string coil_wear;                  // kCoil, EncodeCoilWear(answer)
-  MeasurementIn measurement;              // kMeasurement
-  const Dataset* dataset = nullptr;       // kImport (owned by the caller)
-  const DatasetLines* lines = nullptr;    // kImport (caller's; may be null)
-  std::vector<StoredCoil> dataset_coils;  // kImport
+  RollChangeIn roll_change;                  // kRollChange
+  std::string campaign_id;                   // kEndCampaign
+  UnixSeconds ended_at = 0;                  // kEndCampaign
+  CoilIn coil_in;                            // kCoil, as posted
+  StoredCoil coil;                           // kCoil, canonical
+  std::string coil_wear;                     // kCoil, EncodeCoilWear(answer)
+  MeasurementIn measurement;                 // kMeasurement
+  const Dataset* dataset = nullptr;          // kImport (owned by the caller)
+  const DatasetLines* lines = nullptr;       // kImport (caller's; may be null)
+  std::vector<StoredCoil> dataset_coils;     // kImport
   std::vector<std::string> dataset_suspect;  // kImport, SuspectFlags
-  ImportPlan plan;                        // kImport
-  std::function<Status(Db*)> task;        // kTask: inside the transaction
-  std::function<void(Db*)> after_commit;  // kTask: writer thread, after
+  ImportPlan plan;                           // kImport
+  std::function<Status(Db*)> task;           // kTask: inside the transaction
+  std::function<void(Db*)> after_commit;     // kTask: writer thread, after
 
   Status status;
   CoilOutcome coil_outcome;
@@ -176,12 +175,13 @@ class MillStoreImpl final : public MillStore {
   StatusOr<int64_t> EnqueueCalibration(const std::string& trigger, WearLaw law,
                                        int option) override;
   StatusOr<int64_t> EnqueueAnnTraining(const std::string& trigger) override;
-  StatusOr<CalibrationRecord> ProposeModel(const std::string& trigger,
-                                           const std::string& model, int option,
-                                           const WearModel& candidate,
-                                           const Dataset& data,
-                                           uint64_t split_seed) override;
-  Status RunCalibration(int64_t id) override;
+  StatusOr<CalibrationRecord> ClaimCalibration(int64_t id) override;
+  StatusOr<CalibrationRecord> StartProposal(const std::string& trigger,
+                                            const std::string& model,
+                                            int option) override;
+  Status FinishCalibration(CalibrationRecord* run,
+                           std::optional<ModelVersion> promoted,
+                           int64_t replaced_version) override;
   StatusOr<CalibrationRecord> GetCalibration(int64_t id) const override;
   std::vector<CalibrationRecord> ListCalibrations(int limit) const override;
 
@@ -240,14 +240,6 @@ class MillStoreImpl final : public MillStore {
   // last calibration restarts. Returns what `claim` returned.
   StatusOr<bool> ClaimTask(const std::function<StatusOr<bool>(Db*)>& claim);
   std::shared_ptr<const ModelVersion> ActiveVersion() const;
-  // Records the outcome of a claimed run: failed with `result`'s error, or
-  // its figures, and promotes its candidate when DecidePromotion
-  // (core/fit/candidate_model.h) says so against `active`.
-  // `profile`: the candidate's profile shape, stored with it when promoted.
-  Status FinishRun(CandidateEvaluation result,
-                   const std::shared_ptr<const ModelVersion>& active,
-                   CalibrationRecord* run,
-                   std::optional<ProfileFit> profile = std::nullopt);
 
   // ---- mill_store_writer.cc
   void WriterLoop();
@@ -302,10 +294,10 @@ class MillStoreImpl final : public MillStore {
   std::chrono::steady_clock::time_point peak_window_start_;
   size_t wake_writer_at_ = 1;
   std::thread writer_;
-  // Serialises calibration runs and proposals, from reading the active
-  // model to promoting, so that each is compared with the model it
-  // replaces.
-  std::mutex calibration_mu_;
+  // Serialises hand activations and recorded promotions, so that each
+  // promotion replaces the version its run was compared with and a run never
+  // promotes over a fresh pin (FinishCalibration, ActivateModel).
+  std::mutex promote_mu_;
 };
 
 UnixSeconds NowSeconds();
@@ -315,7 +307,8 @@ UnixSeconds NowSeconds();
 // measurement terms (core/model/model_eval.h, MeasurementTermsOffset), the
 // offset validation adds. 0 when the slot is unmeasured or the campaign
 // open (mill_store_history.cc).
-double StoredReadingOffset(const WearModel& model, const CampaignRec& rec, int slot);
+double StoredReadingOffset(const WearModel& model, const CampaignRec& rec,
+                           int slot);
 
 }  // namespace rollwear::storage::internal
 

@@ -16,8 +16,9 @@
 //   {"format": 1, "law": "wang", "option": 0, "ann": "<SerializeAnnModel
 //    text>", "noise_sd_um": ..., "noise_rel": ...}
 //
-// A model version with a calibrated profile shape (core/fit/profile_fit.h)
-// stores it beside the model as
+// A model version with a calibrated profile shape
+// (core/model/profile_calibration.h, fitted by core/fit/profile_fit.h) stores
+// it beside the model as
 //   "profile": {"beta2", "beta4", "alpha1", "alpha2", "alpha3",
 //               "std_error": {"beta2", ...}, "residual_sd_um",
 //               "n_points_train", "gap_train_um", "n_points_val",
@@ -36,15 +37,14 @@
 #ifndef ROLLWEAR_STORAGE_MODEL_CODEC_H_
 #define ROLLWEAR_STORAGE_MODEL_CODEC_H_
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include <optional>
-
-#include "core/fit/profile_fit.h"
-#include "core/model/model_terms.h"
 #include "core/base/status.h"
+#include "core/model/model_terms.h"
+#include "core/model/profile_calibration.h"
 #include "core/model/wear_model.h"
 
 namespace rollwear::storage {

@@ -51,9 +51,10 @@ StatusOr<ModelVersion> MillStoreImpl::ActivateModel(int64_t version,
     return Status::InvalidArgument(
         "reason: required, say why this version is activated");
   }
-  // One activation, run or proposal at a time, so each promotion names the
-  // version it replaced and a run never promotes over a fresh pin.
-  std::lock_guard<std::mutex> runs(calibration_mu_);
+  // One activation or recorded promotion at a time, so each promotion
+  // names the version it replaced and a run never promotes over a fresh
+  // pin (FinishCalibration).
+  std::lock_guard<std::mutex> promoting(promote_mu_);
   if (version <= 0) {
     return Status::NotFound("model version " + std::to_string(version) +
                             ": only a stored version can be activated "

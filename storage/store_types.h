@@ -22,10 +22,10 @@
 #include "core/dataset/dataset.h"
 #include "core/dataset/extra_fields.h"
 #include "core/dataset/input_rules.h"
-#include "core/fit/profile_fit.h"
-#include "core/fit/profile_interval.h"
 #include "core/model/ann_model.h"
 #include "core/model/barrel_profile.h"
+#include "core/model/profile_calibration.h"
+#include "core/model/profile_interval.h"
 #include "core/model/remaining_life.h"
 #include "core/model/wear_model.h"
 
@@ -45,8 +45,6 @@ struct StoreOptions {
   // predictions use a prior model of `default_law`/`default_option` with
   // every kF = initial_k and all other factors 1 (version 0, not stored).
   double initial_k = 0.3;
-  // Seed of the 2/3-1/3 campaign split used by calibration runs.
-  uint64_t split_seed = 1;
   // Wear limit of each roll position slot from the configuration, µm (0:
   // none); a limit set through SetWearLimit wins (wear_limits table).
   std::array<double, kNumRollPositionSlots> wear_limit_um{};
@@ -67,7 +65,8 @@ struct RollChangeIn {
   std::string campaign_id;
   UnixSeconds started_at = 0;
   std::vector<MountedRollIn> rolls;
-  ExtraFields extra;  // the campaign's extra fields: campaigns.csv's extra columns
+  ExtraFields
+      extra;  // the campaign's extra fields: campaigns.csv's extra columns
 };
 
 // Views of `rolls` for core's RollChangeRules (valid while `rolls` lives).
@@ -168,7 +167,6 @@ struct ProfileWear {
   ProfilePrediction profile;
 };
 
-
 // Bounds of a wear limit (µm): above 0, at most kMaxWearLimitUm.
 inline constexpr double kMaxWearLimitUm = 5000;
 
@@ -198,13 +196,13 @@ struct ForecastPosition {
   std::string roll_id;
   std::string campaign_id;
   std::optional<double> wear_limit_um;
-  std::vector<double> predicted_wear_um;                  // after coil i
-  std::vector<std::pair<double, double>> interval_um;     // after coil i
+  std::vector<double> predicted_wear_um;               // after coil i
+  std::vector<std::pair<double, double>> interval_um;  // after coil i
   int first_crossing = -1;  // first i with wear >= limit; -1 none
 };
 struct Forecast {
   int64_t model_version = 0;
-  std::vector<std::string> coil_ids;  // the schedule's, in order
+  std::vector<std::string> coil_ids;        // the schedule's, in order
   std::vector<ForecastPosition> positions;  // by stand, top first
 };
 
@@ -279,11 +277,11 @@ struct StoredDiagnosis {
   std::string status;  // "done" or "failed"
   bool adopt = false;
   UnixSeconds queued_at = 0, started_at = 0, finished_at = 0;
-  std::string verdict;      // the report's verdict ("" when failed)
-  std::string message;      // why it failed, or why adoption was not recorded
+  std::string verdict;  // the report's verdict ("" when failed)
+  std::string message;  // why it failed, or why adoption was not recorded
   int64_t calibration_id = 0;  // the adoption's run (0: none)
-  std::string report_json;  // api/diagnosis_json.h's JSON ("" when failed)
-  std::string report_html;  // core's DiagnosisHtml ("" when failed)
+  std::string report_json;     // api/diagnosis_json.h's JSON ("" when failed)
+  std::string report_html;     // core's DiagnosisHtml ("" when failed)
 };
 
 // One mount of a roll (MillStore::RollLife): where and when, what it
@@ -309,8 +307,8 @@ struct RollMountLife {
 };
 struct RollLife {
   std::string roll_id;
-  std::string roll_type;  // of its last mount
-  int64_t model_version = 0;  // the model the predictions are under
+  std::string roll_type;              // of its last mount
+  int64_t model_version = 0;          // the model the predictions are under
   std::vector<RollMountLife> mounts;  // oldest first
 };
 

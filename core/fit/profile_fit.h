@@ -50,50 +50,14 @@
 #include "core/dataset/dataset.h"
 #include "core/model/barrel_profile.h"
 #include "core/model/metrics.h"
+#include "core/model/profile_calibration.h"
 #include "core/model/wear_model.h"
 
 namespace rollwear {
 
-// The fitted coefficients of g, without the fixed 1.
-inline constexpr int kProfileShapeParameters = kProfileBasis - 1;
-// Their names in reports and JSON: beta2, beta4, alpha1, alpha2, alpha3.
-const std::array<std::string, kProfileShapeParameters>& ProfileShapeNames();
-// {beta2, beta4, alpha_1, alpha_2, alpha_3} of `shape`.
-std::array<double, kProfileShapeParameters> ProfileShapeValues(
-    const ProfileShape& shape);
-
 struct ProfileFitOptions {
   ProfileGrid grid;
   double edge_zone_mm = 100;  // see the edge zone above
-};
-
-// Mean |measured - predicted| over a set of profile points, in all and by
-// zone (NaN where a set is empty).
-struct ProfileGap {
-  int n_points = 0;
-  int n_edge = 0;  // n_edge + n_body <= n_points (points outside the band)
-  int n_body = 0;
-  int n_profiles = 0;  // rolls
-  double gap_um = 0;
-  double edge_um = 0;
-  double body_um = 0;
-};
-
-struct ProfileFit {
-  ProfileShape shape;
-  // Standard errors of ProfileShapeValues(shape), same order, and their
-  // covariance: roll-clustered (see above; the sqrt of its diagonal).
-  std::array<double, kProfileShapeParameters> std_error{};
-  std::array<std::array<double, kProfileShapeParameters>,
-             kProfileShapeParameters>
-      covariance{};
-  double residual_sd_um = 0;  // sigma on the training points
-  // The residual sd within rolls (one-way ANOVA's within mean square): the
-  // point-to-point part of sigma, without the scatter a roll's points share.
-  // NaN when unknown (a stored model from before it was kept).
-  double within_roll_sd_um = std::numeric_limits<double>::quiet_NaN();
-  ProfileGap train;
-  ProfileGap validation;
 };
 
 // The indices of data.profile_points of each measured profile, keyed by

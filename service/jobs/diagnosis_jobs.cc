@@ -7,8 +7,8 @@
 
 #include "api/diagnosis_json.h"
 #include "core/diagnosis/diagnosis.h"
-#include "service/jobs/job_log.h"
 #include "core/report/diagnosis_report.h"
+#include "service/jobs/job_log.h"
 
 namespace rollwear::service {
 namespace {
@@ -41,8 +41,9 @@ storage::StoredDiagnosis ToStored(const api::DiagnosisJob& job) {
 }  // namespace
 
 DiagnosisJobs::DiagnosisJobs(storage::MillStore* store,
+                             engine::CalibrationRuns* runs,
                              CalibrationDone on_calibration)
-    : store_(store), on_calibration_(std::move(on_calibration)) {
+    : store_(store), runs_(runs), on_calibration_(std::move(on_calibration)) {
   // Ids go on after those stored by an earlier run of the daemon.
   StatusOr<int64_t> last = store_->LastDiagnosisId();
   if (last.ok()) next_id_ = *last + 1;
@@ -114,10 +115,9 @@ void DiagnosisJobs::Work() {
       result.message += (result.message.empty() ? "" : "; ") +
                         std::string("not stored: ") + saved.message();
     }
-    LogDiagnosisFinished(
-        result, std::chrono::duration<double>(std::chrono::steady_clock::now() -
-                                              start)
-                    .count());
+    LogDiagnosisFinished(result, std::chrono::duration<double>(
+                                     std::chrono::steady_clock::now() - start)
+                                     .count());
     std::lock_guard<std::mutex> lock(mu_);
     auto it = jobs_.find(id);
     if (it != jobs_.end()) it->second = std::move(result);
@@ -151,10 +151,10 @@ api::DiagnosisJob DiagnosisJobs::Run(int64_t id, bool adopt) {
       // Scored on the validation campaigns of the data and split the
       // diagnosis fitted on.
       const auto start = std::chrono::steady_clock::now();
-      StatusOr<storage::CalibrationRecord> run = store_->ProposeModel(
-          "diagnosis " + std::to_string(id),
-          WearLawName(report->adopted_model.law), 1, report->adopted_model,
-          data->fit, options.split_seed);
+      StatusOr<storage::CalibrationRecord> run =
+          runs_->Propose("diagnosis " + std::to_string(id),
+                         WearLawName(report->adopted_model.law), 1,
+                         report->adopted_model, data->fit, options.split_seed);
       const double seconds = std::chrono::duration<double>(
                                  std::chrono::steady_clock::now() - start)
                                  .count();

@@ -8,8 +8,8 @@
 // ones. A diagnosis queued with `adopt` that finds
 // missing physics proposes its adopted model (option 1 plus the fitted
 // terms) to the store, which promotes it when its validation gap is no
-// worse than the active model's (MillStore::ProposeModel); the job then
-// carries that run's record. Every job logs its start and end
+// worse than the active model's (engine::CalibrationRuns::Propose); the job
+// then carries that run's record. Every job logs its start and end
 // (service/jobs/job_log.h); the adoption's run is handed to
 // `on_calibration` like every other calibration run (metrics, log).
 //
@@ -28,6 +28,7 @@
 #include <thread>
 
 #include "api/diagnosis_job.h"
+#include "engine/calibration_runs.h"
 #include "storage/mill_store.h"
 
 namespace rollwear::service {
@@ -37,10 +38,11 @@ class DiagnosisJobs final : public api::DiagnosisRunner {
   // The calibration run of an adoption and its wall time, seconds.
   using CalibrationDone =
       std::function<void(const storage::CalibrationRecord&, double)>;
-  // `store` must outlive the worker (this object, or until Stop()).
-  // `on_calibration` (may be empty) runs on the worker thread.
-  explicit DiagnosisJobs(storage::MillStore* store,
-                         CalibrationDone on_calibration = nullptr);
+  // `store` and `runs` (the engine's, on that store) must outlive the
+  // worker (this object, or until Stop()). `on_calibration` (may be empty)
+  // runs on the worker thread.
+  DiagnosisJobs(storage::MillStore* store, engine::CalibrationRuns* runs,
+                CalibrationDone on_calibration = nullptr);
   ~DiagnosisJobs() override;  // Stop()s
   DiagnosisJobs(const DiagnosisJobs&) = delete;
   DiagnosisJobs& operator=(const DiagnosisJobs&) = delete;
@@ -57,6 +59,7 @@ class DiagnosisJobs final : public api::DiagnosisRunner {
   api::DiagnosisJob Run(int64_t id, bool adopt);
 
   storage::MillStore* store_;
+  engine::CalibrationRuns* runs_;
   CalibrationDone on_calibration_;
   mutable std::mutex mu_;
   std::condition_variable cv_;

@@ -28,9 +28,10 @@ UnixSeconds NextLocalTime(UnixSeconds now, int minute_of_day) {
   return now + int64_t{24} * 3600;  // unreachable in practice
 }
 
-Scheduler::Scheduler(storage::MillStore* store, SchedulerOptions options,
-                     Finished on_finished)
+Scheduler::Scheduler(storage::MillStore* store, engine::CalibrationRuns* runs,
+                     SchedulerOptions options, Finished on_finished)
     : store_(store),
+      runs_(runs),
       options_(std::move(options)),
       on_finished_(std::move(on_finished)) {}
 
@@ -111,7 +112,8 @@ int64_t Scheduler::Tick(UnixSeconds now) {
   StatusOr<int64_t> id =
       ann     ? store_->EnqueueAnnTraining("nightly")
       : terms ? store_->EnqueueCalibration("nightly", active->wear_model.law, 1)
-              : store_->EnqueueCalibration("nightly", options_.law, options_.option);
+              : store_->EnqueueCalibration("nightly", options_.law,
+                                           options_.option);
   if (!id.ok()) return 0;
   LogCalibrationQueued(*id, "nightly");
   Submit(*id);
@@ -141,7 +143,7 @@ void Scheduler::WorkerLoop() {
     lock.unlock();
 
     const auto start = std::chrono::steady_clock::now();
-    const Status status = store_->RunCalibration(id);
+    const Status status = runs_->Run(id);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
             .count();

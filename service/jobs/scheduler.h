@@ -1,7 +1,7 @@
 // Scheduler: the daemon's calibration work (the diagnoses run beside it,
 // in service/jobs/diagnosis_jobs.h).
 //   - a job worker thread that runs queued calibration runs
-//     (MillStore::RunCalibration) one at a time, in submission order;
+//     (engine::CalibrationRuns::Run) one at a time, in submission order;
 //   - a nightly trigger that, at the configured local time of day, queues a
 //     calibration only when measurements arrived since the last run
 //     (StoreCounters::measurements_since_last_calibration > 0).
@@ -26,6 +26,7 @@
 
 #include "core/dataset/dataset.h"
 #include "core/model/wear_law.h"
+#include "engine/calibration_runs.h"
 #include "storage/mill_store.h"
 
 namespace rollwear::service {
@@ -53,9 +54,10 @@ class Scheduler {
   using Finished =
       std::function<void(const storage::CalibrationRecord&, double seconds)>;
 
-  // `store` must outlive the scheduler.
-  Scheduler(storage::MillStore* store, SchedulerOptions options,
-            Finished on_finished = nullptr);
+  // `store` and `runs` (the engine's, on that store) must outlive the
+  // scheduler.
+  Scheduler(storage::MillStore* store, engine::CalibrationRuns* runs,
+            SchedulerOptions options, Finished on_finished = nullptr);
   ~Scheduler();
 
   Scheduler(const Scheduler&) = delete;
@@ -87,6 +89,7 @@ class Scheduler {
   UnixSeconds Now() const;
 
   storage::MillStore* store_;
+  engine::CalibrationRuns* runs_;
   SchedulerOptions options_;
   Finished on_finished_;
 

@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/router.h"
+#include "engine/calibration_runs.h"
 #include "service/jobs/diagnosis_jobs.h"
 #include "storage/mill_store.h"
 
@@ -104,6 +105,7 @@ class RouterTest : public ::testing::Test {
   void TearDown() override {
     router_.reset();
     diagnoses_.reset();
+    runs_.reset();
     store_.reset();
     std::error_code ec;
     std::filesystem::remove_all(dir_, ec);
@@ -113,7 +115,10 @@ class RouterTest : public ::testing::Test {
   // brings its own runner).
   void MakeRouter(ApiOptions options) {
     router_.reset();
-    diagnoses_ = std::make_unique<service::DiagnosisJobs>(store_.get());
+    diagnoses_.reset();
+    runs_ = std::make_unique<engine::CalibrationRuns>(store_.get());
+    diagnoses_ =
+        std::make_unique<service::DiagnosisJobs>(store_.get(), runs_.get());
     if (options.diagnoses == nullptr) options.diagnoses = diagnoses_.get();
     router_ = std::make_unique<Router>(store_.get(), std::move(options));
   }
@@ -174,6 +179,7 @@ class RouterTest : public ::testing::Test {
 
   std::string dir_;
   std::unique_ptr<storage::MillStore> store_;
+  std::unique_ptr<engine::CalibrationRuns> runs_;
   std::unique_ptr<service::DiagnosisJobs> diagnoses_;
   std::unique_ptr<Router> router_;
 };

@@ -175,7 +175,7 @@ TEST_F(ProfileRouterTest, UncalibratedProfileIsUniformUnderTheStrips) {
     }
     EXPECT_EQ(covered, 124);  // x = -580 ... 650 (top)
     // Widened: the centre's interval and 1.96 * 20 % of the profile in
-    // quadrature (core/fit/profile_interval.h), at x = 0 where P = W.
+    // quadrature (core/model/profile_interval.h), at x = 0 where P = W.
     const json& ci = centre_answer["interval_um"];
     const double below = w - ci[0].get<double>();
     const double above = ci[1].get<double>() - w;

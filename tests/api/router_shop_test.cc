@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "core/sim/simulator.h"
+#include "engine/calibration_runs.h"
 #include "tests/api/api_test_util.h"
 
 namespace rollwear::api::testing {
@@ -38,11 +39,11 @@ class ShopRouterTest : public RouterTest {
   void TwoVersions() {
     StatusOr<int64_t> id = store_->EnqueueCalibration("api", WearLaw::kWang, 1);
     ASSERT_TRUE(id.ok());
-    ASSERT_TRUE(store_->RunCalibration(*id).ok());
+    ASSERT_TRUE(engine::CalibrationRuns(&*store_).Run(*id).ok());
     ASSERT_EQ(store_->ActiveModel()->version, 1);
     StatusOr<Dataset> data = store_->ExportDataset();
     ASSERT_TRUE(data.ok());
-    auto run = store_->ProposeModel(
+    auto run = engine::CalibrationRuns(&*store_).Propose(
         "diagnosis 1", "wang", 1, store_->ActiveModel()->wear_model, *data, 1);
     ASSERT_TRUE(run.ok());
     ASSERT_TRUE(run->promoted) << run->message;

@@ -12,7 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "core/dataset/pass_input.h"
-#include "core/fit/profile_interval.h"
+#include "core/model/profile_interval.h"
 #include "core/fit/study.h"
 #include "core/model/aggregation.h"
 #include "core/model/model_eval.h"

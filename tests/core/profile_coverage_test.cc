@@ -1,4 +1,4 @@
-// Coverage of the served profile interval (core/fit/profile_interval.h) on
+// Coverage of the served profile interval (core/model/profile_interval.h) on
 // simulated mills over several seeds: the profiles are generated with the
 // model's own form, a scatter factor per roll that all its points share
 // (so the points of one roll are correlated) and grinder noise per point;
@@ -28,7 +28,7 @@
 #include <gtest/gtest.h>
 
 #include "core/fit/profile_fit.h"
-#include "core/fit/profile_interval.h"
+#include "core/model/profile_interval.h"
 #include "core/fit/profile_joint.h"
 #include "tests/core/profile_test_util.h"
 #include "tests/core/test_size.h"

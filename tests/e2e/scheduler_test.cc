@@ -89,7 +89,8 @@ class SchedulerTest : public ::testing::Test {
 TEST_F(SchedulerTest, NightlyTriggerQueuesOnlyWhenMeasurementsArrived) {
   SchedulerOptions options;
   options.recalibration_minute = 120;
-  Scheduler scheduler(store_.get(), options);
+  engine::CalibrationRuns runs(store_.get());
+  Scheduler scheduler(store_.get(), &runs, options);
   EXPECT_EQ(scheduler.Tick(At("2026-03-01T00:00:00Z")), 0);  // sets due
   EXPECT_EQ(scheduler.next_due(), At("2026-03-01T02:00:00Z"));
   EXPECT_EQ(scheduler.Tick(At("2026-03-01T01:59:59Z")), 0);
@@ -116,7 +117,8 @@ TEST_F(SchedulerTest, WorkerRunsQueuedCalibrationsAndReportsThem) {
   storage::CalibrationRecord last;
   SchedulerOptions options;
   options.recalibration_minute = -1;
-  Scheduler scheduler(store_.get(), options,
+  engine::CalibrationRuns runs(store_.get());
+  Scheduler scheduler(store_.get(), &runs, options,
                       [&](const storage::CalibrationRecord& r, double) {
                         last = r;
                         ++finished;
@@ -157,7 +159,8 @@ TEST_F(SchedulerTest, NightlyRunAndItsPromotionAreLogged) {
   SchedulerOptions options;
   options.recalibration_minute = 120;
   // The daemon's hook (service/cmd_serve.cc) logs every finished run.
-  Scheduler scheduler(store_.get(), options, &LogCalibrationFinished);
+  engine::CalibrationRuns runs(store_.get());
+  Scheduler scheduler(store_.get(), &runs, options, &LogCalibrationFinished);
   EXPECT_EQ(scheduler.Tick(At("2026-03-01T00:00:00Z")), 0);  // sets due
   const int64_t id = scheduler.Tick(At("2026-03-01T02:00:30Z"));
   ASSERT_GT(id, 0);

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "engine/calibration_runs.h"
 #include "storage/mill_store.h"
 #include "storage/sqlite_db.h"
 #include "tests/storage/store_test_util.h"
@@ -48,7 +49,7 @@ TEST(StoreCalibrationTest, RunOnSimulatedDataPromotesAndRepredicts) {
   EXPECT_EQ(queued->model, "wang");
   EXPECT_GT(queued->queued_at, 0);
 
-  Status run = store->RunCalibration(*id);
+  Status run = engine::CalibrationRuns(&*store).Run(*id);
   ASSERT_TRUE(run.ok()) << run.ToString();
   StatusOr<CalibrationRecord> rec = store->GetCalibration(*id);
   ASSERT_TRUE(rec.ok());
@@ -93,7 +94,8 @@ TEST(StoreCalibrationTest, RunOnSimulatedDataPromotesAndRepredicts) {
   EXPECT_LT(snap.positions[0].interval_lo_um, snap.positions[0].interval_hi_um);
 
   // Not queued any more.
-  EXPECT_EQ(store->RunCalibration(*id).code(), StatusCode::kFailedPrecondition);
+  EXPECT_EQ(engine::CalibrationRuns(&*store).Run(*id).code(),
+            StatusCode::kFailedPrecondition);
 
   // Restart: the promoted model and the re-predicted state come back.
   store.reset();
@@ -117,7 +119,7 @@ TEST(StoreCalibrationTest, RunOnSimulatedDataPromotesAndRepredicts) {
   StatusOr<int64_t> id2 =
       store->EnqueueCalibration("nightly", WearLaw::kNikitenko, 3);
   ASSERT_TRUE(id2.ok());
-  ASSERT_TRUE(store->RunCalibration(*id2).ok());
+  ASSERT_TRUE(engine::CalibrationRuns(&*store).Run(*id2).ok());
   StatusOr<CalibrationRecord> rec2 = store->GetCalibration(*id2);
   ASSERT_TRUE(rec2.ok());
   EXPECT_EQ(rec2->status, CalibrationStatus::kDone) << rec2->message;
@@ -168,7 +170,7 @@ TEST(StoreCalibrationTest, ReadersNeverSeeAPromotionBeforeItsModel) {
       }
     }
   });
-  const Status run = store->RunCalibration(*id);
+  const Status run = engine::CalibrationRuns(&*store).Run(*id);
   finished.store(true);
   reader.join();
   ASSERT_TRUE(run.ok()) << run.ToString();
@@ -197,7 +199,7 @@ TEST(StoreCalibrationTest, FailingRunIsRecordedAndLeavesTheModelAlone) {
   // No measurement at all: nothing to calibrate on.
   StatusOr<int64_t> id = store->EnqueueCalibration("api", WearLaw::kWang, 1);
   ASSERT_TRUE(id.ok());
-  ASSERT_TRUE(store->RunCalibration(*id).ok());
+  ASSERT_TRUE(engine::CalibrationRuns(&*store).Run(*id).ok());
   StatusOr<CalibrationRecord> rec = store->GetCalibration(*id);
   ASSERT_TRUE(rec.ok());
   EXPECT_EQ(rec->status, CalibrationStatus::kFailed);

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "engine/calibration_runs.h"
 #include "storage/mill_store.h"
 #include "storage/sqlite_db.h"
 #include "tests/storage/store_test_util.h"
@@ -166,7 +167,7 @@ TEST(StoreCoilAnswerTest, AfterAPromotionARepeatStillGetsItsFirstAnswer) {
 
   StatusOr<int64_t> id = store->EnqueueCalibration("api", WearLaw::kWang, 1);
   ASSERT_TRUE(id.ok());
-  ASSERT_TRUE(store->RunCalibration(*id).ok());
+  ASSERT_TRUE(engine::CalibrationRuns(&*store).Run(*id).ok());
   StatusOr<CalibrationRecord> rec = store->GetCalibration(*id);
   ASSERT_TRUE(rec.ok());
   ASSERT_TRUE(rec->promoted) << rec->message;

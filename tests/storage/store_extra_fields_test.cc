@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "core/fit/term_fit.h"
+#include "engine/calibration_runs.h"
 #include "storage/mill_store.h"
 #include "storage/model_levels.h"
 #include "tests/core/extra_terms_util.h"
@@ -65,8 +66,8 @@ void ExpectLiveWearIsBatch(const MillStore& store) {
   ASSERT_EQ(d.campaigns[open].id, "OPEN");
   for (const Mount& m : d.mounts) {
     if (m.campaign != open) continue;
-    d.measurements.push_back({open, m.stand, m.position, m.roll_id,
-                              kOpenStart + 86400, 100.0});
+    d.measurements.push_back(
+        {open, m.stand, m.position, m.roll_id, kOpenStart + 86400, 100.0});
     for (auto& col : d.measurement_extra.numeric) col.push_back(std::nan(""));
   }
   StatusOr<TermData> td = BuildTermData(d, WearLaw::kWang);
@@ -111,8 +112,8 @@ TEST(StoreExtraFieldsTest, TermsOnExtraFieldsRunLiveAsInBatchAcrossRestarts) {
     mill.measurements[td->obs[o].measurement].wear_center_um = reading[o];
   }
   ASSERT_TRUE(store->ImportDataset(mill).ok());
-  StatusOr<CalibrationRecord> run =
-      store->ProposeModel("test", "wang", 1, truth, mill, 1);
+  StatusOr<CalibrationRecord> run = engine::CalibrationRuns(&*store).Propose(
+      "test", "wang", 1, truth, mill, 1);
   ASSERT_TRUE(run.ok()) << run.status().ToString();
   ASSERT_TRUE(run->promoted) << run->message;
   EXPECT_LT(run->gap_val_um, 1e-6);  // scored coil by coil with the terms
@@ -150,8 +151,9 @@ TEST(StoreExtraFieldsTest, TermsOnExtraFieldsRunLiveAsInBatchAcrossRestarts) {
   EXPECT_EQ(level(m0 + 0), "Y");
   EXPECT_EQ(level(m0 + 2), "");
   EXPECT_EQ(level(m0 + 3), "Z");
-  EXPECT_EQ(out->campaign_extra.factor_levels[0]
-                [out->campaign_extra.factor[0].back()], "B");
+  EXPECT_EQ(out->campaign_extra
+                .factor_levels[0][out->campaign_extra.factor[0].back()],
+            "B");
 
   // Repeats: the same fields are unchanged (a coil-level field is each
   // pass's field), another value, a dropped or an added field conflict.
@@ -169,14 +171,18 @@ TEST(StoreExtraFieldsTest, TermsOnExtraFieldsRunLiveAsInBatchAcrossRestarts) {
   other = OpenCoil(2);
   other.passes[1].extra.factor = {{"shift_crew", "night"}};
   EXPECT_EQ(store->AddCoil(other).status().code(), StatusCode::kAlreadyExists);
-  EXPECT_EQ(*store->ApplyRollChange(OpenRollChange()), WriteOutcome::kUnchanged);
+  EXPECT_EQ(*store->ApplyRollChange(OpenRollChange()),
+            WriteOutcome::kUnchanged);
   RollChangeIn rc = OpenRollChange();
   rc.extra.factor[0].second = "A";
-  EXPECT_EQ(store->ApplyRollChange(rc).status().code(), StatusCode::kAlreadyExists);
+  EXPECT_EQ(store->ApplyRollChange(rc).status().code(),
+            StatusCode::kAlreadyExists);
   rc = OpenRollChange();
   rc.rolls[2].extra.factor = {{"supplier", "X"}};
-  EXPECT_EQ(store->ApplyRollChange(rc).status().code(), StatusCode::kAlreadyExists);
-  EXPECT_EQ(store->Counters().coils, static_cast<int64_t>(mill.coil_ids.size()) + 30);
+  EXPECT_EQ(store->ApplyRollChange(rc).status().code(),
+            StatusCode::kAlreadyExists);
+  EXPECT_EQ(store->Counters().coils,
+            static_cast<int64_t>(mill.coil_ids.size()) + 30);
 
   // Restart: the fields are read back and give the same wear, bit for bit;
   // repeats are judged the same way.
@@ -194,8 +200,10 @@ TEST(StoreExtraFieldsTest, TermsOnExtraFieldsRunLiveAsInBatchAcrossRestarts) {
   other = OpenCoil(1);
   other.passes[0].extra = {};
   EXPECT_EQ(store->AddCoil(other).status().code(), StatusCode::kAlreadyExists);
-  EXPECT_EQ(*store->ApplyRollChange(OpenRollChange()), WriteOutcome::kUnchanged);
-  EXPECT_EQ(store->ApplyRollChange(rc).status().code(), StatusCode::kAlreadyExists);
+  EXPECT_EQ(*store->ApplyRollChange(OpenRollChange()),
+            WriteOutcome::kUnchanged);
+  EXPECT_EQ(store->ApplyRollChange(rc).status().code(),
+            StatusCode::kAlreadyExists);
   // More coils after the restart, still as the batch.
   for (int i = 30; i < 36; ++i) ASSERT_TRUE(store->AddCoil(OpenCoil(i)).ok());
   ExpectLiveWearIsBatch(*store);
@@ -214,9 +222,11 @@ TEST(StoreExtraFieldsTest, TermsOnExtraFieldsRunLiveAsInBatchAcrossRestarts) {
   EXPECT_EQ(*again, WriteOutcome::kUnchanged);
   MeasurementIn me2 = me;
   me2.extra.numeric[0].second = 37;
-  EXPECT_EQ(store->AddMeasurement(me2).status().code(), StatusCode::kAlreadyExists);
+  EXPECT_EQ(store->AddMeasurement(me2).status().code(),
+            StatusCode::kAlreadyExists);
   me2.extra = {};
-  EXPECT_EQ(store->AddMeasurement(me2).status().code(), StatusCode::kAlreadyExists);
+  EXPECT_EQ(store->AddMeasurement(me2).status().code(),
+            StatusCode::kAlreadyExists);
   StatusOr<std::vector<CampaignWearHistory>> hist = store->RecentWear(1);
   ASSERT_TRUE(hist.ok());
   ASSERT_FALSE(hist->empty());

@@ -1,7 +1,8 @@
 // MillStore::RecentWear, the history behind the dashboard: the parity
 // points of measured campaigns compare the measurement with what the
 // grinder is expected to read under the active model, the same number the
-// model's validation uses (core/model/model_eval.h), measurement terms included.
+// model's validation uses (core/model/model_eval.h), measurement terms
+// included.
 #include <cmath>
 #include <map>
 #include <string>
@@ -12,6 +13,7 @@
 #include "core/diagnosis/diagnosis.h"
 #include "core/fit/term_refit.h"
 #include "core/model/model_eval.h"
+#include "engine/calibration_runs.h"
 #include "storage/mill_store.h"
 #include "tests/core/served_terms_util.h"
 #include "tests/storage/store_test_util.h"
@@ -83,7 +85,7 @@ TEST(StoreHistoryTest, ParityUsesTheExpectedReadingWithMeasurementTerms) {
   ASSERT_TRUE(store->ImportDataset(mill).ok());
   StatusOr<int64_t> id = store->EnqueueCalibration("api", WearLaw::kWang, 1);
   ASSERT_TRUE(id.ok());
-  ASSERT_TRUE(store->RunCalibration(*id).ok());
+  ASSERT_TRUE(engine::CalibrationRuns(&*store).Run(*id).ok());
   ASSERT_TRUE(store->GetCalibration(*id)->promoted);
 
   // Classical model: the expected reading is the wear.
@@ -100,8 +102,8 @@ TEST(StoreHistoryTest, ParityUsesTheExpectedReadingWithMeasurementTerms) {
     has_measurement_term |= t.IsMeasurementTerm() && t.covariate == "cooling_h";
   }
   ASSERT_TRUE(has_measurement_term) << report->verdict;
-  StatusOr<CalibrationRecord> run =
-      store->ProposeModel("test", "wang", 1, report->adopted_model, *data, 1);
+  StatusOr<CalibrationRecord> run = engine::CalibrationRuns(&*store).Propose(
+      "test", "wang", 1, report->adopted_model, *data, 1);
   ASSERT_TRUE(run.ok()) << run.status().ToString();
   ASSERT_TRUE(run->promoted) << run->message;
 
@@ -124,17 +126,18 @@ TEST(StoreHistoryTest, ExpectedReadingServesScopedCellAndTextColumnTerms) {
   ASSERT_TRUE(store->ImportDataset(mill).ok());
   StatusOr<int64_t> id = store->EnqueueCalibration("api", WearLaw::kWang, 1);
   ASSERT_TRUE(id.ok());
-  ASSERT_TRUE(store->RunCalibration(*id).ok());
+  ASSERT_TRUE(engine::CalibrationRuns(&*store).Run(*id).ok());
 
   StatusOr<Dataset> data = store->ExportDataset();
   ASSERT_TRUE(data.ok());
   std::vector<int> all;
-  for (int c = 0; c < static_cast<int>(data->campaigns.size()); ++c) all.push_back(c);
+  for (int c = 0; c < static_cast<int>(data->campaigns.size()); ++c)
+    all.push_back(c);
   StatusOr<WearModel> model = RefitWithTerms(
       *data, WearLaw::kWang, served_terms::VocabularyTerms(*data, 0), all);
   ASSERT_TRUE(model.ok()) << model.status().ToString();
-  StatusOr<CalibrationRecord> run =
-      store->ProposeModel("test", "wang", 1, *model, *data, 1);
+  StatusOr<CalibrationRecord> run = engine::CalibrationRuns(&*store).Propose(
+      "test", "wang", 1, *model, *data, 1);
   ASSERT_TRUE(run.ok()) << run.status().ToString();
   ASSERT_GT(run->model_version, 0) << run->message;
   if (!run->promoted) {

@@ -9,6 +9,7 @@
 
 #include "core/diagnosis/diagnosis.h"
 #include "core/model/predictor.h"
+#include "engine/calibration_runs.h"
 #include "storage/mill_store.h"
 #include "tests/core/test_size.h"
 #include "tests/storage/store_test_util.h"
@@ -69,7 +70,7 @@ TEST(StoreModelsTest, AdoptedTermsArePromotedServedAndKeptByTheNightlyRun) {
           .ok());
   StatusOr<int64_t> id = store->EnqueueCalibration("api", WearLaw::kWang, 1);
   ASSERT_TRUE(id.ok());
-  ASSERT_TRUE(store->RunCalibration(*id).ok());
+  ASSERT_TRUE(engine::CalibrationRuns(&*store).Run(*id).ok());
   const CalibrationRecord classical = *store->GetCalibration(*id);
   ASSERT_TRUE(classical.promoted) << classical.message;
   OpenCampaignWithCoils(store.get(), "OC", 40);
@@ -87,8 +88,8 @@ TEST(StoreModelsTest, AdoptedTermsArePromotedServedAndKeptByTheNightlyRun) {
   WearModel spoiled = report->adopted_model;
   spoiled.terms[0].params[0] =
       -0.8 * std::abs(spoiled.terms[0].params[0]) - 0.2;
-  StatusOr<CalibrationRecord> bad =
-      store->ProposeModel("test", "wang", 1, spoiled, *data, 1);
+  StatusOr<CalibrationRecord> bad = engine::CalibrationRuns(&*store).Propose(
+      "test", "wang", 1, spoiled, *data, 1);
   ASSERT_TRUE(bad.ok()) << bad.status().ToString();
   EXPECT_EQ(bad->status, CalibrationStatus::kDone);
   EXPECT_FALSE(bad->promoted) << bad->message;
@@ -97,7 +98,7 @@ TEST(StoreModelsTest, AdoptedTermsArePromotedServedAndKeptByTheNightlyRun) {
 
   // The adopted model itself: promoted, its validation gap below the
   // classical model's on the same campaigns.
-  StatusOr<CalibrationRecord> run = store->ProposeModel(
+  StatusOr<CalibrationRecord> run = engine::CalibrationRuns(&*store).Propose(
       "diagnosis 1", "wang", 1, report->adopted_model, *data, 1);
   ASSERT_TRUE(run.ok()) << run.status().ToString();
   EXPECT_EQ(run->status, CalibrationStatus::kDone);
@@ -132,7 +133,7 @@ TEST(StoreModelsTest, AdoptedTermsArePromotedServedAndKeptByTheNightlyRun) {
   StatusOr<int64_t> nightly =
       store->EnqueueCalibration("nightly", WearLaw::kWang, 1);
   ASSERT_TRUE(nightly.ok());
-  ASSERT_TRUE(store->RunCalibration(*nightly).ok());
+  ASSERT_TRUE(engine::CalibrationRuns(&*store).Run(*nightly).ok());
   const CalibrationRecord refit = *store->GetCalibration(*nightly);
   EXPECT_EQ(refit.status, CalibrationStatus::kDone) << refit.message;
   EXPECT_NE(refit.message.find("adopted term(s) refitted"), std::string::npos)
@@ -181,7 +182,7 @@ TEST(StoreModelsTest, AnnRunIsRecordedAndTheNetworkIsServedAcrossRestarts) {
   StatusOr<int64_t> id = store->EnqueueAnnTraining("api");
   ASSERT_TRUE(id.ok());
   EXPECT_EQ(store->GetCalibration(*id)->model, "ann");
-  ASSERT_TRUE(store->RunCalibration(*id).ok());
+  ASSERT_TRUE(engine::CalibrationRuns(&*store).Run(*id).ok());
   const CalibrationRecord rec = *store->GetCalibration(*id);
   ASSERT_EQ(rec.status, CalibrationStatus::kDone) << rec.message;
   EXPECT_GT(rec.gap_val_um, 0);

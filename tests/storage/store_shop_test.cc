@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include "engine/calibration_runs.h"
 #include "storage/mill_store.h"
 #include "storage/sqlite_db.h"
 #include "tests/storage/store_test_util.h"
@@ -46,7 +47,7 @@ void TwoVersions(MillStore* store, WearSnapshot* v1_wear) {
   StatusOr<int64_t> id =
       store->EnqueueCalibration("nightly", WearLaw::kWang, 1);
   ASSERT_TRUE(id.ok());
-  ASSERT_TRUE(store->RunCalibration(*id).ok());
+  ASSERT_TRUE(engine::CalibrationRuns(&*store).Run(*id).ok());
   ASSERT_TRUE(store->GetCalibration(*id)->promoted);
   OpenCampaignWithCoils(store, "OC", 12);
   ASSERT_FALSE(::testing::Test::HasFatalFailure());
@@ -57,13 +58,13 @@ void TwoVersions(MillStore* store, WearSnapshot* v1_wear) {
   ASSERT_TRUE(data.ok());
   // Same law, k 10 % up: another version, scored on the same campaigns.
   for (double& k : other.k) k *= 1.1;
-  StatusOr<CalibrationRecord> run =
-      store->ProposeModel("diagnosis 7", "wang", 1, other, *data, 1);
+  StatusOr<CalibrationRecord> run = engine::CalibrationRuns(&*store).Propose(
+      "diagnosis 7", "wang", 1, other, *data, 1);
   ASSERT_TRUE(run.ok());
   if (!run->promoted) {
     // The spoiled copy lost: propose the active one itself (equal gap).
-    run = store->ProposeModel("diagnosis 7", "wang", 1,
-                              store->ActiveModel()->wear_model, *data, 1);
+    run = engine::CalibrationRuns(&*store).Propose(
+        "diagnosis 7", "wang", 1, store->ActiveModel()->wear_model, *data, 1);
     ASSERT_TRUE(run.ok());
   }
   ASSERT_TRUE(run->promoted) << run->message;
@@ -103,15 +104,17 @@ TEST(StoreShopTest, ActivatedVersionIsPinnedAuditedAndSurvivesRestart) {
     // A nightly run and a diagnosis adoption record, but do not promote.
     StatusOr<int64_t> id =
         store->EnqueueCalibration("nightly", WearLaw::kWang, 1);
-    ASSERT_TRUE(store->RunCalibration(*id).ok());
+    ASSERT_TRUE(engine::CalibrationRuns(&*store).Run(*id).ok());
     const CalibrationRecord nightly = *store->GetCalibration(*id);
     EXPECT_EQ(nightly.status, CalibrationStatus::kDone);
     EXPECT_FALSE(nightly.promoted);
     EXPECT_NE(nightly.message.find("model pinned"), std::string::npos)
         << nightly.message;
     StatusOr<Dataset> data = store->ExportDataset();
-    StatusOr<CalibrationRecord> adoption = store->ProposeModel(
-        "diagnosis 8", "wang", 1, store->ActiveModel()->wear_model, *data, 1);
+    StatusOr<CalibrationRecord> adoption =
+        engine::CalibrationRuns(&*store).Propose(
+            "diagnosis 8", "wang", 1, store->ActiveModel()->wear_model, *data,
+            1);
     ASSERT_TRUE(adoption.ok());
     EXPECT_FALSE(adoption->promoted);
     EXPECT_EQ(store->ActiveModel()->version, 1);
@@ -153,7 +156,7 @@ TEST(StoreShopTest, ActivatedVersionIsPinnedAuditedAndSurvivesRestart) {
   EXPECT_FALSE(store->ActiveModel()->pinned);
   StatusOr<int64_t> id =
       store->EnqueueCalibration("nightly", WearLaw::kWang, 1);
-  ASSERT_TRUE(store->RunCalibration(*id).ok());
+  ASSERT_TRUE(engine::CalibrationRuns(&*store).Run(*id).ok());
   const CalibrationRecord after = *store->GetCalibration(*id);
   EXPECT_EQ(after.message.find("pinned"), std::string::npos);
   EXPECT_EQ(after.promoted, after.gap_val_um <= after.active_gap_val_um);
@@ -161,6 +164,53 @@ TEST(StoreShopTest, ActivatedVersionIsPinnedAuditedAndSurvivesRestart) {
 }
 
 // A version-4 file's model versions each get one audit row on upgrade.
+// A run is compared with the version active when it started; a version
+// activated by hand while it ran stays, and the run says why it did not
+// promote (the store's own guard: the engine's runs do not hold a lock the
+// activation waits on).
+TEST(StoreShopTest, VersionActivatedDuringARunIsNotReplacedByIt) {
+  TempDir dir;
+  auto store = OpenStore(dir.File("mill.db"));
+  ASSERT_NE(store, nullptr);
+  WearSnapshot v1_wear;
+  TwoVersions(store.get(), &v1_wear);
+  ASSERT_FALSE(HasFatalFailure());
+  const ModelVersion v2 = *store->ActiveModel();
+
+  // The run starts against version 2 ...
+  StatusOr<CalibrationRecord> run = store->StartProposal("test", "wang", 1);
+  ASSERT_TRUE(run.ok()) << run.status().ToString();
+  // ... version 1 is activated by hand, unpinned, while it runs ...
+  ASSERT_TRUE(store->ActivateModel(1, "operator's choice", false).ok());
+  // ... and the run, which the engine decided to promote, finishes.
+  run->status = CalibrationStatus::kDone;
+  run->message = "proposed by test";
+  ModelVersion candidate;
+  candidate.wear_model = v2.wear_model;
+  ASSERT_TRUE(
+      store->FinishCalibration(&*run, candidate, /*replaced_version=*/2).ok());
+  EXPECT_FALSE(run->promoted);
+  EXPECT_EQ(run->model_version, 0);
+  EXPECT_NE(run->message.find("version 1 was activated by hand during the run"),
+            std::string::npos)
+      << run->message;
+  EXPECT_EQ(store->ActiveModel()->version, 1);
+  EXPECT_EQ(store->ListModels().size(), 2u);
+  const StatusOr<CalibrationRecord> stored = store->GetCalibration(run->id);
+  ASSERT_TRUE(stored.ok());
+  EXPECT_FALSE(stored->promoted);
+  EXPECT_EQ(stored->message, run->message);
+
+  // Against the version now active, the same candidate is promoted.
+  StatusOr<CalibrationRecord> next = store->StartProposal("test", "wang", 1);
+  ASSERT_TRUE(next.ok());
+  next->status = CalibrationStatus::kDone;
+  ASSERT_TRUE(
+      store->FinishCalibration(&*next, candidate, /*replaced_version=*/1).ok());
+  EXPECT_TRUE(next->promoted) << next->message;
+  EXPECT_EQ(store->ActiveModel()->version, 3);
+}
+
 TEST(StoreShopTest, UpgradeGivesStoredVersionsAnAuditRow) {
   TempDir dir;
   const std::string path = dir.File("v4.db");
@@ -170,7 +220,7 @@ TEST(StoreShopTest, UpgradeGivesStoredVersionsAnAuditRow) {
     ASSERT_TRUE(store->ImportDataset(SimulatedMill(5, 24, 50)).ok());
     StatusOr<int64_t> id =
         store->EnqueueCalibration("nightly", WearLaw::kWang, 1);
-    ASSERT_TRUE(store->RunCalibration(*id).ok());
+    ASSERT_TRUE(engine::CalibrationRuns(&*store).Run(*id).ok());
     ASSERT_EQ(store->ActiveModel()->version, 1);
   }
   {

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "engine/calibration_runs.h"
 #include "storage/mill_store.h"
 #include "storage/sqlite_db.h"
 #include "storage/store_sql.h"
@@ -16,14 +17,14 @@
 namespace rollwear::storage {
 namespace {
 
+using internal::ReadStoredDataset;
+using internal::RecentCampaignsStart;
 using testing::MakeCoil;
 using testing::MakeMeasurement;
 using testing::MakeRollChange;
 using testing::OpenStore;
 using testing::SimulatedMill;
 using testing::TempDir;
-using internal::ReadStoredDataset;
-using internal::RecentCampaignsStart;
 
 constexpr UnixSeconds kSuspectStart = 1'769'000'000;
 constexpr UnixSeconds kSuspectEnd = 1'775'000'000;
@@ -156,7 +157,7 @@ TEST(StoreSuspectTest, ImportAndPostFlagsAreLeftOutOfFitting) {
   // A calibration scores exactly the measured rolls that are not suspect.
   StatusOr<int64_t> id = store->EnqueueCalibration("api", WearLaw::kWang, 1);
   ASSERT_TRUE(id.ok());
-  ASSERT_TRUE(store->RunCalibration(*id).ok());
+  ASSERT_TRUE(engine::CalibrationRuns(&*store).Run(*id).ok());
   StatusOr<CalibrationRecord> rec = store->GetCalibration(*id);
   ASSERT_TRUE(rec.ok());
   EXPECT_EQ(rec->status, CalibrationStatus::kDone) << rec->message;

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "engine/calibration_runs.h"
 #include "storage/mill_store.h"
 #include "tests/storage/store_test_util.h"
 
@@ -356,7 +357,8 @@ TEST_F(StoreValidationTest, CalibrationRequestRules) {
   EXPECT_EQ(id.status().message().rfind("option: must be 1, 2 or 3", 0), 0u);
   EXPECT_EQ(store_->GetCalibration(12345).status().code(),
             StatusCode::kNotFound);
-  EXPECT_EQ(store_->RunCalibration(12345).code(), StatusCode::kNotFound);
+  EXPECT_EQ(engine::CalibrationRuns(&*store_).Run(12345).code(),
+            StatusCode::kNotFound);
 }
 
 }  // namespace

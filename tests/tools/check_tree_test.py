@@ -67,6 +67,12 @@ class CheckTreeTest(unittest.TestCase):
         self.assertEqual(rc, 0, out)
         self.assertIn("check_tree: ok", out)
 
+    def test_a_layer_folder_without_a_row_fails(self):
+        self.write("engine/e.cc", function("E", 1))
+        rc, out = self.run_checker()
+        self.assertEqual(rc, 1)
+        self.assertIn("the folder table has no row for `engine`", out)
+
     def test_a_drifted_table_fails_and_write_mends_it(self):
         self.write("core/base/b.cc", function("B", 1))
         rc, out = self.run_checker()

@@ -1,11 +1,11 @@
-#include "core/fit/profile_interval.h"
+#include "core/model/profile_interval.h"
 
 #include <cmath>
 
 namespace rollwear {
 
-ProfilePrediction PredictProfile(const ProfileStats& stats, const ProfileFit* fit,
-                                 double centre_wear_um,
+ProfilePrediction PredictProfile(const ProfileStats& stats,
+                                 const ProfileFit* fit, double centre_wear_um,
                                  std::pair<double, double> centre_interval) {
   constexpr double kZ = 1.959963984540054;
   const ProfileGrid& grid = stats.grid();

@@ -1,7 +1,8 @@
 // The predicted wear profile of a mounted roll across the barrel, with a
 // 95 % interval per slice, from the roll's ProfileStats (the six per-slice
 // sums the predictor keeps, predictor.h) and the model's profile shape
-// (profile_fit.h), or the default shape g = 1 when none is calibrated.
+// (profile_calibration.h, fitted by core/fit/profile_fit.h), or the default
+// shape g = 1 when none is calibrated.
 //
 // Profile at slice j:  P_j = s_j0 + theta . s_j   (theta = beta2, beta4,
 // alpha_1..3; all 0 uncalibrated: uniform wear under the strip).
@@ -11,7 +12,7 @@
 //     r_j = P_j / W, i.e. lower half-width r_j (W - lo), upper r_j (hi - W)
 //     (K multiplies every slice alike; g(0) = 1 makes P at x = 0 equal W);
 //   - the shape: calibrated, v_j = s_j' C s_j + sigma^2, with C the shape
-//     coefficients' roll-clustered covariance (profile_fit.h; a model
+//     coefficients' roll-clustered covariance (profile_calibration.h; a model
 //     stored before it was kept has its diagonal se_i^2 only) and sigma the
 //     profile fit's residual sd within rolls (the point-to-point part; the
 //     scatter a roll's points share is its scale's, carried by the first
@@ -24,14 +25,14 @@
 // profile slices and 98.2 % of grinder points for a nominal 95 %).
 //
 // Thread-safety: pure function.
-#ifndef ROLLWEAR_CORE_FIT_PROFILE_INTERVAL_H_
-#define ROLLWEAR_CORE_FIT_PROFILE_INTERVAL_H_
+#ifndef ROLLWEAR_CORE_MODEL_PROFILE_INTERVAL_H_
+#define ROLLWEAR_CORE_MODEL_PROFILE_INTERVAL_H_
 
 #include <utility>
 #include <vector>
 
-#include "core/fit/profile_fit.h"
 #include "core/model/barrel_profile.h"
+#include "core/model/profile_calibration.h"
 
 namespace rollwear {
 
@@ -50,10 +51,10 @@ struct ProfilePrediction {
 
 // `fit` null: the default shape (uncalibrated). `centre_wear_um` and
 // `centre_interval` are the roll's centre prediction (WearInterval).
-ProfilePrediction PredictProfile(const ProfileStats& stats, const ProfileFit* fit,
-                                 double centre_wear_um,
+ProfilePrediction PredictProfile(const ProfileStats& stats,
+                                 const ProfileFit* fit, double centre_wear_um,
                                  std::pair<double, double> centre_interval);
 
 }  // namespace rollwear
 
-#endif  // ROLLWEAR_CORE_FIT_PROFILE_INTERVAL_H_
+#endif  // ROLLWEAR_CORE_MODEL_PROFILE_INTERVAL_H_
