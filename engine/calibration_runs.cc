@@ -1,7 +1,7 @@
 #include "engine/calibration_runs.h"
 
 #include <chrono>
-#include <ctime>
+#include <exception>
 #include <string>
 #include <utility>
 #include <vector>
@@ -35,22 +35,20 @@ StatusOr<FittedCandidate> TrainNetwork(
 }
 
 // The profile shape of `model` (core/fit/profile_fit.h) fitted on the
-// stored grinder profiles of the run's training campaigns (the same split),
-// when there are any; why not is appended to *summary. The shape's
+// stored grinder profiles of the run's training campaigns (`inputs`: the
+// run's index and split), when there are any; why not is appended to
+// *summary. The shape's
 // covariance is the roll-clustered sandwich (a roll's points share its
 // scatter), stored with the model version and read by the served interval
 // (core/model/profile_interval.h). K stays the centre fit's, which the
 // promotion rule scored; the joint fit (profile_joint.h) would move it.
 std::optional<ProfileFit> FitStoredProfileShape(const WearModel& model,
                                                 const Dataset& data,
-                                                uint64_t split_seed,
+                                                const CandidateInputs& inputs,
                                                 std::string* summary) {
   if (data.profile_points.empty() || model.is_ann()) return std::nullopt;
-  const DatasetIndex index(data);
-  StatusOr<CampaignSplit> split = SplitOf(data, index, split_seed);
-  StatusOr<ProfileFit> fit = split.ok()
-                                 ? FitProfileShape(model, data, index, *split)
-                                 : StatusOr<ProfileFit>(split.status());
+  StatusOr<ProfileFit> fit =
+      FitProfileShape(model, data, inputs.index, inputs.split);
   if (!fit.ok()) {
     *summary += "; no profile shape: " + fit.status().message();
     return std::nullopt;
@@ -58,6 +56,17 @@ std::optional<ProfileFit> FitStoredProfileShape(const WearModel& model,
   *summary += "; profile shape on " + std::to_string(fit->train.n_points) +
               " points (roll-clustered s.e.)";
   return std::move(fit).value();
+}
+
+// PrepareCandidateInputs, whose exceptions (an allocation failure) become
+// the run's error as FitCandidate's do.
+StatusOr<CandidateInputs> PrepareCandidate(const Dataset& data,
+                                           uint64_t split_seed) {
+  try {
+    return PrepareCandidateInputs(data, split_seed);
+  } catch (const std::exception& e) {
+    return Status::Internal(std::string("calibration threw: ") + e.what());
+  }
 }
 
 }  // namespace
@@ -78,22 +87,26 @@ Status CalibrationRuns::Run(int64_t id) {
   std::lock_guard<std::mutex> runs(runs_mu_);
   ROLLWEAR_ASSIGN_OR_RETURN(const ModelVersion active, store_->ActiveModel());
   CandidateEvaluation result;
-  // Suspect measurements (storage/store_quality.h) are not fitted.
+  std::optional<ProfileFit> profile;
+  // Suspect measurements (storage/store_quality.h) are not fitted. The data
+  // are indexed, aggregated and split once for the fit, the scores and the
+  // profile shape.
   StatusOr<storage::FittingData> data = store_->ReadFittingData();
-  if (!data.ok()) {
-    result.error = data.status();
+  StatusOr<CandidateInputs> inputs =
+      data.ok() ? PrepareCandidate(data->fit, options_.split_seed)
+                : StatusOr<CandidateInputs>(data.status());
+  if (!inputs.ok()) {
+    result.error = inputs.status();
   } else {
     CandidateRequest request;
     request.model = rec.model;
     request.option = rec.option;
-    request.split_seed = options_.split_seed;
     request.train_network = TrainNetwork;
-    result = FitCandidate(data->fit, request, active.wear_model);
-  }
-  std::optional<ProfileFit> profile;
-  if (data.ok() && result.error.ok()) {
-    profile = FitStoredProfileShape(result.candidate, data->fit,
-                                    options_.split_seed, &result.summary);
+    result = FitCandidate(data->fit, *inputs, request, active.wear_model);
+    if (result.error.ok()) {
+      profile = FitStoredProfileShape(result.candidate, data->fit, *inputs,
+                                      &result.summary);
+    }
   }
   rec.finished_at = Now();
   return Finish(std::move(result), active, &rec, std::move(profile));

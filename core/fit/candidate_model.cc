@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <optional>
 #include <utility>
 
 #include "core/fit/study.h"
@@ -18,8 +19,16 @@ StatusOr<CampaignSplit> SplitOf(const Dataset& data, const DatasetIndex& index,
                             Aggregate(data, index, WearLaw::kWang));
   return SplitCampaigns(stats, 2.0 / 3.0, split_seed);
 }
-namespace {
 
+StatusOr<CandidateInputs> PrepareCandidateInputs(const Dataset& data,
+                                                 uint64_t split_seed) {
+  CandidateInputs in{DatasetIndex(data), {}, {}};
+  ROLLWEAR_ASSIGN_OR_RETURN(in.wang, Aggregate(data, in.index, WearLaw::kWang));
+  in.split = SplitCampaigns(in.wang, 2.0 / 3.0, split_seed);
+  return in;
+}
+
+namespace {
 
 FitMetrics MetricsOn(const WearModel& m, const Dataset& data,
                      const DatasetIndex& index,
@@ -47,9 +56,10 @@ void Score(const WearModel& active, const Dataset& data,
 
 // Fits the candidate of `request` on split.train into `out` (model, summary
 // and, for a calibration, its cost); an error says why there is none.
-Status Fit(const Dataset& data, const DatasetIndex& index,
-           const CampaignSplit& split, const CandidateRequest& request,
-           const WearModel& active, CandidateEvaluation* out) {
+Status Fit(const Dataset& data, const CandidateInputs& inputs,
+           const CandidateRequest& request, const WearModel& active,
+           CandidateEvaluation* out) {
+  const CampaignSplit& split = inputs.split;
   if (request.model == kAnnModelName) {
     if (!request.train_network) {
       return Status::Internal("no trainer for the recurrent network");
@@ -72,8 +82,11 @@ Status Fit(const Dataset& data, const DatasetIndex& index,
                    " adopted term(s) refitted";
     return Status::Ok();
   }
-  ROLLWEAR_ASSIGN_OR_RETURN(const WearStatistics stats,
-                            Aggregate(data, index, law));
+  std::optional<WearStatistics> other;  // the law's, unless Wang's
+  if (law != WearLaw::kWang) {
+    ROLLWEAR_ASSIGN_OR_RETURN(other, Aggregate(data, inputs.index, law));
+  }
+  const WearStatistics& stats = other.has_value() ? *other : inputs.wang;
   CalibrationOptions co;
   co.law = law;
   co.option = request.option;
@@ -97,14 +110,27 @@ CandidateEvaluation FitCandidate(const Dataset& data,
                                  const WearModel& active) {
   CandidateEvaluation out;
   try {
-    const DatasetIndex index(data);
-    StatusOr<CampaignSplit> split = SplitOf(data, index, request.split_seed);
-    if (!split.ok()) {
-      out.error = split.status();
+    StatusOr<CandidateInputs> inputs =
+        PrepareCandidateInputs(data, request.split_seed);
+    if (!inputs.ok()) {
+      out.error = inputs.status();
       return out;
     }
-    out.error = Fit(data, index, *split, request, active, &out);
-    if (out.error.ok()) Score(active, data, index, *split, &out);
+    return FitCandidate(data, *inputs, request, active);
+  } catch (const std::exception& e) {
+    out.error = Status::Internal(std::string("calibration threw: ") + e.what());
+  }
+  return out;
+}
+
+CandidateEvaluation FitCandidate(const Dataset& data,
+                                 const CandidateInputs& inputs,
+                                 const CandidateRequest& request,
+                                 const WearModel& active) {
+  CandidateEvaluation out;
+  try {
+    out.error = Fit(data, inputs, request, active, &out);
+    if (out.error.ok()) Score(active, data, inputs.index, inputs.split, &out);
   } catch (const std::exception& e) {
     out.error = Status::Internal(std::string("calibration threw: ") + e.what());
   }

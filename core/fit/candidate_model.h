@@ -79,6 +79,17 @@ using NetworkTrainer = std::function<StatusOr<FittedCandidate>(
 StatusOr<CampaignSplit> SplitOf(const Dataset& data, const DatasetIndex& index,
                                 uint64_t split_seed);
 
+// One run's data prepared once: indexed, aggregated for Wang (the split is
+// drawn on that aggregation, and a Wang calibration fits it) and split; a
+// run's fit, scores and profile shape all read it.
+struct CandidateInputs {
+  DatasetIndex index;
+  WearStatistics wang;
+  CampaignSplit split;
+};
+StatusOr<CandidateInputs> PrepareCandidateInputs(const Dataset& data,
+                                                 uint64_t split_seed);
+
 struct CandidateRequest {
   std::string model;  // a law name (WearLawName) or kAnnModelName
   int option = 1;     // K structure of a law's calibration (1, 2 or 3)
@@ -90,6 +101,12 @@ struct CandidateRequest {
 // above), fits it on the training campaigns of `data` and scores it and
 // `active` on the split. Never throws: an exception becomes `error`.
 CandidateEvaluation FitCandidate(const Dataset& data,
+                                 const CandidateRequest& request,
+                                 const WearModel& active);
+// The same on `inputs` (PrepareCandidateInputs of `data`), whose split is
+// used (request.split_seed is not read).
+CandidateEvaluation FitCandidate(const Dataset& data,
+                                 const CandidateInputs& inputs,
                                  const CandidateRequest& request,
                                  const WearModel& active);
 
