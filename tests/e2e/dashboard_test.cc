@@ -8,7 +8,10 @@
 // GET /v1/wear/{stand}/{position}/profile, and the last ended campaigns'
 // grinder profiles with the offline prediction at their points
 // (core/fit/profile_fit.h ProfileResiduals, same model and shape); a
-// screenshot at 1366x768 goes to <build>/tests/artifacts/dashboard.png.
+// screenshot at 1366x768 goes to <build>/tests/artifacts/dashboard.png, and
+// at that size Chromium's own layout (over the DevTools pipe,
+// chromium_pipe.h) puts every column of the mounted-rolls table inside its
+// panel and the viewport, none clipped.
 // Chromium (/usr/bin/chromium, or $ROLLWEAR_CHROMIUM) is required: the test
 // fails when it is missing (deploy/install.sh installs it).
 #include <unistd.h>
@@ -26,6 +29,7 @@
 #include "api/http_client.h"
 #include "core/dataset/dataset_io.h"
 #include "core/fit/profile_fit.h"
+#include "tests/e2e/chromium_pipe.h"
 #include "tests/e2e/e2e_util.h"
 
 namespace rollwear::e2e {
@@ -119,7 +123,8 @@ std::map<std::string, std::string> DataAttributes(const std::string& attrs) {
     if (eq == std::string::npos) break;
     const size_t end = attrs.find('"', eq + 2);
     if (end == std::string::npos) break;
-    out[attrs.substr(pos + 6, eq - pos - 6)] = attrs.substr(eq + 2, end - eq - 2);
+    out[attrs.substr(pos + 6, eq - pos - 6)] =
+        attrs.substr(eq + 2, end - eq - 2);
     pos = end + 1;
   }
   return out;
@@ -131,7 +136,9 @@ std::string CellText(const std::string& cells, const std::string& cls) {
   const size_t b = cells.find(open);
   if (b == std::string::npos) return "";
   const size_t e = cells.find("</td>", b + open.size());
-  return e == std::string::npos ? "" : cells.substr(b + open.size(), e - b - open.size());
+  return e == std::string::npos
+             ? ""
+             : cells.substr(b + open.size(), e - b - open.size());
 }
 
 // The roll rows of a rendered page, keyed "F6/top".
@@ -258,14 +265,54 @@ void ExpectMeasuredProfilesAsOffline(const std::string& url,
   const auto panels = DivsOf(dom, "measured-profile");
   ASSERT_EQ(panels.size(), expected.size()) << dom.substr(0, 4000);
   for (const auto& a : panels) {
-    const std::string key = a.at("campaign-id") + "|F" + a.at("stand") + "/" +
-                            a.at("position");
+    const std::string key =
+        a.at("campaign-id") + "|F" + a.at("stand") + "/" + a.at("position");
     auto it = expected.find(key);
     ASSERT_NE(it, expected.end()) << key;
     ExpectNumbersNear(a.at("measured-um"), it->second.first, key + " measured");
     ExpectNumbersNear(a.at("predicted-um"), it->second.second,
                       key + " predicted");
   }
+}
+
+// Every cell of the mounted-rolls table inside its panel and the viewport of
+// a width x height window, none with clipped text (scrollWidth beyond its
+// box), measured by Chromium's layout (chromium_pipe.h).
+void ExpectRollsTableFits(const std::filesystem::path& profile,
+                          const std::string& url, int width, int height) {
+  PageMeasure m;
+  m.chromium = ChromiumPath();
+  m.profile = profile.string();
+  m.url = url;
+  m.width = width;
+  m.height = height;
+  m.expression = R"js((() => {
+    const vw = document.documentElement.clientWidth;
+    const section = document.getElementById('rolls');
+    const table = section && section.querySelector('table');
+    if (!table) return {error: 'no mounted-rolls table'};
+    const s = section.getBoundingClientRect();
+    const cut = [];
+    for (const cell of table.querySelectorAll('th, td')) {
+      const b = cell.getBoundingClientRect();
+      if (b.right > Math.min(s.right, vw) + 0.5 || b.left < s.left - 0.5 ||
+          cell.scrollWidth > cell.clientWidth + 1) {
+        cut.push(cell.textContent.trim().slice(0, 24) + ' [' +
+                 b.left.toFixed(0) + ', ' + b.right.toFixed(0) + ']');
+      }
+    }
+    return {viewport: vw, panel_right: s.right, rows: table.rows.length,
+            columns: table.rows[0].cells.length, cut: cut};
+  })())js";
+  const json got = MeasureInChromium(m);
+  ASSERT_TRUE(got.is_object() && !got.contains("error")) << got.dump();
+  EXPECT_EQ(got["viewport"], width) << got.dump();
+  EXPECT_EQ(got["rows"], 5) << got.dump();  // the header and four rolls
+  EXPECT_GE(got["columns"].get<int>(), 6) << got.dump();
+  EXPECT_LE(got["panel_right"].get<double>(), width + 0.5) << got.dump();
+  EXPECT_TRUE(got["cut"].empty())
+      << "cells outside the panel or clipped at " << width << "x" << height
+      << ": " << got["cut"].dump();
 }
 
 TEST(DashboardTest, ChromiumShowsTheMountedRollsWithTheApisNumbers) {
@@ -276,11 +323,11 @@ TEST(DashboardTest, ChromiumShowsTheMountedRollsWithTheApisNumbers) {
 
   TempDir dir;
   std::string output;
-  ASSERT_EQ(RunRollwear({"simulate", "--out", dir / "data", "--campaigns", "30",
-                         "--seed", "11", "--effect", "campaign_growth",
-                         "--profiles"},
-                        &output),
-            0)
+  ASSERT_EQ(
+      RunRollwear({"simulate", "--out", dir / "data", "--campaigns", "30",
+                   "--seed", "11", "--effect", "campaign_growth", "--profiles"},
+                  &output),
+      0)
       << output;
   Daemon daemon(dir / "rollwear.db", dir / "serve.log");
   std::string error;
@@ -443,6 +490,11 @@ TEST(DashboardTest, ChromiumShowsTheMountedRollsWithTheApisNumbers) {
   const std::string bytes = ReadFile(png);
   ASSERT_GT(bytes.size(), 8u);
   EXPECT_EQ(bytes.substr(1, 3), "PNG");
+
+  // At the pulpit's 1366x768 every column of the mounted-rolls table lies
+  // inside its panel and the viewport, and no cell's text is clipped, as the
+  // browser's layout computes it.
+  ExpectRollsTableFits(dir / "profile3", daemon.url() + "/", 1366, 768);
   EXPECT_EQ(daemon.Terminate(), 0);
 }
 
