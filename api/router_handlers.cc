@@ -80,9 +80,9 @@ HttpResponse Router::PostCalibration(const HttpRequest& request) {
                                 &error)) {
     return Error(error);
   }
-  StatusOr<int64_t> id =
-      in.ann ? store_->EnqueueAnnTraining("api")
-             : store_->EnqueueCalibration("api", in.law, in.option);
+  StatusOr<int64_t> id = store_->EnqueueCalibration(
+      "api",
+      in.ann ? ModelChoice::Network() : ModelChoice::Law(in.law, in.option));
   if (!id.ok()) return FromStatus(id.status());
   if (options_.on_calibration_queued) options_.on_calibration_queued(*id);
   HttpResponse r = Answer(202, EncodeCalibrationId(*id));

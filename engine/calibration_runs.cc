@@ -91,7 +91,11 @@ Status CalibrationRuns::Run(int64_t id) {
   // Suspect measurements (storage/store_quality.h) are not fitted. The data
   // are indexed, aggregated and split once for the fit, the scores and the
   // profile shape.
-  StatusOr<storage::FittingData> data = store_->ReadFittingData();
+  // The stored run names its model; it is read as a typed choice once.
+  const StatusOr<ModelChoice> choice = ParseModelChoice(rec.model, rec.option);
+  StatusOr<storage::FittingData> data =
+      choice.ok() ? store_->ReadFittingData()
+                  : StatusOr<storage::FittingData>(choice.status());
   StatusOr<CandidateInputs> inputs =
       data.ok() ? PrepareCandidate(data->fit, options_.split_seed)
                 : StatusOr<CandidateInputs>(data.status());
@@ -99,8 +103,7 @@ Status CalibrationRuns::Run(int64_t id) {
     result.error = inputs.status();
   } else {
     CandidateRequest request;
-    request.model = rec.model;
-    request.option = rec.option;
+    request.model = *choice;
     request.train_network = TrainNetwork;
     result = FitCandidate(data->fit, *inputs, request, active.wear_model);
     if (result.error.ok()) {

@@ -1,6 +1,6 @@
 // CalibrationRuns: the engine's calibration work on a store. A queued run
-// (MillStore::EnqueueCalibration / EnqueueAnnTraining) is claimed, core
-// chooses and fits the candidate on the stored data with the seeded
+// (MillStore::EnqueueCalibration: a law and option, or the network) is claimed,
+// core chooses and fits the candidate on the stored data with the seeded
 // 2/3-1/3 split (core/fit/candidate_model.h; the recurrent network for model
 // "ann", core/ann/ann_study.h), scores it and the active model on the same
 // validation campaigns, fits the profile shape on the stored grinder

@@ -34,6 +34,7 @@
 #include "core/base/status.h"
 #include "core/dataset/dataset.h"
 #include "core/dataset/dataset_io.h"
+#include "core/model/model_family.h"
 #include "core/model/wear_model.h"
 #include "storage/store_types.h"
 
@@ -172,12 +173,16 @@ class MillStore {
 
   // Calibration runs, as records: the engine (engine/calibration_runs.h)
   // fits, scores and decides; the store queues, claims and records them and
-  // promotes atomically. EnqueueCalibration records a queued run of a wear
-  // law and K option and returns its id; EnqueueAnnTraining a queued
-  // training run of the recurrent network (model "ann").
+  // promotes atomically. EnqueueCalibration records a queued run of `model`
+  // (a wear law and its K option, or the recurrent network, stored as
+  // "ann" with option 0) and returns its id; InvalidArgument "option: ..."
+  // for a law's option outside 1..3.
   virtual StatusOr<int64_t> EnqueueCalibration(const std::string& trigger,
-                                               WearLaw law, int option) = 0;
-  virtual StatusOr<int64_t> EnqueueAnnTraining(const std::string& trigger) = 0;
+                                               const ModelChoice& model) = 0;
+  StatusOr<int64_t> EnqueueCalibration(const std::string& trigger, WearLaw law,
+                                       int option) {
+    return EnqueueCalibration(trigger, ModelChoice::Law(law, option));
+  }
   // Claims a queued run: it is running from now, and the measurements
   // committed so far are the ones it sees ("since last calibration"
   // restarts). Returns its record; NotFound for an unknown id,

@@ -27,21 +27,17 @@ std::vector<ModelVersion> MillStoreImpl::ListModels() const {
 }
 
 StatusOr<int64_t> MillStoreImpl::EnqueueCalibration(const std::string& trigger,
-                                                    WearLaw law, int option) {
-  if (option < 1 || option > 3) {
+                                                    const ModelChoice& model) {
+  if (model.is_network()) return InsertRun(trigger, model.Name(), 0, false);
+  if (model.option < 1 || model.option > 3) {
     return Status::InvalidArgument("option: must be 1, 2 or 3, got " +
-                                   std::to_string(option));
+                                   std::to_string(model.option));
   }
-  if (law != WearLaw::kWang && law != WearLaw::kNikitenko &&
-      law != WearLaw::kCao) {
+  if (model.law != WearLaw::kWang && model.law != WearLaw::kNikitenko &&
+      model.law != WearLaw::kCao) {
     return Status::InvalidArgument("model: must be wang, nikitenko or cao");
   }
-  return InsertRun(trigger, WearLawName(law), option, /*claim=*/false);
-}
-
-StatusOr<int64_t> MillStoreImpl::EnqueueAnnTraining(
-    const std::string& trigger) {
-  return InsertRun(trigger, kAnnModelName, 0, /*claim=*/false);
+  return InsertRun(trigger, model.Name(), model.option, /*claim=*/false);
 }
 
 StatusOr<int64_t> MillStoreImpl::InsertRun(const std::string& trigger,

@@ -172,9 +172,9 @@ class MillStoreImpl final : public MillStore {
       int limit) const override;
   StatusOr<int64_t> LastDiagnosisId() const override;
 
-  StatusOr<int64_t> EnqueueCalibration(const std::string& trigger, WearLaw law,
-                                       int option) override;
-  StatusOr<int64_t> EnqueueAnnTraining(const std::string& trigger) override;
+  using MillStore::EnqueueCalibration;
+  StatusOr<int64_t> EnqueueCalibration(const std::string& trigger,
+                                       const ModelChoice& model) override;
   StatusOr<CalibrationRecord> ClaimCalibration(int64_t id) override;
   StatusOr<CalibrationRecord> StartProposal(const std::string& trigger,
                                             const std::string& model,

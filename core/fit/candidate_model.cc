@@ -60,7 +60,7 @@ Status Fit(const Dataset& data, const CandidateInputs& inputs,
            const CandidateRequest& request, const WearModel& active,
            CandidateEvaluation* out) {
   const CampaignSplit& split = inputs.split;
-  if (request.model == kAnnModelName) {
+  if (request.model.is_network()) {
     if (!request.train_network) {
       return Status::Internal("no trainer for the recurrent network");
     }
@@ -70,12 +70,9 @@ Status Fit(const Dataset& data, const CandidateInputs& inputs,
     out->summary = std::move(ann.summary);
     return Status::Ok();
   }
-  WearLaw law = WearLaw::kWang;
-  if (!ParseWearLaw(request.model, &law)) {
-    return Status::Internal("stored law '" + request.model + "' is unknown");
-  }
+  const WearLaw law = request.model.law;
   if (!active.is_ann() && !active.terms.empty() && active.law == law &&
-      request.option == 1) {
+      request.model.option == 1) {
     ROLLWEAR_ASSIGN_OR_RETURN(
         out->candidate, RefitWithTerms(data, law, active.terms, split.train));
     out->summary = "option 1 with " + std::to_string(active.terms.size()) +
@@ -89,7 +86,7 @@ Status Fit(const Dataset& data, const CandidateInputs& inputs,
   const WearStatistics& stats = other.has_value() ? *other : inputs.wang;
   CalibrationOptions co;
   co.law = law;
-  co.option = request.option;
+  co.option = request.model.option;
   ROLLWEAR_ASSIGN_OR_RETURN(SplitCalibration run,
                             CalibrateOnSplit(stats, split, co));
   const CalibrationSummary& summary = run.result.summary;

@@ -6,15 +6,16 @@
 // core/model/model_eval.h) on the same 1/3 validation campaigns, and
 // promotes the candidate when its figures are usable and its validation gap
 // (mean absolute difference between measured and predicted centre wear,
-// um) is no worse than the active model's. The store
-// (storage/mill_store_calibration.cc) only records the runs and promotes.
+// um) is no worse than the active model's. The engine
+// (engine/calibration_runs.h) runs it on the stored data; the store records
+// the runs and promotes.
 //
-// Candidates (CandidateRequest::model and option):
-//   kAnnModelName        the recurrent network, trained by
+// Candidates (CandidateRequest::model, a ModelChoice):
+//   the network          the recurrent network, trained by
 //                        CandidateRequest::train_network (core/ann sits
 //                        above core/fit, so the caller passes
 //                        core/ann/ann_study.h's TrainServableAnn in)
-//   the active model's law, option 1, and the active model has adopted terms
+//   a law, option 1, and the active model has adopted terms under that law
 //                        option 1 and the terms refitted jointly
 //                        (core/fit/term_refit.h): a nightly run keeps the
 //                        physics a diagnosis added
@@ -38,6 +39,7 @@
 #include "core/dataset/dataset.h"
 #include "core/model/ann_model.h"
 #include "core/model/metrics.h"
+#include "core/model/model_family.h"
 #include "core/model/wear_model.h"
 
 namespace rollwear {
@@ -91,10 +93,9 @@ StatusOr<CandidateInputs> PrepareCandidateInputs(const Dataset& data,
                                                  uint64_t split_seed);
 
 struct CandidateRequest {
-  std::string model;  // a law name (WearLawName) or kAnnModelName
-  int option = 1;     // K structure of a law's calibration (1, 2 or 3)
+  ModelChoice model;  // a law and its K structure, or the network
   uint64_t split_seed = kDefaultSplitSeed;
-  NetworkTrainer train_network;  // needed for kAnnModelName only
+  NetworkTrainer train_network;  // needed for the network only
 };
 
 // Chooses the candidate `request` names given the `active` model (table

@@ -105,15 +105,15 @@ int64_t Scheduler::Tick(UnixSeconds now) {
   // The recurrent network, once active, is retrained as such; otherwise the
   // configured law and option.
   StatusOr<storage::ModelVersion> active = store_->ActiveModel();
-  const bool ann = active.ok() && active->model == storage::kAnnModelName;
+  const bool ann = active.ok() && active->wear_model.is_ann();
   // A model with adopted terms is recalibrated as its law with option 1, so
   // that the run refits the terms instead of replacing them.
   const bool terms = active.ok() && !ann && !active->wear_model.terms.empty();
-  StatusOr<int64_t> id =
-      ann     ? store_->EnqueueAnnTraining("nightly")
-      : terms ? store_->EnqueueCalibration("nightly", active->wear_model.law, 1)
-              : store_->EnqueueCalibration("nightly", options_.law,
-                                           options_.option);
+  const ModelChoice model =
+      ann     ? ModelChoice::Network()
+      : terms ? ModelChoice::Law(active->wear_model.law, 1)
+              : ModelChoice::Law(options_.law, options_.option);
+  StatusOr<int64_t> id = store_->EnqueueCalibration("nightly", model);
   if (!id.ok()) return 0;
   LogCalibrationQueued(*id, "nightly");
   Submit(*id);

@@ -61,8 +61,7 @@ TEST(CandidateModelTest, NothingToCompareOnIsNotComparable) {
 TEST(CandidateModelTest, ClassicalCandidateIsScoredWithTheActiveOnOneSplit) {
   const Simulation mill = Simulated(5, 60);
   CandidateRequest request;
-  request.model = "wang";
-  request.option = 1;
+  request.model = ModelChoice::Law(WearLaw::kWang, 1);
   request.split_seed = 1;
   const CandidateEvaluation fitted =
       FitCandidate(mill.data, request, WearModel());
@@ -90,7 +89,7 @@ TEST(CandidateModelTest, ClassicalCandidateIsScoredWithTheActiveOnOneSplit) {
 TEST(CandidateModelTest, NetworkNeedsItsTrainerAndUnknownLawsFail) {
   const Simulation mill = Simulated(6, 30);
   CandidateRequest request;
-  request.model = kAnnModelName;
+  request.model = ModelChoice::Network();
   CandidateEvaluation out = FitCandidate(mill.data, request, WearModel());
   EXPECT_EQ(out.error.code(), StatusCode::kInternal);
   int trained_on = 0;
@@ -104,10 +103,29 @@ TEST(CandidateModelTest, NetworkNeedsItsTrainerAndUnknownLawsFail) {
   EXPECT_EQ(out.error.code(), StatusCode::kNumericalFailure);
   EXPECT_EQ(out.error.message(), "network diverged");
   EXPECT_GT(trained_on, 0);  // handed the training campaigns
-  request.model = "lstm";
-  out = FitCandidate(mill.data, request, WearModel());
-  EXPECT_EQ(out.error.code(), StatusCode::kInternal);
-  EXPECT_NE(out.error.message().find("lstm"), std::string::npos);
+}
+
+// A stored run's model name is read as a typed choice once: a law with its
+// K structure, or the network; anything else is refused with the field.
+TEST(CandidateModelTest, StoredModelNamesAreReadAsATypedChoice) {
+  StatusOr<ModelChoice> c = ParseModelChoice("nikitenko", 3);
+  ASSERT_TRUE(c.ok());
+  EXPECT_EQ(c->family, ModelFamily::kWearLaw);
+  EXPECT_EQ(c->law, WearLaw::kNikitenko);
+  EXPECT_EQ(c->option, 3);
+  EXPECT_EQ(c->Name(), "nikitenko");
+  c = ParseModelChoice(kAnnModelName, 0);  // a network run stores option 0
+  ASSERT_TRUE(c.ok());
+  EXPECT_TRUE(c->is_network());
+  EXPECT_EQ(c->Name(), kAnnModelName);
+  c = ParseModelChoice("lstm", 1);
+  ASSERT_FALSE(c.ok());
+  EXPECT_EQ(c.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(c.status().message().rfind("model: ", 0), 0u);
+  EXPECT_NE(c.status().message().find("lstm"), std::string::npos);
+  c = ParseModelChoice("cao", 4);
+  ASSERT_FALSE(c.ok());
+  EXPECT_EQ(c.status().message().rfind("option: ", 0), 0u);
 }
 
 }  // namespace

@@ -179,7 +179,7 @@ TEST(StoreModelsTest, AnnRunIsRecordedAndTheNetworkIsServedAcrossRestarts) {
                                                 {"campaign_growth"}))
                   .ok());
   OpenCampaignWithCoils(store.get(), "OC", 30);
-  StatusOr<int64_t> id = store->EnqueueAnnTraining("api");
+  StatusOr<int64_t> id = store->EnqueueCalibration("api", ModelChoice::Network());
   ASSERT_TRUE(id.ok());
   EXPECT_EQ(store->GetCalibration(*id)->model, "ann");
   ASSERT_TRUE(engine::CalibrationRuns(&*store).Run(*id).ok());
