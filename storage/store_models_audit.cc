@@ -4,7 +4,9 @@
 // InstallModel, as a promotion does; activating with pin false unpins),
 // and every promotion is read
 // back from the audit trail (model_history, schema version 6). Calibration
-// runs respect the pin in FinishRun (mill_store_calibration.cc).
+// runs respect the pin (engine/calibration_runs.cc), and FinishCalibration
+// (mill_store_calibration.cc) never promotes over a version activated
+// during the run: both hold promote_mu_.
 #include <memory>
 #include <mutex>
 #include <string>
