@@ -85,13 +85,15 @@ Status CalibrationRuns::Run(int64_t id) {
   //    takes seconds). One run or proposal at a time, from reading the
   //    active model to the promotion.
   std::lock_guard<std::mutex> runs(runs_mu_);
-  ROLLWEAR_ASSIGN_OR_RETURN(const ModelVersion active, store_->ActiveModel());
+  StatusOr<ModelVersion> read = store_->ActiveModel();
+  if (!read.ok()) return FailClaimed(read.status(), &rec);
+  const ModelVersion& active = *read;
   CandidateEvaluation result;
   std::optional<ProfileFit> profile;
+  // The stored run names its model; it is read as a typed choice once.
   // Suspect measurements (storage/store_quality.h) are not fitted. The data
   // are indexed, aggregated and split once for the fit, the scores and the
   // profile shape.
-  // The stored run names its model; it is read as a typed choice once.
   const StatusOr<ModelChoice> choice = ParseModelChoice(rec.model, rec.option);
   StatusOr<storage::FittingData> data =
       choice.ok() ? store_->ReadFittingData()
@@ -121,13 +123,25 @@ StatusOr<CalibrationRecord> CalibrationRuns::Propose(
   std::lock_guard<std::mutex> runs(runs_mu_);
   ROLLWEAR_ASSIGN_OR_RETURN(CalibrationRecord rec,
                             store_->StartProposal(trigger, model, option));
-  ROLLWEAR_ASSIGN_OR_RETURN(const ModelVersion active, store_->ActiveModel());
+  StatusOr<ModelVersion> read = store_->ActiveModel();
+  if (!read.ok()) {
+    ROLLWEAR_RETURN_IF_ERROR(FailClaimed(read.status(), &rec));
+    return rec;
+  }
+  const ModelVersion& active = *read;
   CandidateEvaluation result =
       ScoreCandidate(candidate, active.wear_model, data, split_seed);
   result.summary = "proposed by " + rec.trigger;
   rec.finished_at = Now();
   ROLLWEAR_RETURN_IF_ERROR(Finish(std::move(result), active, &rec));
   return rec;
+}
+
+Status CalibrationRuns::FailClaimed(const Status& why, CalibrationRecord* run) {
+  run->status = CalibrationStatus::kFailed;
+  run->message = "cannot read the active model: " + why.message();
+  run->finished_at = Now();
+  return store_->FinishCalibration(run, std::nullopt, 0);
 }
 
 Status CalibrationRuns::Finish(CandidateEvaluation result,

@@ -17,7 +17,10 @@
 // Thread-safety: Run and Propose are thread-safe and serialised: one run
 // or proposal at a time, from reading the active model to promoting, so
 // each is compared with the model it replaces. One CalibrationRuns per
-// store (the daemon's scheduler and diagnosis jobs share it).
+// store (the daemon's scheduler and diagnosis jobs share it): two would
+// still never promote over each other's result (the store promotes only
+// over the version a run was compared with), but the second run would be
+// recorded "not promoted: version N became active during the run".
 #ifndef ROLLWEAR_ENGINE_CALIBRATION_RUNS_H_
 #define ROLLWEAR_ENGINE_CALIBRATION_RUNS_H_
 
@@ -74,6 +77,9 @@ class CalibrationRuns {
   Status Finish(CandidateEvaluation result, const storage::ModelVersion& active,
                 storage::CalibrationRecord* run,
                 std::optional<ProfileFit> profile = std::nullopt);
+  // Records a claimed run failed with `why` (no model is read or promoted),
+  // so that no run stays "running".
+  Status FailClaimed(const Status& why, storage::CalibrationRecord* run);
 
   storage::MillStore* const store_;
   const CalibrationRunOptions options_;

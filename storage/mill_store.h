@@ -201,8 +201,11 @@ class MillStore {
   // campaign under it before any reader of runs or versions sees the
   // promotion. Fills run->model_version and run->promoted. Not promoted
   // (said in run->message) when the active version is no longer
-  // `replaced_version` or is pinned: a version activated by hand during the
-  // run stays. The database error when it could not be recorded.
+  // `replaced_version` or is pinned: a version activated or pinned by hand
+  // during the run stays. FailedPrecondition when the run is not running
+  // (unknown, queued or finished), InvalidArgument when `promoted` is given
+  // for a run that is not done; the database error when it could not be
+  // recorded.
   virtual Status FinishCalibration(CalibrationRecord* run,
                                    std::optional<ModelVersion> promoted,
                                    int64_t replaced_version) = 0;

@@ -28,7 +28,9 @@ std::vector<ModelVersion> MillStoreImpl::ListModels() const {
 
 StatusOr<int64_t> MillStoreImpl::EnqueueCalibration(const std::string& trigger,
                                                     const ModelChoice& model) {
-  if (model.is_network()) return InsertRun(trigger, model.Name(), 0, false);
+  if (model.is_network()) {
+    return InsertRun(trigger, model.Name(), 0, /*claim=*/false);
+  }
   if (model.option < 1 || model.option > 3) {
     return Status::InvalidArgument("option: must be 1, 2 or 3, got " +
                                    std::to_string(model.option));
@@ -133,17 +135,26 @@ Status MillStoreImpl::FinishCalibration(CalibrationRecord* run,
                                         std::optional<ModelVersion> promoted,
                                         int64_t replaced_version) {
   CalibrationRecord& rec = *run;
+  if (promoted.has_value() && rec.status != CalibrationStatus::kDone) {
+    return Status::InvalidArgument("calibration " + std::to_string(rec.id) +
+                                   ": only a run that is done promotes");
+  }
   std::lock_guard<std::mutex> promoting(promote_mu_);
   if (promoted.has_value()) {
-    // The run was compared with `replaced_version`; a version activated by
-    // hand since then stays (ActivateModel holds promote_mu_ too).
+    // The run was compared with `replaced_version`; a version made active
+    // (or pinned) since then stays (ActivateModel holds promote_mu_ too).
     const std::shared_ptr<const ModelVersion> now = ActiveVersion();
-    if (now->version != replaced_version || now->pinned) {
+    if (now->version != replaced_version) {
       promoted.reset();
       rec.message += "; not promoted: version " + std::to_string(now->version) +
-                     " was activated by hand during the run (compared with "
+                     " became active during the run (it was compared with "
                      "version " +
                      std::to_string(replaced_version) + ")";
+    } else if (now->pinned) {
+      promoted.reset();
+      rec.message += "; not promoted: model pinned during the run (version " +
+                     std::to_string(now->version) +
+                     " was activated by hand; unpin it to let runs promote)";
     }
   }
   rec.promoted = promoted.has_value();

@@ -28,6 +28,9 @@
 //       shared one: those reads are serialised by read_mu_ anyway, and
 //       glibc's rwlock prefers readers, so clients polling the runs could
 //       keep the writer (and every coil behind it) waiting.
+//   promote_mu_ serialises hand activations and recorded promotions
+//       (ActivateModel, FinishCalibration); held across their RunTask, and
+//       taken before publish_mu_, read_mu_ or mu_, never while holding one.
 //   writer_db_ is used by the writer thread only (and by Init before it
 //   starts).
 //

@@ -221,7 +221,9 @@ StatusOr<int64_t> InsertCalibration(Db* db, const CalibrationRecord& r);
 // Marks a queued run as running and records the measurement watermark;
 // false when the run was not queued.
 StatusOr<bool> ClaimCalibration(Db* db, int64_t id, UnixSeconds started_at);
-// Writes every result field of `r` (status, times, metrics, ...).
+// Writes every result field of `r` (status, times, metrics, ...) of a run
+// that is running; FailedPrecondition when run r.id is not (unknown, still
+// queued or already finished).
 Status UpdateCalibration(Db* db, const CalibrationRecord& r);
 StatusOr<std::optional<CalibrationRecord>> LoadCalibration(Db* db, int64_t id);
 StatusOr<std::vector<CalibrationRecord>> LoadCalibrations(Db* db, int limit);

@@ -210,7 +210,7 @@ Status UpdateCalibration(Db* db, const CalibrationRecord& r) {
                   "finished_at = ?, coefficients_json = ?, cost = ?, "
                   "gap_train_um = ?, gap_val_um = ?, active_gap_val_um = ?, "
                   "n_train = ?, n_val = ?, promoted = ?, model_version = ?, "
-                  "message = ? WHERE id = ?"));
+                  "message = ? WHERE id = ? AND status = 'running'"));
   st.BindText(1, CalibrationStatusName(r.status))
       .BindInt(2, r.started_at)
       .BindInt(3, r.finished_at)
@@ -231,8 +231,10 @@ Status UpdateCalibration(Db* db, const CalibrationRecord& r) {
   }
   ROLLWEAR_RETURN_IF_ERROR(st.Run());
   if (db->Changes() != 1) {
-    return Status::NotFound("calibration " + std::to_string(r.id) +
-                            ": unknown calibration");
+    return Status::FailedPrecondition(
+        "calibration " + std::to_string(r.id) +
+        " is not running (unknown, or already finished): only a claimed run "
+        "is finished");
   }
   return Status::Ok();
 }

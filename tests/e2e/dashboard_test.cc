@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -496,6 +497,22 @@ TEST(DashboardTest, ChromiumShowsTheMountedRollsWithTheApisNumbers) {
   // browser's layout computes it.
   ExpectRollsTableFits(dir / "profile3", daemon.url() + "/", 1366, 768);
   EXPECT_EQ(daemon.Terminate(), 0);
+}
+
+// A browser that exits at once (here /bin/false): the measurement says so
+// instead of hanging or dying of SIGPIPE on the closed pipe.
+TEST(DashboardTest, BrowserThatDiesIsReportedNotFatal) {
+  TempDir dir;
+  PageMeasure m;
+  m.chromium = "/bin/false";
+  m.profile = dir / "profile";
+  m.url = "http://127.0.0.1:9/";
+  m.expression = "1";
+  m.timeout_ms = 10'000;
+  const auto start = std::chrono::steady_clock::now();
+  const json got = MeasureInChromium(m);
+  EXPECT_TRUE(got.is_object() && got.contains("error")) << got.dump();
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(9));
 }
 
 // The page builder alone: empty states and escaping.

@@ -163,7 +163,6 @@ TEST(StoreShopTest, ActivatedVersionIsPinnedAuditedAndSurvivesRestart) {
   EXPECT_EQ(store->ModelHistory(0)->size(), after.promoted ? 5u : 4u);
 }
 
-// A version-4 file's model versions each get one audit row on upgrade.
 // A run is compared with the version active when it started; a version
 // activated by hand while it ran stays, and the run says why it did not
 // promote (the store's own guard: the engine's runs do not hold a lock the
@@ -191,7 +190,7 @@ TEST(StoreShopTest, VersionActivatedDuringARunIsNotReplacedByIt) {
       store->FinishCalibration(&*run, candidate, /*replaced_version=*/2).ok());
   EXPECT_FALSE(run->promoted);
   EXPECT_EQ(run->model_version, 0);
-  EXPECT_NE(run->message.find("version 1 was activated by hand during the run"),
+  EXPECT_NE(run->message.find("version 1 became active during the run"),
             std::string::npos)
       << run->message;
   EXPECT_EQ(store->ActiveModel()->version, 1);
@@ -209,8 +208,32 @@ TEST(StoreShopTest, VersionActivatedDuringARunIsNotReplacedByIt) {
       store->FinishCalibration(&*next, candidate, /*replaced_version=*/1).ok());
   EXPECT_TRUE(next->promoted) << next->message;
   EXPECT_EQ(store->ActiveModel()->version, 3);
+
+  // A finished run cannot be finished again, nor a run that failed promote.
+  EXPECT_EQ(store->FinishCalibration(&*next, std::nullopt, 3).code(),
+            StatusCode::kFailedPrecondition);
+  StatusOr<CalibrationRecord> failed = store->StartProposal("test", "wang", 1);
+  ASSERT_TRUE(failed.ok());
+  failed->status = CalibrationStatus::kFailed;
+  EXPECT_EQ(store->FinishCalibration(&*failed, candidate, 3).code(),
+            StatusCode::kInvalidArgument);
+  EXPECT_EQ(store->ActiveModel()->version, 3);
+
+  // The version the run was compared with, pinned by hand while it ran,
+  // stays too.
+  StatusOr<CalibrationRecord> pinned = store->StartProposal("test", "wang", 1);
+  ASSERT_TRUE(pinned.ok());
+  ASSERT_TRUE(store->ActivateModel(3, "hold it", true).ok());
+  pinned->status = CalibrationStatus::kDone;
+  ASSERT_TRUE(store->FinishCalibration(&*pinned, candidate, 3).ok());
+  EXPECT_FALSE(pinned->promoted);
+  EXPECT_NE(pinned->message.find("model pinned during the run (version 3"),
+            std::string::npos)
+      << pinned->message;
+  EXPECT_EQ(store->ActiveModel()->version, 3);
 }
 
+// A version-4 file's model versions each get one audit row on upgrade.
 TEST(StoreShopTest, UpgradeGivesStoredVersionsAnAuditRow) {
   TempDir dir;
   const std::string path = dir.File("v4.db");
