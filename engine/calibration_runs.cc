@@ -1,12 +1,12 @@
 #include "engine/calibration_runs.h"
 
-#include <chrono>
 #include <exception>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "core/ann/ann_study.h"
+#include "core/dataset/timestamp.h"
 #include "core/fit/profile_fit.h"
 
 namespace rollwear::engine {
@@ -15,12 +15,6 @@ namespace {
 using storage::CalibrationRecord;
 using storage::CalibrationStatus;
 using storage::ModelVersion;
-
-UnixSeconds Now() {
-  return std::chrono::duration_cast<std::chrono::seconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
 
 // The recurrent network of a run with model "ann" (core/fit sits below
 // core/ann, so FitCandidate is handed the trainer).
@@ -113,7 +107,7 @@ Status CalibrationRuns::Run(int64_t id) {
                                       &result.summary);
     }
   }
-  rec.finished_at = Now();
+  rec.finished_at = NowSeconds();
   return Finish(std::move(result), active, &rec, std::move(profile));
 }
 
@@ -132,7 +126,7 @@ StatusOr<CalibrationRecord> CalibrationRuns::Propose(
   CandidateEvaluation result =
       ScoreCandidate(candidate, active.wear_model, data, split_seed);
   result.summary = "proposed by " + rec.trigger;
-  rec.finished_at = Now();
+  rec.finished_at = NowSeconds();
   ROLLWEAR_RETURN_IF_ERROR(Finish(std::move(result), active, &rec));
   return rec;
 }
@@ -140,7 +134,7 @@ StatusOr<CalibrationRecord> CalibrationRuns::Propose(
 Status CalibrationRuns::FailClaimed(const Status& why, CalibrationRecord* run) {
   run->status = CalibrationStatus::kFailed;
   run->message = "cannot read the active model: " + why.message();
-  run->finished_at = Now();
+  run->finished_at = NowSeconds();
   return store_->FinishCalibration(run, std::nullopt, 0);
 }
 

@@ -28,12 +28,6 @@ StatusOr<std::unique_ptr<MillStore>> MillStore::Open(
 
 namespace internal {
 
-UnixSeconds NowSeconds() {
-  return std::chrono::duration_cast<std::chrono::seconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-
 Status MillStoreImpl::Init(const std::string& path) {
   path_ = path;
   ROLLWEAR_ASSIGN_OR_RETURN(writer_db_, Db::Open(path));

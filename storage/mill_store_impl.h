@@ -51,6 +51,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/dataset/timestamp.h"
 #include "core/model/predictor.h"
 #include "storage/coil_id_filter.h"
 #include "storage/import_plan.h"
@@ -302,8 +303,6 @@ class MillStoreImpl final : public MillStore {
   // promotes over a fresh pin (FinishCalibration, ActivateModel).
   std::mutex promote_mu_;
 };
-
-UnixSeconds NowSeconds();
 
 // What the grinder is expected to read on top of the wear for the stored
 // measurement of `slot` of the ended campaign `rec` under `model`: its

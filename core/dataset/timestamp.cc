@@ -1,5 +1,6 @@
 #include "core/dataset/timestamp.h"
 
+#include <chrono>
 #include <cstdio>
 
 namespace rollwear {
@@ -122,6 +123,12 @@ std::string FormatTimestamp(UnixSeconds t) {
                 static_cast<long long>(y), m, d, static_cast<int>(secs / 3600),
                 static_cast<int>(secs / 60 % 60), static_cast<int>(secs % 60));
   return buf;
+}
+
+UnixSeconds NowSeconds() {
+  return std::chrono::duration_cast<std::chrono::seconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
 }
 
 }  // namespace rollwear

@@ -4,7 +4,7 @@
 // "chrono-Compatible Low-Level Date Algorithms" (2013,
 // http://howardhinnant.github.io/date_algorithms.html).
 //
-// Thread-safety: pure functions.
+// Thread-safety: pure functions (NowSeconds reads the system clock).
 #ifndef ROLLWEAR_CORE_DATASET_TIMESTAMP_H_
 #define ROLLWEAR_CORE_DATASET_TIMESTAMP_H_
 
@@ -22,6 +22,8 @@ bool ParseTimestamp(const std::string& text, UnixSeconds* out);
 bool ParseTimestampView(std::string_view text, UnixSeconds* out);
 // Always "YYYY-MM-DDTHH:MM:SSZ".
 std::string FormatTimestamp(UnixSeconds t);
+// The system clock now, whole seconds (the time records are stamped with).
+UnixSeconds NowSeconds();
 
 }  // namespace rollwear
 

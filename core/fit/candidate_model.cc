@@ -13,13 +13,6 @@
 
 namespace rollwear {
 
-StatusOr<CampaignSplit> SplitOf(const Dataset& data, const DatasetIndex& index,
-                                uint64_t split_seed) {
-  ROLLWEAR_ASSIGN_OR_RETURN(const WearStatistics stats,
-                            Aggregate(data, index, WearLaw::kWang));
-  return SplitCampaigns(stats, 2.0 / 3.0, split_seed);
-}
-
 StatusOr<CandidateInputs> PrepareCandidateInputs(const Dataset& data,
                                                  uint64_t split_seed) {
   CandidateInputs in{DatasetIndex(data), {}, {}};
@@ -139,13 +132,12 @@ CandidateEvaluation ScoreCandidate(WearModel candidate, const WearModel& active,
   CandidateEvaluation out;
   out.candidate = std::move(candidate);
   try {
-    const DatasetIndex index(data);
-    StatusOr<CampaignSplit> split = SplitOf(data, index, split_seed);
-    if (!split.ok()) {
-      out.error = split.status();
+    StatusOr<CandidateInputs> inputs = PrepareCandidateInputs(data, split_seed);
+    if (!inputs.ok()) {
+      out.error = inputs.status();
       return out;
     }
-    Score(active, data, index, *split, &out);
+    Score(active, data, inputs->index, inputs->split, &out);
   } catch (const std::exception& e) {
     out.error = Status::Internal(std::string("proposal threw: ") + e.what());
   }

@@ -76,14 +76,10 @@ struct FittedCandidate {
 using NetworkTrainer = std::function<StatusOr<FittedCandidate>(
     const Dataset& data, const std::vector<int>& train_campaigns)>;
 
-// The seeded training/validation split of `data` that calibration runs use
-// (the one `rollwear calibrate` uses).
-StatusOr<CampaignSplit> SplitOf(const Dataset& data, const DatasetIndex& index,
-                                uint64_t split_seed);
-
 // One run's data prepared once: indexed, aggregated for Wang (the split is
-// drawn on that aggregation, and a Wang calibration fits it) and split; a
-// run's fit, scores and profile shape all read it.
+// drawn on that aggregation, and a Wang calibration fits it) and split with
+// the seeded 2/3-1/3 split that calibration runs use (the one `rollwear
+// calibrate` uses); a run's fit, scores and profile shape all read it.
 struct CandidateInputs {
   DatasetIndex index;
   WearStatistics wang;
