@@ -169,7 +169,9 @@ std::string EncodeForecast(const storage::Forecast& forecast);
 // codec_shop.cc: the model audit trail, rolls and stored diagnoses.
 std::string EncodeModelHistory(
     const std::vector<storage::ModelPromotion>& history);
-std::string EncodeRollLife(const storage::RollLife& life);
+// With `factor`, also "wear_factor": {"value","interval":[lo,hi],"readings"}.
+std::string EncodeRollLife(const storage::RollLife& life,
+                           const std::optional<RollWearFactor>& factor = std::nullopt);
 std::string EncodeRollInventory(const std::vector<storage::RollSummary>& rolls);
 std::string EncodeDiagnosisList(
     const std::vector<storage::StoredDiagnosis>& diagnoses);

@@ -43,7 +43,8 @@ std::string EncodeModelHistory(
   return Dump(Json{{"history", std::move(list)}});
 }
 
-std::string EncodeRollLife(const storage::RollLife& life) {
+std::string EncodeRollLife(const storage::RollLife& life,
+                           const std::optional<RollWearFactor>& factor) {
   Json mounts = Json::array();
   for (const storage::RollMountLife& m : life.mounts) {
     mounts.push_back(
@@ -63,10 +64,16 @@ std::string EncodeRollLife(const storage::RollLife& life) {
          {"expected_reading_um", OptionalUm(m.expected_reading_um)},
          {"suspect", SuspectOrNull(m.measured_suspect)}});
   }
-  return Dump(Json{{"roll_id", life.roll_id},
-                   {"roll_type", life.roll_type},
-                   {"model_version", life.model_version},
-                   {"mounts", std::move(mounts)}});
+  Json out{{"roll_id", life.roll_id},
+           {"roll_type", life.roll_type},
+           {"model_version", life.model_version},
+           {"mounts", std::move(mounts)}};
+  if (factor.has_value()) {
+    out["wear_factor"] = {{"value", factor->value},
+                          {"interval", {factor->lo, factor->hi}},
+                          {"readings", factor->readings}};
+  }
+  return Dump(out);
 }
 
 std::string EncodeRollInventory(

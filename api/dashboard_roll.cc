@@ -4,7 +4,9 @@
 // when, diameter, coils, km, predicted and measured wear) and a bar chart of
 // predicted against measured wear per mount (core/report/svg_plot.h). Part
 // of Router (api/router.h).
+#include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
 
 #include "api/router.h"
@@ -79,7 +81,29 @@ std::string WearChart(const storage::RollLife& life) {
   return RenderSvg(spec);
 }
 
-std::string RollHtml(const storage::RollLife& life) {
+// The roll's own wear factor under the active model's per-roll family.
+std::string WearFactorHtml(const std::optional<RollWearFactor>& f) {
+  if (!f.has_value()) return "";
+  char text[320];
+  if (!f->known) {
+    std::snprintf(text, sizeof text,
+                  "<p id=\"wear-factor\">Own wear factor: no readings yet, "
+                  "at its type's value × 1 (rolls scatter × %.2f to × %.2f, "
+                  "95 %%).</p>\n",
+                  f->lo, f->hi);
+  } else {
+    std::snprintf(text, sizeof text,
+                  "<p id=\"wear-factor\">Own wear factor × %.2f (95 %% "
+                  "× %.2f to × %.2f, from %d readings): it wears %.0f %% %s "
+                  "than its roll type under the same strips.</p>\n",
+                  f->value, f->lo, f->hi, f->readings,
+                  std::abs(f->value - 1) * 100, f->value >= 1 ? "more" : "less");
+  }
+  return text;
+}
+
+std::string RollHtml(const storage::RollLife& life,
+                     const std::optional<RollWearFactor>& factor) {
   std::string h =
       "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
       "<title>roll " +
@@ -97,6 +121,7 @@ std::string RollHtml(const storage::RollLife& life) {
        std::to_string(life.model_version) +
        " (at the end of each mount, now "
        "for a running one).</p>\n";
+  h += WearFactorHtml(factor);
   h += "<table id=\"mounts\"><tr><th>campaign</th><th>position</th>"
        "<th>mounted</th><th>ended</th><th>diameter mm</th><th>hardness HB</th>"
        "<th>coils</th><th>km</th><th>predicted µm</th><th>measured µm</th>"
@@ -114,7 +139,7 @@ HttpResponse Router::GetRollPage(const std::string& roll_id) {
   HttpResponse r;
   r.status = 200;
   r.content_type = "text/html; charset=utf-8";
-  r.body = RollHtml(*life);
+  r.body = RollHtml(*life, router_internal::ActiveWearFactor(*store_, *life));
   r.headers.emplace_back("Cache-Control", "no-store");
   return r;
 }

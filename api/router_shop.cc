@@ -13,6 +13,7 @@
 
 namespace rollwear::api {
 
+using router_internal::ActiveWearFactor;
 using router_internal::Answer;
 using router_internal::Error;
 using router_internal::FromStatus;
@@ -70,7 +71,7 @@ HttpResponse Router::GetModelHistory(const HttpRequest& request) {
 HttpResponse Router::GetRoll(const std::string& roll_id) {
   StatusOr<storage::RollLife> life = store_->GetRollLife(roll_id);
   if (!life.ok()) return FromStatus(life.status());
-  return Answer(200, EncodeRollLife(*life));
+  return Answer(200, EncodeRollLife(*life, ActiveWearFactor(*store_, *life)));
 }
 
 HttpResponse Router::GetRolls() {
@@ -129,5 +130,16 @@ std::optional<DiagnosisJob> Router::StoredDiagnosisJob(int64_t id) const {
   }
   return job;
 }
+
+namespace router_internal {
+
+std::optional<RollWearFactor> ActiveWearFactor(storage::MillStore& store,
+                                               const storage::RollLife& life) {
+  StatusOr<storage::ModelVersion> model = store.ActiveModel();
+  if (!model.ok() || model->version != life.model_version) return std::nullopt;
+  return RollWearFactorOf(model->wear_model.terms, life.roll_id);
+}
+
+}  // namespace router_internal
 
 }  // namespace rollwear::api

@@ -80,6 +80,11 @@ for split in split_authors split_time_forward; do
   "${R}" diagnose --data "${ds}" --split "${ds}/${split}.csv" --json "${work}/${split}.diagnosis.json" \
     > "${work}/${split}.diagnosis.log" 2>&1 || true
   echo "${split}: diagnosis $(took "$t") s: $(grep -m1 '^verdict' "${work}/${split}.diagnosis.log")"
+  grep '^finding' "${work}/${split}.diagnosis.log" | sed "s/^/${split}:   /" || true
+  # The issue's chain: the diagnosis's adopted terms refitted by calibrate.
+  row wang_opt1_diagnosis_terms "${split}" --terms "${work}/${split}.diagnosis.json"
+  ident=$(grep -m1 "^option 1's K on this data" "${work}/${split}.wang_opt1_diagnosis_terms.log" | cut -c47-100 || true)
+  rows[-1]="${rows[-1]%|*}|K beneath the terms: ${ident}"
   t=$(now_s)
   "${R}" study --data "${ds}" --split "${ds}/${split}.csv" --out "${work}/${split}.study" \
     > "${work}/${split}.study.log" 2>&1 || true

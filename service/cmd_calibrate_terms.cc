@@ -7,10 +7,12 @@
 // training campaigns (core/fit/term_refit.h) and evaluated coil by coil on the
 // validation campaigns (core/model/model_eval.h), beside the plain option-1
 // calibration on the same split, so the gain of the adopted physics is shown.
+#include <algorithm>
 #include <chrono>
-#include <optional>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -18,14 +20,45 @@
 #include "core/dataset/dataset_io.h"
 #include "core/model/metrics.h"
 #include "core/model/model_eval.h"
+#include "core/fit/identification.h"
 #include "core/fit/study.h"
 #include "core/fit/term_refit.h"
+#include "service/calibrate_per_roll.h"
 #include "service/calibrate_terms.h"
 #include "service/data_quality_cli.h"
 #include "service/predictions_csv.h"
 #include "storage/model_codec.h"
 
 namespace rollwear::cli {
+
+namespace {
+
+// One line per refitted term: its parameters, or for the per-roll family
+// the range of its multipliers (not 50 numbers).
+void PrintTerm(const ModelTerm& t) {
+  std::printf("  term %-28s %-12s", t.covariate.c_str(), TermFormName(t.form));
+  if (t.form == TermForm::kRollEffect && !t.params.empty()) {
+    const auto [lo, hi] = std::minmax_element(t.params.begin(), t.params.end());
+    std::printf(" %d rolls, multipliers x %.2f to x %.2f, prior sd %.3f\n",
+                t.num_levels, std::exp(*lo), std::exp(*hi), t.scale);
+    return;
+  }
+  std::printf(" params");
+  for (double p : t.params) std::printf(" %.5g", p);
+  std::printf("\n");
+}
+
+// The terms ride on option 1's K: when that K is not identified by this
+// data on its own, say so (identification.h).
+Identification PrintBaseIdentification(const SplitCalibration& baseline) {
+  const Identification id =
+      JudgeIdentification(baseline.result, baseline.train, baseline.validation);
+  std::printf("option 1's K on this data, without the terms: %s\n",
+              id.Sentence().c_str());
+  return id;
+}
+
+}  // namespace
 
 int RunCalibrateWithTerms(const CalibrateArgs& args) {
   const std::string& terms_file = args.terms;
@@ -103,12 +136,8 @@ int RunCalibrateWithTerms(const CalibrateArgs& args) {
 
   std::printf("wang law, option 1 with %zu adopted term(s) from %s\n",
               terms->size(), terms_file.c_str());
-  for (const ModelTerm& t : model->terms) {
-    std::printf("  term %-28s %-12s params", t.covariate.c_str(),
-                TermFormName(t.form));
-    for (double p : t.params) std::printf(" %.5g", p);
-    std::printf("\n");
-  }
+  for (const ModelTerm& t : model->terms) PrintTerm(t);
+  const Identification id = PrintBaseIdentification(*baseline);
   std::printf("%-28s %12s\n", "coefficient", "value");
   for (const auto& [name, value] : model->NamedCoefficients()) {
     std::printf("%-28s %12.6g\n", name.c_str(), value);
@@ -137,7 +166,8 @@ int RunCalibrateWithTerms(const CalibrateArgs& args) {
     j["n_train"] = train.n;
     j["n_val"] = val.n;
     j["baseline"] = {{"gap_train_um", baseline->train.gap_um},
-                     {"gap_val_um", baseline->validation.gap_um}};
+                     {"gap_val_um", baseline->validation.gap_um},
+                     {"identification", IdentificationJson(id)}};
     j["noise"] = {{"sd_um", model->noise_sd_um}, {"rel", model->noise_rel}};
     j["split_seed"] = split_seed;
     j["seconds"] = seconds;

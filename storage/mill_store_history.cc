@@ -31,7 +31,7 @@ Status ReplayInto(Db* db, const CampaignRec& rec, const WearModel& model,
     if (!m.has_value()) continue;
     states[slot] = MountRoll(model, RollPositionName(m->stand, m->position),
                              m->roll_type, m->diameter_mm, m->hardness_hb,
-                             rec.started_at, m->extra, rec.extra);
+                             rec.started_at, m->extra, rec.extra, m->roll_id);
     RollWearHistory h;
     h.stand = m->stand;
     h.position = m->position;

@@ -185,7 +185,7 @@ void MillStoreImpl::PredictBatch(const std::vector<ItemPtr>& batch,
                                     RollPositionName(m.stand, m.position),
                                     m.roll_type, m.diameter_mm, m.hardness_hb,
                                     item->roll_change.started_at, m.extra,
-                                    item->roll_change.extra)};
+                                    item->roll_change.extra, m.roll_id)};
           TrackProfile(&state->rolls[RollPositionSlot(m.stand, m.position)]
                             ->state);
         }
@@ -406,7 +406,7 @@ void MillStoreImpl::InstallModel(std::shared_ptr<const ModelVersion> model) {
         states[slot] = MountRoll(
             model->wear_model, RollPositionName(m->stand, m->position),
             m->roll_type, m->diameter_mm, m->hardness_hb, open.started_at,
-            m->extra, open.extra);
+            m->extra, open.extra, m->roll_id);
         TrackProfile(&*states[slot]);
       }
     }

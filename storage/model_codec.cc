@@ -98,6 +98,8 @@ Json EncodeTerm(const ModelTerm& t) {
   j["num_levels"] = t.num_levels;
   if (!t.levels.empty()) j["levels"] = t.levels;
   if (t.reference_level != 0) j["reference_level"] = t.reference_level;
+  if (!t.level_sd.empty()) j["level_sd"] = Numbers(t.level_sd);
+  if (!t.level_readings.empty()) j["level_readings"] = t.level_readings;
   // Scope: absent (or a missing field) = everywhere, so models stored
   // before scopes existed read unchanged.
   if (!t.scope.IsAll()) {
@@ -122,6 +124,36 @@ Status ReadNumbers(const Json& obj, const char* key, const std::string& field,
     double x = 0;
     if (!ReadNumber(v, &x)) return Bad(field, "must be an array of numbers");
     out->push_back(x);
+  }
+  return Status::Ok();
+}
+
+// A roll-effect term's optional per-roll spread: "level_sd" (finite,
+// >= 0) and "level_readings" (integers >= 0), one per level each.
+Status DecodeRollSpread(const Json& j, const std::string& at, ModelTerm* t) {
+  ROLLWEAR_RETURN_IF_ERROR(ReadNumbers(j, "level_sd", at + "level_sd", &t->level_sd));
+  std::vector<double> readings;
+  ROLLWEAR_RETURN_IF_ERROR(
+      ReadNumbers(j, "level_readings", at + "level_readings", &readings));
+  for (double r : readings) {
+    if (!(r >= 0 && r == std::floor(r) && r < 1e9)) {
+      return Bad(at + "level_readings", "must be integers >= 0");
+    }
+    t->level_readings.push_back(static_cast<int>(r));
+  }
+  const size_t n = static_cast<size_t>(std::max(0, t->num_levels));
+  if ((!t->level_sd.empty() || !t->level_readings.empty()) &&
+      t->form != TermForm::kRollEffect) {
+    return Bad(at + "level_sd", "is only for the roll_effect form");
+  }
+  if (!t->level_sd.empty() && t->level_sd.size() != n) {
+    return Bad(at + "level_sd", "needs one number per level");
+  }
+  if (!t->level_readings.empty() && t->level_readings.size() != n) {
+    return Bad(at + "level_readings", "needs one number per level");
+  }
+  for (double sd : t->level_sd) {
+    if (!(std::isfinite(sd) && sd >= 0)) return Bad(at + "level_sd", "must be finite and >= 0");
   }
   return Status::Ok();
 }
@@ -206,6 +238,7 @@ Status DecodeTerms(const Json& doc, std::vector<ModelTerm>* out) {
                            : "is only for the offset_per_level form");
     }
     ROLLWEAR_RETURN_IF_ERROR(DecodeScope(j, at, &t.scope));
+    ROLLWEAR_RETURN_IF_ERROR(DecodeRollSpread(j, at, &t));
     if (t.IsMeasurementTerm() && !t.scope.grade.empty()) {
       // A reading is of a roll, not of a grade (model_eval.h).
       return Bad(at + "scope.grade", "a measurement term cannot be scoped by grade");

@@ -453,7 +453,8 @@ StatusOr<RollStates> ReplayCampaignCoils(Db* db, const CampaignRec& campaign,
     if (!m.has_value()) continue;
     states[slot] = MountRoll(model, RollPositionName(m->stand, m->position),
                              m->roll_type, m->diameter_mm, m->hardness_hb,
-                             campaign.started_at, m->extra, campaign.extra);
+                             campaign.started_at, m->extra, campaign.extra,
+                             m->roll_id);
     if (track_profiles) TrackProfile(&*states[slot]);
   }
   ROLLWEAR_ASSIGN_OR_RETURN(

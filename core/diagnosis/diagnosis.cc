@@ -58,6 +58,8 @@ StatusOr<DiagnosisReport> Diagnose(const Dataset& data,
     if (!diag::RunRound(round, data, options, &used, &phase, &state, &report)) break;
   }
   diag::WithdrawTiedCellSets(options, &state, &report);
+  // The per-roll family on what the rounds leave (diagnosis_roll_family.cc).
+  if (diag::RunRollFamily(options, &state, &report)) phase.Mark("roll_family");
 
   diag::Summarise(data, options, state, &report);
   // Along the barrel, when the grinder measured profiles: what the final

@@ -144,13 +144,15 @@ double CovariateQuantile(const TermData& td, const std::vector<int>& obs, int k,
 
 namespace {
 
-// The unscoped candidates over covariate k (none when it is a cell, too
-// sparse, constant or a factor with too many levels).
+// The unscoped candidates over covariate k (none when it is a cell, which
+// AddScopedCandidates offers, or the physical roll, which only the per-roll
+// family fits; nor when k is too sparse, constant or a factor with too many
+// levels).
 std::vector<Candidate> CandidatesOf(const TermData& td, const std::vector<int>& train,
                                     int k, const DiagnosisOptions& options) {
   std::vector<Candidate> out;
   const CovariateSpec& c = td.catalog[k];
-  if (c.source == CovariateSource::kCell) return out;  // AddScopedCandidates
+  if (c.source == CovariateSource::kCell || c.source == CovariateSource::kRollId) return out;
   const WeightedValues w = Collect(td, train, k);
   if (w.v.size() < 10) return out;
   const double p01 = Quantile(w, 0.01), p05 = Quantile(w, 0.05);

@@ -215,6 +215,7 @@ void GuardDimensions(const TermData& td, const std::vector<int>& train,
   const bool calendar = IsCalendarTerm(td, term);
   for (int k = 0; k < static_cast<int>(td.catalog.size()); ++k) {
     const CovariateSpec& c = td.catalog[k];
+    if (c.source == CovariateSource::kRollId) continue;  // not a group of rolls
     // A text column of mounts.csv or campaigns.csv holds one level per
     // reading: its levels are groups like the stands (the pass-level ones
     // are split by level in diagnosis_split.cc).

@@ -385,8 +385,7 @@ void NameFinding(const TermData& td, const std::vector<int>& train,
       for (size_t i = 0; i < t.edges.size(); ++i) {
         f->parameters["edge" + std::to_string(i)] = t.edges[i];
       }
-      if (t.edges.size() ==
-          1) {  // a change point (diagnosis_candidates.cc AddSteps)
+      if (t.edges.size() == 1) {  // a change point (AddSteps)
         f->shape = m[1] >= 1 ? "step_up" : "step_down";
         fitted = Format("a step: wear-rate multiplier %.3f from ", m[1]) +
                  Readable(c.name, t.edges[0]) + " on, relative to before";
@@ -434,6 +433,7 @@ void NameFinding(const TermData& td, const std::vector<int>& train,
       f->parameters = {{"beta", p[0]}, {"multiplier", std::exp(p[0])}};
       fitted = Format("wear-rate multiplier %.3f in the cell", std::exp(p[0]));
       break;
+    case TermForm::kRollEffect: break;  // named by diagnosis_roll_family.cc
     case TermForm::kOffsetPerLevel:
       OffsetLevels(t, f, &fitted);
       up = false;
@@ -471,8 +471,7 @@ void NameFinding(const TermData& td, const std::vector<int>& train,
       for (size_t i = 0; i < t.edges.size(); ++i) {
         f->parameters["edge" + std::to_string(i)] = t.edges[i];
       }
-      if (t.edges.size() ==
-          1) {  // a change point (diagnosis_candidates.cc AddSteps)
+      if (t.edges.size() == 1) {  // a change point (AddSteps)
         fitted = Format("a step: measured wear offset %+.1f µm from ", o[1]) +
                  Readable(c.name, t.edges[0]) + " on, relative to before";
         break;

@@ -19,7 +19,6 @@
 #include "core/model/metrics.h"
 
 namespace rollwear::diag {
-namespace {
 
 double Gap(const TermData& td, const std::vector<int>& obs,
            const std::vector<double>& pred) {
@@ -30,6 +29,8 @@ double Gap(const TermData& td, const std::vector<int>& obs,
   }
   return s / static_cast<double>(obs.size());
 }
+
+namespace {
 
 // Best fit of current + candidate over the candidate's starting points.
 Fitted FitTermCandidate(const TermData& td, const std::vector<int>& subset,
@@ -48,14 +49,8 @@ Fitted FitTermCandidate(const TermData& td, const std::vector<int>& subset,
   return best;
 }
 
-struct CvResult {
-  double mse = 0, gap = 0;
-};
+}  // namespace
 
-// K-fold cross-validation on training campaigns of each model of `models`
-// (refitted on each fold; the model itself where a fold's fit fails). The
-// models x folds fits run in parallel; each result is summed in fold and
-// observation order, so it does not depend on the threads.
 std::vector<CvResult> CrossValidate(const DiagnosisState& st,
                                     const std::vector<double>& sd,
                                     const std::vector<const Fitted*>& models,
@@ -91,6 +86,8 @@ std::vector<CvResult> CrossValidate(const DiagnosisState& st,
   }
   return out;
 }
+
+namespace {
 
 // The score-test screen of one round: every candidate's smallest p-value
 // over its starts, the candidate with that start only, and the number of

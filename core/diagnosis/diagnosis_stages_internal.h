@@ -125,6 +125,39 @@ Fitted Fit(const TermData& td, const std::vector<int>& subset,
            std::vector<TermSpec> terms, bool errors = false,
            std::vector<double>* term_se = nullptr);
 
+// Mean |measured - pred| over `obs` (pred aligned with obs).
+double Gap(const TermData& td, const std::vector<int>& obs,
+           const std::vector<double>& pred);
+
+// A model's K-fold cross-validation error on the training campaigns:
+// weighted MSE (residual / sd) and mean |residual| in µm.
+struct CvResult {
+  double mse = 0, gap = 0;
+};
+
+// K-fold cross-validation on training campaigns of each model of `models`
+// (refitted on each fold; the model itself where a fold's fit fails). The
+// models x folds fits run in parallel; each result is summed in fold and
+// observation order, so it does not depend on the threads.
+std::vector<CvResult> CrossValidate(const DiagnosisState& st,
+                                    const std::vector<double>& sd,
+                                    const std::vector<const Fitted*>& models,
+                                    int num_threads);
+
+// After the rounds, the per-roll family (diagnosis_roll_family.cc): when
+// the current model's training readings, roll by roll, scatter more than
+// their noise allows (Cochran's Q over the rolls' own multipliers, level
+// options.alpha), a roll-effect term (model_terms.h) with the between-roll
+// spread tau estimated from that scatter (DerSimonian & Laird 1986) is
+// fitted; it is adopted only when it lowers the cross-validated error by
+// options.min_cv_improvement beside the current model and beside each
+// calendar rival (a drift by campaign start, a roll's service), which a
+// roll scatter could otherwise stand for. Adopts into state->current and
+// report->findings; returns whether it did; a refusal with heterogeneity
+// goes to report->runners_up with why.
+bool RunRollFamily(const DiagnosisOptions& options, DiagnosisState* st,
+                   DiagnosisReport* report);
+
 // The proxy guard's answer on a round's winner (diagnosis_guard.cc).
 struct GuardResult {
   bool pass = true;

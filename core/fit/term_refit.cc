@@ -60,6 +60,22 @@ void Bounds(const ModelTerm& t, std::vector<double>* lo,
 // of an offset term keeps its label when the data have it. Terms stored
 // without labels are left as they are (matched by index, as stored).
 void AlignLevels(const CovariateSpec& c, ModelTerm* t) {
+  if (t->form == TermForm::kRollEffect) {
+    // No reference: every roll has its parameter, a new roll starts at 0
+    // (its type's value).
+    std::vector<double> params(c.levels.size(), 0.0);
+    for (size_t l = 0; l < c.levels.size(); ++l) {
+      for (size_t o = 0; o < t->levels.size() && o < t->params.size(); ++o) {
+        if (t->levels[o] == c.levels[l]) params[l] = t->params[o];
+      }
+    }
+    t->levels = c.levels;
+    t->num_levels = static_cast<int>(c.levels.size());
+    t->params = std::move(params);
+    t->level_sd.clear();  // recomputed after the refit
+    t->level_readings.clear();
+    return;
+  }
   const bool per_level = t->form == TermForm::kPerLevel;
   if ((!per_level && t->form != TermForm::kOffsetPerLevel) || t->levels.empty() ||
       c.levels.size() < 2) {
@@ -136,6 +152,7 @@ StatusOr<WearModel> RefitWithTerms(const Dataset& data, WearLaw law,
     AlignLevels(td.catalog[s.covariate], &s.term);
     Bounds(s.term, &s.lower, &s.upper);
     if (t.form == TermForm::kCell) s.prior_sd = kCellPriorSd;
+    if (t.form == TermForm::kRollEffect) s.prior_sd = t.scale;  // its spread
     for (int j = 0; j < s.term.NumParams(); ++j) {
       s.term.params[j] = std::clamp(s.term.params[j], s.lower[j], s.upper[j]);
     }
@@ -173,9 +190,37 @@ StatusOr<WearModel> RefitWithTerms(const Dataset& data, WearLaw law,
       KStructure::ForOption(1, td.positions, td.roll_types, td.grades));
   model.k.clear();
   for (double lk : log_k) model.k.push_back(std::exp(lk));
+  SetRollEffectSpread(td, subset, sd, log_k, &specs);
   model.terms.clear();
   for (const TermSpec& s : specs) model.terms.push_back(s.term);
   return model;
+}
+
+void SetRollEffectSpread(const TermData& td, const std::vector<int>& subset,
+                         const std::vector<double>& sd,
+                         const std::vector<double>& log_k,
+                         std::vector<TermSpec>* terms) {
+  const std::vector<double> pred = PredictTerms(td, subset, log_k, *terms, true);
+  for (TermSpec& s : *terms) {
+    ModelTerm& t = s.term;
+    if (t.form != TermForm::kRollEffect) continue;
+    std::vector<double> info(t.num_levels, 0.0);
+    t.level_readings.assign(t.num_levels, 0);
+    for (size_t i = 0; i < subset.size(); ++i) {
+      const TermObservation& ob = td.obs[subset[i]];
+      if (ob.pass_end <= ob.pass_begin) continue;
+      const double z = td.z[s.covariate][ob.pass_begin];
+      if (!(z >= 0 && z < t.num_levels)) continue;
+      const int l = static_cast<int>(z);
+      info[l] += (pred[i] / sd[subset[i]]) * (pred[i] / sd[subset[i]]);
+      ++t.level_readings[l];
+    }
+    const double prior = s.prior_sd > 0 ? 1 / (s.prior_sd * s.prior_sd) : 0;
+    t.level_sd.assign(t.num_levels, 0.0);
+    for (int l = 0; l < t.num_levels; ++l) {
+      t.level_sd[l] = info[l] + prior > 0 ? 1 / std::sqrt(info[l] + prior) : t.scale;
+    }
+  }
 }
 
 }  // namespace rollwear

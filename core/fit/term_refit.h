@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "core/dataset/dataset.h"
+#include "core/fit/term_fit.h"
 #include "core/model/model_terms.h"
 #include "core/base/status.h"
 #include "core/model/wear_law.h"
@@ -33,6 +34,18 @@ namespace rollwear {
 StatusOr<WearModel> RefitWithTerms(const Dataset& data, WearLaw law,
                                    const std::vector<ModelTerm>& terms,
                                    const std::vector<int>& train_campaigns);
+
+// Fills level_sd and level_readings of every roll-effect term of `terms`
+// from the readings of `subset` (indices into td.obs) under (log_k,
+// terms) with noise sd `sd` (indexed like td.obs): per roll r, the
+// Gaussian posterior sd of b_r given K,
+//   sd_r = (sum_i (yhat_i / sd_i)^2 + 1 / prior_sd^2)^(-1/2),
+// d yhat_i / d b_r = yhat_i for every reading of roll r (model_terms.h:
+// m = exp(b_r) scales all its passes; a measurement offset is ignored).
+void SetRollEffectSpread(const TermData& td, const std::vector<int>& subset,
+                         const std::vector<double>& sd,
+                         const std::vector<double>& log_k,
+                         std::vector<TermSpec>* terms);
 
 }  // namespace rollwear
 

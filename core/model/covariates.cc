@@ -26,6 +26,13 @@ void AddExtras(const ExtraColumns& extra, CovariateLevel level,
   }
 }
 
+// The index of `label` in the sorted `levels`; NaN when absent.
+double SortedLevelIndex(const std::vector<std::string>& levels, const std::string& label) {
+  const auto it = std::lower_bound(levels.begin(), levels.end(), label);
+  if (it == levels.end() || *it != label) return kNaN;
+  return static_cast<double>(it - levels.begin());
+}
+
 }  // namespace
 
 std::vector<CovariateSpec> CovariateCatalog(const Dataset& data) {
@@ -74,13 +81,23 @@ std::vector<CovariateSpec> CovariateCatalog(const Dataset& data) {
             S::kCampaignExtraFactor, &c);
   AddExtras(data.measurement_extra, L::kMeasurement,
             S::kMeasurementExtraNumeric, S::kMeasurementExtraFactor, &c);
+  // Last, so that adding it moved no other covariate's index.
+  std::vector<std::string> rolls;
+  for (const Mount& m : data.mounts) {
+    if (!m.roll_id.empty()) rolls.push_back(m.roll_id);
+  }
+  std::sort(rolls.begin(), rolls.end());
+  rolls.erase(std::unique(rolls.begin(), rolls.end()), rolls.end());
+  if (rolls.size() >= 2) {
+    c.push_back({kRollIdName, S::kRollId, L::kRoll, K::kFactor, -1, false,
+                 std::move(rolls), /*locate_only=*/true});
+  }
   return c;
 }
 
 double CovariateValue(const CovariateSpec& spec, const Dataset& data,
                       const PassContext& ctx, UnixSeconds origin) {
-  // A context without a pass (a measurement evaluated after the campaign)
-  // or without a mount has no value for what they carry.
+  // No pass (a reading after the campaign) or no mount: no value for them.
   static const Pass kNoPass;
   static const Mount kNoMount;
   if ((ctx.pass == nullptr && spec.level == CovariateLevel::kPass) ||
@@ -136,6 +153,7 @@ double CovariateValue(const CovariateSpec& spec, const Dataset& data,
       return 1.0;
     case CovariateSource::kRollCampaignsBefore:
       return ctx.roll_campaigns_before;
+    case CovariateSource::kRollId: return SortedLevelIndex(spec.levels, m.roll_id);
     case CovariateSource::kCoolingHours:
       if (ctx.measurement_row < 0) return kNaN;
       return CoolingHours(data.measurements[ctx.measurement_row].measured_at,

@@ -26,6 +26,11 @@
 // is `locate_only`: the diagnosis tests and locates along it (a mismatch
 // that follows a roll's service is not calendar time) but never names it
 // as physics, and the predictor never serves it (NaN there).
+// roll_id (kRollIdName): the physical roll, a factor whose levels are the
+// data's roll ids in sorted order, last in the catalog. It is the
+// covariate of the roll-effect form only (model_terms.h): `locate_only` for
+// every other form, and the diagnosis names it only as the per-roll family
+// (diagnosis_roll_family.cc); the predictor matches the mounted roll's id.
 //
 // Thread-safety: pure functions and immutable values.
 #ifndef ROLLWEAR_CORE_MODEL_COVARIATES_H_
@@ -66,6 +71,7 @@ enum class CovariateSource {
   kMeasuredAt,
   kCell,
   kRollCampaignsBefore,
+  kRollId,
   kPassExtraNumeric,
   kMountExtraNumeric,
   kCampaignExtraNumeric,
@@ -113,6 +119,7 @@ struct PassContext {
 };
 
 inline constexpr const char* kRollCampaignsBeforeName = "roll_campaigns_before";
+inline constexpr const char* kRollIdName = "roll_id";
 
 // Per row of data.mounts: the number of campaigns started before this
 // mount's campaign (ties: earlier row first) that mounted the same roll_id.

@@ -42,7 +42,7 @@ RollWearState MountedRollState(const WearModel& model, const Dataset& data,
                    data.roll_types[m.roll_type], m.diameter_mm, m.hardness_hb,
                    data.campaigns[campaign].started_at,
                    ExtraFieldsOfRow(data.mount_extra, mount),
-                   ExtraFieldsOfRow(data.campaign_extra, campaign));
+                   ExtraFieldsOfRow(data.campaign_extra, campaign), m.roll_id);
 }
 
 std::vector<MeasuredPrediction> PredictMeasured(

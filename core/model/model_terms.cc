@@ -21,6 +21,7 @@ const char* TermFormName(TermForm f) {
     case TermForm::kOffsetLinear: return "offset_linear";
     case TermForm::kOffsetBinned: return "offset_binned";
     case TermForm::kOffsetPerLevel: return "offset_per_level";
+    case TermForm::kRollEffect: return "roll_effect";
   }
   return "unknown";
 }
@@ -30,7 +31,7 @@ bool ParseTermForm(const std::string& name, TermForm* out) {
                      TermForm::kDecaying, TermForm::kFlag, TermForm::kBinned,
                      TermForm::kPerLevel, TermForm::kCell, TermForm::kOffsetDecay,
                      TermForm::kOffsetLinear, TermForm::kOffsetPerLevel,
-                     TermForm::kOffsetBinned}) {
+                     TermForm::kOffsetBinned, TermForm::kRollEffect}) {
     if (name == TermFormName(f)) {
       *out = f;
       return true;
@@ -73,6 +74,8 @@ int ModelTerm::NumParams() const {
     case TermForm::kPerLevel:
     case TermForm::kOffsetPerLevel:
       return std::max(0, num_levels - 1);
+    case TermForm::kRollEffect:
+      return std::max(0, num_levels);
     default: return 1;
   }
 }
@@ -80,6 +83,30 @@ int ModelTerm::NumParams() const {
 int TermBin(const ModelTerm& t, double z) {
   return static_cast<int>(std::upper_bound(t.edges.begin(), t.edges.end(), z) -
                           t.edges.begin());
+}
+
+std::optional<RollWearFactor> RollWearFactorOf(const std::vector<ModelTerm>& terms,
+                                               const std::string& roll_id) {
+  constexpr double kZ95 = 1.959964;
+  for (const ModelTerm& t : terms) {
+    if (t.form != TermForm::kRollEffect) continue;
+    RollWearFactor f;
+    f.lo = std::exp(-kZ95 * t.scale);
+    f.hi = std::exp(kZ95 * t.scale);
+    const size_t n = std::min(t.levels.size(), t.params.size());
+    for (size_t l = 0; l < n; ++l) {
+      if (t.levels[l] != roll_id) continue;
+      const double b = t.params[l];
+      const double sd = l < t.level_sd.size() ? t.level_sd[l] : t.scale;
+      f.readings = l < t.level_readings.size() ? t.level_readings[l] : 0;
+      f.known = f.readings > 0;
+      f.value = std::exp(b);
+      f.lo = std::exp(b - kZ95 * sd);
+      f.hi = std::exp(b + kZ95 * sd);
+    }
+    return f;
+  }
+  return std::nullopt;
 }
 
 double TermMultiplier(const ModelTerm& t, double z, double* grad) {
@@ -140,6 +167,13 @@ double TermMultiplier(const ModelTerm& t, double z, double* grad) {
       if (l <= 0 || l >= t.num_levels) return 1.0;
       const double m = std::exp(p[l - 1]);
       if (grad != nullptr) grad[l - 1] = m;
+      return m;
+    }
+    case TermForm::kRollEffect: {
+      const int l = static_cast<int>(z);
+      if (l < 0 || l >= t.num_levels) return 1.0;
+      const double m = std::exp(p[l]);
+      if (grad != nullptr) grad[l] = m;
       return m;
     }
     case TermForm::kOffsetDecay:

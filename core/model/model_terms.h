@@ -16,6 +16,13 @@
 //   cell         m = exp(b) on the passes of its scope, a (stand or roll
 //                position) x (roll type or grade) cell the K structure
 //                cannot express (covariate "cell", always 1)
+//   roll-effect  m = exp(b_r) for the physical roll r (covariate "roll_id",
+//                levels = roll ids, one parameter per roll, no reference):
+//                the roll's own wear resistance, a random effect with the
+//                normal prior b_r ~ N(0, s^2), s = `scale` estimated from
+//                the data (core/fit/roll_effects.h: DerSimonian & Laird
+//                1986); a roll the fit never saw counts as 1, its type's
+//                value
 // Measurement terms add to what the grinder reads, not to the wear:
 //   offset-decay   y = d + A * exp(-z / tau)       tau = exp(q)
 //   offset-linear  y = d + A * (z - c) / s
@@ -36,12 +43,14 @@
 // parameter count is that of the unscoped form.
 //
 // Cell terms are fitted with a normal prior b ~ N(0, tau^2) (TermSpec::
-// prior_sd, term_fit.h) so that rare cells stay sane.
+// prior_sd, term_fit.h) so that rare cells stay sane; roll-effect terms
+// with b_r ~ N(0, scale^2), their own estimated spread.
 //
 // Thread-safety: pure functions and plain values.
 #ifndef ROLLWEAR_CORE_MODEL_MODEL_TERMS_H_
 #define ROLLWEAR_CORE_MODEL_MODEL_TERMS_H_
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -50,7 +59,7 @@ namespace rollwear {
 
 enum class TermForm {
   kLogLinear, kPower, kSaturating, kDecaying, kFlag, kBinned, kPerLevel, kCell,
-  kOffsetDecay, kOffsetLinear, kOffsetPerLevel, kOffsetBinned,
+  kOffsetDecay, kOffsetLinear, kOffsetPerLevel, kOffsetBinned, kRollEffect,
 };
 const char* TermFormName(TermForm f);  // "log_linear", "power", ...
 bool ParseTermForm(const std::string& name, TermForm* out);
@@ -93,7 +102,7 @@ struct ModelTerm {
   TermForm form = TermForm::kLogLinear;
   std::vector<double> params;  // see the table above
   double center = 0;           // c
-  double scale = 1;            // s
+  double scale = 1;            // s (roll-effect: the prior sd of b_r)
   std::vector<double> edges;   // binned: upper edges of bins 0..B-2
   int num_levels = 0;          // per-level: number of factor levels
   // per-level: the factor's level labels, level l = levels[l] (the first
@@ -103,6 +112,11 @@ struct ModelTerm {
   std::vector<std::string> levels;
   TermScope scope;  // where the term applies (default: everywhere)
   int reference_level = 0;  // offset-per-level: the level read as is
+  // roll-effect: per level, the posterior sd of b_r and the training
+  // readings it rests on (the fit's, for the roll's interval; empty when
+  // not computed).
+  std::vector<double> level_sd;
+  std::vector<int> level_readings;
 
   bool IsMeasurementTerm() const {
     return form == TermForm::kOffsetDecay || form == TermForm::kOffsetLinear ||
@@ -119,6 +133,19 @@ double TermOffset(const ModelTerm& t, double z, double* grad);
 
 // Index of the bin of z (binned form).
 int TermBin(const ModelTerm& t, double z);
+
+// A physical roll's own wear factor under a model's roll-effect term:
+// exp(b_r) with the 95 % interval exp(b_r +- 1.96 sd_r) and the training
+// readings behind it; a roll the term does not know is at its type's value
+// 1 with the prior's interval exp(+-1.96 scale) and 0 readings.
+struct RollWearFactor {
+  double value = 1, lo = 1, hi = 1;
+  int readings = 0;
+  bool known = false;  // the roll had training readings
+};
+// nullopt when `terms` has no roll-effect term.
+std::optional<RollWearFactor> RollWearFactorOf(const std::vector<ModelTerm>& terms,
+                                               const std::string& roll_id);
 
 }  // namespace rollwear
 

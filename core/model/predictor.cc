@@ -1,5 +1,6 @@
 #include "core/model/predictor.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string_view>
@@ -12,8 +13,10 @@ namespace rollwear {
 RollWearState MountRoll(const WearModel& model, const std::string& position_label,
                         const std::string& roll_type, double diameter_mm,
                         double hardness_hb, UnixSeconds campaign_started_at,
-                        ExtraFields mount_extra, ExtraFields campaign_extra) {
+                        ExtraFields mount_extra, ExtraFields campaign_extra,
+                        std::string roll_id) {
   RollWearState s;
+  s.roll_id = std::move(roll_id);
   s.position = model.structure.PositionLevel(position_label);
   s.roll_type = model.structure.RollTypeLevel(roll_type);
   s.diameter_mm = diameter_mm;
@@ -114,6 +117,14 @@ double PassTermMultiplier(const WearModel& model, const PassInput& pass,
     if (!t.scope.CoversRoll(state.stand, state.roll_position, state.roll_type_label) ||
         !t.scope.CoversGrade(pass.grade)) {
       continue;  // outside its scope: m = 1
+    }
+    if (t.form == TermForm::kRollEffect) {
+      const auto it = std::find(t.levels.begin(), t.levels.end(), state.roll_id);
+      const double level = it == t.levels.end()
+                               ? std::numeric_limits<double>::quiet_NaN()
+                               : static_cast<double>(it - t.levels.begin());
+      multiplier *= TermMultiplier(t, level, nullptr);
+      continue;
     }
     bool built_in = false;
     for (const CovariateSpec& spec : kCatalog) {

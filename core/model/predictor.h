@@ -17,7 +17,9 @@
 // 1 (NaN), a per-level term takes the empty text's level. A factor level is
 // matched by its label (ModelTerm::levels); a label the fit never saw
 // counts as 1, as a level without training data does in the batch path.
-// A scoped term (ModelTerm::scope) counts as 1 outside its scope: the
+// A roll-effect term takes the multiplier of the mounted roll's id
+// (RollWearState::roll_id); a roll it never saw counts as 1, its type's
+// value. A scoped term (ModelTerm::scope) counts as 1 outside its scope: the
 // roll's stand, position and roll type label, the pass's grade label.
 //
 // The wear profile across the barrel (barrel_profile.h), when tracked
@@ -70,6 +72,7 @@ struct RollWearState {
   int stand = 0;
   int roll_position = -1;
   std::string roll_type_label;
+  std::string roll_id;  // the physical roll (a roll-effect term's level)
   ExtraFields mount_extra;     // the roll's extra fields (mounts.csv)
   ExtraFields campaign_extra;  // its campaign's (campaigns.csv)
   std::optional<AnnRollState> ann;      // set when the model is the ANN
@@ -77,12 +80,14 @@ struct RollWearState {
   std::optional<ProfileStats> profile;  // set by TrackProfile
 };
 
-// A freshly mounted roll at `position_label` ("F6/top").
+// A freshly mounted roll at `position_label` ("F6/top"); `roll_id` is
+// the physical roll's serial, matched by a roll-effect term.
 RollWearState MountRoll(const WearModel& model, const std::string& position_label,
                         const std::string& roll_type, double diameter_mm,
                         double hardness_hb, UnixSeconds campaign_started_at = 0,
                         ExtraFields mount_extra = {},
-                        ExtraFields campaign_extra = {});
+                        ExtraFields campaign_extra = {},
+                        std::string roll_id = {});
 
 // Starts tracking the state's profile on `grid` (empty sums: call it at
 // mount, before the first pass).

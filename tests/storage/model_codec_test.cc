@@ -135,6 +135,55 @@ TEST(ModelCodecTest, AdoptedTermsRoundTrip) {
       << bad.status().message();
 }
 
+// A roll-effect term (the per-roll family) keeps its rolls, multipliers,
+// prior sd and each roll's posterior sd and readings; a spread that does
+// not match the rolls, or on another form, is refused naming the field.
+TEST(ModelCodecTest, RollEffectTermsKeepTheirRollsAndSpread) {
+  WearModel m = MakeModel(WearLaw::kWang, 1);
+  ModelTerm rolls;
+  rolls.covariate = "roll_id";
+  rolls.form = TermForm::kRollEffect;
+  rolls.levels = {"R1", "R2", "R3"};
+  rolls.num_levels = 3;
+  rolls.params = {0.1, -0.05, 0.0};
+  rolls.scale = 0.18;
+  rolls.level_sd = {0.04, 0.06, 0.18};
+  rolls.level_readings = {7, 4, 0};
+  m.terms.push_back(rolls);
+  StatusOr<WearModel> back = DecodeWearModel(EncodeWearModel(m));
+  ASSERT_TRUE(back.ok()) << back.status().ToString();
+  ASSERT_EQ(back->terms.size(), 1u);
+  const ModelTerm& t = back->terms[0];
+  EXPECT_EQ(t.form, TermForm::kRollEffect);
+  EXPECT_EQ(t.levels, rolls.levels);
+  EXPECT_EQ(t.params, rolls.params);
+  EXPECT_EQ(t.scale, 0.18);
+  EXPECT_EQ(t.level_sd, rolls.level_sd);
+  EXPECT_EQ(t.level_readings, rolls.level_readings);
+  // The served factor: R1's exp(0.1) with its own interval; an unknown
+  // roll at 1 with the prior's.
+  const std::optional<RollWearFactor> r1 = RollWearFactorOf(back->terms, "R1");
+  ASSERT_TRUE(r1.has_value());
+  EXPECT_NEAR(r1->value, std::exp(0.1), 1e-12);
+  EXPECT_NEAR(r1->hi, std::exp(0.1 + 1.959964 * 0.04), 1e-9);
+  EXPECT_EQ(r1->readings, 7);
+  const std::optional<RollWearFactor> fresh = RollWearFactorOf(back->terms, "R9");
+  ASSERT_TRUE(fresh.has_value());
+  EXPECT_EQ(fresh->value, 1.0);
+  EXPECT_EQ(fresh->readings, 0);
+  EXPECT_NEAR(fresh->lo, std::exp(-1.959964 * 0.18), 1e-9);
+  EXPECT_FALSE(RollWearFactorOf({}, "R1").has_value());
+  for (const char* bad :
+       {R"({"terms":[{"covariate":"roll_id","form":"roll_effect","params":[0.1,0.2],"num_levels":2,"levels":["a","b"],"level_sd":[0.1]}]})",
+        R"({"terms":[{"covariate":"roll_id","form":"roll_effect","params":[0.1,0.2],"num_levels":2,"levels":["a","b"],"level_readings":[1,-2]}]})",
+        R"({"terms":[{"covariate":"x","form":"per_level","params":[0.1],"num_levels":2,"level_sd":[0.1,0.1]}]})"}) {
+    StatusOr<std::vector<ModelTerm>> out = DecodeModelTerms(bad);
+    ASSERT_FALSE(out.ok()) << bad;
+    EXPECT_NE(out.status().message().find("terms[0].level_"), std::string::npos)
+        << out.status().message();
+  }
+}
+
 // Scoped, cell and offset-per-level terms keep their scope and reference
 // level; a term without "scope" (stored before scopes) applies everywhere.
 TEST(ModelCodecTest, ScopedTermsRoundTrip) {
