@@ -17,6 +17,7 @@
 #include "core/model/model_eval.h"
 #include "core/model/predictor.h"
 #include "core/sim/simulator.h"
+#include "tests/core/simulator_test_util.h"
 #include "tests/core/test_size.h"
 
 namespace rollwear {
@@ -43,15 +44,6 @@ const Finding* RollFinding(const DiagnosisReport& r) {
   return nullptr;
 }
 
-std::string Describe(const DiagnosisReport& r) {
-  std::string s = "verdict " + r.verdict + ";";
-  for (const Finding& f : r.findings)
-    s += " finding " + f.covariate + " (" + f.form + ");";
-  for (const RunnerUp& u : r.runners_up)
-    s += " runner-up " + u.covariate + ": " + u.reason + ";";
-  return s;
-}
-
 // Pearson correlation of the fitted log-multipliers with the true log
 // factors over the rolls the term knows.
 double CorrelationWithTruth(const ModelTerm& t, const SimulationTruth& truth) {
@@ -62,19 +54,7 @@ double CorrelationWithTruth(const ModelTerm& t, const SimulationTruth& truth) {
     a.push_back(t.params[l]);
     b.push_back(std::log(it->second));
   }
-  const double n = static_cast<double>(a.size());
-  double ma = 0, mb = 0;
-  for (size_t i = 0; i < a.size(); ++i) {
-    ma += a[i] / n;
-    mb += b[i] / n;
-  }
-  double sab = 0, saa = 0, sbb = 0;
-  for (size_t i = 0; i < a.size(); ++i) {
-    sab += (a[i] - ma) * (b[i] - mb);
-    saa += (a[i] - ma) * (a[i] - ma);
-    sbb += (b[i] - mb) * (b[i] - mb);
-  }
-  return sab / std::sqrt(saa * sbb);
+  return simulator_test::Correlation(a, b);
 }
 
 TEST(DiagnosisRollFamilyTest, EachRollsOwnWearFactorIsNamedAndImprovesHeldOut) {
@@ -83,7 +63,7 @@ TEST(DiagnosisRollFamilyTest, EachRollsOwnWearFactorIsNamedAndImprovesHeldOut) {
     StatusOr<DiagnosisReport> r = Diagnose(sim.data, DiagnosisOptions{});
     ASSERT_TRUE(r.ok()) << r.status().ToString();
     const Finding* f = RollFinding(*r);
-    ASSERT_NE(f, nullptr) << seed << ": " << Describe(*r);
+    ASSERT_NE(f, nullptr) << seed << ": " << simulator_test::DescribeReport(*r);
     EXPECT_EQ(f->form, "roll_effect");
     EXPECT_EQ(f->covariate, "roll_id");
     EXPECT_LT(f->p_value, 1e-6);
@@ -100,7 +80,7 @@ TEST(DiagnosisRollFamilyTest, NoRollFactorsNoRollFinding) {
     const Simulation sim = Simulated(seed, 0.0);
     StatusOr<DiagnosisReport> r = Diagnose(sim.data, DiagnosisOptions{});
     ASSERT_TRUE(r.ok()) << r.status().ToString();
-    EXPECT_EQ(RollFinding(*r), nullptr) << seed << ": " << Describe(*r);
+    EXPECT_EQ(RollFinding(*r), nullptr) << seed << ": " << simulator_test::DescribeReport(*r);
   }
 }
 
@@ -112,7 +92,7 @@ TEST(DiagnosisRollFamilyTest, ACalendarStepIsNotNamedAsRollScatter) {
   const Simulation sim = Simulated(46, 0.0, {"supplier_change"});
   StatusOr<DiagnosisReport> r = Diagnose(sim.data, DiagnosisOptions{});
   ASSERT_TRUE(r.ok()) << r.status().ToString();
-  EXPECT_EQ(RollFinding(*r), nullptr) << Describe(*r);
+  EXPECT_EQ(RollFinding(*r), nullptr) << simulator_test::DescribeReport(*r);
 }
 
 // The adopted term, refitted as `calibrate --terms` does and applied coil
@@ -124,7 +104,7 @@ TEST(DiagnosisRollFamilyTest,
   const Simulation sim = Simulated(41, 0.2);
   StatusOr<DiagnosisReport> r = Diagnose(sim.data, DiagnosisOptions{});
   ASSERT_TRUE(r.ok());
-  ASSERT_NE(RollFinding(*r), nullptr) << Describe(*r);
+  ASSERT_NE(RollFinding(*r), nullptr) << simulator_test::DescribeReport(*r);
   std::vector<int> train;
   for (int c = 0; c < static_cast<int>(sim.data.campaigns.size()); c += 3) {
     train.push_back(c);

@@ -18,6 +18,7 @@
 #include "core/base/random.h"
 #include "core/diagnosis/diagnosis.h"
 #include "core/sim/simulator.h"
+#include "tests/core/simulator_test_util.h"
 #include "tests/core/test_size.h"
 
 namespace rollwear {
@@ -52,21 +53,7 @@ std::vector<int> TimeRank(const Dataset& d) {
   return rank;
 }
 
-std::string Describe(const DiagnosisReport& r) {
-  std::string s = "verdict " + r.verdict + ";";
-  for (const Finding& f : r.findings)
-    s += " finding " + f.covariate + " (" + f.form + ");";
-  for (const RunnerUp& u : r.runners_up)
-    s += " runner-up " + u.covariate + ": " + u.reason + ";";
-  for (const Unexplained& u : r.unexplained) {
-    char buf[256];
-    std::snprintf(
-        buf, sizeof(buf), " unexplained %s at %s: %+.1f um, p_adj %.2g;",
-        u.dimension.c_str(), u.where.c_str(), u.mean_residual_um, u.p_adjusted);
-    s += buf;
-  }
-  return s;
-}
+using simulator_test::DescribeReport;
 
 bool Lists(const DiagnosisReport& r, const std::string& dimension_prefix,
            const std::string& where_part = "") {
@@ -84,7 +71,7 @@ DiagnosisReport Diagnosed(const Dataset& d) {
   StatusOr<DiagnosisReport> r = Diagnose(d, DiagnosisOptions{});
   EXPECT_TRUE(r.ok()) << r.status().ToString();
   if (!r.ok()) return DiagnosisReport{};
-  std::printf("%s\n", Describe(*r).c_str());
+  std::printf("%s\n", DescribeReport(*r).c_str());
   return std::move(r).value();
 }
 
@@ -94,11 +81,11 @@ void ExpectLocatedNotNamed(const Dataset& d,
                            const std::vector<std::string>& dimensions,
                            const std::string& where_part = "") {
   const DiagnosisReport r = Diagnosed(d);
-  EXPECT_EQ(r.verdict, "mismatch_located_unexplained") << Describe(r);
-  EXPECT_TRUE(r.findings.empty()) << Describe(r);
+  EXPECT_EQ(r.verdict, "mismatch_located_unexplained") << DescribeReport(r);
+  EXPECT_TRUE(r.findings.empty()) << DescribeReport(r);
   bool listed = false;
   for (const std::string& dim : dimensions) listed |= Lists(r, dim, where_part);
-  EXPECT_TRUE(listed) << Describe(r);
+  EXPECT_TRUE(listed) << DescribeReport(r);
 }
 
 // +-10 µm on alternate campaigns in time order: campaign means alternate,
@@ -159,12 +146,12 @@ TEST(DiagnosisVerdictTest, RollTypeAtOneStandIsNamedAsItsCell) {
       m.wear_center_um *= 1.25;
   }
   const DiagnosisReport r = Diagnosed(d);
-  EXPECT_EQ(r.verdict, "missing_physics_found") << Describe(r);
-  ASSERT_EQ(r.findings.size(), 1u) << Describe(r);
+  EXPECT_EQ(r.verdict, "missing_physics_found") << DescribeReport(r);
+  ASSERT_EQ(r.findings.size(), 1u) << DescribeReport(r);
   const Finding& f = r.findings[0];
   EXPECT_EQ(f.covariate, "roll_type");
   EXPECT_EQ(f.levels, std::vector<std::string>{"ICDP-S1"});
-  ASSERT_EQ(f.scope.count("stand"), 1u) << Describe(r);
+  ASSERT_EQ(f.scope.count("stand"), 1u) << DescribeReport(r);
   const double multiplier = f.parameters.at("multiplier");
   if (f.scope.at("stand") == "F7") {
     EXPECT_NEAR(multiplier, 1.25, 0.06);
@@ -222,20 +209,20 @@ TEST(DiagnosisVerdictTest, StandSpecificEffectIsNotNamedGlobally) {
   }
   const DiagnosisReport r = Diagnosed(d);
   for (const Finding& f : r.findings) {
-    EXPECT_FALSE(f.scope.empty()) << "global finding: " << Describe(r);
+    EXPECT_FALSE(f.scope.empty()) << "global finding: " << DescribeReport(r);
     if (!f.scope.empty()) {
-      EXPECT_EQ(f.scope.at("stand"), "F7") << Describe(r);
+      EXPECT_EQ(f.scope.at("stand"), "F7") << DescribeReport(r);
     }
   }
   if (r.findings.empty()) {
-    EXPECT_EQ(r.verdict, "mismatch_located_unexplained") << Describe(r);
+    EXPECT_EQ(r.verdict, "mismatch_located_unexplained") << DescribeReport(r);
     bool refused = false;
     for (const RunnerUp& u : r.runners_up) {
       refused |=
           u.reason == "inconsistent across stand" ||
           u.reason.find("located structure remains") != std::string::npos;
     }
-    EXPECT_TRUE(refused) << Describe(r);
+    EXPECT_TRUE(refused) << DescribeReport(r);
   }
 }
 
@@ -254,7 +241,7 @@ TEST(DiagnosisVerdictTest, CleanDataStaysQuietWithNothingUnexplained) {
       EXPECT_TRUE(r.unexplained.empty());
       ++quiet;
     } else {
-      noisy += " seed " + std::to_string(3000 + s) + ": " + Describe(r);
+      noisy += " seed " + std::to_string(3000 + s) + ": " + DescribeReport(r);
     }
   }
   EXPECT_GE(quiet, need) << noisy;

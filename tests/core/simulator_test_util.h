@@ -8,6 +8,7 @@
 #define ROLLWEAR_TESTS_CORE_SIMULATOR_TEST_UTIL_H_
 
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <string>
 #include <tuple>
@@ -119,6 +120,23 @@ inline std::vector<MeasurementView> Views(const Simulation& sim) {
     out.push_back(v);
   }
   return out;
+}
+
+// A diagnosis report in one line, for test failure messages.
+inline std::string DescribeReport(const DiagnosisReport& r) {
+  std::string s = "verdict " + r.verdict + ";";
+  for (const Finding& f : r.findings)
+    s += " finding " + f.covariate + " (" + f.form + ");";
+  for (const RunnerUp& u : r.runners_up)
+    s += " runner-up " + u.covariate + ": " + u.reason + ";";
+  for (const Unexplained& u : r.unexplained) {
+    char buf[256];
+    std::snprintf(
+        buf, sizeof(buf), " unexplained %s at %s: %+.1f um, p_adj %.2g;",
+        u.dimension.c_str(), u.where.c_str(), u.mean_residual_um, u.p_adjusted);
+    s += buf;
+  }
+  return s;
 }
 
 inline double Correlation(const std::vector<double>& x,
