@@ -13,6 +13,7 @@
 
 #include "core/dataset/dataset.h"
 #include "core/model/ann_model.h"
+#include "core/model/covariates.h"
 
 namespace rollwear::storage {
 namespace {
@@ -142,6 +143,17 @@ Status DecodeRollSpread(const Json& j, const std::string& at, ModelTerm* t) {
     t->level_readings.push_back(static_cast<int>(r));
   }
   const size_t n = static_cast<size_t>(std::max(0, t->num_levels));
+  // The form and the covariate go together: the predictor reads a
+  // roll_effect term by the mounted roll's id whatever its covariate.
+  if ((t->form == TermForm::kRollEffect) != (t->covariate == kRollIdName)) {
+    return Bad(at + "form", "roll_effect is the form of covariate roll_id, and "
+                            "roll_id takes no other");
+  }
+  if (t->form == TermForm::kRollEffect &&
+      (t->levels.size() != n || t->params.size() != n)) {
+    return Bad(at + "levels", "a roll_effect term needs one roll id and one "
+                              "parameter per level");
+  }
   if ((!t->level_sd.empty() || !t->level_readings.empty()) &&
       t->form != TermForm::kRollEffect) {
     return Bad(at + "level_sd", "is only for the roll_effect form");

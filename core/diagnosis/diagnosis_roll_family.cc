@@ -43,10 +43,13 @@ struct Heterogeneity {
 };
 
 // Over the training readings i of `train` for which keep(i) holds (every
-// reading when keep is empty); pred and sd as in RunRollFamily.
+// reading when keep is empty): pred[i] the current model's wear, y[i] the
+// reading less the model's measurement offsets (so that x_i and y_i are
+// both wear), sd the noise sd (indexed like td.obs).
 Heterogeneity RollHeterogeneity(const TermData& td, int k,
                                 const std::vector<int>& train,
                                 const std::vector<double>& pred,
+                                const std::vector<double>& y,
                                 const std::vector<double>& sd,
                                 const std::function<bool(size_t)>& keep = {}) {
   const int levels = static_cast<int>(td.catalog[k].levels.size());
@@ -58,7 +61,7 @@ Heterogeneity RollHeterogeneity(const TermData& td, int k,
     const int l = LevelIndex(td.z[k][ob.pass_begin]);
     if (l < 0 || l >= levels || !(pred[i] > 0)) continue;
     const double w = 1.0 / (sd[train[i]] * sd[train[i]]);
-    sxy[l] += w * pred[i] * ob.measured_um;
+    sxy[l] += w * pred[i] * y[i];
     sxx[l] += w * pred[i] * pred[i];
     ++count[l];
   }
@@ -128,6 +131,7 @@ std::vector<Grouping> Groupings(const TermData& td,
 std::string ScatterNotEverywhere(const TermData& td, int k,
                                  const std::vector<int>& train,
                                  const std::vector<double>& pred,
+                                 const std::vector<double>& y,
                                  const std::vector<double>& sd,
                                  const Heterogeneity& pooled) {
   for (const Grouping& grouping : Groupings(td, train)) {
@@ -137,7 +141,7 @@ std::string ScatterNotEverywhere(const TermData& td, int k,
     std::vector<std::pair<std::string, Heterogeneity>> each;
     for (const std::string& label : labels) {
       const Heterogeneity g = RollHeterogeneity(
-          td, k, train, pred, sd,
+          td, k, train, pred, y, sd,
           [&](size_t i) { return grouping.label[i] == label; });
       if (g.rolls >= kMinGroupRolls) each.emplace_back(label, g);
     }
@@ -277,9 +281,16 @@ std::string FollowsARecordedQuantity(const TermData& td,
                                      const std::vector<int>& train,
                                      const TermSpec& roll, double alpha) {
   const int levels = roll.term.num_levels;
-  // Per covariate and roll type (-1: all rolls), Bonferroni over them.
-  const double tests =
-      static_cast<double>(td.catalog.size() * (td.roll_types.size() + 1));
+  // Per eligible covariate and roll type (-1: all rolls), Bonferroni over
+  // those tests.
+  const auto eligible = [&](const CovariateSpec& spec) {
+    return spec.level == CovariateLevel::kRoll &&
+           spec.kind == CovariateKind::kNumeric && !spec.locate_only;
+  };
+  double tests = 0;
+  for (const CovariateSpec& spec : td.catalog) {
+    if (eligible(spec)) tests += static_cast<double>(td.roll_types.size() + 1);
+  }
   for (int c = 0; c < static_cast<int>(td.catalog.size()); ++c) {
     const CovariateSpec& spec = td.catalog[c];
     if (spec.level != CovariateLevel::kRoll ||
@@ -392,11 +403,19 @@ bool RunRollFamily(const DiagnosisOptions& options, DiagnosisState* st,
   const Fitted cur =
       Fit(td, st->train, sd, st->current.log_k, st->current.terms);
   if (!cur.usable) return false;
+  // Wear alone (a measurement term's offset does not scale with the
+  // roll), and each reading less the model's offsets.
   const std::vector<double> pred =
+      PredictTerms(td, st->train, cur.log_k, cur.terms, /*wear_only=*/true);
+  const std::vector<double> full =
       PredictTerms(td, st->train, cur.log_k, cur.terms);
-  const Heterogeneity h = RollHeterogeneity(td, k, st->train, pred, sd);
+  std::vector<double> y(st->train.size());
+  for (size_t i = 0; i < y.size(); ++i) {
+    y[i] = td.obs[st->train[i]].measured_um - (full[i] - pred[i]);
+  }
+  const Heterogeneity h = RollHeterogeneity(td, k, st->train, pred, y, sd);
   if (h.rolls < 3 || h.p_value >= options.alpha || !(h.tau > 0)) return false;
-  std::string why = ScatterNotEverywhere(td, k, st->train, pred, sd, h);
+  std::string why = ScatterNotEverywhere(td, k, st->train, pred, y, sd, h);
   const Fitted with =
       why.empty() ? WithTerm(*st, sd, cur, RollTerm(td, k, h.tau)) : Fitted{};
   if (why.empty() && !with.usable) why = "the per-roll fit did not converge";

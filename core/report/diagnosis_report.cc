@@ -237,8 +237,11 @@ std::string FindingHtml(const DiagnosisReport& r, const Finding& f, int idx) {
     for (const std::string& a : f.alternatives) h += XmlEscape(a) + " ";
     h += "(correlated quantities; the named covariate fits best).</p>\n";
   }
-  h += "<figure>" + RenderSvg(ResidualVsCovariate(r, f.covariate)) +
-       "</figure>\n";
+  // A roll id's level index is no scale to bin residuals along.
+  if (f.form != "roll_effect") {
+    h += "<figure>" + RenderSvg(ResidualVsCovariate(r, f.covariate)) +
+         "</figure>\n";
+  }
   return h;
 }
 

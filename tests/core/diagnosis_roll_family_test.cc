@@ -24,15 +24,15 @@
 namespace rollwear {
 namespace {
 
-constexpr int kCampaigns = test_size::FullOr(395, 200);
+constexpr int kRollFamilyCampaigns = test_size::FullOr(395, 200);
 // Under the sanitizers one seed of each (test_size.h); two and three else.
-constexpr int kSeeds = test_size::FullOr(3, 1);
+constexpr int kRollFamilySeeds = test_size::FullOr(3, 1);
 
-Simulation Simulated(uint64_t seed, double roll_factor_sd,
+Simulation SimulatedRollMill(uint64_t seed, double roll_factor_sd,
                      std::vector<std::string> effects = {}) {
   SimulatorOptions o;
   o.seed = seed;
-  o.num_campaigns = kCampaigns;
+  o.num_campaigns = kRollFamilyCampaigns;
   o.roll_wear_factor_sd = roll_factor_sd;
   o.effects = std::move(effects);
   StatusOr<Simulation> s = Simulate(o);
@@ -40,7 +40,7 @@ Simulation Simulated(uint64_t seed, double roll_factor_sd,
   return std::move(s).value();
 }
 
-const Finding* RollFinding(const DiagnosisReport& r) {
+const Finding* RollWearFinding(const DiagnosisReport& r) {
   for (const Finding& f : r.findings) {
     if (f.mechanism == "roll_wear_resistance") return &f;
   }
@@ -49,7 +49,7 @@ const Finding* RollFinding(const DiagnosisReport& r) {
 
 // Pearson correlation of the fitted log-multipliers with the true log
 // factors over the rolls the term knows.
-double CorrelationWithTruth(const ModelTerm& t, const SimulationTruth& truth) {
+double RollCorrelationWithTruth(const ModelTerm& t, const SimulationTruth& truth) {
   std::vector<double> a, b;
   for (int l = 0; l < t.num_levels; ++l) {
     auto it = truth.roll_wear_factor.find(t.levels[l]);
@@ -61,11 +61,11 @@ double CorrelationWithTruth(const ModelTerm& t, const SimulationTruth& truth) {
 }
 
 TEST(DiagnosisRollFamilyTest, EachRollsOwnWearFactorIsNamedAndImprovesHeldOut) {
-  for (uint64_t seed = 41; seed < 41 + std::min(kSeeds, 2); ++seed) {
-    const Simulation sim = Simulated(seed, 0.2);
+  for (uint64_t seed = 41; seed < 41 + std::min(kRollFamilySeeds, 2); ++seed) {
+    const Simulation sim = SimulatedRollMill(seed, 0.2);
     StatusOr<DiagnosisReport> r = Diagnose(sim.data, DiagnosisOptions{});
     ASSERT_TRUE(r.ok()) << r.status().ToString();
-    const Finding* f = RollFinding(*r);
+    const Finding* f = RollWearFinding(*r);
     ASSERT_NE(f, nullptr) << seed << ": " << simulator_test::DescribeReport(*r);
     EXPECT_EQ(f->form, "roll_effect");
     EXPECT_EQ(f->covariate, "roll_id");
@@ -74,16 +74,16 @@ TEST(DiagnosisRollFamilyTest, EachRollsOwnWearFactorIsNamedAndImprovesHeldOut) {
     EXPECT_NEAR(f->parameters.at("tau"), 0.2, 0.08) << seed;
     EXPECT_LT(f->gap_val_after_um, 0.9 * f->gap_val_before_um) << seed;
     EXPECT_LT(r->final_gap_val_um, 0.9 * r->baseline_gap_val_um) << seed;
-    EXPECT_GT(CorrelationWithTruth(f->term, sim.truth), 0.8) << seed;
+    EXPECT_GT(RollCorrelationWithTruth(f->term, sim.truth), 0.8) << seed;
   }
 }
 
 TEST(DiagnosisRollFamilyTest, NoRollFactorsNoRollFinding) {
-  for (uint64_t seed = 43; seed < 43 + kSeeds; ++seed) {
-    const Simulation sim = Simulated(seed, 0.0);
+  for (uint64_t seed = 43; seed < 43 + kRollFamilySeeds; ++seed) {
+    const Simulation sim = SimulatedRollMill(seed, 0.0);
     StatusOr<DiagnosisReport> r = Diagnose(sim.data, DiagnosisOptions{});
     ASSERT_TRUE(r.ok()) << r.status().ToString();
-    EXPECT_EQ(RollFinding(*r), nullptr) << seed << ": " << simulator_test::DescribeReport(*r);
+    EXPECT_EQ(RollWearFinding(*r), nullptr) << seed << ": " << simulator_test::DescribeReport(*r);
   }
 }
 
@@ -92,10 +92,10 @@ TEST(DiagnosisRollFamilyTest, NoRollFactorsNoRollFinding) {
 // served mostly before or after the step look like rolls of their own
 // resistance. The diagnosis must not name roll scatter for it.
 TEST(DiagnosisRollFamilyTest, ACalendarStepIsNotNamedAsRollScatter) {
-  const Simulation sim = Simulated(46, 0.0, {"supplier_change"});
+  const Simulation sim = SimulatedRollMill(46, 0.0, {"supplier_change"});
   StatusOr<DiagnosisReport> r = Diagnose(sim.data, DiagnosisOptions{});
   ASSERT_TRUE(r.ok()) << r.status().ToString();
-  EXPECT_EQ(RollFinding(*r), nullptr) << simulator_test::DescribeReport(*r);
+  EXPECT_EQ(RollWearFinding(*r), nullptr) << simulator_test::DescribeReport(*r);
 }
 
 // The adopted term, refitted as `calibrate --terms` does and applied coil
@@ -104,10 +104,10 @@ TEST(DiagnosisRollFamilyTest, ACalendarStepIsNotNamedAsRollScatter) {
 // type.
 TEST(DiagnosisRollFamilyTest,
      TheRollTermMeansTheSameInTheRefitAndThePredictor) {
-  const Simulation sim = Simulated(41, 0.2);
+  const Simulation sim = SimulatedRollMill(41, 0.2);
   StatusOr<DiagnosisReport> r = Diagnose(sim.data, DiagnosisOptions{});
   ASSERT_TRUE(r.ok());
-  ASSERT_NE(RollFinding(*r), nullptr) << simulator_test::DescribeReport(*r);
+  ASSERT_NE(RollWearFinding(*r), nullptr) << simulator_test::DescribeReport(*r);
   std::vector<int> train;
   for (int c = 0; c < static_cast<int>(sim.data.campaigns.size()); c += 3) {
     train.push_back(c);
@@ -122,7 +122,7 @@ TEST(DiagnosisRollFamilyTest,
     if (t.form == TermForm::kRollEffect) roll = &t;
   }
   ASSERT_NE(roll, nullptr);
-  EXPECT_GT(CorrelationWithTruth(*roll, sim.truth), 0.8);
+  EXPECT_GT(RollCorrelationWithTruth(*roll, sim.truth), 0.8);
 
   // Coil by coil: the same passes on a known roll and on an unknown one
   // differ by exactly that roll's multiplier.
