@@ -173,8 +173,13 @@ void PlanGradeAndSize(const CampaignPlan& plan, int i, double warm_up_width,
     c.h7_mm = block->h7 * std::exp(rng->Normal(0, 0.03));
   }
   const GradeSpec& g = grades[c.grade];
-  c.width_mm = std::clamp(c.width_mm, g.w_min_mm + rng->Uniform(0, 60),
-                          g.w_max_mm - rng->Uniform(0, 60));
+  // Two draws, in this order (the margin under the grade's widest first):
+  // the order of a call's arguments is unspecified in C++, and GCC and
+  // Clang differ; the simulator's data must not depend on the compiler.
+  const double below_max = rng->Uniform(0, 60);
+  const double above_min = rng->Uniform(0, 60);
+  c.width_mm =
+      std::clamp(c.width_mm, g.w_min_mm + above_min, g.w_max_mm - below_max);
   c.width_mm = std::round(std::clamp(c.width_mm, 900.0, 1650.0));
   c.h7_mm = RoundTo(
       std::clamp(c.h7_mm, std::max(1.5, g.h_min_mm), std::min(8.0, g.h_max_mm)),

@@ -162,18 +162,23 @@ double RandomDouble(Rng& rng) {
     case 1:
       return kSpecial[Uniform(rng, 0,
                               static_cast<int>(std::size(kSpecial)) - 1)];
-    case 2:  // integral, up to beyond 2^53 and 1e15
+    case 2: {  // integral, up to beyond 2^53 and 1e15 (the exponent
+               // drawn first: argument order is unspecified in C++)
+      const int exponent = Uniform(rng, 0, 70);
       return sign * std::round(std::ldexp(
                         std::uniform_real_distribution<double>(0.5, 1)(rng),
-                        Uniform(rng, 0, 70)));
+                        exponent));
+    }
     case 3:  // a measurement with a few decimals
       return sign *
              std::round(std::uniform_real_distribution<double>(0, 1e5)(rng) *
                         1000) /
              1000;
-    case 4:  // tiny to huge
-      return sign * std::uniform_real_distribution<double>(1, 10)(rng) *
-             std::pow(10.0, Uniform(rng, -330, 310));
+    case 4: {  // tiny to huge (mantissa, then exponent)
+      const double mantissa =
+          std::uniform_real_distribution<double>(1, 10)(rng);
+      return sign * mantissa * std::pow(10.0, Uniform(rng, -330, 310));
+    }
     default:
       return sign * std::uniform_real_distribution<double>(0, 20000)(rng);
   }
