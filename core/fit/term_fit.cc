@@ -78,7 +78,8 @@ StatusOr<TermData> BuildTermData(const Dataset& data, WearLaw law) {
         den += td.load[i];
       }
       double agg = first;
-      if (td.catalog[k].level == CovariateLevel::kPass && den > 0) agg = num / den;
+      if (td.catalog[k].level == CovariateLevel::kPass && den > 0)
+        agg = num / den;
       td.obs_z[k].push_back(agg);
     }
     td.obs.push_back(o);
@@ -120,25 +121,46 @@ class TermModel {
   std::vector<TermSpec>& terms() { return terms_; }
   // Whether term t applies to observation `o` (its roll) and, for a wear
   // term, to a pass of grade g.
-  bool CoversRoll(int t, const TermObservation& o) const { return scopes_[t].CoversRoll(o); }
+  bool CoversRoll(int t, const TermObservation& o) const {
+    return scopes_[t].CoversRoll(o);
+  }
   bool CoversGrade(int t, int g) const { return scopes_[t].CoversGrade(g); }
   // With `out` (indexed by pass, sized to every pass), Predict also writes
   // each pass's wear contribution k_g * load * (product of the wear terms).
   void set_pass_contributions(std::vector<double>* out) { pass_out_ = out; }
 
+  // Whether a term's multiplier is exp(b u(z)) with one parameter b.
+  static bool IsExpForm(const ModelTerm& term) {
+    return term.NumParams() == 1 &&
+           (term.form == TermForm::kLogLinear ||
+            term.form == TermForm::kPower || term.form == TermForm::kFlag);
+  }
+  // u(z) of such a term t, by TermMultiplier's expression (model_terms.cc).
+  double ExponentOf(size_t t, double z) const {
+    const ModelTerm& term = terms_[t].term;
+    if (term.form == TermForm::kLogLinear)
+      return (z - term.center) / term.scale;
+    if (term.form == TermForm::kPower)
+      return std::log(std::max(z, 1e-12) / term.center);
+    return z;
+  }
+
   // Writes params into the terms.
   void SetParams(const double* params) {
     for (size_t t = 0; t < terms_.size(); ++t) {
-      std::copy(params + offsets_[t], params + offsets_[t] + terms_[t].term.NumParams(),
+      std::copy(params + offsets_[t],
+                params + offsets_[t] + terms_[t].term.NumParams(),
                 terms_[t].term.params.begin());
     }
   }
 
   // Prediction of observation o; with `grad` (size num_params, zeroed by
   // the caller) also d(prediction)/d(params).
-  double Predict(const double* params, int o, double* grad, bool wear_only = false) {
+  double Predict(const double* params, int o, double* grad,
+                 bool wear_only = false) {
     const TermObservation& obs = data_.obs[o];
     const size_t nt = terms_.size();
+    if (u_.size() != nt) PrecomputeExponents();  // once, at the first call
     roll_in_.resize(nt);
     for (size_t t = 0; t < nt; ++t) roll_in_[t] = scopes_[t].CoversRoll(obs);
     const double base = params[obs.position] +
@@ -156,6 +178,9 @@ class TermModel {
     // covariates repeat on every pass): TermMultiplier is a function of
     // (params, z) alone, so the reuse is exact.
     std::fill(cached_.begin(), cached_.end(), 0);
+    zp_.resize(nt);
+    for (size_t t = 0; t < nt; ++t)
+      zp_[t] = data_.z[terms_[t].covariate].data();
     for (int i = obs.pass_begin; i < obs.pass_end; ++i) {
       const int g = data_.grade[i];
       if (!k_ok_[g]) {
@@ -170,10 +195,13 @@ class TermModel {
           cached_[t] = 0;
           continue;
         }
-        const uint64_t z_bits = std::bit_cast<uint64_t>(data_.z[terms_[t].covariate][i]);
+        const uint64_t z_bits = std::bit_cast<uint64_t>(zp_[t][i]);
         if (!cached_[t] || z_bits != last_z_[t]) {
-          mt_[t] = TermMultiplier(terms_[t].term, std::bit_cast<double>(z_bits),
-                                  grad != nullptr ? dm_.data() + offsets_[t] : nullptr);
+          double* dm = grad != nullptr ? dm_.data() + offsets_[t] : nullptr;
+          mt_[t] = u_[t].empty()
+                       ? TermMultiplier(terms_[t].term,
+                                        std::bit_cast<double>(z_bits), dm)
+                       : ExpMultiplier(t, i, std::bit_cast<double>(z_bits), dm);
           last_z_[t] = z_bits;
           cached_[t] = 1;
         }
@@ -185,7 +213,8 @@ class TermModel {
       if (pass_out_ != nullptr) (*pass_out_)[i] = c;
       if (grad == nullptr) continue;
       for (size_t t = 0; t < nt; ++t) {
-        if (measurement_[t] || !roll_in_[t] || !scopes_[t].CoversGrade(g)) continue;
+        if (measurement_[t] || !roll_in_[t] || !scopes_[t].CoversGrade(g))
+          continue;
         // d(c)/d(param) = c / m_t * dm_t/d(param).
         const double f = mt_[t] != 0 ? c / mt_[t] : 0.0;
         const double* dm = dm_.data() + offsets_[t];
@@ -225,13 +254,15 @@ class TermModel {
     int stand = 0, position = -1, roll_type = -1, grade = -1;
     bool CoversRoll(const TermObservation& o) const {
       return (stand == 0 || stand == SlotStand(o.slot)) &&
-             (position < 0 || position == static_cast<int>(SlotPosition(o.slot))) &&
+             (position < 0 ||
+              position == static_cast<int>(SlotPosition(o.slot))) &&
              (roll_type == -1 || roll_type == o.roll_type);
     }
     bool CoversGrade(int g) const { return grade == -1 || grade == g; }
   };
   ResolvedScope Resolve(const TermScope& s) const {
-    auto level = [](const std::vector<std::string>& labels, const std::string& l) {
+    auto level = [](const std::vector<std::string>& labels,
+                    const std::string& l) {
       if (l.empty()) return -1;
       const auto it = std::find(labels.begin(), labels.end(), l);
       return it == labels.end() ? -2 : static_cast<int>(it - labels.begin());
@@ -240,17 +271,49 @@ class TermModel {
             level(data_.grades, s.grade)};
   }
 
+  // The forms whose multiplier is m = exp(b u(z)) with u fixed by the
+  // term's center and scale (log_linear u = (z - c) / s, power
+  // u = ln(max(z, 1e-12) / c), flag u = z; model_terms.cc): u of every
+  // pass is computed once per fit (at the first Predict), by the same
+  // expression as TermMultiplier, so the fit's iterations evaluate only exp
+  // (the same bits; a profile of a diagnosis had the per-pass log at 15 %
+  // of its time).
+  void PrecomputeExponents() {
+    u_.resize(terms_.size());
+    for (size_t t = 0; t < terms_.size(); ++t) {
+      if (terms_[t].term.IsMeasurementTerm() || !IsExpForm(terms_[t].term))
+        continue;
+      const std::vector<double>& z = data_.z[terms_[t].covariate];
+      std::vector<double>& u = u_[t];
+      u.resize(z.size());
+      for (size_t i = 0; i < z.size(); ++i) u[i] = ExponentOf(t, z[i]);
+    }
+  }
+  // TermMultiplier of a term with u_ (one parameter), at pass i.
+  double ExpMultiplier(size_t t, int i, double z, double* grad) const {
+    if (std::isnan(z)) {
+      if (grad != nullptr) grad[0] = 0.0;
+      return 1.0;
+    }
+    const double u = u_[t][i];
+    const double m = std::exp(terms_[t].term.params[0] * u);
+    if (grad != nullptr) grad[0] = m * u;
+    return m;
+  }
+
   const TermData& data_;
   std::vector<TermSpec> terms_;
+  std::vector<std::vector<double>> u_;  // per term, per pass (or empty)
   std::vector<ResolvedScope> scopes_;
   std::vector<char> roll_in_;
   std::vector<int> offsets_, num_params_;
   std::vector<char> measurement_;  // per term: a reading offset
   std::vector<uint64_t> last_z_;   // per term: z (bits) of the cached m_t, dm_t
   std::vector<char> cached_;       // per term: last_z_ is valid
-  std::vector<char> k_ok_;         // per grade: k_ computed for this observation
+  std::vector<char> k_ok_;  // per grade: k_ computed for this observation
   int p_ = 0, r_ = 0, s_ = 0, n_coef_ = 0, n_ = 0;
   std::vector<double> k_, t_, scratch_, mt_, dm_;
+  std::vector<const double*> zp_;  // per term: its covariate's values by pass
   std::vector<double>* pass_out_ = nullptr;
 };
 
@@ -261,8 +324,12 @@ class TermCost : public ceres::CostFunction {
   TermCost(TermModel* model, const std::vector<int>& subset,
            const std::vector<double>& sd, std::vector<double> full,
            std::vector<int> free, std::vector<std::pair<int, double>> prior)
-      : model_(model), subset_(subset), sd_(sd), full_(std::move(full)),
-        free_(std::move(free)), prior_(std::move(prior)) {
+      : model_(model),
+        subset_(subset),
+        sd_(sd),
+        full_(std::move(full)),
+        free_(std::move(free)),
+        prior_(std::move(prior)) {
     set_num_residuals(static_cast<int>(subset_.size() + prior_.size()));
     mutable_parameter_block_sizes()->push_back(static_cast<int>(free_.size()));
     grad_.resize(model_->num_params());
@@ -333,12 +400,14 @@ class TermCost : public ceres::CostFunction {
 
 }  // namespace
 
-StatusOr<TermFitResult> FitTerms(const TermData& data, const std::vector<int>& subset,
+StatusOr<TermFitResult> FitTerms(const TermData& data,
+                                 const std::vector<int>& subset,
                                  const std::vector<double>& sd,
                                  const std::vector<double>& log_k_start,
                                  const std::vector<TermSpec>& terms,
                                  bool compute_errors) {
-  if (subset.empty()) return Status::FailedPrecondition("no observations to fit");
+  if (subset.empty())
+    return Status::FailedPrecondition("no observations to fit");
   TermModel model(data, terms);
   const int n = model.num_params();
   const int n_coef = model.num_coef();
@@ -363,7 +432,8 @@ StatusOr<TermFitResult> FitTerms(const TermData& data, const std::vector<int>& s
     std::copy(log_k_start.begin(), log_k_start.end(), full.begin());
   } else {
     for (size_t p = 0; p < data.positions.size(); ++p) {
-      if (meas_pos[p] > 0 && load_pos[p] > 0) full[p] = std::log(meas_pos[p] / load_pos[p]);
+      if (meas_pos[p] > 0 && load_pos[p] > 0)
+        full[p] = std::log(meas_pos[p] / load_pos[p]);
     }
   }
   int off = n_coef;
@@ -399,7 +469,8 @@ StatusOr<TermFitResult> FitTerms(const TermData& data, const std::vector<int>& s
   off = n_coef;
   for (const TermSpec& t : terms) {
     for (int j = 0; j < t.term.NumParams() && t.prior_sd > 0; ++j) {
-      const int fj = static_cast<int>(std::find(free.begin(), free.end(), off + j) - free.begin());
+      const int fj = static_cast<int>(
+          std::find(free.begin(), free.end(), off + j) - free.begin());
       prior.emplace_back(fj, 1.0 / t.prior_sd);
     }
     off += t.term.NumParams();
@@ -411,7 +482,8 @@ StatusOr<TermFitResult> FitTerms(const TermData& data, const std::vector<int>& s
   off = n_coef;
   for (const TermSpec& t : terms) {
     for (int j = 0; j < t.term.NumParams(); ++j) {
-      const int fj = static_cast<int>(std::find(free.begin(), free.end(), off + j) - free.begin());
+      const int fj = static_cast<int>(
+          std::find(free.begin(), free.end(), off + j) - free.begin());
       problem.SetParameterLowerBound(x.data(), fj, t.lower[j]);
       problem.SetParameterUpperBound(x.data(), fj, t.upper[j]);
     }
@@ -441,13 +513,17 @@ StatusOr<TermFitResult> FitTerms(const TermData& data, const std::vector<int>& s
     ceres::Covariance covariance(co);
     const int nf = static_cast<int>(free.size());
     std::vector<double> cx(static_cast<size_t>(nf) * nf);
-    std::vector<std::pair<const double*, const double*>> blocks = {{x.data(), x.data()}};
+    std::vector<std::pair<const double*, const double*>> blocks = {
+        {x.data(), x.data()}};
     if (covariance.Compute(blocks, &problem) &&
         covariance.GetCovarianceBlock(x.data(), x.data(), cx.data())) {
-      const double s2 = r.weighted_rss / std::max(1, static_cast<int>(subset.size()) - nf);
+      const double s2 =
+          r.weighted_rss / std::max(1, static_cast<int>(subset.size()) - nf);
       for (int i = n_coef; i < n; ++i) {
-        const int fj = static_cast<int>(std::find(free.begin(), free.end(), i) - free.begin());
-        r.term_std_error.push_back(std::sqrt(std::max(0.0, s2 * cx[fj * nf + fj])));
+        const int fj = static_cast<int>(std::find(free.begin(), free.end(), i) -
+                                        free.begin());
+        r.term_std_error.push_back(
+            std::sqrt(std::max(0.0, s2 * cx[fj * nf + fj])));
       }
     }
   }
@@ -461,7 +537,8 @@ namespace {
 // the weighted residuals r (term_fit.h).
 double ScoreFromColumns(const Eigen::MatrixXd& j0,
                         const Eigen::ColPivHouseholderQR<Eigen::MatrixXd>& qr,
-                        const Eigen::MatrixXd& jc, const Eigen::VectorXd& r, int* df) {
+                        const Eigen::MatrixXd& jc, const Eigen::VectorXd& r,
+                        int* df) {
   const Eigen::Index m = r.size();
   // Drop candidate columns that are identically zero (parameters whose
   // derivative vanishes at the start, such as a length scale at b = 0).
@@ -493,7 +570,8 @@ double ScoreFromColumns(const Eigen::MatrixXd& j0,
 }
 
 // The full parameter vector (log_k, then every term's params) of `terms`.
-std::vector<double> FullParams(const TermModel& model, const std::vector<double>& log_k,
+std::vector<double> FullParams(const TermModel& model,
+                               const std::vector<double>& log_k,
                                const std::vector<TermSpec>& terms) {
   std::vector<double> full(model.num_params(), 0.0);
   std::copy(log_k.begin(), log_k.end(), full.begin());
@@ -509,8 +587,9 @@ std::vector<double> FullParams(const TermModel& model, const std::vector<double>
 // at `full`, and the weighted derivative columns: the first n_cur in j0,
 // the rest in jc.
 void WeightedJacobian(const TermData& data, const std::vector<int>& subset,
-                      const std::vector<double>& sd, const std::vector<double>& full,
-                      int n_cur, TermModel* model, Eigen::MatrixXd* j0,
+                      const std::vector<double>& sd,
+                      const std::vector<double>& full, int n_cur,
+                      TermModel* model, Eigen::MatrixXd* j0,
                       Eigen::MatrixXd* jc, Eigen::VectorXd* r) {
   const int n = model->num_params();
   const int m = static_cast<int>(subset.size());
@@ -532,9 +611,10 @@ void WeightedJacobian(const TermData& data, const std::vector<int>& subset,
 }  // namespace
 
 double ScoreStatistic(const TermData& data, const std::vector<int>& subset,
-                      const std::vector<double>& sd, const std::vector<double>& log_k,
-                      const std::vector<TermSpec>& terms, const TermSpec& candidate,
-                      int* df) {
+                      const std::vector<double>& sd,
+                      const std::vector<double>& log_k,
+                      const std::vector<TermSpec>& terms,
+                      const TermSpec& candidate, int* df) {
   std::vector<TermSpec> all = terms;
   all.push_back(candidate);
   TermModel model(data, all);
@@ -562,7 +642,8 @@ struct ScoreScreen::Impl {
 };
 
 ScoreScreen::ScoreScreen(const TermData& data, const std::vector<int>& subset,
-                         const std::vector<double>& sd, const std::vector<double>& log_k,
+                         const std::vector<double>& sd,
+                         const std::vector<double>& log_k,
                          const std::vector<TermSpec>& terms)
     : impl_(std::make_unique<Impl>()) {
   Impl& s = *impl_;
@@ -577,11 +658,27 @@ ScoreScreen::ScoreScreen(const TermData& data, const std::vector<int>& subset,
   s.pass_c.assign(data.load.size(), 0.0);
   model.set_pass_contributions(&s.pass_c);
   Eigen::MatrixXd none;
-  WeightedJacobian(data, subset, sd, full, model.num_params(), &model, &s.j0, &none, &s.r);
+  WeightedJacobian(data, subset, sd, full, model.num_params(), &model, &s.j0,
+                   &none, &s.r);
   s.qr.compute(s.j0);
 }
 
 ScoreScreen::~ScoreScreen() = default;
+
+namespace {
+
+// The parameter whose derivative is 1 (the others' are 0) of a binned,
+// per-level or cell multiplier at all-zero parameters, where it is exactly
+// 1 (TermMultiplier, model_terms.cc); -1 where z has none (m = 1, dm = 0).
+int UnitColumnAtZero(const ModelTerm& term, double z) {
+  if (std::isnan(z)) return -1;
+  if (term.form == TermForm::kCell) return 0;
+  if (term.form == TermForm::kBinned) return TermBin(term, z) - 1;
+  const int l = static_cast<int>(z);  // kPerLevel
+  return l <= 0 || l >= term.num_levels ? -1 : l - 1;
+}
+
+}  // namespace
 
 double ScoreScreen::Statistic(const TermSpec& candidate, int* df) const {
   const Impl& s = *impl_;
@@ -591,6 +688,14 @@ double ScoreScreen::Statistic(const TermSpec& candidate, int* df) const {
   const ModelTerm& term = candidate.term;
   const int np = term.NumParams();
   const bool measurement = term.IsMeasurementTerm();
+  const bool all_zero = std::all_of(term.params.begin(), term.params.end(),
+                                    [](double b) { return b == 0.0; });
+  const bool exp_at_zero =
+      !measurement && all_zero && TermModel::IsExpForm(term);
+  const bool level_at_zero =
+      !measurement && all_zero &&
+      (term.form == TermForm::kBinned || term.form == TermForm::kPerLevel ||
+       term.form == TermForm::kCell);
   const int m = static_cast<int>(s.subset->size());
   Eigen::MatrixXd jc(m, np);
   std::vector<double> grad(np), dm(std::max(np, 1));
@@ -601,20 +706,39 @@ double ScoreScreen::Statistic(const TermSpec& candidate, int* df) const {
     if (scope.CoversRoll(0, obs)) {
       if (measurement) {
         // A reading offset: null at the start, or the full computation.
-        if (TermOffset(term, data.obs_z[candidate.covariate][o], dm.data()) != 0.0) {
-          return ScoreStatistic(data, *s.subset, *s.sd, s.log_k, s.terms, candidate, df);
+        if (TermOffset(term, data.obs_z[candidate.covariate][o], dm.data()) !=
+            0.0) {
+          return ScoreStatistic(data, *s.subset, *s.sd, s.log_k, s.terms,
+                                candidate, df);
         }
         for (int j = 0; j < np; ++j) grad[j] += dm[j];
       } else {
         const std::vector<double>& z = data.z[candidate.covariate];
         for (int i = obs.pass_begin; i < obs.pass_end; ++i) {
           if (!scope.CoversGrade(0, data.grade[i])) continue;
+          // m = exp(b u) at b = 0 is 1 with dm/db = u wherever u is finite
+          // (TermModel::ExpMultiplier): u alone, no exp.
+          if (exp_at_zero) {
+            if (std::isnan(z[i])) continue;  // m = 1, dm = 0
+            const double u = scope.ExponentOf(0, z[i]);
+            if (std::isfinite(u)) {
+              grad[0] += s.pass_c[i] * u;
+              continue;
+            }
+          }
+          // A level's or bin's exp(b_l) at b = 0: 1, dm/db_l = 1 for z's own.
+          if (level_at_zero) {
+            const int j = UnitColumnAtZero(term, z[i]);
+            if (j >= 0) grad[j] += s.pass_c[i];
+            continue;
+          }
           // A multiplier of exactly 1 leaves every current prediction and
           // derivative as they are, so only the candidate's columns are new
           // (d(c)/d(param) = c / 1 * dm/d(param)); otherwise the full
           // computation.
           if (TermMultiplier(term, z[i], dm.data()) != 1.0) {
-            return ScoreStatistic(data, *s.subset, *s.sd, s.log_k, s.terms, candidate, df);
+            return ScoreStatistic(data, *s.subset, *s.sd, s.log_k, s.terms,
+                                  candidate, df);
           }
           for (int j = 0; j < np; ++j) grad[j] += s.pass_c[i] * dm[j];
         }
@@ -626,19 +750,23 @@ double ScoreScreen::Statistic(const TermSpec& candidate, int* df) const {
   return ScoreFromColumns(s.j0, s.qr, jc, s.r, df);
 }
 
-std::vector<double> PredictTerms(const TermData& data, const std::vector<int>& subset,
+std::vector<double> PredictTerms(const TermData& data,
+                                 const std::vector<int>& subset,
                                  const std::vector<double>& log_k,
-                                 const std::vector<TermSpec>& terms, bool wear_only) {
+                                 const std::vector<TermSpec>& terms,
+                                 bool wear_only) {
   TermModel model(data, terms);
   const std::vector<double> full = FullParams(model, log_k, terms);
   model.SetParams(full.data());
   std::vector<double> out;
   out.reserve(subset.size());
-  for (int o : subset) out.push_back(model.Predict(full.data(), o, nullptr, wear_only));
+  for (int o : subset)
+    out.push_back(model.Predict(full.data(), o, nullptr, wear_only));
   return out;
 }
 
-std::vector<double> PredictPassWear(const TermData& data, const std::vector<int>& subset,
+std::vector<double> PredictPassWear(const TermData& data,
+                                    const std::vector<int>& subset,
                                     const std::vector<double>& log_k,
                                     const std::vector<TermSpec>& terms) {
   TermModel model(data, terms);
@@ -650,10 +778,11 @@ std::vector<double> PredictPassWear(const TermData& data, const std::vector<int>
   return out;
 }
 
-std::vector<double> TermNoiseSd(const TermData& td, const std::vector<int>& train,
+std::vector<double> TermNoiseSd(const TermData& td,
+                                const std::vector<int>& train,
                                 const std::vector<double>& log_k,
-                                const std::vector<TermSpec>& terms, WearModel* noise_out,
-                                bool robust) {
+                                const std::vector<TermSpec>& terms,
+                                WearModel* noise_out, bool robust) {
   std::vector<int> all(td.obs.size());
   for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
   const std::vector<double> pred = PredictTerms(td, all, log_k, terms);
@@ -676,7 +805,8 @@ std::vector<double> TermNoiseSd(const TermData& td, const std::vector<int>& trai
     sd[i] = noise.SdAt(pred[i]);
     // Huber IRLS weight w folded into the sd: residual / (sd / sqrt(w)).
     if (robust) {
-      sd[i] /= std::sqrt(HuberWeight((td.obs[i].measured_um - pred[i]) / sd[i]));
+      sd[i] /=
+          std::sqrt(HuberWeight((td.obs[i].measured_um - pred[i]) / sd[i]));
     }
   }
   if (noise_out != nullptr) {
