@@ -1,6 +1,9 @@
 // Joint LM fit of option-1 coefficients and model terms; see term_fit.h.
 #include "core/fit/term_fit.h"
 
+#include <ceres/ceres.h>
+
+#include <Eigen/Dense>
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -10,13 +13,13 @@
 #include <memory>
 #include <utility>
 
-#include <Eigen/Dense>
-#include <ceres/ceres.h>
-
 #include "core/fit/lm_setup.h"
 #include "core/fit/robust.h"
+#include "core/fit/term_model_internal.h"
 
 namespace rollwear {
+
+using fit_internal::TermModel;
 
 int TermData::CovariateIndex(const std::string& name) const {
   for (size_t i = 0; i < catalog.size(); ++i) {
@@ -78,8 +81,7 @@ StatusOr<TermData> BuildTermData(const Dataset& data, WearLaw law) {
         den += td.load[i];
       }
       double agg = first;
-      if (td.catalog[k].level == CovariateLevel::kPass && den > 0)
-        agg = num / den;
+      if (td.catalog[k].level == CovariateLevel::kPass && den > 0) agg = num / den;
       td.obs_z[k].push_back(agg);
     }
     td.obs.push_back(o);
@@ -89,241 +91,13 @@ StatusOr<TermData> BuildTermData(const Dataset& data, WearLaw law) {
 
 namespace {
 
-// Evaluates predictions and their Jacobian for log_k (n_coef) and the term
-// parameters (concatenated after log_k).
-class TermModel {
- public:
-  TermModel(const TermData& data, const std::vector<TermSpec>& terms)
-      : data_(data), terms_(terms) {
-    p_ = static_cast<int>(data.positions.size());
-    r_ = static_cast<int>(data.roll_types.size());
-    s_ = static_cast<int>(data.grades.size());
-    n_coef_ = p_ + r_ + s_;
-    n_ = n_coef_;
-    for (const TermSpec& t : terms_) {
-      offsets_.push_back(n_);
-      n_ += t.term.NumParams();
-      num_params_.push_back(t.term.NumParams());
-      measurement_.push_back(t.term.IsMeasurementTerm() ? 1 : 0);
-      scopes_.push_back(Resolve(t.term.scope));
-    }
-    k_.resize(s_);
-    k_ok_.resize(s_);
-    t_.resize(s_);
-    last_z_.resize(terms_.size());
-    cached_.resize(terms_.size());
-  }
-
-  int num_coef() const { return n_coef_; }
-  int num_params() const { return n_; }
-  int r_offset() const { return p_; }
-  int s_offset() const { return p_ + r_; }
-  std::vector<TermSpec>& terms() { return terms_; }
-  // Whether term t applies to observation `o` (its roll) and, for a wear
-  // term, to a pass of grade g.
-  bool CoversRoll(int t, const TermObservation& o) const {
-    return scopes_[t].CoversRoll(o);
-  }
-  bool CoversGrade(int t, int g) const { return scopes_[t].CoversGrade(g); }
-  // With `out` (indexed by pass, sized to every pass), Predict also writes
-  // each pass's wear contribution k_g * load * (product of the wear terms).
-  void set_pass_contributions(std::vector<double>* out) { pass_out_ = out; }
-
-  // Whether a term's multiplier is exp(b u(z)) with one parameter b.
-  static bool IsExpForm(const ModelTerm& term) {
-    return term.NumParams() == 1 &&
-           (term.form == TermForm::kLogLinear ||
-            term.form == TermForm::kPower || term.form == TermForm::kFlag);
-  }
-  // u(z) of such a term t, by TermMultiplier's expression (model_terms.cc).
-  double ExponentOf(size_t t, double z) const {
-    const ModelTerm& term = terms_[t].term;
-    if (term.form == TermForm::kLogLinear)
-      return (z - term.center) / term.scale;
-    if (term.form == TermForm::kPower)
-      return std::log(std::max(z, 1e-12) / term.center);
-    return z;
-  }
-
-  // Writes params into the terms.
-  void SetParams(const double* params) {
-    for (size_t t = 0; t < terms_.size(); ++t) {
-      std::copy(params + offsets_[t],
-                params + offsets_[t] + terms_[t].term.NumParams(),
-                terms_[t].term.params.begin());
-    }
-  }
-
-  // Prediction of observation o; with `grad` (size num_params, zeroed by
-  // the caller) also d(prediction)/d(params).
-  double Predict(const double* params, int o, double* grad,
-                 bool wear_only = false) {
-    const TermObservation& obs = data_.obs[o];
-    const size_t nt = terms_.size();
-    if (u_.size() != nt) PrecomputeExponents();  // once, at the first call
-    roll_in_.resize(nt);
-    for (size_t t = 0; t < nt; ++t) roll_in_[t] = scopes_[t].CoversRoll(obs);
-    const double base = params[obs.position] +
-                        (obs.roll_type >= 0 ? params[p_ + obs.roll_type] : 0.0);
-    // k of a grade only where the observation has a pass of that grade
-    // (the others add exactly 0 to the prediction and its derivatives).
-    std::fill(t_.begin(), t_.end(), 0.0);
-    std::fill(k_ok_.begin(), k_ok_.end(), 0);
-    double wear = 0;
-    scratch_.resize(8);
-    mt_.resize(nt);
-    if (grad != nullptr) dm_.resize(static_cast<size_t>(n_));
-    // m_t and dm_t of the last pass a term was evaluated on, reused while
-    // its covariate repeats bit for bit (campaign- and roll-level
-    // covariates repeat on every pass): TermMultiplier is a function of
-    // (params, z) alone, so the reuse is exact.
-    std::fill(cached_.begin(), cached_.end(), 0);
-    zp_.resize(nt);
-    for (size_t t = 0; t < nt; ++t)
-      zp_[t] = data_.z[terms_[t].covariate].data();
-    for (int i = obs.pass_begin; i < obs.pass_end; ++i) {
-      const int g = data_.grade[i];
-      if (!k_ok_[g]) {
-        k_[g] = std::exp(base + params[p_ + r_ + g]);
-        k_ok_[g] = 1;
-      }
-      double m = 1;
-      for (size_t t = 0; t < nt; ++t) {
-        if (measurement_[t]) continue;
-        if (!roll_in_[t] || !scopes_[t].CoversGrade(g)) {
-          mt_[t] = 1.0;  // outside the scope: m = 1, no derivative
-          cached_[t] = 0;
-          continue;
-        }
-        const uint64_t z_bits = std::bit_cast<uint64_t>(zp_[t][i]);
-        if (!cached_[t] || z_bits != last_z_[t]) {
-          double* dm = grad != nullptr ? dm_.data() + offsets_[t] : nullptr;
-          mt_[t] = u_[t].empty()
-                       ? TermMultiplier(terms_[t].term,
-                                        std::bit_cast<double>(z_bits), dm)
-                       : ExpMultiplier(t, i, std::bit_cast<double>(z_bits), dm);
-          last_z_[t] = z_bits;
-          cached_[t] = 1;
-        }
-        m *= mt_[t];
-      }
-      const double c = k_[g] * data_.load[i] * m;
-      wear += c;
-      t_[g] += c;
-      if (pass_out_ != nullptr) (*pass_out_)[i] = c;
-      if (grad == nullptr) continue;
-      for (size_t t = 0; t < nt; ++t) {
-        if (measurement_[t] || !roll_in_[t] || !scopes_[t].CoversGrade(g))
-          continue;
-        // d(c)/d(param) = c / m_t * dm_t/d(param).
-        const double f = mt_[t] != 0 ? c / mt_[t] : 0.0;
-        const double* dm = dm_.data() + offsets_[t];
-        double* gt = grad + offsets_[t];
-        for (int j = 0; j < num_params_[t]; ++j) gt[j] += f * dm[j];
-      }
-    }
-    double y = wear;
-    if (grad != nullptr) {
-      double total = 0;
-      for (int s = 0; s < s_; ++s) {
-        grad[p_ + r_ + s] += t_[s];
-        total += t_[s];
-      }
-      grad[obs.position] += total;
-      if (obs.roll_type >= 0) grad[p_ + obs.roll_type] += total;
-    }
-    if (wear_only) return y;
-    for (size_t t = 0; t < terms_.size(); ++t) {
-      const ModelTerm& term = terms_[t].term;
-      if (!term.IsMeasurementTerm() || !roll_in_[t]) continue;
-      const int np = term.NumParams();
-      if (static_cast<int>(scratch_.size()) < np) scratch_.resize(np);
-      const double z = data_.obs_z[terms_[t].covariate][o];
-      y += TermOffset(term, z, scratch_.data());
-      if (grad != nullptr) {
-        for (int j = 0; j < np; ++j) grad[offsets_[t] + j] += scratch_[j];
-      }
-    }
-    return y;
-  }
-
- private:
-  // A TermScope resolved to the data's level indices (-1: any level, -2: a
-  // label the data does not have, which nothing matches).
-  struct ResolvedScope {
-    int stand = 0, position = -1, roll_type = -1, grade = -1;
-    bool CoversRoll(const TermObservation& o) const {
-      return (stand == 0 || stand == SlotStand(o.slot)) &&
-             (position < 0 ||
-              position == static_cast<int>(SlotPosition(o.slot))) &&
-             (roll_type == -1 || roll_type == o.roll_type);
-    }
-    bool CoversGrade(int g) const { return grade == -1 || grade == g; }
-  };
-  ResolvedScope Resolve(const TermScope& s) const {
-    auto level = [](const std::vector<std::string>& labels,
-                    const std::string& l) {
-      if (l.empty()) return -1;
-      const auto it = std::find(labels.begin(), labels.end(), l);
-      return it == labels.end() ? -2 : static_cast<int>(it - labels.begin());
-    };
-    return {s.stand, s.position, level(data_.roll_types, s.roll_type),
-            level(data_.grades, s.grade)};
-  }
-
-  // The forms whose multiplier is m = exp(b u(z)) with u fixed by the
-  // term's center and scale (log_linear u = (z - c) / s, power
-  // u = ln(max(z, 1e-12) / c), flag u = z; model_terms.cc): u of every
-  // pass is computed once per fit (at the first Predict), by the same
-  // expression as TermMultiplier, so the fit's iterations evaluate only exp
-  // (the same bits; a profile of a diagnosis had the per-pass log at 15 %
-  // of its time).
-  void PrecomputeExponents() {
-    u_.resize(terms_.size());
-    for (size_t t = 0; t < terms_.size(); ++t) {
-      if (terms_[t].term.IsMeasurementTerm() || !IsExpForm(terms_[t].term))
-        continue;
-      const std::vector<double>& z = data_.z[terms_[t].covariate];
-      std::vector<double>& u = u_[t];
-      u.resize(z.size());
-      for (size_t i = 0; i < z.size(); ++i) u[i] = ExponentOf(t, z[i]);
-    }
-  }
-  // TermMultiplier of a term with u_ (one parameter), at pass i.
-  double ExpMultiplier(size_t t, int i, double z, double* grad) const {
-    if (std::isnan(z)) {
-      if (grad != nullptr) grad[0] = 0.0;
-      return 1.0;
-    }
-    const double u = u_[t][i];
-    const double m = std::exp(terms_[t].term.params[0] * u);
-    if (grad != nullptr) grad[0] = m * u;
-    return m;
-  }
-
-  const TermData& data_;
-  std::vector<TermSpec> terms_;
-  std::vector<std::vector<double>> u_;  // per term, per pass (or empty)
-  std::vector<ResolvedScope> scopes_;
-  std::vector<char> roll_in_;
-  std::vector<int> offsets_, num_params_;
-  std::vector<char> measurement_;  // per term: a reading offset
-  std::vector<uint64_t> last_z_;   // per term: z (bits) of the cached m_t, dm_t
-  std::vector<char> cached_;       // per term: last_z_ is valid
-  std::vector<char> k_ok_;  // per grade: k_ computed for this observation
-  int p_ = 0, r_ = 0, s_ = 0, n_coef_ = 0, n_ = 0;
-  std::vector<double> k_, t_, scratch_, mt_, dm_;
-  std::vector<const double*> zp_;  // per term: its covariate's values by pass
-  std::vector<double>* pass_out_ = nullptr;
-};
-
 class TermCost : public ceres::CostFunction {
  public:
   // `prior`: (index into the free parameters, 1 / prior sd) of every
   // parameter with a normal prior, one pseudo-residual each.
-  TermCost(TermModel* model, const std::vector<int>& subset,
-           const std::vector<double>& sd, std::vector<double> full,
-           std::vector<int> free, std::vector<std::pair<int, double>> prior)
+  TermCost(TermModel* model, const std::vector<int>& subset, const std::vector<double>& sd,
+           std::vector<double> full, std::vector<int> free,
+           std::vector<std::pair<int, double>> prior)
       : model_(model),
         subset_(subset),
         sd_(sd),
@@ -400,22 +174,18 @@ class TermCost : public ceres::CostFunction {
 
 }  // namespace
 
-StatusOr<TermFitResult> FitTerms(const TermData& data,
-                                 const std::vector<int>& subset,
+StatusOr<TermFitResult> FitTerms(const TermData& data, const std::vector<int>& subset,
                                  const std::vector<double>& sd,
                                  const std::vector<double>& log_k_start,
-                                 const std::vector<TermSpec>& terms,
-                                 bool compute_errors) {
-  if (subset.empty())
-    return Status::FailedPrecondition("no observations to fit");
+                                 const std::vector<TermSpec>& terms, bool compute_errors) {
+  if (subset.empty()) return Status::FailedPrecondition("no observations to fit");
   TermModel model(data, terms);
   const int n = model.num_params();
   const int n_coef = model.num_coef();
   std::vector<double> full(n, 0.0);
   // Load carried by each coefficient in the subset (identifiability).
   std::vector<double> load(n_coef, 0.0);
-  std::vector<double> meas_pos(data.positions.size(), 0.0),
-      load_pos(data.positions.size(), 0.0);
+  std::vector<double> meas_pos(data.positions.size(), 0.0), load_pos(data.positions.size(), 0.0);
   for (int o : subset) {
     const TermObservation& obs = data.obs[o];
     double total = 0;
@@ -432,8 +202,7 @@ StatusOr<TermFitResult> FitTerms(const TermData& data,
     std::copy(log_k_start.begin(), log_k_start.end(), full.begin());
   } else {
     for (size_t p = 0; p < data.positions.size(); ++p) {
-      if (meas_pos[p] > 0 && load_pos[p] > 0)
-        full[p] = std::log(meas_pos[p] / load_pos[p]);
+      if (meas_pos[p] > 0 && load_pos[p] > 0) full[p] = std::log(meas_pos[p] / load_pos[p]);
     }
   }
   int off = n_coef;
@@ -469,8 +238,7 @@ StatusOr<TermFitResult> FitTerms(const TermData& data,
   off = n_coef;
   for (const TermSpec& t : terms) {
     for (int j = 0; j < t.term.NumParams() && t.prior_sd > 0; ++j) {
-      const int fj = static_cast<int>(
-          std::find(free.begin(), free.end(), off + j) - free.begin());
+      const int fj = static_cast<int>(std::find(free.begin(), free.end(), off + j) - free.begin());
       prior.emplace_back(fj, 1.0 / t.prior_sd);
     }
     off += t.term.NumParams();
@@ -482,8 +250,7 @@ StatusOr<TermFitResult> FitTerms(const TermData& data,
   off = n_coef;
   for (const TermSpec& t : terms) {
     for (int j = 0; j < t.term.NumParams(); ++j) {
-      const int fj = static_cast<int>(
-          std::find(free.begin(), free.end(), off + j) - free.begin());
+      const int fj = static_cast<int>(std::find(free.begin(), free.end(), off + j) - free.begin());
       problem.SetParameterLowerBound(x.data(), fj, t.lower[j]);
       problem.SetParameterUpperBound(x.data(), fj, t.upper[j]);
     }
@@ -513,17 +280,13 @@ StatusOr<TermFitResult> FitTerms(const TermData& data,
     ceres::Covariance covariance(co);
     const int nf = static_cast<int>(free.size());
     std::vector<double> cx(static_cast<size_t>(nf) * nf);
-    std::vector<std::pair<const double*, const double*>> blocks = {
-        {x.data(), x.data()}};
+    std::vector<std::pair<const double*, const double*>> blocks = {{x.data(), x.data()}};
     if (covariance.Compute(blocks, &problem) &&
         covariance.GetCovarianceBlock(x.data(), x.data(), cx.data())) {
-      const double s2 =
-          r.weighted_rss / std::max(1, static_cast<int>(subset.size()) - nf);
+      const double s2 = r.weighted_rss / std::max(1, static_cast<int>(subset.size()) - nf);
       for (int i = n_coef; i < n; ++i) {
-        const int fj = static_cast<int>(std::find(free.begin(), free.end(), i) -
-                                        free.begin());
-        r.term_std_error.push_back(
-            std::sqrt(std::max(0.0, s2 * cx[fj * nf + fj])));
+        const int fj = static_cast<int>(std::find(free.begin(), free.end(), i) - free.begin());
+        r.term_std_error.push_back(std::sqrt(std::max(0.0, s2 * cx[fj * nf + fj])));
       }
     }
   }
@@ -537,8 +300,7 @@ namespace {
 // the weighted residuals r (term_fit.h).
 double ScoreFromColumns(const Eigen::MatrixXd& j0,
                         const Eigen::ColPivHouseholderQR<Eigen::MatrixXd>& qr,
-                        const Eigen::MatrixXd& jc, const Eigen::VectorXd& r,
-                        int* df) {
+                        const Eigen::MatrixXd& jc, const Eigen::VectorXd& r, int* df) {
   const Eigen::Index m = r.size();
   // Drop candidate columns that are identically zero (parameters whose
   // derivative vanishes at the start, such as a length scale at b = 0).
@@ -570,8 +332,7 @@ double ScoreFromColumns(const Eigen::MatrixXd& j0,
 }
 
 // The full parameter vector (log_k, then every term's params) of `terms`.
-std::vector<double> FullParams(const TermModel& model,
-                               const std::vector<double>& log_k,
+std::vector<double> FullParams(const TermModel& model, const std::vector<double>& log_k,
                                const std::vector<TermSpec>& terms) {
   std::vector<double> full(model.num_params(), 0.0);
   std::copy(log_k.begin(), log_k.end(), full.begin());
@@ -587,10 +348,9 @@ std::vector<double> FullParams(const TermModel& model,
 // at `full`, and the weighted derivative columns: the first n_cur in j0,
 // the rest in jc.
 void WeightedJacobian(const TermData& data, const std::vector<int>& subset,
-                      const std::vector<double>& sd,
-                      const std::vector<double>& full, int n_cur,
-                      TermModel* model, Eigen::MatrixXd* j0,
-                      Eigen::MatrixXd* jc, Eigen::VectorXd* r) {
+                      const std::vector<double>& sd, const std::vector<double>& full, int n_cur,
+                      TermModel* model, Eigen::MatrixXd* j0, Eigen::MatrixXd* jc,
+                      Eigen::VectorXd* r) {
   const int n = model->num_params();
   const int m = static_cast<int>(subset.size());
   j0->resize(m, n_cur);
@@ -611,10 +371,8 @@ void WeightedJacobian(const TermData& data, const std::vector<int>& subset,
 }  // namespace
 
 double ScoreStatistic(const TermData& data, const std::vector<int>& subset,
-                      const std::vector<double>& sd,
-                      const std::vector<double>& log_k,
-                      const std::vector<TermSpec>& terms,
-                      const TermSpec& candidate, int* df) {
+                      const std::vector<double>& sd, const std::vector<double>& log_k,
+                      const std::vector<TermSpec>& terms, const TermSpec& candidate, int* df) {
   std::vector<TermSpec> all = terms;
   all.push_back(candidate);
   TermModel model(data, all);
@@ -642,8 +400,7 @@ struct ScoreScreen::Impl {
 };
 
 ScoreScreen::ScoreScreen(const TermData& data, const std::vector<int>& subset,
-                         const std::vector<double>& sd,
-                         const std::vector<double>& log_k,
+                         const std::vector<double>& sd, const std::vector<double>& log_k,
                          const std::vector<TermSpec>& terms)
     : impl_(std::make_unique<Impl>()) {
   Impl& s = *impl_;
@@ -658,8 +415,7 @@ ScoreScreen::ScoreScreen(const TermData& data, const std::vector<int>& subset,
   s.pass_c.assign(data.load.size(), 0.0);
   model.set_pass_contributions(&s.pass_c);
   Eigen::MatrixXd none;
-  WeightedJacobian(data, subset, sd, full, model.num_params(), &model, &s.j0,
-                   &none, &s.r);
+  WeightedJacobian(data, subset, sd, full, model.num_params(), &model, &s.j0, &none, &s.r);
   s.qr.compute(s.j0);
 }
 
@@ -688,14 +444,12 @@ double ScoreScreen::Statistic(const TermSpec& candidate, int* df) const {
   const ModelTerm& term = candidate.term;
   const int np = term.NumParams();
   const bool measurement = term.IsMeasurementTerm();
-  const bool all_zero = std::all_of(term.params.begin(), term.params.end(),
-                                    [](double b) { return b == 0.0; });
-  const bool exp_at_zero =
-      !measurement && all_zero && TermModel::IsExpForm(term);
-  const bool level_at_zero =
-      !measurement && all_zero &&
-      (term.form == TermForm::kBinned || term.form == TermForm::kPerLevel ||
-       term.form == TermForm::kCell);
+  const bool all_zero =
+      std::all_of(term.params.begin(), term.params.end(), [](double b) { return b == 0.0; });
+  const bool exp_at_zero = !measurement && all_zero && TermModel::IsExpForm(term);
+  const bool level_at_zero = !measurement && all_zero &&
+                             (term.form == TermForm::kBinned || term.form == TermForm::kPerLevel ||
+                              term.form == TermForm::kCell);
   const int m = static_cast<int>(s.subset->size());
   Eigen::MatrixXd jc(m, np);
   std::vector<double> grad(np), dm(std::max(np, 1));
@@ -706,10 +460,8 @@ double ScoreScreen::Statistic(const TermSpec& candidate, int* df) const {
     if (scope.CoversRoll(0, obs)) {
       if (measurement) {
         // A reading offset: null at the start, or the full computation.
-        if (TermOffset(term, data.obs_z[candidate.covariate][o], dm.data()) !=
-            0.0) {
-          return ScoreStatistic(data, *s.subset, *s.sd, s.log_k, s.terms,
-                                candidate, df);
+        if (TermOffset(term, data.obs_z[candidate.covariate][o], dm.data()) != 0.0) {
+          return ScoreStatistic(data, *s.subset, *s.sd, s.log_k, s.terms, candidate, df);
         }
         for (int j = 0; j < np; ++j) grad[j] += dm[j];
       } else {
@@ -737,8 +489,7 @@ double ScoreScreen::Statistic(const TermSpec& candidate, int* df) const {
           // (d(c)/d(param) = c / 1 * dm/d(param)); otherwise the full
           // computation.
           if (TermMultiplier(term, z[i], dm.data()) != 1.0) {
-            return ScoreStatistic(data, *s.subset, *s.sd, s.log_k, s.terms,
-                                  candidate, df);
+            return ScoreStatistic(data, *s.subset, *s.sd, s.log_k, s.terms, candidate, df);
           }
           for (int j = 0; j < np; ++j) grad[j] += s.pass_c[i] * dm[j];
         }
@@ -750,23 +501,19 @@ double ScoreScreen::Statistic(const TermSpec& candidate, int* df) const {
   return ScoreFromColumns(s.j0, s.qr, jc, s.r, df);
 }
 
-std::vector<double> PredictTerms(const TermData& data,
-                                 const std::vector<int>& subset,
+std::vector<double> PredictTerms(const TermData& data, const std::vector<int>& subset,
                                  const std::vector<double>& log_k,
-                                 const std::vector<TermSpec>& terms,
-                                 bool wear_only) {
+                                 const std::vector<TermSpec>& terms, bool wear_only) {
   TermModel model(data, terms);
   const std::vector<double> full = FullParams(model, log_k, terms);
   model.SetParams(full.data());
   std::vector<double> out;
   out.reserve(subset.size());
-  for (int o : subset)
-    out.push_back(model.Predict(full.data(), o, nullptr, wear_only));
+  for (int o : subset) out.push_back(model.Predict(full.data(), o, nullptr, wear_only));
   return out;
 }
 
-std::vector<double> PredictPassWear(const TermData& data,
-                                    const std::vector<int>& subset,
+std::vector<double> PredictPassWear(const TermData& data, const std::vector<int>& subset,
                                     const std::vector<double>& log_k,
                                     const std::vector<TermSpec>& terms) {
   TermModel model(data, terms);
@@ -778,11 +525,10 @@ std::vector<double> PredictPassWear(const TermData& data,
   return out;
 }
 
-std::vector<double> TermNoiseSd(const TermData& td,
-                                const std::vector<int>& train,
+std::vector<double> TermNoiseSd(const TermData& td, const std::vector<int>& train,
                                 const std::vector<double>& log_k,
-                                const std::vector<TermSpec>& terms,
-                                WearModel* noise_out, bool robust) {
+                                const std::vector<TermSpec>& terms, WearModel* noise_out,
+                                bool robust) {
   std::vector<int> all(td.obs.size());
   for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
   const std::vector<double> pred = PredictTerms(td, all, log_k, terms);
@@ -805,8 +551,7 @@ std::vector<double> TermNoiseSd(const TermData& td,
     sd[i] = noise.SdAt(pred[i]);
     // Huber IRLS weight w folded into the sd: residual / (sd / sqrt(w)).
     if (robust) {
-      sd[i] /=
-          std::sqrt(HuberWeight((td.obs[i].measured_um - pred[i]) / sd[i]));
+      sd[i] /= std::sqrt(HuberWeight((td.obs[i].measured_um - pred[i]) / sd[i]));
     }
   }
   if (noise_out != nullptr) {
