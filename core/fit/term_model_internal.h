@@ -118,6 +118,12 @@ class TermModel {
     zp_.resize(nt);
     for (size_t t = 0; t < nt; ++t)
       zp_[t] = data_.z[terms_[t].covariate].data();
+    // The wear terms that cover this observation's roll; the others' m is
+    // 1 on every pass (a factor of exactly 1: leaving it out is exact).
+    active_.clear();
+    for (size_t t = 0; t < nt; ++t) {
+      if (!measurement_[t] && roll_in_[t]) active_.push_back(t);
+    }
     for (int i = obs.pass_begin; i < obs.pass_end; ++i) {
       const int g = data_.grade[i];
       if (!k_ok_[g]) {
@@ -125,9 +131,8 @@ class TermModel {
         k_ok_[g] = 1;
       }
       double m = 1;
-      for (size_t t = 0; t < nt; ++t) {
-        if (measurement_[t]) continue;
-        if (!roll_in_[t] || !scopes_[t].CoversGrade(g)) {
+      for (const size_t t : active_) {
+        if (!scopes_[t].CoversGrade(g)) {
           mt_[t] = 1.0;  // outside the scope: m = 1, no derivative
           cached_[t] = 0;
           continue;
@@ -149,9 +154,8 @@ class TermModel {
       t_[g] += c;
       if (pass_out_ != nullptr) (*pass_out_)[i] = c;
       if (grad == nullptr) continue;
-      for (size_t t = 0; t < nt; ++t) {
-        if (measurement_[t] || !roll_in_[t] || !scopes_[t].CoversGrade(g))
-          continue;
+      for (const size_t t : active_) {
+        if (!scopes_[t].CoversGrade(g)) continue;
         // d(c)/d(param) = c / m_t * dm_t/d(param).
         const double f = mt_[t] != 0 ? c / mt_[t] : 0.0;
         const double* dm = dm_.data() + offsets_[t];
@@ -250,6 +254,7 @@ class TermModel {
   std::vector<char> k_ok_;  // per grade: k_ computed for this observation
   int p_ = 0, r_ = 0, s_ = 0, n_coef_ = 0, n_ = 0;
   std::vector<double> k_, t_, scratch_, mt_, dm_;
+  std::vector<size_t> active_;     // per observation: its roll's wear terms
   std::vector<const double*> zp_;  // per term: its covariate's values by pass
   std::vector<double>* pass_out_ = nullptr;
 };
