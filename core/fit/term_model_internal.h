@@ -10,17 +10,21 @@
 //
 // Thread-safety: a TermModel keeps per-call scratch and a cache of the
 // last multiplier per term; use one per thread. The TermData it reads
-// must outlive it and not change.
+// must outlive it and not change. Its terms' forms, centers and scales are
+// fixed at construction (the exponents u(z) are computed from them at the
+// first Predict); only their parameters change, through SetParams.
 #ifndef ROLLWEAR_CORE_FIT_TERM_MODEL_INTERNAL_H_
 #define ROLLWEAR_CORE_FIT_TERM_MODEL_INTERNAL_H_
 
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "core/dataset/dataset.h"
 #include "core/fit/term_fit.h"
 #include "core/model/model_terms.h"
 
@@ -55,7 +59,7 @@ class TermModel {
   int num_params() const { return n_; }
   int r_offset() const { return p_; }
   int s_offset() const { return p_ + r_; }
-  std::vector<TermSpec>& terms() { return terms_; }
+  const std::vector<TermSpec>& terms() const { return terms_; }
   // Whether term t applies to observation `o` (its roll) and, for a wear
   // term, to a pass of grade g.
   bool CoversRoll(int t, const TermObservation& o) const {
