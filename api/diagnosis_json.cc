@@ -61,7 +61,8 @@ nlohmann::json DiagnosisJson(const DiagnosisReport& r) {
   j["baseline"] = {{"model", r.law},
                    {"option", 1},
                    {"gap_train_um", r.baseline_gap_train_um},
-                   {"gap_val_um", r.baseline_gap_val_um}};
+                   {"gap_val_um", r.baseline_gap_val_um},
+                   {"grades", r.baseline_grades}};
   j["final"] = {{"gap_train_um", r.final_gap_train_um}, {"gap_val_um", r.final_gap_val_um}};
   j["n_train"] = r.n_train;
   j["n_val"] = r.n_val;

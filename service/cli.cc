@@ -160,6 +160,9 @@ Command AddCalibrate(CLI::App* app) {
   c->add_flag("--per-roll", args->per_roll,
               "give every physical roll its own wear multiplier, shrunk "
               "towards its roll type (empirical Bayes random effect)");
+  c->add_flag("--free-grades{false}", args->options.shrink_grades,
+              "fit option 1's grade factors freely, as the study did, instead "
+              "of shrinking them toward the typical grade (random effect)");
   AddCount(c, "--seed", args->options.seed, "seed of --start random");
   AddPath(c, "--json", args->json, "FILE", "write the result as JSON");
   AddPath(c, "--figures", args->figures, "DIR",

@@ -126,6 +126,9 @@ void PrintCalibration(const CalibrationOptions& options,
               WearLawName(options.law), options.option,
               InitialSetName(options.initial_set), protocol.c_str());
   std::printf("%s\n", r.summary.BriefReport().c_str());
+  if (r.grade_shrinkage.applied) {
+    std::printf("grades: %s\n", r.grade_shrinkage.Sentence().c_str());
+  }
   if (r.summary.usable && !usable) {
     std::printf(
         "not usable: a roll position received no pass, or the fit is not "
@@ -275,6 +278,12 @@ nlohmann::json CalibrationJson(const CalibrateArgs& args,
   j["evaluations"] = r.summary.evaluations;
   j["termination"] = r.summary.termination;
   j["usable"] = usable;
+  const GradeShrinkage& g = r.grade_shrinkage;
+  j["grade_shrinkage"] = {{"applied", g.applied},
+                          {"levels", g.levels},
+                          {"tau_log", JsonNumber(g.tau)},
+                          {"effective_parameters", g.effective_parameters},
+                          {"converged", g.converged}};
   j["data_quality"] = DataQualityJson(quality, &run.suspected_outliers);
   j["noise"] = {{"sd_um", m.noise_sd_um}, {"rel", m.noise_rel}};
   j["bias_above_300_um"] = JsonNumber(run.bias_above_300_um);

@@ -37,6 +37,7 @@ int RunDiagnose(const DiagnoseArgs& args) {
   std::printf("verdict: %s\n", r.verdict.c_str());
   std::printf("baseline (%s, option 1): gap training %.1f µm, validation %.1f µm\n",
               r.law.c_str(), r.baseline_gap_train_um, r.baseline_gap_val_um);
+  std::printf("baseline grades: %s\n", r.baseline_grades.c_str());
   for (size_t i = 0; i < r.findings.size(); ++i) {
     const Finding& f = r.findings[i];
     std::printf("finding %zu: %s — %s, %s (%s term), p = %.2g, validation gap %.1f -> %.1f µm\n",

@@ -183,6 +183,9 @@ struct DiagnosisReport {
   std::string law;
   int n_train = 0, n_val = 0;
   double baseline_gap_train_um = 0, baseline_gap_val_um = 0;
+  // The baseline's grade factors, in one sentence: "grades fitted freely",
+  // or shrunk (calibration.h) because the free fit is not identified.
+  std::string baseline_grades;
   double final_gap_train_um = 0, final_gap_val_um = 0;
   std::vector<Breakdown> locate;  // strongest evidence first
   std::vector<Finding> findings;  // order of adoption = strongest first

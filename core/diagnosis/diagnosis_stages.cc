@@ -483,36 +483,16 @@ Fitted Fit(const TermData& td, const std::vector<int>& subset,
   return f;
 }
 
-StatusOr<Baseline> RunBaseline(const Dataset& data,
-                               const DiagnosisOptions& options,
-                               DiagnosisReport* report) {
-  const DatasetIndex index(data);
-  ROLLWEAR_ASSIGN_OR_RETURN(WearStatistics stats,
-                            Aggregate(data, index, options.law));
-  Baseline base;
-  base.split = SplitOrGiven(stats, options.split_seed, options.given_split);
-  CalibrationOptions co;
-  co.law = options.law;
-  co.option = 1;
-  co.robust = options.robust;
-  ROLLWEAR_ASSIGN_OR_RETURN(base.calibration,
-                            CalibrateOnSplit(stats, base.split, co));
-  if (!base.calibration.result.summary.usable) {
-    return Status::NumericalFailure(
-        "baseline calibration failed: " +
-        base.calibration.result.summary.BriefReport());
-  }
-  report->baseline_gap_train_um = base.calibration.train.gap_um;
-  report->baseline_gap_val_um = base.calibration.validation.gap_um;
-  return base;
-}
-
 StatusOr<DiagnosisState> BuildState(const Dataset& data,
                                     const DiagnosisOptions& options,
                                     const Baseline& base,
                                     DiagnosisReport* report) {
   DiagnosisState st;
   ROLLWEAR_ASSIGN_OR_RETURN(st.td, BuildTermData(data, options.law));
+  // The term fits shrink the grades where the baseline did, with its tau
+  // (term_fit.h).
+  const GradeShrinkage& shrunk = base.calibration.result.grade_shrinkage;
+  if (shrunk.applied) st.td.grade_prior_sd = shrunk.tau;
   st.train_campaigns.insert(base.split.train.begin(), base.split.train.end());
   for (int o = 0; o < static_cast<int>(st.td.obs.size()); ++o) {
     (st.train_campaigns.count(st.td.obs[o].campaign) ? st.train : st.val)

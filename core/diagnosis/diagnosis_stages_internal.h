@@ -77,8 +77,10 @@ struct DiagnosisState {
   std::vector<std::vector<Candidate>> unscoped;
 };
 
-// Stage 1. Aggregates, splits the campaigns 2:1 and calibrates option 1 on
-// the training part; fills the baseline gaps of `report`.
+// Stage 1 (diagnosis_baseline.cc). Aggregates, splits the campaigns 2:1 and
+// calibrates option 1 on the training part, its grade factors free where
+// the data identify them and shrunk (core/fit/calibration.h) where not;
+// fills the baseline gaps and baseline_grades of `report`.
 StatusOr<Baseline> RunBaseline(const Dataset& data,
                                const DiagnosisOptions& options,
                                DiagnosisReport* report);

@@ -61,6 +61,17 @@ std::string CalibrationSummary::BriefReport() const {
   return buf;
 }
 
+std::string GradeShrinkage::Sentence() const {
+  if (!applied) return "grades fitted freely";
+  char buf[200];
+  std::snprintf(buf, sizeof(buf),
+                "%d grades shrunk toward the typical grade (random effect, "
+                "tau = %.3g on log kS, %.1f effective parameters%s)",
+                levels, tau, effective_parameters,
+                converged ? "" : ", tau not settled");
+  return buf;
+}
+
 namespace calibration_internal {
 
 Fit::Fit(const WearStatistics& stats, const std::vector<int>& train,
@@ -103,6 +114,20 @@ Fit::Fit(const WearStatistics& stats, const std::vector<int>& train,
   }
   num_rows_ = static_cast<int>(train.size()) +
               (options.option == 2 ? num_rt_ * num_gr_ : 0);
+  // Grade shrinkage: a prior row per grade with training load.
+  if (options.shrink_grades && options.option == 1 &&
+      options.derivatives == DerivativeMode::kExact) {
+    for (const FactorGroup& g : ks.groups()) {
+      if (g.key != FactorKey::kGrade) continue;
+      for (int c = g.offset; c < g.offset + g.size; ++c) {
+        if (coef_load_[c] > 0) shrunk_grades_.push_back(c);
+      }
+    }
+    if (static_cast<int>(shrunk_grades_.size()) < kMinShrunkGrades) {
+      shrunk_grades_.clear();
+    }
+    num_rows_ += static_cast<int>(shrunk_grades_.size());
+  }
 }
 
 void Fit::Evaluate(const double* theta, double* residuals, double* jac) {
@@ -131,10 +156,16 @@ void Fit::Evaluate(const double* theta, double* residuals, double* jac) {
       }
     }
   }
+  int row = static_cast<int>(train_.size());
+  // Grade shrinkage rows: (sigma / tau) * log kS[s].
+  for (int c : shrunk_grades_) {
+    residuals[row] = grade_scale_ * theta[c];
+    if (jac != nullptr) jac[static_cast<size_t>(row) * n + c] = grade_scale_;
+    ++row;
+  }
   if (options_.option != 2) return;
   // Prior rows: lambda * (log kRS[r,s] - u_r - v_s).
   const int rs_offset = model_.structure.groups()[1].offset;
-  int row = static_cast<int>(train_.size());
   for (int r = 0; r < num_rt_; ++r) {
     for (int s = 0; s < num_gr_; ++s, ++row) {
       const int c = rs_offset + r * num_gr_ + s;
@@ -464,6 +495,37 @@ std::vector<double> RobustSteps(Fit* fit, const std::vector<int>& free,
   return FitRobustNoise(pred, err).weight;
 }
 
+// Stage 6b. The grade shrinkage (calibration.h): evidence updates of sigma
+// and tau, each followed by a solve from the previous optimum, until tau
+// moves under 1 %; the last solve's problem is left in *solver.
+GradeShrinkage ShrinkGrades(Fit* fit, const std::vector<int>& free,
+                            const CalibrationOptions& options,
+                            std::unique_ptr<SolverSetup>* solver,
+                            std::vector<double>* theta,
+                            std::vector<double>* residuals,
+                            CalibrationSummary* s) {
+  GradeShrinkage g;
+  g.applied = true;
+  g.levels = static_cast<int>(fit->shrunk_grades().size());
+  double tau = 0;
+  for (int round = 0; round < kMaxShrinkageRounds && s->usable; ++round) {
+    const EvidenceUpdate up = UpdateGradeEvidence(fit, free, *theta);
+    if (!up.ok) break;
+    ++g.rounds;
+    g.sigma = up.sigma;
+    g.effective_parameters = up.gamma;
+    g.converged = tau > 0 && std::abs(std::log(up.tau / tau)) < 0.01;
+    tau = g.tau = up.tau;
+    if (g.converged) break;
+    fit->set_grade_scale(up.sigma / up.tau);
+    auto next = std::make_unique<SolverSetup>();
+    SetUpSolver(fit, *theta, free, options, next.get());
+    Solve(fit, free, next.get(), theta, residuals, s);
+    *solver = std::move(next);
+  }
+  return g;
+}
+
 }  // namespace
 }  // namespace calibration_internal
 
@@ -494,10 +556,18 @@ StatusOr<CalibrationResult> Calibrate(const WearStatistics& stats,
   s.initial_cost = fit.DataCost(residuals);
   s.num_free_parameters = nf;
   s.num_observations = static_cast<int>(train.size());
+  const bool shrink = !fit.shrunk_grades().empty() && nf > 0;
+  if (shrink) {  // a weak start, tau = 1 on log kS, sigma of the start
+    fit.set_grade_scale(std::sqrt(s.initial_cost / fit.num_data_rows()));
+  }
 
   auto solver = std::make_unique<ci::SolverSetup>();
   ci::SetUpSolver(&fit, theta, free, options, solver.get());
   ci::Solve(&fit, free, solver.get(), &theta, &residuals, &s);
+  if (shrink) {
+    result.grade_shrinkage = ci::ShrinkGrades(&fit, free, options, &solver,
+                                              &theta, &residuals, &s);
+  }
   if (options.robust && s.usable && nf > 0 &&
       options.derivatives == DerivativeMode::kExact) {
     result.robust_weight =

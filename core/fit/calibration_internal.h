@@ -2,8 +2,8 @@
 // stages. calibration.cc holds the problem (Fit), the Ceres side (solver
 // set-up, solve, covariance) and Calibrate() itself, which runs the stages in
 // order; calibration_stages.cc holds the stages that need no Ceres (input
-// validation, option-2 prefit, initial set, gauge fixing, gauge transform,
-// noise model). The cost, parameterisation, gauge and option-2 prior are
+// validation, option-2 prefit, initial set, gauge fixing, the grade
+// shrinkage's evidence update, gauge transform, noise model). The cost, parameterisation, gauge and option-2 prior are
 // described in calibration.h. Include only from core/fit/calibration*.cc.
 //
 // Thread-safety: a Fit belongs to one Calibrate() call and one thread; the
@@ -48,6 +48,11 @@ class Fit {
   const KStructure& structure() const { return model_.structure; }
   const std::vector<double>& coef_load() const { return coef_load_; }
   void set_prior_scale(double lambda) { prior_scale_ = lambda; }
+  // Grade shrinkage (calibration.h): the grade coefficients with a prior
+  // row (empty when it does not apply) and its scale sigma / tau.
+  const std::vector<int>& shrunk_grades() const { return shrunk_grades_; }
+  double grade_scale() const { return grade_scale_; }
+  void set_grade_scale(double lambda) { grade_scale_ = lambda; }
   long evaluations() const { return evaluations_; }
 
   // Residuals (size num_rows) and, when `jac` is non-null, the row-major
@@ -84,6 +89,8 @@ class Fit {
   std::vector<double> coef_load_;
   std::vector<double> grad_;
   double prior_scale_ = 0;
+  std::vector<int> shrunk_grades_;
+  double grade_scale_ = 0;
   long evaluations_ = 0;
 };
 
@@ -111,6 +118,16 @@ std::vector<double> InitialTheta(const WearStatistics& stats,
 // Stage 4. Gauge and identifiability: the indices of theta left free.
 std::vector<int> FreeParameters(const Fit& fit,
                                 const CalibrationOptions& options);
+
+// Stage 5b (grade shrinkage). One evidence update (calibration.h) at theta,
+// the fit's residuals there and its current grade scale: the new tau and
+// sigma and gamma. `free` are the solver's free parameters.
+struct EvidenceUpdate {
+  double tau = 0, sigma = 0, gamma = 0;
+  bool ok = false;  // false when H cannot be inverted or is not finite
+};
+EvidenceUpdate UpdateGradeEvidence(Fit* fit, const std::vector<int>& free,
+                                   const std::vector<double>& theta);
 
 // Stage 7. The reported gauge: every non-position group has geometric mean
 // 1 over its levels with data and kF carries the scale; theta_rep =

@@ -1,10 +1,13 @@
 // The stages of Calibrate() that need no Ceres: input validation, the
-// option-2 prefit, the initial set, gauge fixing, the gauge transform of the
-// result and the noise model (see calibration_internal.h).
+// option-2 prefit, the initial set, gauge fixing, the grade shrinkage's
+// evidence update, the gauge transform of the result and the noise model
+// (see calibration_internal.h).
 #include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
+
+#include <Eigen/Dense>
 
 #include "core/base/random.h"
 #include "core/fit/calibration_internal.h"
@@ -127,6 +130,7 @@ StatusOr<CalibrationResult> Option2Prefit(const WearStatistics& stats,
   pre.initial_set = InitialSet::kEmpirical;
   pre.derivatives = DerivativeMode::kExact;
   pre.compute_covariance = false;
+  pre.shrink_grades = false;  // option 2's prior is its own
   ROLLWEAR_ASSIGN_OR_RETURN(CalibrationResult prefit,
                             Calibrate(stats, train, pre));
   const int dof = std::max(
@@ -174,7 +178,11 @@ std::vector<int> FreeParameters(const Fit& fit,
     for (int i = grp.offset; i < grp.offset + grp.size; ++i) {
       if (load[i] <= 0 && !cell_group) fixed[i] = true;
     }
-    if (g > 0 && !cell_group) {
+    // A shrunk grade group needs no reference level: its prior fixes the
+    // gauge (calibration.h).
+    const bool shrunk =
+        grp.key == FactorKey::kGrade && !fit.shrunk_grades().empty();
+    if (g > 0 && !cell_group && !shrunk) {
       fixed[HeaviestLevel(load, grp.offset, grp.offset + grp.size)] = true;
     }
   }
@@ -199,6 +207,45 @@ std::vector<int> FreeParameters(const Fit& fit,
     if (!fixed[i]) free.push_back(i);
   }
   return free;
+}
+
+EvidenceUpdate UpdateGradeEvidence(Fit* fit, const std::vector<int>& free,
+                                   const std::vector<double>& theta) {
+  EvidenceUpdate up;
+  const int rows = fit->num_rows();
+  const int n = fit->layout().n_full;
+  const int nf = static_cast<int>(free.size());
+  std::vector<double> residuals(rows), jac(static_cast<size_t>(rows) * n);
+  fit->Evaluate(theta.data(), residuals.data(), jac.data());
+  Eigen::MatrixXd j(rows, nf);
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < nf; ++c) j(r, c) = jac[static_cast<size_t>(r) * n + free[c]];
+  }
+  // H = J'J, prior rows included; [H^-1]_ss of every shrunk grade.
+  const Eigen::MatrixXd h = j.transpose() * j;
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(h);
+  if (ldlt.info() != Eigen::Success) return up;
+  const Eigen::MatrixXd h_inv = ldlt.solve(Eigen::MatrixXd::Identity(nf, nf));
+  const double lambda = fit->grade_scale();
+  double sum_sq = 0;
+  for (int c : fit->shrunk_grades()) {
+    const auto at = std::find(free.begin(), free.end(), c);
+    if (at == free.end()) continue;
+    const long k = at - free.begin();
+    up.gamma += std::clamp(1 - lambda * lambda * h_inv(k, k), 0.0, 1.0);
+    sum_sq += theta[c] * theta[c];
+  }
+  double rss = 0;
+  for (int r = 0; r < fit->num_data_rows(); ++r) rss += residuals[r] * residuals[r];
+  const double levels = static_cast<double>(fit->shrunk_grades().size());
+  const double dof = fit->num_data_rows() - (nf - levels) - up.gamma;
+  constexpr double kTauFloor = 1e-3;
+  up.tau = up.gamma > 0 ? std::max(kTauFloor, std::sqrt(sum_sq / up.gamma))
+                        : kTauFloor;
+  up.sigma = dof > 0 ? std::sqrt(rss / dof) : 0;
+  up.ok = std::isfinite(up.gamma) && std::isfinite(up.tau) &&
+          std::isfinite(up.sigma) && up.sigma > 0;
+  return up;
 }
 
 Eigen::MatrixXd GaugeTransform(const Fit& fit) {

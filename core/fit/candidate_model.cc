@@ -6,6 +6,7 @@
 #include <optional>
 #include <utility>
 
+#include "core/fit/identification.h"
 #include "core/fit/study.h"
 #include "core/fit/term_refit.h"
 #include "core/model/aggregation.h"
@@ -89,6 +90,10 @@ Status Fit(const Dataset& data, const CandidateInputs& inputs,
     return Status::NumericalFailure("calibration unusable: " +
                                     summary.BriefReport());
   }
+  const Identification id =
+      JudgeIdentification(run.result, run.train, run.validation);
+  out->score.coefficients_identified = id.at_bound.empty() && id.large_error.empty();
+  out->score.identification = id.Sentence();
   out->candidate = std::move(run.result.model);
   return Status::Ok();
 }
@@ -156,8 +161,9 @@ PromotionDecision DecidePromotion(const CandidateScore& score,
     return d;
   }
   d.comparable = true;
-  d.promote = !std::isfinite(score.active_gap_val_um) ||
-              score.gap_val_um <= score.active_gap_val_um;
+  d.promote = score.coefficients_identified &&
+              (!std::isfinite(score.active_gap_val_um) ||
+               score.gap_val_um <= score.active_gap_val_um);
   char gaps[160];
   std::snprintf(gaps, sizeof(gaps),
                 "; validation gap %.2f um vs %.2f um for active model "
@@ -166,6 +172,9 @@ PromotionDecision DecidePromotion(const CandidateScore& score,
                 static_cast<long long>(active_version),
                 d.promote ? "promoted" : "kept the active model");
   d.reason = gaps;
+  if (!score.identification.empty() && score.identification != "identified") {
+    d.reason += " (the candidate is " + score.identification + ")";
+  }
   return d;
 }
 

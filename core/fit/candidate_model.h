@@ -4,9 +4,10 @@
 // campaigns of the data (SplitCampaigns, core/model/metrics.h), scores the
 // candidate and the active model coil by coil (PredictMeasured,
 // core/model/model_eval.h) on the same 1/3 validation campaigns, and
-// promotes the candidate when its figures are usable and its validation gap
-// (mean absolute difference between measured and predicted centre wear,
-// um) is no worse than the active model's. The engine
+// promotes the candidate when its figures are usable, its fit is identified
+// (core/fit/identification.h) and its validation gap (mean absolute
+// difference between measured and predicted centre wear, um) is no worse
+// than the active model's. The engine
 // (engine/calibration_runs.h) runs it on the stored data; the store records
 // the runs and promotes.
 //
@@ -56,6 +57,13 @@ struct CandidateScore {
   int n_val = 0;
   // The candidate's named coefficients (none for the network).
   std::vector<std::pair<std::string, double>> coefficients;
+  // The classical calibration's identification verdict (identification.h):
+  // whether its coefficients are identified (criteria 1 and 2: none at a
+  // bound, none with relative s.e. > 100 %), and the verdict's sentence.
+  // True, with an empty sentence, for candidates it does not judge (the
+  // network, a refit with terms, a proposal).
+  bool coefficients_identified = true;
+  std::string identification;
 };
 
 // A scored candidate, or why there is none.
@@ -123,9 +131,17 @@ struct PromotionDecision {
   std::string reason;
 };
 
-// Promote when comparable and gap_val_um <= active_gap_val_um; an active
-// model without a finite gap (never for a stored one) is beaten by any
-// finite one. `active_version` only names the active model in the reason.
+// Promote when comparable, its coefficients identified and gap_val_um <=
+// active_gap_val_um; an active model without a finite gap (never for a
+// stored one) is beaten by any finite one. A candidate with a coefficient at
+// a bound or a relative s.e. above 100 % is recorded with its figures and
+// the verdict, and the active model is kept. The verdict's third criterion
+// (a validation gap beyond the candidate's own noise model) does not stop
+// a promotion: the gate already judges the held-out campaigns, against the
+// active model, and on a young mill that criterion refuses candidates far
+// better than the prior (docs/model.md, "Identification"); the reason then
+// carries the verdict. `active_version` only names the active model in the
+// reason.
 PromotionDecision DecidePromotion(const CandidateScore& score,
                                   int64_t active_version);
 

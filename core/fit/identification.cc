@@ -38,7 +38,11 @@ Identification JudgeIdentification(const CalibrationResult& result,
       id.large_error.push_back(named[i].first);
     }
   }
-  const double p = result.summary.num_free_parameters + extra_parameters;
+  // Shrunk grades count by their effective number (calibration.h).
+  const GradeShrinkage& shrunk = result.grade_shrinkage;
+  const double p = result.summary.num_free_parameters + extra_parameters -
+                   (shrunk.applied ? shrunk.levels - shrunk.effective_parameters
+                                   : 0);
   const double n = train.n;
   // Standardised by the model's noise model where it has one, so that a
   // validation set of more worn rolls (larger absolute scatter) is not

@@ -15,7 +15,8 @@
 //      = 3.09 (one-sided p = 0.001) above that, with the sd of a mean absolute
 //      residual, sqrt(pi/2 - 1) / sqrt(m) relative to its mean for m normal
 //      residuals, combined over the two sets.
-// Coefficients without any training data (no load) are not counted: they
+// Shrunk grade factors (calibration.h) count in p by their effective number
+// gamma. Coefficients without any training data (no load) are not counted: they
 // are not used by any prediction on this data.
 //
 // Thread-safety: pure functions.

@@ -128,6 +128,7 @@ StatusOr<StudyReport> RunStudy(const Dataset& data, const StudyOptions& options)
     CalibrationOptions o;
     o.law = law;
     o.robust = false;  // the paper's least squares (study.h)
+    o.shrink_grades = false;  // and its free grade factors
     o.seed = options.random_start_seed;
     for (InitialSet set : sets) {
       o.option = 1;

@@ -13,6 +13,7 @@
 #include <memory>
 #include <utility>
 
+#include "core/fit/calibration.h"
 #include "core/fit/lm_setup.h"
 #include "core/fit/robust.h"
 #include "core/fit/term_model_internal.h"
@@ -172,6 +173,39 @@ class TermCost : public ceres::CostFunction {
   mutable std::vector<double> kept_x_, kept_res_, kept_jac_;
 };
 
+// Gauge: fixes levels without data and the heaviest kR and kS level (a
+// reference per group); with a grade prior (TermData::grade_prior_sd) the kS
+// levels with load need no reference and are listed in *shrunk_grades
+// (calibration.h). Returns the free parameter indices.
+std::vector<int> FreeTermParameters(const TermModel& model, const std::vector<double>& load,
+                                    double grade_prior_sd, std::vector<int>* shrunk_grades) {
+  const int n = model.num_params();
+  const int n_coef = model.num_coef();
+  shrunk_grades->clear();
+  for (int i = model.s_offset(); i < n_coef && grade_prior_sd > 0; ++i) {
+    if (load[i] > 0) shrunk_grades->push_back(i);
+  }
+  if (static_cast<int>(shrunk_grades->size()) < kMinShrunkGrades) shrunk_grades->clear();
+  std::vector<bool> fixed(n, false);
+  for (int i = 0; i < n_coef; ++i) fixed[i] = load[i] <= 0;
+  auto heaviest = [&load](int b, int e) {
+    int best = b;
+    for (int i = b; i < e; ++i) {
+      if (load[i] > load[best]) best = i;
+    }
+    return best;
+  };
+  if (model.s_offset() > model.r_offset()) {
+    fixed[heaviest(model.r_offset(), model.s_offset())] = true;
+  }
+  if (shrunk_grades->empty()) fixed[heaviest(model.s_offset(), n_coef)] = true;
+  std::vector<int> free;
+  for (int i = 0; i < n; ++i) {
+    if (!fixed[i]) free.push_back(i);
+  }
+  return free;
+}
+
 }  // namespace
 
 StatusOr<TermFitResult> FitTerms(const TermData& data, const std::vector<int>& subset,
@@ -212,24 +246,9 @@ StatusOr<TermFitResult> FitTerms(const TermData& data, const std::vector<int>& s
     }
     off += t.term.NumParams();
   }
-  // Gauge: fix levels without data and the heaviest kR and kS level.
-  std::vector<bool> fixed(n, false);
-  for (int i = 0; i < n_coef; ++i) fixed[i] = load[i] <= 0;
-  auto heaviest = [&load](int b, int e) {
-    int best = b;
-    for (int i = b; i < e; ++i) {
-      if (load[i] > load[best]) best = i;
-    }
-    return best;
-  };
-  if (model.s_offset() > model.r_offset()) {
-    fixed[heaviest(model.r_offset(), model.s_offset())] = true;
-  }
-  fixed[heaviest(model.s_offset(), n_coef)] = true;
-  std::vector<int> free;
-  for (int i = 0; i < n; ++i) {
-    if (!fixed[i]) free.push_back(i);
-  }
+  std::vector<int> shrunk_grades;
+  const std::vector<int> free =
+      FreeTermParameters(model, load, data.grade_prior_sd, &shrunk_grades);
   std::vector<double> x;
   for (int i : free) x.push_back(full[i]);
   std::vector<double> y(data.obs.size(), 0.0);
@@ -242,6 +261,10 @@ StatusOr<TermFitResult> FitTerms(const TermData& data, const std::vector<int>& s
       prior.emplace_back(fj, 1.0 / t.prior_sd);
     }
     off += t.term.NumParams();
+  }
+  for (int i : shrunk_grades) {
+    const int fj = static_cast<int>(std::find(free.begin(), free.end(), i) - free.begin());
+    prior.emplace_back(fj, 1.0 / data.grade_prior_sd);
   }
   auto* cost = new TermCost(&model, subset, sd, full, free, std::move(prior));
   cost->set_measured(&y);

@@ -48,6 +48,13 @@ struct TermData {
   // model aggregates it (load-weighted mean over the passes for pass-level
   // covariates, the value itself otherwise).
   std::vector<std::vector<double>> obs_z;
+  // > 0 (and at least kMinShrunkGrades grades with load in a fit's subset):
+  // the grade factors are shrunk as in calibration.h, log kS[s] ~ N(0,
+  // grade_prior_sd^2), pseudo-residuals log kS[s] / grade_prior_sd (the
+  // residuals are already divided by sd_o), no reference grade held fixed.
+  // Set by the caller (BuildTermData leaves 0: grades fitted freely) to the
+  // tau of option 1's calibration on the same training data.
+  double grade_prior_sd = 0;
   int CovariateIndex(const std::string& name) const;  // -1 if unknown
 };
 
@@ -79,6 +86,7 @@ struct TermFitResult {
 // Fits log_k and every term's parameters on observations `subset`
 // (indices into data.obs) with per-observation sd `sd` (same indexing as
 // data.obs). `log_k_start` may be empty (starts from the empirical set).
+// With data.grade_prior_sd > 0 the grade factors carry their prior.
 StatusOr<TermFitResult> FitTerms(const TermData& data, const std::vector<int>& subset,
                                  const std::vector<double>& sd,
                                  const std::vector<double>& log_k_start,

@@ -5,6 +5,8 @@
 #include <set>
 #include <string>
 
+#include "core/fit/calibration.h"
+#include "core/model/aggregation.h"
 #include "core/model/k_structure.h"
 #include "core/fit/term_fit.h"
 
@@ -114,12 +116,34 @@ void AlignLevels(const CovariateSpec& c, ModelTerm* t) {
   t->params = std::move(params);
 }
 
+// The grade prior of a refit (term_fit.h): the between-grade sd tau that
+// option 1's calibration on the same training campaigns estimates
+// (calibration.h, grade shrinkage); 0 (grades fitted freely) when the
+// shrinkage does not apply or the calibration fails.
+double GradePriorSd(const Dataset& data, WearLaw law,
+                    const std::vector<int>& train_campaigns) {
+  const DatasetIndex index(data);
+  StatusOr<WearStatistics> stats = Aggregate(data, index, law);
+  if (!stats.ok()) return 0;
+  const std::vector<int> train = stats->MeasuredObservations(train_campaigns);
+  if (train.empty()) return 0;
+  CalibrationOptions co;
+  co.law = law;
+  co.compute_covariance = false;
+  StatusOr<CalibrationResult> fit = Calibrate(*stats, train, co);
+  if (!fit.ok() || !fit->summary.usable || !fit->grade_shrinkage.applied) {
+    return 0;
+  }
+  return fit->grade_shrinkage.tau;
+}
+
 }  // namespace
 
 StatusOr<WearModel> RefitWithTerms(const Dataset& data, WearLaw law,
                                    const std::vector<ModelTerm>& terms,
                                    const std::vector<int>& train_campaigns) {
-  ROLLWEAR_ASSIGN_OR_RETURN(const TermData td, BuildTermData(data, law));
+  ROLLWEAR_ASSIGN_OR_RETURN(TermData td, BuildTermData(data, law));
+  td.grade_prior_sd = GradePriorSd(data, law, train_campaigns);
   std::vector<TermSpec> specs;
   for (const ModelTerm& t : terms) {
     TermSpec s;

@@ -11,6 +11,10 @@
 // sd_o for a second, weighted fit, and that fit's for a third: the Huber
 // loss the diagnosis used when it adopted the terms.
 //
+// Grades: shrunk toward the typical grade (term_fit.h's grade prior) with
+// the between-grade sd tau of option 1's calibration on the same training
+// campaigns (calibration.h), where that calibration shrinks them.
+//
 // Thread-safety: pure function of its arguments.
 #ifndef ROLLWEAR_CORE_FIT_TERM_REFIT_H_
 #define ROLLWEAR_CORE_FIT_TERM_REFIT_H_
