@@ -46,6 +46,34 @@ TEST(CandidateModelTest, PromotesWhenNoWorseAndSaysWhy) {
   EXPECT_TRUE(d.promote);
 }
 
+// The gate judges as `rollwear calibrate` does (identification.h): a
+// candidate whose coefficients are not identified is kept out however good
+// its gap, and the reason carries the verdict; a verdict on the validation
+// gap alone is reported but does not stop a better candidate.
+TEST(CandidateModelTest, UnidentifiedCoefficientsAreNotPromoted) {
+  CandidateScore score = Scored(10.0, 12.5, 40);
+  score.coefficients_identified = false;
+  score.identification =
+      "not identified: 1 coefficient at a bound (kS[API-X70])";
+  PromotionDecision d = DecidePromotion(score, 3);
+  EXPECT_TRUE(d.comparable);
+  EXPECT_FALSE(d.promote);
+  EXPECT_EQ(d.reason,
+            "; validation gap 10.00 um vs 12.50 um for active model version 3: "
+            "kept the active model (the candidate is not identified: 1 "
+            "coefficient at a bound (kS[API-X70]))");
+  score.coefficients_identified = true;
+  score.identification =
+      "not identified: validation gap 1.55 x training, the noise model "
+      "allows 1.10 (z = 4.0)";
+  d = DecidePromotion(score, 3);
+  EXPECT_TRUE(d.promote);
+  EXPECT_NE(d.reason.find("promoted (the candidate is not identified: "
+                          "validation gap 1.55 x"),
+            std::string::npos)
+      << d.reason;
+}
+
 TEST(CandidateModelTest, NothingToCompareOnIsNotComparable) {
   PromotionDecision d = DecidePromotion(Scored(10.0, 12.5, 0), 3);
   EXPECT_FALSE(d.comparable);
@@ -73,6 +101,11 @@ TEST(CandidateModelTest, ClassicalCandidateIsScoredWithTheActiveOnOneSplit) {
   EXPECT_GT(fitted.score.n_val, 0);
   EXPECT_FALSE(fitted.score.coefficients.empty());
   EXPECT_TRUE(std::isfinite(fitted.score.gap_val_um));
+  // Judged by the verdict of identification.h: its grades are shrunk and
+  // its coefficients identified.
+  EXPECT_TRUE(fitted.score.coefficients_identified)
+      << fitted.score.identification;
+  EXPECT_FALSE(fitted.score.identification.empty());
   // Scoring the fitted model as a proposal against itself: the same
   // figures on the same split, and its own gap as the active one's.
   const CandidateEvaluation again =
