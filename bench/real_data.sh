@@ -71,6 +71,7 @@ row() {
 }
 for split in split_authors split_time_forward; do
   row wang_opt1 "${split}" --option 1
+  row wang_opt1_free_grades "${split}" --option 1 --free-grades
   row wang_opt2 "${split}" --option 2
   row wang_opt3 "${split}" --option 3
   row cao_opt1 "${split}" --model cao --option 1

@@ -20,6 +20,9 @@ void PrintPerRoll(const CalibrationOptions& options, const RollEffectsFit& fit,
       "%s law, option %d, per-roll wear multipliers (empirical Bayes)\n",
       WearLawName(options.law), options.option);
   std::printf("%s\n", r.summary.BriefReport().c_str());
+  if (r.grade_shrinkage.applied) {
+    std::printf("grades: %s\n", r.grade_shrinkage.Sentence().c_str());
+  }
   std::printf("%-28s %12s %10s\n", "coefficient", "value", "s.e. log");
   const auto named = r.model.NamedCoefficients();
   for (size_t i = 0; i < named.size(); ++i) {

@@ -49,10 +49,10 @@ int RunImport(const ImportArgs& args) {
   const std::string& dir = args.dir;
   const auto start = std::chrono::steady_clock::now();
   CheckedDataset checked;
-  if (ReadCheckedDataset("import", dir, args.strict, &checked) != 0) {
+  if (int code = ReadCheckedDataset("import", dir, args.strict, &checked)) {
     std::fprintf(stderr, "rollwear import: %s: nothing imported\n",
                  dir.c_str());
-    return 1;
+    return code;
   }
   // A running daemon holds the database: refused (storage/db_lock.h).
   StatusOr<storage::DatabaseLock> lock =

@@ -41,6 +41,7 @@
 #include "api/http_client.h"
 #include "api/request_encode.h"
 #include "core/dataset/dataset_io.h"
+#include "service/data_quality_cli.h"
 #include "service/commands.h"
 
 namespace rollwear::cli {
@@ -548,23 +549,19 @@ int RunReplay(const ReplayArgs& args) {
     return probe.Get("/healthz").answered();
   }();
 
-  StatusOr<Dataset> data = ReadDataset(args.data);
-  if (!data.ok()) {
-    std::fprintf(stderr, "rollwear replay: %s\n",
-                 data.status().message().c_str());
-    return 1;
-  }
-  const Requests requests(*data);
+  Dataset data;
+  if (int code = ReadDatasetForTool("replay", args.data, &data)) return code;
+  const Requests requests(data);
   const std::vector<Event> timeline =
       requests.Timeline(args.leave_last_open);
   const bool quiet = args.quiet;
-  const auto total_coils = static_cast<int64_t>(data->coil_ids.size());
+  const auto total_coils = static_cast<int64_t>(data.coil_ids.size());
   if (!quiet) {
     std::printf(
         "replay: %zu campaigns, %lld coils, %zu measurements, %d profiles "
         "-> %s with %lld clients%s\n",
-        data->campaigns.size(), static_cast<long long>(total_coils),
-        data->measurements.size(), requests.profiles(), options.url.c_str(),
+        data.campaigns.size(), static_cast<long long>(total_coils),
+        data.measurements.size(), requests.profiles(), options.url.c_str(),
         clients,
         speed > 0 ? (", speed x" + std::to_string(speed)).c_str()
                   : ", as fast as possible");

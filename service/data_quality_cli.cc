@@ -1,6 +1,7 @@
 #include "service/data_quality_cli.h"
 
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <utility>
@@ -9,10 +10,41 @@
 
 namespace rollwear::cli {
 
+int DatasetReadOptionsFromEnvironment(const char* tool,
+                                      DatasetReadOptions* out) {
+  const char* text = std::getenv("ROLLWEAR_UTC_OFFSET");
+  if (text == nullptr || *text == '\0') return 0;
+  int offset_s = 0;
+  if (!ParseUtcOffset(text, &offset_s)) {
+    std::fprintf(stderr,
+                 "rollwear %s: ROLLWEAR_UTC_OFFSET '%s' is not a UTC offset "
+                 "(want +HH:MM, -HH:MM or Z, e.g. +01:00)\n",
+                 tool, text);
+    return 2;
+  }
+  out->local_utc_offset_s = offset_s;
+  return 0;
+}
+
+int ReadDatasetForTool(const char* tool, const std::string& dir, Dataset* out) {
+  DatasetReadOptions options;
+  if (int code = DatasetReadOptionsFromEnvironment(tool, &options)) return code;
+  StatusOr<Dataset> data = ReadDataset(dir, nullptr, options);
+  if (!data.ok()) {
+    std::fprintf(stderr, "rollwear %s: %s\n", tool,
+                 data.status().message().c_str());
+    return 1;
+  }
+  *out = *std::move(data);
+  return 0;
+}
+
 int ReadCheckedDataset(const char* tool, const std::string& dir, bool strict,
                        CheckedDataset* out) {
+  DatasetReadOptions options;
+  if (int code = DatasetReadOptionsFromEnvironment(tool, &options)) return code;
   DatasetLines& lines = out->lines;
-  StatusOr<Dataset> data = ReadDataset(dir, &lines);
+  StatusOr<Dataset> data = ReadDataset(dir, &lines, options);
   if (!data.ok()) {
     std::fprintf(stderr, "rollwear %s: %s\n", tool,
                  data.status().message().c_str());

@@ -17,6 +17,7 @@
 
 #include "api/data_quality_json.h"
 #include "core/dataset/data_quality.h"
+#include "core/dataset/dataset_io.h"
 #include "core/dataset/dataset.h"
 #include "core/model/given_split.h"
 
@@ -29,9 +30,21 @@ struct CheckedDataset {
   DatasetLines lines;  // where the rows of `all` were read from
 };
 
-// Reads DIR, assesses it and prints the summary. Returns 0 and fills `out`,
-// or the exit code after printing "rollwear TOOL: ..." on stderr: 1 when the
-// folder is rejected, or when `strict` and there is a warning.
+// The dataset reader's settings from the environment: ROLLWEAR_UTC_OFFSET
+// (+HH:MM, -HH:MM or Z), the fixed UTC offset of timestamps written without
+// one (docs/data-format.md). Returns 0 and fills `out`, or 2 after printing
+// "rollwear TOOL: ROLLWEAR_UTC_OFFSET ..." on stderr when it is malformed.
+int DatasetReadOptionsFromEnvironment(const char* tool, DatasetReadOptions* out);
+
+// Reads DIR with the settings above, unassessed. Returns 0, or the exit
+// code after printing "rollwear TOOL: ..." on stderr (1 rejected, 2 a
+// malformed setting).
+int ReadDatasetForTool(const char* tool, const std::string& dir, Dataset* out);
+
+// Reads DIR (with the settings above), assesses it and prints the summary.
+// Returns 0 and fills `out`, or the exit code after printing "rollwear TOOL:
+// ..." on stderr: 1 when the folder is rejected, or when `strict` and there
+// is a warning; 2 when ROLLWEAR_UTC_OFFSET is malformed.
 int ReadCheckedDataset(const char* tool, const std::string& dir, bool strict,
                        CheckedDataset* out);
 

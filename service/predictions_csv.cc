@@ -65,8 +65,14 @@ std::vector<PredictionRow> MeasuredPredictionRows(
     const std::vector<std::string>& original_id) {
   std::vector<PredictionRow> rows;
   for (const MeasuredPrediction& p : predictions) {
-    const double sd =
+    // The roll's own factor's uncertainty too (model_terms.h).
+    const double noise =
         std::hypot(model.noise_sd_um, model.noise_rel * p.wear_um);
+    const double sd =
+        WidenForRollFactor(model.terms,
+                           data.measurements[p.measurement].roll_id,
+                           p.wear_um, kZ95 * noise) /
+        kZ95;
     rows.push_back(RowOf(data, p.campaign, p.measurement, train, p.measured_um,
                          p.expected_um, sd, original_id));
   }

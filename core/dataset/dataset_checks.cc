@@ -132,11 +132,13 @@ Status FileView::Integer(size_t r, int k, int64_t* out) const {
 Status FileView::Time(size_t r, int k, UnixSeconds* out) const {
   const std::string_view raw = csv::Trim(Raw(r, k));
   if (raw.empty()) return Error(r, k, "required field is empty");
-  if (!ParseTimestampView(raw, out)) {
+  const int* local = local_utc_offset_s_ ? &*local_utc_offset_s_ : nullptr;
+  if (!ParseTimestampView(raw, out, local)) {
     return Error(r, k,
                  "unparsable timestamp " + Quote(raw) +
                      " (want ISO 8601 with offset, e.g. "
-                     "2026-03-01T06:12:00Z)");
+                     "2026-03-01T06:12:00Z; local times without an offset "
+                     "need the setting ROLLWEAR_UTC_OFFSET=+HH:MM)");
   }
   return Status::Ok();
 }

@@ -11,6 +11,7 @@
 #define ROLLWEAR_CORE_DATASET_DATASET_CHECKS_H_
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <unordered_map>
@@ -72,6 +73,12 @@ class FileView {
   // header naming a column twice.
   Status Bind();
 
+  // Set: Time() reads a timestamp without offset as local time at this
+  // offset (seconds east of UTC); unset: it is an error.
+  void set_local_utc_offset(std::optional<int> offset_s) {
+    local_utc_offset_s_ = offset_s;
+  }
+
   size_t rows() const { return table_.num_records(); }
   int line(size_t r) const { return table_.line(r); }
 
@@ -114,6 +121,7 @@ class FileView {
   const csv::Table& table_;
   const char* file_;
   ColumnList columns_;
+  std::optional<int> local_utc_offset_s_;
   std::vector<int> cols_;   // column k -> 0-based field index
   std::vector<int> extra_;  // field indices of unknown columns
 };

@@ -364,7 +364,8 @@ Status ReadProfiles(const FileView& f, LabelIndex* campaigns,
 // Validates and converts the four file contents (in DatasetFile order) and
 // profiles.csv's when `profiles` is not null.
 StatusOr<Dataset> ParseDataset(std::string (&texts)[kNumDatasetFiles],
-                               std::string* profiles, DatasetLines* lines) {
+                               std::string* profiles, DatasetLines* lines,
+                               const DatasetReadOptions& options) {
   DatasetLines unused;
   if (lines == nullptr) lines = &unused;
   *lines = DatasetLines();
@@ -381,6 +382,7 @@ StatusOr<Dataset> ParseDataset(std::string (&texts)[kNumDatasetFiles],
   files.reserve(kNumDatasetFiles);
   for (int i = 0; i < kNumDatasetFiles; ++i) {
     files.emplace_back(tables[i], kDatasetFileNames[i], kDatasetColumns[i]);
+    files.back().set_local_utc_offset(options.local_utc_offset_s);
     ROLLWEAR_RETURN_IF_ERROR(files.back().Bind());
   }
   Dataset d;
@@ -399,6 +401,7 @@ StatusOr<Dataset> ParseDataset(std::string (&texts)[kNumDatasetFiles],
     ROLLWEAR_ASSIGN_OR_RETURN(
         csv::Table t, csv::Table::Parse(std::move(*profiles), kProfilesFileName));
     FileView f(t, kProfilesFileName, kProfileColumns);
+    f.set_local_utc_offset(options.local_utc_offset_s);
     ROLLWEAR_RETURN_IF_ERROR(f.Bind());
     ROLLWEAR_RETURN_IF_ERROR(ReadProfiles(f, &campaigns, mount_of, &d,
                                           &lines->profile_points));
@@ -451,7 +454,8 @@ Status MissingFile(int file, const std::string& detail) {
 
 }  // namespace
 
-StatusOr<Dataset> ReadDataset(const std::string& dir, DatasetLines* lines) {
+StatusOr<Dataset> ReadDataset(const std::string& dir, DatasetLines* lines,
+                              const DatasetReadOptions& options) {
   std::string texts[kNumDatasetFiles];
   for (int i = 0; i < kNumDatasetFiles; ++i) {
     const std::string path = dir + "/" + kDatasetFileNames[i];
@@ -472,7 +476,7 @@ StatusOr<Dataset> ReadDataset(const std::string& dir, DatasetLines* lines) {
   std::FILE* fp = std::fopen(profiles_path.c_str(), "rb");
   if (fp == nullptr) {
     const int err = errno;
-    if (err == ENOENT) return ParseDataset(texts, nullptr, lines);
+    if (err == ENOENT) return ParseDataset(texts, nullptr, lines, options);
     return Status::IoError("cannot open " + profiles_path + ": " +
                            std::strerror(err));
   }
@@ -480,11 +484,12 @@ StatusOr<Dataset> ReadDataset(const std::string& dir, DatasetLines* lines) {
   const bool ok = ReadAll(fp, &profiles);
   std::fclose(fp);
   if (!ok) return Status::IoError("cannot read " + profiles_path);
-  return ParseDataset(texts, &profiles, lines);
+  return ParseDataset(texts, &profiles, lines, options);
 }
 
 StatusOr<Dataset> ReadDatasetStreams(const DatasetStreams& in,
-                                     DatasetLines* lines) {
+                                     DatasetLines* lines,
+                                     const DatasetReadOptions& options) {
   std::istream* streams[kNumDatasetFiles] = {in.campaigns, in.mounts, in.coils,
                                              in.measurements};
   std::string texts[kNumDatasetFiles];
@@ -495,12 +500,12 @@ StatusOr<Dataset> ReadDatasetStreams(const DatasetStreams& in,
                              kDatasetFileNames[i]);
     }
   }
-  if (in.profiles == nullptr) return ParseDataset(texts, nullptr, lines);
+  if (in.profiles == nullptr) return ParseDataset(texts, nullptr, lines, options);
   std::string profiles;
   if (!ReadAll(in.profiles, &profiles)) {
     return Status::IoError(std::string("cannot read ") + kProfilesFileName);
   }
-  return ParseDataset(texts, &profiles, lines);
+  return ParseDataset(texts, &profiles, lines, options);
 }
 
 }  // namespace rollwear

@@ -12,6 +12,7 @@
 #define ROLLWEAR_CORE_DATASET_DATASET_IO_H_
 
 #include <istream>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -28,10 +29,20 @@ struct DatasetLines {
   std::vector<int> campaigns, mounts, passes, measurements, profile_points;
 };
 
+// How to read what a real export leaves out (docs/data-format.md, "What a
+// real export lacks").
+struct DatasetReadOptions {
+  // Set: a timestamp without a UTC offset is the mill's local time at this
+  // fixed offset (seconds east of UTC; the service's ROLLWEAR_UTC_OFFSET).
+  // Unset: such a timestamp is an error, never guessed.
+  std::optional<int> local_utc_offset_s;
+};
+
 // Reads DIR/{campaigns,mounts,coils,measurements}.csv and, when it exists,
 // DIR/profiles.csv; fills `lines` when given.
 StatusOr<Dataset> ReadDataset(const std::string& dir,
-                              DatasetLines* lines = nullptr);
+                              DatasetLines* lines = nullptr,
+                              const DatasetReadOptions& options = {});
 
 // The same from four streams. Error messages name them by the canonical file
 // names (campaigns.csv, ...); a null stream is reported as a missing file.
@@ -43,7 +54,8 @@ struct DatasetStreams {
   std::istream* profiles = nullptr;  // optional
 };
 StatusOr<Dataset> ReadDatasetStreams(const DatasetStreams& in,
-                                     DatasetLines* lines = nullptr);
+                                     DatasetLines* lines = nullptr,
+                                     const DatasetReadOptions& options = {});
 
 // Writes the four CSV files into `dir` (created if missing), and
 // profiles.csv when the dataset has profile points.

@@ -60,7 +60,25 @@ bool Expect(std::string_view text, size_t* pos, char c) {
 
 }  // namespace
 
-bool ParseTimestampView(std::string_view text, UnixSeconds* out) {
+bool ParseUtcOffset(std::string_view text, int* offset_s) {
+  if (text == "Z") {
+    *offset_s = 0;
+    return true;
+  }
+  size_t pos = 0;
+  if (text.empty() || (text[0] != '+' && text[0] != '-')) return false;
+  const int sign = text[pos++] == '-' ? -1 : 1;
+  int oh = 0, om = 0;
+  if (!Digits(text, &pos, 2, &oh)) return false;
+  if (pos < text.size() && text[pos] == ':') ++pos;  // +HH:MM or +HHMM
+  if (!Digits(text, &pos, 2, &om) || pos != text.size()) return false;
+  if (oh > 23 || om > 59) return false;
+  *offset_s = sign * (oh * 3600 + om * 60);
+  return true;
+}
+
+bool ParseTimestampView(std::string_view text, UnixSeconds* out,
+                        const int* local_offset_s) {
   size_t pos = 0;
   int year = 0, month = 0, day = 0, hour = 0, minute = 0, second = 0;
   if (!Digits(text, &pos, 4, &year) || !Expect(text, &pos, '-') ||
@@ -83,19 +101,12 @@ bool ParseTimestampView(std::string_view text, UnixSeconds* out) {
     while (pos < text.size() && text[pos] >= '0' && text[pos] <= '9') ++pos;
     if (pos == start) return false;
   }
-  if (pos >= text.size()) return false;  // the offset is mandatory
+  // The offset is mandatory unless a local offset is set.
   int offset_s = 0;
-  const char sign = text[pos++];
-  if (sign == 'Z') {
-    if (pos != text.size()) return false;
-  } else if (sign == '+' || sign == '-') {
-    int oh, om;
-    if (!Digits(text, &pos, 2, &oh)) return false;
-    if (pos < text.size() && text[pos] == ':') ++pos;  // +HH:MM or +HHMM
-    if (!Digits(text, &pos, 2, &om) || pos != text.size()) return false;
-    if (oh > 23 || om > 59) return false;
-    offset_s = (oh * 3600 + om * 60) * (sign == '-' ? -1 : 1);
-  } else {
+  if (pos >= text.size()) {
+    if (local_offset_s == nullptr) return false;
+    offset_s = *local_offset_s;
+  } else if (!ParseUtcOffset(text.substr(pos), &offset_s)) {
     return false;
   }
   const int64_t days = DaysFromCivil(year, month, day);

@@ -302,8 +302,9 @@ void FitTrainingNoise(const WearStatistics& stats,
     return;
   }
   const RobustNoise noise = FitRobustNoise(pred, err);
-  model->noise_sd_um = noise.noise_sd_um;
-  model->noise_rel = noise.noise_rel;
+  const double c = TailCoverageScale(noise.u);  // robust.h
+  model->noise_sd_um = c * noise.noise_sd_um;
+  model->noise_rel = c * noise.noise_rel;
 }
 
 }  // namespace calibration_internal

@@ -34,6 +34,17 @@ double RobustNoise::SdAt(double pred) const {
   return std::max(std::hypot(noise_sd_um, noise_rel * pred), 1e-6);
 }
 
+double TailCoverageScale(const std::vector<double>& u) {
+  std::vector<double> a;
+  for (double x : u) {
+    if (std::isfinite(x)) a.push_back(std::abs(x));
+  }
+  if (a.empty()) return 1;
+  const size_t k = static_cast<size_t>(std::ceil(0.95 * a.size())) - 1;
+  std::nth_element(a.begin(), a.begin() + k, a.end());
+  return std::max(1.0, a[k] / 1.959963984540054);
+}
+
 RobustNoise FitRobustNoise(const std::vector<double>& pred,
                            const std::vector<double>& err) {
   RobustNoise out;

@@ -8,6 +8,7 @@
 #include "core/fit/calibration.h"
 #include "core/model/aggregation.h"
 #include "core/model/k_structure.h"
+#include "core/fit/robust.h"
 #include "core/fit/term_fit.h"
 
 namespace rollwear {
@@ -137,13 +138,11 @@ double GradePriorSd(const Dataset& data, WearLaw law,
   return fit->grade_shrinkage.tau;
 }
 
-}  // namespace
-
-StatusOr<WearModel> RefitWithTerms(const Dataset& data, WearLaw law,
-                                   const std::vector<ModelTerm>& terms,
-                                   const std::vector<int>& train_campaigns) {
-  ROLLWEAR_ASSIGN_OR_RETURN(TermData td, BuildTermData(data, law));
-  td.grade_prior_sd = GradePriorSd(data, law, train_campaigns);
+// The terms as fit specifications on `td`: each term's covariate found,
+// its side (wear rate or reading) and parameter count checked, its levels
+// aligned with the data's, its bounds and prior set.
+StatusOr<std::vector<TermSpec>> SpecsOf(const TermData& td,
+                                        const std::vector<ModelTerm>& terms) {
   std::vector<TermSpec> specs;
   for (const ModelTerm& t : terms) {
     TermSpec s;
@@ -182,6 +181,17 @@ StatusOr<WearModel> RefitWithTerms(const Dataset& data, WearLaw law,
     }
     specs.push_back(std::move(s));
   }
+  return specs;
+}
+
+}  // namespace
+
+StatusOr<WearModel> RefitWithTerms(const Dataset& data, WearLaw law,
+                                   const std::vector<ModelTerm>& terms,
+                                   const std::vector<int>& train_campaigns) {
+  ROLLWEAR_ASSIGN_OR_RETURN(TermData td, BuildTermData(data, law));
+  td.grade_prior_sd = GradePriorSd(data, law, train_campaigns);
+  ROLLWEAR_ASSIGN_OR_RETURN(std::vector<TermSpec> specs, SpecsOf(td, terms));
   const std::set<int> train(train_campaigns.begin(), train_campaigns.end());
   std::vector<int> subset;
   for (int o = 0; o < static_cast<int>(td.obs.size()); ++o) {
@@ -215,6 +225,17 @@ StatusOr<WearModel> RefitWithTerms(const Dataset& data, WearLaw law,
   model.k.clear();
   for (double lk : log_k) model.k.push_back(std::exp(lk));
   SetRollEffectSpread(td, subset, sd, log_k, &specs);
+  // The served interval covers the training readings' tails (robust.h).
+  const std::vector<double> pred = PredictTerms(td, subset, log_k, specs);
+  std::vector<double> u;
+  for (size_t i = 0; i < subset.size(); ++i) {
+    const double sd_i =
+        std::hypot(model.noise_sd_um, model.noise_rel * pred[i]);
+    u.push_back((td.obs[subset[i]].measured_um - pred[i]) / sd_i);
+  }
+  const double c = TailCoverageScale(u);
+  model.noise_sd_um *= c;
+  model.noise_rel *= c;
   model.terms.clear();
   for (const TermSpec& s : specs) model.terms.push_back(s.term);
   return model;

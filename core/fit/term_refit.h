@@ -11,6 +11,9 @@
 // sd_o for a second, weighted fit, and that fit's for a third: the Huber
 // loss the diagnosis used when it adopted the terms.
 //
+// The model's noise model is the last pass's, widened to cover the
+// training readings' tails (robust.h, TailCoverageScale).
+//
 // Grades: shrunk toward the typical grade (term_fit.h's grade prior) with
 // the between-grade sd tau of option 1's calibration on the same training
 // campaigns (calibration.h), where that calibration shrinks them.

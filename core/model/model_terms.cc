@@ -93,6 +93,7 @@ std::optional<RollWearFactor> RollWearFactorOf(const std::vector<ModelTerm>& ter
     RollWearFactor f;
     f.lo = std::exp(-kZ95 * t.scale);
     f.hi = std::exp(kZ95 * t.scale);
+    f.log_sd = t.scale;
     const size_t n = std::min(t.levels.size(), t.params.size());
     for (size_t l = 0; l < n; ++l) {
       if (t.levels[l] != roll_id) continue;
@@ -103,12 +104,20 @@ std::optional<RollWearFactor> RollWearFactorOf(const std::vector<ModelTerm>& ter
       // the counts: its factor is then the fit's, not the prior's).
       f.known = f.readings > 0 || t.level_readings.empty();
       f.value = std::exp(b);
+      f.log_sd = sd;
       f.lo = std::exp(b - kZ95 * sd);
       f.hi = std::exp(b + kZ95 * sd);
     }
     return f;
   }
   return std::nullopt;
+}
+
+double WidenForRollFactor(const std::vector<ModelTerm>& terms,
+                          const std::string& roll_id, double wear, double half) {
+  const std::optional<RollWearFactor> f = RollWearFactorOf(terms, roll_id);
+  if (!f) return half;
+  return std::hypot(half, 1.959963984540054 * wear * f->log_sd);
 }
 
 double TermMultiplier(const ModelTerm& t, double z, double* grad) {

@@ -140,12 +140,21 @@ int TermBin(const ModelTerm& t, double z);
 // 1 with the prior's interval exp(+-1.96 scale) and 0 readings.
 struct RollWearFactor {
   double value = 1, lo = 1, hi = 1;
+  double log_sd = 0;  // sd_r (or the prior's scale): the sd of log factor
   int readings = 0;
   bool known = false;  // the roll had training readings
 };
 // nullopt when `terms` has no roll-effect term.
 std::optional<RollWearFactor> RollWearFactorOf(const std::vector<ModelTerm>& terms,
                                                const std::string& roll_id);
+
+// The half-width of a 95 % interval of predicted wear `wear` on roll
+// `roll_id`, widened for the uncertainty of the roll's own factor (a
+// roll-effect term): sqrt(half^2 + (1.96 wear sd_r)^2), the delta method
+// on wear = exp(b_r) x (d wear / d b_r = wear), as roll_effects.h's
+// intervals; `half` unchanged without such a term.
+double WidenForRollFactor(const std::vector<ModelTerm>& terms,
+                          const std::string& roll_id, double wear, double half);
 
 }  // namespace rollwear
 

@@ -193,7 +193,10 @@ std::pair<double, double> WearInterval(const WearModel& model,
     const double half = 1.959963984540054 * std::sqrt(var);
     return {d - half, d + half};
   }
-  return model.Interval(state.wear_um, state.gradient.data());
+  const auto [lo, hi] = model.Interval(state.wear_um, state.gradient.data());
+  const double half = WidenForRollFactor(model.terms, state.roll_id,
+                                         state.wear_um, (hi - lo) / 2);
+  return {state.wear_um - half, state.wear_um + half};
 }
 
 }  // namespace rollwear

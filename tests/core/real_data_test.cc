@@ -4,12 +4,14 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "core/dataset/data_quality.h"
+#include "core/dataset/dataset_io.h"
 #include "core/fit/identification.h"
 #include "core/fit/roll_effects.h"
 #include "core/fit/study.h"
@@ -54,6 +56,51 @@ TEST(RealExportTest, EmptyRollTypeHardnessLubricationAndGrinderTimeAreRead) {
   EXPECT_NE(nik.status().message().find("mounts.csv: hardness_hb is empty"),
             std::string::npos)
       << nik.status().message();
+}
+
+// The mill's local time without an offset (the study's workbooks): refused,
+// naming file, line and field, unless the reader is given the fixed offset
+// (DatasetReadOptions, the service's ROLLWEAR_UTC_OFFSET); a timestamp that
+// carries its own offset keeps it.
+TEST(RealExportTest, LocalTimesNeedTheirOffsetAndAreNeverGuessed) {
+  dataset_test::DatasetTexts t = TinyTexts();
+  SetField(&t.campaigns, 2, "started_at", "2026-03-01T07:00:00");
+  SetField(&t.measurements, 2, "measured_at", "2026-03-01T19:00:00.5");
+  StatusOr<Dataset> refused = ReadTexts(t);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.status().message().find(
+                "campaigns.csv:2:2 started_at: unparsable timestamp "
+                "'2026-03-01T07:00:00'"),
+            std::string::npos)
+      << refused.status().message();
+  EXPECT_NE(refused.status().message().find("ROLLWEAR_UTC_OFFSET"),
+            std::string::npos);
+
+  std::istringstream c(t.campaigns), m(t.mounts), p(t.coils),
+      s(t.measurements);
+  DatasetReadOptions options;
+  options.local_utc_offset_s = 3600;  // +01:00
+  StatusOr<Dataset> d = ReadDatasetStreams({&c, &m, &p, &s}, nullptr, options);
+  ASSERT_TRUE(d.ok()) << d.status().ToString();
+  UnixSeconds utc = 0;
+  ASSERT_TRUE(ParseTimestamp("2026-03-01T06:00:00Z", &utc));
+  EXPECT_EQ(d->campaigns[0].started_at, utc);
+  ASSERT_TRUE(ParseTimestamp("2026-03-01T18:00:00Z", &utc));
+  EXPECT_EQ(d->measurements[0].measured_at, utc);
+  // C2 carries +01:00 itself, C1's end is Z: both unchanged.
+  ASSERT_TRUE(ParseTimestamp("2026-03-01T14:00:00Z", &utc));
+  EXPECT_EQ(d->campaigns[0].ended_at, utc);
+  ASSERT_TRUE(ParseTimestamp("2026-03-01T14:00:00Z", &utc));
+  EXPECT_EQ(d->campaigns[1].started_at, utc);
+
+  int offset = 0;
+  EXPECT_TRUE(ParseUtcOffset("-05:30", &offset));
+  EXPECT_EQ(offset, -(5 * 3600 + 30 * 60));
+  EXPECT_TRUE(ParseUtcOffset("Z", &offset));
+  EXPECT_EQ(offset, 0);
+  for (const char* bad : {"", "+1", "+24:00", "01:00", "+01:60", "CET"}) {
+    EXPECT_FALSE(ParseUtcOffset(bad, &offset)) << bad;
+  }
 }
 
 TEST(RealExportTest, AnythingElseStaysARule) {

@@ -7,7 +7,9 @@
 //    files, `rollwear calibrate` runs on it, it works while a daemon runs on
 //    the database, and it refuses a non-empty --out.
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -190,6 +192,64 @@ TEST(ShopTest, ExportKeepsExtraColumns) {
             0)
       << output;
   ExpectSameFiles(dir / "exp", dir / "exp2");
+}
+
+// A dataset in the mill's local time (no UTC offsets, as the study's
+// workbooks): `import` refuses it naming file, line, field and the setting,
+// changing nothing; with ROLLWEAR_UTC_OFFSET=+02:00 it imports, and the
+// export writes each time two hours earlier in UTC; a malformed setting is
+// a usage error.
+TEST(ShopTest, LocalTimesImportOnlyWithTheirStatedOffset) {
+  TempDir dir;
+  std::string error, output;
+  ASSERT_TRUE(Simulate(dir / "data", 3, 31, &error)) << error;
+  const std::string utc = ReadFile(dir / "data/campaigns.csv");
+  std::string local = utc;
+  for (size_t at = local.find('Z'); at != std::string::npos;
+       at = local.find('Z', at)) {
+    local.erase(at, 1);
+  }
+  {
+    std::ofstream out(dir / "data/campaigns.csv", std::ios::trunc);
+    out << local;
+  }
+  auto import = [&](const std::vector<std::string>& env,
+                    const std::string& db) {
+    Subprocess p({ROLLWEAR_BINARY, "import", "--db", db, dir / "data"},
+                 dir / "import.log", env);
+    const int code = p.Wait(300);
+    output = ReadFile(dir / "import.log");
+    std::filesystem::remove(dir / "import.log");
+    return code;
+  };
+  EXPECT_EQ(import({}, dir / "a.db"), 1) << output;
+  EXPECT_NE(output.find("campaigns.csv:2:2 started_at: unparsable timestamp"),
+            std::string::npos)
+      << output;
+  EXPECT_NE(output.find("ROLLWEAR_UTC_OFFSET=+HH:MM"), std::string::npos);
+  EXPECT_EQ(import({"ROLLWEAR_UTC_OFFSET=CET"}, dir / "a.db"), 2) << output;
+  EXPECT_NE(output.find("ROLLWEAR_UTC_OFFSET 'CET' is not a UTC offset"),
+            std::string::npos)
+      << output;
+  ASSERT_EQ(import({"ROLLWEAR_UTC_OFFSET=+02:00"}, dir / "a.db"), 0) << output;
+  ASSERT_EQ(RunRollwear({"export", "--db", dir / "a.db", "--out", dir / "exp"},
+                        &output),
+            0)
+      << output;
+  // The first campaign's start, as simulated (UTC) and as exported.
+  const auto first_start = [](const std::string& text) {
+    const size_t line = text.find('\n') + 1;
+    const size_t comma = text.find(',', line) + 1;
+    return text.substr(comma, 19);
+  };
+  const std::string simulated = first_start(utc);
+  const std::string exported = first_start(ReadFile(dir / "exp/campaigns.csv"));
+  const int hour = std::stoi(simulated.substr(11, 2));
+  ASSERT_GE(hour, 2) << simulated;  // same day two hours earlier
+  char want[32];
+  std::snprintf(want, sizeof(want), "%s%02d%s", simulated.substr(0, 11).c_str(),
+                hour - 2, simulated.substr(13).c_str());
+  EXPECT_EQ(exported, want) << simulated;
 }
 
 }  // namespace
