@@ -7,6 +7,7 @@
 #include <cmath>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -68,15 +69,22 @@ WearStatistics WangStats(const Dataset& data) {
   return std::move(st).value();
 }
 
+// Option 1 with its grades fitted freely, and shrunk (the default), on
+// one split.
+std::pair<StatusOr<SplitCalibration>, StatusOr<SplitCalibration>> FreeAndShrunk(
+    const WearStatistics& st, const CampaignSplit& split) {
+  CalibrationOptions free_opts;
+  free_opts.shrink_grades = false;
+  return {CalibrateOnSplit(st, split, free_opts),
+          CalibrateOnSplit(st, split, {})};
+}
+
 TEST(GradeShrinkageTest, RareGradeCodesAreShrunkIdentifiedAndPredictBetter) {
   const SplitGrades mill = MillWithRareGradeCodes(5, 60);
   const WearStatistics st = WangStats(mill.sim.data);
   ASSERT_GT(st.grades.size(), 60u);
   const CampaignSplit split = SplitCampaigns(st);
-  CalibrationOptions free_opts;
-  free_opts.shrink_grades = false;
-  StatusOr<SplitCalibration> free_fit = CalibrateOnSplit(st, split, free_opts);
-  StatusOr<SplitCalibration> shrunk = CalibrateOnSplit(st, split, {});
+  const auto [free_fit, shrunk] = FreeAndShrunk(st, split);
   ASSERT_TRUE(free_fit.ok() && shrunk.ok());
   ASSERT_TRUE(shrunk->result.summary.usable);
   EXPECT_FALSE(free_fit->result.grade_shrinkage.applied);
@@ -141,10 +149,7 @@ TEST(GradeShrinkageTest, WellUsedGradesAreShrunkLittleAndPredictNoWorse) {
   ASSERT_TRUE(sim.ok());
   const WearStatistics st = WangStats(sim->data);
   const CampaignSplit split = SplitCampaigns(st);
-  CalibrationOptions free_opts;
-  free_opts.shrink_grades = false;
-  StatusOr<SplitCalibration> free_fit = CalibrateOnSplit(st, split, free_opts);
-  StatusOr<SplitCalibration> shrunk = CalibrateOnSplit(st, split, {});
+  const auto [free_fit, shrunk] = FreeAndShrunk(st, split);
   ASSERT_TRUE(free_fit.ok() && shrunk.ok());
   const GradeShrinkage& g = shrunk->result.grade_shrinkage;
   ASSERT_TRUE(g.applied);
