@@ -36,12 +36,17 @@ StatusOr<Baseline> RunBaseline(const Dataset& data,
   report->baseline_grades = "grades fitted freely";
   if (!free_id.at_bound.empty() || !free_id.large_error.empty()) {
     co.shrink_grades = true;
-    ROLLWEAR_ASSIGN_OR_RETURN(SplitCalibration shrunk,
-                              CalibrateOnSplit(stats, base.split, co));
-    if (shrunk.result.summary.usable && shrunk.result.grade_shrinkage.applied) {
-      report->baseline_grades = shrunk.result.grade_shrinkage.Sentence() +
+    // A shrunk fit that fails leaves the free one (and says so).
+    StatusOr<SplitCalibration> shrunk = CalibrateOnSplit(stats, base.split, co);
+    if (shrunk.ok() && shrunk->result.summary.usable &&
+        shrunk->result.grade_shrinkage.applied) {
+      report->baseline_grades = shrunk->result.grade_shrinkage.Sentence() +
                                 ": the free fit is " + free_id.Sentence();
-      base.calibration = std::move(shrunk);
+      base.calibration = *std::move(shrunk);
+    } else {
+      report->baseline_grades =
+          "grades fitted freely (their shrunk fit failed): the free fit is " +
+          free_id.Sentence();
     }
   }
   if (!base.calibration.result.summary.usable) {

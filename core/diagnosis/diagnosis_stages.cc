@@ -644,8 +644,11 @@ void Summarise(const Dataset& data, const DiagnosisOptions& options,
       e.push_back(td.obs[st.train[i]].measured_um - pt[i]);
     }
     const RobustNoise noise = FitRobustNoise(pt, e);
-    m.noise_sd_um = noise.noise_sd_um;
-    m.noise_rel = noise.noise_rel;
+    // Served widened to cover the training tails, as calibrate's (robust.h);
+    // outliers and the locate below judge against the robust noise itself.
+    const double c = TailCoverageScale(noise.u);
+    m.noise_sd_um = c * noise.noise_sd_um;
+    m.noise_rel = c * noise.noise_rel;
     ListOutliers(data, st, after_all, noise, report);
     // Appended to what the proxy guard located in the last round.
     for (Unexplained& u :

@@ -412,7 +412,8 @@ void Solve(Fit* fit, const std::vector<int>& free, SolverSetup* setup,
 }
 
 // Stage 8. Ceres covariance (dense SVD, pseudo-inverse) of the free
-// parameters, scaled by s^2 = sum r^2 / (m - n) and mapped to the reported
+// parameters, scaled by s^2 = sum r^2 / (m - n) (r and m include the grade
+// shrinkage's prior rows: s^2 is sigma^2 at its fixed point) and mapped to the reported
 // gauge; sets model->covariance and the standard errors of the identified
 // parameters. Leaves both untouched when Ceres cannot compute it.
 void EstimateCovariance(const Fit& fit, const std::vector<int>& free,
@@ -505,22 +506,34 @@ GradeShrinkage ShrinkGrades(Fit* fit, const std::vector<int>& free,
                             std::vector<double>* residuals,
                             CalibrationSummary* s) {
   GradeShrinkage g;
-  g.applied = true;
   g.levels = static_cast<int>(fit->shrunk_grades().size());
   double tau = 0;
   for (int round = 0; round < kMaxShrinkageRounds && s->usable; ++round) {
     const EvidenceUpdate up = UpdateGradeEvidence(fit, free, *theta);
-    if (!up.ok) break;
+    if (!up.ok) break;  // keeps the last solve and its figures
+    g.applied = true;
     ++g.rounds;
     g.sigma = up.sigma;
     g.effective_parameters = up.gamma;
     g.converged = tau > 0 && std::abs(std::log(up.tau / tau)) < 0.01;
     tau = g.tau = up.tau;
     if (g.converged) break;
+    // The next solve from this optimum; a failed one leaves this round's
+    // solution, problem and summary in place.
+    const double previous_scale = fit->grade_scale();
+    const std::vector<double> previous_theta = *theta;
+    const CalibrationSummary previous_summary = *s;
     fit->set_grade_scale(up.sigma / up.tau);
     auto next = std::make_unique<SolverSetup>();
     SetUpSolver(fit, *theta, free, options, next.get());
     Solve(fit, free, next.get(), theta, residuals, s);
+    if (!s->usable) {
+      fit->set_grade_scale(previous_scale);
+      *theta = previous_theta;
+      fit->Evaluate(theta->data(), residuals->data(), nullptr);
+      *s = previous_summary;
+      break;
+    }
     *solver = std::move(next);
   }
   return g;
@@ -557,14 +570,16 @@ StatusOr<CalibrationResult> Calibrate(const WearStatistics& stats,
   s.num_free_parameters = nf;
   s.num_observations = static_cast<int>(train.size());
   const bool shrink = !fit.shrunk_grades().empty() && nf > 0;
-  if (shrink) {  // a weak start, tau = 1 on log kS, sigma of the start
-    fit.set_grade_scale(std::sqrt(s.initial_cost / fit.num_data_rows()));
+  if (shrink) {  // a weak start: tau = 3 on log kS, sigma of the start
+    constexpr double kStartTau = 3;
+    fit.set_grade_scale(std::sqrt(s.initial_cost / fit.num_data_rows()) /
+                        kStartTau);
   }
 
   auto solver = std::make_unique<ci::SolverSetup>();
   ci::SetUpSolver(&fit, theta, free, options, solver.get());
   ci::Solve(&fit, free, solver.get(), &theta, &residuals, &s);
-  if (shrink) {
+  if (shrink && s.usable) {
     result.grade_shrinkage = ci::ShrinkGrades(&fit, free, options, &solver,
                                               &theta, &residuals, &s);
   }

@@ -224,7 +224,7 @@ EvidenceUpdate UpdateGradeEvidence(Fit* fit, const std::vector<int>& free,
   // H = J'J, prior rows included; [H^-1]_ss of every shrunk grade.
   const Eigen::MatrixXd h = j.transpose() * j;
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(h);
-  if (ldlt.info() != Eigen::Success) return up;
+  if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-12)) return up;
   const Eigen::MatrixXd h_inv = ldlt.solve(Eigen::MatrixXd::Identity(nf, nf));
   const double lambda = fit->grade_scale();
   double sum_sq = 0;

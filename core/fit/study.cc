@@ -34,9 +34,14 @@ StatusOr<SplitCalibration> CalibrateOnSplit(const WearStatistics& stats,
                               : std::numeric_limits<double>::quiet_NaN();
   if (options.robust) {
     const WearModel& m = out.result.model;
-    RobustNoise noise;
-    noise.noise_sd_um = m.noise_sd_um;
-    noise.noise_rel = m.noise_rel;
+    // The robust noise model itself, not the served one widened to cover
+    // the tails (robust.h, TailCoverageScale): an outlier is judged against
+    // the bulk of the residuals.
+    std::vector<double> p_train = PredictAll(m, stats, train), e_train;
+    for (size_t i = 0; i < train.size(); ++i) {
+      e_train.push_back(stats.observations[train[i]].measured_um - p_train[i]);
+    }
+    const RobustNoise noise = FitRobustNoise(p_train, e_train);
     for (const std::vector<int>* set : {&train, &val}) {
       const std::vector<double> p = PredictAll(m, stats, *set);
       for (size_t i = 0; i < set->size(); ++i) {

@@ -306,7 +306,9 @@ StatusOr<TermFitResult> FitTerms(const TermData& data, const std::vector<int>& s
     std::vector<std::pair<const double*, const double*>> blocks = {{x.data(), x.data()}};
     if (covariance.Compute(blocks, &problem) &&
         covariance.GetCovarianceBlock(x.data(), x.data(), cx.data())) {
-      const double s2 = r.weighted_rss / std::max(1, static_cast<int>(subset.size()) - nf);
+      // The grade prior's rows are in weighted_rss and its G grades in nf.
+      const int rows = static_cast<int>(subset.size() + shrunk_grades.size());
+      const double s2 = r.weighted_rss / std::max(1, rows - nf);
       for (int i = n_coef; i < n; ++i) {
         const int fj = static_cast<int>(std::find(free.begin(), free.end(), i) - free.begin());
         r.term_std_error.push_back(std::sqrt(std::max(0.0, s2 * cx[fj * nf + fj])));

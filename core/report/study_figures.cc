@@ -59,6 +59,7 @@ StatusOr<WearModel> Fit(const LawRun& run, WearLaw law, int option,
   o.initial_set = InitialSet::kEmpirical;
   o.derivatives = DerivativeMode::kExact;
   o.compute_covariance = false;
+  o.shrink_grades = false;  // the study's fits (study.h)
   o.seed = seed;
   ROLLWEAR_ASSIGN_OR_RETURN(CalibrationResult r,
                             Calibrate(run.stats, run.train, o));
