@@ -50,28 +50,6 @@ bool CalibrationOptions::IsValid(std::string* error) const {
   return lm.IsValid(error);
 }
 
-std::string CalibrationSummary::BriefReport() const {
-  char buf[320];
-  std::snprintf(buf, sizeof(buf),
-                "%s after %d iterations (%d evaluations), cost %.6g -> %.6g "
-                "µm², %d free parameters, %d observations, %.3f s, %s",
-                termination.c_str(), iterations, evaluations, initial_cost,
-                final_cost, num_free_parameters, num_observations, seconds,
-                usable ? "usable" : ("NOT usable: " + message).c_str());
-  return buf;
-}
-
-std::string GradeShrinkage::Sentence() const {
-  if (!applied) return "grades fitted freely";
-  char buf[200];
-  std::snprintf(buf, sizeof(buf),
-                "%d grades shrunk toward the typical grade (random effect, "
-                "tau = %.3g on log kS, %.1f effective parameters%s)",
-                levels, tau, effective_parameters,
-                converged ? "" : ", tau not settled");
-  return buf;
-}
-
 namespace calibration_internal {
 
 Fit::Fit(const WearStatistics& stats, const std::vector<int>& train,

@@ -1,9 +1,10 @@
-// The stages of Calibrate() that need no Ceres: input validation, the
-// option-2 prefit, the initial set, gauge fixing, the grade shrinkage's
-// evidence update, the gauge transform of the result and the noise model
-// (see calibration_internal.h).
+// The stages of Calibrate() that need no Ceres (and the one-line reports of
+// calibration.h): input validation, the option-2 prefit, the initial set,
+// gauge fixing, the grade shrinkage's evidence update, the gauge transform
+// of the result and the noise model (see calibration_internal.h).
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,29 @@
 #include "core/fit/robust.h"
 
 namespace rollwear {
+
+std::string CalibrationSummary::BriefReport() const {
+  char buf[320];
+  std::snprintf(buf, sizeof(buf),
+                "%s after %d iterations (%d evaluations), cost %.6g -> %.6g "
+                "µm², %d free parameters, %d observations, %.3f s, %s",
+                termination.c_str(), iterations, evaluations, initial_cost,
+                final_cost, num_free_parameters, num_observations, seconds,
+                usable ? "usable" : ("NOT usable: " + message).c_str());
+  return buf;
+}
+
+std::string GradeShrinkage::Sentence() const {
+  if (!applied) return "grades fitted freely";
+  char buf[200];
+  std::snprintf(buf, sizeof(buf),
+                "%d grades shrunk toward the typical grade (random effect, "
+                "tau = %.3g on log kS, %.1f effective parameters%s)",
+                levels, tau, effective_parameters,
+                converged ? "" : ", tau not settled");
+  return buf;
+}
+
 namespace calibration_internal {
 namespace {
 
