@@ -139,7 +139,7 @@ HttpResponse Router::GetRollPage(const std::string& roll_id) {
   HttpResponse r;
   r.status = 200;
   r.content_type = "text/html; charset=utf-8";
-  r.body = RollHtml(*life, router_internal::ActiveWearFactor(*store_, *life));
+  r.body = RollHtml(*life, life->wear_factor);
   r.headers.emplace_back("Cache-Control", "no-store");
   return r;
 }

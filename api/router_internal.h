@@ -39,11 +39,6 @@ bool ParseInt64(std::string_view text, int64_t* out);
 std::optional<HttpResponse> ReadLimit(const HttpRequest& request,
                                       int64_t* limit);
 
-// The roll's own wear factor (model_terms.h RollWearFactorOf) under the
-// active model, when that is the model `life` was computed under and has a
-// roll-effect term; nullopt otherwise (also when a promotion came between).
-std::optional<RollWearFactor> ActiveWearFactor(storage::MillStore& store,
-                                               const storage::RollLife& life);
 }  // namespace rollwear::api::router_internal
 
 #endif  // ROLLWEAR_API_ROUTER_INTERNAL_H_

@@ -13,7 +13,6 @@
 
 namespace rollwear::api {
 
-using router_internal::ActiveWearFactor;
 using router_internal::Answer;
 using router_internal::Error;
 using router_internal::FromStatus;
@@ -71,7 +70,7 @@ HttpResponse Router::GetModelHistory(const HttpRequest& request) {
 HttpResponse Router::GetRoll(const std::string& roll_id) {
   StatusOr<storage::RollLife> life = store_->GetRollLife(roll_id);
   if (!life.ok()) return FromStatus(life.status());
-  return Answer(200, EncodeRollLife(*life, ActiveWearFactor(*store_, *life)));
+  return Answer(200, EncodeRollLife(*life, life->wear_factor));
 }
 
 HttpResponse Router::GetRolls() {
@@ -130,16 +129,5 @@ std::optional<DiagnosisJob> Router::StoredDiagnosisJob(int64_t id) const {
   }
   return job;
 }
-
-namespace router_internal {
-
-std::optional<RollWearFactor> ActiveWearFactor(storage::MillStore& store,
-                                               const storage::RollLife& life) {
-  StatusOr<storage::ModelVersion> model = store.ActiveModel();
-  if (!model.ok() || model->version != life.model_version) return std::nullopt;
-  return RollWearFactorOf(model->wear_model.terms, life.roll_id);
-}
-
-}  // namespace router_internal
 
 }  // namespace rollwear::api

@@ -132,7 +132,9 @@ class MillStore {
     return ImportDataset(data, nullptr, nullptr);
   }
 
-  // Models.
+  // Models. The active version as stored (its roll-effect factors as its
+  // calibration fitted them; the served ones follow the readings,
+  // RollLife::wear_factor and store_roll_factors.cc).
   virtual StatusOr<ModelVersion> ActiveModel() const = 0;
   virtual std::vector<ModelVersion> ListModels() const = 0;
   // One stored version, or version 0: the prior (the configured law, option
@@ -154,7 +156,8 @@ class MillStore {
       int limit) const = 0;
 
   // Rolls (storage/store_rolls.cc). A roll's life across campaigns, oldest
-  // mount first, predicted under the active model; NotFound for a roll
+  // mount first, predicted under the active model as served (with the
+  // roll's factor re-estimated from its readings); NotFound for a roll
   // never mounted.
   virtual StatusOr<RollLife> GetRollLife(const std::string& roll_id) const = 0;
   // Every roll ever mounted, by roll_id.

@@ -128,7 +128,7 @@ StatusOr<CalibrationRecord> MillStoreImpl::ClaimCalibration(int64_t id) {
 
 std::shared_ptr<const ModelVersion> MillStoreImpl::ActiveVersion() const {
   std::lock_guard<std::mutex> lock(mu_);
-  return model_;
+  return stored_model_;
 }
 
 Status MillStoreImpl::FinishCalibration(CalibrationRecord* run,

@@ -1,11 +1,12 @@
 // Internal to storage: the MillStore implementation (declared here, defined
 // in mill_store_impl.cc (opening, admission, reads), mill_store_writer.cc (the
 // group-commit writer and publishing), mill_store_calibration.cc (models and
-// the records of calibration runs)).
+// the records of calibration runs), store_roll_factors.cc (the served
+// model's per-roll factors) and the other store_*.cc files).
 //
 // State and locks:
 //   mu_ guards the catalogs, the queue, the live roll states, the active
-//       model pointer and the counters, committed_coil_ids_, and
+//       model pointers (as stored and as served) and the counters, committed_coil_ids_, and
 //       lookup_db_ (used to read a stored coil while admitting a write).
 //       Held only briefly, never across a commit.
 //   committed_  the catalog of what the database holds (published state);
@@ -47,6 +48,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -266,8 +268,18 @@ class MillStoreImpl final : public MillStore {
   void FailBatch(const std::vector<ItemPtr>& batch, const Status& error,
                  std::vector<ItemPtr>* finished);
   // Replays the open campaign's stored passes under `model` and installs
-  // model and roll states together (writer thread or Init).
-  void InstallModel(std::shared_ptr<const ModelVersion> model);
+  // model and roll states together (writer thread or Init). `model` is the
+  // version as stored; the served one has its rolls' factors re-estimated
+  // from their readings (store_roll_factors.cc) unless `served` is set,
+  // when `model` is already the served model of the stored version active.
+  // Publishes a committed import to the catalog and the counters (mu_
+  // held); true when the prior must be rebuilt for new positions.
+  bool PublishImportLocked(const WriteItem& item);
+  void InstallModel(std::shared_ptr<const ModelVersion> model,
+                    bool served = false);
+  // After a commit that stored readings of `rolls` (every roll when
+  // `all`): re-estimates their factors in the served model and installs it.
+  void RefreshRollFactors(const std::set<std::string>& rolls, bool all);
 
   const StoreOptions options_;
   std::string path_;
@@ -285,6 +297,10 @@ class MillStoreImpl final : public MillStore {
   CoilIdFilter committed_coil_ids_;
   Catalog spec_;
   std::array<std::optional<LiveRoll>, kNumRollPositionSlots> rolls_;
+  // The active model: as stored (ActiveModel, the promotion gate) and as
+  // served (predictions; the per-roll factors updated by their readings,
+  // store_roll_factors.cc). The same object without a roll-effect term.
+  std::shared_ptr<const ModelVersion> stored_model_;
   std::shared_ptr<const ModelVersion> model_;
   // Wear limits set through SetWearLimit (mu_), by slot.
   std::array<std::optional<WearLimit>, kNumRollPositionSlots> api_limits_;
@@ -311,6 +327,15 @@ class MillStoreImpl final : public MillStore {
 // open (mill_store_history.cc).
 double StoredReadingOffset(const WearModel& model, const CampaignRec& rec,
                            int slot);
+
+// `model` with its roll-effect term's levels re-estimated from the stored
+// plausible readings (core/model/roll_factor_update.h) of `rolls` (of
+// every measured roll when empty), each campaign replayed under `model`;
+// `model` itself when it has no roll-effect term or no such reading
+// (store_roll_factors.cc).
+StatusOr<std::shared_ptr<const ModelVersion>> WithRollReadings(
+    Db* db, const Catalog& catalog, std::shared_ptr<const ModelVersion> model,
+    const std::set<std::string>& rolls);
 
 }  // namespace rollwear::storage::internal
 

@@ -24,8 +24,11 @@
 #include <algorithm>
 #include <mutex>
 #include <optional>
+#include <set>
+#include <string>
 #include <utility>
 
+#include "core/model/roll_factor_update.h"
 #include "storage/extra_json.h"
 #include "storage/mill_store_impl.h"
 #include "storage/store_quality.h"
@@ -288,6 +291,8 @@ void MillStoreImpl::PublishBatch(const std::vector<ItemPtr>& batch,
                                  std::optional<LiveState> next) {
   bool replay_open = false;
   std::vector<WriteItem*> tasks;
+  std::set<std::string> measured_rolls;  // whose factors their readings move
+  bool all_rolls_measured = false;
   {
     std::lock_guard<std::mutex> lock(mu_);
     for (const ItemPtr& ptr : batch) {
@@ -308,44 +313,39 @@ void MillStoreImpl::PublishBatch(const std::vector<ItemPtr>& batch,
           spec_.pending_coils.erase(item->coil.coil_id);
           ++counters_.coils;
           break;
-        case WriteKind::kMeasurement:
+        case WriteKind::kMeasurement: {
           ApplyMeasurement(item->measurement, &committed_);
+          const auto& rec = committed_.campaigns.at(item->measurement.campaign_id);
+          const auto& mount = rec.mounts[RollPositionSlot(
+              item->measurement.stand, item->measurement.position)];
+          if (mount.has_value()) measured_rolls.insert(mount->roll_id);
           ++counters_.measurements;
           ++counters_.measurements_since_last_calibration;
           if (!item->measurement.suspect.empty()) {
             ++counters_.suspect_measurements;
           }
           break;
-        case WriteKind::kImport: {
-          const uint32_t seen = committed_.positions_seen;
-          ApplyImport(*item->dataset, item->dataset_coils, item->plan,
-                      /*speculative=*/false, &committed_);
-          for (size_t i = 0; i < item->dataset_coils.size(); ++i) {
-            if (item->plan.new_coil[i]) {
-              committed_coil_ids_.Insert(item->dataset_coils[i].coil_id);
-              spec_.pending_coils.erase(item->dataset_coils[i].coil_id);
-            }
-          }
-          counters_.campaigns += item->plan.num_campaigns;
-          counters_.coils += item->plan.num_coils;
-          counters_.measurements += item->plan.num_measurements;
-          counters_.measurements_since_last_calibration +=
-              item->plan.num_measurements;
-          counters_.suspect_measurements += FlagImported(
-              *item->dataset, item->plan, item->dataset_suspect, &committed_);
-          replay_open = replay_open || (model_->version == 0 &&
-                                        committed_.positions_seen != seen);
-          break;
         }
+        case WriteKind::kImport:
+          all_rolls_measured =
+              all_rolls_measured || item->plan.num_measurements > 0;
+          replay_open = PublishImportLocked(*item) || replay_open;
+          break;
         case WriteKind::kTask:
           tasks.push_back(item);
           break;
       }
     }
     if (next) {
+      // The batch's model is the served one, or the prior rebuilt for new
+      // positions (which is then the stored one too).
+      if (next->model != model_) stored_model_ = next->model;
       model_ = std::move(next->model);
       rolls_ = std::move(next->rolls);
     }
+  }
+  if (!measured_rolls.empty() || all_rolls_measured) {
+    RefreshRollFactors(measured_rolls, all_rolls_measured);
   }
   if (replay_open) {
     std::shared_ptr<const ModelVersion> prior;
@@ -358,6 +358,25 @@ void MillStoreImpl::PublishBatch(const std::vector<ItemPtr>& batch,
   for (WriteItem* task : tasks) {
     if (task->after_commit) task->after_commit(writer_db_.get());
   }
+}
+
+bool MillStoreImpl::PublishImportLocked(const WriteItem& item) {
+  const uint32_t seen = committed_.positions_seen;
+  ApplyImport(*item.dataset, item.dataset_coils, item.plan,
+              /*speculative=*/false, &committed_);
+  for (size_t i = 0; i < item.dataset_coils.size(); ++i) {
+    if (item.plan.new_coil[i]) {
+      committed_coil_ids_.Insert(item.dataset_coils[i].coil_id);
+      spec_.pending_coils.erase(item.dataset_coils[i].coil_id);
+    }
+  }
+  counters_.campaigns += item.plan.num_campaigns;
+  counters_.coils += item.plan.num_coils;
+  counters_.measurements += item.plan.num_measurements;
+  counters_.measurements_since_last_calibration += item.plan.num_measurements;
+  counters_.suspect_measurements += FlagImported(
+      *item.dataset, item.plan, item.dataset_suspect, &committed_);
+  return model_->version == 0 && committed_.positions_seen != seen;
 }
 
 void MillStoreImpl::FailBatch(const std::vector<ItemPtr>& batch,
@@ -381,13 +400,40 @@ void MillStoreImpl::FailBatch(const std::vector<ItemPtr>& batch,
   queue_ = std::move(keep);
 }
 
-void MillStoreImpl::InstallModel(std::shared_ptr<const ModelVersion> model) {
+void MillStoreImpl::RefreshRollFactors(const std::set<std::string>& rolls,
+                                       bool all) {
+  std::shared_ptr<const ModelVersion> model;
+  Catalog catalog;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    model = model_;
+    if (RollEffectTermOf(model->wear_model.terms) == nullptr) return;
+    catalog = committed_;
+  }
+  StatusOr<std::shared_ptr<const ModelVersion>> served = WithRollReadings(
+      writer_db_.get(), catalog, model, all ? std::set<std::string>() : rolls);
+  // On a read error the factors stay as they were (the readings are
+  // stored; the next install re-estimates them).
+  if (served.ok() && *served != model) InstallModel(*served, /*served=*/true);
+}
+
+void MillStoreImpl::InstallModel(std::shared_ptr<const ModelVersion> model,
+                                 bool served) {
   CampaignRec open;
   bool has_open = false;
+  const bool rolls = !served && RollEffectTermOf(model->wear_model.terms);
+  Catalog catalog;
   {
     std::lock_guard<std::mutex> lock(mu_);
     has_open = !committed_.open_campaign.empty();
     if (has_open) open = committed_.campaigns.at(committed_.open_campaign);
+    if (rolls) catalog = committed_;
+  }
+  const std::shared_ptr<const ModelVersion> stored = model;
+  if (rolls) {
+    StatusOr<std::shared_ptr<const ModelVersion>> with =
+        WithRollReadings(writer_db_.get(), catalog, model, {});
+    if (with.ok()) model = *std::move(with);  // else: the fitted factors
   }
   RollStates states;
   if (has_open) {
@@ -412,6 +458,7 @@ void MillStoreImpl::InstallModel(std::shared_ptr<const ModelVersion> model) {
     }
   }
   std::lock_guard<std::mutex> lock(mu_);
+  if (!served) stored_model_ = stored;
   model_ = std::move(model);
   for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
     if (has_open && open.mounts[slot] && states[slot]) {

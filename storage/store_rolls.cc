@@ -85,6 +85,7 @@ StatusOr<RollLife> MillStoreImpl::GetRollLife(
     return Status::NotFound("roll '" + roll_id + "': unknown roll");
   }
   life.model_version = model->version;
+  life.wear_factor = RollWearFactorOf(model->wear_model.terms, roll_id);
   for (size_t i = 0; i < recs.size(); ++i) {
     const CampaignRec& rec = recs[i];
     const int slot = slots[i];

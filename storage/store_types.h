@@ -24,6 +24,7 @@
 #include "core/dataset/input_rules.h"
 #include "core/model/ann_model.h"
 #include "core/model/barrel_profile.h"
+#include "core/model/model_terms.h"
 #include "core/model/profile_calibration.h"
 #include "core/model/profile_interval.h"
 #include "core/model/remaining_life.h"
@@ -310,6 +311,11 @@ struct RollLife {
   std::string roll_type;              // of its last mount
   int64_t model_version = 0;          // the model the predictions are under
   std::vector<RollMountLife> mounts;  // oldest first
+  // The roll's own factor under that model's roll-effect term as served:
+  // re-estimated from every plausible reading of the roll stored so far
+  // (core/model/roll_factor_update.h); nullopt when the model has no such
+  // term.
+  std::optional<RollWearFactor> wear_factor;
 };
 
 // A roll of the inventory (MillStore::RollInventory).

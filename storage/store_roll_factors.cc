@@ -1,0 +1,75 @@
+// MillStore: the served model's per-roll wear factors, re-estimated from
+// the stored readings (core/model/roll_factor_update.h). The version as
+// stored (stored_model_) keeps the factors its calibration fitted; the
+// served one (model_) has every measured roll's level re-estimated from
+// all of that roll's plausible stored readings, given K and the other
+// terms, when the model is installed (start, promotion, activation) and
+// for the measured rolls whenever a measurement or an import commits. A
+// reading's prediction is the replay of its campaign's stored passes under
+// the served model (the prediction the daemon served), divided by the
+// factor that replay used.
+#include <cmath>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/model/roll_factor_update.h"
+#include "storage/mill_store_impl.h"
+#include "storage/store_sql.h"
+
+namespace rollwear::storage::internal {
+
+StatusOr<std::shared_ptr<const ModelVersion>> WithRollReadings(
+    Db* db, const Catalog& catalog, std::shared_ptr<const ModelVersion> model,
+    const std::set<std::string>& rolls) {
+  const ModelTerm* term = RollEffectTermOf(model->wear_model.terms);
+  if (term == nullptr || model->wear_model.is_ann()) return model;
+  const WearModel& wm = model->wear_model;
+  std::map<std::string, std::vector<RollReading>> readings;
+  for (const auto& [id, rec] : catalog.campaigns) {
+    std::array<bool, kNumRollPositionSlots> wanted{};
+    bool any = false;
+    for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
+      const auto& m = rec.mounts[slot];
+      const auto& reading = rec.measurements[slot];
+      wanted[slot] = m.has_value() && reading.has_value() &&
+                     reading->suspect.empty() && rec.ended_at.has_value() &&
+                     (rolls.empty() || rolls.count(m->roll_id) > 0);
+      any = any || wanted[slot];
+    }
+    if (!any) continue;
+    ROLLWEAR_ASSIGN_OR_RETURN(const RollStates states,
+                              ReplayCampaign(db, rec, wm));
+    for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
+      if (!wanted[slot] || !states[slot].has_value()) continue;
+      const MountedRollIn& mount = *rec.mounts[slot];
+      // Outside the term's scope the roll's factor does not act.
+      if (!term->scope.CoversRoll(mount.stand, static_cast<int>(mount.position),
+                                  mount.roll_type)) {
+        continue;
+      }
+      const std::string& roll = mount.roll_id;
+      const double predicted = states[slot]->wear_um;
+      RollReading r;
+      r.base_um = predicted / std::exp(RollLogFactor(*term, roll));
+      r.offset_um = StoredReadingOffset(wm, rec, slot);
+      r.measured_um = rec.measurements[slot]->wear_center_um;
+      readings[roll].push_back(r);
+    }
+  }
+  if (readings.empty()) return model;
+  auto served = std::make_shared<ModelVersion>(*model);
+  ModelTerm* own = RollEffectTermOf(&served->wear_model.terms);
+  for (const auto& [roll, list] : readings) {
+    SetRollLevel(
+        roll,
+        RollFactorPosteriorOf(own->scale, {wm.noise_sd_um, wm.noise_rel}, list),
+        own);
+  }
+  return std::shared_ptr<const ModelVersion>(std::move(served));
+}
+
+}  // namespace rollwear::storage::internal
