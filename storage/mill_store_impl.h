@@ -112,6 +112,9 @@ struct LiveRoll {
 // after the commit.
 struct LiveState {
   std::shared_ptr<const ModelVersion> model;
+  // The prior was rebuilt for new positions (PredictBatch): `model` is
+  // then the stored version too.
+  bool prior_rebuilt = false;
   std::array<std::optional<LiveRoll>, kNumRollPositionSlots> rolls;
   std::string open_campaign;
   uint32_t positions_seen = 0;
@@ -328,13 +331,19 @@ class MillStoreImpl final : public MillStore {
 double StoredReadingOffset(const WearModel& model, const CampaignRec& rec,
                            int slot);
 
-// `model` with its roll-effect term's levels re-estimated from the stored
+// The ended campaigns of `catalog` with a plausible reading of one of
+// `rolls` (of any roll when empty), copied (store_roll_factors.cc).
+std::vector<CampaignRec> MeasuredCampaignsOf(const Catalog& catalog,
+                                             const std::set<std::string>& rolls);
+// `model` with its roll-effect term's levels re-estimated from the
 // plausible readings (core/model/roll_factor_update.h) of `rolls` (of
-// every measured roll when empty), each campaign replayed under `model`;
-// `model` itself when it has no roll-effect term or no such reading
-// (store_roll_factors.cc).
+// every measured roll when empty) in `campaigns` (MeasuredCampaignsOf),
+// each campaign replayed under `model`; `model` itself when it has no
+// roll-effect term (or a grade-scoped one) or no such reading. A roll
+// whose readings give no converged estimate keeps its level.
 StatusOr<std::shared_ptr<const ModelVersion>> WithRollReadings(
-    Db* db, const Catalog& catalog, std::shared_ptr<const ModelVersion> model,
+    Db* db, const std::vector<CampaignRec>& campaigns,
+    std::shared_ptr<const ModelVersion> model,
     const std::set<std::string>& rolls);
 
 }  // namespace rollwear::storage::internal

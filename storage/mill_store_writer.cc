@@ -178,6 +178,7 @@ void MillStoreImpl::PredictBatch(const std::vector<ItemPtr>& batch,
         }
         if (state->model->version == 0 && seen != state->positions_seen) {
           state->model = MakePrior(seen);
+          state->prior_rebuilt = true;
         }
         state->positions_seen = seen;
         state->open_campaign = item->roll_change.campaign_id;
@@ -339,7 +340,7 @@ void MillStoreImpl::PublishBatch(const std::vector<ItemPtr>& batch,
     if (next) {
       // The batch's model is the served one, or the prior rebuilt for new
       // positions (which is then the stored one too).
-      if (next->model != model_) stored_model_ = next->model;
+      if (next->prior_rebuilt) stored_model_ = next->model;
       model_ = std::move(next->model);
       rolls_ = std::move(next->rolls);
     }
@@ -402,19 +403,35 @@ void MillStoreImpl::FailBatch(const std::vector<ItemPtr>& batch,
 
 void MillStoreImpl::RefreshRollFactors(const std::set<std::string>& rolls,
                                        bool all) {
+  const std::set<std::string> wanted = all ? std::set<std::string>() : rolls;
   std::shared_ptr<const ModelVersion> model;
-  Catalog catalog;
+  std::vector<CampaignRec> measured;
+  bool mounted_now = false;  // an updated roll runs in the open campaign
   {
     std::lock_guard<std::mutex> lock(mu_);
     model = model_;
     if (RollEffectTermOf(model->wear_model.terms) == nullptr) return;
-    catalog = committed_;
+    measured = MeasuredCampaignsOf(committed_, wanted);
+    const auto open = committed_.campaigns.find(committed_.open_campaign);
+    if (open != committed_.campaigns.end()) {
+      for (const auto& m : open->second.mounts) {
+        mounted_now = mounted_now ||
+                      (m.has_value() && (all || rolls.count(m->roll_id) > 0));
+      }
+    }
   }
-  StatusOr<std::shared_ptr<const ModelVersion>> served = WithRollReadings(
-      writer_db_.get(), catalog, model, all ? std::set<std::string>() : rolls);
+  StatusOr<std::shared_ptr<const ModelVersion>> served =
+      WithRollReadings(writer_db_.get(), measured, model, wanted);
   // On a read error the factors stay as they were (the readings are
   // stored; the next install re-estimates them).
-  if (served.ok() && *served != model) InstallModel(*served, /*served=*/true);
+  if (!served.ok() || *served == model) return;
+  if (mounted_now) {
+    InstallModel(*served, /*served=*/true);  // the open campaign replayed
+    return;
+  }
+  // The open campaign's rolls keep their factors: their states stand.
+  std::lock_guard<std::mutex> lock(mu_);
+  model_ = *std::move(served);
 }
 
 void MillStoreImpl::InstallModel(std::shared_ptr<const ModelVersion> model,
@@ -422,17 +439,17 @@ void MillStoreImpl::InstallModel(std::shared_ptr<const ModelVersion> model,
   CampaignRec open;
   bool has_open = false;
   const bool rolls = !served && RollEffectTermOf(model->wear_model.terms);
-  Catalog catalog;
+  std::vector<CampaignRec> measured;
   {
     std::lock_guard<std::mutex> lock(mu_);
     has_open = !committed_.open_campaign.empty();
     if (has_open) open = committed_.campaigns.at(committed_.open_campaign);
-    if (rolls) catalog = committed_;
+    if (rolls) measured = MeasuredCampaignsOf(committed_, {});
   }
   const std::shared_ptr<const ModelVersion> stored = model;
   if (rolls) {
     StatusOr<std::shared_ptr<const ModelVersion>> with =
-        WithRollReadings(writer_db_.get(), catalog, model, {});
+        WithRollReadings(writer_db_.get(), measured, model, {});
     if (with.ok()) model = *std::move(with);  // else: the fitted factors
   }
   RollStates states;

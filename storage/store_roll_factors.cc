@@ -21,53 +21,77 @@
 #include "storage/store_sql.h"
 
 namespace rollwear::storage::internal {
+namespace {
+
+// Whether slot `slot` of `rec` holds a plausible reading of one of `rolls`
+// (of any roll when empty) on an ended campaign.
+bool WantedReading(const CampaignRec& rec, int slot,
+                   const std::set<std::string>& rolls) {
+  const auto& m = rec.mounts[slot];
+  const auto& reading = rec.measurements[slot];
+  return m.has_value() && reading.has_value() && reading->suspect.empty() &&
+         rec.ended_at.has_value() &&
+         (rolls.empty() || rolls.count(m->roll_id) > 0);
+}
+
+}  // namespace
+
+std::vector<CampaignRec> MeasuredCampaignsOf(
+    const Catalog& catalog, const std::set<std::string>& rolls) {
+  std::vector<CampaignRec> out;
+  for (const auto& [id, rec] : catalog.campaigns) {
+    for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
+      if (WantedReading(rec, slot, rolls)) {
+        out.push_back(rec);
+        break;
+      }
+    }
+  }
+  return out;
+}
 
 StatusOr<std::shared_ptr<const ModelVersion>> WithRollReadings(
-    Db* db, const Catalog& catalog, std::shared_ptr<const ModelVersion> model,
+    Db* db, const std::vector<CampaignRec>& campaigns,
+    std::shared_ptr<const ModelVersion> model,
     const std::set<std::string>& rolls) {
   const ModelTerm* term = RollEffectTermOf(model->wear_model.terms);
-  if (term == nullptr || model->wear_model.is_ann()) return model;
+  // A grade-scoped roll effect acts on some passes only: the prediction
+  // over the factor would not be the wear without it. Not re-estimated.
+  if (term == nullptr || model->wear_model.is_ann() ||
+      !term->scope.grade.empty()) {
+    return model;
+  }
   const WearModel& wm = model->wear_model;
   std::map<std::string, std::vector<RollReading>> readings;
-  for (const auto& [id, rec] : catalog.campaigns) {
-    std::array<bool, kNumRollPositionSlots> wanted{};
-    bool any = false;
-    for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
-      const auto& m = rec.mounts[slot];
-      const auto& reading = rec.measurements[slot];
-      wanted[slot] = m.has_value() && reading.has_value() &&
-                     reading->suspect.empty() && rec.ended_at.has_value() &&
-                     (rolls.empty() || rolls.count(m->roll_id) > 0);
-      any = any || wanted[slot];
-    }
-    if (!any) continue;
+  for (const CampaignRec& rec : campaigns) {
     ROLLWEAR_ASSIGN_OR_RETURN(const RollStates states,
                               ReplayCampaign(db, rec, wm));
     for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
-      if (!wanted[slot] || !states[slot].has_value()) continue;
+      if (!WantedReading(rec, slot, rolls) || !states[slot].has_value()) {
+        continue;
+      }
       const MountedRollIn& mount = *rec.mounts[slot];
       // Outside the term's scope the roll's factor does not act.
       if (!term->scope.CoversRoll(mount.stand, static_cast<int>(mount.position),
                                   mount.roll_type)) {
         continue;
       }
-      const std::string& roll = mount.roll_id;
-      const double predicted = states[slot]->wear_um;
       RollReading r;
-      r.base_um = predicted / std::exp(RollLogFactor(*term, roll));
+      r.base_um =
+          states[slot]->wear_um / std::exp(RollLogFactor(*term, mount.roll_id));
       r.offset_um = StoredReadingOffset(wm, rec, slot);
       r.measured_um = rec.measurements[slot]->wear_center_um;
-      readings[roll].push_back(r);
+      readings[mount.roll_id].push_back(r);
     }
   }
   if (readings.empty()) return model;
   auto served = std::make_shared<ModelVersion>(*model);
   ModelTerm* own = RollEffectTermOf(&served->wear_model.terms);
   for (const auto& [roll, list] : readings) {
-    SetRollLevel(
-        roll,
-        RollFactorPosteriorOf(own->scale, {wm.noise_sd_um, wm.noise_rel}, list),
-        own);
+    const RollFactorPosterior p =
+        RollFactorPosteriorOf(own->scale, {wm.noise_sd_um, wm.noise_rel}, list);
+    // Readings no roll of this type could give: the level stays.
+    if (p.converged) SetRollLevel(roll, p, own);
   }
   return std::shared_ptr<const ModelVersion>(std::move(served));
 }

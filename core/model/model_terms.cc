@@ -100,9 +100,10 @@ std::optional<RollWearFactor> RollWearFactorOf(const std::vector<ModelTerm>& ter
       const double b = t.params[l];
       const double sd = l < t.level_sd.size() ? t.level_sd[l] : t.scale;
       f.readings = l < t.level_readings.size() ? t.level_readings[l] : 0;
-      // Known when it had training readings (or the model did not keep
-      // the counts: its factor is then the fit's, not the prior's).
-      f.known = f.readings > 0 || t.level_readings.empty();
+      // Known when it had readings (or the model did not keep the counts,
+      // or a level re-estimated later lacks them: a factor off 1 is the
+      // fit's, not the prior's).
+      f.known = f.readings > 0 || t.level_readings.empty() || b != 0;
       f.value = std::exp(b);
       f.log_sd = sd;
       f.lo = std::exp(b - kZ95 * sd);

@@ -3,27 +3,30 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
-#include <utility>
+#include <limits>
 
 namespace rollwear {
 
 namespace {
 
-// Gradient and curvature of F at b (header), the weights at b.
-std::pair<double, double> SlopeAndCurvature(
-    double b, double prior_info, ReadingNoise noise,
-    const std::vector<const RollReading*>& used) {
+// A reading with its fixed weight w_i = 1 / s_i^2 and r_i = y_i - o_i.
+struct Weighted {
+  double x, r, w;
+};
+
+// F(b) of the header.
+double Objective(double b, double prior_info, const std::vector<Weighted>& ws) {
   const double m = std::exp(b);
-  double g = b * prior_info, h = prior_info;
-  for (const RollReading* r : used) {
-    const double j = r->base_um * m;  // d(x e^b)/db = x e^b
-    const double w =
-        1 / (noise.sd_um * noise.sd_um + (noise.rel * j) * (noise.rel * j));
-    g -= w * j * (r->measured_um - r->offset_um - j);
-    h += w * j * j;
+  double f = 0.5 * b * b * prior_info;
+  for (const Weighted& v : ws) {
+    const double e = v.r - v.x * m;
+    f += 0.5 * v.w * e * e;
   }
-  return {g, h};
+  return f;
 }
+
+constexpr double kGridHalfWidth = 6;
+constexpr double kGridStep = 0.02;
 
 }  // namespace
 
@@ -32,28 +35,68 @@ RollFactorPosterior RollFactorPosteriorOf(
     const std::vector<RollReading>& readings) {
   RollFactorPosterior out;
   out.log_sd = std::max(prior_sd, 0.0);
-  if (!(prior_sd > 0) || !std::isfinite(prior_sd)) return out;
-  if (!(noise.sd_um > 0 || noise.rel > 0)) return out;
-  std::vector<const RollReading*> used;
+  const double prior_info = 1 / (prior_sd * prior_sd);
+  if (!(prior_sd > 0) || !std::isfinite(prior_info)) return out;
+  std::vector<Weighted> ws;
   for (const RollReading& r : readings) {
-    if (r.base_um > 0 && std::isfinite(r.base_um) &&
-        std::isfinite(r.measured_um) && std::isfinite(r.offset_um)) {
-      used.push_back(&r);
+    if (!(r.base_um > 0) || !std::isfinite(r.base_um) ||
+        !std::isfinite(r.measured_um) || !std::isfinite(r.offset_um)) {
+      continue;
+    }
+    const double s2 = noise.sd_um * noise.sd_um +
+                      (noise.rel * r.base_um) * (noise.rel * r.base_um);
+    if (!(s2 > 0) || !std::isfinite(s2)) continue;
+    ws.push_back({r.base_um, r.measured_um - r.offset_um, 1 / s2});
+  }
+  out.readings = static_cast<int>(ws.size());
+  if (ws.empty()) return out;
+  // The grid's best point, then golden section between its neighbours.
+  const int n = static_cast<int>(2 * kGridHalfWidth / kGridStep + 0.5);
+  int best = 0;
+  double best_f = std::numeric_limits<double>::infinity();
+  for (int k = 0; k <= n; ++k) {
+    const double f = Objective(-kGridHalfWidth + k * kGridStep, prior_info, ws);
+    if (f < best_f) best_f = f, best = k;
+  }
+  out.converged = best > 0 && best < n;
+  double lo = -kGridHalfWidth + std::max(best - 1, 0) * kGridStep;
+  double hi = -kGridHalfWidth + std::min(best + 1, n) * kGridStep;
+  const double kInvPhi = (std::sqrt(5.0) - 1) / 2;
+  double c = hi - kInvPhi * (hi - lo), d = lo + kInvPhi * (hi - lo);
+  double fc = Objective(c, prior_info, ws), fd = Objective(d, prior_info, ws);
+  while (hi - lo > 1e-10) {
+    if (fc < fd) {
+      hi = d, d = c, fd = fc;
+      c = hi - kInvPhi * (hi - lo);
+      fc = Objective(c, prior_info, ws);
+    } else {
+      lo = c, c = d, fc = fd;
+      d = lo + kInvPhi * (hi - lo);
+      fd = Objective(d, prior_info, ws);
     }
   }
-  out.readings = static_cast<int>(used.size());
-  if (used.empty()) return out;
-  const double prior_info = 1 / (prior_sd * prior_sd);
-  double b = 0;
-  for (int it = 0; it < 100; ++it) {
-    const auto [g, h] = SlopeAndCurvature(b, prior_info, noise, used);
-    const double step = std::clamp(-g / h, -1.0, 1.0);
-    b += step;
-    if (std::abs(step) < 1e-12) break;
+  // Comparing values of F pins b only to about sqrt(machine epsilon);
+  // Newton steps on F'(b) = 0 (exact F'' = sum w x m (2 x m - r) + 1 /
+  // tau^2, m = e^b) take it to rounding, so that re-estimates agree to
+  // ~1e-15. A step over 1e-6 (no longer a polish) is not taken.
+  double b_hat = (lo + hi) / 2;
+  for (int it = 0; it < 3; ++it) {
+    const double m = std::exp(b_hat);
+    double g = b_hat * prior_info, h2 = prior_info;
+    for (const Weighted& v : ws) {
+      g -= v.w * (v.r - v.x * m) * v.x * m;
+      h2 += v.w * v.x * m * (2 * v.x * m - v.r);
+    }
+    if (!(h2 > 0) || std::abs(g / h2) > 1e-6) break;
+    b_hat -= g / h2;
   }
-  out.log_factor = b;
-  out.log_sd =
-      1 / std::sqrt(SlopeAndCurvature(b, prior_info, noise, used).second);
+  double h = prior_info;
+  for (const Weighted& v : ws) {
+    const double j = v.x * std::exp(b_hat);
+    h += v.w * j * j;
+  }
+  out.log_factor = b_hat;
+  out.log_sd = 1 / std::sqrt(h);
   return out;
 }
 

@@ -10,25 +10,28 @@
 //   y_i = x_i exp(b) + o_i + e_i,   e_i ~ N(0, s_i^2),   b ~ N(0, tau^2)
 // where x_i is the wear predicted for that campaign without the roll's own
 // factor, o_i the model's measurement terms (the reading's offset), s_i the
-// model's noise at the roll's predicted wear,
-// s_i^2 = sigma0^2 + (rho x_i e^b)^2 (wear_model.h), and tau the term's
-// prior sd (ModelTerm::scale, the between-roll spread the calibration
+// model's noise at the roll type's prediction,
+// s_i^2 = sigma0^2 + (rho x_i)^2 (wear_model.h), and tau the term's prior
+// sd (ModelTerm::scale, the between-roll spread the calibration
 // estimated). This is the roll-effect term's own likelihood with its prior
 // row (term_refit.cc: the pseudo-residual b / tau), with K and every other
-// term held fixed.
-//
-// The posterior mode b_hat minimises
+// term held fixed. The weights do not move with b: the objective
 //   F(b) = sum_i (y_i - o_i - x_i e^b)^2 / (2 s_i^2) + b^2 / (2 tau^2)
-// with the weights 1 / s_i^2 taken at the current b (iteratively
-// reweighted Gauss-Newton, the quasi-likelihood treatment of a variance
-// that grows with the mean: McCullagh & Nelder 1989, Generalized Linear
-// Models, ch. 9), in one dimension with steps capped at 1 in log. Its sd is
-// the Laplace approximation 1 / sqrt(sum_i (x_i e^b)^2 / s_i^2 + 1 / tau^2)
-// at the mode (the Gauss-Newton Hessian; MacKay 1992, Neural Computation
-// 4:415, section 4). The answer depends only on the readings' x_i, o_i,
-// y_i, never on the factor a prediction was made with, so re-estimating
-// from any state gives the same factor. K's own uncertainty is not
-// included, as in the calibration's per-roll intervals (roll_effects.h).
+// is then a penalised weighted least-squares criterion whose minimum always
+// exists (a noise growing with e^b has none for a reading at or below its
+// offset when sigma0 = 0), and it depends only on the readings' x_i, o_i,
+// y_i, so re-estimating from any state gives the same factor.
+//
+// F need not be convex in b (x e^b), so its minimum is found globally: F
+// on a grid of step 0.02 over b in [-6, 6] (factors 0.0025..403), then a
+// golden-section search (Kiefer 1953, Proc. AMS 4:502) between the best
+// grid point's neighbours to 1e-10, polished by Newton steps on F'(b) = 0.
+// A minimum at the grid's edge is not
+// converged: the caller keeps what it had. The sd is the Gauss-Newton one
+// (the expected information, as the term fits' level_sd, term_refit.cc):
+// 1 / sqrt(sum_i (x_i e^b)^2 / s_i^2 + 1 / tau^2) at the mode. K's own
+// uncertainty is not included, as in the calibration's per-roll intervals
+// (roll_effects.h).
 //
 // Thread-safety: pure functions.
 #ifndef ROLLWEAR_CORE_MODEL_ROLL_FACTOR_UPDATE_H_
@@ -48,7 +51,8 @@ struct RollReading {
   double measured_um = 0;  // y_i
 };
 
-// The model's noise: s^2 = sd_um^2 + (rel * wear)^2 (wear_model.h).
+// The model's noise: s^2 = sd_um^2 + (rel * wear)^2 (wear_model.h), taken
+// at the roll type's prediction x_i.
 struct ReadingNoise {
   double sd_um = 0;
   double rel = 0;
@@ -58,6 +62,10 @@ struct RollFactorPosterior {
   double log_factor = 0;  // b_hat
   double log_sd = 0;      // its posterior sd
   int readings = 0;       // readings used (finite, x_i > 0)
+  // false when the minimum lies beyond the grid (b at -6 or 6): the
+  // readings cannot be those of a roll of this type, and the estimate is
+  // not to be used.
+  bool converged = true;
 };
 
 // The posterior of b under prior N(0, prior_sd^2) and `readings`; with no

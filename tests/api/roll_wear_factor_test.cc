@@ -77,6 +77,12 @@ class RollWearFactorTest : public RouterTest {
     return Post("/v1/measurements", m).status;
   }
 
+  // The live predicted wear at F6/top (GET /v1/wear/F6/top).
+  double LiveWear() {
+    const json wear = Parse(Get("/v1/wear/F6/top"));
+    return wear["predicted_wear_um"].get<double>();
+  }
+
   // The mount of campaign `id` in a roll's life (null when none).
   static json MountOf(const json& life, const std::string& id) {
     for (const json& m : life["mounts"]) {
@@ -129,7 +135,7 @@ TEST_F(RollWearFactorTest, EachRollShowsItsOwnFactorWithAnInterval) {
     covered += truth >= lo && truth <= hi ? 1 : 0;
   }
   ASSERT_GE(measured, 20);
-  // 95 % intervals that leave K's own uncertainty out (106 of 116 here).
+  // 95 % intervals that leave K's own uncertainty out (107 of 116 here).
   EXPECT_GE(static_cast<double>(covered) / measured, 0.85)
       << covered << " of " << measured;
   EXPECT_LE(static_cast<double>(covered) / measured, 0.99)
@@ -155,8 +161,9 @@ TEST_F(RollWearFactorTest, EachRollShowsItsOwnFactorWithAnInterval) {
 // The daemon keeps each roll's factor current between calibrations: a roll
 // the model never saw starts at its type's value; each measurement of its
 // campaigns moves the factor toward what the grinder read and narrows its
-// interval; the roll's predictions (replayed and live) are made with it;
-// a restart finds the same factor (re-estimated from the stored readings).
+// interval; the roll's predictions (replayed, and live in the open
+// campaign it runs in when the reading comes) are made with it; a restart
+// finds the same factor and the same live wear.
 TEST_F(RollWearFactorTest, ARollsFactorFollowsItsMeasurementsAsTheyArrive) {
   ASSERT_NO_FATAL_FAILURE(PromoteRollModel());
   ASSERT_EQ(
@@ -171,6 +178,9 @@ TEST_F(RollWearFactorTest, ARollsFactorFollowsItsMeasurementsAsTheyArrive) {
                              life["wear_factor"]["interval"][0].get<double>();
   const double base = MountOf(life, "NEW1")["predicted_wear_um"].get<double>();
   ASSERT_GT(base, 20);
+  // NEW2 rolls the same coils before NEW1's reading comes: the same wear.
+  RunTestCampaign("NEW2", "2027-01-02", "");
+  EXPECT_NEAR(LiveWear(), base, 1e-9 * base);
 
   // The grinder reads 1.5 x what the roll's type would wear.
   ASSERT_EQ(Measure("NEW1", "2027-01-01", 1.5 * base), 201);
@@ -183,17 +193,10 @@ TEST_F(RollWearFactorTest, ARollsFactorFollowsItsMeasurementsAsTheyArrive) {
   const double width1 =
       f1["interval"][1].get<double>() - f1["interval"][0].get<double>();
   EXPECT_LT(width1, prior_width);
-  // NEW1 replayed with the roll's factor.
-  EXPECT_NEAR(MountOf(life, "NEW1")["predicted_wear_um"].get<double>() / base, v1,
-              1e-6 * v1);
-
-  // NEW2 was open when the reading came: its live prediction is made with
-  // the new factor (the same coils as NEW1: the same wear).
-  RunTestCampaign("NEW2", "2027-01-02", "");
-  const json wear = Parse(Get("/v1/wear/F6/top"));
-  EXPECT_NEAR(wear["predicted_wear_um"].get<double>(), v1 * base,
-              1e-6 * v1 * base)
-      << wear.dump();
+  // NEW1 replayed with the roll's factor, and NEW2's live state too.
+  EXPECT_NEAR(MountOf(life, "NEW1")["predicted_wear_um"].get<double>() / base,
+              v1, 1e-6 * v1);
+  EXPECT_NEAR(LiveWear(), v1 * base, 1e-6 * v1 * base);
 
   // A second reading at 1.5 x: closer to 1.5, narrower.
   ASSERT_EQ(Post("/v1/roll-changes",
@@ -208,17 +211,26 @@ TEST_F(RollWearFactorTest, ARollsFactorFollowsItsMeasurementsAsTheyArrive) {
   EXPECT_LT(v2, 1.5);
   EXPECT_LT(f2["interval"][1].get<double>() - f2["interval"][0].get<double>(),
             width1);
+  RunTestCampaign("NEW3", "2027-01-03", "");
+  const double live = LiveWear();
+  EXPECT_NEAR(live, v2 * base, 1e-6 * v2 * base);
+
   // The version as stored keeps its calibration's factors: this roll had
   // no reading then.
-  const json stored = Parse(Get("/v1/models/active"))["terms"][0];
-  const auto& levels = stored["levels"];
+  const json stored = Parse(Get("/v1/models/active"))["terms"];
+  const auto term = std::find_if(stored.begin(), stored.end(), [](const json& t) {
+    return t["form"] == "roll_effect";
+  });
+  ASSERT_NE(term, stored.end()) << stored.dump();
+  const json& levels = (*term)["levels"];
   const auto at = std::find(levels.begin(), levels.end(), "R-F6-top");
-  ASSERT_NE(at, levels.end()) << stored.dump();
+  ASSERT_NE(at, levels.end()) << term->dump();
   const size_t l = static_cast<size_t>(at - levels.begin());
-  EXPECT_EQ(stored["params"][l], 0.0);
-  EXPECT_EQ(stored["level_readings"][l], 0);
+  EXPECT_EQ((*term)["params"][l], 0.0);
+  EXPECT_EQ((*term)["level_readings"][l], 0);
 
-  // A restart re-estimates the same factor from the stored readings.
+  // A restart re-estimates the same factor from the stored readings and
+  // replays the open campaign to the same wear.
   router_.reset();
   diagnoses_.reset();
   runs_.reset();
@@ -231,6 +243,7 @@ TEST_F(RollWearFactorTest, ARollsFactorFollowsItsMeasurementsAsTheyArrive) {
   const json f3 = Parse(Get("/v1/rolls/R-F6-top"))["wear_factor"];
   EXPECT_EQ(f3["readings"], 2);
   EXPECT_NEAR(f3["value"].get<double>(), v2, 1e-9 * v2);
+  EXPECT_NEAR(LiveWear(), live, 1e-9 * live);
 }
 
 }  // namespace
