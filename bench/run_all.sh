@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Every performance figure of rollwear in one table: runs core_bench,
-# diagnosis_bench, ann_bench, ingest_bench, forecast_bench and load_bench
+# diagnosis_bench, ann_bench, ingest_bench, forecast_bench,
+# roll_factor_bench and load_bench
 # from a build
 # directory (a Release build with ROLLWEAR_BUILD_BENCH=ON) and prints
 # figure, measured, target, beside the machine's fsync-per-commit and
@@ -9,7 +10,7 @@
 #
 #   bash bench/run_all.sh [BUILD_DIR] [--out FILE]
 #
-# BUILD_DIR defaults to ./build. The raw outputs of the six binaries go to
+# BUILD_DIR defaults to ./build. The raw outputs of the seven binaries go to
 # BUILD_DIR/bench-run/ (never commit them); --out also writes the table as
 # Markdown to FILE.
 set -euo pipefail
@@ -24,7 +25,7 @@ while [[ $# -gt 0 ]]; do
   esac
 done
 bin="$build/bench"
-for b in core_bench diagnosis_bench ann_bench ingest_bench forecast_bench load_bench; do
+for b in core_bench diagnosis_bench ann_bench ingest_bench forecast_bench roll_factor_bench load_bench; do
   if [[ ! -x "$bin/$b" ]]; then
     echo "run_all.sh: $bin/$b not found: build with -DCMAKE_BUILD_TYPE=Release -DROLLWEAR_BUILD_BENCH=ON" >&2
     exit 2
@@ -96,6 +97,16 @@ row "POST /v1/forecast, 200 coils, 4 rolls, no HTTP" "$(bm "$work/forecast_bench
 row "MillStore::ForecastCoils, 200 coils, 4 rolls" "$(bm "$work/forecast_bench.txt" BM_ForecastStore/200)" ""
 row "GET /v1/wear/{stand}/{position}/profile, 201 slices, no HTTP (see p99_us)" "$(bm "$work/forecast_bench.txt" BM_WearProfileGet)" "p99 < 1 ms"
 row "one pass added to a roll tracking its profile" "$(bm "$work/forecast_bench.txt" BM_ProfilePassUpdate)" "microseconds"
+
+echo "== roll_factor_bench" >&2
+"$bin/roll_factor_bench" --campaigns 395 \
+  > "$work/roll_factor_bench.txt" 2> "$work/roll_factor_bench.err"
+# column c of the row whose store column matches s (| campaigns | passes |
+# store | reopen ms | measurement ms | promotion ms |)
+rf() { awk -F'|' -v s="$1" -v c="$2" '$4 ~ s { gsub(/ /, "", $c); print $c }' "$work/roll_factor_bench.txt"; }
+row "store reopen, 395 campaigns: prior / roll_effect term (factors re-estimated)" "$(rf plain 5) / $(rf roll_effect 5) ms" ""
+row "AddMeasurement, 395 campaigns: prior / roll_effect term" "$(rf plain 6) / $(rf roll_effect 6) ms" ""
+row "promotion of a roll_effect model, 395 campaigns" "$(rf roll_effect 7) ms" ""
 
 echo "== load_bench" >&2
 "$bin/load_bench" --tsv "$work/load.tsv" \
