@@ -26,7 +26,7 @@ bool DiagnosisOptions::IsValid(std::string* error) const {
   if (max_findings < 0) return fail("max_findings must be >= 0");
   if (num_bins < 2) return fail("num_bins must be >= 2");
   if (num_threads < 1) return fail("num_threads must be >= 1");
-  return true;
+  return thresholds.IsValid(error);
 }
 
 StatusOr<DiagnosisReport> Diagnose(const Dataset& data,
@@ -48,6 +48,7 @@ StatusOr<DiagnosisReport> Diagnose(const Dataset& data,
 
   // 2. Locate.
   report.locate = diag::Locate(state.td, data, state.all, state.before_all,
+                               options.thresholds,
                                options.robust ? &state.locate_sd : nullptr);
   phase.Mark("locate");
 
@@ -68,7 +69,7 @@ StatusOr<DiagnosisReport> Diagnose(const Dataset& data,
   if (!data.profile_points.empty() && !report.adopted_model.k.empty()) {
     StatusOr<BarrelLocate> barrel =
         LocateAlongBarrel(report.adopted_model, data, DatasetIndex(data),
-                          base.split, options.alpha);
+                          base.split, options.alpha, options.thresholds);
     if (barrel.ok()) {
       const double tests = static_cast<double>(barrel->contrasts.size());
       for (const BarrelContrast& c : barrel->contrasts) {

@@ -50,11 +50,12 @@
 #include <string>
 #include <vector>
 
+#include "core/base/status.h"
 #include "core/dataset/dataset.h"
+#include "core/diagnosis/diagnosis_thresholds.h"
 #include "core/fit/robust.h"
 #include "core/model/metrics.h"
 #include "core/model/model_terms.h"
-#include "core/base/status.h"
 #include "core/model/wear_law.h"
 #include "core/model/wear_model.h"
 
@@ -78,6 +79,9 @@ struct DiagnosisOptions {
   // Huber's robust loss everywhere (robust.h; docs/diagnosis.md). false:
   // least squares, for comparison only.
   bool robust = true;
+  // The guards' levels, material sizes, minimum counts and grids
+  // (diagnosis_thresholds.h; docs/diagnosis.md, "Thresholds").
+  DiagnosisThresholds thresholds;
 
   bool IsValid(std::string* error) const;
 };

@@ -15,7 +15,7 @@
 // Reinsel 2008, "Time Series Analysis", 4th ed., sec. 2.1.6).
 //
 // Rule. When gamma_1 before the term is positive and significant (p <
-// alpha, two-sided; options.alpha = 0.001) and more than kAlongTimeShare
+// alpha, two-sided; options.alpha = 0.001) and more than along_time_share
 // (one half) of it is left after the term, the term is not named: it is a
 // smooth part of a
 // structure along time it does not describe (a random walk of the wear rate
@@ -34,11 +34,6 @@
 
 namespace rollwear::diag {
 namespace {
-
-// The share of gamma_1 that may remain: half of the autocovariance (about
-// 71 % of its amplitude), the guard's look-again share applied to a
-// second-moment statistic.
-constexpr double kAlongTimeShare = 0.5;
 
 struct Lag1 {
   double gamma0 = 0, gamma1 = 0, r1 = 0, z = 0, p = 1, rms_um = 0;
@@ -97,7 +92,7 @@ GuardResult LookAlongTime(const Dataset& data, const DiagnosisState& st,
   const Lag1 b = Lag1OfResiduals(data, st, sd, before);
   if (!(b.p < options.alpha) || !(b.gamma1 > 0)) return r;
   const Lag1 a = Lag1OfResiduals(data, st, sd, after);
-  if (a.gamma1 <= kAlongTimeShare * b.gamma1) return r;
+  if (a.gamma1 <= options.thresholds.along_time_share * b.gamma1) return r;
   r.pass = false;
   char buf[200];
   std::snprintf(

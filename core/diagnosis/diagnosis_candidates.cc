@@ -58,7 +58,7 @@ std::vector<double> QuantileEdges(const WeightedValues& w, int bins) {
 // A change on one day of the calendar (a new roll supplier, a recalibrated
 // gauge): the binned form with a single edge t, so m = exp(b) (or the
 // reading + o) from t on. The change point t is scanned over the
-// kStepGrid inner quantiles of the covariate, one candidate each (the
+// step_grid inner quantiles of the covariate, one candidate each (the
 // round's Bonferroni count includes every grid point, which pays for the
 // scan; Andrews 1993, Econometrica 61:821, gives the exact sup-LR
 // reference this bound stands in for). Quantile bins put their edges where
@@ -68,7 +68,7 @@ std::vector<double> QuantileEdges(const WeightedValues& w, int bins) {
 // a step in another covariate is a threshold, which the binned form
 // describes.
 void AddSteps(int k, const CovariateSpec& c, const WeightedValues& w,
-              std::vector<Candidate>* out) {
+              const DiagnosisOptions& options, std::vector<Candidate>* out) {
   // Calendar steps (a new supplier, a recalibrated gauge), and a roll's
   // service from its n-th campaign on (a hard shell ground through): a
   // step on the roll's count is the rival a calendar step must beat
@@ -82,8 +82,9 @@ void AddSteps(int k, const CovariateSpec& c, const WeightedValues& w,
   }
   const bool reading = c.level == CovariateLevel::kMeasurement;
   double last = -std::numeric_limits<double>::infinity();
-  for (int g = 1; g < kStepGrid; ++g) {
-    const double t = Quantile(w, static_cast<double>(g) / kStepGrid);
+  for (int g = 1; g < options.thresholds.step_grid; ++g) {
+    const double t =
+        Quantile(w, static_cast<double>(g) / options.thresholds.step_grid);
     if (!(t > last) || !(t < w.v.back().first)) continue;
     last = t;
     TermSpec step =
@@ -210,7 +211,7 @@ std::vector<Candidate> CandidatesOf(const TermData& td, const std::vector<int>& 
       for (double f : {0.25, 1.0, 4.0}) dec.starts.push_back({0.0, std::log(f * p50)});
       out.push_back(dec);
     }
-    AddSteps(k, c, w, &out);
+    AddSteps(k, c, w, options, &out);
     return out;
   }
   TermSpec ll = Spec(k, c, TermForm::kLogLinear, {0.0}, {-2.0}, {2.0});
@@ -230,7 +231,7 @@ std::vector<Candidate> CandidatesOf(const TermData& td, const std::vector<int>& 
     bin.term.edges = edges;
     out.push_back({bin, {}});
   }
-  AddSteps(k, c, w, &out);
+  AddSteps(k, c, w, options, &out);
   if (c.accumulates && p95 > 0 && p05 >= 0) {
     Candidate sat{Spec(k, c, TermForm::kSaturating, {0.0, std::log(p95)},
                        {-0.9, std::log(0.05 * p95)}, {10.0, std::log(20 * p95)}),
@@ -259,17 +260,19 @@ std::vector<std::vector<Candidate>> UnscopedCandidates(const TermData& td,
   return per;
 }
 
-std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>& train,
-                                      const std::set<int>& used,
-                                      const std::vector<std::vector<Candidate>>& unscoped,
-                                      const std::vector<TermScope>& adopted_cells) {
+std::vector<Candidate> MakeCandidates(
+    const TermData& td, const std::vector<int>& train,
+    const std::set<int>& used,
+    const std::vector<std::vector<Candidate>>& unscoped,
+    const DiagnosisThresholds& thresholds,
+    const std::vector<TermScope>& adopted_cells) {
   // Joined in catalogue order.
   std::vector<Candidate> out;
   for (size_t k = 0; k < unscoped.size(); ++k) {
     if (used.count(static_cast<int>(k)) > 0) continue;
     out.insert(out.end(), unscoped[k].begin(), unscoped[k].end());
   }
-  AddScopedCandidates(td, train, used, adopted_cells, &out);
+  AddScopedCandidates(td, train, thresholds, used, adopted_cells, &out);
   return out;
 }
 
@@ -278,7 +281,7 @@ std::vector<Candidate> MakeCandidates(const TermData& td, const std::vector<int>
                                       const DiagnosisOptions& options,
                                       const std::vector<TermScope>& adopted_cells) {
   return MakeCandidates(td, train, used, UnscopedCandidates(td, train, options),
-                        adopted_cells);
+                        options.thresholds, adopted_cells);
 }
 
 }  // namespace rollwear::diag

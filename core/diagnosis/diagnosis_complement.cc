@@ -83,7 +83,8 @@ bool WithdrawIfTied(const DiagnosisOptions& options, bool by_type,
     cells.push_back(t.scope);
   }
   std::vector<TermScope> complement;
-  if (!ComplementCells(st->td, st->train, cells, &complement) ||
+  if (!ComplementCells(st->td, st->train, options.thresholds, cells,
+                       &complement) ||
       complement.size() > cells.size()) {
     return false;
   }
@@ -125,10 +126,6 @@ bool WithdrawIfTied(const DiagnosisOptions& options, bool by_type,
   return true;
 }
 
-// The family-wise level of the sibling-cell test (as the scope siblings',
-// diagnosis_siblings.cc: it guards the claim "elsewhere the law holds").
-constexpr double kSiblingCellAlpha = 0.01;
-
 bool SamePlace(const TermScope& a, const TermScope& b) {
   return a.stand == b.stand && a.position == b.position;
 }
@@ -139,9 +136,9 @@ std::vector<TermScope> SiblingCells(const DiagnosisState& st,
                                     const TermScope& cell,
                                     const std::vector<TermScope>& held) {
   TermScope twin = cell;
-  TwinCell(st.td, st.train, cell, &twin);
+  TwinCell(st.td, st.train, st.thresholds, cell, &twin);
   std::vector<TermScope> out;
-  for (const TermScope& c : OfferedCellScopes(st.td, st.train)) {
+  for (const TermScope& c : OfferedCellScopes(st.td, st.train, st.thresholds)) {
     if (SameCellKind(c, cell) && (SamePlace(c, cell) || SamePlace(c, twin)) &&
         std::find(held.begin(), held.end(), c) == held.end()) {
       out.push_back(c);
@@ -185,7 +182,8 @@ std::vector<TermScope> AllSiblingsAtPlace(const DiagnosisState& st,
     TermScope t = s;
     if (!SamePlace(s, cell)) {
       TermScope twin;
-      if (TwinCell(st.td, st.train, s, &twin) && SamePlace(twin, cell)) {
+      if (TwinCell(st.td, st.train, st.thresholds, s, &twin) &&
+          SamePlace(twin, cell)) {
         t = twin;
       }
     }
@@ -248,17 +246,6 @@ Joining SiblingsJoin(const DiagnosisState& st, const std::vector<double>& sd,
   return j;
 }
 
-// The margin by which a cell must fit better than every description by two
-// other cells of its kind (their LR against the model without it, the
-// cell's likewise): 5, i.e. Akaike's criterion (Akaike 1974, IEEE Trans.
-// Autom. Control 19:716) prefers the cell by at least 7 with the pair's
-// extra parameter counted, beyond which Burnham & Anderson (2002, Model
-// Selection and Multimodel Inference, 2nd ed., p. 70) find a model has
-// "considerably less" support. On an independent generator's 122 cell
-// datasets (session 19), 84 of 87 adopted cells beat their best pair by
-// 10.1 or more; the other 3 (4.3, -2.7, -17.3) were sets adopted in part.
-constexpr double kRivalPairMargin = 5.0;
-
 // Two other cells that describe the data about as well as one adopted
 // cell: the pair's and the cell's LR against the model without the cell.
 struct RivalPair {
@@ -268,7 +255,7 @@ struct RivalPair {
 
 // The best pair of `siblings` in place of `cell` in `base` (fitted with
 // the noise sd `sd`); label empty when no pair comes within
-// kRivalPairMargin of the cell.
+// thresholds.rival_pair_margin (diagnosis_thresholds.h) of the cell.
 RivalPair BestRivalPair(const DiagnosisState& st, const std::vector<double>& sd,
                         const Fitted& base, const TermScope& cell,
                         const std::vector<TermScope>& siblings) {
@@ -294,7 +281,7 @@ RivalPair BestRivalPair(const DiagnosisState& st, const std::vector<double>& sd,
       }
     }
   }
-  if (best >= r.lr_cell - kRivalPairMargin) {
+  if (best >= r.lr_cell - st.thresholds.rival_pair_margin) {
     r.label = label;
     r.lr_pair = best;
   }
@@ -323,7 +310,8 @@ bool WithdrawUnconfinedCell(const DiagnosisOptions& options,
   const Fitted base =
       Fit(st->td, st->train, sd, st->current.log_k, st->current.terms);
   if (!base.usable || !(base.rss > 0)) return false;
-  const double alpha = std::max(kSiblingCellAlpha, options.alpha);
+  const double alpha =
+      std::max(options.thresholds.sibling_cell_alpha, options.alpha);
   for (size_t i = 0; i < report->findings.size(); ++i) {
     const Finding& f = report->findings[i];
     const TermScope cell = f.term.scope;
@@ -399,8 +387,8 @@ void WithdrawTiedCellSets(const DiagnosisOptions& options, DiagnosisState* st,
   }
   // The cells the model holds after the rounds, and their twins, taken
   // once: a withdrawn cell does not become a sibling of the next.
-  const std::vector<TermScope> held =
-      WithTwins(st->td, st->train, ModelCells(st->current.terms));
+  const std::vector<TermScope> held = WithTwins(
+      st->td, st->train, options.thresholds, ModelCells(st->current.terms));
   while (WithdrawUnconfinedCell(options, held, st, report, &rounds)) {
   }
 }

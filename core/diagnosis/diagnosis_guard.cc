@@ -17,12 +17,12 @@
 //      homogeneity (Cochran 1954, Biometrics 10:101). This is the
 //      linearised test of a term x group interaction with K held at the
 //      fit. Significant (p * 5 < alpha, Bonferroni over the dimensions below)
-//      and material (some |b_g - b_bar| >= kMaterialScale): not adopted.
+//      and material (some |b_g - b_bar| >= material_scale): not adopted.
 //      Within groups. b_bar, with variance 1 / sum_g(1 / se_g^2), is the
 //      effect's scale estimated inside the groups only. A term whose fitted
 //      effect (scale 1 by construction) comes from the contrast BETWEEN the
 //      groups while nothing of its shape holds inside them (b_bar far from
-//      1: |b_bar - 1| >= kMaterialScale with p * 5 < alpha for the z test)
+//      1: |b_bar - 1| >= material_scale with p * 5 < alpha for the z test)
 //      is a stand-in for a group-level effect (a cell or a scoped K), e.g. a
 //      contact length term on one roll type whose contact length differs
 //      between the two stands it runs in: not adopted.
@@ -57,11 +57,6 @@
 namespace rollwear::diag {
 namespace {
 
-constexpr double kMaterialScale = 0.5;    // |b_g - b_bar|, in effect units
-constexpr double kLookAgainShrink = 0.5;  // largest group mean must halve
-constexpr int kMinGroupObservations = 10;
-constexpr double kShadowDelta = 6.63;  // chi2(1) 1 % point
-
 struct Heterogeneity {
   double q = 0, p = 1, max_dev = 0;
   // The within-group scale b_bar and the p-value of b_bar = 1 (two-sided z).
@@ -81,7 +76,8 @@ Heterogeneity Cochran(const std::vector<std::string>& label,
                       const std::vector<double>& p0,
                       const std::vector<double>& d,
                       const std::vector<double>& w,
-                      const std::vector<double>& before, double phi) {
+                      const std::vector<double>& before, double phi,
+                      const DiagnosisThresholds& thresholds) {
   struct Sums {
     double pp = 0, pd = 0, dd = 0, pe = 0, de = 0, se = 0;
     int n = 0;
@@ -107,7 +103,8 @@ Heterogeneity Cochran(const std::vector<std::string>& label,
   for (const auto& [g, s] : by) {
     const double det = s.pp * s.dd - s.pd * s.pd;
     // The partial variance of D given p0 must not vanish.
-    if (s.n < kMinGroupObservations || !(det > 1e-9 * s.pp * s.dd)) continue;
+    if (s.n < thresholds.min_group_observations || !(det > 1e-9 * s.pp * s.dd))
+      continue;
     const double b = (s.pp * s.de - s.pd * s.pe) / det;
     const double var = phi * s.pp / det;
     used.push_back({g, b, var, s.se / s.n});
@@ -254,11 +251,13 @@ GuardResult LookAgain(const Dataset& data, const DiagnosisState& st,
   const double m = static_cast<double>(before.size());
   const Breakdown& top = before.front();  // strongest first
   if (!(top.p_value * m < options.alpha)) return r;
-  for (const Breakdown& b : Locate(st.td, data, st.train, after, &clip)) {
+  for (const Breakdown& b :
+       Locate(st.td, data, st.train, after, options.thresholds, &clip)) {
     if (b.dimension != top.dimension) continue;
     const bool gone = !(b.p_value * m < options.alpha);
     const bool shrunk =
-        LargestGroupMean(b) <= kLookAgainShrink * LargestGroupMean(top);
+        LargestGroupMean(b) <=
+        options.thresholds.look_again_shrink * LargestGroupMean(top);
     if (!gone && !shrunk) {
       r.pass = false;
       char buf[160];
@@ -341,7 +340,7 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
     const SplitHeterogeneity* strongest = nullptr;
     for (const SplitHeterogeneity& s : split) {
       if (s.deferred == deferred && s.p * dims < options.alpha &&
-          s.max_dev >= kMaterialScale &&
+          s.max_dev >= options.thresholds.material_scale &&
           (strongest == nullptr ||
            standardised(s) > standardised(*strongest))) {
         strongest = &s;
@@ -359,13 +358,13 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
   for (size_t di = 0; di < names.size(); ++di) {
     const char* name = names[di].c_str();
     const std::vector<std::string>* label = &labels[di];
-    const Heterogeneity h = Cochran(*label, e, p0, d, w, before, phi);
-    if (h.p * dims < options.alpha && h.max_dev >= kMaterialScale) {
+    const Heterogeneity h = Cochran(*label, e, p0, d, w, before, phi, options.thresholds);
+    if (h.p * dims < options.alpha && h.max_dev >= options.thresholds.material_scale) {
       return Refused(std::string("inconsistent across ") + name, name, h,
                      "cochran_q", h.q, h.p, dims);
     }
     if (h.p_within * dims < options.alpha &&
-        std::abs(h.b_bar - 1) >= kMaterialScale) {
+        std::abs(h.b_bar - 1) >= options.thresholds.material_scale) {
       char buf[120];
       std::snprintf(buf, sizeof(buf),
                     "effect lives between groups of %s, not within them (scale "
@@ -496,7 +495,7 @@ GuardResult FitsWorseThanRefused(const DiagnosisState& st,
                                  const std::vector<CandidateResult>& results) {
   GuardResult r;
   const double n = static_cast<double>(st.train.size());
-  double worst = kShadowDelta;
+  double worst = st.thresholds.shadow_delta;
   int by = -1;
   for (int j : refused) {
     const double extra = fits[j].terms.back().term.NumParams() -
@@ -531,9 +530,10 @@ int GuardedWinner(int round, const Dataset& data,
   if (accepted.empty()) return -1;
   std::vector<double> clip;
   for (int o : st.train) clip.push_back(sd[o]);
-  const std::vector<Breakdown> before = Locate(
-      st.td, data, st.train,
-      PredictTerms(st.td, st.train, st.current.log_k, st.current.terms), &clip);
+  const std::vector<Breakdown> before =
+      Locate(st.td, data, st.train,
+             PredictTerms(st.td, st.train, st.current.log_k, st.current.terms),
+             options.thresholds, &clip);
   std::vector<Unexplained> located;
   std::vector<int> refused;  // the candidates the guard refused
   for (int i : accepted) {

@@ -42,11 +42,6 @@
 namespace rollwear::diag {
 namespace {
 
-// The family-wise level (as the sibling test's, diagnosis_siblings.cc).
-constexpr double kInsideAlpha = 0.01;
-// The smallest slope worth a refusal: 5 % of wear per sd of the covariate.
-constexpr double kMaterialSlope = 0.05;
-
 // A log-linear term in covariate k over `scope`, centred and scaled by the
 // covariate's training mean and sd.
 struct Slope {
@@ -141,7 +136,7 @@ std::vector<Slope> SignificantSlopes(const DiagnosisState& st,
       s.b = inside.terms.back().term.params[0];
       s.lr = NestedLr(n, with_term.rss, inside.rss);
       s.p = ChiSquareSurvival(s.lr, 1);
-      if (std::abs(s.b) >= kMaterialSlope && s.p * *tests < alpha)
+      if (std::abs(s.b) >= st.thresholds.material_slope && s.p * *tests < alpha)
         out.push_back(s);
     }
   }
@@ -161,18 +156,19 @@ GuardResult LookInsideCell(const DiagnosisState& st,
   if (cell.term.form != TermForm::kCell) return r;
   std::vector<TermScope> places = {cell.term.scope};
   TermScope twin;
-  if (TwinCell(st.td, st.train, cell.term.scope, &twin)) places.push_back(twin);
-  const double alpha = std::max(kInsideAlpha, options.alpha);
+  if (TwinCell(st.td, st.train, options.thresholds, cell.term.scope, &twin))
+    places.push_back(twin);
+  const double alpha = std::max(options.thresholds.inside_alpha, options.alpha);
   double tests = 0;
   const std::vector<Slope> slopes =
       SignificantSlopes(st, sd, with_term, places, alpha, &tests);
   if (slopes.empty()) return r;
   // The model's cells (this one among them) and their twins are in it
   // already.
-  const std::vector<TermScope> skip =
-      WithTwins(st.td, st.train, ModelCells(with_term.terms));
-  const std::vector<TermSpec> alternatives =
-      Alternatives(st, OfferedCellScopes(st.td, st.train), skip);
+  const std::vector<TermScope> skip = WithTwins(
+      st.td, st.train, options.thresholds, ModelCells(with_term.terms));
+  const std::vector<TermSpec> alternatives = Alternatives(
+      st, OfferedCellScopes(st.td, st.train, options.thresholds), skip);
   const Slope* found = nullptr;
   for (const Slope& s : slopes) {
     if (AddsToEveryAlternative(st, sd, with_term, s, alternatives, alpha)) {
@@ -215,7 +211,7 @@ Fitted OrientTwinCell(const DiagnosisState& st, const std::vector<double>& sd,
   const TermSpec& cell = winner.terms.back();
   TermScope twin;
   if (cell.term.form != TermForm::kCell ||
-      !TwinCell(st.td, st.train, cell.term.scope, &twin)) {
+      !TwinCell(st.td, st.train, st.thresholds, cell.term.scope, &twin)) {
     return winner;
   }
   const double b = cell.term.params[0];

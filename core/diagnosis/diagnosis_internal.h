@@ -55,12 +55,14 @@ std::vector<Candidate> MakeCandidates(
     const TermData& td, const std::vector<int>& train,
     const std::set<int>& used,
     const std::vector<std::vector<Candidate>>& unscoped,
+    const DiagnosisThresholds& thresholds,
     const std::vector<TermScope>& adopted_cells = {});
 
 // Appends the scoped variants of the simple candidates already in `out`
 // and the cell candidates but those of `adopted_cells` and their twins
 // (diagnosis_scoped.cc).
 void AddScopedCandidates(const TermData& td, const std::vector<int>& train,
+                         const DiagnosisThresholds& thresholds,
                          const std::set<int>& used,
                          const std::vector<TermScope>& adopted_cells,
                          std::vector<Candidate>* out);
@@ -76,6 +78,7 @@ bool SameCellKind(const TermScope& a, const TermScope& b);
 // a set of cells describes (diagnosis_scoped.cc).
 std::vector<TermScope> WithTwins(const TermData& td,
                                  const std::vector<int>& train,
+                                 const DiagnosisThresholds& thresholds,
                                  const std::vector<TermScope>& cells);
 // The scopes of the cell terms among `terms`.
 std::vector<TermScope> ModelCells(const std::vector<TermSpec>& terms);
@@ -83,7 +86,8 @@ std::vector<TermScope> ModelCells(const std::vector<TermSpec>& terms);
 // The cells with enough training data, as the candidates offer them (one
 // of two twin cells; diagnosis_scoped.cc).
 std::vector<TermScope> OfferedCellScopes(const TermData& td,
-                                         const std::vector<int>& train);
+                                         const std::vector<int>& train,
+                                         const DiagnosisThresholds& thresholds);
 
 // The twin of a cell: when the cell's roll type or grade runs (in the
 // training data) in exactly two places of the cell's kind (two stands, top
@@ -92,7 +96,8 @@ std::vector<TermScope> OfferedCellScopes(const TermData& td,
 // (x m at one place = x 1/m at the other, the level's own K factor taking
 // up the rest). False when there is no twin (diagnosis_scoped.cc).
 bool TwinCell(const TermData& td, const std::vector<int>& train,
-              const TermScope& cell, TermScope* twin);
+              const DiagnosisThresholds& thresholds, const TermScope& cell,
+              TermScope* twin);
 
 // The complementary description of a set of stand cells of one factor
 // (roll types, or grades, all at one stand s) in a mill whose training
@@ -103,6 +108,7 @@ bool TwinCell(const TermData& td, const std::vector<int>& train,
 // up to a constant). False (and empty) when `cells` is not such a set or
 // the mill has not two stands (diagnosis_scoped.cc).
 bool ComplementCells(const TermData& td, const std::vector<int>& train,
+                     const DiagnosisThresholds& thresholds,
                      const std::vector<TermScope>& cells,
                      std::vector<TermScope>* complement);
 
@@ -121,13 +127,14 @@ inline constexpr const char* kElsewhereTheLawHolds =
     "; elsewhere the wear law holds";
 
 // The single-factor scopes with enough training data (at least
-// kMinScopeObservations inside, and not all of them): each stand, position
-// (top, bottom), roll position (stand and position, "F7/top"), roll type and
-// grade (diagnosis_scoped.cc). With `keep_everywhere`, also a scope that
-// holds every training reading (a grade rolled in every campaign still
+// thresholds.min_scope_observations inside, and not all of them): each stand,
+// position (top, bottom), roll position (stand and position, "F7/top"), roll
+// type and grade (diagnosis_scoped.cc). With `keep_everywhere`, also a scope
+// that holds every training reading (a grade rolled in every campaign still
 // restricts passes: the sibling test must see it).
 std::vector<TermScope> SingleScopes(const TermData& td,
                                     const std::vector<int>& train,
+                                    const DiagnosisThresholds& thresholds,
                                     bool keep_everywhere = false);
 
 // Whether observation `ob` is inside `s` (a grade scope holds an observation
@@ -146,11 +153,8 @@ void NameFinding(const TermData& td, const std::vector<int>& train,
 std::vector<Breakdown> Locate(const TermData& td, const Dataset& data,
                               const std::vector<int>& obs,
                               const std::vector<double>& pred,
+                              const DiagnosisThresholds& thresholds,
                               const std::vector<double>* clip_sd = nullptr);
-
-// The change-point grid of the calendar step candidates (AddSteps,
-// diagnosis_candidates.cc): one candidate per inner 1/kStepGrid quantile.
-inline constexpr int kStepGrid = 20;
 
 // Whether `spec` is a calendar step candidate (a binned or offset-binned
 // term with a single edge).
@@ -186,7 +190,8 @@ std::string DominantGrade(const TermData& td, const TermObservation& o);
 std::vector<Breakdown> NoiseChecks(const TermData& td, const Dataset& data,
                                    const std::vector<int>& obs,
                                    const std::vector<double>& pred,
-                                   const std::vector<double>& sd);
+                                   const std::vector<double>& sd,
+                                   const DiagnosisThresholds& thresholds);
 
 // The group of a breakdown that carries its structure (diagnosis_noise.cc):
 // the largest |mean residual| (for a spread check, the largest relative
@@ -202,6 +207,7 @@ const Breakdown::Group* Carrier(const Breakdown& b);
 void GradeByCampaignOrder(const TermData& td, const std::vector<int>& obs,
                           const std::vector<double>& u,
                           const std::vector<double>& um,
+                          const DiagnosisThresholds& thresholds,
                           std::vector<Breakdown>* out);
 
 // Per campaign of `obs`, in time order (started_at): the mean of `u` and of
@@ -218,11 +224,13 @@ CampaignSeries ByCampaignInTime(const TermData& td, const Dataset& data,
 // of `checks`) and of material size (a location group mean of at least
 // `material_um`; see diagnosis_noise.cc for the others), strongest first.
 std::vector<Unexplained> UnexplainedStructure(
-    const std::vector<Breakdown>& checks, double alpha, double material_um);
+    const std::vector<Breakdown>& checks, double alpha, double material_um,
+    const DiagnosisThresholds& thresholds);
 
-// The material size of a located mean residual: a quarter of the median
-// noise sd.
-double MaterialResidualUm(const std::vector<double>& sd);
+// The material size of a located mean residual: a quarter
+// (thresholds.material_noise_share) of the median noise sd.
+double MaterialResidualUm(const std::vector<double>& sd,
+                          const DiagnosisThresholds& thresholds);
 
 }  // namespace rollwear::diag
 

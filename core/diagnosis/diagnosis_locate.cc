@@ -129,10 +129,10 @@ std::vector<std::string> TimeOfDay(const TermData& td, const std::vector<int>& o
 // back after grinding): a roll that wears otherwise whenever it is mounted
 // (a bad heat treatment, a soft batch) while its recorded hardness and
 // diameter do not say so lives here. Rolls with fewer than
-// kMinRollReadings readings share one group.
-constexpr int kMinRollReadings = 5;
+// thresholds.min_roll_readings readings share one group.
 std::vector<std::string> RollIds(const Dataset& data, const TermData& td,
-                                 const std::vector<int>& obs) {
+                                 const std::vector<int>& obs,
+                                 const DiagnosisThresholds& thresholds) {
   std::vector<std::string> id(obs.size());
   std::map<std::string, int> count;
   for (size_t i = 0; i < obs.size(); ++i) {
@@ -141,7 +141,8 @@ std::vector<std::string> RollIds(const Dataset& data, const TermData& td,
     ++count[id[i]];
   }
   for (std::string& r : id) {
-    if (r.empty() || count[r] < kMinRollReadings) r = "rolls with fewer readings";
+    if (r.empty() || count[r] < thresholds.min_roll_readings)
+      r = "rolls with fewer readings";
   }
   return id;
 }
@@ -150,7 +151,7 @@ std::vector<std::string> RollIds(const Dataset& data, const TermData& td,
 
 std::vector<Breakdown> Locate(const TermData& td, const Dataset& data,
                               const std::vector<int>& obs, const std::vector<double>& pred,
-                              const std::vector<double>* clip_sd) {
+                              const DiagnosisThresholds& thresholds, const std::vector<double>* clip_sd) {
   const size_t n = obs.size();
   std::vector<double> resid(n), rel(n);
   for (size_t i = 0; i < n; ++i) {
@@ -193,7 +194,7 @@ std::vector<Breakdown> Locate(const TermData& td, const Dataset& data,
   out.push_back(AnovaBreakdown("time_started_at_days", q, resid, rel, order));
   out.push_back(AnovaBreakdown("time_of_day", TimeOfDay(td, obs), resid, rel,
                                {kDayBlocks.begin(), kDayBlocks.end()}));
-  out.push_back(AnovaBreakdown("roll_id", RollIds(data, td, obs), resid, rel));
+  out.push_back(AnovaBreakdown("roll_id", RollIds(data, td, obs, thresholds), resid, rel));
   // Numeric covariates: correlation with the relative residual.
   for (size_t k = 0; k < td.catalog.size(); ++k) {
     if (td.catalog[k].kind == CovariateKind::kFactor) continue;

@@ -42,13 +42,6 @@
 namespace rollwear::diag {
 namespace {
 
-// Material size of the non-location checks.
-constexpr double kMaterialAutocorrelation = 0.15;  // |r1|
-constexpr double kMaterialRunsShare = 0.10;        // |R - E[R]| / E[R]
-constexpr double kMaterialSpreadShare = 0.25;      // |spread ratio - 1|
-constexpr double kMaterialNoiseShare = 0.25;       // |mean| / median sd
-constexpr int kMinCampaignsPerBlock = 8;
-
 double NormalTwoSided(double z) {
   return std::erfc(std::abs(z) / std::sqrt(2.0));
 }
@@ -98,10 +91,12 @@ std::vector<std::string> BlockLabels(int n, int blocks) {
   return order;
 }
 
-void TimeChecks(const CampaignSeries& s, std::vector<Breakdown>* out) {
+void TimeChecks(const CampaignSeries& s, const DiagnosisThresholds& thresholds,
+                std::vector<Breakdown>* out) {
   const int n = static_cast<int>(s.u.size());
-  if (n < 2 * kMinCampaignsPerBlock) return;
-  for (int blocks = 2; n / blocks >= kMinCampaignsPerBlock; blocks *= 2) {
+  if (n < 2 * thresholds.min_campaigns_per_block) return;
+  for (int blocks = 2; n / blocks >= thresholds.min_campaigns_per_block;
+       blocks *= 2) {
     std::vector<std::string> label(n);
     const std::vector<std::string> order = BlockLabels(n, blocks);
     for (int i = 0; i < n; ++i)
@@ -215,11 +210,13 @@ Breakdown SpreadCheck(const std::string& dimension,
                             DeviationsFromGroupMedian(label, u), d_um);
 }
 
-bool Material(const Breakdown& b, double material_um) {
+bool Material(const Breakdown& b, double material_um,
+              const DiagnosisThresholds& thresholds) {
   if (b.test == "lag1_autocorrelation")
-    return b.effect_size >= kMaterialAutocorrelation;
-  if (b.test == "runs") return b.effect_size >= kMaterialRunsShare;
-  if (b.test == "brown_forsythe") return b.effect_size >= kMaterialSpreadShare;
+    return b.effect_size >= thresholds.material_autocorrelation;
+  if (b.test == "runs") return b.effect_size >= thresholds.material_runs_share;
+  if (b.test == "brown_forsythe")
+    return b.effect_size >= thresholds.material_spread_share;
   double largest = 0;
   for (const Breakdown::Group& g : b.groups) {
     largest = std::max(largest, std::abs(g.mean_residual_um));
@@ -288,7 +285,7 @@ namespace {
 
 // spread_time_scale_S: Brown-Forsythe over S consecutive blocks of
 // campaigns in time order (S = 2, 4, 8 ... while each block holds
-// kMinCampaignsPerBlock campaigns), the spread's counterpart of
+// thresholds.min_campaigns_per_block campaigns), the spread's counterpart of
 // time_scale_S: a few periods of extra scatter (a bad batch of rolls, an
 // unstable gauge for a month) are a small part of any calendar quarter but
 // most of a block of their own length. The unit is the campaign, as in
@@ -298,6 +295,7 @@ namespace {
 void SpreadAlongTime(const TermData& td, const Dataset& data,
                      const std::vector<int>& obs, const std::vector<double>& u,
                      const std::vector<double>& um,
+                     const DiagnosisThresholds& thresholds,
                      std::vector<Breakdown>* out) {
   std::vector<int> camps;
   for (int o : obs) camps.push_back(td.obs[o].campaign);
@@ -310,7 +308,8 @@ void SpreadAlongTime(const TermData& td, const Dataset& data,
   for (size_t r = 0; r < camps.size(); ++r)
     rank[camps[r]] = static_cast<int>(r);
   const int n = static_cast<int>(camps.size());
-  for (int blocks = 2; n / blocks >= kMinCampaignsPerBlock; blocks *= 2) {
+  for (int blocks = 2; n / blocks >= thresholds.min_campaigns_per_block;
+       blocks *= 2) {
     const std::vector<std::string> order = BlockLabels(n, blocks);
     std::vector<std::string> label(obs.size());
     for (size_t i = 0; i < obs.size(); ++i) {
@@ -341,7 +340,8 @@ void SpreadAlongTime(const TermData& td, const Dataset& data,
 std::vector<Breakdown> NoiseChecks(const TermData& td, const Dataset& data,
                                    const std::vector<int>& obs,
                                    const std::vector<double>& pred,
-                                   const std::vector<double>& sd) {
+                                   const std::vector<double>& sd,
+                                   const DiagnosisThresholds& thresholds) {
   const size_t n = obs.size();
   std::vector<double> u(n), um(n);
   double t_min = 0, t_max = 0;
@@ -355,7 +355,7 @@ std::vector<Breakdown> NoiseChecks(const TermData& td, const Dataset& data,
     t_max = i == 0 ? t : std::max(t_max, t);
   }
   std::vector<Breakdown> out;
-  TimeChecks(ByCampaignInTime(td, data, obs, u, um), &out);
+  TimeChecks(ByCampaignInTime(td, data, obs, u, um), thresholds, &out);
   // Position x half of the time range; position and time quarters spread.
   std::vector<std::string> pos_half(n), pos_type(n), pos_grade(n), position(n),
       quarter(n);
@@ -378,18 +378,19 @@ std::vector<Breakdown> NoiseChecks(const TermData& td, const Dataset& data,
   out.push_back(AnovaWithSize("position_by_grade", pos_grade, u, um));
   out.push_back(SpreadCheck("spread_by_position", position, u, um));
   out.push_back(SpreadCheck("spread_by_time", quarter, u, um));
-  SpreadAlongTime(td, data, obs, u, um, &out);
-  GradeByCampaignOrder(td, obs, u, um, &out);
+  SpreadAlongTime(td, data, obs, u, um, thresholds, &out);
+  GradeByCampaignOrder(td, obs, u, um, thresholds, &out);
   return out;
 }
 
 std::vector<Unexplained> UnexplainedStructure(
-    const std::vector<Breakdown>& checks, double alpha, double material_um) {
+    const std::vector<Breakdown>& checks, double alpha, double material_um,
+    const DiagnosisThresholds& thresholds) {
   std::vector<Unexplained> out;
   const double m = static_cast<double>(checks.size());
   for (const Breakdown& b : checks) {
     const double p_adj = std::min(1.0, b.p_value * m);
-    if (!(p_adj < alpha) || !Material(b, material_um)) continue;
+    if (!(p_adj < alpha) || !Material(b, material_um, thresholds)) continue;
     auto add = [&](const Breakdown::Group& g, double p, double p_adjusted) {
       out.push_back({b.dimension, Where(b, g), b.test, b.statistic,
                      g.mean_residual_um, p, p_adjusted});
@@ -423,11 +424,12 @@ std::vector<Unexplained> UnexplainedStructure(
   return out;
 }
 
-double MaterialResidualUm(const std::vector<double>& sd) {
+double MaterialResidualUm(const std::vector<double>& sd,
+                          const DiagnosisThresholds& thresholds) {
   if (sd.empty()) return 0;
   std::vector<double> s = sd;
   std::nth_element(s.begin(), s.begin() + s.size() / 2, s.end());
-  return kMaterialNoiseShare * s[s.size() / 2];
+  return thresholds.material_noise_share * s[s.size() / 2];
 }
 
 }  // namespace rollwear::diag

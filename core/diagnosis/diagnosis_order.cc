@@ -22,7 +22,7 @@
 // after it.
 //
 // The guard looks again with the same check (LookAtGradeOrder): a winner
-// that takes part of such a structure (at least kOrderTouchedShare of its
+// that takes part of such a structure (at least order_touched_share of its
 // t^2) must take it below significance, or it is a stand-in (an unscoped
 // campaign-order term for a hard grade's opening coils: seed 109 of
 // inexpressible_order, named campaign_coils_before before this check).
@@ -40,15 +40,6 @@
 
 namespace rollwear::diag {
 namespace {
-
-// The share of the check's t^2 a term must take away to be judged by it
-// (LookAtGradeOrder). Measured (session 14, seed 109 of
-// inexpressible_order): campaign-order terms everywhere took 50-60 %.
-constexpr double kOrderTouchedShare = 0.25;
-
-// A (grade, window) needs this many readings with some of the grade inside
-// the window to be tried.
-constexpr int kMinOpeningReadings = 30;
 
 // y minus its least-squares fit on (1, x).
 std::vector<double> Residualise(const std::vector<double>& y,
@@ -186,6 +177,7 @@ void GradeShares(const TermData& td, const std::vector<int>& obs, int g, In in,
 void GradeByCampaignOrder(const TermData& td, const std::vector<int>& obs,
                           const std::vector<double>& u,
                           const std::vector<double>& um,
+                          const DiagnosisThresholds& thresholds,
                           std::vector<Breakdown>* out) {
   const int k = td.CovariateIndex("campaign_coils_before");
   if (k < 0 || td.grades.size() < 2) return;
@@ -214,7 +206,7 @@ void GradeByCampaignOrder(const TermData& td, const std::vector<int>& obs,
           td, obs, t.grade, [&](int p) { return td.z[k][p] < w; }, &t.c, &t.x);
       const auto opening =
           std::count_if(t.x.begin(), t.x.end(), [](double e) { return e > 0; });
-      if (opening < kMinOpeningReadings) continue;
+      if (opening < thresholds.min_opening_readings) continue;
       trials.push_back(std::move(t));
     }
   }
@@ -244,7 +236,7 @@ Breakdown OrderCheck(const DiagnosisState& st, const std::vector<double>& sd,
     um[i] = u[i] * sd[o];
   }
   std::vector<Breakdown> out;
-  GradeByCampaignOrder(st.td, st.train, u, um, &out);
+  GradeByCampaignOrder(st.td, st.train, u, um, st.thresholds, &out);
   return out.empty() ? Breakdown{} : out.front();
 }
 
@@ -264,7 +256,7 @@ GuardResult LookAtGradeOrder(const DiagnosisState& st,
   // temperature effect beside an order x grade one); one that takes part
   // of it and leaves the rest significant is a stand-in.
   if (a.statistic * a.statistic >
-      (1 - kOrderTouchedShare) * b.statistic * b.statistic)
+      (1 - options.thresholds.order_touched_share) * b.statistic * b.statistic)
     return r;
   const Breakdown::Group* g = Carrier(a);
   char buf[200];

@@ -33,10 +33,6 @@
 namespace rollwear::diag {
 namespace {
 
-// chi2_1's upper 1 % quantile: a reference is rejected as the true reading
-// at the 1 % level.
-constexpr double kChiSquare1Critical = 6.6349;
-
 // Training readings per level of the term's covariate inside its scope.
 std::vector<int> ReadingsPerLevel(const DiagnosisState& st,
                                   const ModelTerm& t) {
@@ -92,14 +88,14 @@ Fitted ChooseOffsetReference(const DiagnosisState& st,
   }
   if (best < 0) return winner;
   const double n = static_cast<double>(st.train.size());
-  choice->critical = kChiSquare1Critical;
+  choice->critical = st.thresholds.reference_chi2_critical;
   for (int r = 0; r < t.num_levels; ++r) {
     if (count[r] == 0 || r == best) continue;
     // A level whose refit failed is not rejected: it stays possible.
     const double delta = fits[r].usable
                              ? n * std::log(fits[r].rss / fits[best].rss)
                              : std::nan("");
-    if (!(delta >= kChiSquare1Critical)) {
+    if (!(delta >= st.thresholds.reference_chi2_critical)) {
       choice->possible.push_back({LevelLabel(t, r), delta});
     }
   }

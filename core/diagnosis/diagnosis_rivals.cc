@@ -9,10 +9,10 @@
 // encompassing test (Mizon & Richard 1986, Econometrica 54:657): the
 // nested likelihood ratio of the winner's term added to the rival's model,
 // LR = n ln(RSS_rival / RSS_rival+winner) ~ chi2(df_winner) (Wilks 1938,
-// Ann. Math. Stat. 9:60), at kRivalAlpha for each rival. Naming needs every
-// rival's test to reject, an intersection-union test (Berger 1982,
-// Technometrics 24:295): each at level alpha bounds the chance of naming a
-// covariate the data do not prefer, with no multiplicity correction.
+// Ann. Math. Stat. 9:60), at rival_alpha (diagnosis_thresholds.h) for each
+// rival. Naming needs every rival's test to reject, an intersection-union test
+// (Berger 1982, Technometrics 24:295): each at level alpha bounds the chance of
+// naming a covariate the data do not prefer, with no multiplicity correction.
 // Since RSS_rival+winner <= RSS_winner, n ln(RSS_rival / RSS_winner) is a
 // lower bound of that LR: a rival it already clears needs no joint fit.
 // A rival is an accepted candidate over another covariate that is not a
@@ -39,14 +39,6 @@
 namespace rollwear::diag {
 namespace {
 
-// The level of each rival test: the level of the other guard-stage
-// comparisons (diagnosis_siblings.cc). The winner has passed the round's
-// alpha already; this asks only whether the data prefer it to an accepted
-// rival, and a true effect's term added LR 5.5..9.4 to a collinear rival
-// while the rival added 0..2.4 to it (scorecard, session 14), which the
-// round's 0.001 would call a tie.
-constexpr double kRivalAlpha = 0.01;
-
 // A locate-only rival (a quantity the data format does not name) that adds
 // nothing to the winner either is the same description, and the recorded
 // covariate is named: a mill's own column of each roll's regrinds is a
@@ -54,7 +46,7 @@ constexpr double kRivalAlpha = 0.01;
 // before the rival existed and refused as "not distinguishable" with it).
 // The reverse encompassing test: the rival's term added to the winner's
 // model, LR = n ln(RSS_winner / RSS_joint) ~ chi2(df_rival), at the same
-// kRivalAlpha; its lower bound n ln(RSS_winner / RSS_rival) first.
+// thresholds.rival_alpha; its lower bound n ln(RSS_winner / RSS_rival) first.
 bool EncompassesLocateOnly(const DiagnosisState& st,
                            const std::vector<Fitted>& fits, int winner,
                            int rival, const Fitted& joint) {
@@ -63,11 +55,11 @@ bool EncompassesLocateOnly(const DiagnosisState& st,
   const double n = static_cast<double>(st.train.size());
   const int df = rival_term.term.NumParams();
   double lr = std::max(0.0, n * std::log(fits[winner].rss / fits[rival].rss));
-  if (ChiSquareSurvival(lr, df) < kRivalAlpha) return false;
+  if (ChiSquareSurvival(lr, df) < st.thresholds.rival_alpha) return false;
   if (!joint.usable || !(joint.rss > 0))
     return false;  // cannot tell: not named
   lr = std::max(lr, n * std::log(fits[winner].rss / joint.rss));
-  return ChiSquareSurvival(lr, df) >= kRivalAlpha;
+  return ChiSquareSurvival(lr, df) >= st.thresholds.rival_alpha;
 }
 
 }  // namespace
@@ -144,7 +136,7 @@ GuardResult DistinctFromRivals(const DiagnosisState& st,
   for (int j : rivals) {
     const double bound =
         std::max(0.0, n * std::log(fits[j].rss / fits[winner].rss));
-    if (ChiSquareSurvival(bound, df) < kRivalAlpha) continue;
+    if (ChiSquareSurvival(bound, df) < st.thresholds.rival_alpha) continue;
     std::vector<TermSpec> both = fits[j].terms;
     both.push_back(term);
     const Fitted joint = Fit(st.td, st.train, sd, fits[j].log_k, both);
@@ -154,7 +146,7 @@ GuardResult DistinctFromRivals(const DiagnosisState& st,
             ? std::max(bound, n * std::log(fits[j].rss / joint.rss))
             : bound;
     const double p = ChiSquareSurvival(lr, df);
-    if (p < kRivalAlpha) continue;
+    if (p < st.thresholds.rival_alpha) continue;
     if (EncompassesLocateOnly(st, fits, winner, j, joint)) continue;
     const TermScope& scope = term.term.scope;
     const std::string where =

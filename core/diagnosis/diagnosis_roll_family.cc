@@ -32,9 +32,6 @@
 namespace rollwear::diag {
 namespace {
 
-// A roll needs this many training readings to enter the Q test.
-constexpr int kMinReadingsPerRoll = 2;
-
 struct Heterogeneity {
   int rolls = 0;
   double q = 0, p_value = 1, tau = 0;
@@ -51,6 +48,7 @@ Heterogeneity RollHeterogeneity(const TermData& td, int k,
                                 const std::vector<double>& pred,
                                 const std::vector<double>& y,
                                 const std::vector<double>& sd,
+                                const DiagnosisOptions& options,
                                 const std::function<bool(size_t)>& keep = {}) {
   const int levels = static_cast<int>(td.catalog[k].levels.size());
   std::vector<double> sxy(levels, 0.0), sxx(levels, 0.0);
@@ -67,7 +65,8 @@ Heterogeneity RollHeterogeneity(const TermData& td, int k,
   }
   std::vector<double> m, v;
   for (int l = 0; l < levels; ++l) {
-    if (count[l] < kMinReadingsPerRoll || !(sxx[l] > 0)) continue;
+    if (count[l] < options.thresholds.min_readings_per_roll || !(sxx[l] > 0))
+      continue;
     m.push_back(sxy[l] / sxx[l]);
     v.push_back(1.0 / sxx[l]);
   }
@@ -92,16 +91,13 @@ Heterogeneity RollHeterogeneity(const TermData& td, int k,
 }
 
 // A roll's own wear resistance goes with the roll wherever it runs: the
-// rolls must scatter (Q at kEverywhereAlpha) within every stand, position
-// and roll type that has kMinGroupRolls rolls with readings and where the
-// pooled spread would show plainly (its expected Q, (R_g - 1) + tau^2 c_g,
-// beyond the chi-square's kPlainAlpha point: a group too small to see it
-// is not evidence against it). A scatter at one place only is something
-// of that place (a roll type's covariate at one stand, say), not of the
-// rolls. Returns "" or why not.
-constexpr int kMinGroupRolls = 5;
-constexpr double kEverywhereAlpha = 0.05;
-constexpr double kPlainAlpha = 0.001;
+// rolls must scatter (Q at everywhere_alpha, diagnosis_thresholds.h) within
+// every stand, position and roll type that has min_group_rolls rolls with
+// readings and where the pooled spread would show plainly (its expected Q,
+// (R_g - 1) + tau^2 c_g, beyond the chi-square's plain_alpha point: a group
+// too small to see it is not evidence against it). A scatter at one place
+// only is something of that place (a roll type's covariate at one stand,
+// say), not of the rolls. Returns "" or why not.
 
 // The groupings a roll's own resistance must hold across: per training
 // reading (index into train), its stand, its position and its roll type.
@@ -133,7 +129,8 @@ std::string ScatterNotEverywhere(const TermData& td, int k,
                                  const std::vector<double>& pred,
                                  const std::vector<double>& y,
                                  const std::vector<double>& sd,
-                                 const Heterogeneity& pooled) {
+                                 const Heterogeneity& pooled,
+                                 const DiagnosisOptions& options) {
   for (const Grouping& grouping : Groupings(td, train)) {
     const std::set<std::string> labels(grouping.label.begin(),
                                        grouping.label.end());
@@ -141,15 +138,16 @@ std::string ScatterNotEverywhere(const TermData& td, int k,
     std::vector<std::pair<std::string, Heterogeneity>> each;
     for (const std::string& label : labels) {
       const Heterogeneity g = RollHeterogeneity(
-          td, k, train, pred, y, sd,
+          td, k, train, pred, y, sd, options,
           [&](size_t i) { return grouping.label[i] == label; });
-      if (g.rolls >= kMinGroupRolls) each.emplace_back(label, g);
+      if (g.rolls >= options.thresholds.min_group_rolls)
+        each.emplace_back(label, g);
     }
     for (const auto& [label, g] : each) {
       const double df = g.rolls - 1;
       const double expected_q = df + pooled.tau2 * g.c;
-      if (g.p_value < kEverywhereAlpha ||
-          ChiSquareSurvival(expected_q, df) >= kPlainAlpha)
+      if (g.p_value < options.thresholds.everywhere_alpha ||
+          ChiSquareSurvival(expected_q, df) >= options.thresholds.plain_alpha)
         continue;
       char text[200];
       std::snprintf(
@@ -413,9 +411,11 @@ bool RunRollFamily(const DiagnosisOptions& options, DiagnosisState* st,
   for (size_t i = 0; i < y.size(); ++i) {
     y[i] = td.obs[st->train[i]].measured_um - (full[i] - pred[i]);
   }
-  const Heterogeneity h = RollHeterogeneity(td, k, st->train, pred, y, sd);
+  const Heterogeneity h =
+      RollHeterogeneity(td, k, st->train, pred, y, sd, options);
   if (h.rolls < 3 || h.p_value >= options.alpha || !(h.tau > 0)) return false;
-  std::string why = ScatterNotEverywhere(td, k, st->train, pred, y, sd, h);
+  std::string why =
+      ScatterNotEverywhere(td, k, st->train, pred, y, sd, h, options);
   const Fitted with =
       why.empty() ? WithTerm(*st, sd, cur, RollTerm(td, k, h.tau)) : Fitted{};
   if (why.empty() && !with.usable) why = "the per-roll fit did not converge";

@@ -14,9 +14,10 @@
 // type or grade) cell, the interactions the K structure (kF kR kS) cannot
 // express, with the normal prior b ~ N(0, kCellPriorSd^2) (model_terms.h).
 //
-// A scope is offered only with at least kMinScopeObservations training
-// measurements inside it, a cell with kMinCellObservations, and a scope
-// covering every training observation is no scope.
+// A scope is offered only with at least min_scope_observations training
+// measurements inside it, a cell with min_cell_observations
+// (diagnosis_thresholds.h), and a scope covering every training observation
+// is no scope.
 #include <algorithm>
 #include <cmath>
 #include <set>
@@ -26,14 +27,6 @@
 
 namespace rollwear::diag {
 namespace {
-
-constexpr int kMinScopeObservations = 30;
-// A cell needs fewer: its prior (kCellPriorSd) keeps a rare cell sane, and a
-// scope (a roll type, a grade) must not be offered for a covariate term
-// where the cells inside it, the structural alternative the proxy guard
-// compares it with, are not (a roll type with 27 and 24 training readings
-// at F6 and F7 had a reduction term and no cell).
-constexpr int kMinCellObservations = 10;
 
 // Training observations inside `s`.
 int CountInScope(const TermData& td, const std::vector<int>& train,
@@ -64,6 +57,7 @@ bool InScope(const TermData& td, const TermObservation& ob,
 
 std::vector<TermScope> SingleScopes(const TermData& td,
                                     const std::vector<int>& train,
+                                    const DiagnosisThresholds& thresholds,
                                     bool keep_everywhere) {
   std::vector<TermScope> all;
   std::vector<bool> stands(kMaxStand + 1, false);
@@ -92,7 +86,8 @@ std::vector<TermScope> SingleScopes(const TermData& td,
   const int n = static_cast<int>(train.size());
   for (const TermScope& s : all) {
     const int in = CountInScope(td, train, s);
-    if (in >= kMinScopeObservations && (in < n || keep_everywhere)) {
+    if (in >= thresholds.min_scope_observations &&
+        (in < n || keep_everywhere)) {
       out.push_back(s);
     }
   }
@@ -110,6 +105,7 @@ namespace {
 // the level's own K coefficient, not a cell.
 std::vector<TermScope> CellScopes(const TermData& td,
                                   const std::vector<int>& train,
+                                  const DiagnosisThresholds& thresholds,
                                   const std::vector<TermScope>& single) {
   std::vector<TermScope> where_stand, where_pos, where_roll, what;
   for (const TermScope& s : single) {
@@ -135,7 +131,7 @@ std::vector<TermScope> CellScopes(const TermData& td,
         c.grade = b.grade;
         const int n = CountInScope(td, train, c);
         total += n;
-        if (n >= kMinCellObservations) cells.emplace_back(n, c);
+        if (n >= thresholds.min_cell_observations) cells.emplace_back(n, c);
       }
       // A cell holding all of its factor level's data is that level's own K.
       if (cells.size() == 1 && cells[0].first == total) continue;
@@ -188,11 +184,12 @@ bool SameCellKind(const TermScope& a, const TermScope& b) {
 
 std::vector<TermScope> WithTwins(const TermData& td,
                                  const std::vector<int>& train,
+                                 const DiagnosisThresholds& thresholds,
                                  const std::vector<TermScope>& cells) {
   std::vector<TermScope> out = cells;
   for (const TermScope& c : cells) {
     TermScope twin;
-    if (TwinCell(td, train, c, &twin)) out.push_back(twin);
+    if (TwinCell(td, train, thresholds, c, &twin)) out.push_back(twin);
   }
   return out;
 }
@@ -205,20 +202,22 @@ std::vector<TermScope> ModelCells(const std::vector<TermSpec>& terms) {
   return out;
 }
 
-std::vector<TermScope> OfferedCellScopes(const TermData& td,
-                                         const std::vector<int>& train) {
-  return CellScopes(td, train, SingleScopes(td, train));
+std::vector<TermScope> OfferedCellScopes(
+    const TermData& td, const std::vector<int>& train,
+    const DiagnosisThresholds& thresholds) {
+  return CellScopes(td, train, thresholds, SingleScopes(td, train, thresholds));
 }
 
 bool TwinCell(const TermData& td, const std::vector<int>& train,
-              const TermScope& cell, TermScope* twin) {
+              const DiagnosisThresholds& thresholds, const TermScope& cell,
+              TermScope* twin) {
   if (cell.roll_type.empty() == cell.grade.empty()) return false;
   std::vector<TermScope> places;
   if (cell.stand > 0) {
     // A stand's cells, or a roll position's (F7/bottom): its places are the
     // other scopes of the same kind.
     const bool roll_position = cell.position >= 0;
-    for (const TermScope& s : SingleScopes(td, train)) {
+    for (const TermScope& s : SingleScopes(td, train, thresholds)) {
       if (s.stand > 0 && (s.position >= 0) == roll_position)
         places.push_back(s);
     }
@@ -246,6 +245,7 @@ bool TwinCell(const TermData& td, const std::vector<int>& train,
 }
 
 bool ComplementCells(const TermData& td, const std::vector<int>& train,
+                     const DiagnosisThresholds& thresholds,
                      const std::vector<TermScope>& cells,
                      std::vector<TermScope>* complement) {
   complement->clear();
@@ -259,7 +259,7 @@ bool ComplementCells(const TermData& td, const std::vector<int>& train,
     }
   }
   std::vector<int> stands;
-  for (const TermScope& s : SingleScopes(td, train, true)) {
+  for (const TermScope& s : SingleScopes(td, train, thresholds, true)) {
     if (s.stand > 0 && s.position < 0) stands.push_back(s.stand);
   }
   if (stands.size() != 2 ||
@@ -285,10 +285,11 @@ bool ComplementCells(const TermData& td, const std::vector<int>& train,
 }
 
 void AddScopedCandidates(const TermData& td, const std::vector<int>& train,
+                         const DiagnosisThresholds& thresholds,
                          const std::set<int>& used,
                          const std::vector<TermScope>& adopted_cells,
                          std::vector<Candidate>* out) {
-  const std::vector<TermScope> scopes = SingleScopes(td, train);
+  const std::vector<TermScope> scopes = SingleScopes(td, train, thresholds);
   // Scoped variants of the simple unscoped wear-rate candidates.
   const size_t unscoped = out->size();
   for (size_t i = 0; i < unscoped; ++i) {
@@ -308,11 +309,12 @@ void AddScopedCandidates(const TermData& td, const std::vector<int>& train,
   // data) are not offered again; every other cell is: a mill can have two
   // factor combinations the K structure cannot express, and a round
   // without the cell to compare with names a covariate stand-in for it.
-  const std::vector<TermScope> taken = WithTwins(td, train, adopted_cells);
+  const std::vector<TermScope> taken =
+      WithTwins(td, train, thresholds, adopted_cells);
   const auto adopted = [&](const TermScope& scope) {
     return std::find(taken.begin(), taken.end(), scope) != taken.end();
   };
-  for (const TermScope& scope : CellScopes(td, train, scopes)) {
+  for (const TermScope& scope : CellScopes(td, train, thresholds, scopes)) {
     if (adopted(scope)) continue;
     Candidate c;
     c.spec = CellTermSpec(td, scope);

@@ -36,14 +36,6 @@
 namespace rollwear::diag {
 namespace {
 
-// The family-wise level of the sibling test. Looser than the round's alpha
-// on purpose: the test guards a claim ("elsewhere the wear law holds"), so
-// the burden of proof is on the scope, and failing it only withholds a name.
-constexpr double kSiblingAlpha = 0.01;
-// A part of a scope (LookWithinScope) is tested with at least this many
-// training readings (as a single scope, diagnosis_scoped.cc).
-constexpr int kMinPartObservations = 30;
-
 // The factor a single-factor scope restricts (a roll position, stand and
 // position together, is one factor: the K structure's place), or "" for a
 // scope of two factors.
@@ -81,7 +73,8 @@ std::vector<TermScope> Siblings(const DiagnosisState& st,
       factor.empty()) {
     return siblings;
   }
-  for (const TermScope& s : SingleScopes(st.td, st.train, true)) {
+  for (const TermScope& s :
+       SingleScopes(st.td, st.train, st.thresholds, true)) {
     if (FactorName(s) == factor && !(s == spec.term.scope))
       siblings.push_back(s);
   }
@@ -168,7 +161,8 @@ GuardResult LookAtSiblings(const DiagnosisState& st,
                   });
   const TermScope* best = a.scope;
   const double best_p = a.p, best_lr = a.lr;
-  if (best == nullptr || !(best_p * k < std::max(kSiblingAlpha, options.alpha)))
+  if (best == nullptr ||
+      !(best_p * k < std::max(options.thresholds.sibling_alpha, options.alpha)))
     return r;
   char buf[240];
   std::snprintf(
@@ -195,8 +189,8 @@ namespace {
 // The parts of a single-factor scope along the other factor (docs/
 // diagnosis.md, "Within the scope"): a roll type's or a grade's term at each
 // stand it runs at, a stand's term on each roll type and grade it holds,
-// each with kMinPartObservations training readings and fewer than the
-// scope holds.
+// each with thresholds.min_part_observations training readings and fewer than
+// the scope holds.
 std::vector<TermScope> Parts(const DiagnosisState& st, const TermSpec& spec) {
   std::vector<TermScope> parts;
   const std::string factor = FactorName(spec.term.scope);
@@ -206,7 +200,8 @@ std::vector<TermScope> Parts(const DiagnosisState& st, const TermSpec& spec) {
   }
   int whole = 0;
   for (int o : st.train) whole += InScope(st.td, st.td.obs[o], spec.term.scope);
-  for (const TermScope& s : SingleScopes(st.td, st.train, true)) {
+  for (const TermScope& s :
+       SingleScopes(st.td, st.train, st.thresholds, true)) {
     TermScope part = spec.term.scope;
     if (factor == "stand") {
       if (s.roll_type.empty() && s.grade.empty()) continue;
@@ -218,7 +213,8 @@ std::vector<TermScope> Parts(const DiagnosisState& st, const TermSpec& spec) {
     }
     int in = 0;
     for (int o : st.train) in += InScope(st.td, st.td.obs[o], part);
-    if (in >= kMinPartObservations && in < whole) parts.push_back(part);
+    if (in >= st.thresholds.min_part_observations && in < whole)
+      parts.push_back(part);
   }
   return parts;
 }
@@ -270,7 +266,8 @@ GuardResult PartNotRequired(const DiagnosisState& st,
     if (!each.usable || !(each.rss > 0)) continue;
     const double lr = NestedLr(n, moved.rss, each.rss);
     const double p = ChiSquareSurvival(lr, df);
-    if (p < kSiblingAlpha) continue;  // the effect at part a is needed
+    if (p < st.thresholds.sibling_alpha)
+      continue;  // the effect at part a is needed
     char buf[320];
     std::snprintf(buf, sizeof(buf),
                   "the data cannot tell whether it acts on %s: there the term "
@@ -315,7 +312,7 @@ GuardResult LookWithinScope(const DiagnosisState& st,
   const TermScope* best = a.scope;
   const double best_p = a.p, best_lr = a.lr;
   if (best == nullptr) return r;
-  if (!(best_p * k < std::max(kSiblingAlpha, options.alpha)))
+  if (!(best_p * k < std::max(options.thresholds.sibling_alpha, options.alpha)))
     return PartNotRequired(st, sd, with_term, parts);
   const std::string other =
       FactorName(spec.term.scope) == "stand"
@@ -353,7 +350,7 @@ void NoteUndeterminedSiblings(const DiagnosisState& st,
     // level is undetermined when the tied copy is not rejected either.
     const double p_same =
         ChiSquareSurvival(NestedLr(n, tied.rss, free.rss), df);
-    if (p_same >= kSiblingAlpha) levels.push_back(LevelName(s));
+    if (p_same >= st.thresholds.sibling_alpha) levels.push_back(LevelName(s));
   }
   f->scope_undetermined = levels;
   if (levels.empty()) return;

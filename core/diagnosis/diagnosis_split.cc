@@ -16,8 +16,9 @@
 // groups of readings. Example: a temperature effect on the passes rolled
 // without lubrication only (or those of one shift crew), which an unscoped
 // temperature term fits with p = 1e-60: b_off about 2, b_on about 0.
-// Levels with less than kMinLevelShare of the term's |D| or in fewer than
-// 10 readings are pooled as "other" (fitted, not tested).
+// Levels with less than min_level_share (2 %) of the term's |D| or in fewer
+// than min_level_readings (10) readings (diagnosis_thresholds.h) are pooled
+// as "other" (fitted, not tested).
 // Thread-safety: reentrant (reads its arguments only).
 #include <algorithm>
 #include <cmath>
@@ -32,9 +33,6 @@
 
 namespace rollwear::diag {
 namespace {
-
-constexpr double kMinLevelShare = 0.02;
-constexpr int kMinLevelReadings = 10;
 
 // A pass-level factor: each pass's level (-1: none) and the level labels.
 struct PassFactor {
@@ -140,10 +138,11 @@ struct PassSplit {
 };
 
 // Each level's column (-1: pooled) and the tested levels' labels: a level
-// is tested when it carries >= kMinLevelShare of the term's |D| in >=
-// kMinLevelReadings readings.
+// is tested when it carries >= thresholds.min_level_share of the term's |D|
+// in >= thresholds.min_level_readings readings.
 std::vector<int> TestedColumns(const TermData& td,
                                const std::vector<int>& train,
+                               const DiagnosisThresholds& thresholds,
                                const PassFactor& f, const PassSplit& c,
                                std::vector<std::string>* tested) {
   const int num_levels = static_cast<int>(f.labels.size());
@@ -167,7 +166,8 @@ std::vector<int> TestedColumns(const TermData& td,
   std::vector<int> column(num_levels + 1, -1);
   if (!(total > 0)) return column;
   for (int l = 0; l < num_levels; ++l) {
-    if (abs_d[l] >= kMinLevelShare * total && reach[l] >= kMinLevelReadings) {
+    if (abs_d[l] >= thresholds.min_level_share * total &&
+        reach[l] >= thresholds.min_level_readings) {
       column[l] = static_cast<int>(tested->size());
       tested->push_back(f.labels[l]);
     }
@@ -304,7 +304,8 @@ std::vector<SplitHeterogeneity> SplitByPassFactors(const DiagnosisState& st,
   for (const PassFactor& f :
        PassFactors(td, st.train, with_term.terms.back().term)) {
     std::vector<std::string> tested;
-    const std::vector<int> column = TestedColumns(td, st.train, f, c, &tested);
+    const std::vector<int> column =
+        TestedColumns(td, st.train, st.thresholds, f, c, &tested);
     if (tested.size() < 2) continue;
     SplitHeterogeneity h;
     h.factor = f.name;

@@ -99,23 +99,24 @@ struct Screen {
 };
 
 // A calendar step's change point, refined: the candidate's edge t is one of
-// kStepGrid grid quantiles; every distinct training value of the covariate
-// between the neighbouring grid points (and inside the trimmed range, the
-// 1/kStepGrid and 1 - 1/kStepGrid quantiles, so a step leaves at least a
-// twentieth of the data on each side) is tried as the edge, and the one
+// thresholds.step_grid grid quantiles; every distinct training value of the
+// covariate between the neighbouring grid points (and inside the trimmed
+// range, the 1/step_grid and 1 - 1/step_grid quantiles, so a step leaves at
+// least a twentieth of the data on each side) is tried as the edge, and the one
 // with the largest score statistic kept (its statistic and p-value with
 // it). Returns the number of edges the scan could have tried over the
 // whole trimmed range: the round's Bonferroni count takes all of them (a
 // union bound over the scan, conservative next to the sup-LR reference of
 // Andrews 1993, Econometrica 61:821).
 int RefineStep(const TermData& td, const std::vector<int>& train,
-               const ScoreScreen& score, Candidate* c, double* p) {
+               const DiagnosisThresholds& thresholds, const ScoreScreen& score,
+               Candidate* c, double* p) {
   TermSpec spec = c->spec;
   const WeightedValues w = Collect(td, train, spec.covariate);
   const double t = spec.term.edges[0];
   double below = 0;
   for (const auto& [z, wt] : w.v) below += z < t ? wt : 0.0;
-  const double f = below / w.total, step = 1.0 / kStepGrid;
+  const double f = below / w.total, step = 1.0 / thresholds.step_grid;
   const double first = Quantile(w, step), final = Quantile(w, 1 - step);
   const double lo = std::max(first, Quantile(w, std::max(0.0, f - step)));
   const double hi = std::min(final, Quantile(w, std::min(1.0, f + step)));
@@ -188,8 +189,8 @@ Screen ScreenCandidates(const DiagnosisState& st, const std::vector<double>& sd,
   }
   std::vector<int> possible(steps.size(), 0);
   ParallelFor(static_cast<int>(steps.size()), num_threads, [&](int j) {
-    possible[j] = RefineStep(td, st.train, score, &best_start[steps[j]],
-                             &score_p[steps[j]]);
+    possible[j] = RefineStep(td, st.train, st.thresholds, score,
+                             &best_start[steps[j]], &score_p[steps[j]]);
   });
   // Bonferroni over every edge the scan could have tried (the grid points
   // are already counted).
@@ -201,8 +202,9 @@ Screen ScreenCandidates(const DiagnosisState& st, const std::vector<double>& sd,
   return screen;
 }
 
-// Refits only the strongest screened candidates (at most 6, and only while
-// the Bonferroni-adjusted score p-value stays <= 0.5); the others stay
+// Refits only the strongest screened candidates (at most max_refits, 6, and
+// only while the Bonferroni-adjusted score p-value stays <=
+// max_refit_score_p, 0.5; diagnosis_thresholds.h); the others stay
 // unusable.
 std::vector<Fitted> RefitStrongest(const DiagnosisState& st,
                                    const std::vector<double>& sd,
@@ -215,7 +217,9 @@ std::vector<Fitted> RefitStrongest(const DiagnosisState& st,
             [&](int a, int b) { return score_p[a] < score_p[b]; });
   std::vector<int> to_fit;
   for (int i : by_score) {
-    if (to_fit.size() >= 6 || score_p[i] * screen.num_tests > 0.5) break;
+    if (to_fit.size() >= static_cast<size_t>(st.thresholds.max_refits) ||
+        score_p[i] * screen.num_tests > st.thresholds.max_refit_score_p)
+      break;
     to_fit.push_back(i);
   }
   // The strongest cell is always refitted, so the proxy guard can compare a
@@ -282,7 +286,8 @@ CvRound CrossValidateSignificant(const DiagnosisState& st,
             [&](int a, int b) { return results[a].lr > results[b].lr; });
   for (int i : cv.order) {
     if (fits[i].usable && results[i].p_adjusted < options.alpha &&
-        cv.to_cv.size() < 3) {
+        cv.to_cv.size() <
+            static_cast<size_t>(options.thresholds.max_cross_validated)) {
       cv.to_cv.push_back(i);
     }
   }
@@ -459,11 +464,15 @@ std::vector<Unexplained> LocateUnexplained(const Dataset& data,
     pred.push_back(after_all[o]);
     sd.push_back(noise.SdAt(after_all[o]));
   }
-  std::vector<Breakdown> checks = Locate(st.td, data, st.all, pred, &sd);
-  for (Breakdown& b : NoiseChecks(st.td, data, st.all, pred, sd)) {
+  std::vector<Breakdown> checks =
+      Locate(st.td, data, st.all, pred, options.thresholds, &sd);
+  for (Breakdown& b :
+       NoiseChecks(st.td, data, st.all, pred, sd, options.thresholds)) {
     checks.push_back(std::move(b));
   }
-  return UnexplainedStructure(checks, options.alpha, MaterialResidualUm(sd));
+  return UnexplainedStructure(checks, options.alpha,
+                              MaterialResidualUm(sd, options.thresholds),
+                              options.thresholds);
 }
 
 }  // namespace
@@ -488,6 +497,7 @@ StatusOr<DiagnosisState> BuildState(const Dataset& data,
                                     const Baseline& base,
                                     DiagnosisReport* report) {
   DiagnosisState st;
+  st.thresholds = options.thresholds;
   ROLLWEAR_ASSIGN_OR_RETURN(st.td, BuildTermData(data, options.law));
   // The term fits shrink the grades where the baseline did, with its tau
   // (term_fit.h).
@@ -553,8 +563,8 @@ bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
   for (const TermSpec& t : st->current.terms) {
     if (t.term.form == TermForm::kCell) adopted_cells.push_back(t.term.scope);
   }
-  const std::vector<Candidate> cands =
-      MakeCandidates(td, st->train, *used, st->unscoped, adopted_cells);
+  const std::vector<Candidate> cands = MakeCandidates(
+      td, st->train, *used, st->unscoped, options.thresholds, adopted_cells);
   phase->Mark("candidates");
   if (cands.empty()) return false;
   // Screen every candidate with the score test, then refit only the

@@ -75,6 +75,9 @@ struct DiagnosisState {
   // UnscopedCandidates on `train`, built in the first round (the same for
   // every round: `train` does not change).
   std::vector<std::vector<Candidate>> unscoped;
+  // options.thresholds (diagnosis_thresholds.h), for the stages that are
+  // given the state but not the options.
+  DiagnosisThresholds thresholds;
 };
 
 // Stage 1 (diagnosis_baseline.cc). Aggregates, splits the campaigns 2:1 and

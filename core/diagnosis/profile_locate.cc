@@ -34,9 +34,6 @@ struct RollZones {
 };
 
 constexpr unsigned kEdges = 0b1001, kBody = 0b0110;
-// A contrast below this fraction of the points' residual sd is not named
-// (see the header).
-constexpr double kMaterial = 0.1;
 constexpr unsigned kOperator = 0b0011, kDrive = 0b1100;
 
 // One-sample t test of the per-roll contrasts Mean(first) - Mean(second)
@@ -76,11 +73,10 @@ bool BarrelLocate::any_significant() const {
                      [](const BarrelContrast& c) { return c.significant; });
 }
 
-StatusOr<BarrelLocate> LocateAlongBarrel(const WearModel& model,
-                                         const Dataset& data,
-                                         const DatasetIndex& index,
-                                         const CampaignSplit& split,
-                                         double alpha) {
+StatusOr<BarrelLocate> LocateAlongBarrel(
+    const WearModel& model, const Dataset& data, const DatasetIndex& index,
+    const CampaignSplit& split, double alpha,
+    const DiagnosisThresholds& thresholds) {
   ROLLWEAR_ASSIGN_OR_RETURN(const ProfileFit fit,
                             FitProfileShape(model, data, index, split));
   std::vector<int> all = split.train;
@@ -159,9 +155,10 @@ StatusOr<BarrelLocate> LocateAlongBarrel(const WearModel& model,
   out.point_sd_um = out.n_points > 0 ? std::sqrt(ss / out.n_points) : 0;
   const double level = alpha / static_cast<double>(out.contrasts.size());
   for (BarrelContrast& c : out.contrasts) {
-    c.significant = c.p_value < level && c.sd_um > 0 &&
-                    std::abs(c.mean_um) >= 0.2 * c.sd_um &&
-                    std::abs(c.mean_um) >= kMaterial * out.point_sd_um;
+    c.significant =
+        c.p_value < level && c.sd_um > 0 &&
+        std::abs(c.mean_um) >= thresholds.barrel_min_effect * c.sd_um &&
+        std::abs(c.mean_um) >= thresholds.barrel_material * out.point_sd_um;
   }
   std::stable_sort(out.contrasts.begin(), out.contrasts.end(),
                    [](const BarrelContrast& a, const BarrelContrast& b) {

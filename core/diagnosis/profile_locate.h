@@ -41,6 +41,7 @@
 
 #include "core/base/status.h"
 #include "core/dataset/dataset.h"
+#include "core/diagnosis/diagnosis_thresholds.h"
 #include "core/model/metrics.h"
 #include "core/model/wear_model.h"
 
@@ -72,13 +73,14 @@ struct BarrelLocate {
 };
 
 // Fits the shape with `model`'s K on split.train (FitProfileShape) and
-// tests the contrasts over the profiled rolls of all campaigns. Errors:
+// tests the contrasts over the profiled rolls of all campaigns; the
+// effect-size and material cuts of a significant contrast (0.2 and 0.1
+// above) are thresholds.barrel_min_effect and barrel_material. Errors:
 // those of FitProfileShape (no or too few profile points).
-StatusOr<BarrelLocate> LocateAlongBarrel(const WearModel& model,
-                                         const Dataset& data,
-                                         const DatasetIndex& index,
-                                         const CampaignSplit& split,
-                                         double alpha = 0.001);
+StatusOr<BarrelLocate> LocateAlongBarrel(
+    const WearModel& model, const Dataset& data, const DatasetIndex& index,
+    const CampaignSplit& split, double alpha = 0.001,
+    const DiagnosisThresholds& thresholds = DiagnosisThresholds{});
 
 }  // namespace rollwear
 

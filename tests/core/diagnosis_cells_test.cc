@@ -101,7 +101,8 @@ TEST(DiagnosisCellsTest, TheComplementOfStandCellsIsTheOtherSharedLevels) {
   const std::vector<int> train = All(*td);
   const TermScope a{7, -1, "ICDP-S1", ""}, b{7, -1, "HSS-S2", ""};
   std::vector<TermScope> complement;
-  ASSERT_TRUE(diag::ComplementCells(*td, train, {a, b}, &complement));
+  ASSERT_TRUE(diag::ComplementCells(*td, train, DiagnosisThresholds{}, {a, b},
+                                    &complement));
   std::set<std::string> types;
   for (const TermScope& c : complement) {
     EXPECT_EQ(c.stand, 6);
@@ -109,13 +110,16 @@ TEST(DiagnosisCellsTest, TheComplementOfStandCellsIsTheOtherSharedLevels) {
     types.insert(c.roll_type);
   }
   EXPECT_EQ(types, (std::set<std::string>{"ICDP-S2", "HiCr-S2"}));
-  ASSERT_TRUE(diag::ComplementCells(*td, train, {a}, &complement));
+  ASSERT_TRUE(diag::ComplementCells(*td, train, DiagnosisThresholds{}, {a},
+                                    &complement));
   EXPECT_EQ(complement.size(), 3u);
   const TermScope at_f6{6, -1, "HSS-S2", ""};
-  EXPECT_FALSE(diag::ComplementCells(*td, train, {a, at_f6}, &complement));
+  EXPECT_FALSE(diag::ComplementCells(*td, train, DiagnosisThresholds{},
+                                     {a, at_f6}, &complement));
   EXPECT_TRUE(complement.empty());
   const TermScope grade{7, -1, "", sim.data.grades.front()};
-  EXPECT_FALSE(diag::ComplementCells(*td, train, {a, grade}, &complement));
+  EXPECT_FALSE(diag::ComplementCells(*td, train, DiagnosisThresholds{},
+                                     {a, grade}, &complement));
 }
 
 }  // namespace

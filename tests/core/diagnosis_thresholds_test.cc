@@ -1,0 +1,48 @@
+// DiagnosisThresholds (core/diagnosis/diagnosis_thresholds.h): the defaults
+// are valid, and DiagnosisOptions::IsValid refuses a threshold out of range
+// naming the field.
+#include "core/diagnosis/diagnosis_thresholds.h"
+
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "core/diagnosis/diagnosis.h"
+
+namespace rollwear {
+namespace {
+
+TEST(DiagnosisThresholdsTest, DefaultsAreValid) {
+  std::string error;
+  EXPECT_TRUE(DiagnosisOptions{}.IsValid(&error)) << error;
+  EXPECT_TRUE(DiagnosisThresholds{}.IsValid(&error)) << error;
+}
+
+TEST(DiagnosisThresholdsTest, ABadThresholdIsRefusedByName) {
+  std::string error;
+  DiagnosisOptions options;
+  options.thresholds.sibling_alpha = 1.5;
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_NE(error.find("sibling_alpha"), std::string::npos) << error;
+
+  options = DiagnosisOptions{};
+  options.thresholds.min_scope_observations = 0;
+  error.clear();
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_NE(error.find("min_scope_observations"), std::string::npos) << error;
+
+  options = DiagnosisOptions{};
+  options.thresholds.material_noise_share = -0.25;
+  EXPECT_FALSE(options.IsValid(nullptr));
+}
+
+TEST(DiagnosisThresholdsTest, TheTwoChiSquarePointsKeepTheirValues) {
+  // The chi2(1) 1 % point, rounded (the guard) and to four decimals (the
+  // reference): both kept as they were so results do not move.
+  const DiagnosisThresholds t;
+  EXPECT_EQ(t.shadow_delta, 6.63);
+  EXPECT_EQ(t.reference_chi2_critical, 6.6349);
+}
+
+}  // namespace
+}  // namespace rollwear
