@@ -443,6 +443,14 @@ StatusOr<std::optional<std::string>> LookupCoilWear(
   return std::optional<std::string>(st->ColumnBlob(0));
 }
 
+std::string ReplayCampaignQuery() {
+  return std::string("SELECT c.coil_id, c.grade, ") + kPassMeasureColumns +
+         ", c.id, c.wear IS NULL, p.extra "
+         "FROM passes p JOIN coils c ON c.id = p.coil "
+         "WHERE c.campaign = (SELECT id FROM campaigns WHERE campaign_id = ?) "
+         "ORDER BY c.id, p.id";
+}
+
 StatusOr<RollStates> ReplayCampaignCoils(Db* db, const CampaignRec& campaign,
                                          const WearModel& model,
                                          const CoilVisitor& visit,
@@ -457,14 +465,7 @@ StatusOr<RollStates> ReplayCampaignCoils(Db* db, const CampaignRec& campaign,
                              m->roll_id);
     if (track_profiles) TrackProfile(&*states[slot]);
   }
-  ROLLWEAR_ASSIGN_OR_RETURN(
-      Statement st,
-      db->Prepare(
-          std::string("SELECT c.coil_id, c.grade, ") + kPassMeasureColumns +
-          ", c.id, c.wear IS NULL, p.extra "
-          "FROM passes p JOIN coils c ON c.id = p.coil "
-          "WHERE c.campaign = (SELECT id FROM campaigns WHERE campaign_id = ?) "
-          "ORDER BY c.id, p.id"));
+  ROLLWEAR_ASSIGN_OR_RETURN(Statement st, db->Prepare(ReplayCampaignQuery()));
   st.BindText(1, campaign.id);
   // A coil's passes are stored together, so a coil ends where the next
   // row's coil differs.

@@ -139,6 +139,12 @@ StatusOr<RollStates> ReplayCampaignCoils(Db* db, const CampaignRec& campaign,
                                          const WearModel& model,
                                          const CoilVisitor& visit,
                                          bool track_profiles = false);
+// The replay's one query: a campaign's passes with their coils, by the
+// campaign's id (bound as ?), in stored order. Reached through the
+// campaigns, coils (campaign, seq) and passes (coil, stand) indexes
+// (StoreQueryPlanTest): a replay costs the campaign's rows, whatever the
+// history.
+std::string ReplayCampaignQuery();
 StatusOr<RollStates> ReplayCampaign(Db* db, const CampaignRec& campaign,
                                     const WearModel& model,
                                     bool track_profiles = false);

@@ -95,6 +95,25 @@ TEST_F(StoreQueryPlanTest, RecentReadsReachTheirRowsThroughIndexes) {
   EXPECT_TRUE(ScansATable(whole)) << Joined(whole);
 }
 
+// The replay of one campaign runs per GET /v1/rolls/{id} mount, per
+// measurement under a model with per-roll factors (their re-estimate,
+// store_roll_factors.cc) and when a model is installed: it reaches the
+// campaign's coils and passes through their indexes, never a scan.
+TEST_F(StoreQueryPlanTest, ReplayOfOneCampaignReachesItsRowsThroughIndexes) {
+  const std::vector<std::string> steps =
+      PlanSteps(db_.get(), internal::ReplayCampaignQuery());
+  ASSERT_FALSE(steps.empty());
+  EXPECT_FALSE(ScansATable(steps)) << Joined(steps);
+  // Both tables are searched (a plan that dropped the join would pass the
+  // check above vacuously).
+  bool coils = false, passes = false;
+  for (const std::string& s : steps) {
+    coils = coils || s.rfind("SEARCH c ", 0) == 0;
+    passes = passes || s.rfind("SEARCH p ", 0) == 0;
+  }
+  EXPECT_TRUE(coils && passes) << Joined(steps);
+}
+
 TEST_F(StoreQueryPlanTest, RecentReadIsTheTailOfTheWholeRead) {
   constexpr int kRecent = 5;
   StatusOr<int64_t> first = RecentCampaignsStart(db_.get(), "OC", kRecent);
