@@ -444,6 +444,7 @@ void ApplyImport(const Dataset& d, const std::vector<StoredCoil>& coils,
     rec.started_at = d.campaigns[i].started_at;
     rec.ended_at = d.campaigns[i].ended_at;
     rec.extra = ExtraFieldsOfRow(d.campaign_extra, i);
+    if (!catalog->campaigns.contains(rec.id)) catalog->order.push_back(rec.id);
     catalog->campaigns[rec.id] = std::move(rec);
   }
   for (size_t i = 0; i < d.mounts.size(); ++i) {
@@ -457,10 +458,10 @@ void ApplyImport(const Dataset& d, const std::vector<StoredCoil>& coils,
     if (!plan.new_measurement[i]) continue;
     ApplyMeasurement(ToMeasurement(d, i), catalog);
   }
-  if (speculative) {
-    for (size_t i = 0; i < coils.size(); ++i) {
-      if (plan.new_coil[i]) catalog->pending_coils[coils[i].coil_id] = coils[i];
-    }
+  for (size_t i = 0; i < coils.size(); ++i) {
+    if (!plan.new_coil[i]) continue;
+    AddExposure(coils[i], catalog);
+    if (speculative) catalog->pending_coils[coils[i].coil_id] = coils[i];
   }
 }
 

@@ -152,10 +152,8 @@ class MillStoreImpl final : public MillStore {
   std::vector<WearLimit> WearLimits() const override;  // store_limits.cc
 
   StatusOr<Dataset> ExportDataset() const override;
-  // The stored data of the kJudgedCampaigns most recent campaigns (and of
-  // `campaign_id`, if older): what a new measurement is judged on
-  // (storage/store_quality.h).
-  StatusOr<Dataset> RecentDataset(const std::string& campaign_id) const;
+  // A new reading is judged among the readings of this many most recent
+  // campaigns (JudgeMeasurement, store_quality.h).
   static constexpr int kJudgedCampaigns = 50;
   StatusOr<FittingData> ReadFittingData() const override;
   using MillStore::ImportDataset;

@@ -174,77 +174,29 @@ Status WriteImport(Db* db, const Dataset& d,
   return Status::Ok();
 }
 
-StatusOr<int64_t> RecentCampaignsStart(Db* db, const std::string& campaign_id,
-                                       int campaigns) {
-  // The smaller of the campaign's own row and the first of the `campaigns`
-  // newest rows (2^62 stands for "no such campaign").
-  ROLLWEAR_ASSIGN_OR_RETURN(
-      Statement st,
-      db->Prepare("SELECT MIN(COALESCE((SELECT id FROM campaigns WHERE "
-                  "campaign_id = ?1), 4611686018427387904), (SELECT "
-                  "COALESCE(MIN(id), 0) FROM (SELECT id FROM campaigns ORDER "
-                  "BY id DESC LIMIT ?2)))"));
-  st.BindText(1, campaign_id).BindInt(2, campaigns);
-  ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
-  if (!row) return int64_t{0};
-  return st.ColumnInt(0);
-}
+namespace {
 
-std::array<std::string, 4> StoredDatasetQueries(int64_t first_campaign_row) {
-  // Rows of the campaigns from `first_campaign_row` on (row ids are
-  // positive: 0 reads everything).
-  const std::string from = std::to_string(first_campaign_row);
-  const std::string pass_columns =
-      std::string("SELECT p.campaign, c.coil_id, c.seq, c.grade, ") +
-      kPassMeasureColumns + ", p.extra ";
-  // passes has no campaign index (schema version 3 dropped it), but row ids
-  // only grow and a coil is stored just before its first pass (AddCoil;
-  // ImportDataset stores a coil when it meets the coil's first pass), so
-  // no pass of a recent campaign has a row id below the first pass of the
-  // recent campaigns' first-stored coil. A recent read scans passes from
-  // there in row order. The bound costs one walk of coils' (campaign, seq)
-  // index over the recent coils ("+c2.id" keeps MIN() from walking coils in
-  // row order from the first) and one look-up in passes' (coil, stand)
-  // index; the campaign test keeps out any older campaign's row stored
-  // later. Without that pass (no recent coil) the read scans from row 0:
-  // slower, never short. A whole read scans passes in row order.
-  const bool recent = first_campaign_row > 0;
-  const std::string first_pass =
-      "COALESCE((SELECT MIN(p2.id) FROM passes p2 WHERE p2.coil = (SELECT "
-      "MIN(+c2.id) FROM coils c2 WHERE c2.campaign >= " +
-      from + ")), 0)";
-  const std::string passes =
-      pass_columns + "FROM passes p JOIN coils c ON c.id = p.coil " +
-      (recent
-           ? "WHERE p.id >= " + first_pass + " AND p.campaign >= " + from + " "
-           : std::string()) +
-      "ORDER BY p.id";
-  // mounts and measurements hold a few rows per campaign, found by their
-  // (campaign, stand, position) index. An ORDER BY on the row id would make
-  // SQLite's planner prefer a scan in row order (it needs no sort); the
-  // unary "+" in "+id" keeps that term from steering the plan
-  // (https://sqlite.org/optoverview.html, manual control with unary "+"),
-  // so the recent rows are found by the index and sorted.
-  // StoreQueryPlanTest checks the plans.
-  const std::string order = recent ? " ORDER BY +id" : " ORDER BY id";
+// The four queries ReadStoredDataset runs, in its order (campaigns, mounts,
+// passes, measurements): each scans its table in row order (every row is
+// wanted).
+std::array<std::string, 4> StoredDatasetQueries() {
   return {
       "SELECT id, campaign_id, started_at, ended_at, extra FROM campaigns "
-      "WHERE id >= " +
-          from + " ORDER BY id",
+      "ORDER BY id",
       "SELECT campaign, stand, position, roll_id, roll_type, diameter_mm, "
-      "hardness_hb, extra FROM mounts WHERE campaign >= " +
-          from + order,
-      passes,
+      "hardness_hb, extra FROM mounts ORDER BY id",
+      std::string("SELECT p.campaign, c.coil_id, c.seq, c.grade, ") +
+          kPassMeasureColumns +
+          ", p.extra FROM passes p JOIN coils c ON c.id = p.coil ORDER BY "
+          "p.id",
       "SELECT campaign, stand, position, roll_id, measured_at, "
-      "wear_center_um, extra, suspect FROM measurements "
-      "WHERE campaign >= " +
-          from + order};
+      "wear_center_um, extra, suspect FROM measurements ORDER BY id"};
 }
 
-StatusOr<Dataset> ReadStoredDataset(Db* db, std::vector<std::string>* suspect,
-                                    int64_t first_campaign_row) {
-  const std::array<std::string, 4> queries =
-      StoredDatasetQueries(first_campaign_row);
+}  // namespace
+
+StatusOr<Dataset> ReadStoredDataset(Db* db, std::vector<std::string>* suspect) {
+  const std::array<std::string, 4> queries = StoredDatasetQueries();
   // One read transaction, so the four tables are read at one instant.
   ROLLWEAR_RETURN_IF_ERROR(db->Exec("BEGIN"));
   struct EndRead {

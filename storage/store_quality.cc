@@ -1,5 +1,6 @@
 #include "storage/store_quality.h"
 
+#include <algorithm>
 #include <utility>
 
 namespace rollwear::storage::internal {
@@ -28,23 +29,33 @@ std::vector<std::string> SuspectFlags(const DataQuality& quality) {
   return flags;
 }
 
-std::string JudgeMeasurement(Dataset stored, const MeasurementIn& in) {
-  int campaign = -1;
-  for (size_t c = 0; c < stored.campaigns.size(); ++c) {
-    if (stored.campaigns[c].id == in.campaign_id)
-      campaign = static_cast<int>(c);
+std::string JudgeMeasurement(const Catalog& c, const MeasurementIn& in,
+                             int window) {
+  // The window's first campaign: the earlier of `in`'s own and the
+  // `window`-th newest (RecentCampaignsStart's rule, on the catalog).
+  const auto own = std::find(c.order.rbegin(), c.order.rend(), in.campaign_id);
+  if (own == c.order.rend()) return "";
+  const size_t own_index = c.order.size() - 1 - (own - c.order.rbegin());
+  const size_t newest = c.order.size() > static_cast<size_t>(window)
+                            ? c.order.size() - window
+                            : 0;
+  std::vector<ReadingExposure> readings;
+  for (size_t k = std::min(own_index, newest); k < c.order.size(); ++k) {
+    const CampaignRec& rec = c.campaigns.at(c.order[k]);
+    for (const auto& m : rec.measurements) {
+      if (!m.has_value()) continue;
+      readings.push_back(
+          {m->wear_center_um, rec.load[m->stand], rec.length_m[m->stand]});
+    }
   }
-  if (campaign < 0) return "";
-  Measurement m;
-  m.campaign = campaign;
-  m.stand = in.stand;
-  m.position = in.position;
-  m.roll_id = in.roll_id;
-  m.measured_at = in.measured_at;
-  m.wear_center_um = in.wear_center_um;
-  stored.measurements.push_back(std::move(m));
-  const DataQuality quality = AssessDataQuality(stored);
-  return SuspectFlags(quality).back();
+  const CampaignRec& rec = c.campaigns.at(in.campaign_id);
+  readings.push_back(
+      {in.wear_center_um, rec.load[in.stand], rec.length_m[in.stand]});
+  DataQualityKind kind = DataQualityKind::kNegativeWear;
+  const std::string reason = JudgeLastReading(readings, &kind);
+  return reason.empty()
+             ? ""
+             : std::string(DataQualityKindName(kind)) + ": " + reason;
 }
 
 FittingData FittingDataOf(Dataset all,

@@ -24,10 +24,14 @@ namespace rollwear::storage::internal {
 // assessed dataset's measurements).
 std::vector<std::string> SuspectFlags(const DataQuality& quality);
 
-// The flag of `in` among the stored data `stored` ("" when plausible, or
-// when its campaign is not stored: admitting it refuses it then): core's
-// AssessDataQuality on `stored` plus `in`.
-std::string JudgeMeasurement(Dataset stored, const MeasurementIn& in);
+// The flag of `in` ("" when plausible, or when its campaign is not in `c`:
+// admitting it refuses it then): core's JudgeLastReading on the readings of
+// the campaigns stored from the earlier of `in`'s campaign and the
+// `window`-th newest on, `in` last, with the per-stand exposures `c` keeps
+// (AddExposure, store_state.h). The same flag as AssessDataQuality gives
+// `in` on those campaigns' stored data, with no read of the database.
+std::string JudgeMeasurement(const Catalog& c, const MeasurementIn& in,
+                             int window);
 
 // What the jobs fit: `all` assessed by core's rules, a flag stored with a
 // measurement (`stored_flags`, parallel to its measurements) kept even when

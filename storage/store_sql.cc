@@ -291,6 +291,7 @@ Status LoadCampaigns(Db* db, Catalog* catalog, CampaignByRow* by_row_out) {
       open_start = rec.started_at;
     }
     by_row[row.ColumnInt(0)] = rec.id;
+    c.order.push_back(rec.id);
     c.campaigns[rec.id] = std::move(rec);
   }));
   return bad;
@@ -343,6 +344,27 @@ Status LoadMeasurements(Db* db, CampaignByRow* by_row, Catalog* c) {
   return bad;
 }
 
+// Each campaign's per-stand load and rolled length (CampaignRec::load),
+// summed pass by pass in row order as AddExposure sums them.
+Status LoadExposures(Db* db, CampaignByRow* by_row, Catalog* c) {
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      Statement st,
+      db->Prepare("SELECT campaign, stand, force_kn, width_mm, length_m FROM "
+                  "passes ORDER BY id"));
+  int64_t last_row = -1;
+  CampaignRec* rec = nullptr;
+  return ForEachRow(&st, [&](const Statement& row) {
+    if (row.ColumnInt(0) != last_row) {
+      last_row = row.ColumnInt(0);
+      rec = &c->campaigns[(*by_row)[last_row]];
+    }
+    const int stand = static_cast<int>(row.ColumnInt(1));
+    const double length = row.ColumnDouble(4);
+    rec->load[stand] += row.ColumnDouble(2) / row.ColumnDouble(3) * length;
+    rec->length_m[stand] += length;
+  });
+}
+
 // The coils of the open campaign by sequence number.
 Status LoadOpenSeqs(Db* db, Catalog* c) {
   ROLLWEAR_ASSIGN_OR_RETURN(
@@ -363,6 +385,7 @@ StatusOr<Catalog> LoadCatalog(Db* db) {
   ROLLWEAR_RETURN_IF_ERROR(LoadCampaigns(db, &c, &by_row));
   ROLLWEAR_RETURN_IF_ERROR(LoadMounts(db, &by_row, &c));
   ROLLWEAR_RETURN_IF_ERROR(LoadMeasurements(db, &by_row, &c));
+  ROLLWEAR_RETURN_IF_ERROR(LoadExposures(db, &by_row, &c));
   if (!c.open_campaign.empty()) {
     ROLLWEAR_RETURN_IF_ERROR(LoadOpenSeqs(db, &c));
   }

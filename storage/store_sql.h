@@ -165,23 +165,9 @@ Status WriteImport(Db* db, const Dataset& data,
 // labels interned in first-seen order, extra columns rebuilt. An open
 // campaign gets ended_at = max(started_at, last rolled_at of its passes).
 // `suspect` (may be null) receives each measurement's stored flag ("" when
-// plausible), parallel to the Dataset's measurements. With
-// `first_campaign_row` > 0, only the campaigns whose row id is at least that
-// (RecentCampaignsStart) and their mounts, passes and measurements.
-StatusOr<Dataset> ReadStoredDataset(Db* db,
-                                    std::vector<std::string>* suspect = nullptr,
-                                    int64_t first_campaign_row = 0);
-// The four queries ReadStoredDataset runs, in its order (campaigns, mounts,
-// passes, measurements), for the campaigns from row `first_campaign_row` on
-// (0: all). With a first row, each reaches its rows through an index or a
-// row-id range, so a recent read costs what the recent campaigns hold, not
-// the mill's whole history (StoreQueryPlanTest checks EXPLAIN QUERY PLAN);
-// a whole read scans.
-std::array<std::string, 4> StoredDatasetQueries(int64_t first_campaign_row);
-// The first campaign row of the `campaigns` most recently stored ones,
-// extended back to `campaign_id`'s own row when that is older.
-StatusOr<int64_t> RecentCampaignsStart(Db* db, const std::string& campaign_id,
-                                       int campaigns);
+// plausible), parallel to the Dataset's measurements.
+StatusOr<Dataset> ReadStoredDataset(
+    Db* db, std::vector<std::string>* suspect = nullptr);
 
 // ---- grinder profiles (store_profiles.cc)
 // The stored profile of (campaign, stand, position), points in order;

@@ -69,6 +69,13 @@ struct CampaignRec {
   ExtraFields extra;                    // the campaign's extra fields
   std::array<std::optional<MountedRollIn>, kNumRollPositionSlots> mounts;
   std::array<std::optional<MeasurementIn>, kNumRollPositionSlots> measurements;
+  // What each stand (index 1..kMaxStand) rolled in this campaign: Wang's
+  // load sum force / width * length and the rolled length of its passes,
+  // added as coils are applied. A new reading is judged on these
+  // (JudgeLastReading, core/dataset/data_quality.h) without re-reading the
+  // passes.
+  std::array<double, kMaxStand + 1> load{};
+  std::array<double, kMaxStand + 1> length_m{};
 };
 
 struct Catalog {
@@ -80,7 +87,13 @@ struct Catalog {
   // Coils queued but not committed (speculative catalog only).
   std::unordered_map<std::string, StoredCoil> pending_coils;
   uint32_t positions_seen = 0;  // bit per roll position slot ever mounted
+  // Campaign ids in the order of their rows (the order they were stored).
+  std::vector<std::string> order;
 };
+
+// Adds `coil`'s passes to its campaign's per-stand load and length (a coil
+// of a campaign not in `c` adds nothing).
+void AddExposure(const StoredCoil& coil, Catalog* c);
 
 // Position labels ("F6/top") of the slots in `mask`, ascending slot order.
 std::vector<std::string> PositionLabels(uint32_t mask);

@@ -219,6 +219,8 @@ void ApplyRollChange(const RollChangeIn& in, Catalog* c) {
     rec.mounts[slot] = r;
     c->positions_seen |= 1u << slot;
   }
+  if (!c->campaigns.contains(in.campaign_id))
+    c->order.push_back(in.campaign_id);
   c->campaigns[in.campaign_id] = std::move(rec);
   c->open_campaign = in.campaign_id;
   c->open_seqs.clear();
@@ -292,10 +294,21 @@ Status AdmitCoil(const Catalog& c, const CoilIn& in, const StoredCoil& coil,
   return Status::Ok();
 }
 
+void AddExposure(const StoredCoil& coil, Catalog* c) {
+  auto it = c->campaigns.find(coil.campaign_id);
+  if (it == c->campaigns.end()) return;
+  for (const StoredPass& p : coil.passes) {
+    // Wang's load of the pass, as core's ExposuresOf sums it.
+    it->second.load[p.stand] += p.force_kn / p.width_mm * p.length_m;
+    it->second.length_m[p.stand] += p.length_m;
+  }
+}
+
 void ApplyCoil(const StoredCoil& coil, bool speculative, Catalog* c) {
   if (c->open_campaign == coil.campaign_id) {
     c->open_seqs.emplace(coil.seq, coil.coil_id);
   }
+  AddExposure(coil, c);
   if (speculative) c->pending_coils[coil.coil_id] = coil;
 }
 

@@ -112,23 +112,21 @@ std::string Fmt(const char* format, double a, double b = 0, double c = 0) {
   return buf;
 }
 
-// Wang's load and the rolled length of every measurement's roll position.
-struct MeasuredLoad {
-  std::vector<double> load;      // sum force/width*length, kN/mm*m
-  std::vector<double> length_m;  // sum length_m
-};
-
-MeasuredLoad LoadsOf(const Dataset& data, const DatasetIndex& index) {
-  MeasuredLoad out;
+// Each measurement's exposure: its wear, and Wang's load and the rolled
+// length of its roll position's passes in its campaign.
+std::vector<ReadingExposure> ExposuresOf(const Dataset& data,
+                                         const DatasetIndex& index) {
+  std::vector<ReadingExposure> out;
+  out.reserve(data.measurements.size());
   for (const Measurement& m : data.measurements) {
-    double load = 0, length = 0;
+    ReadingExposure r;
+    r.wear_um = m.wear_center_um;
     for (int p : index.PassesOf(m.campaign, m.stand)) {
       const Pass& pass = data.passes[p];
-      load += pass.force_kn / pass.width_mm * pass.length_m;
-      length += pass.length_m;
+      r.load += pass.force_kn / pass.width_mm * pass.length_m;
+      r.length_m += pass.length_m;
     }
-    out.load.push_back(load);
-    out.length_m.push_back(length);
+    out.push_back(r);
   }
   return out;
 }
@@ -142,15 +140,14 @@ std::string WhereOf(const Dataset& data, int campaign, int stand,
 // Returns false when there are too few readings to estimate sigma0 (the
 // fallback is used) and with it the spread: only the absolute negative
 // bound and the excess bound apply then.
-bool EstimateBounds(const Dataset& data, const MeasuredLoad& loads,
+bool EstimateBounds(const std::vector<ReadingExposure>& readings,
                     DataQuality* q) {
   std::vector<double> log_ratio;
   std::vector<double> rate;
-  for (size_t i = 0; i < data.measurements.size(); ++i) {
-    const double w = data.measurements[i].wear_center_um;
-    if (w > 0 && loads.load[i] > 0) {
-      rate.push_back(w / loads.load[i]);
-      log_ratio.push_back(std::log(w / loads.load[i]));
+  for (const ReadingExposure& r : readings) {
+    if (r.wear_um > 0 && r.load > 0) {
+      rate.push_back(r.wear_um / r.load);
+      log_ratio.push_back(std::log(r.wear_um / r.load));
     }
   }
   q->wear_rate_um_per_unit = rate.empty() ? 0 : Median(rate);
@@ -158,11 +155,11 @@ bool EstimateBounds(const Dataset& data, const MeasuredLoad& loads,
   q->excess_factor = std::exp(kExcessSigmas * q->log_ratio_scale);
   // sigma0 from the least-worn quarter of the loaded rolls.
   std::vector<size_t> loaded;
-  for (size_t i = 0; i < data.measurements.size(); ++i) {
-    if (loads.load[i] > 0) loaded.push_back(i);
+  for (size_t i = 0; i < readings.size(); ++i) {
+    if (readings[i].load > 0) loaded.push_back(i);
   }
   std::sort(loaded.begin(), loaded.end(), [&](size_t a, size_t b) {
-    return loads.load[a] < loads.load[b];
+    return readings[a].load < readings[b].load;
   });
   const size_t n = std::max<size_t>(loaded.size() / 4, kMinNoiseSample);
   if (loaded.size() < kMinNoiseSample || q->wear_rate_um_per_unit <= 0) {
@@ -171,69 +168,57 @@ bool EstimateBounds(const Dataset& data, const MeasuredLoad& loads,
   }
   std::vector<double> residual;
   for (size_t k = 0; k < n; ++k) {
-    const size_t i = loaded[k];
-    residual.push_back(data.measurements[i].wear_center_um -
-                       q->wear_rate_um_per_unit * loads.load[i]);
+    const ReadingExposure& r = readings[loaded[k]];
+    residual.push_back(r.wear_um - q->wear_rate_um_per_unit * r.load);
   }
   q->noise_sd_um = std::max(kMinNoiseSdUm, RobustSd(residual));
   return true;
 }
 
-// unit_mm: flags every reading when the file looks like mm.
-bool FlagMillimetres(const Dataset& data, const MeasuredLoad& loads,
-                     DataQuality* q) {
+// unit_mm: the reason every reading is flagged when the readings look like
+// mm, else "".
+std::string MillimetreReason(const std::vector<ReadingExposure>& readings) {
   std::vector<double> wear, length;
-  for (size_t i = 0; i < data.measurements.size(); ++i) {
-    if (loads.length_m[i] <= 0) continue;
-    wear.push_back(data.measurements[i].wear_center_um);
-    length.push_back(loads.length_m[i]);
+  for (const ReadingExposure& r : readings) {
+    if (r.length_m <= 0) continue;
+    wear.push_back(r.wear_um);
+    length.push_back(r.length_m);
   }
-  if (wear.empty()) return false;
+  if (wear.empty()) return "";
   const double median_wear = Median(wear), median_length = Median(length);
   // Values in mm are positive: a negative median is not mm (the daemon
   // judges a single reading this way: core/dataset/data_quality.h).
   if (!(median_wear > 0 && median_wear < kMmMedianUm &&
         median_length >= kMmMinLengthM)) {
-    return false;
+    return "";
   }
-  const std::string reason = Fmt(
+  return Fmt(
       "the file's values look like mm, not µm: median wear %.3g µm while "
       "the rolls rolled a median %.1f km (expected >= ~10 µm); write wear "
       "in µm",
       median_wear, median_length / 1000);
-  for (size_t i = 0; i < data.measurements.size(); ++i) {
-    q->suspect[i] = reason;
-  }
-  for (size_t i = 0; i < data.measurements.size(); ++i) {
-    const Measurement& m = data.measurements[i];
-    DataQualityIssue issue;
-    issue.kind = DataQualityKind::kUnitMm;
-    issue.measurement = static_cast<int>(i);
-    issue.value_um = m.wear_center_um;
-    issue.where = WhereOf(data, m.campaign, m.stand, m.position);
-    issue.reason = reason;
-    q->issues.push_back(std::move(issue));
-  }
-  return true;
 }
 
-void FlagReadings(const Dataset& data, const MeasuredLoad& loads,
-                  bool spread_known, DataQuality* q) {
-  for (size_t i = 0; i < data.measurements.size(); ++i) {
-    const Measurement& m = data.measurements[i];
+// Judges readings [from, end) among all of `readings`: the bounds' figures
+// into *q, each reason into q->suspect[i] ("" = plausible; q->suspect is
+// sized by the caller) and its kind into (*kinds)[i].
+void JudgeReadings(const std::vector<ReadingExposure>& readings, size_t from,
+                   DataQuality* q, std::vector<DataQualityKind>* kinds) {
+  const bool spread_known = EstimateBounds(readings, q);
+  const std::string mm = MillimetreReason(readings);
+  kinds->resize(readings.size(), DataQualityKind::kNegativeWear);
+  for (size_t i = from; i < readings.size(); ++i) {
+    if (!mm.empty()) {
+      q->suspect[i] = mm;
+      (*kinds)[i] = DataQualityKind::kUnitMm;
+      continue;
+    }
     ReadingBounds bounds;
-    bounds.expected_um = q->wear_rate_um_per_unit * loads.load[i];
+    bounds.expected_um = q->wear_rate_um_per_unit * readings[i].load;
     bounds.noise_sd_um = q->noise_sd_um;
     bounds.excess_factor = q->excess_factor;
     bounds.relative_sd = spread_known ? q->log_ratio_scale : INFINITY;
-    DataQualityIssue issue;
-    issue.reason = SuspectReading(m.wear_center_um, bounds, &issue.kind);
-    if (issue.reason.empty()) continue;
-    q->suspect[i] = issue.reason;
-    issue.measurement = static_cast<int>(i);
-    issue.value_um = m.wear_center_um;
-    issue.where = WhereOf(data, m.campaign, m.stand, m.position);
-    q->issues.push_back(std::move(issue));
+    q->suspect[i] = SuspectReading(readings[i].wear_um, bounds, &(*kinds)[i]);
   }
 }
 
@@ -377,6 +362,17 @@ int DataQuality::NumSuspect() const {
       [](const std::string& s) { return !s.empty(); }));
 }
 
+std::string JudgeLastReading(const std::vector<ReadingExposure>& readings,
+                             DataQualityKind* kind) {
+  if (readings.empty()) return "";
+  DataQuality q;
+  q.suspect.assign(readings.size(), "");
+  std::vector<DataQualityKind> kinds;
+  JudgeReadings(readings, readings.size() - 1, &q, &kinds);
+  *kind = kinds.back();
+  return q.suspect.back();
+}
+
 DataQuality AssessDataQuality(const Dataset& data,
                               const DatasetLines* source) {
   const DatasetLines no_lines;
@@ -385,10 +381,18 @@ DataQuality AssessDataQuality(const Dataset& data,
   q.suspect.assign(data.measurements.size(), "");
   q.suspect_point.assign(data.profile_points.size(), false);
   const DatasetIndex index(data);
-  const MeasuredLoad loads = LoadsOf(data, index);
-  const bool spread_known = EstimateBounds(data, loads, &q);
-  if (!FlagMillimetres(data, loads, &q)) {
-    FlagReadings(data, loads, spread_known, &q);
+  std::vector<DataQualityKind> kinds;
+  JudgeReadings(ExposuresOf(data, index), 0, &q, &kinds);
+  for (size_t i = 0; i < data.measurements.size(); ++i) {
+    if (q.suspect[i].empty()) continue;
+    const Measurement& m = data.measurements[i];
+    DataQualityIssue issue;
+    issue.kind = kinds[i];
+    issue.measurement = static_cast<int>(i);
+    issue.value_um = m.wear_center_um;
+    issue.where = WhereOf(data, m.campaign, m.stand, m.position);
+    issue.reason = q.suspect[i];
+    q.issues.push_back(std::move(issue));
   }
   FlagUnpassedPositions(data, index, &q);
   FlagProfiles(data, index, &q);

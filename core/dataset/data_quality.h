@@ -100,6 +100,24 @@ struct DataQuality {
 DataQuality AssessDataQuality(const Dataset& data,
                               const DatasetLines* lines = nullptr);
 
+// One centre reading as the reading checks see it: its wear and what its
+// roll position rolled in its campaign (Wang's load, sum force / width *
+// length over the stand's passes, kN/mm*m, and the rolled length, m).
+struct ReadingExposure {
+  double wear_um = 0;
+  double load = 0;
+  double length_m = 0;
+};
+
+// The reason the last of `readings` is suspect ("" when plausible), with
+// its kind: judged among all of them by the same bounds and in the same
+// words as AssessDataQuality judges a file's measurements (unit_mm,
+// negative_wear, low_wear, excess_wear; the profile checks need a profile,
+// the no_passes check a mount). What the daemon runs on each new reading,
+// on the exposures its catalog keeps instead of re-reading the passes.
+std::string JudgeLastReading(const std::vector<ReadingExposure>& readings,
+                             DataQualityKind* kind);
+
 // `data` without its suspect measurements (what fitting sees).
 Dataset WithoutSuspects(const Dataset& data, const DataQuality& quality);
 

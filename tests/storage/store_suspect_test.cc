@@ -17,8 +17,6 @@
 namespace rollwear::storage {
 namespace {
 
-using internal::ReadStoredDataset;
-using internal::RecentCampaignsStart;
 using testing::MakeCoil;
 using testing::MakeMeasurement;
 using testing::MakeRollChange;
@@ -173,33 +171,6 @@ TEST(StoreSuspectTest, ImportAndPostFlagsAreLeftOutOfFitting) {
                       "SELECT substr(suspect, 1, 14) FROM "
                       "measurements WHERE wear_center_um = -62.6"),
             "negative_wear:");
-
-  // A new measurement is judged on the 50 newest campaigns only (its cost
-  // does not grow with the history), reaching back to its own campaign
-  // when that is older.
-  StatusOr<int64_t> recent = RecentCampaignsStart(db.get(), "NEW", 50);
-  ASSERT_TRUE(recent.ok()) << recent.status().ToString();
-  StatusOr<Dataset> window = ReadStoredDataset(db.get(), nullptr, *recent);
-  ASSERT_TRUE(window.ok()) << window.status().ToString();
-  ASSERT_EQ(window->campaigns.size(), 50u);
-  EXPECT_EQ(window->campaigns.back().id, "NEW");
-  EXPECT_EQ(window->campaigns.front().id, data.campaigns[11].id);
-  size_t window_measurements = 1;  // NEW's
-  for (const Measurement& m : data.measurements) {
-    if (m.campaign >= 11) ++window_measurements;
-  }
-  EXPECT_EQ(window->measurements.size(), window_measurements);
-  for (const Pass& p : window->passes) ASSERT_GE(p.campaign, 0);
-  StatusOr<int64_t> old =
-      RecentCampaignsStart(db.get(), data.campaigns[3].id, 50);
-  ASSERT_TRUE(old.ok());
-  StatusOr<Dataset> back = ReadStoredDataset(db.get(), nullptr, *old);
-  ASSERT_TRUE(back.ok());
-  ASSERT_EQ(back->campaigns.size(), 58u);
-  EXPECT_EQ(back->campaigns.front().id, data.campaigns[3].id);
-  StatusOr<int64_t> unknown = RecentCampaignsStart(db.get(), "NONE", 50);
-  ASSERT_TRUE(unknown.ok());
-  EXPECT_EQ(*unknown, *recent);
 }
 
 // A version-3 file (no measurements.suspect) is migrated on open: the
