@@ -209,8 +209,9 @@ Status MillStoreImpl::Enqueue(const ItemPtr& item, bool* immediate) {
     ++in_flight_;
     peak_in_flight_ = std::max(peak_in_flight_, in_flight_);
     // While the writer lingers for more writes, wake it only once enough
-    // are queued.
-    notify = queue_.size() >= wake_writer_at_;
+    // are queued, or for a write that ends its wait (LingerLocked).
+    notify = queue_.size() >= wake_writer_at_ || IsExclusive(item->kind) ||
+             IsBarrier(item->kind);
   }
   if (notify) cv_.notify_one();
   return Status::Ok();
@@ -320,9 +321,12 @@ StatusOr<WriteOutcome> MillStoreImpl::AddMeasurement(const MeasurementIn& in,
   // on SQLite. A stored key is a repeat or a conflict, which Submit tells
   // apart: not judged again.
   if (!StoredSuspect(in).has_value()) {
-    std::lock_guard<std::mutex> lock(mu_);
-    item->measurement.suspect =
-        JudgeMeasurement(committed_, in, kJudgedCampaigns);
+    std::vector<ReadingExposure> readings;
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      readings = JudgedReadings(committed_, in, kJudgedCampaigns);
+    }
+    item->measurement.suspect = JudgeMeasurement(readings);
   }
   bool immediate = false;
   ROLLWEAR_RETURN_IF_ERROR(Submit(item, &immediate));

@@ -72,6 +72,18 @@ enum class WriteKind {
   kTask,    // calibration bookkeeping; runs alone in its transaction
 };
 
+// An import or a task: runs alone in its transaction.
+inline bool IsExclusive(WriteKind k) {
+  return k == WriteKind::kImport || k == WriteKind::kTask;
+}
+
+// A roll change or a campaign end: the writes that follow it wait for its
+// answer (coils go to the campaign a roll change opens), so none can come
+// while the writer lingers.
+inline bool IsBarrier(WriteKind k) {
+  return k == WriteKind::kRollChange || k == WriteKind::kEndCampaign;
+}
+
 // One queued write and, once `done` is ready, its result.
 struct WriteItem {
   WriteKind kind = WriteKind::kTask;

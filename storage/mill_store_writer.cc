@@ -48,17 +48,6 @@ constexpr int kLingerGroups = 2;
 // Window over which the in-flight peak is remembered.
 constexpr auto kPeakWindow = std::chrono::milliseconds(100);
 
-bool IsExclusive(WriteKind k) {
-  return k == WriteKind::kImport || k == WriteKind::kTask;
-}
-
-// A roll change or a campaign end: the writes that follow it wait for its
-// answer (coils go to the campaign a roll change opens), so none can come
-// while the writer lingers.
-bool IsBarrier(WriteKind k) {
-  return k == WriteKind::kRollChange || k == WriteKind::kEndCampaign;
-}
-
 // Whether a batch changes predictions (so PredictBatch runs for it).
 bool NeedsPrediction(const std::vector<std::shared_ptr<WriteItem>>& batch) {
   for (const auto& item : batch) {
@@ -92,7 +81,8 @@ void MillStoreImpl::LingerLocked(std::unique_lock<std::mutex>* lock) {
   }
   wake_writer_at_ = target;
   const bool filled = cv_.wait_until(*lock, now + kMaxLinger, [&] {
-    return stop_ || queue_.size() >= target || IsExclusive(queue_.back()->kind);
+    return stop_ || queue_.size() >= target ||
+           IsExclusive(queue_.back()->kind) || IsBarrier(queue_.back()->kind);
   });
   wake_writer_at_ = 1;
   if (!filled) {

@@ -29,12 +29,13 @@ std::vector<std::string> SuspectFlags(const DataQuality& quality) {
   return flags;
 }
 
-std::string JudgeMeasurement(const Catalog& c, const MeasurementIn& in,
-                             int window) {
+std::vector<ReadingExposure> JudgedReadings(const Catalog& c,
+                                            const MeasurementIn& in,
+                                            int window) {
   // The window's first campaign: the earlier of `in`'s own and the
-  // `window`-th newest (RecentCampaignsStart's rule, on the catalog).
+  // `window`-th newest.
   const auto own = std::find(c.order.rbegin(), c.order.rend(), in.campaign_id);
-  if (own == c.order.rend()) return "";
+  if (own == c.order.rend()) return {};
   const size_t own_index = c.order.size() - 1 - (own - c.order.rbegin());
   const size_t newest = c.order.size() > static_cast<size_t>(window)
                             ? c.order.size() - window
@@ -51,6 +52,10 @@ std::string JudgeMeasurement(const Catalog& c, const MeasurementIn& in,
   const CampaignRec& rec = c.campaigns.at(in.campaign_id);
   readings.push_back(
       {in.wear_center_um, rec.load[in.stand], rec.length_m[in.stand]});
+  return readings;
+}
+
+std::string JudgeMeasurement(const std::vector<ReadingExposure>& readings) {
   DataQualityKind kind = DataQualityKind::kNegativeWear;
   const std::string reason = JudgeLastReading(readings, &kind);
   return reason.empty()

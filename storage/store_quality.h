@@ -24,14 +24,19 @@ namespace rollwear::storage::internal {
 // assessed dataset's measurements).
 std::vector<std::string> SuspectFlags(const DataQuality& quality);
 
-// The flag of `in` ("" when plausible, or when its campaign is not in `c`:
-// admitting it refuses it then): core's JudgeLastReading on the readings of
-// the campaigns stored from the earlier of `in`'s campaign and the
-// `window`-th newest on, `in` last, with the per-stand exposures `c` keeps
-// (AddExposure, store_state.h). The same flag as AssessDataQuality gives
-// `in` on those campaigns' stored data, with no read of the database.
-std::string JudgeMeasurement(const Catalog& c, const MeasurementIn& in,
-                             int window);
+// The readings `in` is judged among, `in` last: those of the campaigns
+// stored from the earlier of `in`'s campaign and the `window`-th newest on,
+// with the per-stand exposures `c` keeps (AddExposure, store_state.h).
+// Empty when `in`'s campaign is not in `c` (admitting it refuses it then).
+std::vector<ReadingExposure> JudgedReadings(const Catalog& c,
+                                            const MeasurementIn& in,
+                                            int window);
+
+// The flag of the last of `readings`, "<kind>: <reason>" or "" when
+// plausible (or when there is none): core's JudgeLastReading. The same flag
+// as AssessDataQuality gives that reading on those campaigns' stored data,
+// with no read of the database.
+std::string JudgeMeasurement(const std::vector<ReadingExposure>& readings);
 
 // What the jobs fit: `all` assessed by core's rules, a flag stored with a
 // measurement (`stored_flags`, parallel to its measurements) kept even when

@@ -345,7 +345,8 @@ Status LoadMeasurements(Db* db, CampaignByRow* by_row, Catalog* c) {
 }
 
 // Each campaign's per-stand load and rolled length (CampaignRec::load),
-// summed pass by pass in row order as AddExposure sums them.
+// summed pass by pass in row order (AddExposure sums a coil's passes as it
+// commits: the same sums to the last bit or two).
 Status LoadExposures(Db* db, CampaignByRow* by_row, Catalog* c) {
   ROLLWEAR_ASSIGN_OR_RETURN(
       Statement st,
@@ -356,8 +357,12 @@ Status LoadExposures(Db* db, CampaignByRow* by_row, Catalog* c) {
   return ForEachRow(&st, [&](const Statement& row) {
     if (row.ColumnInt(0) != last_row) {
       last_row = row.ColumnInt(0);
-      rec = &c->campaigns[(*by_row)[last_row]];
+      const auto id = by_row->find(last_row);
+      const auto it = id == by_row->end() ? c->campaigns.end()
+                                          : c->campaigns.find(id->second);
+      rec = it == c->campaigns.end() ? nullptr : &it->second;
     }
+    if (rec == nullptr) return;  // the foreign key keeps this from happening
     const int stand = static_cast<int>(row.ColumnInt(1));
     const double length = row.ColumnDouble(4);
     rec->load[stand] += row.ColumnDouble(2) / row.ColumnDouble(3) * length;

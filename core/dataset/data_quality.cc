@@ -158,8 +158,12 @@ bool EstimateBounds(const std::vector<ReadingExposure>& readings,
   for (size_t i = 0; i < readings.size(); ++i) {
     if (readings[i].load > 0) loaded.push_back(i);
   }
+  // Ordered by load, then wear: a total order (the two rolls of a stand
+  // share their load), so sigma0 does not depend on the readings' order.
   std::sort(loaded.begin(), loaded.end(), [&](size_t a, size_t b) {
-    return readings[a].load < readings[b].load;
+    const ReadingExposure& x = readings[a];
+    const ReadingExposure& y = readings[b];
+    return x.load != y.load ? x.load < y.load : x.wear_um < y.wear_um;
   });
   const size_t n = std::max<size_t>(loaded.size() / 4, kMinNoiseSample);
   if (loaded.size() < kMinNoiseSample || q->wear_rate_um_per_unit <= 0) {
