@@ -49,7 +49,7 @@ int RunImport(const ImportArgs& args) {
   const std::string& dir = args.dir;
   const auto start = std::chrono::steady_clock::now();
   CheckedDataset checked;
-  if (int code = ReadCheckedDataset("import", dir, args.strict, &checked)) {
+  if (int code = ReadCheckedDataset("import", dir, args.strict, &checked, Keep::kAll)) {
     std::fprintf(stderr, "rollwear import: %s: nothing imported\n",
                  dir.c_str());
     return code;

@@ -40,7 +40,7 @@ int ReadDatasetForTool(const char* tool, const std::string& dir, Dataset* out) {
 }
 
 int ReadCheckedDataset(const char* tool, const std::string& dir, bool strict,
-                       CheckedDataset* out) {
+                       CheckedDataset* out, Keep keep) {
   DatasetReadOptions options;
   if (int code = DatasetReadOptionsFromEnvironment(tool, &options)) return code;
   DatasetLines& lines = out->lines;
@@ -62,8 +62,12 @@ int ReadCheckedDataset(const char* tool, const std::string& dir, bool strict,
                  first.where.c_str(), first.reason.c_str());
     return 1;
   }
-  out->fit = WithoutSuspects(*data, out->quality);
-  out->all = *std::move(data);
+  if (keep == Keep::kAll) {
+    out->all = *std::move(data);
+  } else {
+    RemoveSuspects(out->quality, &*data);
+    out->fit = *std::move(data);
+  }
   return 0;
 }
 

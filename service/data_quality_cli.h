@@ -23,11 +23,17 @@
 
 namespace rollwear::cli {
 
+// Which dataset a tool keeps of what it read: the one it fits (suspect
+// measurements out, removed in place) or, for import, every row read. One
+// of the two: keeping both copied the whole dataset, a third of
+// `calibrate`'s page faults on a paper-size mill.
+enum class Keep { kFit, kAll };
+
 struct CheckedDataset {
-  Dataset all;        // every row read, suspects included
-  Dataset fit;        // without the suspect measurements
-  DataQuality quality;
-  DatasetLines lines;  // where the rows of `all` were read from
+  Dataset all;  // every row read, suspects included (Keep::kAll; else empty)
+  Dataset fit;  // without the suspect measurements (Keep::kFit; else empty)
+  DataQuality quality;  // of every row read
+  DatasetLines lines;   // where the rows read came from
 };
 
 // The dataset reader's settings from the environment: ROLLWEAR_UTC_OFFSET
@@ -46,7 +52,7 @@ int ReadDatasetForTool(const char* tool, const std::string& dir, Dataset* out);
 // ..." on stderr: 1 when the folder is rejected, or when `strict` and there
 // is a warning; 2 when ROLLWEAR_UTC_OFFSET is malformed.
 int ReadCheckedDataset(const char* tool, const std::string& dir, bool strict,
-                       CheckedDataset* out);
+                       CheckedDataset* out, Keep keep = Keep::kFit);
 
 // --split FILE (core/model/given_split.h): replaces out->fit with the
 // readings of the file's split (a campaign with readings in both sets

@@ -417,27 +417,34 @@ DataQuality AssessDataQuality(const Dataset& data,
   return q;
 }
 
+void RemoveSuspects(const DataQuality& quality, Dataset* data) {
+  const auto suspect = [&](size_t i) {
+    return i < quality.suspect.size() && !quality.suspect[i].empty();
+  };
+  // Each kept row moves to its place among the kept rows, in order.
+  ExtraColumns& extra = data->measurement_extra;
+  size_t kept = 0;
+  for (size_t i = 0; i < data->measurements.size(); ++i) {
+    if (suspect(i)) continue;
+    data->measurements[kept] = std::move(data->measurements[i]);
+    for (auto& column : extra.numeric) column[kept] = column[i];
+    for (auto& column : extra.factor) column[kept] = column[i];
+    ++kept;
+  }
+  data->measurements.resize(kept);
+  for (auto& column : extra.numeric) column.resize(kept);
+  for (auto& column : extra.factor) column.resize(kept);
+  size_t points = 0;
+  for (size_t i = 0; i < data->profile_points.size(); ++i) {
+    if (i < quality.suspect_point.size() && quality.suspect_point[i]) continue;
+    data->profile_points[points++] = data->profile_points[i];
+  }
+  data->profile_points.resize(points);
+}
+
 Dataset WithoutSuspects(const Dataset& data, const DataQuality& quality) {
   Dataset out = data;
-  out.measurements.clear();
-  ExtraColumns& extra = out.measurement_extra;
-  for (auto& column : extra.numeric) column.clear();
-  for (auto& column : extra.factor) column.clear();
-  for (size_t i = 0; i < data.measurements.size(); ++i) {
-    if (i < quality.suspect.size() && !quality.suspect[i].empty()) continue;
-    out.measurements.push_back(data.measurements[i]);
-    for (size_t c = 0; c < extra.numeric.size(); ++c) {
-      extra.numeric[c].push_back(data.measurement_extra.numeric[c][i]);
-    }
-    for (size_t c = 0; c < extra.factor.size(); ++c) {
-      extra.factor[c].push_back(data.measurement_extra.factor[c][i]);
-    }
-  }
-  out.profile_points.clear();
-  for (size_t i = 0; i < data.profile_points.size(); ++i) {
-    if (i < quality.suspect_point.size() && quality.suspect_point[i]) continue;
-    out.profile_points.push_back(data.profile_points[i]);
-  }
+  RemoveSuspects(quality, &out);
   return out;
 }
 

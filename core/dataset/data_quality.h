@@ -118,6 +118,10 @@ struct ReadingExposure {
 std::string JudgeLastReading(const std::vector<ReadingExposure>& readings,
                              DataQualityKind* kind);
 
+// `data` without its suspect measurements (what fitting sees), in place:
+// the kept rows keep their order; profile points set aside go too.
+void RemoveSuspects(const DataQuality& quality, Dataset* data);
+
 // `data` without its suspect measurements (what fitting sees).
 Dataset WithoutSuspects(const Dataset& data, const DataQuality& quality);
 
