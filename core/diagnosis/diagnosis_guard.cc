@@ -44,6 +44,7 @@
 //      away at least half of the lag-1 autocovariance of the time-ordered
 //      campaign means of the residuals, when that is significant.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -159,11 +160,11 @@ std::vector<std::string> Quartiles(const TermData& td,
   const auto at = [&](double q) {
     return sorted[static_cast<size_t>(q * (sorted.size() - 1))];
   };
-  const double q1 = at(0.25), q2 = at(0.5), q3 = at(0.75);
+  const std::array<double, 3> edges = {at(0.25), at(0.5), at(0.75)};
   for (size_t i = 0; i < train.size(); ++i) {
     const double t = td.obs_z[k][train[i]];
     if (std::isnan(t)) continue;
-    out[i] = t < q1 ? "Q1" : t < q2 ? "Q2" : t < q3 ? "Q3" : "Q4";
+    out[i] = "Q" + std::to_string(QuartileOf(t, edges) + 1);
   }
   return out;
 }
@@ -286,289 +287,197 @@ GuardResult LookAgain(const Dataset& data, const DiagnosisState& st,
 
 }  // namespace
 
-GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
-                              const DiagnosisOptions& options,
-                              const std::vector<double>& sd,
-                              const std::vector<Breakdown>& located_before,
-                              const Fitted& with_term) {
+namespace {
+
+// What every proxy guard reads: the candidate (the last term of
+// `with_term`), the state, and the predictions and residuals of the
+// training readings computed once for it.
+struct ProxyGuardContext {
+  ProxyGuardContext(const Dataset& data_in, const DiagnosisState& st_in,
+                    const DiagnosisOptions& options_in,
+                    const std::vector<double>& sd_in,
+                    const std::vector<Breakdown>& located_before_in,
+                    const Fitted& with_term_in)
+      : data(data_in),
+        st(st_in),
+        options(options_in),
+        sd(sd_in),
+        located_before(located_before_in),
+        with_term(with_term_in) {}
+
+  const Dataset& data;
+  const DiagnosisState& st;
+  const DiagnosisOptions& options;
+  const std::vector<double>& sd;
+  const std::vector<Breakdown>& located_before;
+  const Fitted& with_term;
+  // With the term (p1), without it (p0), the adopted model (pc).
+  std::vector<double> p1, p0, pc;
+  // Residual without the term, the term's contribution, weight 1/sd^2,
+  // residual under the adopted model, sd (clip), per training reading.
+  std::vector<double> e, d, w, before, clip;
+  double phi = 0;  // weighted mean square with the term
+  // The groups it must be consistent across (stand, position, roll type,
+  // text columns, quartiles), and the pass-level factors' splits.
+  std::vector<std::string> names;
+  std::vector<std::vector<std::string>> labels;
+  std::vector<SplitHeterogeneity> split;
+  double dims = 0;  // Bonferroni: the number of looks
+};
+
+ProxyGuardContext MakeProxyGuardContext(
+    const Dataset& data, const DiagnosisState& st,
+    const DiagnosisOptions& options, const std::vector<double>& sd,
+    const std::vector<Breakdown>& located_before, const Fitted& with_term) {
+  ProxyGuardContext c(data, st, options, sd, located_before, with_term);
   const TermData& td = st.td;
   std::vector<TermSpec> without = with_term.terms;
   without.pop_back();
-  const std::vector<double> p1 =
-      PredictTerms(td, st.train, with_term.log_k, with_term.terms);
-  const std::vector<double> p0 =
-      PredictTerms(td, st.train, with_term.log_k, without);
-  const std::vector<double> pc =
-      PredictTerms(td, st.train, st.current.log_k, st.current.terms);
+  c.p1 = PredictTerms(td, st.train, with_term.log_k, with_term.terms);
+  c.p0 = PredictTerms(td, st.train, with_term.log_k, without);
+  c.pc = PredictTerms(td, st.train, st.current.log_k, st.current.terms);
   const size_t n = st.train.size();
-  std::vector<double> e(n), d(n), w(n), clip(n), before(n);
+  c.e.resize(n), c.d.resize(n), c.w.resize(n), c.clip.resize(n);
+  c.before.resize(n);
   std::vector<std::string> stand(n), position(n), roll_type(n);
-  double phi = 0;
   for (size_t i = 0; i < n; ++i) {
     const int o = st.train[i];
     const TermObservation& ob = td.obs[o];
-    w[i] = 1.0 / (sd[o] * sd[o]);
-    e[i] = ob.measured_um - p0[i];
-    before[i] = ob.measured_um - pc[i];
-    d[i] = p1[i] - p0[i];
-    const double r1 = ob.measured_um - p1[i];
-    phi += w[i] * r1 * r1;
-    clip[i] = sd[o];
+    c.w[i] = 1.0 / (sd[o] * sd[o]);
+    c.e[i] = ob.measured_um - c.p0[i];
+    c.before[i] = ob.measured_um - c.pc[i];
+    c.d[i] = c.p1[i] - c.p0[i];
+    const double r1 = ob.measured_um - c.p1[i];
+    c.phi += c.w[i] * r1 * r1;
+    c.clip[i] = sd[o];
     stand[i] = "F" + std::to_string(SlotStand(ob.slot));
     position[i] = SlotPosition(ob.slot) == Position::kTop ? "top" : "bottom";
     roll_type[i] = ob.roll_type >= 0 ? td.roll_types[ob.roll_type] : "?";
   }
-  phi /= std::max<size_t>(1, n);
-  std::vector<std::string> names;
-  std::vector<std::vector<std::string>> labels;
+  c.phi /= std::max<size_t>(1, n);
   GuardDimensions(td, st.train, with_term.terms.back().term.covariate, stand,
-                  position, roll_type, &names, &labels);
-  const std::vector<SplitHeterogeneity> split =
-      SplitByPassFactors(st, with_term, e, w, phi);
-  const double dims =
-      static_cast<double>(names.size() + split.size());  // Bonferroni
-  // The strongest inconsistent split names where the effect lives (a flag
-  // term is split by every pass-level quartile factor too, and the
-  // covariate the effect follows differs most): by the standardised
-  // statistic (W - df) / sqrt(2 df), df = levels - 1, since p-values this
-  // small underflow alike.
+                  position, roll_type, &c.names, &c.labels);
+  c.split = SplitByPassFactors(st, with_term, c.e, c.w, c.phi);
+  c.dims = static_cast<double>(c.names.size() + c.split.size());
+  return c;
+}
+
+// The strongest inconsistent split (of the deferred ones or the others)
+// names where the effect lives (a flag term is split by every pass-level
+// quartile factor too, and the covariate the effect follows differs most):
+// by the standardised statistic (W - df) / sqrt(2 df), df = levels - 1,
+// since p-values this small underflow alike.
+GuardResult StrongestSplit(const ProxyGuardContext& c, bool deferred) {
   const auto standardised = [](const SplitHeterogeneity& s) {
     const double df = std::max(1, s.levels - 1);
     return (s.wald - df) / std::sqrt(2 * df);
   };
-  const auto strongest_split = [&](bool deferred) -> GuardResult {
-    const SplitHeterogeneity* strongest = nullptr;
-    for (const SplitHeterogeneity& s : split) {
-      if (s.deferred == deferred && s.p * dims < options.alpha &&
-          s.max_dev >= options.thresholds.material_scale &&
-          (strongest == nullptr ||
-           standardised(s) > standardised(*strongest))) {
-        strongest = &s;
-      }
+  const SplitHeterogeneity* strongest = nullptr;
+  for (const SplitHeterogeneity& s : c.split) {
+    if (s.deferred == deferred && s.p * c.dims < c.options.alpha &&
+        s.max_dev >= c.options.thresholds.material_scale &&
+        (strongest == nullptr || standardised(s) > standardised(*strongest))) {
+      strongest = &s;
     }
-    if (strongest == nullptr) return GuardResult{};
-    Heterogeneity h;
-    h.group = strongest->level;
-    h.group_mean_um = strongest->level_size_um;  // the effect's size there
-    return Refused("inconsistent across " + strongest->factor,
-                   strongest->factor, h, "wald_by_level", strongest->wald,
-                   strongest->p, dims);
-  };
-  if (GuardResult r = strongest_split(false); !r.pass) return r;
-  for (size_t di = 0; di < names.size(); ++di) {
-    const char* name = names[di].c_str();
-    const std::vector<std::string>* label = &labels[di];
-    const Heterogeneity h = Cochran(*label, e, p0, d, w, before, phi, options.thresholds);
-    if (h.p * dims < options.alpha && h.max_dev >= options.thresholds.material_scale) {
+  }
+  if (strongest == nullptr) return GuardResult{};
+  Heterogeneity h;
+  h.group = strongest->level;
+  h.group_mean_um = strongest->level_size_um;  // the effect's size there
+  return Refused("inconsistent across " + strongest->factor, strongest->factor,
+                 h, "wald_by_level", strongest->wald, strongest->p, c.dims);
+}
+
+// Each group dimension in turn: the term's scale differs between its
+// groups (Cochran's Q), or the effect lives between the groups and not
+// within them.
+GuardResult GroupConsistency(const ProxyGuardContext& c) {
+  const DiagnosisThresholds& t = c.options.thresholds;
+  for (size_t di = 0; di < c.names.size(); ++di) {
+    const char* name = c.names[di].c_str();
+    const Heterogeneity h =
+        Cochran(c.labels[di], c.e, c.p0, c.d, c.w, c.before, c.phi, t);
+    if (h.p * c.dims < c.options.alpha && h.max_dev >= t.material_scale) {
       return Refused(std::string("inconsistent across ") + name, name, h,
-                     "cochran_q", h.q, h.p, dims);
+                     "cochran_q", h.q, h.p, c.dims);
     }
-    if (h.p_within * dims < options.alpha &&
-        std::abs(h.b_bar - 1) >= options.thresholds.material_scale) {
+    if (h.p_within * c.dims < c.options.alpha &&
+        std::abs(h.b_bar - 1) >= t.material_scale) {
       char buf[120];
       std::snprintf(buf, sizeof(buf),
                     "effect lives between groups of %s, not within them (scale "
                     "within %.2f)",
                     name, h.b_bar);
-      return Refused(buf, name, h, "within_group_z", h.b_bar, h.p_within, dims);
+      return Refused(buf, name, h, "within_group_z", h.b_bar, h.p_within,
+                     c.dims);
     }
   }
-  // A slope's quartile splits, after the places they may stand in for.
-  if (GuardResult r = strongest_split(true); !r.pass) return r;
-  const GuardResult inside = LookInsideCell(st, options, sd, with_term);
-  if (!inside.pass) return inside;
-  const GuardResult within = LookWithinScope(st, options, sd, with_term);
-  if (!within.pass) return within;
-  const GuardResult siblings = LookAtSiblings(st, options, sd, with_term);
-  if (!siblings.pass) return siblings;
-  const ModelTerm& term = with_term.terms.back().term;
-  if (IsCalendarTerm(td, term)) {
-    GuardResult t =
-        LookAlongTime(data, st, options, sd, pc, p1, term.covariate);
-    if (!t.pass) return t;
-  }
-  const GuardResult order = LookAtGradeOrder(st, options, sd, pc, p1);
-  if (!order.pass) return order;
-  return LookAgain(data, st, options, located_before, clip, p1);
+  return GuardResult{};
 }
 
-namespace {
-
-// Adds `u` to `located` unless the same place is there. Collinear rivals
-// refused in turn (test encompassing_lr, same scope) describe one
-// structure: one entry, whose `where` lists every covariate along which it
-// lives.
-void AddLocated(const Unexplained& u, std::vector<Unexplained>* located) {
-  auto scope_of = [](const std::string& where) {
-    return where.substr(0, where.rfind(": along "));
-  };
-  // The covariates an entry lives along: "<scope>: along a or b or c".
-  auto along = [](const std::string& where) {
-    std::vector<std::string> out;
-    size_t at = where.rfind(": along ");
-    if (at == std::string::npos) return out;
-    std::string rest = where.substr(at + 8);
-    for (size_t sep; (sep = rest.find(" or ")) != std::string::npos;) {
-      out.push_back(rest.substr(0, sep));
-      rest = rest.substr(sep + 4);
-    }
-    out.push_back(rest);
-    return out;
-  };
-  for (Unexplained& v : *located) {
-    if (v.test == "encompassing_lr" && u.test == v.test &&
-        scope_of(v.where) == scope_of(u.where)) {
-      const std::vector<std::string> listed = along(v.where);
-      if (std::find(listed.begin(), listed.end(), u.dimension) == listed.end())
-        v.where += " or " + u.dimension;
-      return;
-    }
-    if (v.dimension == u.dimension && v.where == u.where) return;
-  }
-  located->push_back(u);
+GuardResult AlongTimeIfCalendar(const ProxyGuardContext& c) {
+  const ModelTerm& term = c.with_term.terms.back().term;
+  if (!IsCalendarTerm(c.st.td, term)) return GuardResult{};
+  return LookAlongTime(c.data, c.st, c.options, c.sd, c.pc, c.p1,
+                       term.covariate);
 }
 
-// The proxy guard's comparison with the best factor cell (issue 15): a
-// winner that is not itself a cell must explain something an accepted cell
-// candidate of the round does not. Nested likelihood-ratio test of the
-// winner's term given the cell, LR = n ln(RSS_cell / RSS_cell+term) ~
-// chi2(df), Bonferroni over the round's `num_tests`. When it is not
-// significant the two describe the same structure (e.g. a contact length
-// term on one roll type whose contact length differs between the two stands
-// it runs in, against that roll type's cell at one stand), and the
-// structural description is preferred: a factor combination the K structure
-// cannot express needs no covariate to be true. Returns why the winner is
-// not named, or "" when it is distinct from every accepted cell.
-std::string NoBetterThanCell(const DiagnosisState& st,
-                             const std::vector<double>& sd,
-                             const std::vector<int>& accepted,
-                             const std::vector<Fitted>& fits, int winner,
-                             double num_tests,
-                             const DiagnosisOptions& options) {
-  const TermSpec& term = fits[winner].terms.back();
-  if (term.term.form == TermForm::kCell || term.term.IsMeasurementTerm())
-    return "";
-  const double n = static_cast<double>(st.train.size());
-  for (int j : accepted) {
-    const TermSpec& cell = fits[j].terms.back();
-    if (j == winner || cell.term.form != TermForm::kCell) continue;
-    std::vector<TermSpec> both = fits[j].terms;
-    both.push_back(term);
-    const Fitted joint = Fit(st.td, st.train, sd, fits[j].log_k, both);
-    if (!joint.usable) continue;
-    const double lr = std::max(0.0, n * std::log(fits[j].rss / joint.rss));
-    const double p = ChiSquareSurvival(lr, term.term.NumParams());
-    if (p * num_tests >= options.alpha) {
-      char buf[200];
-      std::snprintf(buf, sizeof(buf),
-                    "no better than the cell %s (given the cell: LR %.1f, "
-                    "p adjusted %.2g)",
-                    cell.term.scope.Label().c_str(), lr,
-                    std::min(1.0, p * num_tests));
-      return buf;
-    }
-  }
-  return "";
-}
+// One guard of the proxy chain: its name and its check.
+struct ProxyGuard {
+  const char* name;
+  GuardResult (*check)(const ProxyGuardContext&);
+};
+
+// The chain, in order: each look comes after the places it may stand in
+// for (a slope's quartile splits after stands, positions and roll types,
+// which contact length follows). The first refusal stops it.
+constexpr ProxyGuard kProxyGuards[] = {
+    {"split_by_pass_factor",
+     [](const ProxyGuardContext& c) { return StrongestSplit(c, false); }},
+    {"group_consistency", GroupConsistency},
+    {"split_by_quartile",
+     [](const ProxyGuardContext& c) { return StrongestSplit(c, true); }},
+    {"inside_cell",
+     [](const ProxyGuardContext& c) {
+       return LookInsideCell(c.st, c.options, c.sd, c.with_term);
+     }},
+    {"within_scope",
+     [](const ProxyGuardContext& c) {
+       return LookWithinScope(c.st, c.options, c.sd, c.with_term);
+     }},
+    {"siblings",
+     [](const ProxyGuardContext& c) {
+       return LookAtSiblings(c.st, c.options, c.sd, c.with_term);
+     }},
+    {"along_time", AlongTimeIfCalendar},
+    {"grade_order",
+     [](const ProxyGuardContext& c) {
+       return LookAtGradeOrder(c.st, c.options, c.sd, c.pc, c.p1);
+     }},
+    {"look_again",
+     [](const ProxyGuardContext& c) {
+       return LookAgain(c.data, c.st, c.options, c.located_before, c.clip,
+                        c.p1);
+     }},
+};
 
 }  // namespace
 
-// The proxy guard's comparison with what it refused (issue 15): a candidate
-// that passes, ranked below a candidate the guard refused (inconsistent
-// across a dimension, living between groups, leaving the located structure,
-// not taking the autocorrelation along time) is a shadow of that structure
-// when the refused one fits the training data clearly better. Both add the
-// same kind of term to the same model; with p_w and p_r parameters,
-// Delta = n ln(RSS_winner / RSS_refused) - 2 (p_r - p_w) (Akaike 1974, IEEE
-// TAC 19:716, as a difference of AIC) above the chi2(1) 1 % point says the
-// refused description holds clearly more of the mismatch, and the winner's
-// passing the guard is only its lower power: e.g. a temperature x speed
-// interaction, refused as a temperature effect inconsistent across the
-// quartiles of rolled length, then read as a specific-force effect at F7.
-// Every refused candidate is compared (the largest Delta is reported). The
-// 6.63 is a chosen cut, not a test level: the two models are not nested,
-// and a cell's RSS carries its prior's pseudo-residual, which only makes a
-// cell look worse here (so the check can only withhold a cell's name).
-GuardResult FitsWorseThanRefused(const DiagnosisState& st,
-                                 const std::vector<Fitted>& fits, int winner,
-                                 const std::vector<int>& refused,
-                                 const std::vector<CandidateResult>& results) {
-  GuardResult r;
-  const double n = static_cast<double>(st.train.size());
-  double worst = st.thresholds.shadow_delta;
-  int by = -1;
-  for (int j : refused) {
-    const double extra = fits[j].terms.back().term.NumParams() -
-                         fits[winner].terms.back().term.NumParams();
-    const double delta =
-        n * std::log(fits[winner].rss / fits[j].rss) - 2 * extra;
-    if (delta > worst) {
-      worst = delta;
-      by = j;
+GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
+                              const DiagnosisOptions& options,
+                              const std::vector<double>& sd,
+                              const std::vector<Breakdown>& located_before,
+                              const Fitted& with_term) {
+  const ProxyGuardContext c =
+      MakeProxyGuardContext(data, st, options, sd, located_before, with_term);
+  for (const ProxyGuard& guard : kProxyGuards) {
+    GuardResult r = guard.check(c);
+    if (!r.pass) {
+      r.guard = guard.name;
+      return r;
     }
   }
-  if (by < 0) return r;
-  char buf[240];
-  std::snprintf(
-      buf, sizeof(buf),
-      "fits worse than %s, which the guard refused (AIC difference %.1f): a "
-      "shadow of the structure that candidate could not describe",
-      results[by].covariate.c_str(), worst);
-  r.pass = false;
-  r.reason = buf;
-  return r;
-}
-
-// See diagnosis_stages_internal.h.
-int GuardedWinner(int round, const Dataset& data,
-                  const DiagnosisOptions& options, const DiagnosisState& st,
-                  const std::vector<double>& sd,
-                  const std::vector<int>& accepted,
-                  const std::vector<Fitted>& fits,
-                  const std::vector<CandidateResult>& results, double num_tests,
-                  DiagnosisReport* report) {
-  if (accepted.empty()) return -1;
-  std::vector<double> clip;
-  for (int o : st.train) clip.push_back(sd[o]);
-  const std::vector<Breakdown> before =
-      Locate(st.td, data, st.train,
-             PredictTerms(st.td, st.train, st.current.log_k, st.current.terms),
-             options.thresholds, &clip);
-  std::vector<Unexplained> located;
-  std::vector<int> refused;  // the candidates the guard refused
-  for (int i : accepted) {
-    // A locate-only covariate is a structure the vocabulary cannot name:
-    // refused like an inconsistent effect (what fits worse is its shadow).
-    GuardResult g = NotNameable(st, fits, results, i);
-    bool by_cell = false;
-    if (g.pass) {
-      g.reason =
-          NoBetterThanCell(st, sd, accepted, fits, i, num_tests, options);
-      g.pass = g.reason.empty();
-      by_cell = !g.pass;
-    }
-    if (g.pass) g = GuardAgainstProxy(data, st, options, sd, before, fits[i]);
-    bool by_rival = false;
-    if (g.pass) {
-      g = DistinctFromRivals(st, sd, accepted, fits, results, i);
-      by_rival = !g.pass;
-    }
-    if (g.pass && !refused.empty())
-      g = FitsWorseThanRefused(st, fits, i, refused, results);
-    if (g.pass) return i;
-    // A cell or a rival that describes the same data is not a structure
-    // the vocabulary failed on: not a reason to call the others shadows.
-    if (!by_cell && !by_rival) refused.push_back(i);
-    const CandidateResult& c = results[i];
-    // A refusal that locates the candidate's own effect leaves its
-    // adjusted p to the round (PartNotRequired).
-    if (std::isnan(g.located.p_adjusted)) g.located.p_adjusted = c.p_adjusted;
-    report->runners_up.push_back(
-        {round, c.covariate, c.form, c.p_adjusted, c.cv_mse_ratio, g.reason});
-    if (!g.located.dimension.empty()) AddLocated(g.located, &located);
-  }
-  for (const Unexplained& u : located) report->unexplained.push_back(u);
-  return -1;
+  return GuardResult{};
 }
 
 }  // namespace rollwear::diag

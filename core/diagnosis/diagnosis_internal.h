@@ -6,6 +6,7 @@
 #ifndef ROLLWEAR_CORE_DIAGNOSIS_DIAGNOSIS_INTERNAL_H_
 #define ROLLWEAR_CORE_DIAGNOSIS_DIAGNOSIS_INTERNAL_H_
 
+#include <array>
 #include <cmath>
 #include <set>
 #include <string>
@@ -33,6 +34,15 @@ struct WeightedValues {
 WeightedValues Collect(const TermData& td, const std::vector<int>& obs, int k);
 // The weighted q-quantile of `w` (NaN when empty).
 double Quantile(const WeightedValues& w, double q);
+
+// The quartile bin (0..3) of x among three ascending edges: 0 below
+// edges[0], 1 below edges[1], 2 below edges[2], else 3.
+inline int QuartileOf(double x, const std::array<double, 3>& edges) {
+  return x < edges[0] ? 0 : x < edges[1] ? 1 : x < edges[2] ? 2 : 3;
+}
+// A bin's label: "Q1 (< e0)", "Q2 (e0 - e1)", "Q3 (e1 - e2)" or
+// "Q4 (>= e2)", edges as %.4g (diagnosis_locate.cc).
+std::string QuartileLabel(int q, const std::array<double, 3>& edges);
 // The weighted mean and standard deviation of `w` (w.total > 0).
 void MeanSd(const WeightedValues& w, double* mean, double* sd);
 

@@ -70,15 +70,15 @@ std::string DominantGrade(const TermData& td, const TermObservation& o) {
              : td.grades[std::max_element(by_grade.begin(), by_grade.end()) - by_grade.begin()];
 }
 
-namespace {
-
-std::string QuartileLabel(int q, const std::vector<double>& edges) {
+std::string QuartileLabel(int q, const std::array<double, 3>& edges) {
   char buf[96];
   if (q == 0) std::snprintf(buf, sizeof(buf), "Q1 (< %.4g)", edges[0]);
   else if (q == 3) std::snprintf(buf, sizeof(buf), "Q4 (>= %.4g)", edges[2]);
   else std::snprintf(buf, sizeof(buf), "Q%d (%.4g - %.4g)", q + 1, edges[q - 1], edges[q]);
   return buf;
 }
+
+namespace {
 
 // Quartile labels of values x (NaN -> "missing").
 std::vector<std::string> Quartiles(const std::vector<double>& x, std::vector<std::string>* order) {
@@ -89,12 +89,12 @@ std::vector<std::string> Quartiles(const std::vector<double>& x, std::vector<std
   std::sort(s.begin(), s.end());
   std::vector<std::string> out(x.size(), "missing");
   if (s.size() < 8) return out;
-  const std::vector<double> edges = {s[s.size() / 4], s[s.size() / 2], s[3 * s.size() / 4]};
+  const std::array<double, 3> edges = {s[s.size() / 4], s[s.size() / 2],
+                                       s[3 * s.size() / 4]};
   for (int q = 0; q < 4; ++q) order->push_back(QuartileLabel(q, edges));
   for (size_t i = 0; i < x.size(); ++i) {
     if (std::isnan(x[i])) continue;
-    const int q = static_cast<int>(std::upper_bound(edges.begin(), edges.end(), x[i]) - edges.begin());
-    out[i] = QuartileLabel(q, edges);
+    out[i] = QuartileLabel(QuartileOf(x[i], edges), edges);
   }
   return out;
 }

@@ -54,11 +54,11 @@ bool EncompassesLocateOnly(const DiagnosisState& st,
   if (!st.td.catalog[rival_term.covariate].locate_only) return false;
   const double n = static_cast<double>(st.train.size());
   const int df = rival_term.term.NumParams();
-  double lr = std::max(0.0, n * std::log(fits[winner].rss / fits[rival].rss));
+  double lr = NestedLr(n, fits[winner].rss, fits[rival].rss);
   if (ChiSquareSurvival(lr, df) < st.thresholds.rival_alpha) return false;
   if (!joint.usable || !(joint.rss > 0))
     return false;  // cannot tell: not named
-  lr = std::max(lr, n * std::log(fits[winner].rss / joint.rss));
+  lr = std::max(lr, NestedLr(n, fits[winner].rss, joint.rss));
   return ChiSquareSurvival(lr, df) >= st.thresholds.rival_alpha;
 }
 
@@ -134,17 +134,15 @@ GuardResult DistinctFromRivals(const DiagnosisState& st,
   const double n = static_cast<double>(st.train.size());
   const int df = term.term.NumParams();
   for (int j : rivals) {
-    const double bound =
-        std::max(0.0, n * std::log(fits[j].rss / fits[winner].rss));
+    const double bound = NestedLr(n, fits[j].rss, fits[winner].rss);
     if (ChiSquareSurvival(bound, df) < st.thresholds.rival_alpha) continue;
     std::vector<TermSpec> both = fits[j].terms;
     both.push_back(term);
     const Fitted joint = Fit(st.td, st.train, sd, fits[j].log_k, both);
     // A failed joint fit leaves the bound, which has not cleared the level.
-    const double lr =
-        joint.usable && joint.rss > 0
-            ? std::max(bound, n * std::log(fits[j].rss / joint.rss))
-            : bound;
+    const double lr = joint.usable && joint.rss > 0
+                          ? std::max(bound, NestedLr(n, fits[j].rss, joint.rss))
+                          : bound;
     const double p = ChiSquareSurvival(lr, df);
     if (p < st.thresholds.rival_alpha) continue;
     if (EncompassesLocateOnly(st, fits, winner, j, joint)) continue;

@@ -21,6 +21,7 @@
 // as "other" (fitted, not tested).
 // Thread-safety: reentrant (reads its arguments only).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -51,35 +52,20 @@ struct PassFactor {
 // spread is diluted, pass by pass it is not).
 bool QuartileFactor(const TermData& td, const std::vector<int>& train, int k,
                     PassFactor* f) {
-  double edges[3];
+  std::array<double, 3> edges;
   const WeightedValues values = Collect(td, train, k);  // sorted once
   for (int q = 0; q < 3; ++q) edges[q] = Quantile(values, 0.25 * (q + 1));
   if (!std::isfinite(edges[0]) || !std::isfinite(edges[2]) ||
       !(edges[2] > edges[0])) {
     return false;
   }
-  char buf[64];
   f->labels.clear();
-  for (int q = 0; q < 4; ++q) {
-    if (q == 0) {
-      std::snprintf(buf, sizeof(buf), "Q1 (< %.4g)", edges[0]);
-    } else if (q == 3) {
-      std::snprintf(buf, sizeof(buf), "Q4 (>= %.4g)", edges[2]);
-    } else {
-      std::snprintf(buf, sizeof(buf), "Q%d (%.4g - %.4g)", q + 1, edges[q - 1],
-                    edges[q]);
-    }
-    f->labels.push_back(buf);
-  }
+  for (int q = 0; q < 4; ++q) f->labels.push_back(QuartileLabel(q, edges));
   f->name = td.catalog[k].name;
   f->level.resize(td.z[k].size());
   for (size_t i = 0; i < f->level.size(); ++i) {
     const double z = td.z[k][i];
-    f->level[i] = std::isnan(z)  ? -1
-                  : z < edges[0] ? 0
-                  : z < edges[1] ? 1
-                  : z < edges[2] ? 2
-                                 : 3;
+    f->level[i] = std::isnan(z) ? -1 : QuartileOf(z, edges);
   }
   return true;
 }

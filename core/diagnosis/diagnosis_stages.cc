@@ -257,7 +257,7 @@ std::vector<CandidateResult> TestCandidates(const DiagnosisState& st,
     r.p_value = screen.score_p[i];  // replaced by the LR test if refitted
     r.p_adjusted = std::min(1.0, r.p_value * screen.num_tests);
     if (!fits[i].usable) continue;
-    r.lr = std::max(0.0, n * std::log(st.current.rss / fits[i].rss));
+    r.lr = NestedLr(n, st.current.rss, fits[i].rss);
     r.p_value = ChiSquareSurvival(r.lr, r.df);
     r.p_adjusted = std::min(1.0, r.p_value * screen.num_tests);
   }
@@ -597,7 +597,7 @@ bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
     // Another reference fitted better: the finding's LR test is its own
     // (the cross-validation figures stay the tested candidate's).
     const double n = static_cast<double>(st->train.size());
-    f.lr = std::max(0.0, n * std::log(st->current.rss / chosen.rss));
+    f.lr = NestedLr(n, st->current.rss, chosen.rss);
     f.p_value = ChiSquareSurvival(f.lr, f.df);
     f.p_adjusted = std::min(1.0, f.p_value * screen.num_tests);
   }

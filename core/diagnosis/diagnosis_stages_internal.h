@@ -168,6 +168,9 @@ struct GuardResult {
   bool pass = true;
   std::string reason;   // why not, e.g. "inconsistent across stand"
   Unexplained located;  // for an inconsistent effect: where it lives
+  // The proxy guard that refused (kProxyGuards, diagnosis_guard.cc), e.g.
+  // "group_consistency"; "" when passed or refused elsewhere.
+  std::string guard;
 };
 
 // The proxy guard (diagnosis_guard.cc): (a) is the effect of the last term

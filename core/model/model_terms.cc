@@ -85,6 +85,11 @@ int TermBin(const ModelTerm& t, double z) {
                           t.edges.begin());
 }
 
+int RollLevelOf(const ModelTerm& t, const std::string& roll_id) {
+  const auto it = std::find(t.levels.begin(), t.levels.end(), roll_id);
+  return it == t.levels.end() ? -1 : static_cast<int>(it - t.levels.begin());
+}
+
 std::optional<RollWearFactor> RollWearFactorOf(const std::vector<ModelTerm>& terms,
                                                const std::string& roll_id) {
   constexpr double kZ95 = 1.959964;
@@ -94,9 +99,9 @@ std::optional<RollWearFactor> RollWearFactorOf(const std::vector<ModelTerm>& ter
     f.lo = std::exp(-kZ95 * t.scale);
     f.hi = std::exp(kZ95 * t.scale);
     f.log_sd = t.scale;
-    const size_t n = std::min(t.levels.size(), t.params.size());
-    for (size_t l = 0; l < n; ++l) {
-      if (t.levels[l] != roll_id) continue;
+    const int level = RollLevelOf(t, roll_id);
+    if (level >= 0 && static_cast<size_t>(level) < t.params.size()) {
+      const size_t l = static_cast<size_t>(level);
       const double b = t.params[l];
       const double sd = l < t.level_sd.size() ? t.level_sd[l] : t.scale;
       f.readings = l < t.level_readings.size() ? t.level_readings[l] : 0;

@@ -144,6 +144,11 @@ struct RollWearFactor {
   int readings = 0;
   bool known = false;  // the roll had training readings
 };
+// The index of roll `roll_id` among a roll-effect term's levels, or -1
+// (the one lookup of a roll's level: the predictor, the served factor, its
+// re-estimate).
+int RollLevelOf(const ModelTerm& t, const std::string& roll_id);
+
 // nullopt when `terms` has no roll-effect term.
 std::optional<RollWearFactor> RollWearFactorOf(const std::vector<ModelTerm>& terms,
                                                const std::string& roll_id);

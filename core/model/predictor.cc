@@ -119,10 +119,9 @@ double PassTermMultiplier(const WearModel& model, const PassInput& pass,
       continue;  // outside its scope: m = 1
     }
     if (t.form == TermForm::kRollEffect) {
-      const auto it = std::find(t.levels.begin(), t.levels.end(), state.roll_id);
-      const double level = it == t.levels.end()
-                               ? std::numeric_limits<double>::quiet_NaN()
-                               : static_cast<double>(it - t.levels.begin());
+      const int l = RollLevelOf(t, state.roll_id);
+      const double level = l < 0 ? std::numeric_limits<double>::quiet_NaN()
+                                 : static_cast<double>(l);
       multiplier *= TermMultiplier(t, level, nullptr);
       continue;
     }

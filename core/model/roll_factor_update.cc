@@ -115,11 +115,9 @@ ModelTerm* RollEffectTermOf(std::vector<ModelTerm>* terms) {
 }
 
 double RollLogFactor(const ModelTerm& term, const std::string& roll_id) {
-  const size_t n = std::min(term.levels.size(), term.params.size());
-  for (size_t l = 0; l < n; ++l) {
-    if (term.levels[l] == roll_id) return term.params[l];
-  }
-  return 0;
+  const int l = RollLevelOf(term, roll_id);
+  return l >= 0 && static_cast<size_t>(l) < term.params.size() ? term.params[l]
+                                                               : 0;
 }
 
 void SetRollLevel(const std::string& roll_id,
@@ -129,9 +127,10 @@ void SetRollLevel(const std::string& roll_id,
   // gets the prior's sd and no count for the levels it already had).
   term->level_sd.resize(n, term->scale);
   term->level_readings.resize(n, 0);
-  size_t l = 0;
-  while (l < n && term->levels[l] != roll_id) ++l;
-  if (l == n) {
+  const int found = RollLevelOf(*term, roll_id);
+  size_t l = found < 0 ? n : static_cast<size_t>(found);
+  if (l >= n) {
+    l = n;
     term->levels.push_back(roll_id);
     term->params.push_back(0);
     term->level_sd.push_back(term->scale);
