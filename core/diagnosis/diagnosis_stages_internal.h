@@ -173,9 +173,12 @@ struct GuardResult {
   std::string guard;
 };
 
-// The proxy guard (diagnosis_guard.cc): (a) is the effect of the last term
-// of `with_term` consistent across stands, roll positions and roll types
-// (Cochran's Q of its per-group scale), (b) is the strongest breakdown of
+// The proxy guard (diagnosis_guard.cc): the chain kProxyGuards run in
+// order on the last term of `with_term`, the first refusal returned with its
+// guard's name (docs/diagnosis.md lists the nine): is its effect consistent
+// across pass-level factors, stands, positions, roll types and covariate
+// quartiles (Wald, Cochran's Q), inside its cell, scope and siblings, along
+// time and the grade order, and is the strongest breakdown of
 // `located_before` (Locate of the training residuals before the term,
 // clipped at the round's `sd`) materially reduced by it?
 GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
@@ -336,7 +339,7 @@ GuardResult LookAlongTime(const Dataset& data, const DiagnosisState& st,
 // GuardAgainstProxy, is distinct from its rivals (DistinctFromRivals) and
 // fits no worse than what the guard refused (FitsWorseThanRefused), or -1; the
 // others tried become runners-up, and when none passes, where an
-// inconsistent effect lives is listed as unexplained (diagnosis_guard.cc).
+// inconsistent effect lives is listed as unexplained (diagnosis_winner.cc).
 int GuardedWinner(int round, const Dataset& data,
                   const DiagnosisOptions& options, const DiagnosisState& st,
                   const std::vector<double>& sd,
