@@ -4,9 +4,11 @@
 // diagnosis used to refuse whole.
 #include "core/dataset/data_quality.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -28,8 +30,7 @@ using dataset_test::TinyTexts;
 DatasetLines lines;
 
 Dataset Read(const dataset_test::DatasetTexts& t) {
-  std::istringstream c(t.campaigns), m(t.mounts), p(t.coils),
-      s(t.measurements);
+  std::istringstream c(t.campaigns), m(t.mounts), p(t.coils), s(t.measurements);
   lines = {};
   StatusOr<Dataset> d = ReadDatasetStreams({&c, &m, &p, &s}, &lines);
   EXPECT_TRUE(d.ok()) << d.status().ToString();
@@ -206,6 +207,42 @@ TEST(DataQualityTest, OneGaugeFaultNoLongerRefusesTheDataset) {
   StatusOr<DiagnosisReport> report = Diagnose(fit, diag);
   ASSERT_TRUE(report.ok()) << report.status().ToString();
   EXPECT_EQ(report->verdict, "no_significant_mismatch");
+}
+
+// The two rolls of a stand share their load, so the least-loaded quarter
+// that sigma0 comes from can cut through a tied pair: which of the two is
+// in must not depend on the readings' order (the daemon's judge orders them
+// by campaign and slot, a file by its lines). 38 readings in 19 pairs and
+// a negative one: the quarter takes 9, one of pair 4 (residuals +9 /
+// -0.5 µm about the data's rate), so a load-only order changed sigma0 and with
+// it the negative reading's message.
+TEST(DataQualityTest, AReadingsFlagDoesNotDependOnTheReadingsOrder) {
+  std::vector<ReadingExposure> readings;
+  for (int k = 0; k < 19; ++k) {
+    const double load = 100 + 10 * k;
+    const double up = k == 4 ? 9 : 1 + k % 3, down = k == 4 ? 0.5 : up;
+    readings.push_back({0.5 * load + up, load, 1000.0 * load});
+    readings.push_back({0.5 * load - down, load, 1000.0 * load});
+  }
+  const ReadingExposure negative{-60, 150, 150'000};
+  std::vector<ReadingExposure> forward = readings, backward = readings,
+                               swapped = readings;
+  std::reverse(backward.begin(), backward.end());
+  std::swap(swapped[8], swapped[9]);  // pair 4's top and bottom
+  std::string reason[3];
+  DataQualityKind kind[3];
+  int i = 0;
+  for (std::vector<ReadingExposure>* order : {&forward, &backward, &swapped}) {
+    order->push_back(negative);
+    reason[i] = JudgeLastReading(*order, &kind[i]);
+    ++i;
+  }
+  ASSERT_FALSE(reason[0].empty());
+  EXPECT_EQ(kind[0], DataQualityKind::kNegativeWear);
+  EXPECT_EQ(reason[1], reason[0]);
+  EXPECT_EQ(reason[2], reason[0]);
+  // The negative bound, 4 sigma0 below zero, is what it was judged by.
+  EXPECT_EQ(reason[0].rfind("-60.0 µm is ", 0), 0u) << reason[0];
 }
 
 }  // namespace
