@@ -364,9 +364,12 @@ Status LoadExposures(Db* db, CampaignByRow* by_row, Catalog* c) {
     }
     if (rec == nullptr) return;  // the foreign key keeps this from happening
     const int stand = static_cast<int>(row.ColumnInt(1));
-    const double length = row.ColumnDouble(4);
-    rec->load[stand] += row.ColumnDouble(2) / row.ColumnDouble(3) * length;
-    rec->length_m[stand] += length;
+    PassMeasures p;
+    p.force_kn = row.ColumnDouble(2);
+    p.width_mm = row.ColumnDouble(3);
+    p.length_m = row.ColumnDouble(4);
+    rec->load[stand] += PassLoad(p);
+    rec->length_m[stand] += p.length_m;
   });
 }
 

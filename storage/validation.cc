@@ -298,8 +298,7 @@ void AddExposure(const StoredCoil& coil, Catalog* c) {
   auto it = c->campaigns.find(coil.campaign_id);
   if (it == c->campaigns.end()) return;
   for (const StoredPass& p : coil.passes) {
-    // Wang's load of the pass, as core's ExposuresOf sums it.
-    it->second.load[p.stand] += p.force_kn / p.width_mm * p.length_m;
+    it->second.load[p.stand] += PassLoad(p);
     it->second.length_m[p.stand] += p.length_m;
   }
 }

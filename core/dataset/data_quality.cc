@@ -123,7 +123,7 @@ std::vector<ReadingExposure> ExposuresOf(const Dataset& data,
     r.wear_um = m.wear_center_um;
     for (int p : index.PassesOf(m.campaign, m.stand)) {
       const Pass& pass = data.passes[p];
-      r.load += pass.force_kn / pass.width_mm * pass.length_m;
+      r.load += PassLoad(pass);
       r.length_m += pass.length_m;
     }
     out.push_back(r);

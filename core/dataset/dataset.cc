@@ -103,7 +103,9 @@ DatasetIndex::DatasetIndex(const Dataset& data) {
   }
 }
 
-double SpecificForce(const Pass& p) { return p.force_kn / p.width_mm; }
+double SpecificForce(const PassMeasures& p) { return p.force_kn / p.width_mm; }
+
+double PassLoad(const PassMeasures& p) { return SpecificForce(p) * p.length_m; }
 
 double ContactLength(const Pass& p, double diameter_mm) {
   return std::sqrt(diameter_mm / 2.0 *

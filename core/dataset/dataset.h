@@ -173,7 +173,11 @@ class DatasetIndex {
 // Canonical derived quantities of data-format.md for one pass as seen by the
 // roll in `mount`. `length_before_m` and `coils_before` are the campaign
 // state before this pass at the same stand.
-double SpecificForce(const Pass& p);                      // kN/mm
+double SpecificForce(const PassMeasures& p);  // kN/mm
+// Wang's load of a pass, F / w * L (kN/mm * m): what the reading checks
+// sum per roll position (core/dataset/data_quality.h; the daemon's catalog
+// keeps the sums, storage/store_state.h).
+double PassLoad(const PassMeasures& p);
 double ContactLength(const Pass& p, double diameter_mm);  // mm
 double Reduction(const Pass& p);                          // 1
 
