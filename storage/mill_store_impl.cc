@@ -210,8 +210,7 @@ Status MillStoreImpl::Enqueue(const ItemPtr& item, bool* immediate) {
     peak_in_flight_ = std::max(peak_in_flight_, in_flight_);
     // While the writer lingers for more writes, wake it only once enough
     // are queued, or for a write that ends its wait (LingerLocked).
-    notify = queue_.size() >= wake_writer_at_ || IsExclusive(item->kind) ||
-             IsBarrier(item->kind);
+    notify = queue_.size() >= wake_writer_at_ || EndsLinger(item->kind);
   }
   if (notify) cv_.notify_one();
   return Status::Ok();

@@ -84,6 +84,10 @@ inline bool IsBarrier(WriteKind k) {
   return k == WriteKind::kRollChange || k == WriteKind::kEndCampaign;
 }
 
+// A queued write of this kind ends the writer's linger: it commits alone
+// or nothing can follow it before its answer.
+inline bool EndsLinger(WriteKind k) { return IsExclusive(k) || IsBarrier(k); }
+
 // One queued write and, once `done` is ready, its result.
 struct WriteItem {
   WriteKind kind = WriteKind::kTask;

@@ -81,8 +81,7 @@ void MillStoreImpl::LingerLocked(std::unique_lock<std::mutex>* lock) {
   }
   wake_writer_at_ = target;
   const bool filled = cv_.wait_until(*lock, now + kMaxLinger, [&] {
-    return stop_ || queue_.size() >= target ||
-           IsExclusive(queue_.back()->kind) || IsBarrier(queue_.back()->kind);
+    return stop_ || queue_.size() >= target || EndsLinger(queue_.back()->kind);
   });
   wake_writer_at_ = 1;
   if (!filled) {

@@ -17,14 +17,19 @@ DataQualityKind KindOfFlag(const std::string& flag) {
   return DataQualityKind::kNegativeWear;
 }
 
+// A stored flag: "<kind>: <reason>" (measurements.suspect, the API's
+// "suspect").
+std::string FlagText(DataQualityKind kind, const std::string& reason) {
+  return std::string(DataQualityKindName(kind)) + ": " + reason;
+}
+
 }  // namespace
 
 std::vector<std::string> SuspectFlags(const DataQuality& quality) {
   std::vector<std::string> flags(quality.suspect.size());
   for (const DataQualityIssue& issue : quality.issues) {
     if (issue.measurement < 0) continue;
-    flags[issue.measurement] =
-        std::string(DataQualityKindName(issue.kind)) + ": " + issue.reason;
+    flags[issue.measurement] = FlagText(issue.kind, issue.reason);
   }
   return flags;
 }
@@ -58,9 +63,7 @@ std::vector<ReadingExposure> JudgedReadings(const Catalog& c,
 std::string JudgeMeasurement(const std::vector<ReadingExposure>& readings) {
   DataQualityKind kind = DataQualityKind::kNegativeWear;
   const std::string reason = JudgeLastReading(readings, &kind);
-  return reason.empty()
-             ? ""
-             : std::string(DataQualityKindName(kind)) + ": " + reason;
+  return reason.empty() ? "" : FlagText(kind, reason);
 }
 
 FittingData FittingDataOf(Dataset all,
