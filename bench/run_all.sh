@@ -1,9 +1,8 @@
 #!/usr/bin/env bash
 # Every performance figure of rollwear in one table: runs core_bench,
 # diagnosis_bench, ann_bench, ingest_bench, forecast_bench,
-# roll_factor_bench and load_bench
-# from a build
-# directory (a Release build with ROLLWEAR_BUILD_BENCH=ON) and prints
+# roll_factor_bench and load_bench, and times the whole `rollwear
+# calibrate` command beside the fit it runs, from a build directory (a Release build with ROLLWEAR_BUILD_BENCH=ON) and prints
 # figure, measured, target, beside the machine's fsync-per-commit and
 # loopback limits that load_bench measures in the same run (so each
 # throughput reads as a ratio). Takes about 4-6 minutes on 2 cores; run it on a quiet machine.
@@ -47,13 +46,31 @@ row() { printf '%s\t%s\t%s\n' "$1" "$2" "$3" >> "$rows"; }
 
 echo "== core_bench" >&2
 "$bin/core_bench" --benchmark_color=false \
-  --benchmark_filter='BM_LoadAndAggregate|BM_FitWang/(1|10)/(1|2)/0' \
+  --benchmark_filter='BM_LoadAndAggregate|BM_FitWang/(1|10)/(1|2)/0|BM_FitWang/1/1/1' \
   > "$work/core_bench.txt" 2> "$work/core_bench.err"
 row "load + aggregate, paper size" "$(bm "$work/core_bench.txt" BM_LoadAndAggregate/1)" ""
 row "load + aggregate, 10x strips" "$(bm "$work/core_bench.txt" BM_LoadAndAggregate/10)" ""
 row "Wang option 1 fit, paper size" "$(bm "$work/core_bench.txt" BM_FitWang/1/1/0)" ""
 row "Wang option 2 fit, paper size" "$(bm "$work/core_bench.txt" BM_FitWang/1/2/0)" "< 20 ms"
 row "Wang option 2 fit, 10x strips" "$(bm "$work/core_bench.txt" BM_FitWang/10/2/0)" "= paper size (sufficient statistics)"
+
+# The whole `rollwear calibrate` process on the paper-size dataset (seed 2,
+# as core_bench's), median of 11 runs, beside the fit it runs (Wang option 1
+# with standard errors): reading and checking the files is the cost.
+echo "== rollwear calibrate, whole command" >&2
+rollwear="$build/service/rollwear"
+"$rollwear" simulate --out "$work/paper" --seed 2 > /dev/null
+"$rollwear" calibrate --data "$work/paper" > /dev/null  # warm the page cache
+for _ in $(seq 11); do
+  t0=$(date +%s%N)
+  "$rollwear" calibrate --data "$work/paper" > /dev/null
+  echo $(( ($(date +%s%N) - t0) / 1000 ))
+done | sort -n | sed -n 6p > "$work/calibrate_us.txt"
+whole_ms=$(awk '{ printf "%.1f", $1 / 1000 }' "$work/calibrate_us.txt")
+fit_ms=$(awk '$1 == "BM_FitWang/1/1/1" { print $2; exit }' "$work/core_bench.txt")
+row "calibrate, whole command, paper size" "$whole_ms ms" ""
+row "Wang option 1 fit with std. errors, paper size" "$fit_ms ms" ""
+row "calibrate whole / fit" "$(awk -v w="$whole_ms" -v f="$fit_ms" 'BEGIN { printf "%.1f x", w / f }')" "<= 10 x"
 
 echo "== diagnosis_bench" >&2
 "$bin/diagnosis_bench" --benchmark_color=false \

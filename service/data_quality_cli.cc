@@ -1,5 +1,13 @@
 #include "service/data_quality_cli.h"
 
+#if defined(__GLIBC__)
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <malloc.h>
+#endif
+
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -9,6 +17,51 @@
 #include "core/dataset/dataset_io.h"
 
 namespace rollwear::cli {
+namespace {
+
+// A file tool reads a dataset into buffers of tens of MB (a paper-size
+// coils.csv: 10 MB of text, 12 MB of field spans, 10 MB of passes) and
+// faults every 4 KiB page of them in: 12,000 page faults, a fifth of a
+// paper-size `calibrate` (perf). Two glibc settings make that cheap, for
+// the short-lived file tools only (the daemon keeps glibc's defaults):
+//  - blocks of any size come from the heap and freed memory stays there
+//    for reuse (mmap and trim thresholds of 1 GiB; by default glibc maps
+//    each block over 128 KiB on its own and unmaps it on free, so the next
+//    block faults its pages in again);
+//  - the heap grows in one step of 256 MiB of address space (M_TOP_PAD;
+//    pages are backed only when touched), which is then advised for
+//    transparent huge pages (madvise(MADV_HUGEPAGE); the kernel's THP
+//    setting on Debian 12 is "madvise"), so the reader's buffers fault in
+//    2 MiB at a time. Where THP is off the advice is ignored.
+// Measured (docs/performance.md): a paper-size `calibrate` 79 -> 62 ms
+// wall (median of 21), page faults 12,166 -> 1,512, peak RSS 61 -> 63 MB.
+void ReuseFreedMemory() {
+#if defined(__GLIBC__)
+  static const bool once = [] {
+    constexpr int kThresholdBytes = 1 << 30;
+    constexpr int kTopPadBytes = 256 << 20;
+    mallopt(M_MMAP_THRESHOLD, kThresholdBytes);
+    mallopt(M_TRIM_THRESHOLD, kThresholdBytes);
+    mallopt(M_TOP_PAD, kTopPadBytes);
+    // One block grows the heap by the pad; advise what lies past it.
+    void* first = std::malloc(size_t{1} << 20);
+    const auto heap_end = reinterpret_cast<uintptr_t>(sbrk(0));
+    constexpr uintptr_t kHugePage = uintptr_t{2} << 20;
+    const uintptr_t from =
+        (reinterpret_cast<uintptr_t>(first) + kHugePage) & ~(kHugePage - 1);
+    std::free(first);
+    // `first` came from the heap below its end (not from a mapping of its
+    // own): the advice covers only the heap's fresh pad.
+    if (first != nullptr && from < heap_end) {
+      madvise(reinterpret_cast<void*>(from), heap_end - from, MADV_HUGEPAGE);
+    }
+    return true;
+  }();
+  (void)once;
+#endif
+}
+
+}  // namespace
 
 int DatasetReadOptionsFromEnvironment(const char* tool,
                                       DatasetReadOptions* out) {
@@ -27,6 +80,7 @@ int DatasetReadOptionsFromEnvironment(const char* tool,
 }
 
 int ReadDatasetForTool(const char* tool, const std::string& dir, Dataset* out) {
+  ReuseFreedMemory();
   DatasetReadOptions options;
   if (int code = DatasetReadOptionsFromEnvironment(tool, &options)) return code;
   StatusOr<Dataset> data = ReadDataset(dir, nullptr, options);
@@ -41,6 +95,7 @@ int ReadDatasetForTool(const char* tool, const std::string& dir, Dataset* out) {
 
 int ReadCheckedDataset(const char* tool, const std::string& dir, bool strict,
                        CheckedDataset* out, Keep keep) {
+  ReuseFreedMemory();
   DatasetReadOptions options;
   if (int code = DatasetReadOptionsFromEnvironment(tool, &options)) return code;
   DatasetLines& lines = out->lines;

@@ -5,7 +5,8 @@
 // fields are unescaped in place, so a parsed table is one buffer plus an
 // (offset, size) pair per field; every record remembers the physical line
 // (1-based, counting line breaks inside quoted fields) on which it starts.
-// Completely empty lines are skipped (their lines still count).
+// Completely empty lines are skipped (their lines still count). A file of
+// 1 MB or more without a quote is parsed in two halves on two threads.
 //
 // The number parsers use std::from_chars and accept the whole field only.
 //
@@ -63,12 +64,22 @@ class Table {
     uint32_t line;
   };
 
-  // Parse stages. ReadRecord appends the fields of the record that starts
-  // at buffer_[*i] (on physical line `record_line`), leaves *i after its
-  // line end and counts lines in *line; fails on malformed quoting.
-  // TakeHeader makes the fields from `first_field` on the header.
-  Status ReadRecord(size_t* i, uint32_t* line, std::string_view file,
-                    uint32_t record_line);
+  // Parse stages, on the buffer s[0, n). ReadRecord appends the fields of
+  // the record that starts at s[*i] (on physical line `record_line`),
+  // leaves *i after its line end and counts lines in *line; fails on
+  // malformed quoting (`header` names the field). ReadRecords reads the
+  // records from `begin` (a record's start) to `end` (a record's start or
+  // n), skipping blank lines. TakeHeader makes the fields from
+  // `first_field` on the header.
+  static Status ReadRecord(char* s, size_t n, size_t* i, uint32_t* line,
+                           std::string_view file, uint32_t record_line,
+                           const std::vector<std::string>& header,
+                           std::vector<Span>* fields);
+  static Status ReadRecords(char* s, size_t n, size_t begin, size_t end,
+                            uint32_t* line, std::string_view file,
+                            const std::vector<std::string>& header,
+                            std::vector<Span>* fields,
+                            std::vector<Record>* records);
   void TakeHeader(size_t first_field, uint32_t record_line);
 
   std::string buffer_;

@@ -90,6 +90,9 @@ class StatusOr {
   const T* operator->() const { return &*value_; }
   T& operator*() & { return *value_; }
   const T& operator*() const& { return *value_; }
+  // `*std::move(s)` moves the value out (without this overload it bound to
+  // the const& one above and copied: a whole Dataset in ReadCheckedDataset).
+  T&& operator*() && { return std::move(*value_); }
 
  private:
   Status status_;

@@ -6,7 +6,8 @@
 // labels to indices with views into the parsed buffers.
 //
 // Thread-safety: a FileView only reads its csv::Table (which must outlive
-// it); a LabelIndex is a mutable value, one thread at a time.
+// it), so several threads may read one; a LabelIndex is a mutable value,
+// one thread at a time, except Lookup (const, no cache).
 #ifndef ROLLWEAR_CORE_DATASET_DATASET_CHECKS_H_
 #define ROLLWEAR_CORE_DATASET_DATASET_CHECKS_H_
 
@@ -40,6 +41,13 @@ class LabelIndex {
     last_label_ = label;
     last_ = it->second;
     return last_;
+  }
+
+  // Index of `label`, or -1, without the cache: safe from several threads
+  // at once while nothing inserts.
+  int Lookup(std::string_view label) const {
+    auto it = map_.find(label);
+    return it == map_.end() ? -1 : it->second;
   }
 
   // Index of `label`; adds it as `next` when new (then *added is true).

@@ -239,11 +239,11 @@ TEST(IdentificationTest, BoundsLargeErrorsAndAnOptimisticFitAreNotIdentified) {
 // at about the interval's 95 % (pooled over three mills: the intervals
 // leave K's own uncertainty out, single mills measured 0.89-0.95), tau is
 // recovered, and the fit predicts held-out campaigns better than K alone.
-struct Coverage {
+struct RollCoverage {
   int covered = 0, rolls = 0;
 };
 
-Coverage PerRollCoverage(uint64_t seed) {
+RollCoverage PerRollCoverage(uint64_t seed) {
   SimulatorOptions so;
   so.seed = seed;
   so.num_campaigns = test_size::FullOr(395, 160);
@@ -290,7 +290,7 @@ Coverage PerRollCoverage(uint64_t seed) {
     std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
     scale[group] = v[v.size() / 2];
   }
-  Coverage c;
+  RollCoverage c;
   for (const RollEffect& r : fit->effects.rolls) {
     const double truth =
         sim->truth.roll_wear_factor.at(r.roll_id) / scale[group_of[r.roll_id]];
@@ -301,9 +301,9 @@ Coverage PerRollCoverage(uint64_t seed) {
 }
 
 TEST(RollEffectsTest, PerRollFactorsAreRecoveredWithinTheirIntervals) {
-  Coverage all;
+  RollCoverage all;
   for (uint64_t seed : {11, 12, 13}) {
-    const Coverage c = PerRollCoverage(seed);
+    const RollCoverage c = PerRollCoverage(seed);
     all.covered += c.covered;
     all.rolls += c.rolls;
   }

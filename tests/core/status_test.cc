@@ -1,7 +1,7 @@
 // Tests of ROLLWEAR_RETURN_IF_ERROR and ROLLWEAR_ASSIGN_OR_RETURN
 // (core/base/status.h): the value flows through on success, an error comes
 // back unchanged (code and message), move-only values work, and several uses
-// in one scope do not collide.
+// in one scope do not collide; `*std::move(s)` moves the value out.
 #include "core/base/status.h"
 
 #include <map>
@@ -119,6 +119,31 @@ TEST(StatusMacros, AssignOrReturnMovesMoveOnlyValues) {
   ASSERT_FALSE(none.ok());
   EXPECT_EQ(none.status().code(), StatusCode::kNotFound);
   EXPECT_EQ(none.status().message(), "no box for -1");
+}
+
+// `*std::move(s)` moves the value out, as `std::move(s).value()` does: a
+// move-only value can be taken that way, and a copyable one is not copied
+// (it used to bind to the const& overload and copy, a whole Dataset in the
+// file-reading tools).
+TEST(StatusOrTest, DereferencingAnRvalueMovesTheValueOut) {
+  StatusOr<std::unique_ptr<int>> box = BoxPlusOne(1);
+  ASSERT_TRUE(box.ok());
+  std::unique_ptr<int> taken = *std::move(box);
+  ASSERT_NE(taken, nullptr);
+  EXPECT_EQ(*taken, 2);
+
+  struct Counted {
+    int* copies;
+    Counted(int* c) : copies(c) {}  // NOLINT
+    Counted(const Counted& o) : copies(o.copies) { ++*copies; }
+    Counted(Counted&&) = default;
+  };
+  int copies = 0;
+  StatusOr<Counted> counted(Counted{&copies});
+  copies = 0;
+  Counted out = *std::move(counted);
+  EXPECT_EQ(copies, 0);
+  EXPECT_EQ(out.copies, &copies);
 }
 
 }  // namespace
