@@ -93,6 +93,7 @@ nlohmann::json DiagnosisJson(const DiagnosisReport& r) {
                              {"gap_val_before_um", f.gap_val_before_um},
                              {"gap_val_after_um", f.gap_val_after_um},
                              {"alternatives", f.alternatives},
+                             {"carriers", f.carriers},
                              {"scope_undetermined", f.scope_undetermined}});
   }
   j["unexplained"] = UnexplainedJson(r.unexplained);

@@ -134,6 +134,12 @@ struct Finding {
   double cv_mse_ratio = 1;
   double gap_val_before_um = 0, gap_val_after_um = 0;
   std::vector<std::string> alternatives;  // covariates that fit almost as well
+  // When the data cannot tell the covariate from others that carry the
+  // same mechanism (diagnosis_carriers.cc: the campaign's rolled length,
+  // coils and hours; force and specific force; entry and exit thickness):
+  // all of them, the fitted term's covariate first, and `mechanism` is the
+  // carried one. Empty otherwise.
+  std::vector<std::string> carriers;
   // Where the finding applies ({"stand":"F7","position":"top"}; empty =
   // everywhere) and the affected levels of a factor ("B" of a grinder
   // column, "HSLA" of grade), as the contract's findings[].scope / levels.

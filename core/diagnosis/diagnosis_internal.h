@@ -151,9 +151,29 @@ std::vector<TermScope> SingleScopes(const TermData& td,
 // when any of its passes rolled the grade).
 bool InScope(const TermData& td, const TermObservation& ob, const TermScope& s);
 
+// A mechanism several recorded quantities carry (diagnosis_carriers.cc):
+// its covariates (nullptr pads the list) and its name and sentence when the
+// wear rate rises (up) or falls (down) along them.
+struct CarrierGroup {
+  const char* name;
+  std::array<const char*, 3> covariates;
+  const char* up;
+  const char* up_text;
+  const char* down;
+  const char* down_text;
+};
+// The group `covariate` carries, or nullptr.
+const CarrierGroup* CarrierGroupOf(const std::string& covariate);
+// Whether two different covariates carry one mechanism.
+bool SameCarriedMechanism(const std::string& a, const std::string& b);
+// " Carried by a, b or c: ... (the fitted term is on a)." for a finding's
+// carriers (the named covariate first).
+std::string CarriersSentence(const std::vector<std::string>& carriers);
+
 // Fills mechanism, shape and explanation of a finding from its fitted term
 // and the covariate's training range (reads f->parameter_std_errors when
-// set, to tell a noisy binned step from a peak).
+// set, to tell a noisy binned step from a peak). With f->carriers (more
+// than the term's covariate), the carried mechanism is named with them.
 void NameFinding(const TermData& td, const std::vector<int>& train,
                  const TermSpec& spec, Finding* finding);
 

@@ -264,6 +264,50 @@ void OffsetLevels(const ModelTerm& t, Finding* f, std::string* fitted) {
   *fitted += " (reference " + t.covariate + "=" + ref + ")";
 }
 
+// The mechanism name of finding `f` (its term `t` over covariate `c`,
+// rising when `up`) into f->mechanism, and the sentence of physics that
+// opens its explanation: a cell's interaction, a reading's offset, a
+// mechanism carried by several quantities (f->carriers), one covariate's
+// (kMechanisms), or a plain dependence.
+std::string MechanismOf(const ModelTerm& t, const CovariateSpec& c, bool up,
+                        Finding* f) {
+  const Mechanism* m = FindMechanism(c.name);
+  std::string text;
+  if (t.form == TermForm::kCell) {
+    f->mechanism =
+        std::string(t.scope.roll_type.empty() ? "grade" : "roll_type") +
+        "_by_" + (t.scope.stand > 0 ? "stand" : "position") + "_interaction";
+    text = "Rolls of " + t.scope.Label() + " wear " +
+           Format("%.2f", std::exp(t.params[0])) +
+           " times what the K structure (position x roll type x grade factors, "
+           "which multiply independently) predicts: an interaction no single "
+           "factor expresses.";
+  } else if (t.form == TermForm::kOffsetPerLevel) {
+    f->mechanism = "measurement_offset_by_" + c.name;
+    text =
+        "The grinder's reading depends on " + c.name +
+        ": an instrument, gauge or crew offset on the measured value, not wear "
+        "physics.";
+  } else if (const CarrierGroup* g = CarrierGroupOf(c.name);
+             g != nullptr && f->carriers.size() > 1) {
+    f->mechanism = up ? g->up : g->down;
+    text = std::string(up ? g->up_text : g->down_text) +
+           CarriersSentence(f->carriers);
+  } else if (m != nullptr) {
+    f->mechanism = up ? m->up : m->down;
+    text = up ? m->up_text : m->down_text;
+  } else if (t.IsMeasurementTerm()) {
+    f->mechanism = "measurement_bias_" + c.name;
+    text = "What the grinder reads depends on " + c.name +
+           ", a measurement-side effect the wear model does not contain.";
+  } else {
+    f->mechanism = c.name + "_dependence";
+    text = "The wear rate depends on " + c.name +
+           ", a quantity the wear law does not contain.";
+  }
+  return text;
+}
+
 }  // namespace
 
 void NameFinding(const TermData& td, const std::vector<int>& train,
@@ -494,35 +538,7 @@ void NameFinding(const TermData& td, const std::vector<int>& train,
           t.scale);
       break;
   }
-  const Mechanism* m = FindMechanism(c.name);
-  std::string text;
-  if (t.form == TermForm::kCell) {
-    f->mechanism =
-        std::string(t.scope.roll_type.empty() ? "grade" : "roll_type") +
-        "_by_" + (t.scope.stand > 0 ? "stand" : "position") + "_interaction";
-    text = "Rolls of " + t.scope.Label() + " wear " +
-           Format("%.2f", std::exp(p[0])) +
-           " times what the K structure (position x roll type x grade factors, "
-           "which multiply independently) predicts: an interaction no single "
-           "factor expresses.";
-  } else if (t.form == TermForm::kOffsetPerLevel) {
-    f->mechanism = "measurement_offset_by_" + c.name;
-    text =
-        "The grinder's reading depends on " + c.name +
-        ": an instrument, gauge or crew offset on the measured value, not wear "
-        "physics.";
-  } else if (m != nullptr) {
-    f->mechanism = up ? m->up : m->down;
-    text = up ? m->up_text : m->down_text;
-  } else if (t.IsMeasurementTerm()) {
-    f->mechanism = "measurement_bias_" + c.name;
-    text = "What the grinder reads depends on " + c.name +
-           ", a measurement-side effect the wear model does not contain.";
-  } else {
-    f->mechanism = c.name + "_dependence";
-    text = "The wear rate depends on " + c.name +
-           ", a quantity the wear law does not contain.";
-  }
+  const std::string text = MechanismOf(t, c, up, f);
   f->explanation = text + DescribeScope(t, f) + " Fitted: " + fitted + ".";
 }
 

@@ -62,6 +62,37 @@ bool EncompassesLocateOnly(const DiagnosisState& st,
   return ChiSquareSurvival(lr, df) >= st.thresholds.rival_alpha;
 }
 
+// The encompassing test of the winner against fitted candidate `rival`:
+// the winner's term added to the rival's model, LR = n ln(RSS_rival /
+// RSS_rival+winner) ~ chi2(df_winner), its lower bound n ln(RSS_rival /
+// RSS_winner) first. `joint` is fitted only when the bound does not clear
+// rival_alpha; a failed joint fit leaves the bound.
+struct Encompassing {
+  double lr = 0;
+  double p = 1;
+  Fitted joint;
+};
+Encompassing WinnerAddsTo(const DiagnosisState& st,
+                          const std::vector<double>& sd,
+                          const std::vector<Fitted>& fits, int winner,
+                          int rival) {
+  Encompassing e;
+  const TermSpec& term = fits[winner].terms.back();
+  const double n = static_cast<double>(st.train.size());
+  const int df = term.term.NumParams();
+  e.lr = NestedLr(n, fits[rival].rss, fits[winner].rss);
+  e.p = ChiSquareSurvival(e.lr, df);
+  if (e.p < st.thresholds.rival_alpha) return e;
+  std::vector<TermSpec> both = fits[rival].terms;
+  both.push_back(term);
+  e.joint = Fit(st.td, st.train, sd, fits[rival].log_k, both);
+  if (e.joint.usable && e.joint.rss > 0) {
+    e.lr = std::max(e.lr, NestedLr(n, fits[rival].rss, e.joint.rss));
+    e.p = ChiSquareSurvival(e.lr, df);
+  }
+  return e;
+}
+
 }  // namespace
 
 double ContributionRmsUm(const DiagnosisState& st, const Fitted& with,
@@ -131,22 +162,18 @@ GuardResult DistinctFromRivals(const DiagnosisState& st,
     }
   }
   if (rivals.empty()) return r;
-  const double n = static_cast<double>(st.train.size());
-  const int df = term.term.NumParams();
   for (int j : rivals) {
-    const double bound = NestedLr(n, fits[j].rss, fits[winner].rss);
-    if (ChiSquareSurvival(bound, df) < st.thresholds.rival_alpha) continue;
-    std::vector<TermSpec> both = fits[j].terms;
-    both.push_back(term);
-    const Fitted joint = Fit(st.td, st.train, sd, fits[j].log_k, both);
-    // A failed joint fit leaves the bound, which has not cleared the level.
-    const double lr = joint.usable && joint.rss > 0
-                          ? std::max(bound, NestedLr(n, fits[j].rss, joint.rss))
-                          : bound;
-    const double p = ChiSquareSurvival(lr, df);
-    if (p < st.thresholds.rival_alpha) continue;
-    if (EncompassesLocateOnly(st, fits, winner, j, joint)) continue;
+    const Encompassing e = WinnerAddsTo(st, sd, fits, winner, j);
+    if (e.p < st.thresholds.rival_alpha) continue;
+    if (EncompassesLocateOnly(st, fits, winner, j, e.joint)) continue;
+    const double lr = e.lr, p = e.p;
     const TermScope& scope = term.term.scope;
+    // One mechanism, two carriers, one place: the mechanism is named
+    // (CarriersOf lists the carriers).
+    if (SameCarriedMechanism(results[winner].covariate, results[j].covariate) &&
+        fits[j].terms.back().term.scope.Label() == scope.Label()) {
+      continue;
+    }
     const std::string where =
         scope.Fields().empty() ? std::string("everywhere") : scope.Label();
     const TermScope& rival_scope = fits[j].terms.back().term.scope;
@@ -173,6 +200,35 @@ GuardResult DistinctFromRivals(const DiagnosisState& st,
     return r;
   }
   return r;
+}
+
+std::vector<std::string> CarriersOf(const DiagnosisState& st,
+                                    const std::vector<double>& sd,
+                                    const std::vector<Fitted>& fits,
+                                    const std::vector<CandidateResult>& results,
+                                    int winner) {
+  const TermSpec& term = fits[winner].terms.back();
+  const std::string& covariate = results[winner].covariate;
+  std::vector<std::string> carriers;
+  if (CarrierGroupOf(covariate) == nullptr) return carriers;
+  for (size_t j = 0; j < fits.size(); ++j) {
+    const std::string& other = results[j].covariate;
+    if (!fits[j].usable || !(fits[j].rss > 0) ||
+        !SameCarriedMechanism(covariate, other) ||
+        fits[j].terms.back().term.scope.Label() != term.term.scope.Label() ||
+        std::find(carriers.begin(), carriers.end(), other) != carriers.end()) {
+      continue;
+    }
+    // The encompassing test of DistinctFromRivals.
+    const int rival = static_cast<int>(j);
+    if (WinnerAddsTo(st, sd, fits, winner, rival).p <
+        st.thresholds.rival_alpha) {
+      continue;
+    }
+    carriers.push_back(other);
+  }
+  if (!carriers.empty()) carriers.insert(carriers.begin(), covariate);
+  return carriers;
 }
 
 }  // namespace rollwear::diag

@@ -589,6 +589,7 @@ bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
 
   // 5. Adopt the winner.
   Finding f = FindingFromTests(st->td, cv, results, winner);
+  f.carriers = CarriersOf(*st, sd, fits, results, winner);
   std::string twin_note;
   ReferenceChoice reference;
   const Fitted chosen = ChooseOffsetReference(

@@ -300,7 +300,8 @@ GuardResult NotNameable(const DiagnosisState& st,
 // (diagnosis_rivals.cc): fails when the term of accepted candidate `winner`
 // adds nothing significant to the model of an accepted candidate over
 // another covariate (not a cell): the data do not say which of the two
-// drives the wear.
+// drives the wear. A rival over the same scope that carries the winner's
+// mechanism (SameCarriedMechanism) does not fail it (CarriersOf lists it).
 GuardResult DistinctFromRivals(const DiagnosisState& st,
                                const std::vector<double>& sd,
                                const std::vector<int>& accepted,
@@ -347,6 +348,19 @@ int GuardedWinner(int round, const Dataset& data,
                   const std::vector<Fitted>& fits,
                   const std::vector<CandidateResult>& results, double num_tests,
                   DiagnosisReport* report);
+
+// The covariates the round's fitted candidates carry the winner's
+// mechanism through (SameCarriedMechanism), over its scope, that the data
+// cannot tell from it: the winner's term adds nothing significant to their
+// model (DistinctFromRivals' encompassing test, at rival_alpha). The
+// winner's covariate first, then theirs; empty when there is none
+// (diagnosis_rivals.cc). A carrier need not have been cross-validated: the
+// strongest candidates of a round may all be forms of one covariate.
+std::vector<std::string> CarriersOf(const DiagnosisState& st,
+                                    const std::vector<double>& sd,
+                                    const std::vector<Fitted>& fits,
+                                    const std::vector<CandidateResult>& results,
+                                    int winner);
 
 // A winning cell with a twin (TwinCell) stated as the place that wears more;
 // `note` gets the sentence naming the twin (diagnosis_inside_cell.cc).

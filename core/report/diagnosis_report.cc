@@ -232,6 +232,12 @@ std::string FindingHtml(const DiagnosisReport& r, const Finding& f, int idx) {
     h += "<tr><td>" + XmlEscape(k) + "</td><td>" + F("%.5g", v) + "</td></tr>";
   }
   h += "</table>\n";
+  if (!f.carriers.empty()) {
+    h += "<p>Carried by: ";
+    for (const std::string& c : f.carriers) h += XmlEscape(c) + " ";
+    h += "(one mechanism; the data do not say which of them drives the "
+         "wear).</p>\n";
+  }
   if (!f.alternatives.empty()) {
     h += "<p>Nearly as good a fit with: ";
     for (const std::string& a : f.alternatives) h += XmlEscape(a) + " ";

@@ -156,8 +156,18 @@ bool SameCovariate(const std::string& truth, const std::string& found) {
   return !truth.empty() && CovariateClass(truth) == CovariateClass(found);
 }
 
+// The finding's covariate is the effect's, or one of the carriers of the
+// mechanism it names (Finding::carriers: "named right" means the
+// mechanism and its scope).
+bool OnCovariate(const Finding& f, const std::string& truth) {
+  return SameCovariate(truth, f.covariate) ||
+         std::any_of(
+             f.carriers.begin(), f.carriers.end(),
+             [&](const std::string& c) { return SameCovariate(truth, c); });
+}
+
 bool Describes(const Finding& f, const ConcealedEffect& e) {
-  if (!e.expressible || !SameCovariate(e.covariate, f.covariate)) return false;
+  if (!e.expressible || !OnCovariate(f, e.covariate)) return false;
   if (FindingScope(f) != e.scope) return false;
   if (e.levels.empty()) return true;
   // A per-level effect named without its levels does not say which level.
@@ -173,7 +183,7 @@ bool Describes(const Finding& f, const ConcealedEffect& e) {
 // something wrong).
 bool NotWrong(const Finding& f, const ConcealedEffect& e) {
   if (Describes(f, e)) return true;
-  return e.expressible && SameCovariate(e.covariate, f.covariate) &&
+  return e.expressible && OnCovariate(f, e.covariate) &&
          FindingScope(f) == e.scope && f.levels.empty();
 }
 
