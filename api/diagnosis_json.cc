@@ -51,7 +51,9 @@ nlohmann::json RunnersUpJson(const std::vector<RunnerUp>& list) {
                  {"form", u.form},
                  {"p_value", JsonNumber(u.p_adjusted)},
                  {"cv_error_ratio", JsonNumber(u.cv_mse_ratio)},
-                 {"reason", u.reason}});
+                 {"reason", u.reason},
+                 {"refusal", RefusalKindName(u.refusal)},
+                 {"guard", u.guard}});
   }
   return j;
 }

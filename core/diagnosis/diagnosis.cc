@@ -13,6 +13,28 @@
 
 namespace rollwear {
 
+const char* RefusalKindName(RefusalKind kind) {
+  switch (kind) {
+    case RefusalKind::kNotNameable:
+      return "not_nameable";
+    case RefusalKind::kNoBetterThanCell:
+      return "no_better_than_cell";
+    case RefusalKind::kProxyGuard:
+      return "proxy_guard";
+    case RefusalKind::kNotDistinguishable:
+      return "not_distinguishable";
+    case RefusalKind::kShadowOfRefused:
+      return "shadow_of_refused";
+    case RefusalKind::kTwinStands:
+      return "twin_stands";
+    case RefusalKind::kCellPair:
+      return "cell_pair";
+    case RefusalKind::kRollFamily:
+      return "roll_family";
+  }
+  return "proxy_guard";
+}
+
 bool DiagnosisOptions::IsValid(std::string* error) const {
   auto fail = [error](const char* what) {
     if (error != nullptr) *error = what;

@@ -152,6 +152,25 @@ struct Finding {
   ModelTerm term;                         // the adopted term
 };
 
+// Which check kept a significant candidate from being adopted, or withdrew
+// a finding after its round (docs/diagnosis.md, "The proxy guard"): the
+// typed part of RunnerUp::reason, for clients that sort refusals without
+// reading sentences (JSON runners_up[].refusal, RefusalKindName).
+enum class RefusalKind {
+  kNotNameable,         // over a quantity the format does not name
+  kNoBetterThanCell,    // a cell of the round describes the data as well
+  kProxyGuard,          // one of the proxy guard's rows (RunnerUp::guard)
+  kNotDistinguishable,  // a rival of another mechanism fits as well
+  kShadowOfRefused,     // fits worse than a candidate the guard refused
+  kTwinStands,          // withdrawn: the twin stand's levels predict alike
+  kCellPair,            // withdrawn: two other cells describe it as well
+  kRollFamily,          // the per-roll family's own checks
+};
+// "not_nameable", "no_better_than_cell", "proxy_guard",
+// "not_distinguishable", "shadow_of_refused", "twin_stands", "cell_pair",
+// "roll_family".
+const char* RefusalKindName(RefusalKind kind);
+
 // A significant candidate of a round that was not adopted, with why
 // (the proxy guard of docs/diagnosis.md): "inconsistent across stand",
 // "located structure remains (roll_position)", ...
@@ -162,6 +181,10 @@ struct RunnerUp {
   double p_adjusted = 1;
   double cv_mse_ratio = 1;
   std::string reason;
+  RefusalKind refusal = RefusalKind::kProxyGuard;
+  // For kProxyGuard: the row of kProxyGuards that refused
+  // ("group_consistency", "look_again", ...); "" otherwise.
+  std::string guard;
 };
 
 // Structure of the final model's residuals that is significant at the

@@ -115,7 +115,8 @@ bool WithdrawIfTied(const DiagnosisOptions& options, bool by_type,
     u.p_value = std::min(u.p_value, f.p_value);
     u.p_adjusted = std::min(u.p_adjusted, f.p_adjusted);
     report->runners_up.push_back({(*rounds)[i], f.covariate, f.form,
-                                  f.p_adjusted, f.cv_mse_ratio, reason});
+                                  f.p_adjusted, f.cv_mse_ratio, reason,
+                                  RefusalKind::kTwinStands, ""});
   }
   for (auto it = index.rbegin(); it != index.rend(); ++it) {
     report->findings.erase(report->findings.begin() + *it);
@@ -363,8 +364,9 @@ bool WithdrawUnconfinedCell(const DiagnosisOptions& options,
       u.p_value = f.p_value;
       u.p_adjusted = f.p_adjusted;
     }
-    report->runners_up.push_back(
-        {(*rounds)[i], f.covariate, f.form, f.p_adjusted, f.cv_mse_ratio, buf});
+    report->runners_up.push_back({(*rounds)[i], f.covariate, f.form,
+                                  f.p_adjusted, f.cv_mse_ratio, buf,
+                                  RefusalKind::kCellPair, ""});
     u.mean_residual_um = ContributionRmsUm(*st, st->current, refit, {cell});
     report->unexplained.push_back(u);
     report->findings.erase(report->findings.begin() + i);

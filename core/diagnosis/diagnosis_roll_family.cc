@@ -218,6 +218,7 @@ void Refuse(const Heterogeneity& h, const std::string& why,
   r.form = TermFormName(TermForm::kRollEffect);
   r.p_adjusted = h.p_value;
   r.reason = why;
+  r.refusal = RefusalKind::kRollFamily;
   report->runners_up.push_back(std::move(r));
 }
 

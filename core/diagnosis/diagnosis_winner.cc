@@ -162,22 +162,28 @@ int GuardedWinner(int round, const Dataset& data,
     // A locate-only covariate is a structure the vocabulary cannot name:
     // refused like an inconsistent effect (what fits worse is its shadow).
     GuardResult g = NotNameable(st, fits, results, i);
-    bool by_cell = false;
+    RefusalKind kind = RefusalKind::kNotNameable;
     if (g.pass) {
+      kind = RefusalKind::kNoBetterThanCell;
       g.reason =
           NoBetterThanCell(st, sd, accepted, fits, i, num_tests, options);
       g.pass = g.reason.empty();
-      by_cell = !g.pass;
     }
-    if (g.pass) g = GuardAgainstProxy(data, st, options, sd, before, fits[i]);
-    bool by_rival = false;
     if (g.pass) {
-      g = DistinctFromRivals(st, sd, accepted, fits, results, i);
-      by_rival = !g.pass;
+      kind = RefusalKind::kProxyGuard;
+      g = GuardAgainstProxy(data, st, options, sd, before, fits[i]);
     }
-    if (g.pass && !refused.empty())
+    if (g.pass) {
+      kind = RefusalKind::kNotDistinguishable;
+      g = DistinctFromRivals(st, sd, accepted, fits, results, i);
+    }
+    if (g.pass && !refused.empty()) {
+      kind = RefusalKind::kShadowOfRefused;
       g = FitsWorseThanRefused(st, fits, i, refused, results);
+    }
     if (g.pass) return i;
+    const bool by_cell = kind == RefusalKind::kNoBetterThanCell;
+    const bool by_rival = kind == RefusalKind::kNotDistinguishable;
     // A cell or a rival that describes the same data is not a structure
     // the vocabulary failed on: not a reason to call the others shadows.
     if (!by_cell && !by_rival) refused.push_back(i);
@@ -185,8 +191,8 @@ int GuardedWinner(int round, const Dataset& data,
     // A refusal that locates the candidate's own effect leaves its
     // adjusted p to the round (PartNotRequired).
     if (std::isnan(g.located.p_adjusted)) g.located.p_adjusted = c.p_adjusted;
-    report->runners_up.push_back(
-        {round, c.covariate, c.form, c.p_adjusted, c.cv_mse_ratio, g.reason});
+    report->runners_up.push_back({round, c.covariate, c.form, c.p_adjusted,
+                                  c.cv_mse_ratio, g.reason, kind, g.guard});
     if (!g.located.dimension.empty()) AddLocated(g.located, &located);
   }
   for (const Unexplained& u : located) report->unexplained.push_back(u);

@@ -77,6 +77,9 @@ TEST(DiagnosisProxyTest, RollTypeCellWinsOverAContactLengthStandIn) {
     if (r.covariate == "contact_length_mm" &&
         r.reason.find("no better than the cell") != std::string::npos) {
       contact_is_runner_up = true;
+      // The typed refusal says the same (runners_up[].refusal).
+      EXPECT_EQ(r.refusal, RefusalKind::kNoBetterThanCell);
+      EXPECT_EQ(r.guard, "");
     }
   }
   EXPECT_TRUE(contact_is_runner_up);
@@ -135,6 +138,8 @@ TEST(DiagnosisProxyTest, ARandomWalkIsLocatedAlongTimeNotNamedAsCalendarTime) {
     if ((r.covariate == "started_at" || r.covariate == "measured_at") &&
         r.reason.find("structure along time remains") != std::string::npos) {
       refused_along_time = true;
+      EXPECT_EQ(r.refusal, RefusalKind::kProxyGuard);
+      EXPECT_EQ(r.guard, "along_time");
     }
   }
   EXPECT_TRUE(refused_along_time);
@@ -345,6 +350,12 @@ TEST(DiagnosisProxyTest,
     EXPECT_EQ(few.report.verdict, "mismatch_located_unexplained");
     EXPECT_TRUE(
         RefusedBecause(few.report, "length_m", "not distinguishable from"));
+    for (const RunnerUp& u : few.report.runners_up) {
+      const bool says =
+          u.reason.find("not distinguishable from") != std::string::npos;
+      EXPECT_EQ(says, u.refusal == RefusalKind::kNotDistinguishable)
+          << u.covariate << ": " << u.reason;
+    }
     // One place, along the collinear quantities, speed among them.
     const auto along = std::find_if(
         few.report.unexplained.begin(), few.report.unexplained.end(),
