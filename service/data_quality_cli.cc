@@ -24,37 +24,42 @@ namespace {
 // faults every 4 KiB page of them in: 12,000 page faults, a fifth of a
 // paper-size `calibrate` (perf). Two glibc settings make that cheap, for
 // the short-lived file tools only (the daemon keeps glibc's defaults):
-//  - blocks of any size come from the heap and freed memory stays there
-//    for reuse (mmap and trim thresholds of 1 GiB; by default glibc maps
-//    each block over 128 KiB on its own and unmaps it on free, so the next
+//  - blocks up to 32 MiB come from the heap and freed memory stays there
+//    for reuse (mmap threshold 32 MiB, the most glibc accepts on 64 bits,
+//    HEAP_MAX_SIZE / 2; trim threshold 1 GiB; by default glibc maps each
+//    block over 128 KiB on its own and unmaps it on free, so the next
 //    block faults its pages in again);
 //  - the heap grows in one step of 256 MiB of address space (M_TOP_PAD;
-//    pages are backed only when touched), which is then advised for
-//    transparent huge pages (madvise(MADV_HUGEPAGE); the kernel's THP
-//    setting on Debian 12 is "madvise"), so the reader's buffers fault in
-//    2 MiB at a time. Where THP is off the advice is ignored.
-// Measured (docs/performance.md): a paper-size `calibrate` 79 -> 62 ms
-// wall (median of 21), page faults 12,166 -> 1,512, peak RSS 61 -> 63 MB.
+//    pages are backed only when touched), and that step, read as the
+//    program break before and after it, is advised for transparent huge
+//    pages (madvise(MADV_HUGEPAGE); the kernel's THP setting on Debian 12
+//    is "madvise"), so the reader's buffers fault in 2 MiB at a time.
+// Where a setting is refused, THP is off or the heap is not the program
+// break (ASan and TSan allocate elsewhere), nothing is advised and the
+// tool runs as before. Measured (docs/performance.md): a paper-size
+// `calibrate` 79 -> 62 ms wall (median of 21), page faults 12,166 -> 1,512,
+// peak RSS 61 -> 63 MB (these two steps; 56 MB before either).
 void ReuseFreedMemory() {
 #if defined(__GLIBC__)
   static const bool once = [] {
-    constexpr int kThresholdBytes = 1 << 30;
+    constexpr int kMmapThresholdBytes = 32 << 20;
+    constexpr int kTrimThresholdBytes = 1 << 30;
     constexpr int kTopPadBytes = 256 << 20;
-    mallopt(M_MMAP_THRESHOLD, kThresholdBytes);
-    mallopt(M_TRIM_THRESHOLD, kThresholdBytes);
-    mallopt(M_TOP_PAD, kTopPadBytes);
-    // One block grows the heap by the pad; advise what lies past it.
-    void* first = std::malloc(size_t{1} << 20);
-    const auto heap_end = reinterpret_cast<uintptr_t>(sbrk(0));
-    constexpr uintptr_t kHugePage = uintptr_t{2} << 20;
-    const uintptr_t from =
-        (reinterpret_cast<uintptr_t>(first) + kHugePage) & ~(kHugePage - 1);
-    std::free(first);
-    // `first` came from the heap below its end (not from a mapping of its
-    // own): the advice covers only the heap's fresh pad.
-    if (first != nullptr && from < heap_end) {
-      madvise(reinterpret_cast<void*>(from), heap_end - from, MADV_HUGEPAGE);
+    if (mallopt(M_MMAP_THRESHOLD, kMmapThresholdBytes) != 1 ||
+        mallopt(M_TRIM_THRESHOLD, kTrimThresholdBytes) != 1 ||
+        mallopt(M_TOP_PAD, kTopPadBytes) != 1) {
+      return false;
     }
+    // One block under the threshold grows the heap by the pad.
+    const auto before = reinterpret_cast<uintptr_t>(sbrk(0));
+    void* first = std::malloc(size_t{1} << 20);
+    const auto after = reinterpret_cast<uintptr_t>(sbrk(0));
+    constexpr uintptr_t kHugePage = uintptr_t{2} << 20;
+    const uintptr_t from = (before + kHugePage - 1) & ~(kHugePage - 1);
+    if (first != nullptr && after > from) {
+      madvise(reinterpret_cast<void*>(from), after - from, MADV_HUGEPAGE);
+    }
+    std::free(first);
     return true;
   }();
   (void)once;

@@ -281,13 +281,21 @@ StatusOr<Table> Table::Parse(std::string text, std::string_view file) {
   tail_records.reserve((n - split) / 64 + 4);
   uint32_t tail_line = 1;
   Status tail;
-  std::thread worker([&] {
-    tail = ReadRecords(s, n, split, n, &tail_line, file, t.header_,
-                       &tail_fields, &tail_records);
-  });
+  std::thread worker;
+  try {
+    worker = std::thread([&] {
+      tail = ReadRecords(s, n, split, n, &tail_line, file, t.header_,
+                         &tail_fields, &tail_records);
+    });
+  } catch (const std::system_error&) {  // no thread: one pass, as below 1 MB
+    ROLLWEAR_RETURN_IF_ERROR(ReadRecords(s, n, i, n, &line, file, t.header_,
+                                         &t.fields_, &t.records_));
+    return t;
+  }
   Status head = ReadRecords(s, n, i, split, &line, file, t.header_, &t.fields_,
                             &t.records_);
   worker.join();
+  t.read_in_halves_ = true;
   ROLLWEAR_RETURN_IF_ERROR(head);
   ROLLWEAR_RETURN_IF_ERROR(tail);
   const auto field_offset = static_cast<uint32_t>(t.fields_.size());

@@ -39,6 +39,9 @@ class Table {
   int header_line() const { return header_line_; }
   // 0-based index of the header column called `name`, or -1.
   int FindColumn(std::string_view name) const;
+  // Whether Parse read the records in two halves on two threads (a
+  // quote-free file of 1 MB or more; for the tests).
+  bool read_in_halves() const { return read_in_halves_; }
 
   // Data records (the header is not one of them).
   size_t num_records() const { return records_.size(); }
@@ -87,6 +90,7 @@ class Table {
   std::vector<Record> records_;
   std::vector<std::string> header_;
   int header_line_ = 1;
+  bool read_in_halves_ = false;
 };
 
 // Removes leading and trailing spaces and tabs.

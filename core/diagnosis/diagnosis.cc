@@ -31,8 +31,10 @@ const char* RefusalKindName(RefusalKind kind) {
       return "cell_pair";
     case RefusalKind::kRollFamily:
       return "roll_family";
+    case RefusalKind::kUnspecified:
+      return "unspecified";
   }
-  return "proxy_guard";
+  return "unspecified";
 }
 
 bool DiagnosisOptions::IsValid(std::string* error) const {

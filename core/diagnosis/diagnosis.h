@@ -165,10 +165,11 @@ enum class RefusalKind {
   kTwinStands,          // withdrawn: the twin stand's levels predict alike
   kCellPair,            // withdrawn: two other cells describe it as well
   kRollFamily,          // the per-roll family's own checks
+  kUnspecified,         // not set (a bug: every refusal sets its kind)
 };
 // "not_nameable", "no_better_than_cell", "proxy_guard",
 // "not_distinguishable", "shadow_of_refused", "twin_stands", "cell_pair",
-// "roll_family".
+// "roll_family", "unspecified".
 const char* RefusalKindName(RefusalKind kind);
 
 // A significant candidate of a round that was not adopted, with why
@@ -181,7 +182,7 @@ struct RunnerUp {
   double p_adjusted = 1;
   double cv_mse_ratio = 1;
   std::string reason;
-  RefusalKind refusal = RefusalKind::kProxyGuard;
+  RefusalKind refusal = RefusalKind::kUnspecified;
   // For kProxyGuard: the row of kProxyGuards that refused
   // ("group_consistency", "look_again", ...); "" otherwise.
   std::string guard;

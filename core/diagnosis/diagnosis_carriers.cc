@@ -27,9 +27,11 @@ constexpr CarrierGroup kCarrierGroups[] = {
      {"campaign_length_before_m", "campaign_coils_before", "hours_since_mount"},
      "wear_rate_growth_along_campaign",
      "The wear rate grows along the campaign: the later coils of a campaign "
-     "wear the roll more than the first ones (the roll surface degrades: fire "
-     "cracks, banding, loss of the protective oxide layer), which the wear "
-     "law, summing independent strips, leaves out.",
+     "wear the roll more than the first ones, which the wear law, summing "
+     "independent strips, leaves out. Either the roll surface degrades with "
+     "the rolled amount (fire cracks, banding, loss of the protective oxide "
+     "layer) or the roll's thermal load grows with its hours in the stand; "
+     "these data do not tell the two apart.",
      "run_in_of_fresh_surface",
      "A freshly mounted roll wears faster at first and then settles (run-in "
      "of the ground surface, the thermal transient of a cold roll); the wear "

@@ -62,35 +62,42 @@ bool EncompassesLocateOnly(const DiagnosisState& st,
   return ChiSquareSurvival(lr, df) >= st.thresholds.rival_alpha;
 }
 
-// The encompassing test of the winner against fitted candidate `rival`:
-// the winner's term added to the rival's model, LR = n ln(RSS_rival /
-// RSS_rival+winner) ~ chi2(df_winner), its lower bound n ln(RSS_rival /
-// RSS_winner) first. `joint` is fitted only when the bound does not clear
-// rival_alpha; a failed joint fit leaves the bound.
+// The encompassing test of fitted candidate `adding` against fitted
+// candidate `base`: the term of `adding` added to the model of `base`,
+// LR = n ln(RSS_base / RSS_base+adding) ~ chi2(df_adding), its lower bound
+// n ln(RSS_base / RSS_adding) first. `joint` is fitted only when the bound
+// does not clear rival_alpha; a failed joint fit leaves the bound.
 struct Encompassing {
   double lr = 0;
   double p = 1;
   Fitted joint;
 };
-Encompassing WinnerAddsTo(const DiagnosisState& st,
-                          const std::vector<double>& sd,
-                          const std::vector<Fitted>& fits, int winner,
-                          int rival) {
+Encompassing AddsTo(const DiagnosisState& st, const std::vector<double>& sd,
+                    const std::vector<Fitted>& fits, int adding, int base) {
   Encompassing e;
-  const TermSpec& term = fits[winner].terms.back();
+  const TermSpec& term = fits[adding].terms.back();
   const double n = static_cast<double>(st.train.size());
   const int df = term.term.NumParams();
-  e.lr = NestedLr(n, fits[rival].rss, fits[winner].rss);
+  e.lr = NestedLr(n, fits[base].rss, fits[adding].rss);
   e.p = ChiSquareSurvival(e.lr, df);
   if (e.p < st.thresholds.rival_alpha) return e;
-  std::vector<TermSpec> both = fits[rival].terms;
+  std::vector<TermSpec> both = fits[base].terms;
   both.push_back(term);
-  e.joint = Fit(st.td, st.train, sd, fits[rival].log_k, both);
+  e.joint = Fit(st.td, st.train, sd, fits[base].log_k, both);
   if (e.joint.usable && e.joint.rss > 0) {
-    e.lr = std::max(e.lr, NestedLr(n, fits[rival].rss, e.joint.rss));
+    e.lr = std::max(e.lr, NestedLr(n, fits[base].rss, e.joint.rss));
     e.p = ChiSquareSurvival(e.lr, df);
   }
   return e;
+}
+
+// Whether the data cannot tell `a` from `b` either way: neither term adds
+// significantly (at rival_alpha) to the other's model.
+bool TiedBothWays(const DiagnosisState& st, const std::vector<double>& sd,
+                  const std::vector<Fitted>& fits, int a, int b) {
+  const double alpha = st.thresholds.rival_alpha;
+  return AddsTo(st, sd, fits, a, b).p >= alpha &&
+         AddsTo(st, sd, fits, b, a).p >= alpha;
 }
 
 }  // namespace
@@ -163,15 +170,18 @@ GuardResult DistinctFromRivals(const DiagnosisState& st,
   }
   if (rivals.empty()) return r;
   for (int j : rivals) {
-    const Encompassing e = WinnerAddsTo(st, sd, fits, winner, j);
+    const Encompassing e = AddsTo(st, sd, fits, winner, j);
     if (e.p < st.thresholds.rival_alpha) continue;
     if (EncompassesLocateOnly(st, fits, winner, j, e.joint)) continue;
     const double lr = e.lr, p = e.p;
     const TermScope& scope = term.term.scope;
-    // One mechanism, two carriers, one place: the mechanism is named
-    // (CarriersOf lists the carriers).
+    // One mechanism, two carriers, one place, and the rival adds nothing
+    // to the winner either: the mechanism is named (CarriersOf lists the
+    // carriers). A rival that does add is the better description, and
+    // the winner is refused as before.
     if (SameCarriedMechanism(results[winner].covariate, results[j].covariate) &&
-        fits[j].terms.back().term.scope.Label() == scope.Label()) {
+        fits[j].terms.back().term.scope.Label() == scope.Label() &&
+        AddsTo(st, sd, fits, j, winner).p >= st.thresholds.rival_alpha) {
       continue;
     }
     const std::string where =
@@ -219,12 +229,8 @@ std::vector<std::string> CarriersOf(const DiagnosisState& st,
         std::find(carriers.begin(), carriers.end(), other) != carriers.end()) {
       continue;
     }
-    // The encompassing test of DistinctFromRivals.
-    const int rival = static_cast<int>(j);
-    if (WinnerAddsTo(st, sd, fits, winner, rival).p <
-        st.thresholds.rival_alpha) {
-      continue;
-    }
+    // The encompassing test of DistinctFromRivals, both ways.
+    if (!TiedBothWays(st, sd, fits, winner, static_cast<int>(j))) continue;
     carriers.push_back(other);
   }
   if (!carriers.empty()) carriers.insert(carriers.begin(), covariate);

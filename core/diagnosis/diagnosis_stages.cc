@@ -224,7 +224,7 @@ std::vector<Fitted> RefitStrongest(const DiagnosisState& st,
   }
   // The strongest cell is always refitted, so the proxy guard can compare a
   // covariate winner with the structural description (NoBetterThanCell,
-  // diagnosis_guard.cc) even when covariate variants crowd the top six.
+  // diagnosis_winner.cc) even when covariate variants crowd the top six.
   for (int i : by_score) {
     if (screen.best_start[i].spec.term.form != TermForm::kCell) continue;
     if (std::find(to_fit.begin(), to_fit.end(), i) == to_fit.end())

@@ -301,7 +301,8 @@ GuardResult NotNameable(const DiagnosisState& st,
 // adds nothing significant to the model of an accepted candidate over
 // another covariate (not a cell): the data do not say which of the two
 // drives the wear. A rival over the same scope that carries the winner's
-// mechanism (SameCarriedMechanism) does not fail it (CarriersOf lists it).
+// mechanism (SameCarriedMechanism) and adds nothing to the winner either
+// does not fail it (CarriersOf lists it).
 GuardResult DistinctFromRivals(const DiagnosisState& st,
                                const std::vector<double>& sd,
                                const std::vector<int>& accepted,
@@ -351,8 +352,8 @@ int GuardedWinner(int round, const Dataset& data,
 
 // The covariates the round's fitted candidates carry the winner's
 // mechanism through (SameCarriedMechanism), over its scope, that the data
-// cannot tell from it: the winner's term adds nothing significant to their
-// model (DistinctFromRivals' encompassing test, at rival_alpha). The
+// cannot tell from it either way: neither term adds significantly to the
+// other's model (DistinctFromRivals' encompassing test, at rival_alpha). The
 // winner's covariate first, then theirs; empty when there is none
 // (diagnosis_rivals.cc). A carrier need not have been cross-validated: the
 // strongest candidates of a round may all be forms of one covariate.

@@ -20,6 +20,7 @@
 #include "core/base/random.h"
 #include "core/diagnosis/diagnosis.h"
 #include "core/model/wear_law.h"
+#include "tests/core/simulator_test_util.h"
 
 namespace rollwear {
 namespace {
@@ -144,6 +145,21 @@ TEST(DiagnosisCarriersTest, GrowthAlongTheCampaignIsNamedWithItsCarriers) {
         << f.explanation;
     EXPECT_LT(f.gap_val_after_um, f.gap_val_before_um);
   }
+}
+
+// Where the data can tell the carriers apart, none is listed: the
+// simulator's coils vary in length (width and gauge), so its growth along
+// the rolled length is named on campaign_length_before_m alone (the
+// scorecard's campaign_growth seed 101).
+TEST(DiagnosisCarriersTest, CarriersThatTheDataTellApartAreNotListed) {
+  const simulator_test::Diagnosed d =
+      simulator_test::DiagnoseSimulated(101, {"campaign_growth"});
+  ASSERT_EQ(d.report.verdict, "missing_physics_found");
+  ASSERT_FALSE(d.report.findings.empty());
+  const Finding& f = d.report.findings[0];
+  EXPECT_EQ(f.covariate, "campaign_length_before_m") << f.explanation;
+  EXPECT_TRUE(f.carriers.empty()) << f.explanation;
+  EXPECT_EQ(f.explanation.find("Carried by"), std::string::npos);
 }
 
 TEST(DiagnosisCarriersTest, TheSameMillWithoutGrowthIsQuiet) {
