@@ -71,10 +71,10 @@ void AddSteps(int k, const CovariateSpec& c, const WeightedValues& w,
               const DiagnosisOptions& options, std::vector<Candidate>* out) {
   // Calendar steps (a new supplier, a recalibrated gauge), and a roll's
   // service from its n-th campaign on (a hard shell ground through): a
-  // step on the roll's count is the rival a calendar step must beat
-  // (session 17: held-out seed 206 of inexpressible_roll_service, x1.2
-  // from the third campaign, was named as a calendar step while the
-  // count's quartile bins missed the edge).
+  // step on the roll's count is the rival a calendar step must beat, since
+  // rolls serve in turn and a roll's service steps with the calendar while
+  // the count's quartile bins can miss the edge
+  // (DiagnosisProxyTest.ARollsServiceIsLocatedNotNamedAsCalendarTime).
   if (c.source != CovariateSource::kStartedAt &&
       c.source != CovariateSource::kMeasuredAt &&
       c.source != CovariateSource::kRollCampaignsBefore) {

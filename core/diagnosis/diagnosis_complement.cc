@@ -6,11 +6,11 @@
 // wearing x m more at s predict every reading exactly as the factor's other
 // types that run at both stands wearing x m more at t (ComplementCells). The
 // data then prefer the sparser description, and when the complement has no
-// more cells than the named set (two of four roll types at F7: an
-// independent generator's `two_types_f7`, named as the other two types at
-// F6 in 7 of 10 seeds in session 16) neither is identified. The set is
-// withdrawn: its findings become runners-up, its terms leave the model
-// (refitted without them), and the mismatch is listed as located,
+// more cells than the named set (two of four roll types at F7 read exactly
+// as the other two at F6) neither is identified
+// (DiagnosisProxyTest.TwoRollTypesAtOneStandAreLocatedWithTheirEquivalentPair).
+// The set is withdrawn: its findings become runners-up, its terms leave the
+// model (refitted without them), and the mismatch is listed as located,
 // `stand_by_roll_type` or `stand_by_grade`, naming both descriptions.
 // A set whose complement has more cells (one roll type of four at F7, one
 // grade of ten) stays named: it is the sparsest description, unless
@@ -205,10 +205,10 @@ std::vector<TermScope> AllSiblingsAtPlace(const DiagnosisState& st,
 // the siblings) and all of them at once (one per level, LR ~ chi2(df)),
 // each at half the level (Bonferroni over the two tests). The omnibus test
 // finds a set whose other members are each too weak to pass the
-// single-sibling test: an independent generator's two grades wearing F7
-// more, named as a third grade at F6 (its seed 303, session 19: the
-// strongest of eight siblings LR 8.8, p 0.003 before Bonferroni; all of
-// them at once, 7 free cells, LR 26.2, p 0.0005).
+// single-sibling test: two grades wearing F7 more can each fall short of
+// it (the strongest of eight siblings LR 8.8, p 0.003 before Bonferroni)
+// while all of them at once clear it (7 free cells, LR 26.2, p 0.0005)
+// (DiagnosisInsideCellTest.ACellIsWithdrawnWhenItsSetWasAdoptedInPart).
 struct Joining {
   const TermScope* strongest = nullptr;  // the strongest single sibling
   double lr = 0, p = 1, p_adjusted = 1;  // of the test reported
@@ -295,10 +295,10 @@ RivalPair BestRivalPair(const DiagnosisState& st, const std::vector<double>& sd,
 // identified (two of them in its place describe the data about as well:
 // BestRivalPair). Either way the effect lives in a set of cells the rounds
 // did not name, and the named cell would say "elsewhere the law holds" of
-// the rest (an independent generator's two grades wearing F7 more, named
-// as one of them in 2 of 10 seeds, and 1 of 3 with three stands, in
-// session 17; the simulator's two grades at F6 named as a third grade at
-// F7, seed 114, in session 19). True when it withdrew one. After the
+// the rest (two grades wearing one stand more, named as one of them or as
+// a third grade at the other stand:
+// DiagnosisInsideCellTest.ACellIsWithdrawnWhenItsSetWasAdoptedInPart).
+// True when it withdrew one. After the
 // rounds, so that two true cells both adopted are not refused for each
 // other.
 bool WithdrawUnconfinedCell(const DiagnosisOptions& options,

@@ -23,9 +23,10 @@
 //
 // The guard looks again with the same check (LookAtGradeOrder): a winner
 // that takes part of such a structure (at least order_touched_share of its
-// t^2) must take it below significance, or it is a stand-in (an unscoped
-// campaign-order term for a hard grade's opening coils: seed 109 of
-// inexpressible_order, named campaign_coils_before before this check).
+// t^2) must take it below significance, or it is a stand-in: an unscoped
+// campaign-order term (campaign_coils_before) fits part of a hard grade's
+// opening coils without describing them
+// (DiagnosisOrderTest.ACampaignOrderTermEverywhereIsNotNamedForIt).
 //
 // Thread-safety: reentrant (reads its arguments only).
 #include <algorithm>

@@ -145,10 +145,11 @@ std::vector<TermScope> CellScopes(const TermData& td,
   }
   // Two roll-type cells over the same training readings are one
   // description (a roll type that runs on top rolls only: its stand cell
-  // and its F7/top cell): the first, the wider place, is kept (from
-  // session 17; both used to be offered and counted in the Bonferroni
-  // factor). Not grade cells: a grade cell acts on its grade's passes, and
-  // two of them can hold the same readings with different passes.
+  // and its F7/top cell): the first, the wider place, is kept, and the
+  // Bonferroni factor counts it once
+  // (DiagnosisCellsTest.CellsOverTheSameReadingsAreOfferedOnce). Not grade
+  // cells: a grade cell acts on its grade's passes, and two of them can hold
+  // the same readings with different passes.
   std::set<std::vector<int>> seen;
   std::erase_if(out, [&](const TermScope& c) {
     if (!c.grade.empty()) return false;

@@ -46,10 +46,11 @@ struct PassFactor {
 // The quartiles of numeric pass-level covariate k over the training
 // passes (load-weighted) as a factor: a term that claims one multiplier on
 // a set of passes (a flag, a level of a text column) must hold at every
-// temperature, speed, campaign progress... of those passes (from session
-// 17: a temperature effect on dry passes only was named as the lubrication
-// flag in 3 of 10 held-out seeds; in a campaign's mean the temperature's
-// spread is diluted, pass by pass it is not).
+// temperature, speed, campaign progress... of those passes: a temperature
+// effect on dry passes only otherwise reads as the lubrication flag, since
+// in a campaign's mean the temperature's spread is diluted and pass by
+// pass it is not
+// (DiagnosisProxyTest.AnEffectOnDryPassesIsNotNamedAsTheLubricationFlag).
 bool QuartileFactor(const TermData& td, const std::vector<int>& train, int k,
                     PassFactor* f) {
   std::array<double, 3> edges;
@@ -73,10 +74,10 @@ bool QuartileFactor(const TermData& td, const std::vector<int>& train, int k,
 // The pass-level factors the last term of `terms` is not itself about, and
 // the quartiles of the numeric pass-level covariates other than its own
 // (not for a cell, whose inside LookInsideCell checks): a flag or a text
-// level must hold on all of its passes (session 17), and a slope along one
-// covariate must hold at every value of another; from session 19, when the
-// simulator's temperature x speed interaction without main effects was
-// named as contact length or speed at one stand (2 of seeds 106-125).
+// level must hold on all of its passes, and a slope along one covariate
+// must hold at every value of another: a temperature x speed interaction
+// without main effects otherwise reads as contact length or speed at one
+// stand (DiagnosisProxyTest.AnInteractionIsRefusedAcrossThePassQuartiles).
 std::vector<PassFactor> PassFactors(const TermData& td,
                                     const std::vector<int>& train,
                                     const ModelTerm& term) {

@@ -200,9 +200,9 @@ struct SplitHeterogeneity {
   std::string level;
   double scale = 0, level_size_um = 0;
   // A split by the quartiles of a numeric covariate of a term that is not
-  // one multiplier on a set of passes (from session 19): the guard weighs
-  // it after the stands, positions and roll types, which it may stand in
-  // for (contact length differs between stands).
+  // one multiplier on a set of passes: the guard weighs it after the
+  // stands, positions and roll types, which it may stand in for (contact
+  // length differs between stands).
   bool deferred = false;
 };
 // One entry per pass-level factor the last term of `with_term` is not
