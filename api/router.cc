@@ -358,15 +358,12 @@ void Router::HandleAsync(const HttpRequest& request, const Routed& routed,
 }
 
 HttpResponse Router::PostMeasurement(const HttpRequest& request) {
-  storage::MeasurementIn in;
-  ApiError error;
-  if (!DecodeMeasurement(request.body, options_.max_json_depth, &in, &error)) {
-    return Error(error);
-  }
-  auto outcome = store_->AddMeasurement(in, &in.suspect);  // flags `in`
-  if (!outcome.ok()) return FromStatus(outcome.status());
-  return Answer(*outcome == storage::WriteOutcome::kCreated ? 201 : 200,
-                EncodeMeasurementAnswer(in, *outcome));
+  return router_internal::PostRecord(
+      request, options_.max_json_depth, &DecodeMeasurement,
+      [this](storage::MeasurementIn* in) {
+        return store_->AddMeasurement(*in, &in->suspect);  // flags `in`
+      },
+      &EncodeMeasurementAnswer);
 }
 
 HttpResponse Router::GetMetrics() {

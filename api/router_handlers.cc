@@ -19,15 +19,12 @@ using router_internal::FromStatus;
 using router_internal::ParseInt64;
 
 HttpResponse Router::PostRollChange(const HttpRequest& request) {
-  storage::RollChangeIn in;
-  ApiError error;
-  if (!DecodeRollChange(request.body, options_.max_json_depth, &in, &error)) {
-    return Error(error);
-  }
-  StatusOr<storage::WriteOutcome> outcome = store_->ApplyRollChange(in);
-  if (!outcome.ok()) return FromStatus(outcome.status());
-  return Answer(*outcome == storage::WriteOutcome::kCreated ? 201 : 200,
-                EncodeRollChangeAnswer(in, *outcome));
+  return router_internal::PostRecord(
+      request, options_.max_json_depth, &DecodeRollChange,
+      [this](storage::RollChangeIn* in) {
+        return store_->ApplyRollChange(*in);
+      },
+      &EncodeRollChangeAnswer);
 }
 
 HttpResponse Router::PostCampaignEnd(const HttpRequest& request,

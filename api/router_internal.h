@@ -1,6 +1,7 @@
-// Internal to the router (router.cc, router_handlers.cc): building answers,
-// the one translation of a store/core Status into an HTTP error, and the
-// parsing of integer path parameters.
+// Internal to the router (router.cc, router_handlers.cc, router_profile.cc):
+// building answers, one record's POST (decode, write, answer), the one
+// translation of a store/core Status into an HTTP error, and the parsing of
+// integer path parameters.
 //
 // Thread-safety: stateless functions.
 #ifndef ROLLWEAR_API_ROUTER_INTERNAL_H_
@@ -27,6 +28,26 @@ HttpResponse Error(int status, std::string code, std::string message,
 // The one translation of a store/core error into an HTTP error answer. A
 // bad field (400) and an inconsistent one (422) name it.
 HttpResponse FromStatus(const Status& status);
+
+// A POST of one record (a roll change, a measurement, a profile): the body
+// decoded by `decode` (codec.h's Decode*, the field's error answered when
+// it fails), written by `write` (a store call: StatusOr<WriteOutcome>, may
+// fill `in`), and answered 201 when created, 200 when it repeats a stored
+// record, with `encode`'s body; a store error through FromStatus.
+template <typename In, typename Write>
+HttpResponse PostRecord(const HttpRequest& request, int max_json_depth,
+                        bool (*decode)(std::string_view, int, In*, ApiError*),
+                        Write write,
+                        std::string (*encode)(const In&,
+                                              storage::WriteOutcome)) {
+  In in;
+  ApiError error;
+  if (!decode(request.body, max_json_depth, &in, &error)) return Error(error);
+  StatusOr<storage::WriteOutcome> outcome = write(&in);
+  if (!outcome.ok()) return FromStatus(outcome.status());
+  return Answer(*outcome == storage::WriteOutcome::kCreated ? 201 : 200,
+                encode(in, *outcome));
+}
 // The roll position of the path parameters of /v1/wear/{stand}/{position}
 // (and .../profile), or the 404 answer naming them.
 std::optional<HttpResponse> ParseRollPosition(const std::string& stand_text,

@@ -14,19 +14,13 @@
 namespace rollwear::api {
 
 using router_internal::Answer;
-using router_internal::Error;
 using router_internal::FromStatus;
 
 HttpResponse Router::PostProfile(const HttpRequest& request) {
-  storage::ProfileIn in;
-  ApiError error;
-  if (!DecodeProfile(request.body, options_.max_json_depth, &in, &error)) {
-    return Error(error);
-  }
-  StatusOr<storage::WriteOutcome> outcome = store_->AddProfile(in);
-  if (!outcome.ok()) return FromStatus(outcome.status());
-  return Answer(*outcome == storage::WriteOutcome::kCreated ? 201 : 200,
-                EncodeProfileAnswer(in, *outcome));
+  return router_internal::PostRecord(
+      request, options_.max_json_depth, &DecodeProfile,
+      [this](storage::ProfileIn* in) { return store_->AddProfile(*in); },
+      &EncodeProfileAnswer);
 }
 
 HttpResponse Router::GetWearProfile(const std::string& stand_text,
