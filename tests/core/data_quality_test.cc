@@ -143,9 +143,7 @@ Dataset SimulatedCsv(int campaigns, const std::string& name) {
   o.num_campaigns = campaigns;
   StatusOr<Simulation> sim = Simulate(o);
   EXPECT_TRUE(sim.ok());
-  const std::string dir =
-      (std::filesystem::temp_directory_path() / ("rollwear_dq_" + name))
-          .string();
+  const std::string dir = dataset_test::ScratchDir("rollwear_dq_" + name);
   EXPECT_TRUE(WriteDataset(sim->data, dir).ok());
   lines = {};
   StatusOr<Dataset> d = ReadDataset(dir, &lines);

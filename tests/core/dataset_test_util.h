@@ -1,13 +1,17 @@
 // Test helpers for the dataset reader tests: the checked-in tiny dataset
 // (tests/data/tiny) as editable text, small CSV line editors, reading four
-// texts through ReadDatasetStreams, and a field-by-field Dataset comparison.
+// texts through ReadDatasetStreams, a field-by-field Dataset comparison and
+// a scratch directory unique to the test process.
 //
 // Thread-safety: plain functions over values; tests use them from one
 // thread.
 #ifndef ROLLWEAR_TESTS_CORE_DATASET_TEST_UTIL_H_
 #define ROLLWEAR_TESTS_CORE_DATASET_TEST_UTIL_H_
 
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -22,6 +26,17 @@ namespace rollwear::dataset_test {
 
 inline std::string TinyDir() {
   return std::string(ROLLWEAR_TEST_DATA_DIR) + "/tiny";
+}
+
+// A scratch directory path under the system's temp directory, unique to
+// this test process: ctest runs each test of a suite as its own process,
+// in parallel, so a fixed name lets one test remove the files another is
+// reading (session 29's CI failure of
+// LargeDatasetRead.ABrokenFieldInTheSecondHalfIsReportedAtItsLine).
+inline std::string ScratchDir(const std::string& prefix) {
+  return (std::filesystem::temp_directory_path() /
+          (prefix + "_" + std::to_string(::getpid())))
+      .string();
 }
 
 // The four files of a dataset as text.

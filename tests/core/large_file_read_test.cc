@@ -92,9 +92,7 @@ class LargeDatasetRead : public ::testing::Test {
     o.num_campaigns = 70;
     StatusOr<Simulation> sim = Simulate(o);
     ASSERT_TRUE(sim.ok()) << sim.status().ToString();
-    const std::string dir =
-        (std::filesystem::temp_directory_path() / "rollwear_large_read_test")
-            .string();
+    const std::string dir = dataset_test::ScratchDir("rollwear_large_read");
     ASSERT_TRUE(WriteDataset(sim->data, dir).ok());
     texts_ = new DatasetTexts{
         ReadText(dir + "/campaigns.csv"), ReadText(dir + "/mounts.csv"),

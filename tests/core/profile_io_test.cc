@@ -45,8 +45,7 @@ TEST(ProfileIo, PointsAreReadAndWrittenBack) {
   EXPECT_DOUBLE_EQ(p.wear_um, 171);
   EXPECT_EQ(d->profile_points[3].position, Position::kBottom);
 
-  const std::string dir =
-      (std::filesystem::temp_directory_path() / "rollwear_profile_io").string();
+  const std::string dir = dataset_test::ScratchDir("rollwear_profile_io");
   std::filesystem::remove_all(dir);
   ASSERT_TRUE(WriteDataset(*d, dir).ok());
   StatusOr<Dataset> again = ReadDataset(dir);

@@ -14,6 +14,7 @@
 
 #include "core/dataset/dataset_io.h"
 #include "core/sim/simulator.h"
+#include "tests/core/dataset_test_util.h"
 
 namespace rollwear {
 namespace {
@@ -97,9 +98,7 @@ TEST(SimulatorProfileTest, MostMeasuredRollsHaveAProfileThatAgreesAtTheCentre) {
   EXPECT_GT(sim.truth.profile_shape.edge_amplitude, 0);
 
   // Written and read back through the format's rules.
-  const std::string dir =
-      (std::filesystem::temp_directory_path() / "rollwear_sim_profiles")
-          .string();
+  const std::string dir = dataset_test::ScratchDir("rollwear_sim_profiles");
   std::filesystem::remove_all(dir);
   ASSERT_TRUE(WriteDataset(d, dir).ok());
   StatusOr<Dataset> back = ReadDataset(dir);
