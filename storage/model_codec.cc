@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <stdexcept>
-#include <limits>
 #include <unordered_set>
 #include <utility>
 #include <vector>
@@ -14,6 +14,7 @@
 #include "core/dataset/dataset.h"
 #include "core/model/ann_model.h"
 #include "core/model/covariates.h"
+#include "core/model/term_family.h"
 
 namespace rollwear::storage {
 namespace {
@@ -143,21 +144,6 @@ Status DecodeRollSpread(const Json& j, const std::string& at, ModelTerm* t) {
     t->level_readings.push_back(static_cast<int>(r));
   }
   const size_t n = static_cast<size_t>(std::max(0, t->num_levels));
-  // The form and the covariate go together: the predictor reads a
-  // roll_effect term by the mounted roll's id whatever its covariate.
-  if ((t->form == TermForm::kRollEffect) != (t->covariate == kRollIdName)) {
-    return Bad(at + "form", "roll_effect is the form of covariate roll_id, and "
-                            "roll_id takes no other");
-  }
-  if (t->form == TermForm::kRollEffect &&
-      (t->levels.size() != n || t->params.size() != n)) {
-    return Bad(at + "levels", "a roll_effect term needs one roll id and one "
-                              "parameter per level");
-  }
-  if ((!t->level_sd.empty() || !t->level_readings.empty()) &&
-      t->form != TermForm::kRollEffect) {
-    return Bad(at + "level_sd", "is only for the roll_effect form");
-  }
   if (!t->level_sd.empty() && t->level_sd.size() != n) {
     return Bad(at + "level_sd", "needs one number per level");
   }
@@ -239,18 +225,14 @@ Status DecodeTerms(const Json& doc, std::vector<ModelTerm>* out) {
       if (!ref->is_number_integer()) return Bad(at + "reference_level", "must be an integer");
       t.reference_level = ref->get<int>();
     }
-    // The reference level indexes the levels (TermOffset skips it): out
-    // of range it would move every offset onto another level.
-    const bool per_level = t.form == TermForm::kOffsetPerLevel;
-    if (per_level ? (t.reference_level < 0 ||
-                     t.reference_level >= std::max(1, t.num_levels))
-                  : t.reference_level != 0) {
-      return Bad(at + "reference_level",
-                 per_level ? "must be a level index below num_levels"
-                           : "is only for the offset_per_level form");
-    }
     ROLLWEAR_RETURN_IF_ERROR(DecodeScope(j, at, &t.scope));
     ROLLWEAR_RETURN_IF_ERROR(DecodeRollSpread(j, at, &t));
+    // The family's own rules (term_family.h): roll_effect and roll_id go
+    // together, the reference level is offset_per_level's, the per-roll
+    // spread roll_effect's, the power form's center is > 0.
+    if (std::optional<TermFieldError> e = FamilyOf(t.form).CheckStored(t)) {
+      return Bad(at + e->field, e->message);
+    }
     if (t.IsMeasurementTerm() && !t.scope.grade.empty()) {
       // A reading is of a roll, not of a grade (model_eval.h).
       return Bad(at + "scope.grade", "a measurement term cannot be scoped by grade");
@@ -460,10 +442,8 @@ StatusOr<std::vector<ModelTerm>> DecodeModelTerms(std::string_view json) {
       if (!std::isfinite(p)) return Bad(at + "params", "must be finite");
     }
     if (!std::isfinite(t.center)) return Bad(at + "center", "must be finite");
-    if (!(std::isfinite(t.scale) && t.scale > 0)) return Bad(at + "scale", "must be > 0");
-    if (t.form == TermForm::kPower && !(t.center > 0)) {
-      return Bad(at + "center", "must be > 0 for the power form (z / center)^b");
-    }
+    if (!(std::isfinite(t.scale) && t.scale > 0))
+      return Bad(at + "scale", "must be > 0");
     if (!std::is_sorted(t.edges.begin(), t.edges.end())) {
       return Bad(at + "edges", "must be ascending");
     }

@@ -6,54 +6,14 @@
 #include <string>
 
 #include "core/fit/calibration.h"
-#include "core/model/aggregation.h"
-#include "core/model/k_structure.h"
 #include "core/fit/robust.h"
 #include "core/fit/term_fit.h"
+#include "core/model/aggregation.h"
+#include "core/model/k_structure.h"
+#include "core/model/term_family.h"
 
 namespace rollwear {
 namespace {
-
-// Bounds of a refit around the adopted parameters: the amplitude ranges of
-// the diagnosis candidates (diagnosis_candidates.cc), and length scales
-// (log lam, log tau) within a factor 20 of the adopted value.
-void Bounds(const ModelTerm& t, std::vector<double>* lo,
-            std::vector<double>* hi) {
-  const int n = t.NumParams();
-  lo->assign(n, -3.0);
-  hi->assign(n, 3.0);
-  switch (t.form) {
-    case TermForm::kLogLinear:
-      (*lo)[0] = -2.0;
-      (*hi)[0] = 2.0;
-      break;
-    case TermForm::kPower:
-      (*lo)[0] = -4.0;
-      (*hi)[0] = 4.0;
-      break;
-    case TermForm::kSaturating:
-    case TermForm::kDecaying:
-      (*lo)[0] = -0.9;
-      (*hi)[0] = 10.0;
-      (*lo)[1] = t.params[1] - std::log(20.0);
-      (*hi)[1] = t.params[1] + std::log(20.0);
-      break;
-    case TermForm::kOffsetDecay:
-      (*lo)[0] = -1000.0;
-      (*hi)[0] = 1000.0;
-      (*lo)[1] = t.params[1] - std::log(20.0);
-      (*hi)[1] = t.params[1] + std::log(20.0);
-      break;
-    case TermForm::kOffsetLinear:
-    case TermForm::kOffsetPerLevel:
-    case TermForm::kOffsetBinned:
-      lo->assign(n, -1000.0);
-      hi->assign(n, 1000.0);
-      break;
-    default:
-      break;  // flag, binned, per-level: +-3 in log space
-  }
-}
 
 // A per-level term (per_level, offset_per_level) carries its parameters in
 // the order of its own level labels; the data being fitted may meet its
@@ -173,9 +133,11 @@ StatusOr<std::vector<TermSpec>> SpecsOf(const TermData& td,
           std::to_string(t.NumParams()));
     }
     AlignLevels(td.catalog[s.covariate], &s.term);
-    Bounds(s.term, &s.lower, &s.upper);
-    if (t.form == TermForm::kCell) s.prior_sd = kCellPriorSd;
-    if (t.form == TermForm::kRollEffect) s.prior_sd = t.scale;  // its spread
+    // The family's box around the adopted parameters (the amplitude ranges
+    // the diagnosis proposes it with) and its prior (term_family.h).
+    const TermFamily& family = FamilyOf(t.form);
+    family.RefitBounds(s.term, &s.lower, &s.upper);
+    s.prior_sd = family.PriorSd(t);
     for (int j = 0; j < s.term.NumParams(); ++j) {
       s.term.params[j] = std::clamp(s.term.params[j], s.lower[j], s.upper[j]);
     }

@@ -7,39 +7,6 @@
 
 namespace rollwear {
 
-const char* TermFormName(TermForm f) {
-  switch (f) {
-    case TermForm::kLogLinear: return "log_linear";
-    case TermForm::kPower: return "power";
-    case TermForm::kSaturating: return "saturating";
-    case TermForm::kDecaying: return "decaying";
-    case TermForm::kFlag: return "flag";
-    case TermForm::kBinned: return "binned";
-    case TermForm::kPerLevel: return "per_level";
-    case TermForm::kCell: return "cell";
-    case TermForm::kOffsetDecay: return "offset_decay";
-    case TermForm::kOffsetLinear: return "offset_linear";
-    case TermForm::kOffsetBinned: return "offset_binned";
-    case TermForm::kOffsetPerLevel: return "offset_per_level";
-    case TermForm::kRollEffect: return "roll_effect";
-  }
-  return "unknown";
-}
-
-bool ParseTermForm(const std::string& name, TermForm* out) {
-  for (TermForm f : {TermForm::kLogLinear, TermForm::kPower, TermForm::kSaturating,
-                     TermForm::kDecaying, TermForm::kFlag, TermForm::kBinned,
-                     TermForm::kPerLevel, TermForm::kCell, TermForm::kOffsetDecay,
-                     TermForm::kOffsetLinear, TermForm::kOffsetPerLevel,
-                     TermForm::kOffsetBinned, TermForm::kRollEffect}) {
-    if (name == TermFormName(f)) {
-      *out = f;
-      return true;
-    }
-  }
-  return false;
-}
-
 std::string TermScope::Label() const {
   std::string out;
   auto add = [&out](const std::string& part) {
@@ -60,24 +27,6 @@ std::vector<std::pair<std::string, std::string>> TermScope::Fields() const {
   if (!roll_type.empty()) f.emplace_back("roll_type", roll_type);
   if (!grade.empty()) f.emplace_back("grade", grade);
   return f;
-}
-
-int ModelTerm::NumParams() const {
-  switch (form) {
-    case TermForm::kSaturating:
-    case TermForm::kDecaying:
-    case TermForm::kOffsetDecay:
-      return 2;
-    case TermForm::kBinned:
-    case TermForm::kOffsetBinned:
-      return static_cast<int>(edges.size());
-    case TermForm::kPerLevel:
-    case TermForm::kOffsetPerLevel:
-      return std::max(0, num_levels - 1);
-    case TermForm::kRollEffect:
-      return std::max(0, num_levels);
-    default: return 1;
-  }
 }
 
 int TermBin(const ModelTerm& t, double z) {
@@ -124,117 +73,6 @@ double WidenForRollFactor(const std::vector<ModelTerm>& terms,
   const std::optional<RollWearFactor> f = RollWearFactorOf(terms, roll_id);
   if (!f) return half;
   return std::hypot(half, 1.959963984540054 * wear * f->log_sd);
-}
-
-double TermMultiplier(const ModelTerm& t, double z, double* grad) {
-  const int n = t.NumParams();
-  if (grad != nullptr) std::fill(grad, grad + n, 0.0);
-  if (std::isnan(z)) return 1.0;
-  const double* p = t.params.data();
-  switch (t.form) {
-    case TermForm::kLogLinear: {
-      const double u = (z - t.center) / t.scale;
-      const double m = std::exp(p[0] * u);
-      if (grad != nullptr) grad[0] = m * u;
-      return m;
-    }
-    case TermForm::kPower: {
-      const double lz = std::log(std::max(z, 1e-12) / t.center);
-      const double m = std::exp(p[0] * lz);
-      if (grad != nullptr) grad[0] = m * lz;
-      return m;
-    }
-    case TermForm::kSaturating: {
-      const double lam = std::exp(p[1]);
-      const double e = std::exp(-z / lam);
-      if (grad != nullptr) {
-        grad[0] = 1 - e;
-        grad[1] = -p[0] * e * (z / lam);  // d/dq of -b*e, q = log lam
-      }
-      return 1 + p[0] * (1 - e);
-    }
-    case TermForm::kDecaying: {
-      const double lam = std::exp(p[1]);
-      const double e = std::exp(-z / lam);
-      if (grad != nullptr) {
-        grad[0] = e;
-        grad[1] = p[0] * e * (z / lam);
-      }
-      return 1 + p[0] * e;
-    }
-    case TermForm::kCell: {
-      const double m = std::exp(p[0]);
-      if (grad != nullptr) grad[0] = m;
-      return m;
-    }
-    case TermForm::kFlag: {
-      const double m = std::exp(p[0] * z);
-      if (grad != nullptr) grad[0] = m * z;
-      return m;
-    }
-    case TermForm::kBinned: {
-      const int b = TermBin(t, z);
-      if (b == 0) return 1.0;
-      const double m = std::exp(p[b - 1]);
-      if (grad != nullptr) grad[b - 1] = m;
-      return m;
-    }
-    case TermForm::kPerLevel: {
-      const int l = static_cast<int>(z);
-      if (l <= 0 || l >= t.num_levels) return 1.0;
-      const double m = std::exp(p[l - 1]);
-      if (grad != nullptr) grad[l - 1] = m;
-      return m;
-    }
-    case TermForm::kRollEffect: {
-      const int l = static_cast<int>(z);
-      if (l < 0 || l >= t.num_levels) return 1.0;
-      const double m = std::exp(p[l]);
-      if (grad != nullptr) grad[l] = m;
-      return m;
-    }
-    case TermForm::kOffsetDecay:
-    case TermForm::kOffsetLinear:
-    case TermForm::kOffsetPerLevel:
-    case TermForm::kOffsetBinned:
-      return 1.0;
-  }
-  return 1.0;
-}
-
-double TermOffset(const ModelTerm& t, double z, double* grad) {
-  const int n = t.NumParams();
-  if (grad != nullptr) std::fill(grad, grad + n, 0.0);
-  if (std::isnan(z)) return 0.0;
-  const double* p = t.params.data();
-  if (t.form == TermForm::kOffsetDecay) {
-    const double tau = std::exp(p[1]);
-    const double e = std::exp(-z / tau);
-    if (grad != nullptr) {
-      grad[0] = e;
-      grad[1] = p[0] * e * (z / tau);
-    }
-    return p[0] * e;
-  }
-  if (t.form == TermForm::kOffsetPerLevel) {
-    const int l = static_cast<int>(z);
-    if (l < 0 || l >= t.num_levels || l == t.reference_level) return 0.0;
-    const int j = l < t.reference_level ? l : l - 1;
-    if (grad != nullptr) grad[j] = 1.0;
-    return p[j];
-  }
-  if (t.form == TermForm::kOffsetBinned) {
-    const int b = TermBin(t, z);
-    if (b == 0) return 0.0;  // the first bin reads as is
-    if (grad != nullptr) grad[b - 1] = 1.0;
-    return p[b - 1];
-  }
-  if (t.form == TermForm::kOffsetLinear) {
-    const double u = (z - t.center) / t.scale;
-    if (grad != nullptr) grad[0] = u;
-    return p[0] * u;
-  }
-  return 0.0;
 }
 
 }  // namespace rollwear

@@ -1,6 +1,10 @@
 // Model terms: physics the baseline wear law leaves out, as nested
 // extensions that reduce to the baseline when their parameters are zero.
 //
+// Each form is a term family (term_family.h): its file
+// core/model/term_family_<name>.cc holds the formula below, its
+// derivatives, its refit box and its stored rules.
+//
 // Wear-rate terms multiply the wear of every pass i of a roll:
 //   w_i = K * Load_i * prod_t m_t(z_t,i)
 //   log-linear   m = exp(b * (z - c) / s)          c, s: training mean, sd
@@ -11,7 +15,8 @@
 //   decaying     m = 1 + b * exp(-z / lam)         run-in: extra wear early on
 //   flag         m = exp(b * z)                    z in {0, 1}
 //   binned       m = exp(b_k) for z in bin k >= 1  (bin 0: m = 1); bins are
-//                                                  training quantiles: any shape
+//                                                  training quantiles: any
+//                                                  shape
 //   per-level    m = exp(b_l) for factor level l >= 1
 //   cell         m = exp(b) on the passes of its scope, a (stand or roll
 //                position) x (roll type or grade) cell the K structure
@@ -61,6 +66,8 @@ enum class TermForm {
   kLogLinear, kPower, kSaturating, kDecaying, kFlag, kBinned, kPerLevel, kCell,
   kOffsetDecay, kOffsetLinear, kOffsetPerLevel, kOffsetBinned, kRollEffect,
 };
+// The functions below that depend on the form ask the term's family
+// (term_family.h, whose registry term_family.cc defines them).
 const char* TermFormName(TermForm f);  // "log_linear", "power", ...
 bool ParseTermForm(const std::string& name, TermForm* out);
 
@@ -118,10 +125,8 @@ struct ModelTerm {
   std::vector<double> level_sd;
   std::vector<int> level_readings;
 
-  bool IsMeasurementTerm() const {
-    return form == TermForm::kOffsetDecay || form == TermForm::kOffsetLinear ||
-           form == TermForm::kOffsetPerLevel || form == TermForm::kOffsetBinned;
-  }
+  // Both from the term's family (term_family.h).
+  bool IsMeasurementTerm() const;
   int NumParams() const;
 };
 

@@ -1,0 +1,29 @@
+// The flag family: m = exp(b z) for z in {0, 1}, a wear rate exp(b) times
+// as high when the flag is on (a wear-rate term, model_terms.h).
+#include <cmath>
+
+#include "core/model/term_family.h"
+#include "core/model/term_family_list.h"
+
+namespace rollwear {
+namespace {
+
+class Flag final : public TermFamily {
+ public:
+  TermForm form() const override { return TermForm::kFlag; }
+  const char* name() const override { return "flag"; }
+  double Evaluate(const ModelTerm& t, double z, double* grad) const override {
+    const double m = std::exp(t.params[0] * z);
+    if (grad != nullptr) grad[0] = m * z;
+    return m;
+  }
+};
+
+}  // namespace
+
+const TermFamily& FlagFamily() {
+  static const Flag family;
+  return family;
+}
+
+}  // namespace rollwear

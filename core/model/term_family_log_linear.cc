@@ -1,0 +1,36 @@
+// The log-linear family: m = exp(b (z - c) / s), c and s the training mean
+// and sd of the covariate, so b is the log-change of the wear rate per
+// standard deviation (a wear-rate term, model_terms.h).
+#include <cmath>
+
+#include "core/model/term_family.h"
+#include "core/model/term_family_list.h"
+
+namespace rollwear {
+namespace {
+
+class LogLinear final : public TermFamily {
+ public:
+  TermForm form() const override { return TermForm::kLogLinear; }
+  const char* name() const override { return "log_linear"; }
+  double Evaluate(const ModelTerm& t, double z, double* grad) const override {
+    const double u = (z - t.center) / t.scale;
+    const double m = std::exp(t.params[0] * u);
+    if (grad != nullptr) grad[0] = m * u;
+    return m;
+  }
+  void RefitBounds(const ModelTerm& /*t*/, std::vector<double>* lo,
+                   std::vector<double>* hi) const override {
+    *lo = {-2.0};
+    *hi = {2.0};
+  }
+};
+
+}  // namespace
+
+const TermFamily& LogLinearFamily() {
+  static const LogLinear family;
+  return family;
+}
+
+}  // namespace rollwear

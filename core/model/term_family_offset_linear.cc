@@ -1,0 +1,33 @@
+// The offset-linear family: the grinder reads y = d + A (z - c) / s, c and
+// s the training mean and sd: a gauge that drifts with z (a measurement
+// term, model_terms.h).
+#include "core/model/term_family.h"
+#include "core/model/term_family_list.h"
+
+namespace rollwear {
+namespace {
+
+class OffsetLinear final : public TermFamily {
+ public:
+  TermForm form() const override { return TermForm::kOffsetLinear; }
+  const char* name() const override { return "offset_linear"; }
+  bool measurement() const override { return true; }
+  double Evaluate(const ModelTerm& t, double z, double* grad) const override {
+    const double u = (z - t.center) / t.scale;
+    if (grad != nullptr) grad[0] = u;
+    return t.params[0] * u;
+  }
+  void RefitBounds(const ModelTerm& t, std::vector<double>* lo,
+                   std::vector<double>* hi) const override {
+    SymmetricBounds(NumParams(t), 1000.0, lo, hi);
+  }
+};
+
+}  // namespace
+
+const TermFamily& OffsetLinearFamily() {
+  static const OffsetLinear family;
+  return family;
+}
+
+}  // namespace rollwear

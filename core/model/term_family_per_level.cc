@@ -1,0 +1,36 @@
+// The per-level family: m = exp(b_l) for level l >= 1 of a factor (level
+// 0 the reference, m = 1); `levels` carries the labels so the daemon can
+// match a record's label (a wear-rate term, model_terms.h).
+#include <algorithm>
+#include <cmath>
+
+#include "core/model/term_family.h"
+#include "core/model/term_family_list.h"
+
+namespace rollwear {
+namespace {
+
+class PerLevel final : public TermFamily {
+ public:
+  TermForm form() const override { return TermForm::kPerLevel; }
+  const char* name() const override { return "per_level"; }
+  int NumParams(const ModelTerm& t) const override {
+    return std::max(0, t.num_levels - 1);
+  }
+  double Evaluate(const ModelTerm& t, double z, double* grad) const override {
+    const int l = static_cast<int>(z);
+    if (l <= 0 || l >= t.num_levels) return 1.0;
+    const double m = std::exp(t.params[l - 1]);
+    if (grad != nullptr) grad[l - 1] = m;
+    return m;
+  }
+};
+
+}  // namespace
+
+const TermFamily& PerLevelFamily() {
+  static const PerLevel family;
+  return family;
+}
+
+}  // namespace rollwear

@@ -1,0 +1,43 @@
+// The power family: m = (z / c)^b for z > 0, c the training median, so a
+// wear rate proportional to z^b (a wear-rate term, model_terms.h).
+#include <algorithm>
+#include <cmath>
+
+#include "core/model/term_family.h"
+#include "core/model/term_family_list.h"
+
+namespace rollwear {
+namespace {
+
+class Power final : public TermFamily {
+ public:
+  TermForm form() const override { return TermForm::kPower; }
+  const char* name() const override { return "power"; }
+  double Evaluate(const ModelTerm& t, double z, double* grad) const override {
+    const double lz = std::log(std::max(z, 1e-12) / t.center);
+    const double m = std::exp(t.params[0] * lz);
+    if (grad != nullptr) grad[0] = m * lz;
+    return m;
+  }
+  void RefitBounds(const ModelTerm& /*t*/, std::vector<double>* lo,
+                   std::vector<double>* hi) const override {
+    *lo = {-4.0};
+    *hi = {4.0};
+  }
+  std::optional<TermFieldError> CheckStored(const ModelTerm& t) const override {
+    if (!(t.center > 0)) {
+      return TermFieldError{"center",
+                            "must be > 0 for the power form (z / center)^b"};
+    }
+    return TermFamily::CheckStored(t);
+  }
+};
+
+}  // namespace
+
+const TermFamily& PowerFamily() {
+  static const Power family;
+  return family;
+}
+
+}  // namespace rollwear

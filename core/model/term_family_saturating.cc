@@ -1,0 +1,40 @@
+// The saturating family: m = 1 + b (1 - exp(-z / lam)), lam = exp(q):
+// growth that levels off after a few lam; linear growth is the lam >> z
+// limit (a wear-rate term, model_terms.h).
+#include <cmath>
+
+#include "core/model/term_family.h"
+#include "core/model/term_family_list.h"
+
+namespace rollwear {
+namespace {
+
+class Saturating final : public TermFamily {
+ public:
+  TermForm form() const override { return TermForm::kSaturating; }
+  const char* name() const override { return "saturating"; }
+  int NumParams(const ModelTerm& /*t*/) const override { return 2; }
+  double Evaluate(const ModelTerm& t, double z, double* grad) const override {
+    const double b = t.params[0];
+    const double lam = std::exp(t.params[1]);
+    const double e = std::exp(-z / lam);
+    if (grad != nullptr) {
+      grad[0] = 1 - e;
+      grad[1] = -b * e * (z / lam);  // d/dq of -b e, q = log lam
+    }
+    return 1 + b * (1 - e);
+  }
+  void RefitBounds(const ModelTerm& t, std::vector<double>* lo,
+                   std::vector<double>* hi) const override {
+    AmplitudeAndLogScaleBounds(-0.9, 10.0, t.params[1], lo, hi);
+  }
+};
+
+}  // namespace
+
+const TermFamily& SaturatingFamily() {
+  static const Saturating family;
+  return family;
+}
+
+}  // namespace rollwear

@@ -1,0 +1,192 @@
+// Tests of the term-family registry (core/model/term_family.h): every form
+// has its family under its stored name, each family's derivatives are
+// those of its multiplier or offset, a wear-rate family never offsets a
+// reading (nor a measurement family the wear rate), and the families' own
+// rules on stored terms.
+#include "core/model/term_family.h"
+
+#include <cmath>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/model/covariates.h"
+
+namespace rollwear {
+namespace {
+
+constexpr TermForm kEveryForm[] = {
+    TermForm::kLogLinear,    TermForm::kPower,          TermForm::kSaturating,
+    TermForm::kDecaying,     TermForm::kFlag,           TermForm::kBinned,
+    TermForm::kPerLevel,     TermForm::kCell,           TermForm::kOffsetDecay,
+    TermForm::kOffsetLinear, TermForm::kOffsetPerLevel, TermForm::kOffsetBinned,
+    TermForm::kRollEffect,
+};
+
+// A term of form `f` with parameters away from zero, so that every
+// derivative is non-trivial.
+ModelTerm TermOf(TermForm f) {
+  ModelTerm t;
+  t.form = f;
+  t.covariate = f == TermForm::kRollEffect ? kRollIdName : "z";
+  t.center = 2.0;
+  t.scale = 1.5;
+  t.edges = {1.0, 2.5, 4.0};
+  t.num_levels = 4;
+  t.reference_level = f == TermForm::kOffsetPerLevel ? 2 : 0;
+  if (f == TermForm::kRollEffect) t.levels = {"R1", "R2", "R3", "R4"};
+  t.params.assign(t.NumParams(), 0.0);
+  for (size_t j = 0; j < t.params.size(); ++j) t.params[j] = 0.3 - 0.17 * j;
+  if (f == TermForm::kSaturating || f == TermForm::kDecaying ||
+      f == TermForm::kOffsetDecay) {
+    t.params = {0.4, std::log(3.0)};
+    if (f == TermForm::kOffsetDecay) t.params[0] = -12.0;
+  }
+  return t;
+}
+
+double Value(const ModelTerm& t, double z, double* grad) {
+  return t.IsMeasurementTerm() ? TermOffset(t, z, grad)
+                               : TermMultiplier(t, z, grad);
+}
+
+TEST(TermFamilyTest, EveryFormHasItsFamilyUnderItsStoredName) {
+  std::set<std::string> names;
+  ASSERT_EQ(AllTermFamilies().size(), std::size(kEveryForm));
+  for (TermForm f : kEveryForm) {
+    const TermFamily& family = FamilyOf(f);
+    EXPECT_EQ(family.form(), f);
+    EXPECT_TRUE(names.insert(family.name()).second) << family.name();
+    TermForm back = TermForm::kCell;
+    ASSERT_TRUE(ParseTermForm(TermFormName(f), &back)) << TermFormName(f);
+    EXPECT_EQ(back, f);
+    EXPECT_EQ(FamilyNamed(family.name()), &family);
+  }
+  EXPECT_EQ(FamilyNamed("quadratic"), nullptr);
+  TermForm untouched = TermForm::kFlag;
+  EXPECT_FALSE(ParseTermForm("quadratic", &untouched));
+  EXPECT_EQ(untouched, TermForm::kFlag);
+  // The four measurement families and no other.
+  int measurement = 0;
+  for (const TermFamily* f : AllTermFamilies()) measurement += f->measurement();
+  EXPECT_EQ(measurement, 4);
+}
+
+TEST(TermFamilyTest, DerivativesAreThoseOfTheValue) {
+  for (TermForm f : kEveryForm) {
+    const ModelTerm t = TermOf(f);
+    const int n = t.NumParams();
+    ASSERT_GT(n, 0) << TermFormName(f);
+    // Points inside bins and levels (away from the edges, where the binned
+    // forms jump).
+    for (double z : {0.0, 1.0, 2.0, 3.0, 4.7}) {
+      std::vector<double> grad(n, 99.0);
+      Value(t, z, grad.data());
+      for (int j = 0; j < n; ++j) {
+        const double h = 1e-6;
+        ModelTerm up = t, down = t;
+        up.params[j] += h;
+        down.params[j] -= h;
+        const double numeric =
+            (Value(up, z, nullptr) - Value(down, z, nullptr)) / (2 * h);
+        EXPECT_NEAR(grad[j], numeric, 1e-6 * (1 + std::abs(numeric)))
+            << TermFormName(f) << " z=" << z << " param " << j;
+      }
+    }
+  }
+}
+
+TEST(TermFamilyTest, ATermActsOnlyOnItsSideAndAMissingValueLeavesAllAsIs) {
+  for (TermForm f : kEveryForm) {
+    const ModelTerm t = TermOf(f);
+    std::vector<double> grad(t.NumParams(), 5.0);
+    if (t.IsMeasurementTerm()) {
+      EXPECT_EQ(TermMultiplier(t, 3.0, grad.data()), 1.0) << TermFormName(f);
+    } else {
+      EXPECT_EQ(TermOffset(t, 3.0, grad.data()), 0.0) << TermFormName(f);
+    }
+    for (double g : grad) EXPECT_EQ(g, 0.0) << TermFormName(f);
+    grad.assign(t.NumParams(), 5.0);
+    EXPECT_EQ(Value(t, std::nan(""), grad.data()),
+              t.IsMeasurementTerm() ? 0.0 : 1.0);
+    for (double g : grad) EXPECT_EQ(g, 0.0) << TermFormName(f);
+  }
+  // The values of a few forms at hand-computed points.
+  EXPECT_NEAR(TermMultiplier(TermOf(TermForm::kLogLinear), 3.5, nullptr),
+              std::exp(0.3 * (3.5 - 2.0) / 1.5), 1e-15);
+  EXPECT_NEAR(TermMultiplier(TermOf(TermForm::kPower), 4.0, nullptr),
+              std::pow(4.0 / 2.0, 0.3), 1e-15);
+  EXPECT_NEAR(TermMultiplier(TermOf(TermForm::kSaturating), 6.0, nullptr),
+              1 + 0.4 * (1 - std::exp(-2.0)), 1e-15);
+  // Offset by level, reference 2: level 3 is the third parameter.
+  EXPECT_NEAR(TermOffset(TermOf(TermForm::kOffsetPerLevel), 3.0, nullptr),
+              0.3 - 0.17 * 2, 1e-15);
+  EXPECT_EQ(TermOffset(TermOf(TermForm::kOffsetPerLevel), 2.0, nullptr), 0.0);
+}
+
+TEST(TermFamilyTest, EachFamilyKeepsItsOwnStoredRules) {
+  for (TermForm f : kEveryForm) {
+    EXPECT_FALSE(FamilyOf(f).CheckStored(TermOf(f)).has_value())
+        << TermFormName(f);
+  }
+  struct Case {
+    TermForm form;
+    void (*edit)(ModelTerm*);
+    const char* field;
+  };
+  const Case cases[] = {
+      {TermForm::kPower, [](ModelTerm* t) { t->center = 0; }, "center"},
+      {TermForm::kRollEffect, [](ModelTerm* t) { t->covariate = "z"; }, "form"},
+      {TermForm::kLogLinear, [](ModelTerm* t) { t->covariate = kRollIdName; },
+       "form"},
+      {TermForm::kRollEffect, [](ModelTerm* t) { t->levels = {"R1"}; },
+       "levels"},
+      {TermForm::kCell, [](ModelTerm* t) { t->level_sd = {0.1}; }, "level_sd"},
+      {TermForm::kFlag, [](ModelTerm* t) { t->reference_level = 1; },
+       "reference_level"},
+      {TermForm::kOffsetPerLevel, [](ModelTerm* t) { t->reference_level = 4; },
+       "reference_level"},
+      {TermForm::kOffsetPerLevel, [](ModelTerm* t) { t->level_readings = {1}; },
+       "level_sd"},
+  };
+  for (const Case& c : cases) {
+    ModelTerm t = TermOf(c.form);
+    c.edit(&t);
+    const std::optional<TermFieldError> e = FamilyOf(c.form).CheckStored(t);
+    ASSERT_TRUE(e.has_value()) << TermFormName(c.form) << " " << c.field;
+    EXPECT_EQ(e->field, c.field) << e->message;
+  }
+}
+
+TEST(TermFamilyTest, RefitBoxesHoldTheAdoptedParameters) {
+  for (TermForm f : kEveryForm) {
+    const ModelTerm t = TermOf(f);
+    std::vector<double> lo, hi;
+    FamilyOf(f).RefitBounds(t, &lo, &hi);
+    ASSERT_EQ(static_cast<int>(lo.size()), t.NumParams()) << TermFormName(f);
+    ASSERT_EQ(hi.size(), lo.size());
+    for (size_t j = 0; j < lo.size(); ++j) {
+      EXPECT_LT(lo[j], t.params[j]) << TermFormName(f) << " " << j;
+      EXPECT_GT(hi[j], t.params[j]) << TermFormName(f) << " " << j;
+    }
+  }
+  // A length scale moves within a factor 20 of the adopted one.
+  std::vector<double> lo, hi;
+  FamilyOf(TermForm::kSaturating)
+      .RefitBounds(TermOf(TermForm::kSaturating), &lo, &hi);
+  EXPECT_NEAR(std::exp(hi[1]) / 3.0, 20.0, 1e-9);
+  EXPECT_NEAR(3.0 / std::exp(lo[1]), 20.0, 1e-9);
+  EXPECT_EQ(FamilyOf(TermForm::kCell).PriorSd(TermOf(TermForm::kCell)),
+            kCellPriorSd);
+  EXPECT_EQ(
+      FamilyOf(TermForm::kRollEffect).PriorSd(TermOf(TermForm::kRollEffect)),
+      1.5);
+  EXPECT_EQ(
+      FamilyOf(TermForm::kLogLinear).PriorSd(TermOf(TermForm::kLogLinear)),
+      0.0);
+}
+
+}  // namespace
+}  // namespace rollwear
