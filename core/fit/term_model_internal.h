@@ -27,6 +27,7 @@
 #include "core/dataset/dataset.h"
 #include "core/fit/term_fit.h"
 #include "core/model/model_terms.h"
+#include "core/model/term_family.h"
 
 namespace rollwear::fit_internal {
 
@@ -70,20 +71,14 @@ class TermModel {
   // each pass's wear contribution k_g * load * (product of the wear terms).
   void set_pass_contributions(std::vector<double>* out) { pass_out_ = out; }
 
-  // Whether a term's multiplier is exp(b u(z)) with one parameter b.
+  // Whether a term's multiplier is exp(b u(z)) with one parameter b, and
+  // u(z) of such a term t: its family's (core/model/term_family.h).
   static bool IsExpForm(const ModelTerm& term) {
-    return term.NumParams() == 1 &&
-           (term.form == TermForm::kLogLinear ||
-            term.form == TermForm::kPower || term.form == TermForm::kFlag);
+    return term.NumParams() == 1 && FamilyOf(term.form).exponential();
   }
-  // u(z) of such a term t, by TermMultiplier's expression (model_terms.cc).
   double ExponentOf(size_t t, double z) const {
     const ModelTerm& term = terms_[t].term;
-    if (term.form == TermForm::kLogLinear)
-      return (z - term.center) / term.scale;
-    if (term.form == TermForm::kPower)
-      return std::log(std::max(z, 1e-12) / term.center);
-    return z;
+    return FamilyOf(term.form).Exponent(term, z);
   }
 
   // Writes params into the terms.
@@ -216,9 +211,9 @@ class TermModel {
             level(data_.grades, s.grade)};
   }
 
-  // The forms whose multiplier is m = exp(b u(z)) with u fixed by the
+  // The families whose multiplier is m = exp(b u(z)) with u fixed by the
   // term's center and scale (log_linear u = (z - c) / s, power
-  // u = ln(max(z, 1e-12) / c), flag u = z; model_terms.cc): u of every
+  // u = ln(max(z, 1e-12) / c), flag u = z; term_family.h): u of every
   // pass is computed once per fit (at the first Predict), by the same
   // expression as TermMultiplier, so the fit's iterations evaluate only exp
   // (the same bits; a profile of a diagnosis had the per-pass log at 15 %

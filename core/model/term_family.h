@@ -47,6 +47,13 @@ class TermFamily {
   // measurement family) at a finite z, and into grad (NumParams() values,
   // zeroed by the caller) its derivatives by the parameters.
   virtual double Evaluate(const ModelTerm& t, double z, double* grad) const = 0;
+  // Whether the multiplier is m = exp(b u(z)), one parameter b and u fixed
+  // by the term's center and scale (log-linear, power, flag): the term fits
+  // then compute u of every pass once per fit (core/fit/
+  // term_model_internal.h) and Evaluate is exp(b u) by the same u.
+  virtual bool exponential() const { return false; }
+  // u(z) of an exponential family at a finite z.
+  virtual double Exponent(const ModelTerm& /*t*/, double z) const { return z; }
   // The box of a refit around the adopted parameters `t.params`
   // (core/fit/term_refit.cc): by default +-3 on each log-multiplier, the
   // amplitude range the diagnosis proposes the family with.

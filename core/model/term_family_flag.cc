@@ -12,6 +12,7 @@ class Flag final : public TermFamily {
  public:
   TermForm form() const override { return TermForm::kFlag; }
   const char* name() const override { return "flag"; }
+  bool exponential() const override { return true; }  // u = z
   double Evaluate(const ModelTerm& t, double z, double* grad) const override {
     const double m = std::exp(t.params[0] * z);
     if (grad != nullptr) grad[0] = m * z;

@@ -13,8 +13,12 @@ class LogLinear final : public TermFamily {
  public:
   TermForm form() const override { return TermForm::kLogLinear; }
   const char* name() const override { return "log_linear"; }
+  bool exponential() const override { return true; }
+  double Exponent(const ModelTerm& t, double z) const override {
+    return (z - t.center) / t.scale;
+  }
   double Evaluate(const ModelTerm& t, double z, double* grad) const override {
-    const double u = (z - t.center) / t.scale;
+    const double u = Exponent(t, z);
     const double m = std::exp(t.params[0] * u);
     if (grad != nullptr) grad[0] = m * u;
     return m;

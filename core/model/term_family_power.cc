@@ -13,8 +13,12 @@ class Power final : public TermFamily {
  public:
   TermForm form() const override { return TermForm::kPower; }
   const char* name() const override { return "power"; }
+  bool exponential() const override { return true; }
+  double Exponent(const ModelTerm& t, double z) const override {
+    return std::log(std::max(z, 1e-12) / t.center);
+  }
   double Evaluate(const ModelTerm& t, double z, double* grad) const override {
-    const double lz = std::log(std::max(z, 1e-12) / t.center);
+    const double lz = Exponent(t, z);
     const double m = std::exp(t.params[0] * lz);
     if (grad != nullptr) grad[0] = m * lz;
     return m;

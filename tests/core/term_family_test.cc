@@ -126,6 +126,27 @@ TEST(TermFamilyTest, ATermActsOnlyOnItsSideAndAMissingValueLeavesAllAsIs) {
   EXPECT_EQ(TermOffset(TermOf(TermForm::kOffsetPerLevel), 2.0, nullptr), 0.0);
 }
 
+// The term fits compute u(z) once per pass for the exponential families
+// and then only exp(b u): the same bits as the family's own multiplier.
+TEST(TermFamilyTest, AnExponentialFamilyIsExpOfItsExponent) {
+  std::set<TermForm> exponential;
+  for (TermForm f : kEveryForm) {
+    const TermFamily& family = FamilyOf(f);
+    if (!family.exponential()) continue;
+    exponential.insert(f);
+    const ModelTerm t = TermOf(f);
+    ASSERT_EQ(t.NumParams(), 1) << family.name();
+    for (double z : {0.0, 0.5, 1.0, 3.0, 7.5}) {
+      EXPECT_EQ(TermMultiplier(t, z, nullptr),
+                std::exp(t.params[0] * family.Exponent(t, z)))
+          << family.name() << " z=" << z;
+    }
+  }
+  EXPECT_EQ(exponential,
+            (std::set<TermForm>{TermForm::kLogLinear, TermForm::kPower,
+                                TermForm::kFlag}));
+}
+
 TEST(TermFamilyTest, EachFamilyKeepsItsOwnStoredRules) {
   for (TermForm f : kEveryForm) {
     EXPECT_FALSE(FamilyOf(f).CheckStored(TermOf(f)).has_value())
