@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "core/diagnosis/diagnosis_internal.h"
+#include "core/model/term_family.h"
 
 namespace rollwear::diag {
 namespace {
@@ -139,13 +140,6 @@ const Mechanism* FindMechanism(const std::string& covariate) {
   return nullptr;
 }
 
-std::string Format(const char* fmt, double a, double b = 0, double c = 0,
-                   double d = 0) {
-  char buf[256];
-  std::snprintf(buf, sizeof(buf), fmt, a, b, c, d);
-  return buf;
-}
-
 bool EndsWith(const std::string& s, const char* suffix) {
   const std::string x(suffix);
   return s.size() >= x.size() &&
@@ -164,20 +158,20 @@ std::string Readable(const std::string& name, double v) {
     std::strftime(buf, sizeof(buf), "%Y-%m-%d", &tm);
     return buf;
   }
-  if (EndsWith(name, "_kn_per_mm")) return Format("%.2f kN/mm", v);
-  if (EndsWith(name, "_mm")) return Format("%.4g mm", v);
+  if (EndsWith(name, "_kn_per_mm")) return WordFormat("%.2f kN/mm", v);
+  if (EndsWith(name, "_mm")) return WordFormat("%.4g mm", v);
   if (EndsWith(name, "_m")) {
-    return std::abs(v) >= 1000 ? Format("%.1f km", v / 1000)
-                               : Format("%.0f m", v);
+    return std::abs(v) >= 1000 ? WordFormat("%.1f km", v / 1000)
+                               : WordFormat("%.0f m", v);
   }
-  if (EndsWith(name, "_c")) return Format("%.0f °C", v);
+  if (EndsWith(name, "_c")) return WordFormat("%.0f °C", v);
   if (EndsWith(name, "_h") || name == "hours_since_mount")
-    return Format("%.1f h", v);
-  if (EndsWith(name, "_kn")) return Format("%.0f kN", v);
-  if (EndsWith(name, "_mps")) return Format("%.2f m/s", v);
-  if (EndsWith(name, "_hb")) return Format("%.0f HB", v);
-  if (name == "campaign_coils_before") return Format("%.0f coils", v);
-  return Format("%.4g", v);
+    return WordFormat("%.1f h", v);
+  if (EndsWith(name, "_kn")) return WordFormat("%.0f kN", v);
+  if (EndsWith(name, "_mps")) return WordFormat("%.2f m/s", v);
+  if (EndsWith(name, "_hb")) return WordFormat("%.0f HB", v);
+  if (name == "campaign_coils_before") return WordFormat("%.0f coils", v);
+  return WordFormat("%.4g", v);
 }
 
 // A rise (or drop) concentrated above the upper quantiles of a binned
@@ -198,28 +192,6 @@ const char* ThresholdShape(const std::vector<double>& v) {
   return nullptr;
 }
 
-// The bin j whose jump from bin j - 1 carries at least 3/4 of a binned
-// profile's total change, every other jump at most 1/4 of it (the rule of
-// the offset-binned form: a step seen through quantile bins, such as a
-// wear rate 1.21 times higher from the third regrind on: bins 1.000,
-// 1.208, 1.198, 1.212); 0 when there is none.
-int SingleJump(const std::vector<double>& m) {
-  const double total = std::abs(m.back() - m.front());
-  size_t j = 0;
-  double largest = 0;
-  for (size_t i = 1; i < m.size(); ++i) {
-    if (std::abs(m[i] - m[i - 1]) > largest) {
-      largest = std::abs(m[i] - m[i - 1]);
-      j = i;
-    }
-  }
-  if (!(total > 0) || largest < 0.75 * total) return 0;
-  for (size_t i = 1; i < m.size(); ++i) {
-    if (i != j && std::abs(m[i] - m[i - 1]) > 0.25 * largest) return 0;
-  }
-  return static_cast<int>(j);
-}
-
 // The finding's scope and levels (contract fields) and the sentence saying
 // where it applies. A cell term is reported on its factor (roll_type or
 // grade) with the level in `levels` and the stand or position as scope.
@@ -236,34 +208,6 @@ std::string DescribeScope(const ModelTerm& t, Finding* f) {
   return " It applies only to " + t.scope.Label() + kElsewhereTheLawHolds + ".";
 }
 
-// Offset-per-level parameters, the levels whose offset is significant
-// (|d| > 2 s.e., or every non-reference level without standard errors) and
-// the sentence "the reading of grinder=B is offset by -15.2 µm".
-void OffsetLevels(const ModelTerm& t, Finding* f, std::string* fitted) {
-  f->shape = "offset_per_level";
-  f->levels.clear();
-  const std::string ref = t.reference_level < static_cast<int>(t.levels.size())
-                              ? t.levels[t.reference_level]
-                              : "";
-  for (size_t j = 0; j < t.params.size(); ++j) {
-    const size_t l = static_cast<int>(j) < t.reference_level ? j : j + 1;
-    const std::string label =
-        l < t.levels.size() ? t.levels[l] : std::to_string(l);
-    f->parameters["offset_um[" + label + "]"] = t.params[j];
-    auto se = f->parameter_std_errors.find("param" + std::to_string(j));
-    const bool significant = se == f->parameter_std_errors.end() ||
-                             !std::isfinite(se->second) ||
-                             std::abs(t.params[j]) > 2 * se->second;
-    if (!significant) continue;
-    f->levels.push_back(label);
-    if (!fitted->empty()) *fitted += "; ";
-    *fitted += "the reading of " + t.covariate + "=" + label +
-               Format(" is offset by %+.1f µm", t.params[j]);
-  }
-  if (fitted->empty()) *fitted = "no level's offset is significant";
-  *fitted += " (reference " + t.covariate + "=" + ref + ")";
-}
-
 // The mechanism name of finding `f` (its term `t` over covariate `c`,
 // rising when `up`) into f->mechanism, and the sentence of physics that
 // opens its explanation: a cell's interaction, a reading's offset, a
@@ -278,7 +222,7 @@ std::string MechanismOf(const ModelTerm& t, const CovariateSpec& c, bool up,
         std::string(t.scope.roll_type.empty() ? "grade" : "roll_type") +
         "_by_" + (t.scope.stand > 0 ? "stand" : "position") + "_interaction";
     text = "Rolls of " + t.scope.Label() + " wear " +
-           Format("%.2f", std::exp(t.params[0])) +
+           WordFormat("%.2f", std::exp(t.params[0])) +
            " times what the K structure (position x roll type x grade factors, "
            "which multiply independently) predicts: an interaction no single "
            "factor expresses.";
@@ -332,13 +276,11 @@ void NameFinding(const TermData& td, const std::vector<int>& train,
       f->level = "measurement";
       break;
   }
-  const double* p = t.params.data();
-  bool up = true;
-  std::string fitted;
   // Shape of a wear-rate multiplier from its profile over the covariate's
-  // 5th..95th percentiles: monotone (with or without most of the change in
-  // the first half: saturating growth / decay) or with an interior extreme.
-  auto profile_shape = [&]() {
+  // 5th..95th percentiles, and whether it rises: monotone (with or without
+  // most of the change in the first half: saturating growth / decay) or
+  // with an interior extreme.
+  auto profile_shape = [&]() -> std::pair<std::string, bool> {
     std::vector<double> v;
     for (double q : {0.05, 0.275, 0.5, 0.725, 0.95}) {
       v.push_back(TermMultiplier(t, Quantile(w, q), nullptr));
@@ -360,184 +302,51 @@ void NameFinding(const TermData& td, const std::vector<int>& train,
       inc = inc && v[i] >= v[i - 1] - tol;
       dec = dec && v[i] <= v[i - 1] + tol;
     }
-    up = v.back() > v.front();
+    const bool up = v.back() > v.front();
     if (inc && dec) {  // flat within the tolerance: monotone in its direction
       inc = up;
       dec = !up;
     }
     if (inc && !dec) {
       if (t.form == TermForm::kBinned && ThresholdShape(v) != nullptr) {
-        return std::string(ThresholdShape(v));
+        return {ThresholdShape(v), up};
       }
-      return std::string((v[2] - v[0]) > 0.75 * (v[4] - v[0])
-                             ? "saturating_growth"
-                             : "increasing");
+      return {(v[2] - v[0]) > 0.75 * (v[4] - v[0]) ? "saturating_growth"
+                                                   : "increasing",
+              up};
     }
     if (dec && !inc) {
-      return std::string((v[0] - v[2]) > 0.75 * (v[0] - v[4]) ? "decaying"
-                                                              : "decreasing");
+      return {(v[0] - v[2]) > 0.75 * (v[0] - v[4]) ? "decaying" : "decreasing",
+              up};
     }
     if (t.form == TermForm::kBinned) {
-      if (const char* th = ThresholdShape(v)) return std::string(th);
+      if (const char* th = ThresholdShape(v)) return {th, up};
     }
     const size_t imax = std::max_element(v.begin(), v.end()) - v.begin();
     const size_t imin = std::min_element(v.begin(), v.end()) - v.begin();
-    if (imax > 0 && imax + 1 < v.size()) return std::string("peaked");
-    if (imin > 0 && imin + 1 < v.size()) return std::string("valley");
-    return std::string(up ? "increasing" : "decreasing");
+    if (imax > 0 && imax + 1 < v.size()) return {"peaked", up};
+    if (imin > 0 && imin + 1 < v.size()) return {"valley", up};
+    return {up ? "increasing" : "decreasing", up};
   };
-  const std::string range_text =
-      Format("wear-rate multiplier %.3f at the 5th percentile (",
-             TermMultiplier(t, lo, nullptr)) +
+  TermWordingInput in;
+  in.profile_shape = profile_shape;
+  in.range_text =
+      WordFormat("wear-rate multiplier %.3f at the 5th percentile (",
+                 TermMultiplier(t, lo, nullptr)) +
       Readable(c.name, lo) +
-      Format(") and %.3f at the 95th (", TermMultiplier(t, hi, nullptr)) +
+      WordFormat(") and %.3f at the 95th (", TermMultiplier(t, hi, nullptr)) +
       Readable(c.name, hi) + ")";
-  switch (t.form) {
-    case TermForm::kLogLinear:
-    case TermForm::kPower: {
-      f->shape = profile_shape();
-      if (t.form == TermForm::kLogLinear) {
-        f->parameters = {
-            {"beta", p[0]}, {"center", t.center}, {"scale", t.scale}};
-      } else {
-        f->parameters = {{"exponent", p[0]}, {"reference", t.center}};
-      }
-      fitted = range_text;
-      break;
-    }
-    case TermForm::kSaturating:
-    case TermForm::kDecaying: {
-      const double lam = std::exp(p[1]);
-      f->shape = profile_shape();
-      f->parameters = {{"beta", p[0]}, {"lambda", lam}};
-      fitted = range_text + ", length scale " + Readable(c.name, lam);
-      break;
-    }
-    case TermForm::kFlag:
-      up = p[0] > 0;
-      f->shape = up ? "higher_when_on" : "lower_when_on";
-      f->parameters = {{"beta", p[0]}, {"multiplier_on", std::exp(p[0])}};
-      fitted = Format("wear-rate multiplier %.3f when on", std::exp(p[0]));
-      break;
-    case TermForm::kBinned: {
-      f->shape = profile_shape();
-      std::vector<double> m = {1.0};
-      for (double b : t.params) m.push_back(std::exp(b));
-      for (size_t i = 0; i < m.size(); ++i) {
-        f->parameters["bin" + std::to_string(i) + "_multiplier"] = m[i];
-      }
-      for (size_t i = 0; i < t.edges.size(); ++i) {
-        f->parameters["edge" + std::to_string(i)] = t.edges[i];
-      }
-      if (t.edges.size() == 1) {  // a change point (AddSteps)
-        f->shape = m[1] >= 1 ? "step_up" : "step_down";
-        fitted = Format("a step: wear-rate multiplier %.3f from ", m[1]) +
-                 Readable(c.name, t.edges[0]) + " on, relative to before";
-        break;
-      }
-      fitted = "wear-rate multipliers by quantile bin of the covariate:";
-      for (size_t i = 0; i < m.size(); ++i) {
-        fitted += Format(" %.3f", m[i]);
-        if (i < t.edges.size())
-          fitted += " | " + Readable(c.name, t.edges[i]) + " |";
-      }
-      if (const int j = SingleJump(m);
-          j > 0 && f->shape.rfind("threshold", 0) != 0) {
-        f->shape = m[j] > m[j - 1] ? "step_up" : "step_down";
-        fitted +=
-            Format("; a step: %.3f times the rate below ", m[j] / m[j - 1]) +
-            Readable(c.name, t.edges[j - 1]) + " from there on";
-      }
-      break;
-    }
-    case TermForm::kPerLevel:
-      f->shape = "per_level";
-      for (size_t i = 0; i < t.params.size(); ++i) {
-        f->parameters["level" + std::to_string(i + 1) + "_multiplier"] =
-            std::exp(t.params[i]);
-      }
-      fitted = "wear-rate multipliers";
-      f->levels.clear();
-      for (size_t i = 0; i < t.params.size(); ++i) {
-        const std::string label =
-            i + 1 < t.levels.size() ? t.levels[i + 1] : std::to_string(i + 1);
-        fitted += Format(" %.3f", std::exp(t.params[i])) + " (" + label + ")";
-        // The affected levels (the contract's levels): those whose
-        // multiplier is more than 2 standard errors from the reference's 1.
-        auto se = f->parameter_std_errors.find("param" + std::to_string(i));
-        if (se == f->parameter_std_errors.end() || !std::isfinite(se->second) ||
-            std::abs(t.params[i]) > 2 * se->second) {
-          f->levels.push_back(label);
-        }
-      }
-      break;
-    case TermForm::kCell:
-      up = p[0] > 0;
-      f->shape = up ? "higher_in_cell" : "lower_in_cell";
-      f->parameters = {{"beta", p[0]}, {"multiplier", std::exp(p[0])}};
-      fitted = Format("wear-rate multiplier %.3f in the cell", std::exp(p[0]));
-      break;
-    case TermForm::kRollEffect: break;  // named by diagnosis_roll_family.cc
-    case TermForm::kOffsetPerLevel:
-      OffsetLevels(t, f, &fitted);
-      up = false;
-      break;
-    case TermForm::kOffsetDecay:
-      up = p[0] > 0;
-      f->shape = p[0] < 0 ? "reads_low_when_measured_early"
-                          : "reads_high_when_measured_early";
-      f->parameters = {{"amplitude_um", p[0]}, {"tau", std::exp(p[1])}};
-      fitted = Format(
-          "measured wear offset %.1f µm right after the campaign, fading with "
-          "time constant %.3g",
-          p[0], std::exp(p[1]));
-      break;
-    case TermForm::kOffsetBinned: {
-      // Offsets by quantile bin (bin 0 reads as is): a step when one jump
-      // between neighbouring bins carries at least 3/4 of the total change.
-      std::vector<double> o = {0.0};
-      for (double b : t.params) o.push_back(b);
-      up = o.back() > o.front();
-      double largest = 0;
-      bool monotone = true;
-      for (size_t i = 1; i < o.size(); ++i) {
-        const double jump = o[i] - o[i - 1];
-        largest = std::max(largest, std::abs(jump));
-        monotone = monotone && (up ? jump >= -1.0 : jump <= 1.0);  // 1 µm slack
-      }
-      const double total = std::abs(o.back() - o.front());
-      f->shape = !monotone                 ? "uneven"
-                 : largest >= 0.75 * total ? (up ? "step_up" : "step_down")
-                                           : (up ? "increasing" : "decreasing");
-      for (size_t i = 0; i < o.size(); ++i) {
-        f->parameters["bin" + std::to_string(i) + "_offset_um"] = o[i];
-      }
-      for (size_t i = 0; i < t.edges.size(); ++i) {
-        f->parameters["edge" + std::to_string(i)] = t.edges[i];
-      }
-      if (t.edges.size() == 1) {  // a change point (AddSteps)
-        fitted = Format("a step: measured wear offset %+.1f µm from ", o[1]) +
-                 Readable(c.name, t.edges[0]) + " on, relative to before";
-        break;
-      }
-      fitted = "measured wear offsets by quantile bin of the covariate (µm):";
-      for (size_t i = 0; i < o.size(); ++i) {
-        fitted += Format(" %+.1f", o[i]);
-        if (i < t.edges.size())
-          fitted += " | " + Readable(c.name, t.edges[i]) + " |";
-      }
-      break;
-    }
-    case TermForm::kOffsetLinear:
-      up = p[0] > 0;
-      f->shape = up ? "increasing" : "decreasing";
-      f->parameters = {
-          {"slope_um_per_sd", p[0]}, {"center", t.center}, {"scale", t.scale}};
-      fitted = Format(
-          "measured wear offset of %.1f µm per standard deviation (%.4g)", p[0],
-          t.scale);
-      break;
-  }
+  in.readable = [&c](double v) { return Readable(c.name, v); };
+  in.std_errors = &f->parameter_std_errors;
+  // The family words its term (core/model/term_family_<name>.cc).
+  TermWording words;
+  FamilyOf(t.form).Word(t, in, &words);
+  if (!words.shape.empty()) f->shape = words.shape;
+  for (const auto& [name, value] : words.parameters)
+    f->parameters[name] = value;
+  if (words.levels) f->levels = *words.levels;
+  const bool up = words.up;
+  const std::string& fitted = words.fitted;
   const std::string text = MechanismOf(t, c, up, f);
   f->explanation = text + DescribeScope(t, f) + " Fitted: " + fitted + ".";
 }

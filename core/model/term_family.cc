@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <tuple>
 
 #include "core/model/covariates.h"
 #include "core/model/term_family_list.h"
@@ -63,6 +65,27 @@ std::optional<TermFieldError> TermFamily::CheckStored(
                           "is only for the offset_per_level form"};
   }
   return std::nullopt;
+}
+
+std::string WordFormat(const char* fmt, double a, double b, double c,
+                       double d) {
+  char buf[256];
+  std::snprintf(buf, sizeof(buf), fmt, a, b, c, d);
+  return buf;
+}
+
+double StdErrorOf(const TermWordingInput& in, size_t j) {
+  if (in.std_errors == nullptr) return std::nan("");
+  const auto se = in.std_errors->find("param" + std::to_string(j));
+  return se == in.std_errors->end() ? std::nan("") : se->second;
+}
+
+void WordAmplitudeAndLengthScale(const ModelTerm& t, const TermWordingInput& in,
+                                 TermWording* out) {
+  const double lam = std::exp(t.params[1]);
+  std::tie(out->shape, out->up) = in.profile_shape();
+  out->parameters = {{"beta", t.params[0]}, {"lambda", lam}};
+  out->fitted = in.range_text + ", length scale " + in.readable(lam);
 }
 
 void AmplitudeAndLogScaleBounds(double amp_lo, double amp_hi,

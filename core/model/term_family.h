@@ -8,9 +8,11 @@
 // switches on the form to compute a term. Adding a family: a TermForm
 // value, one file, one line in the registry.
 //
-// What the diagnosis proposes and how it words a finding are still its own
-// (core/diagnosis/diagnosis_candidates.cc, diagnosis_naming.cc); see
-// docs/diagnosis.md, "Term families".
+// A family also words a diagnosis finding of its term (Word: the shape,
+// the parameters, the "Fitted:" sentence); the diagnosis adds the
+// mechanism and the scope (core/diagnosis/diagnosis_naming.cc). What the
+// diagnosis proposes for a covariate is still its own
+// (diagnosis_candidates.cc); see docs/diagnosis.md, "Term families".
 //
 // Thread-safety: families are stateless singletons built on first use
 // (function-local statics); every method is const and may be called from
@@ -18,8 +20,11 @@
 #ifndef ROLLWEAR_CORE_MODEL_TERM_FAMILY_H_
 #define ROLLWEAR_CORE_MODEL_TERM_FAMILY_H_
 
+#include <functional>
+#include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/model/model_terms.h"
@@ -31,6 +36,37 @@ struct TermFieldError {
   std::string field;    // "center", "form", "levels", ...
   std::string message;  // "must be > 0 for the power form (z / center)^b"
 };
+
+// What the diagnosis gives a family to word a finding of its fitted term.
+struct TermWordingInput {
+  // The multiplier's shape over the covariate's 5th..95th percentiles
+  // ("increasing", "saturating_growth", "peaked", ...) and whether it
+  // rises, computed by the diagnosis (diagnosis_naming.cc) on demand.
+  std::function<std::pair<std::string, bool>()> profile_shape;
+  // "wear-rate multiplier 0.912 at the 5th percentile (800 °C) and 1.104
+  // at the 95th (1,010 °C)".
+  std::string range_text;
+  // A covariate value with its unit and a readable magnitude ("96.7 km").
+  std::function<std::string(double)> readable;
+  // The fit's standard errors by parameter ("param0", ...); may be empty.
+  const std::map<std::string, double>* std_errors = nullptr;
+};
+
+// A family's words for a finding (the finding's fields of the same names).
+struct TermWording {
+  std::string shape;
+  std::map<std::string, double> parameters;
+  // The affected levels, for the families that name levels.
+  std::optional<std::vector<std::string>> levels;
+  std::string fitted;  // the sentence after "Fitted: "
+  bool up = true;      // the effect raises the wear (or the reading)
+};
+
+// printf of up to four doubles into a string (the wording's numbers).
+std::string WordFormat(const char* fmt, double a, double b = 0, double c = 0,
+                       double d = 0);
+// The standard error of parameter j from `in`, NaN when it has none.
+double StdErrorOf(const TermWordingInput& in, size_t j);
 
 class TermFamily {
  public:
@@ -62,6 +98,11 @@ class TermFamily {
   // The sd of the normal prior on each parameter in a fit (term_fit.h's
   // TermSpec::prior_sd), 0 for none.
   virtual double PriorSd(const ModelTerm& /*t*/) const { return 0; }
+  // The words of a diagnosis finding of the fitted term `t`; the default
+  // leaves `out` as it is (the roll-effect family: the diagnosis's per-roll
+  // stage words it, core/diagnosis/diagnosis_roll_family.cc).
+  virtual void Word(const ModelTerm& /*t*/, const TermWordingInput& /*in*/,
+                    TermWording* /*out*/) const {}
   // The family's own rules on a stored term (storage/model_codec.cc checks
   // the shared ones), nullopt when it obeys them.
   virtual std::optional<TermFieldError> CheckStored(const ModelTerm& t) const;
@@ -83,6 +124,11 @@ void AmplitudeAndLogScaleBounds(double amp_lo, double amp_hi,
                                 std::vector<double>* hi);
 void SymmetricBounds(int n, double bound, std::vector<double>* lo,
                      std::vector<double>* hi);
+// The words of a multiplier 1 + b g(z / lam) with lam = exp(q) (the
+// saturating and decaying families): the profile's shape, beta and lambda,
+// and the range sentence with the length scale.
+void WordAmplitudeAndLengthScale(const ModelTerm& t, const TermWordingInput& in,
+                                 TermWording* out);
 
 }  // namespace rollwear
 

@@ -21,6 +21,15 @@ class Cell final : public TermFamily {
     return m;
   }
   double PriorSd(const ModelTerm& /*t*/) const override { return kCellPriorSd; }
+  void Word(const ModelTerm& t, const TermWordingInput& /*in*/,
+            TermWording* out) const override {
+    out->up = t.params[0] > 0;
+    out->shape = out->up ? "higher_in_cell" : "lower_in_cell";
+    out->parameters = {{"beta", t.params[0]},
+                       {"multiplier", std::exp(t.params[0])}};
+    out->fitted = WordFormat("wear-rate multiplier %.3f in the cell",
+                             std::exp(t.params[0]));
+  }
 };
 
 }  // namespace

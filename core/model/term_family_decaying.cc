@@ -27,6 +27,10 @@ class Decaying final : public TermFamily {
                    std::vector<double>* hi) const override {
     AmplitudeAndLogScaleBounds(-0.9, 10.0, t.params[1], lo, hi);
   }
+  void Word(const ModelTerm& t, const TermWordingInput& in,
+            TermWording* out) const override {
+    WordAmplitudeAndLengthScale(t, in, out);
+  }
 };
 
 }  // namespace

@@ -18,6 +18,15 @@ class Flag final : public TermFamily {
     if (grad != nullptr) grad[0] = m * z;
     return m;
   }
+  void Word(const ModelTerm& t, const TermWordingInput& /*in*/,
+            TermWording* out) const override {
+    out->up = t.params[0] > 0;
+    out->shape = out->up ? "higher_when_on" : "lower_when_on";
+    out->parameters = {{"beta", t.params[0]},
+                       {"multiplier_on", std::exp(t.params[0])}};
+    out->fitted =
+        WordFormat("wear-rate multiplier %.3f when on", std::exp(t.params[0]));
+  }
 };
 
 }  // namespace

@@ -2,6 +2,7 @@
 // and sd of the covariate, so b is the log-change of the wear rate per
 // standard deviation (a wear-rate term, model_terms.h).
 #include <cmath>
+#include <tuple>
 
 #include "core/model/term_family.h"
 #include "core/model/term_family_list.h"
@@ -27,6 +28,13 @@ class LogLinear final : public TermFamily {
                    std::vector<double>* hi) const override {
     *lo = {-2.0};
     *hi = {2.0};
+  }
+  void Word(const ModelTerm& t, const TermWordingInput& in,
+            TermWording* out) const override {
+    std::tie(out->shape, out->up) = in.profile_shape();
+    out->parameters = {
+        {"beta", t.params[0]}, {"center", t.center}, {"scale", t.scale}};
+    out->fitted = in.range_text;
   }
 };
 

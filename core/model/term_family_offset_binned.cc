@@ -2,6 +2,11 @@
 // k >= 1 of z (bin 0 reads as is; edges as the binned family): a gauge that
 // steps or drifts unevenly over calendar time (a measurement term,
 // model_terms.h).
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
 #include "core/model/term_family.h"
 #include "core/model/term_family_list.h"
 
@@ -25,6 +30,45 @@ class OffsetBinned final : public TermFamily {
   void RefitBounds(const ModelTerm& t, std::vector<double>* lo,
                    std::vector<double>* hi) const override {
     SymmetricBounds(NumParams(t), 1000.0, lo, hi);
+  }
+  // Offsets by quantile bin (bin 0 reads as is): a step when one jump
+  // between neighbouring bins carries at least 3/4 of the total change.
+  void Word(const ModelTerm& t, const TermWordingInput& in,
+            TermWording* out) const override {
+    std::vector<double> o = {0.0};
+    for (double b : t.params) o.push_back(b);
+    const bool up = o.back() > o.front();
+    out->up = up;
+    double largest = 0;
+    bool monotone = true;
+    for (size_t i = 1; i < o.size(); ++i) {
+      const double jump = o[i] - o[i - 1];
+      largest = std::max(largest, std::abs(jump));
+      monotone = monotone && (up ? jump >= -1.0 : jump <= 1.0);  // 1 µm slack
+    }
+    const double total = std::abs(o.back() - o.front());
+    out->shape = !monotone                 ? "uneven"
+                 : largest >= 0.75 * total ? (up ? "step_up" : "step_down")
+                                           : (up ? "increasing" : "decreasing");
+    for (size_t i = 0; i < o.size(); ++i) {
+      out->parameters["bin" + std::to_string(i) + "_offset_um"] = o[i];
+    }
+    for (size_t i = 0; i < t.edges.size(); ++i) {
+      out->parameters["edge" + std::to_string(i)] = t.edges[i];
+    }
+    if (t.edges.size() == 1) {  // a change point (the diagnosis's steps)
+      out->fitted =
+          WordFormat("a step: measured wear offset %+.1f µm from ", o[1]) +
+          in.readable(t.edges[0]) + " on, relative to before";
+      return;
+    }
+    out->fitted =
+        "measured wear offsets by quantile bin of the covariate (µm):";
+    for (size_t i = 0; i < o.size(); ++i) {
+      out->fitted += WordFormat(" %+.1f", o[i]);
+      if (i < t.edges.size())
+        out->fitted += " | " + in.readable(t.edges[i]) + " |";
+    }
   }
 };
 

@@ -29,6 +29,18 @@ class OffsetDecay final : public TermFamily {
                    std::vector<double>* hi) const override {
     AmplitudeAndLogScaleBounds(-1000.0, 1000.0, t.params[1], lo, hi);
   }
+  void Word(const ModelTerm& t, const TermWordingInput& /*in*/,
+            TermWording* out) const override {
+    const double a = t.params[0], tau = std::exp(t.params[1]);
+    out->up = a > 0;
+    out->shape = a < 0 ? "reads_low_when_measured_early"
+                       : "reads_high_when_measured_early";
+    out->parameters = {{"amplitude_um", a}, {"tau", tau}};
+    out->fitted = WordFormat(
+        "measured wear offset %.1f µm right after the campaign, fading with "
+        "time constant %.3g",
+        a, tau);
+  }
 };
 
 }  // namespace

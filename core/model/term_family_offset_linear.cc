@@ -21,6 +21,17 @@ class OffsetLinear final : public TermFamily {
                    std::vector<double>* hi) const override {
     SymmetricBounds(NumParams(t), 1000.0, lo, hi);
   }
+  void Word(const ModelTerm& t, const TermWordingInput& /*in*/,
+            TermWording* out) const override {
+    out->up = t.params[0] > 0;
+    out->shape = out->up ? "increasing" : "decreasing";
+    out->parameters = {{"slope_um_per_sd", t.params[0]},
+                       {"center", t.center},
+                       {"scale", t.scale}};
+    out->fitted = WordFormat(
+        "measured wear offset of %.1f µm per standard deviation (%.4g)",
+        t.params[0], t.scale);
+  }
 };
 
 }  // namespace

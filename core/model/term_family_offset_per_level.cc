@@ -3,6 +3,8 @@
 // the fit; params in level order without r): a second grinder, a gauge, a
 // shift crew reading differently (a measurement term, model_terms.h).
 #include <algorithm>
+#include <cmath>
+#include <string>
 
 #include "core/model/term_family.h"
 #include "core/model/term_family_list.h"
@@ -40,6 +42,34 @@ class OffsetPerLevel final : public TermFamily {
     ModelTerm shared = t;
     shared.reference_level = 0;
     return TermFamily::CheckStored(shared);
+  }
+  // The levels whose offset is significant (|d| > 2 s.e., or every
+  // non-reference level without standard errors) and the sentence "the
+  // reading of grinder=B is offset by -15.2 µm".
+  void Word(const ModelTerm& t, const TermWordingInput& in,
+            TermWording* out) const override {
+    out->shape = "offset_per_level";
+    out->up = false;
+    out->levels.emplace();
+    const std::string ref =
+        t.reference_level < static_cast<int>(t.levels.size())
+            ? t.levels[t.reference_level]
+            : "";
+    std::string& fitted = out->fitted;
+    for (size_t j = 0; j < t.params.size(); ++j) {
+      const size_t l = static_cast<int>(j) < t.reference_level ? j : j + 1;
+      const std::string label =
+          l < t.levels.size() ? t.levels[l] : std::to_string(l);
+      out->parameters["offset_um[" + label + "]"] = t.params[j];
+      const double se = StdErrorOf(in, j);
+      if (std::isfinite(se) && std::abs(t.params[j]) <= 2 * se) continue;
+      out->levels->push_back(label);
+      if (!fitted.empty()) fitted += "; ";
+      fitted += "the reading of " + t.covariate + "=" + label +
+                WordFormat(" is offset by %+.1f µm", t.params[j]);
+    }
+    if (fitted.empty()) fitted = "no level's offset is significant";
+    fitted += " (reference " + t.covariate + "=" + ref + ")";
   }
 };
 

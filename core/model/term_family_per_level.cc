@@ -3,6 +3,7 @@
 // match a record's label (a wear-rate term, model_terms.h).
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "core/model/term_family.h"
 #include "core/model/term_family_list.h"
@@ -23,6 +24,25 @@ class PerLevel final : public TermFamily {
     const double m = std::exp(t.params[l - 1]);
     if (grad != nullptr) grad[l - 1] = m;
     return m;
+  }
+  void Word(const ModelTerm& t, const TermWordingInput& in,
+            TermWording* out) const override {
+    out->shape = "per_level";
+    out->fitted = "wear-rate multipliers";
+    out->levels.emplace();
+    for (size_t i = 0; i < t.params.size(); ++i) {
+      const double m = std::exp(t.params[i]);
+      out->parameters["level" + std::to_string(i + 1) + "_multiplier"] = m;
+      const std::string label =
+          i + 1 < t.levels.size() ? t.levels[i + 1] : std::to_string(i + 1);
+      out->fitted += WordFormat(" %.3f", m) + " (" + label + ")";
+      // The affected levels (the contract's levels): those whose
+      // multiplier is more than 2 standard errors from the reference's 1.
+      const double se = StdErrorOf(in, i);
+      if (!std::isfinite(se) || std::abs(t.params[i]) > 2 * se) {
+        out->levels->push_back(label);
+      }
+    }
   }
 };
 

@@ -2,6 +2,7 @@
 // wear rate proportional to z^b (a wear-rate term, model_terms.h).
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 #include "core/model/term_family.h"
 #include "core/model/term_family_list.h"
@@ -34,6 +35,12 @@ class Power final : public TermFamily {
                             "must be > 0 for the power form (z / center)^b"};
     }
     return TermFamily::CheckStored(t);
+  }
+  void Word(const ModelTerm& t, const TermWordingInput& in,
+            TermWording* out) const override {
+    std::tie(out->shape, out->up) = in.profile_shape();
+    out->parameters = {{"exponent", t.params[0]}, {"reference", t.center}};
+    out->fitted = in.range_text;
   }
 };
 

@@ -28,6 +28,10 @@ class Saturating final : public TermFamily {
                    std::vector<double>* hi) const override {
     AmplitudeAndLogScaleBounds(-0.9, 10.0, t.params[1], lo, hi);
   }
+  void Word(const ModelTerm& t, const TermWordingInput& in,
+            TermWording* out) const override {
+    WordAmplitudeAndLengthScale(t, in, out);
+  }
 };
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include "core/model/term_family.h"
 
 #include <cmath>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -179,6 +180,57 @@ TEST(TermFamilyTest, EachFamilyKeepsItsOwnStoredRules) {
     ASSERT_TRUE(e.has_value()) << TermFormName(c.form) << " " << c.field;
     EXPECT_EQ(e->field, c.field) << e->message;
   }
+}
+
+// A family words a finding of its term: the levels it names are those more
+// than 2 standard errors from the reference, every level without them.
+TEST(TermFamilyTest, AFamilyWordsItsFindingAndNamesOnlyClearLevels) {
+  ModelTerm t = TermOf(TermForm::kPerLevel);  // params 0.3, 0.13, -0.04
+  t.levels = {"A", "B", "C", "D"};
+  const std::map<std::string, double> se = {
+      {"param0", 0.05}, {"param1", 0.1}, {"param2", 0.01}};
+  TermWordingInput in;
+  in.readable = [](double v) { return WordFormat("%.1f u", v); };
+  in.std_errors = &se;
+  TermWording w;
+  FamilyOf(TermForm::kPerLevel).Word(t, in, &w);
+  EXPECT_EQ(w.shape, "per_level");
+  ASSERT_TRUE(w.levels.has_value());
+  EXPECT_EQ(*w.levels, (std::vector<std::string>{"B", "D"}));
+  EXPECT_NEAR(w.parameters.at("level1_multiplier"), std::exp(0.3), 1e-15);
+  EXPECT_EQ(w.fitted, "wear-rate multipliers 1.350 (B) 1.139 (C) 0.961 (D)");
+  TermWordingInput bare = in;
+  bare.std_errors = nullptr;  // no standard errors: every level is named
+  FamilyOf(TermForm::kPerLevel).Word(t, bare, &w);
+  EXPECT_EQ(w.levels->size(), 3u);
+
+  ModelTerm o = TermOf(TermForm::kOffsetPerLevel);  // reference level 2
+  o.covariate = "grinder";
+  o.levels = {"G1", "G2", "G3", "G4"};
+  o.params = {-15.2, 0.4, 9.0};
+  const std::map<std::string, double> ose = {
+      {"param0", 2.0}, {"param1", 2.0}, {"param2", 2.0}};
+  in.std_errors = &ose;
+  TermWording ow;
+  FamilyOf(TermForm::kOffsetPerLevel).Word(o, in, &ow);
+  EXPECT_FALSE(ow.up);
+  EXPECT_EQ(*ow.levels, (std::vector<std::string>{"G1", "G4"}));
+  EXPECT_EQ(ow.fitted,
+            "the reading of grinder=G1 is offset by -15.2 µm; the reading of "
+            "grinder=G4 is offset by +9.0 µm (reference grinder=G3)");
+
+  ModelTerm l = TermOf(TermForm::kOffsetLinear);
+  l.params = {-4.0};
+  TermWording lw;
+  FamilyOf(TermForm::kOffsetLinear).Word(l, in, &lw);
+  EXPECT_EQ(lw.shape, "decreasing");
+  EXPECT_FALSE(lw.up);
+  EXPECT_FALSE(lw.levels.has_value());
+  // The roll-effect family is worded by the diagnosis's per-roll stage.
+  TermWording rw;
+  FamilyOf(TermForm::kRollEffect).Word(TermOf(TermForm::kRollEffect), in, &rw);
+  EXPECT_TRUE(rw.shape.empty());
+  EXPECT_TRUE(rw.fitted.empty());
 }
 
 TEST(TermFamilyTest, RefitBoxesHoldTheAdoptedParameters) {
