@@ -1,15 +1,19 @@
-// The candidate-term library of the diagnosis engine (the naming of what
-// it finds is in diagnosis_naming.cc); see diagnosis.h.
+// The candidate terms of the diagnosis engine: each covariate summarised
+// and the term families asked for their proposals over it
+// (core/model/term_family.h), the calendar steps added; the naming of what
+// it finds is in diagnosis_naming.cc; see diagnosis.h.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 
 #include "core/base/parallel.h"
 #include "core/diagnosis/diagnosis_internal.h"
+#include "core/model/term_family.h"
 
 namespace rollwear::diag {
 namespace {
@@ -25,23 +29,6 @@ TermSpec Spec(int k, const CovariateSpec& c, TermForm form, std::vector<double> 
   s.term.params = std::move(start);
   s.lower = std::move(lo);
   s.upper = std::move(hi);
-  return s;
-}
-
-// A measurement-side text column: an additive offset per level, level
-// `reference` read as is. Which level reads true is identified by the wear
-// law itself (wear is proportional to the load, with no intercept, so a
-// constant offset on every reading cannot be absorbed by K): one candidate
-// per reference level with readings, and the tests choose, so that the odd
-// gauge out is the one named (not the majority, relative to a minority).
-TermSpec OffsetPerLevel(int k, const CovariateSpec& c, int levels, int reference) {
-  TermSpec s = Spec(k, c, TermForm::kOffsetPerLevel, std::vector<double>(levels - 1, 0.0),
-                    std::vector<double>(levels - 1, -1000.0),
-                    std::vector<double>(levels - 1, 1000.0));
-  s.term.num_levels = levels;
-  s.term.reference_level = reference;
-  s.term.levels.assign(c.levels.begin(),
-                       c.levels.begin() + std::min<size_t>(levels, c.levels.size()));
   return s;
 }
 
@@ -145,10 +132,47 @@ double CovariateQuantile(const TermData& td, const std::vector<int>& obs, int k,
 
 namespace {
 
-// The unscoped candidates over covariate k (none when it is a cell, which
-// AddScopedCandidates offers, or the physical roll, which only the per-roll
-// family fits; nor when k is too sparse, constant or a factor with too many
-// levels).
+// The summary of covariate k the families propose from, or nullopt when
+// k cannot carry a term: a factor with fewer than 2 or more than
+// max_factor_levels levels, a flag on for under 2 % or over 98 % of the
+// weight, a numeric covariate that is (nearly) constant.
+std::optional<CovariateSummary> Summarise(const CovariateSpec& c,
+                                          const WeightedValues& w,
+                                          const DiagnosisOptions& options) {
+  CovariateSummary s;
+  s.spec = &c;
+  s.p01 = Quantile(w, 0.01);
+  s.p05 = Quantile(w, 0.05);
+  s.p50 = Quantile(w, 0.5);
+  s.p95 = Quantile(w, 0.95);
+  s.max = w.v.back().first;
+  if (c.kind == CovariateKind::kFactor) {
+    for (const auto& [z, wt] : w.v)
+      s.levels = std::max(s.levels, static_cast<int>(z) + 1);
+    if (s.levels < 2 || s.levels > options.max_factor_levels)
+      return std::nullopt;
+    s.level_weight.assign(s.levels, 0.0);
+    for (const auto& [z, wt] : w.v) s.level_weight[static_cast<int>(z)] += wt;
+    return s;
+  }
+  if (c.kind == CovariateKind::kFlag) {
+    double on = 0;
+    for (const auto& [z, wt] : w.v) on += z > 0.5 ? wt : 0.0;
+    if (on < 0.02 * w.total || on > 0.98 * w.total) return std::nullopt;
+    return s;
+  }
+  if (!(s.p95 > s.p05)) return std::nullopt;  // (nearly) constant
+  MeanSd(w, &s.mean, &s.sd);
+  if (!(s.sd > 0)) return std::nullopt;
+  s.edges = QuantileEdges(w, options.num_bins);
+  return s;
+}
+
+// The unscoped candidates over covariate k: each family's proposals, in
+// the registry's order (core/model/term_family.cc), and the calendar steps
+// after the binned family's. None when k is a cell, which
+// AddScopedCandidates offers, or the physical roll, which only the
+// per-roll family fits; nor when k is too sparse or cannot carry a term.
 std::vector<Candidate> CandidatesOf(const TermData& td, const std::vector<int>& train,
                                     int k, const DiagnosisOptions& options) {
   std::vector<Candidate> out;
@@ -156,93 +180,24 @@ std::vector<Candidate> CandidatesOf(const TermData& td, const std::vector<int>& 
   if (c.source == CovariateSource::kCell || c.source == CovariateSource::kRollId) return out;
   const WeightedValues w = Collect(td, train, k);
   if (w.v.size() < 10) return out;
-  const double p01 = Quantile(w, 0.01), p05 = Quantile(w, 0.05);
-  const double p50 = Quantile(w, 0.5), p95 = Quantile(w, 0.95);
-  if (c.kind == CovariateKind::kFactor) {
-    int levels = 0;
-    for (const auto& [z, wt] : w.v) levels = std::max(levels, static_cast<int>(z) + 1);
-    if (levels < 2 || levels > options.max_factor_levels) return out;
-    if (c.level == CovariateLevel::kMeasurement) {
-      std::vector<double> count(levels, 0.0);
-      for (const auto& [z, wt] : w.v) count[static_cast<int>(z)] += wt;
-      for (int ref = 0; ref < levels; ++ref) {
-        if (count[ref] > 0) out.push_back({OffsetPerLevel(k, c, levels, ref), {}});
-      }
-      return out;
+  const std::optional<CovariateSummary> summary = Summarise(c, w, options);
+  if (!summary) return out;
+  std::vector<TermProposal> proposals;
+  for (const TermFamily* family : AllTermFamilies()) {
+    proposals.clear();
+    family->Propose(*summary, &proposals);
+    for (TermProposal& p : proposals) {
+      TermSpec spec;
+      spec.covariate = k;
+      spec.term = std::move(p.term);
+      spec.lower = std::move(p.lower);
+      spec.upper = std::move(p.upper);
+      out.push_back({std::move(spec), std::move(p.starts)});
     }
-    TermSpec s = Spec(k, c, TermForm::kPerLevel, std::vector<double>(levels - 1, 0.0),
-                      std::vector<double>(levels - 1, -3.0),
-                      std::vector<double>(levels - 1, 3.0));
-    s.term.num_levels = levels;
-    s.term.levels.assign(c.levels.begin(),
-                         c.levels.begin() + std::min<size_t>(levels, c.levels.size()));
-    out.push_back({s, {}});
-    return out;
-  }
-  if (c.kind == CovariateKind::kFlag) {
-    double on = 0;
-    for (const auto& [z, wt] : w.v) on += z > 0.5 ? wt : 0.0;
-    if (on < 0.02 * w.total || on > 0.98 * w.total) return out;
-    out.push_back({Spec(k, c, TermForm::kFlag, {0.0}, {-3.0}, {3.0}), {}});
-    return out;
-  }
-  if (!(p95 > p05)) return out;  // (nearly) constant
-  double mean, sd;
-  MeanSd(w, &mean, &sd);
-  if (!(sd > 0)) return out;
-  if (c.level == CovariateLevel::kMeasurement) {
-    TermSpec lin = Spec(k, c, TermForm::kOffsetLinear, {0.0}, {-1000.0}, {1000.0});
-    lin.term.center = mean;
-    lin.term.scale = sd;
-    out.push_back({lin, {}});
-    // A reading that steps or drifts unevenly: one offset per quantile bin.
-    const std::vector<double> edges = QuantileEdges(w, options.num_bins);
-    if (edges.size() >= 2 && edges.back() < w.v.back().first) {
-      const int nb = static_cast<int>(edges.size());
-      TermSpec bin = Spec(k, c, TermForm::kOffsetBinned, std::vector<double>(nb, 0.0),
-                          std::vector<double>(nb, -1000.0), std::vector<double>(nb, 1000.0));
-      bin.term.edges = edges;
-      out.push_back({bin, {}});
+    if (family->form() == TermForm::kBinned &&
+        c.kind == CovariateKind::kNumeric) {
+      AddSteps(k, c, w, options, &out);
     }
-    if (p01 >= 0 && p50 > 0) {
-      Candidate dec{Spec(k, c, TermForm::kOffsetDecay, {0.0, std::log(p50)},
-                         {-1000.0, std::log(0.02 * p50)}, {1000.0, std::log(20 * p95)}),
-                    {}};
-      for (double f : {0.25, 1.0, 4.0}) dec.starts.push_back({0.0, std::log(f * p50)});
-      out.push_back(dec);
-    }
-    AddSteps(k, c, w, options, &out);
-    return out;
-  }
-  TermSpec ll = Spec(k, c, TermForm::kLogLinear, {0.0}, {-2.0}, {2.0});
-  ll.term.center = mean;
-  ll.term.scale = sd;
-  out.push_back({ll, {}});
-  if (p01 > 0) {
-    TermSpec pw = Spec(k, c, TermForm::kPower, {0.0}, {-4.0}, {4.0});
-    pw.term.center = mean;
-    out.push_back({pw, {}});
-  }
-  const std::vector<double> edges = QuantileEdges(w, options.num_bins);
-  if (edges.size() >= 2 && edges.back() < w.v.back().first) {
-    const int nb = static_cast<int>(edges.size());
-    TermSpec bin = Spec(k, c, TermForm::kBinned, std::vector<double>(nb, 0.0),
-                        std::vector<double>(nb, -3.0), std::vector<double>(nb, 3.0));
-    bin.term.edges = edges;
-    out.push_back({bin, {}});
-  }
-  AddSteps(k, c, w, options, &out);
-  if (c.accumulates && p95 > 0 && p05 >= 0) {
-    Candidate sat{Spec(k, c, TermForm::kSaturating, {0.0, std::log(p95)},
-                       {-0.9, std::log(0.05 * p95)}, {10.0, std::log(20 * p95)}),
-                  {}};
-    for (double f : {0.2, 1.0, 5.0}) sat.starts.push_back({0.0, std::log(f * p95)});
-    out.push_back(sat);
-    Candidate dec{Spec(k, c, TermForm::kDecaying, {0.0, std::log(0.1 * p95)},
-                       {-0.9, std::log(0.005 * p95)}, {10.0, std::log(p95)}),
-                  {}};
-    for (double f : {0.02, 0.1, 0.4}) dec.starts.push_back({0.0, std::log(f * p95)});
-    out.push_back(dec);
   }
   return out;
 }

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <tuple>
+#include <utility>
 
 #include "core/model/covariates.h"
 #include "core/model/term_family_list.h"
@@ -80,6 +81,41 @@ double StdErrorOf(const TermWordingInput& in, size_t j) {
   return se == in.std_errors->end() ? std::nan("") : se->second;
 }
 
+TermProposal Proposal(const TermFamily& family, const CovariateSummary& c,
+                      std::vector<double> start, std::vector<double> lo,
+                      std::vector<double> hi) {
+  TermProposal p;
+  p.term.covariate = c.spec->name;
+  p.term.form = family.form();
+  p.term.params = std::move(start);
+  p.lower = std::move(lo);
+  p.upper = std::move(hi);
+  return p;
+}
+
+bool NumericOn(const CovariateSummary& c, bool measurement) {
+  return c.spec->kind == CovariateKind::kNumeric &&
+         (c.spec->level == CovariateLevel::kMeasurement) == measurement;
+}
+
+bool GrowsWithinCampaign(const CovariateSummary& c) {
+  return NumericOn(c, false) && c.spec->accumulates && c.p95 > 0 && c.p05 >= 0;
+}
+
+TermProposal PerLevelProposal(const TermFamily& family,
+                              const CovariateSummary& c, double bound) {
+  const size_t n = static_cast<size_t>(c.levels - 1);
+  TermProposal p =
+      Proposal(family, c, std::vector<double>(n, 0.0),
+               std::vector<double>(n, -bound), std::vector<double>(n, bound));
+  p.term.num_levels = c.levels;
+  const std::vector<std::string>& labels = c.spec->levels;
+  p.term.levels.assign(
+      labels.begin(),
+      labels.begin() + std::min<size_t>(c.levels, labels.size()));
+  return p;
+}
+
 void WordAmplitudeAndLengthScale(const ModelTerm& t, const TermWordingInput& in,
                                  TermWording* out) {
   const double lam = std::exp(t.params[1]);
@@ -103,32 +139,47 @@ void SymmetricBounds(int n, double bound, std::vector<double>* lo,
 
 namespace {
 
-// The registry: one line per family, in TermForm order (checked below).
-std::vector<const TermFamily*> Registry() {
-  std::vector<const TermFamily*> f = {
-      &LogLinearFamily(),    &PowerFamily(),          &SaturatingFamily(),
-      &DecayingFamily(),     &FlagFamily(),           &BinnedFamily(),
-      &PerLevelFamily(),     &CellFamily(),           &OffsetDecayFamily(),
-      &OffsetLinearFamily(), &OffsetPerLevelFamily(), &OffsetBinnedFamily(),
+struct Registry {
+  std::vector<const TermFamily*> all;      // in the order they propose
+  std::vector<const TermFamily*> by_form;  // indexed by TermForm
+};
+
+// The registry: one line per family, in the order the diagnosis asks them
+// for candidates (the order its ties between equally good candidates
+// follow): the readings' families, then the wear rate's.
+Registry Build() {
+  Registry r;
+  r.all = {
+      &OffsetPerLevelFamily(), &PerLevelFamily(),     &FlagFamily(),
+      &OffsetLinearFamily(),   &OffsetBinnedFamily(), &OffsetDecayFamily(),
+      &LogLinearFamily(),      &PowerFamily(),        &BinnedFamily(),
+      &SaturatingFamily(),     &DecayingFamily(),     &CellFamily(),
       &RollEffectFamily(),
   };
-  for (size_t i = 0; i < f.size(); ++i) {
-    // A family listed out of TermForm order would make FamilyOf answer for
-    // the wrong form: fail at once rather than compute a wrong term.
-    if (static_cast<size_t>(f[i]->form()) != i) std::abort();
+  r.by_form.assign(r.all.size(), nullptr);
+  for (const TermFamily* f : r.all) {
+    const size_t i = static_cast<size_t>(f->form());
+    // A form without its family, or with two, would make FamilyOf answer
+    // wrong: fail at once rather than compute a wrong term.
+    if (i >= r.by_form.size() || r.by_form[i] != nullptr) std::abort();
+    r.by_form[i] = f;
   }
-  return f;
+  return r;
+}
+
+const Registry& TheRegistry() {
+  static const Registry registry = Build();
+  return registry;
 }
 
 }  // namespace
 
 const std::vector<const TermFamily*>& AllTermFamilies() {
-  static const std::vector<const TermFamily*> families = Registry();
-  return families;
+  return TheRegistry().all;
 }
 
 const TermFamily& FamilyOf(TermForm f) {
-  return *AllTermFamilies()[static_cast<size_t>(f)];
+  return *TheRegistry().by_form[static_cast<size_t>(f)];
 }
 
 const TermFamily* FamilyNamed(const std::string& name) {

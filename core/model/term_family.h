@@ -8,11 +8,13 @@
 // switches on the form to compute a term. Adding a family: a TermForm
 // value, one file, one line in the registry.
 //
-// A family also words a diagnosis finding of its term (Word: the shape,
-// the parameters, the "Fitted:" sentence); the diagnosis adds the
-// mechanism and the scope (core/diagnosis/diagnosis_naming.cc). What the
-// diagnosis proposes for a covariate is still its own
-// (diagnosis_candidates.cc); see docs/diagnosis.md, "Term families".
+// A family also proposes its candidate terms over a covariate to the
+// diagnosis (Propose: starting values, box and further starts) and words a
+// finding of its fitted term (Word: the shape, the parameters, the
+// "Fitted:" sentence); the diagnosis adds the calendar steps, the scopes,
+// the mechanism and the scope's words (core/diagnosis/
+// diagnosis_candidates.cc, diagnosis_naming.cc); see docs/diagnosis.md,
+// "Term families".
 //
 // Thread-safety: families are stateless singletons built on first use
 // (function-local statics); every method is const and may be called from
@@ -27,6 +29,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/model/covariates.h"
 #include "core/model/model_terms.h"
 
 namespace rollwear {
@@ -35,6 +38,30 @@ namespace rollwear {
 struct TermFieldError {
   std::string field;    // "center", "form", "levels", ...
   std::string message;  // "must be > 0 for the power form (z / center)^b"
+};
+
+class TermFamily;
+
+// What the diagnosis knows of a covariate when it asks the families for
+// candidate terms over it: the covariate, and its training values (weighted
+// by load for a pass-level covariate) summarised. The diagnosis asks only
+// for a covariate that can carry a term: a factor of 2 or more levels, a
+// flag on for 2..98 % of the weight, a numeric covariate that varies.
+struct CovariateSummary {
+  const CovariateSpec* spec = nullptr;
+  int levels = 0;                    // a factor: levels seen (largest + 1)
+  std::vector<double> level_weight;  // a factor: its weight per level
+  double p01 = 0, p05 = 0, p50 = 0, p95 = 0;  // weighted quantiles
+  double mean = 0, sd = 0, max = 0;
+  std::vector<double> edges;  // distinct inner edges of equal-weight bins
+};
+
+// A candidate term a family proposes: its starting term, the box of its
+// fit and further starting parameter vectors to try.
+struct TermProposal {
+  ModelTerm term;
+  std::vector<double> lower, upper;
+  std::vector<std::vector<double>> starts;
 };
 
 // What the diagnosis gives a family to word a finding of its fitted term.
@@ -61,6 +88,23 @@ struct TermWording {
   std::string fitted;  // the sentence after "Fitted: "
   bool up = true;      // the effect raises the wear (or the reading)
 };
+
+// A proposal of `family` over covariate `c` with starting parameters
+// `start` in the box [lo, hi].
+TermProposal Proposal(const TermFamily& family, const CovariateSummary& c,
+                      std::vector<double> start, std::vector<double> lo,
+                      std::vector<double> hi);
+// Whether `c` is numeric, on the reading's side (a measurement covariate)
+// or not.
+bool NumericOn(const CovariateSummary& c, bool measurement);
+// Whether `c` is a wear-rate quantity that grows within a campaign from 0
+// on (rolled length, coils, hours: CovariateSpec::accumulates), the
+// covariates of the saturating and decaying families.
+bool GrowsWithinCampaign(const CovariateSummary& c);
+// A proposal with one parameter per factor level but the reference, in the
+// box [-bound, bound], labelled with the covariate's levels.
+TermProposal PerLevelProposal(const TermFamily& family,
+                              const CovariateSummary& c, double bound);
 
 // printf of up to four doubles into a string (the wording's numbers).
 std::string WordFormat(const char* fmt, double a, double b = 0, double c = 0,
@@ -98,6 +142,11 @@ class TermFamily {
   // The sd of the normal prior on each parameter in a fit (term_fit.h's
   // TermSpec::prior_sd), 0 for none.
   virtual double PriorSd(const ModelTerm& /*t*/) const { return 0; }
+  // Appends the family's candidate terms over covariate `c` (none by
+  // default: the cell and roll-effect families are proposed by the
+  // diagnosis's own stages).
+  virtual void Propose(const CovariateSummary& /*c*/,
+                       std::vector<TermProposal>* /*out*/) const {}
   // The words of a diagnosis finding of the fitted term `t`; the default
   // leaves `out` as it is (the roll-effect family: the diagnosis's per-roll
   // stage words it, core/diagnosis/diagnosis_roll_family.cc).
@@ -112,7 +161,8 @@ class TermFamily {
 const TermFamily& FamilyOf(TermForm f);
 // The family stored under `name`, or nullptr.
 const TermFamily* FamilyNamed(const std::string& name);
-// Every registered family, in TermForm order.
+// Every registered family, in the order the diagnosis asks them for
+// candidates.
 const std::vector<const TermFamily*>& AllTermFamilies();
 
 // Refit boxes shared by several families: an amplitude in [amp_lo, amp_hi]

@@ -40,6 +40,16 @@ class Binned final : public TermFamily {
   int NumParams(const ModelTerm& t) const override {
     return static_cast<int>(t.edges.size());
   }
+  void Propose(const CovariateSummary& c,
+               std::vector<TermProposal>* out) const override {
+    if (!NumericOn(c, false) || c.edges.size() < 2 || !(c.edges.back() < c.max))
+      return;
+    const size_t nb = c.edges.size();
+    out->push_back(Proposal(*this, c, std::vector<double>(nb, 0.0),
+                            std::vector<double>(nb, -3.0),
+                            std::vector<double>(nb, 3.0)));
+    out->back().term.edges = c.edges;
+  }
   double Evaluate(const ModelTerm& t, double z, double* grad) const override {
     const int b = TermBin(t, z);
     if (b == 0) return 1.0;

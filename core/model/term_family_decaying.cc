@@ -13,6 +13,18 @@ class Decaying final : public TermFamily {
   TermForm form() const override { return TermForm::kDecaying; }
   const char* name() const override { return "decaying"; }
   int NumParams(const ModelTerm& /*t*/) const override { return 2; }
+  // Over a quantity that grows within a campaign; run-in fades early, so
+  // lam starts at a tenth of the 95th percentile (tried at 0.02 and 0.4).
+  void Propose(const CovariateSummary& c,
+               std::vector<TermProposal>* out) const override {
+    if (!GrowsWithinCampaign(c)) return;
+    TermProposal p =
+        Proposal(*this, c, {0.0, std::log(0.1 * c.p95)},
+                 {-0.9, std::log(0.005 * c.p95)}, {10.0, std::log(c.p95)});
+    for (double f : {0.02, 0.1, 0.4})
+      p.starts.push_back({0.0, std::log(f * c.p95)});
+    out->push_back(std::move(p));
+  }
   double Evaluate(const ModelTerm& t, double z, double* grad) const override {
     const double b = t.params[0];
     const double lam = std::exp(t.params[1]);

@@ -13,6 +13,11 @@ class Flag final : public TermFamily {
   TermForm form() const override { return TermForm::kFlag; }
   const char* name() const override { return "flag"; }
   bool exponential() const override { return true; }  // u = z
+  void Propose(const CovariateSummary& c,
+               std::vector<TermProposal>* out) const override {
+    if (c.spec->kind == CovariateKind::kFlag)
+      out->push_back(Proposal(*this, c, {0.0}, {-3.0}, {3.0}));
+  }
   double Evaluate(const ModelTerm& t, double z, double* grad) const override {
     const double m = std::exp(t.params[0] * z);
     if (grad != nullptr) grad[0] = m * z;

@@ -18,6 +18,13 @@ class LogLinear final : public TermFamily {
   double Exponent(const ModelTerm& t, double z) const override {
     return (z - t.center) / t.scale;
   }
+  void Propose(const CovariateSummary& c,
+               std::vector<TermProposal>* out) const override {
+    if (!NumericOn(c, false)) return;
+    out->push_back(Proposal(*this, c, {0.0}, {-2.0}, {2.0}));
+    out->back().term.center = c.mean;
+    out->back().term.scale = c.sd;
+  }
   double Evaluate(const ModelTerm& t, double z, double* grad) const override {
     const double u = Exponent(t, z);
     const double m = std::exp(t.params[0] * u);

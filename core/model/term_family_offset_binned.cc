@@ -21,6 +21,17 @@ class OffsetBinned final : public TermFamily {
   int NumParams(const ModelTerm& t) const override {
     return static_cast<int>(t.edges.size());
   }
+  // A reading that steps or drifts unevenly: one offset per quantile bin.
+  void Propose(const CovariateSummary& c,
+               std::vector<TermProposal>* out) const override {
+    if (!NumericOn(c, true) || c.edges.size() < 2 || !(c.edges.back() < c.max))
+      return;
+    const size_t nb = c.edges.size();
+    out->push_back(Proposal(*this, c, std::vector<double>(nb, 0.0),
+                            std::vector<double>(nb, -1000.0),
+                            std::vector<double>(nb, 1000.0)));
+    out->back().term.edges = c.edges;
+  }
   double Evaluate(const ModelTerm& t, double z, double* grad) const override {
     const int b = TermBin(t, z);
     if (b == 0) return 0.0;  // the first bin reads as is

@@ -15,6 +15,17 @@ class OffsetDecay final : public TermFamily {
   const char* name() const override { return "offset_decay"; }
   bool measurement() const override { return true; }
   int NumParams(const ModelTerm& /*t*/) const override { return 2; }
+  // tau starts at the median and is tried at 1/4 and 4 times it.
+  void Propose(const CovariateSummary& c,
+               std::vector<TermProposal>* out) const override {
+    if (!NumericOn(c, true) || !(c.p01 >= 0 && c.p50 > 0)) return;
+    TermProposal p = Proposal(*this, c, {0.0, std::log(c.p50)},
+                              {-1000.0, std::log(0.02 * c.p50)},
+                              {1000.0, std::log(20 * c.p95)});
+    for (double f : {0.25, 1.0, 4.0})
+      p.starts.push_back({0.0, std::log(f * c.p50)});
+    out->push_back(std::move(p));
+  }
   double Evaluate(const ModelTerm& t, double z, double* grad) const override {
     const double a = t.params[0];
     const double tau = std::exp(t.params[1]);

@@ -12,6 +12,13 @@ class OffsetLinear final : public TermFamily {
   TermForm form() const override { return TermForm::kOffsetLinear; }
   const char* name() const override { return "offset_linear"; }
   bool measurement() const override { return true; }
+  void Propose(const CovariateSummary& c,
+               std::vector<TermProposal>* out) const override {
+    if (!NumericOn(c, true)) return;
+    out->push_back(Proposal(*this, c, {0.0}, {-1000.0}, {1000.0}));
+    out->back().term.center = c.mean;
+    out->back().term.scale = c.sd;
+  }
   double Evaluate(const ModelTerm& t, double z, double* grad) const override {
     const double u = (z - t.center) / t.scale;
     if (grad != nullptr) grad[0] = u;

@@ -20,6 +20,23 @@ class OffsetPerLevel final : public TermFamily {
   int NumParams(const ModelTerm& t) const override {
     return std::max(0, t.num_levels - 1);
   }
+  // One candidate per reference level with readings: which level reads
+  // true is identified by the wear law itself (wear is proportional to the
+  // load, with no intercept, so a constant offset on every reading cannot
+  // be absorbed by K), and the tests choose, so that the odd gauge out is
+  // the one named (not the majority, relative to a minority).
+  void Propose(const CovariateSummary& c,
+               std::vector<TermProposal>* out) const override {
+    if (c.spec->kind != CovariateKind::kFactor ||
+        c.spec->level != CovariateLevel::kMeasurement) {
+      return;
+    }
+    for (int ref = 0; ref < c.levels; ++ref) {
+      if (!(c.level_weight[ref] > 0)) continue;
+      out->push_back(PerLevelProposal(*this, c, 1000.0));
+      out->back().term.reference_level = ref;
+    }
+  }
   double Evaluate(const ModelTerm& t, double z, double* grad) const override {
     const int l = static_cast<int>(z);
     if (l < 0 || l >= t.num_levels || l == t.reference_level) return 0.0;

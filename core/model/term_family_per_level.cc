@@ -18,6 +18,13 @@ class PerLevel final : public TermFamily {
   int NumParams(const ModelTerm& t) const override {
     return std::max(0, t.num_levels - 1);
   }
+  void Propose(const CovariateSummary& c,
+               std::vector<TermProposal>* out) const override {
+    if (c.spec->kind == CovariateKind::kFactor &&
+        c.spec->level != CovariateLevel::kMeasurement) {
+      out->push_back(PerLevelProposal(*this, c, 3.0));
+    }
+  }
   double Evaluate(const ModelTerm& t, double z, double* grad) const override {
     const int l = static_cast<int>(z);
     if (l <= 0 || l >= t.num_levels) return 1.0;

@@ -18,6 +18,13 @@ class Power final : public TermFamily {
   double Exponent(const ModelTerm& t, double z) const override {
     return std::log(std::max(z, 1e-12) / t.center);
   }
+  // Only over a positive covariate; the reference c is its mean.
+  void Propose(const CovariateSummary& c,
+               std::vector<TermProposal>* out) const override {
+    if (!NumericOn(c, false) || !(c.p01 > 0)) return;
+    out->push_back(Proposal(*this, c, {0.0}, {-4.0}, {4.0}));
+    out->back().term.center = c.mean;
+  }
   double Evaluate(const ModelTerm& t, double z, double* grad) const override {
     const double lz = Exponent(t, z);
     const double m = std::exp(t.params[0] * lz);

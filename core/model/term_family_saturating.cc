@@ -14,6 +14,19 @@ class Saturating final : public TermFamily {
   TermForm form() const override { return TermForm::kSaturating; }
   const char* name() const override { return "saturating"; }
   int NumParams(const ModelTerm& /*t*/) const override { return 2; }
+  // Over a quantity that grows within a campaign (rolled length, coils,
+  // hours); lam starts at the 95th percentile and is tried at 1/5 and 5
+  // times it.
+  void Propose(const CovariateSummary& c,
+               std::vector<TermProposal>* out) const override {
+    if (!GrowsWithinCampaign(c)) return;
+    TermProposal p =
+        Proposal(*this, c, {0.0, std::log(c.p95)},
+                 {-0.9, std::log(0.05 * c.p95)}, {10.0, std::log(20 * c.p95)});
+    for (double f : {0.2, 1.0, 5.0})
+      p.starts.push_back({0.0, std::log(f * c.p95)});
+    out->push_back(std::move(p));
+  }
   double Evaluate(const ModelTerm& t, double z, double* grad) const override {
     const double b = t.params[0];
     const double lam = std::exp(t.params[1]);

@@ -233,6 +233,88 @@ TEST(TermFamilyTest, AFamilyWordsItsFindingAndNamesOnlyClearLevels) {
   EXPECT_TRUE(rw.fitted.empty());
 }
 
+// The forms the families propose over a covariate, in the registry's order.
+std::vector<TermForm> ProposedForms(const CovariateSummary& c) {
+  std::vector<TermForm> forms;
+  for (const TermFamily* f : AllTermFamilies()) {
+    std::vector<TermProposal> p;
+    f->Propose(c, &p);
+    for (const TermProposal& one : p) {
+      EXPECT_EQ(one.term.form, f->form());
+      EXPECT_EQ(one.term.covariate, c.spec->name);
+      EXPECT_EQ(static_cast<int>(one.term.params.size()), one.term.NumParams())
+          << f->name();
+      EXPECT_EQ(one.lower.size(), one.term.params.size()) << f->name();
+      for (size_t j = 0; j < one.lower.size(); ++j) {
+        EXPECT_LE(one.lower[j], one.term.params[j]) << f->name();
+        EXPECT_GE(one.upper[j], one.term.params[j]) << f->name();
+      }
+      forms.push_back(one.term.form);
+    }
+  }
+  return forms;
+}
+
+TEST(TermFamilyTest, EachFamilyProposesOnlyOverTheCovariatesItFits) {
+  CovariateSpec length{"campaign_length_before_m",
+                       CovariateSource::kLengthBefore, CovariateLevel::kPass,
+                       CovariateKind::kNumeric};
+  length.accumulates = true;
+  CovariateSummary c;
+  c.spec = &length;
+  c.p01 = 200;
+  c.p05 = 1000;
+  c.p50 = 40000;
+  c.p95 = 90000;
+  c.mean = 42000;
+  c.sd = 25000;
+  c.max = 110000;
+  c.edges = {10000, 30000, 60000};
+  using F = TermForm;
+  EXPECT_EQ(ProposedForms(c),
+            (std::vector<F>{F::kLogLinear, F::kPower, F::kBinned,
+                            F::kSaturating, F::kDecaying}));
+  // From zero (no power form), not accumulating (no growth or run-in),
+  // its bins' last edge at its largest value (no binned form).
+  length.accumulates = false;
+  c.p01 = 0;
+  c.edges = {10000, 110000};
+  EXPECT_EQ(ProposedForms(c), (std::vector<F>{F::kLogLinear}));
+  // On the reading's side.
+  CovariateSpec cooling{"cooling_h", CovariateSource::kCoolingHours,
+                        CovariateLevel::kMeasurement, CovariateKind::kNumeric};
+  c.spec = &cooling;
+  c.edges = {10, 20, 30};
+  c.p50 = 15;
+  EXPECT_EQ(
+      ProposedForms(c),
+      (std::vector<F>{F::kOffsetLinear, F::kOffsetBinned, F::kOffsetDecay}));
+  // A grinder column: one offset candidate per level with readings, each
+  // with that level as the reference.
+  CovariateSpec grinder{"grinder", CovariateSource::kMeasurementExtraFactor,
+                        CovariateLevel::kMeasurement, CovariateKind::kFactor};
+  grinder.levels = {"G1", "G2", "G3"};
+  CovariateSummary g;
+  g.spec = &grinder;
+  g.levels = 3;
+  g.level_weight = {10, 0, 7};
+  std::vector<TermProposal> p;
+  FamilyOf(F::kOffsetPerLevel).Propose(g, &p);
+  ASSERT_EQ(p.size(), 2u);
+  EXPECT_EQ(p[0].term.reference_level, 0);
+  EXPECT_EQ(p[1].term.reference_level, 2);
+  EXPECT_EQ(p[1].term.levels, grinder.levels);
+  EXPECT_EQ(ProposedForms(g),
+            (std::vector<F>{F::kOffsetPerLevel, F::kOffsetPerLevel}));
+  grinder.level = CovariateLevel::kRoll;  // a factor of the roll: per-level
+  EXPECT_EQ(ProposedForms(g), (std::vector<F>{F::kPerLevel}));
+  CovariateSpec lube{"lubrication", CovariateSource::kLubrication,
+                     CovariateLevel::kPass, CovariateKind::kFlag};
+  CovariateSummary l;
+  l.spec = &lube;
+  EXPECT_EQ(ProposedForms(l), (std::vector<F>{F::kFlag}));
+}
+
 TEST(TermFamilyTest, RefitBoxesHoldTheAdoptedParameters) {
   for (TermForm f : kEveryForm) {
     const ModelTerm t = TermOf(f);
