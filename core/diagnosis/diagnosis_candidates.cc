@@ -136,9 +136,9 @@ namespace {
 // k cannot carry a term: a factor with fewer than 2 or more than
 // max_factor_levels levels, a flag on for under 2 % or over 98 % of the
 // weight, a numeric covariate that is (nearly) constant.
-std::optional<CovariateSummary> Summarise(const CovariateSpec& c,
-                                          const WeightedValues& w,
-                                          const DiagnosisOptions& options) {
+std::optional<CovariateSummary> SummariseCovariate(
+    const CovariateSpec& c, const WeightedValues& w,
+    const DiagnosisOptions& options) {
   CovariateSummary s;
   s.spec = &c;
   s.p01 = Quantile(w, 0.01);
@@ -180,7 +180,8 @@ std::vector<Candidate> CandidatesOf(const TermData& td, const std::vector<int>& 
   if (c.source == CovariateSource::kCell || c.source == CovariateSource::kRollId) return out;
   const WeightedValues w = Collect(td, train, k);
   if (w.v.size() < 10) return out;
-  const std::optional<CovariateSummary> summary = Summarise(c, w, options);
+  const std::optional<CovariateSummary> summary =
+      SummariseCovariate(c, w, options);
   if (!summary) return out;
   std::vector<TermProposal> proposals;
   for (const TermFamily* family : AllTermFamilies()) {

@@ -79,7 +79,9 @@ class OffsetPerLevel final : public TermFamily {
           l < t.levels.size() ? t.levels[l] : std::to_string(l);
       out->parameters["offset_um[" + label + "]"] = t.params[j];
       const double se = StdErrorOf(in, j);
-      if (std::isfinite(se) && std::abs(t.params[j]) <= 2 * se) continue;
+      const bool significant =
+          !std::isfinite(se) || std::abs(t.params[j]) > 2 * se;
+      if (!significant) continue;
       out->levels->push_back(label);
       if (!fitted.empty()) fitted += "; ";
       fitted += "the reading of " + t.covariate + "=" + label +

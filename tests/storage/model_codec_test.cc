@@ -184,6 +184,27 @@ TEST(ModelCodecTest, RollEffectTermsKeepTheirRollsAndSpread) {
   }
 }
 
+// A stored model is held to its terms' family rules (term_family.h) as a
+// --terms file is: a power term needs a centre > 0 (it computes
+// log(z / centre)).
+TEST(ModelCodecTest, AStoredModelKeepsItsTermsFamilyRules) {
+  WearModel m = MakeModel(WearLaw::kWang, 1);
+  ModelTerm power;
+  power.covariate = "speed_mps";
+  power.form = TermForm::kPower;
+  power.params = {0.4};
+  power.center = 0;
+  m.terms.push_back(power);
+  StatusOr<WearModel> back = DecodeWearModel(EncodeWearModel(m));
+  ASSERT_FALSE(back.ok());
+  EXPECT_NE(back.status().message().find("terms[0].center"), std::string::npos)
+      << back.status().message();
+  m.terms[0].center = 6.5;
+  back = DecodeWearModel(EncodeWearModel(m));
+  ASSERT_TRUE(back.ok()) << back.status().ToString();
+  EXPECT_EQ(back->terms[0].center, 6.5);
+}
+
 // Scoped, cell and offset-per-level terms keep their scope and reference
 // level; a term without "scope" (stored before scopes) applies everywhere.
 TEST(ModelCodecTest, ScopedTermsRoundTrip) {
