@@ -20,18 +20,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-TermSpec Spec(int k, const CovariateSpec& c, TermForm form, std::vector<double> start,
-              std::vector<double> lo, std::vector<double> hi) {
-  TermSpec s;
-  s.covariate = k;
-  s.term.covariate = c.name;
-  s.term.form = form;
-  s.term.params = std::move(start);
-  s.lower = std::move(lo);
-  s.upper = std::move(hi);
-  return s;
-}
-
 // The distinct inner quantile edges of `bins` equal-count bins.
 std::vector<double> QuantileEdges(const WeightedValues& w, int bins) {
   std::vector<double> edges;
@@ -54,8 +42,9 @@ std::vector<double> QuantileEdges(const WeightedValues& w, int bins) {
 // and a roll's earlier campaigns (roll_campaigns_before, locate-only) only:
 // a step in another covariate is a threshold, which the binned form
 // describes.
-void AddSteps(int k, const CovariateSpec& c, const WeightedValues& w,
-              const DiagnosisOptions& options, std::vector<Candidate>* out) {
+void AddSteps(const CovariateSummary& s, const WeightedValues& w,
+              const DiagnosisOptions& options, std::vector<TermProposal>* out) {
+  const CovariateSpec& c = *s.spec;
   // Calendar steps (a new supplier, a recalibrated gauge), and a roll's
   // service from its n-th campaign on (a hard shell ground through): a
   // step on the roll's count is the rival a calendar step must beat, since
@@ -74,12 +63,11 @@ void AddSteps(int k, const CovariateSpec& c, const WeightedValues& w,
         Quantile(w, static_cast<double>(g) / options.thresholds.step_grid);
     if (!(t > last) || !(t < w.v.back().first)) continue;
     last = t;
-    TermSpec step =
-        reading
-            ? Spec(k, c, TermForm::kOffsetBinned, {0.0}, {-1000.0}, {1000.0})
-            : Spec(k, c, TermForm::kBinned, {0.0}, {-3.0}, {3.0});
-    step.term.edges = {t};
-    out->push_back({step, {}});
+    const double bound = reading ? 1000.0 : 3.0;
+    out->push_back(Proposal(
+        FamilyOf(reading ? TermForm::kOffsetBinned : TermForm::kBinned), s,
+        {0.0}, {-bound}, {bound}));
+    out->back().term.edges = {t};
   }
 }
 
@@ -187,6 +175,10 @@ std::vector<Candidate> CandidatesOf(const TermData& td, const std::vector<int>& 
   for (const TermFamily* family : AllTermFamilies()) {
     proposals.clear();
     family->Propose(*summary, &proposals);
+    if (family->form() == TermForm::kBinned &&
+        c.kind == CovariateKind::kNumeric) {
+      AddSteps(*summary, w, options, &proposals);
+    }
     for (TermProposal& p : proposals) {
       TermSpec spec;
       spec.covariate = k;
@@ -194,10 +186,6 @@ std::vector<Candidate> CandidatesOf(const TermData& td, const std::vector<int>& 
       spec.lower = std::move(p.lower);
       spec.upper = std::move(p.upper);
       out.push_back({std::move(spec), std::move(p.starts)});
-    }
-    if (family->form() == TermForm::kBinned &&
-        c.kind == CovariateKind::kNumeric) {
-      AddSteps(k, c, w, options, &out);
     }
   }
   return out;

@@ -276,6 +276,8 @@ void NameFinding(const TermData& td, const std::vector<int>& train,
       f->level = "measurement";
       break;
   }
+  TermWordingInput in;
+  in.std_errors = &f->parameter_std_errors;
   // Shape of a wear-rate multiplier from its profile over the covariate's
   // 5th..95th percentiles, and whether it rises: monotone (with or without
   // most of the change in the first half: saturating growth / decay) or
@@ -291,10 +293,9 @@ void NameFinding(const TermData& td, const std::vector<int>& train,
     double tol = 0.01 * std::max(1e-12, std::abs(v.back() - v.front()));
     if (t.form == TermForm::kBinned) {
       for (size_t j = 0; j < t.params.size(); ++j) {
-        auto se = f->parameter_std_errors.find("param" + std::to_string(j));
-        if (se != f->parameter_std_errors.end() && std::isfinite(se->second)) {
-          tol = std::max(tol, 2 * std::exp(t.params[j]) * se->second);
-        }
+        const double se = StdErrorOf(in, j);
+        if (std::isfinite(se))
+          tol = std::max(tol, 2 * std::exp(t.params[j]) * se);
       }
     }
     bool inc = true, dec = true;
@@ -328,7 +329,6 @@ void NameFinding(const TermData& td, const std::vector<int>& train,
     if (imin > 0 && imin + 1 < v.size()) return {"valley", up};
     return {up ? "increasing" : "decreasing", up};
   };
-  TermWordingInput in;
   in.profile_shape = profile_shape;
   in.range_text =
       WordFormat("wear-rate multiplier %.3f at the 5th percentile (",
@@ -337,7 +337,6 @@ void NameFinding(const TermData& td, const std::vector<int>& train,
       WordFormat(") and %.3f at the 95th (", TermMultiplier(t, hi, nullptr)) +
       Readable(c.name, hi) + ")";
   in.readable = [&c](double v) { return Readable(c.name, v); };
-  in.std_errors = &f->parameter_std_errors;
   // The family words its term (core/model/term_family_<name>.cc).
   TermWording words;
   FamilyOf(t.form).Word(t, in, &words);

@@ -49,10 +49,8 @@ void TermFamily::RefitBounds(const ModelTerm& t, std::vector<double>* lo,
   SymmetricBounds(NumParams(t), 3.0, lo, hi);
 }
 
-std::optional<TermFieldError> TermFamily::CheckStored(
-    const ModelTerm& t) const {
-  // The predictor reads a roll_effect term by the mounted roll's id
-  // whatever its covariate, so roll_id takes no other form.
+std::optional<TermFieldError> TermFamily::NoRollEffectFields(
+    const ModelTerm& t) {
   if (t.covariate == kRollIdName) {
     return TermFieldError{"form",
                           "roll_effect is the form of covariate "
@@ -61,6 +59,12 @@ std::optional<TermFieldError> TermFamily::CheckStored(
   if (!t.level_sd.empty() || !t.level_readings.empty()) {
     return TermFieldError{"level_sd", "is only for the roll_effect form"};
   }
+  return std::nullopt;
+}
+
+std::optional<TermFieldError> TermFamily::CheckStored(
+    const ModelTerm& t) const {
+  if (std::optional<TermFieldError> e = NoRollEffectFields(t)) return e;
   if (t.reference_level != 0) {
     return TermFieldError{"reference_level",
                           "is only for the offset_per_level form"};

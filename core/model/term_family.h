@@ -154,7 +154,14 @@ class TermFamily {
                     TermWording* /*out*/) const {}
   // The family's own rules on a stored term (storage/model_codec.cc checks
   // the shared ones), nullopt when it obeys them.
+  // By default: NoRollEffectFields, and no reference level.
   virtual std::optional<TermFieldError> CheckStored(const ModelTerm& t) const;
+
+ protected:
+  // The rules of every family but roll_effect: roll_id is roll_effect's
+  // covariate alone (the predictor reads such a term by the mounted roll's
+  // id whatever its covariate), and the per-roll spread is its alone.
+  static std::optional<TermFieldError> NoRollEffectFields(const ModelTerm& t);
 };
 
 // The family of form `f`.

@@ -56,9 +56,7 @@ class OffsetPerLevel final : public TermFamily {
       return TermFieldError{"reference_level",
                             "must be a level index below num_levels"};
     }
-    ModelTerm shared = t;
-    shared.reference_level = 0;
-    return TermFamily::CheckStored(shared);
+    return NoRollEffectFields(t);
   }
   // The levels whose offset is significant (|d| > 2 s.e., or every
   // non-reference level without standard errors) and the sentence "the
