@@ -49,8 +49,9 @@ ScoreTruth ToScoreTruth(const Simulation& sim) {
   ScoreTruth t;
   for (const SimulatedEffect& e : sim.truth.effects) {
     if (e.name == "gross_errors" || e.null_effect) continue;
-    t.effects.push_back(
-        {e.name, e.covariate, e.scope, e.levels, e.expressible, e.mismatch});
+    t.effects.push_back({e.name, e.covariate, e.scope, e.levels, e.expressible,
+                         e.mismatch,
+                         e.form == "per_coil" ? e.form : std::string()});
   }
   const Dataset& d = sim.data;
   for (size_t i = 0; i < d.measurements.size(); ++i) {

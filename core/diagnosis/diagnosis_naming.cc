@@ -346,7 +346,13 @@ void NameFinding(const TermData& td, const std::vector<int>& train,
   if (words.levels) f->levels = *words.levels;
   const bool up = words.up;
   const std::string& fitted = words.fitted;
-  const std::string text = MechanismOf(t, c, up, f);
+  std::string text;
+  if (words.mechanism.empty()) {
+    text = MechanismOf(t, c, up, f);
+  } else {  // the family's own physics (term_family.h: names_mechanism)
+    f->mechanism = words.mechanism;
+    text = words.mechanism_text;
+  }
   f->explanation = text + DescribeScope(t, f) + " Fitted: " + fitted + ".";
 }
 

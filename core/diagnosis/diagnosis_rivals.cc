@@ -35,6 +35,7 @@
 #include "core/base/distributions.h"
 #include "core/diagnosis/diagnosis_stages_internal.h"
 #include "core/model/covariates.h"
+#include "core/model/term_family.h"
 
 namespace rollwear::diag {
 namespace {
@@ -180,6 +181,8 @@ GuardResult DistinctFromRivals(const DiagnosisState& st,
     // carriers). A rival that does add is the better description, and
     // the winner is refused as before.
     if (SameCarriedMechanism(results[winner].covariate, results[j].covariate) &&
+        !FamilyOf(term.term.form).names_mechanism() &&
+        !FamilyOf(fits[j].terms.back().term.form).names_mechanism() &&
         fits[j].terms.back().term.scope.Label() == scope.Label() &&
         AddsTo(st, sd, fits, j, winner).p >= st.thresholds.rival_alpha) {
       continue;
@@ -220,11 +223,15 @@ std::vector<std::string> CarriersOf(const DiagnosisState& st,
   const TermSpec& term = fits[winner].terms.back();
   const std::string& covariate = results[winner].covariate;
   std::vector<std::string> carriers;
-  if (CarrierGroupOf(covariate) == nullptr) return carriers;
+  if (CarrierGroupOf(covariate) == nullptr ||
+      FamilyOf(term.term.form).names_mechanism()) {
+    return carriers;
+  }
   for (size_t j = 0; j < fits.size(); ++j) {
     const std::string& other = results[j].covariate;
     if (!fits[j].usable || !(fits[j].rss > 0) ||
         !SameCarriedMechanism(covariate, other) ||
+        FamilyOf(fits[j].terms.back().term.form).names_mechanism() ||
         fits[j].terms.back().term.scope.Label() != term.term.scope.Label() ||
         std::find(carriers.begin(), carriers.end(), other) != carriers.end()) {
       continue;

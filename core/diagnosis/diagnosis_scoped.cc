@@ -24,6 +24,7 @@
 #include <string>
 
 #include "core/diagnosis/diagnosis_internal.h"
+#include "core/model/term_family.h"
 
 namespace rollwear::diag {
 namespace {
@@ -291,12 +292,12 @@ void AddScopedCandidates(const TermData& td, const std::vector<int>& train,
                          const std::vector<TermScope>& adopted_cells,
                          std::vector<Candidate>* out) {
   const std::vector<TermScope> scopes = SingleScopes(td, train, thresholds);
-  // Scoped variants of the simple unscoped wear-rate candidates.
+  // Scoped variants of the unscoped candidates whose family is offered
+  // scoped (term_family.h: the one-parameter wear families).
   const size_t unscoped = out->size();
   for (size_t i = 0; i < unscoped; ++i) {
     const TermSpec s = (*out)[i].spec;  // a copy: push_back reallocates
-    if (s.term.form != TermForm::kLogLinear && s.term.form != TermForm::kFlag)
-      continue;
+    if (!FamilyOf(s.term.form).offered_scoped()) continue;
     if (td.catalog[s.covariate].locate_only) continue;  // a rival, never named
     for (const TermScope& scope : scopes) {
       Candidate c{s, {}};

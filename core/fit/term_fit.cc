@@ -438,7 +438,7 @@ ScoreScreen::ScoreScreen(const TermData& data, const std::vector<int>& subset,
   const std::vector<double> full = FullParams(model, log_k, terms);
   model.SetParams(full.data());
   s.pass_c.assign(data.load.size(), 0.0);
-  model.set_pass_contributions(&s.pass_c);
+  model.set_pass_contributions(&s.pass_c, false);
   Eigen::MatrixXd none;
   WeightedJacobian(data, subset, sd, full, model.num_params(), &model, &s.j0, &none, &s.r);
   s.qr.compute(s.j0);
@@ -469,6 +469,7 @@ double ScoreScreen::Statistic(const TermSpec& candidate, int* df) const {
   const ModelTerm& term = candidate.term;
   const int np = term.NumParams();
   const bool measurement = term.IsMeasurementTerm();
+  const bool additive = term.IsAdditiveTerm();
   const bool all_zero =
       std::all_of(term.params.begin(), term.params.end(), [](double b) { return b == 0.0; });
   const bool exp_at_zero = !measurement && all_zero && TermModel::IsExpForm(term);
@@ -493,6 +494,16 @@ double ScoreScreen::Statistic(const TermSpec& candidate, int* df) const {
         const std::vector<double>& z = data.z[candidate.covariate];
         for (int i = obs.pass_begin; i < obs.pass_end; ++i) {
           if (!scope.CoversGrade(0, data.grade[i])) continue;
+          // Wear added per pass: none at the start (the candidate's columns
+          // alone are new, da/d(param)), or the full computation.
+          if (additive) {
+            if (TermAddend(term, z[i], dm.data()) != 0.0) {
+              return ScoreStatistic(data, *s.subset, *s.sd, s.log_k, s.terms,
+                                    candidate, df);
+            }
+            for (int j = 0; j < np; ++j) grad[j] += dm[j];
+            continue;
+          }
           // m = exp(b u) at b = 0 is 1 with dm/db = u wherever u is finite
           // (TermModel::ExpMultiplier): u alone, no exp.
           if (exp_at_zero) {
@@ -545,7 +556,7 @@ std::vector<double> PredictPassWear(const TermData& data, const std::vector<int>
   const std::vector<double> full = FullParams(model, log_k, terms);
   model.SetParams(full.data());
   std::vector<double> out(data.load.size(), 0.0);
-  model.set_pass_contributions(&out);
+  model.set_pass_contributions(&out, true);
   for (int o : subset) model.Predict(full.data(), o, nullptr, true);
   return out;
 }

@@ -100,8 +100,8 @@ std::vector<double> PredictTerms(const TermData& data, const std::vector<int>& s
                                  const std::vector<TermSpec>& terms,
                                  bool wear_only = false);
 
-// Each pass's wear contribution k_g * load * prod_t m_t (the terms whose
-// scope holds the pass) for the passes of the observations in `subset`,
+// Each pass's wear contribution k_g * load * prod_t m_t + sum_a a (the terms
+// whose scope holds the pass) for the passes of the observations in `subset`,
 // indexed like TermData::load (0 for the other passes). PredictTerms'
 // wear_only value of an observation is the sum over its passes.
 std::vector<double> PredictPassWear(const TermData& data, const std::vector<int>& subset,

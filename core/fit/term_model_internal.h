@@ -6,7 +6,8 @@
 // Wear of observation o (Archard-type law, docs/model.md):
 //   w_o = sum over its passes i of k_g(i) * load_i * prod_t m_t(z_t,i),
 //   k_g = exp(log kF_position + log kR_roll_type + log kS_grade),
-// plus the measurement terms' reading offsets.
+// plus the additive terms' wear on each pass they cover (a_t(z_t,i), wear
+// per coil) and the measurement terms' reading offsets.
 //
 // Thread-safety: a TermModel keeps per-call scratch and a cache of the
 // last multiplier per term; use one per thread. The TermData it reads
@@ -47,6 +48,7 @@ class TermModel {
       n_ += t.term.NumParams();
       num_params_.push_back(t.term.NumParams());
       measurement_.push_back(t.term.IsMeasurementTerm() ? 1 : 0);
+      additive_.push_back(t.term.IsAdditiveTerm() ? 1 : 0);
       scopes_.push_back(Resolve(t.term.scope));
     }
     k_.resize(s_);
@@ -68,8 +70,13 @@ class TermModel {
   }
   bool CoversGrade(int t, int g) const { return scopes_[t].CoversGrade(g); }
   // With `out` (indexed by pass, sized to every pass), Predict also writes
-  // each pass's wear contribution k_g * load * (product of the wear terms).
-  void set_pass_contributions(std::vector<double>* out) { pass_out_ = out; }
+  // each pass's wear contribution k_g * load * (product of the wear terms),
+  // with the additive terms' wear on the pass when `with_added` (the pass's
+  // whole wear) or without (the part a multiplier scales).
+  void set_pass_contributions(std::vector<double>* out, bool with_added) {
+    pass_out_ = out;
+    pass_out_with_added_ = with_added;
+  }
 
   // Whether a term's multiplier is exp(b u(z)) with one parameter b, and
   // u(z) of such a term t: its family's (core/model/term_family.h).
@@ -120,8 +127,10 @@ class TermModel {
     // The wear terms that cover this observation's roll; the others' m is
     // 1 on every pass (a factor of exactly 1: leaving it out is exact).
     active_.clear();
+    added_.clear();
     for (size_t t = 0; t < nt; ++t) {
-      if (!measurement_[t] && roll_in_[t]) active_.push_back(t);
+      if (measurement_[t] || !roll_in_[t]) continue;
+      (additive_[t] ? added_ : active_).push_back(t);
     }
     for (int i = obs.pass_begin; i < obs.pass_end; ++i) {
       const int g = data_.grade[i];
@@ -151,7 +160,10 @@ class TermModel {
       const double c = k_[g] * data_.load[i] * m;
       wear += c;
       t_[g] += c;
-      if (pass_out_ != nullptr) (*pass_out_)[i] = c;
+      const double added = added_.empty() ? 0.0 : AddedWear(i, g, grad);
+      wear += added;
+      if (pass_out_ != nullptr)
+        (*pass_out_)[i] = pass_out_with_added_ ? c + added : c;
       if (grad == nullptr) continue;
       for (const size_t t : active_) {
         if (!scopes_[t].CoversGrade(g)) continue;
@@ -188,6 +200,22 @@ class TermModel {
   }
 
  private:
+  // The additive terms' wear on pass i of grade g (added_: those covering
+  // the observation's roll), their derivatives added into grad.
+  double AddedWear(int i, int g, double* grad) {
+    double sum = 0;
+    for (const size_t t : added_) {
+      if (!scopes_[t].CoversGrade(g)) continue;
+      const int np = num_params_[t];
+      if (static_cast<int>(scratch_.size()) < np) scratch_.resize(np);
+      const double z = zp_[t][i];
+      sum += TermAddend(terms_[t].term, z, scratch_.data());
+      if (grad == nullptr) continue;
+      for (int j = 0; j < np; ++j) grad[offsets_[t] + j] += scratch_[j];
+    }
+    return sum;
+  }
+
   // A TermScope resolved to the data's level indices (-1: any level, -2: a
   // label the data does not have, which nothing matches).
   struct ResolvedScope {
@@ -248,14 +276,17 @@ class TermModel {
   std::vector<char> roll_in_;
   std::vector<int> offsets_, num_params_;
   std::vector<char> measurement_;  // per term: a reading offset
+  std::vector<char> additive_;     // per term: wear added per pass
   std::vector<uint64_t> last_z_;   // per term: z (bits) of the cached m_t, dm_t
   std::vector<char> cached_;       // per term: last_z_ is valid
   std::vector<char> k_ok_;  // per grade: k_ computed for this observation
   int p_ = 0, r_ = 0, s_ = 0, n_coef_ = 0, n_ = 0;
   std::vector<double> k_, t_, scratch_, mt_, dm_;
   std::vector<size_t> active_;     // per observation: its roll's wear terms
+  std::vector<size_t> added_;      // ... and its roll's additive terms
   std::vector<const double*> zp_;  // per term: its covariate's values by pass
   std::vector<double>* pass_out_ = nullptr;
+  bool pass_out_with_added_ = false;
 };
 
 }  // namespace rollwear::fit_internal

@@ -28,6 +28,11 @@
 //                the data (core/fit/roll_effects.h: DerSimonian & Laird
 //                1986); a roll the fit never saw counts as 1, its type's
 //                value
+// Additive terms add wear on every pass they cover, beside the law's:
+//   w_i = K * Load_i * prod_t m_t(z_t,i) + sum_a a
+//   per-coil     a (µm) per pass, whatever its length and load: the wear
+//                each coil's bite adds (covariate campaign_coils_before,
+//                whose value it does not use; a >= 0)
 // Measurement terms add to what the grinder reads, not to the wear:
 //   offset-decay   y = d + A * exp(-z / tau)       tau = exp(q)
 //   offset-linear  y = d + A * (z - c) / s
@@ -63,8 +68,20 @@
 namespace rollwear {
 
 enum class TermForm {
-  kLogLinear, kPower, kSaturating, kDecaying, kFlag, kBinned, kPerLevel, kCell,
-  kOffsetDecay, kOffsetLinear, kOffsetPerLevel, kOffsetBinned, kRollEffect,
+  kLogLinear,
+  kPower,
+  kSaturating,
+  kDecaying,
+  kFlag,
+  kBinned,
+  kPerLevel,
+  kCell,
+  kOffsetDecay,
+  kOffsetLinear,
+  kOffsetPerLevel,
+  kOffsetBinned,
+  kRollEffect,
+  kPerCoil,
 };
 // The functions below that depend on the form ask the term's family
 // (term_family.h, whose registry term_family.cc defines them).
@@ -127,6 +144,7 @@ struct ModelTerm {
 
   // Both from the term's family (term_family.h).
   bool IsMeasurementTerm() const;
+  bool IsAdditiveTerm() const;  // adds wear per pass (TermAddend)
   int NumParams() const;
 };
 
@@ -135,6 +153,10 @@ struct ModelTerm {
 double TermMultiplier(const ModelTerm& t, double z, double* grad);
 // Measurement offset (µm) and, if grad != nullptr, d/dparams.
 double TermOffset(const ModelTerm& t, double z, double* grad);
+// Wear added to a pass (µm) by an additive term and, if grad != nullptr,
+// d/dparams; 0 for any other term. TermMultiplier of an additive term is 1
+// and TermOffset 0.
+double TermAddend(const ModelTerm& t, double z, double* grad);
 
 // Index of the bin of z (binned form).
 int TermBin(const ModelTerm& t, double z);

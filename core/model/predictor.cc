@@ -86,7 +86,13 @@ double ExtraTermValue(const ModelTerm& t, const PassInput& pass,
 
 double PassTermMultiplier(const WearModel& model, const PassInput& pass,
                           const RollWearState& state) {
-  if (model.terms.empty()) return 1.0;
+  return PassTermEffects(model, pass, state).multiplier;
+}
+
+PassTermEffect PassTermEffects(const WearModel& model, const PassInput& pass,
+                               const RollWearState& state) {
+  PassTermEffect effect;
+  if (model.terms.empty()) return effect;
   static const Dataset kNoExtras;
   static const std::vector<CovariateSpec> kCatalog = CovariateCatalog(kNoExtras);
   Pass p;
@@ -111,7 +117,7 @@ double PassTermMultiplier(const WearModel& model, const PassInput& pass,
   ctx.campaign = &c;
   ctx.length_before_m = state.rolled_length_m;
   ctx.coils_before = state.coils;
-  double multiplier = 1.0;
+  double& multiplier = effect.multiplier;
   for (const ModelTerm& t : model.terms) {
     if (t.IsMeasurementTerm()) continue;
     if (!t.scope.CoversRoll(state.stand, state.roll_position, state.roll_type_label) ||
@@ -125,15 +131,21 @@ double PassTermMultiplier(const WearModel& model, const PassInput& pass,
       multiplier *= TermMultiplier(t, level, nullptr);
       continue;
     }
+    double z = std::numeric_limits<double>::quiet_NaN();
     bool built_in = false;
     for (const CovariateSpec& spec : kCatalog) {
       if (spec.name != t.covariate || spec.level == CovariateLevel::kMeasurement) continue;
       built_in = true;
-      multiplier *= TermMultiplier(t, CovariateValue(spec, kNoExtras, ctx, 0), nullptr);
+      z = CovariateValue(spec, kNoExtras, ctx, 0);
     }
-    if (!built_in) multiplier *= TermMultiplier(t, ExtraTermValue(t, pass, state), nullptr);
+    if (!built_in) z = ExtraTermValue(t, pass, state);
+    if (t.IsAdditiveTerm()) {
+      effect.added_um += TermAddend(t, z, nullptr);
+    } else {
+      multiplier *= TermMultiplier(t, z, nullptr);
+    }
   }
-  return multiplier;
+  return effect;
 }
 
 double AddPass(const WearModel& model, const PassInput& pass, RollWearState* state) {
@@ -156,9 +168,13 @@ double AddPass(const WearModel& model, const PassInput& pass, RollWearState* sta
                          pass.exit_thickness_mm,  state->diameter_mm,
                          state->hardness_hb};
   const int grade = model.structure.GradeLevel(pass.grade);
-  const double multiplier = PassTermMultiplier(model, pass, *state);
+  const auto [multiplier, added_um] = PassTermEffects(model, pass, *state);
+  // The additive terms' wear does not depend on K: the gradient (in K's
+  // parameters) is the law's part alone.
   const double wear =
-      model.PassWear(in, state->position, state->roll_type, grade) * multiplier;
+      model.PassWear(in, state->position, state->roll_type, grade) *
+          multiplier +
+      added_um;
   if (static_cast<int>(state->gradient.size()) != model.num_parameters()) {
     state->gradient.assign(model.num_parameters(), 0.0);
   }

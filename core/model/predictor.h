@@ -101,6 +101,16 @@ void TrackProfile(RollWearState* state, const ProfileGrid& grid = {});
 double PassTermMultiplier(const WearModel& model, const PassInput& pass,
                           const RollWearState& state);
 
+// The wear-rate terms' product (PassTermMultiplier) and the additive
+// terms' wear in µm (model_terms.h: wear per coil) for this pass on this
+// roll; the pass's wear is the law's times `multiplier` plus `added_um`.
+struct PassTermEffect {
+  double multiplier = 1.0;
+  double added_um = 0.0;
+};
+PassTermEffect PassTermEffects(const WearModel& model, const PassInput& pass,
+                               const RollWearState& state);
+
 // Adds one pass; returns the wear increment in µm.
 double AddPass(const WearModel& model, const PassInput& pass, RollWearState* state);
 

@@ -28,12 +28,21 @@ bool ModelTerm::IsMeasurementTerm() const {
   return FamilyOf(form).measurement();
 }
 
+bool ModelTerm::IsAdditiveTerm() const { return FamilyOf(form).additive(); }
+
 int ModelTerm::NumParams() const { return FamilyOf(form).NumParams(*this); }
 
 double TermMultiplier(const ModelTerm& t, double z, double* grad) {
   const TermFamily& family = FamilyOf(t.form);
   if (grad != nullptr) std::fill(grad, grad + family.NumParams(t), 0.0);
-  if (std::isnan(z) || family.measurement()) return 1.0;
+  if (std::isnan(z) || family.measurement() || family.additive()) return 1.0;
+  return family.Evaluate(t, z, grad);
+}
+
+double TermAddend(const ModelTerm& t, double z, double* grad) {
+  const TermFamily& family = FamilyOf(t.form);
+  if (grad != nullptr) std::fill(grad, grad + family.NumParams(t), 0.0);
+  if (std::isnan(z) || !family.additive()) return 0.0;
   return family.Evaluate(t, z, grad);
 }
 
@@ -158,7 +167,7 @@ Registry Build() {
       &OffsetLinearFamily(),   &OffsetBinnedFamily(), &OffsetDecayFamily(),
       &LogLinearFamily(),      &PowerFamily(),        &BinnedFamily(),
       &SaturatingFamily(),     &DecayingFamily(),     &CellFamily(),
-      &RollEffectFamily(),
+      &RollEffectFamily(),     &PerCoilFamily(),
   };
   r.by_form.assign(r.all.size(), nullptr);
   for (const TermFamily* f : r.all) {

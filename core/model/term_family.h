@@ -87,6 +87,10 @@ struct TermWording {
   std::optional<std::vector<std::string>> levels;
   std::string fitted;  // the sentence after "Fitted: "
   bool up = true;      // the effect raises the wear (or the reading)
+  // A family whose physics is its form's, not its covariate's (wear per
+  // coil): the mechanism's name and sentence; empty: the diagnosis names
+  // the mechanism from the covariate (diagnosis_naming.cc).
+  std::string mechanism, mechanism_text;
 };
 
 // A proposal of `family` over covariate `c` with starting parameters
@@ -122,9 +126,23 @@ class TermFamily {
   // Whether the term offsets what the grinder reads (TermOffset) rather
   // than multiplying the wear rate (TermMultiplier).
   virtual bool measurement() const { return false; }
+  // Whether the term adds Evaluate µm of wear on every pass it covers
+  // (TermAddend: wear per coil) rather than multiplying the wear rate.
+  virtual bool additive() const { return false; }
+  // Whether the family's physics is its form's, not its covariate's (wear
+  // per coil, over the coil count): its findings name the family's
+  // mechanism (TermWording::mechanism), and the quantities that carry its
+  // covariate's mechanism (the rolled length and hours beside the coils:
+  // core/diagnosis/diagnosis_carriers.cc) do not carry it.
+  virtual bool names_mechanism() const { return false; }
+  // Whether the diagnosis also offers the family's unscoped candidates at
+  // each single scope (a stand, a roll position, a roll type, a grade:
+  // core/diagnosis/diagnosis_scoped.cc): the one-parameter families.
+  virtual bool offered_scoped() const { return false; }
   virtual int NumParams(const ModelTerm& /*t*/) const { return 1; }
-  // The multiplier m(z) (a wear-rate family) or the offset in µm (a
-  // measurement family) at a finite z, and into grad (NumParams() values,
+  // The multiplier m(z) (a wear-rate family), the wear added per pass in
+  // µm (an additive family) or the offset in µm (a measurement family) at
+  // a finite z, and into grad (NumParams() values,
   // zeroed by the caller) its derivatives by the parameters.
   virtual double Evaluate(const ModelTerm& t, double z, double* grad) const = 0;
   // Whether the multiplier is m = exp(b u(z)), one parameter b and u fixed

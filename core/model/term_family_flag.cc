@@ -12,6 +12,7 @@ class Flag final : public TermFamily {
  public:
   TermForm form() const override { return TermForm::kFlag; }
   const char* name() const override { return "flag"; }
+  bool offered_scoped() const override { return true; }
   bool exponential() const override { return true; }  // u = z
   void Propose(const CovariateSummary& c,
                std::vector<TermProposal>* out) const override {

@@ -24,6 +24,7 @@ const TermFamily& OffsetLinearFamily();
 const TermFamily& OffsetPerLevelFamily();
 const TermFamily& OffsetBinnedFamily();
 const TermFamily& RollEffectFamily();
+const TermFamily& PerCoilFamily();
 
 }  // namespace rollwear
 

@@ -166,8 +166,18 @@ bool OnCovariate(const Finding& f, const std::string& truth) {
              [&](const std::string& c) { return SameCovariate(truth, c); });
 }
 
+// Whether the finding's form says the physics a form-defined truth
+// (ConcealedEffect::form: wear per coil) is, and only then: a growth named
+// on the coil count is not wear per coil, nor the reverse.
+bool SamePhysicsForm(const Finding& f, const ConcealedEffect& e) {
+  return (e.form == "per_coil") == (f.form == "per_coil");
+}
+
 bool Describes(const Finding& f, const ConcealedEffect& e) {
-  if (!e.expressible || !OnCovariate(f, e.covariate)) return false;
+  if (!e.expressible || !OnCovariate(f, e.covariate) ||
+      !SamePhysicsForm(f, e)) {
+    return false;
+  }
   if (FindingScope(f) != e.scope) return false;
   if (e.levels.empty()) return true;
   // A per-level effect named without its levels does not say which level.
@@ -184,7 +194,8 @@ bool Describes(const Finding& f, const ConcealedEffect& e) {
 bool NotWrong(const Finding& f, const ConcealedEffect& e) {
   if (Describes(f, e)) return true;
   return e.expressible && OnCovariate(f, e.covariate) &&
-         FindingScope(f) == e.scope && f.levels.empty();
+         SamePhysicsForm(f, e) && FindingScope(f) == e.scope &&
+         f.levels.empty();
 }
 
 // Whether the cell findings on e's covariate and scope, each naming some of

@@ -43,6 +43,10 @@ struct ConcealedEffect {
   std::vector<std::string> levels;
   bool expressible = true;
   std::string mismatch;  // where it lives when not expressible
+  // The truth's form where a form is its physics ("per_coil": wear per
+  // coil, which a growth of the wear rate along the campaign, on the same
+  // coil count, does not describe); "" otherwise.
+  std::string form;
 };
 
 // The truth of one case. Effects that change no wear or reading (gross

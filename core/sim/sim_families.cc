@@ -323,6 +323,29 @@ FamilyEffect CalendarDrift(int variant, Random* rng, uint64_t, int) {
   return f;
 }
 
+// per_coil: every coil adds a = 0.25..0.5 um of wear to each work roll it
+// passes, whatever its length and load (the bite's impact at threading,
+// head and tail), at both stands or at one (F6 or F7): 8..16 % of an
+// average pass's wear. Described by the per_coil term (model_terms.h).
+FamilyEffect PerCoil(int variant, Random* rng, uint64_t, int) {
+  const double a = rng->Uniform(0.25, 0.5);
+  const int stand = rng->Uniform() < 0.5 ? 6 : 7;
+  FamilyEffect f = Base("per_coil", "campaign_coils_before", "per_coil", a);
+  f.kind = EffectKind::kWearAdded;
+  f.truth.parameters = {{"um_per_coil", a}};
+  const bool scoped = variant == 1;
+  if (scoped) f.truth.scope = {{"stand", "F" + std::to_string(stand)}};
+  f.truth.description =
+      "every coil adds " + Fmt("%.2f um", a) + " of wear to each work roll " +
+      (scoped ? "of F" + std::to_string(stand) : std::string("it passes")) +
+      ", whatever its length and load";
+  const std::map<std::string, std::string> scope = f.truth.scope;
+  f.apply = [a, scope](const EffectContext& c) {
+    return InScope(scope, c.slot) ? a : 0.0;
+  };
+  return f;
+}
+
 // stoppages: about 1.5 % of the coils are followed by an idle time of
 // 0.5..4 h (a breakdown, a change of programme), so hours in service and
 // rolled length part ways. The wear rate grows with hours since the roll
@@ -408,6 +431,10 @@ const std::vector<FamilySpec>& Families() {
        2, &StoppagesOn},
       {"stoppages_null", "stoppages inside campaigns, no wear effect", 1,
        &StoppagesNull},
+      {"per_coil",
+       "every coil adds 0.25..0.5 um of wear per roll whatever its length "
+       "(the bite's impact), at both stands or at one",
+       2, &PerCoil},
       {"inexpressible_order",
        "a hard grade right after the roll change wears more (campaign "
        "order x grade); not expressible",

@@ -204,6 +204,7 @@ struct EffectContext {
 enum class EffectKind {
   kWearRate,     // Apply returns a multiplier on the pass's wear increment
   kMeasurement,  // Apply returns an additive offset on the measured wear, um
+  kWearAdded,    // Apply returns wear (um) added to the pass's increment
   // Random gross errors of the grinder on a fraction of the readings
   // (GrossError draws them; apply is null).
   kGrossError,
@@ -243,7 +244,8 @@ const EffectSpec* FindEffect(const std::string& name);
 struct FamilyEffect {
   SimulatedEffect truth;
   EffectKind kind = EffectKind::kWearRate;
-  // Wear-rate multiplier or reading offset (um) of one pass / reading; null
+  // Wear-rate multiplier, wear added (um) or reading offset (um) of one
+  // pass / reading; null
   // for a family that changes no wear (the null variants).
   std::function<double(const EffectContext&)> apply;
   // Stoppages inside campaigns: each coil is followed, with this

@@ -408,6 +408,7 @@ std::array<double, 4> MillRun::RollCoils(
         for (const ActiveEffect& e : rate_effects_) {
           k *= e.spec->apply(ctx, e.parameters.data());
         }
+        double added_um = 0;  // the families' wear per pass (kWearAdded)
         if (!families_.empty()) {
           ctx.campaign = campaign;
           ctx.num_campaigns = options_.num_campaigns;
@@ -417,9 +418,11 @@ std::array<double, 4> MillRun::RollCoils(
           ctx.roll_campaigns_before = rolls_[mounted_[slot]].campaigns;
           for (const sim::FamilyEffect& f : families_) {
             if (f.kind == EffectKind::kWearRate && f.apply) k *= f.apply(ctx);
+            if (f.kind == EffectKind::kWearAdded && f.apply)
+              added_um += f.apply(ctx);
           }
         }
-        const double pass_wear_um = k * BaseLoad(WearLaw::kWang, in);
+        const double pass_wear_um = k * BaseLoad(WearLaw::kWang, in) + added_um;
         wear_um[slot] += pass_wear_um;
         if (options_.profiles) {
           traces_[slot].push_back(

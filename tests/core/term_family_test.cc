@@ -23,7 +23,7 @@ constexpr TermForm kEveryForm[] = {
     TermForm::kDecaying,     TermForm::kFlag,           TermForm::kBinned,
     TermForm::kPerLevel,     TermForm::kCell,           TermForm::kOffsetDecay,
     TermForm::kOffsetLinear, TermForm::kOffsetPerLevel, TermForm::kOffsetBinned,
-    TermForm::kRollEffect,
+    TermForm::kRollEffect,   TermForm::kPerCoil,
 };
 
 // A term of form `f` with parameters away from zero, so that every
@@ -31,7 +31,9 @@ constexpr TermForm kEveryForm[] = {
 ModelTerm TermOf(TermForm f) {
   ModelTerm t;
   t.form = f;
-  t.covariate = f == TermForm::kRollEffect ? kRollIdName : "z";
+  t.covariate = f == TermForm::kRollEffect ? kRollIdName
+                : f == TermForm::kPerCoil  ? "campaign_coils_before"
+                                           : "z";
   t.center = 2.0;
   t.scale = 1.5;
   t.edges = {1.0, 2.5, 4.0};
@@ -49,8 +51,15 @@ ModelTerm TermOf(TermForm f) {
 }
 
 double Value(const ModelTerm& t, double z, double* grad) {
+  if (t.IsAdditiveTerm()) return TermAddend(t, z, grad);
   return t.IsMeasurementTerm() ? TermOffset(t, z, grad)
                                : TermMultiplier(t, z, grad);
+}
+
+// The value of a term that leaves everything as it is: a multiplier of 1,
+// an offset or added wear of 0.
+double Neutral(const ModelTerm& t) {
+  return t.IsMeasurementTerm() || t.IsAdditiveTerm() ? 0.0 : 1.0;
 }
 
 TEST(TermFamilyTest, EveryFormHasItsFamilyUnderItsStoredName) {
@@ -73,6 +82,13 @@ TEST(TermFamilyTest, EveryFormHasItsFamilyUnderItsStoredName) {
   int measurement = 0;
   for (const TermFamily* f : AllTermFamilies()) measurement += f->measurement();
   EXPECT_EQ(measurement, 4);
+  // One additive family (wear per coil), not on the reading's side.
+  int additive = 0;
+  for (const TermFamily* f : AllTermFamilies()) {
+    additive += f->additive();
+    EXPECT_FALSE(f->additive() && f->measurement()) << f->name();
+  }
+  EXPECT_EQ(additive, 1);
 }
 
 TEST(TermFamilyTest, DerivativesAreThoseOfTheValue) {
@@ -103,17 +119,28 @@ TEST(TermFamilyTest, ATermActsOnlyOnItsSideAndAMissingValueLeavesAllAsIs) {
   for (TermForm f : kEveryForm) {
     const ModelTerm t = TermOf(f);
     std::vector<double> grad(t.NumParams(), 5.0);
-    if (t.IsMeasurementTerm()) {
+    // The sides a term does not act on: neutral, with no derivative.
+    if (t.IsMeasurementTerm() || t.IsAdditiveTerm()) {
       EXPECT_EQ(TermMultiplier(t, 3.0, grad.data()), 1.0) << TermFormName(f);
-    } else {
-      EXPECT_EQ(TermOffset(t, 3.0, grad.data()), 0.0) << TermFormName(f);
+      for (double g : grad) EXPECT_EQ(g, 0.0) << TermFormName(f);
     }
-    for (double g : grad) EXPECT_EQ(g, 0.0) << TermFormName(f);
+    if (!t.IsMeasurementTerm()) {
+      grad.assign(t.NumParams(), 5.0);
+      EXPECT_EQ(TermOffset(t, 3.0, grad.data()), 0.0) << TermFormName(f);
+      for (double g : grad) EXPECT_EQ(g, 0.0) << TermFormName(f);
+    }
+    if (!t.IsAdditiveTerm()) {
+      grad.assign(t.NumParams(), 5.0);
+      EXPECT_EQ(TermAddend(t, 3.0, grad.data()), 0.0) << TermFormName(f);
+      for (double g : grad) EXPECT_EQ(g, 0.0) << TermFormName(f);
+    }
     grad.assign(t.NumParams(), 5.0);
-    EXPECT_EQ(Value(t, std::nan(""), grad.data()),
-              t.IsMeasurementTerm() ? 0.0 : 1.0);
+    EXPECT_EQ(Value(t, std::nan(""), grad.data()), Neutral(t));
     for (double g : grad) EXPECT_EQ(g, 0.0) << TermFormName(f);
   }
+  // Wear per coil: a on every pass, whatever the coil count before it.
+  EXPECT_EQ(TermAddend(TermOf(TermForm::kPerCoil), 0.0, nullptr), 0.3);
+  EXPECT_EQ(TermAddend(TermOf(TermForm::kPerCoil), 140.0, nullptr), 0.3);
   // The values of a few forms at hand-computed points.
   EXPECT_NEAR(TermMultiplier(TermOf(TermForm::kLogLinear), 3.5, nullptr),
               std::exp(0.3 * (3.5 - 2.0) / 1.5), 1e-15);
@@ -172,6 +199,10 @@ TEST(TermFamilyTest, EachFamilyKeepsItsOwnStoredRules) {
        "reference_level"},
       {TermForm::kOffsetPerLevel, [](ModelTerm* t) { t->level_readings = {1}; },
        "level_sd"},
+      {TermForm::kPerCoil, [](ModelTerm* t) { t->params = {-0.1}; }, "params"},
+      {TermForm::kPerCoil,
+       [](ModelTerm* t) { t->covariate = "campaign_length_before_m"; },
+       "covariate"},
   };
   for (const Case& c : cases) {
     ModelTerm t = TermOf(c.form);
@@ -231,6 +262,20 @@ TEST(TermFamilyTest, AFamilyWordsItsFindingAndNamesOnlyClearLevels) {
   FamilyOf(TermForm::kRollEffect).Word(TermOf(TermForm::kRollEffect), in, &rw);
   EXPECT_TRUE(rw.shape.empty());
   EXPECT_TRUE(rw.fitted.empty());
+  EXPECT_TRUE(rw.mechanism.empty());
+  // Wear per coil names its own physics, not its covariate's.
+  const std::map<std::string, double> pse = {{"param0", 0.04}};
+  in.std_errors = &pse;
+  TermWording pw;
+  FamilyOf(TermForm::kPerCoil).Word(TermOf(TermForm::kPerCoil), in, &pw);
+  EXPECT_EQ(pw.mechanism, "wear_per_coil");
+  EXPECT_NE(pw.mechanism_text.find("number of coils"), std::string::npos);
+  EXPECT_EQ(pw.parameters.at("um_per_coil"), 0.3);
+  EXPECT_EQ(pw.fitted,
+            "0.3 µm of wear per coil (standard error 0.04) on each roll it "
+            "covers, whatever the coil's length and load");
+  EXPECT_TRUE(FamilyOf(TermForm::kPerCoil).names_mechanism());
+  EXPECT_FALSE(FamilyOf(TermForm::kSaturating).names_mechanism());
 }
 
 // The forms the families propose over a covariate, in the registry's order.
@@ -274,6 +319,20 @@ TEST(TermFamilyTest, EachFamilyProposesOnlyOverTheCovariatesItFits) {
   EXPECT_EQ(ProposedForms(c),
             (std::vector<F>{F::kLogLinear, F::kPower, F::kBinned,
                             F::kSaturating, F::kDecaying}));
+  // The coil count: the same forms and wear per coil, from a = 0.
+  CovariateSpec coils{"campaign_coils_before", CovariateSource::kCoilsBefore,
+                      CovariateLevel::kPass, CovariateKind::kNumeric};
+  coils.accumulates = true;
+  CovariateSummary n = c;
+  n.spec = &coils;
+  EXPECT_EQ(ProposedForms(n),
+            (std::vector<F>{F::kLogLinear, F::kPower, F::kBinned,
+                            F::kSaturating, F::kDecaying, F::kPerCoil}));
+  std::vector<TermProposal> per_coil;
+  FamilyOf(F::kPerCoil).Propose(n, &per_coil);
+  ASSERT_EQ(per_coil.size(), 1u);
+  EXPECT_EQ(per_coil[0].term.params, std::vector<double>{0.0});
+  EXPECT_EQ(per_coil[0].lower, std::vector<double>{0.0});
   // From zero (no power form), not accumulating (no growth or run-in),
   // its bins' last edge at its largest value (no binned form).
   length.accumulates = false;

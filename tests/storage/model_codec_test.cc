@@ -203,6 +203,24 @@ TEST(ModelCodecTest, AStoredModelKeepsItsTermsFamilyRules) {
   back = DecodeWearModel(EncodeWearModel(m));
   ASSERT_TRUE(back.ok()) << back.status().ToString();
   EXPECT_EQ(back->terms[0].center, 6.5);
+  // Wear per coil: stored and read back at its stand; never negative.
+  ModelTerm per_coil;
+  per_coil.covariate = "campaign_coils_before";
+  per_coil.form = TermForm::kPerCoil;
+  per_coil.params = {0.375};
+  per_coil.scope.stand = 6;
+  m.terms.push_back(per_coil);
+  back = DecodeWearModel(EncodeWearModel(m));
+  ASSERT_TRUE(back.ok()) << back.status().ToString();
+  ASSERT_EQ(back->terms.size(), 2u);
+  EXPECT_EQ(back->terms[1].form, TermForm::kPerCoil);
+  EXPECT_EQ(back->terms[1].params, std::vector<double>{0.375});
+  EXPECT_EQ(back->terms[1].scope.stand, 6);
+  m.terms[1].params = {-0.5};
+  back = DecodeWearModel(EncodeWearModel(m));
+  ASSERT_FALSE(back.ok());
+  EXPECT_NE(back.status().message().find("terms[1].params"), std::string::npos)
+      << back.status().message();
 }
 
 // Scoped, cell and offset-per-level terms keep their scope and reference
