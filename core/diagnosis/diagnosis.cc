@@ -17,6 +17,8 @@ const char* RefusalKindName(RefusalKind kind) {
   switch (kind) {
     case RefusalKind::kNotNameable:
       return "not_nameable";
+    case RefusalKind::kAtBoxBound:
+      return "at_box_bound";
     case RefusalKind::kNoBetterThanCell:
       return "no_better_than_cell";
     case RefusalKind::kProxyGuard:

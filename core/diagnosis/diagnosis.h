@@ -158,6 +158,7 @@ struct Finding {
 // reading sentences (JSON runners_up[].refusal, RefusalKindName).
 enum class RefusalKind {
   kNotNameable,         // over a quantity the format does not name
+  kAtBoxBound,          // its fit stops at a bracket of its box
   kNoBetterThanCell,    // a cell of the round describes the data as well
   kProxyGuard,          // one of the proxy guard's rows (RunnerUp::guard)
   kNotDistinguishable,  // a rival of another mechanism fits as well
@@ -167,7 +168,7 @@ enum class RefusalKind {
   kRollFamily,          // the per-roll family's own checks
   kUnspecified,         // not set (a bug: every refusal sets its kind)
 };
-// "not_nameable", "no_better_than_cell", "proxy_guard",
+// "not_nameable", "at_box_bound", "no_better_than_cell", "proxy_guard",
 // "not_distinguishable", "shadow_of_refused", "twin_stands", "cell_pair",
 // "roll_family", "unspecified".
 const char* RefusalKindName(RefusalKind kind);

@@ -153,6 +153,42 @@ GuardResult NotNameable(const DiagnosisState& st,
   return r;
 }
 
+GuardResult AtBoxBound(const DiagnosisState& st,
+                       const std::vector<Fitted>& fits,
+                       const std::vector<CandidateResult>& results,
+                       int candidate) {
+  GuardResult r;
+  const TermSpec& term = fits[candidate].terms.back();
+  const TermFamily& family = FamilyOf(term.term.form);
+  const std::vector<double>& x = term.term.params;
+  for (size_t j = 0; j < x.size() && j < term.lower.size(); ++j) {
+    const double lo = term.lower[j], hi = term.upper[j];
+    const double tol = 1e-4 * (hi - lo);
+    const bool at_lo = x[j] <= lo + tol, at_hi = x[j] >= hi - tol;
+    if (!(at_lo || at_hi) || family.BoundIsALimit(static_cast<int>(j), at_hi))
+      continue;
+    const CandidateResult& c = results[candidate];
+    r.pass = false;
+    char buf[320];
+    std::snprintf(buf, sizeof(buf),
+                  "its fit stops at the edge of the box it is fitted in "
+                  "(parameter %zu = %.4g, bound %.4g): the %s form stands in "
+                  "for structure it does not describe; located, not named",
+                  j, x[j], at_hi ? hi : lo, family.name());
+    r.reason = buf;
+    r.located.dimension = c.covariate;
+    r.located.where = c.covariate;
+    r.located.mean_residual_um =
+        ContributionRmsUm(st, fits[candidate], st.current, {term.term.scope});
+    r.located.test = "lr";
+    r.located.statistic = c.lr;
+    r.located.p_value = c.p_value;
+    r.located.p_adjusted = c.p_adjusted;
+    return r;
+  }
+  return r;
+}
+
 GuardResult DistinctFromRivals(const DiagnosisState& st,
                                const std::vector<double>& sd,
                                const std::vector<int>& accepted,

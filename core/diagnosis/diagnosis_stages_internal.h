@@ -296,6 +296,18 @@ GuardResult NotNameable(const DiagnosisState& st,
                         const std::vector<CandidateResult>& results,
                         int candidate);
 
+// A candidate whose fit stops at a bracket of its box (a parameter within
+// 1e-4 of the box's width (the solver stops a few 1e-6 short of a bound) from a
+// bound that its family does not call a limit, TermFamily::BoundIsALimit): the
+// fit wants to go on, so the form stands in for structure it does not describe
+// (an offset of 1000 µm on every reading, a multiplier of e^3): fails, located
+// at its covariate with its LR (diagnosis_rivals.cc). Passes every other
+// candidate.
+GuardResult AtBoxBound(const DiagnosisState& st,
+                       const std::vector<Fitted>& fits,
+                       const std::vector<CandidateResult>& results,
+                       int candidate);
+
 // The proxy guard's comparison with the round's rivals
 // (diagnosis_rivals.cc): fails when the term of accepted candidate `winner`
 // adds nothing significant to the model of an accepted candidate over
@@ -337,7 +349,8 @@ GuardResult LookAlongTime(const Dataset& data, const DiagnosisState& st,
                           const std::string& covariate);
 
 // The first accepted candidate of a round (`accepted`, best first) that is
-// not locate-only (NotNameable), is distinct from the round's cells, passes
+// not locate-only (NotNameable), whose fit does not stop at a bracket of
+// its box (AtBoxBound), is distinct from the round's cells, passes
 // GuardAgainstProxy, is distinct from its rivals (DistinctFromRivals) and
 // fits no worse than what the guard refused (FitsWorseThanRefused), or -1; the
 // others tried become runners-up, and when none passes, where an

@@ -164,6 +164,10 @@ int GuardedWinner(int round, const Dataset& data,
     GuardResult g = NotNameable(st, fits, results, i);
     RefusalKind kind = RefusalKind::kNotNameable;
     if (g.pass) {
+      kind = RefusalKind::kAtBoxBound;
+      g = AtBoxBound(st, fits, results, i);
+    }
+    if (g.pass) {
       kind = RefusalKind::kNoBetterThanCell;
       g.reason =
           NoBetterThanCell(st, sd, accepted, fits, i, num_tests, options);

@@ -139,6 +139,14 @@ class TermFamily {
   // each single scope (a stand, a roll position, a roll type, a grade:
   // core/diagnosis/diagnosis_scoped.cc): the one-parameter families.
   virtual bool offered_scoped() const { return false; }
+  // Whether parameter j's lower (or upper) bound in the diagnosis's box is
+  // a limit of the family's shape or of physics, where the fitted term is
+  // still what the family describes (the saturating form's: linear growth,
+  // a step; wear per coil's 0), rather than an arbitrary bracket, where a
+  // fit that stops there wants to go on and the form stands in for
+  // something it does not describe (core/diagnosis/diagnosis_rivals.cc,
+  // AtBoxBound). Brackets by default.
+  virtual bool BoundIsALimit(int /*j*/, bool /*upper*/) const { return false; }
   virtual int NumParams(const ModelTerm& /*t*/) const { return 1; }
   // The multiplier m(z) (a wear-rate family), the wear added per pass in
   // µm (an additive family) or the offset in µm (a measurement family) at

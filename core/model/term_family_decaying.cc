@@ -12,6 +12,9 @@ class Decaying final : public TermFamily {
  public:
   TermForm form() const override { return TermForm::kDecaying; }
   const char* name() const override { return "decaying"; }
+  // Every bound is a limit of the shape: a line (b and lam large together,
+  // b / lam the slope), a step (lam small), no effect below m = 0.1.
+  bool BoundIsALimit(int /*j*/, bool /*upper*/) const override { return true; }
   int NumParams(const ModelTerm& /*t*/) const override { return 2; }
   // Over a quantity that grows within a campaign; run-in fades early, so
   // lam starts at a tenth of the 95th percentile (tried at 0.02 and 0.4).

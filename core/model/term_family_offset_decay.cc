@@ -13,6 +13,12 @@ class OffsetDecay final : public TermFamily {
  public:
   TermForm form() const override { return TermForm::kOffsetDecay; }
   const char* name() const override { return "offset_decay"; }
+  // A short time constant is a step on the first readings, still the
+  // shape; a long one is a constant offset on every reading (an intercept,
+  // not a drift that fades): a bracket, as the amplitude's +-1000 µm.
+  bool BoundIsALimit(int j, bool upper) const override {
+    return j == 1 && !upper;
+  }
   bool measurement() const override { return true; }
   int NumParams(const ModelTerm& /*t*/) const override { return 2; }
   // tau starts at the median and is tried at 1/4 and 4 times it.

@@ -30,6 +30,10 @@ class PerCoil final : public TermFamily {
   bool offered_scoped() const override { return true; }
   bool additive() const override { return true; }
   bool names_mechanism() const override { return true; }
+  // a = 0 is the law alone; the upper bound is a bracket.
+  bool BoundIsALimit(int j, bool upper) const override {
+    return j == 0 && !upper;
+  }
   void Propose(const CovariateSummary& c,
                std::vector<TermProposal>* out) const override {
     if (c.spec->source != CovariateSource::kCoilsBefore) return;

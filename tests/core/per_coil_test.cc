@@ -98,5 +98,29 @@ TEST(PerCoilTest, HiddenWearPerCoilIsNamedWhereItActsWithItsSize) {
   }
 }
 
+// Wear per coil everywhere and a run-in together (seed 102): a reading
+// offset fading over the months fits them best with its amplitude at the
+// box's 1000 µm, a constant offset standing in for wear each campaign adds.
+// Named before the at_box_bound check (p = 7e-61, "the grinder's reading
+// drifts"); now refused, and where the mismatch lives is said instead.
+TEST(PerCoilTest, AFitStoppedAtItsBoxEdgeIsLocatedNotNamed) {
+  const int campaigns = test_size::FullOr(kPaperCampaigns, 150);
+  const simulator_test::Diagnosed d = simulator_test::DiagnoseSimulated(
+      102, {"per_coil:0", "run_in"}, campaigns);
+  for (const Finding& f : d.report.findings) {
+    EXPECT_NE(f.covariate, "measured_at")
+        << simulator_test::DescribeReport(d.report);
+  }
+  bool refused = false;
+  for (const RunnerUp& r : d.report.runners_up) {
+    if (r.refusal != RefusalKind::kAtBoxBound) continue;
+    refused =
+        refused || (r.covariate == "measured_at" && r.form == "offset_decay" &&
+                    r.reason.find("bound 1000") != std::string::npos);
+  }
+  EXPECT_TRUE(refused) << simulator_test::DescribeReport(d.report);
+  EXPECT_FALSE(d.report.unexplained.empty());
+}
+
 }  // namespace
 }  // namespace rollwear

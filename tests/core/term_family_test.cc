@@ -374,6 +374,26 @@ TEST(TermFamilyTest, EachFamilyProposesOnlyOverTheCovariatesItFits) {
   EXPECT_EQ(ProposedForms(l), (std::vector<F>{F::kFlag}));
 }
 
+// Which bounds of the diagnosis's box are limits of a family's shape (a fit
+// there is still the family's) and which are brackets (at_box_bound).
+TEST(TermFamilyTest, ABoundIsALimitOnlyWhereTheShapeGoesOn) {
+  for (bool upper : {false, true}) {
+    EXPECT_FALSE(FamilyOf(TermForm::kLogLinear).BoundIsALimit(0, upper));
+    EXPECT_FALSE(FamilyOf(TermForm::kOffsetLinear).BoundIsALimit(0, upper));
+    EXPECT_FALSE(FamilyOf(TermForm::kOffsetDecay).BoundIsALimit(0, upper));
+    for (int j : {0, 1}) {
+      EXPECT_TRUE(FamilyOf(TermForm::kSaturating).BoundIsALimit(j, upper));
+      EXPECT_TRUE(FamilyOf(TermForm::kDecaying).BoundIsALimit(j, upper));
+    }
+  }
+  // The offset-decay's shortest time constant is a step; its longest a
+  // constant offset on every reading.
+  EXPECT_TRUE(FamilyOf(TermForm::kOffsetDecay).BoundIsALimit(1, false));
+  EXPECT_FALSE(FamilyOf(TermForm::kOffsetDecay).BoundIsALimit(1, true));
+  EXPECT_TRUE(FamilyOf(TermForm::kPerCoil).BoundIsALimit(0, false));
+  EXPECT_FALSE(FamilyOf(TermForm::kPerCoil).BoundIsALimit(0, true));
+}
+
 TEST(TermFamilyTest, RefitBoxesHoldTheAdoptedParameters) {
   for (TermForm f : kEveryForm) {
     const ModelTerm t = TermOf(f);
