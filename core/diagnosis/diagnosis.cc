@@ -6,6 +6,7 @@
 #include <chrono>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "core/diagnosis/diagnosis_internal.h"
 #include "core/diagnosis/diagnosis_stages_internal.h"
@@ -84,7 +85,9 @@ StatusOr<DiagnosisReport> Diagnose(const Dataset& data,
   for (int round = 0; round < options.max_findings; ++round) {
     if (!diag::RunRound(round, data, options, &used, &phase, &state, &report)) break;
   }
-  diag::WithdrawTiedCellSets(options, &state, &report);
+  std::vector<int> rounds =
+      diag::WithdrawTiedCellSets(options, &state, &report);
+  diag::WithdrawUnconfinedScopes(options, &state, &report, &rounds);
   // The per-roll family on what the rounds leave (diagnosis_roll_family.cc).
   if (diag::RunRollFamily(options, &state, &report)) phase.Mark("roll_family");
 

@@ -379,8 +379,9 @@ bool WithdrawUnconfinedCell(const DiagnosisOptions& options,
 
 }  // namespace
 
-void WithdrawTiedCellSets(const DiagnosisOptions& options, DiagnosisState* st,
-                          DiagnosisReport* report) {
+std::vector<int> WithdrawTiedCellSets(const DiagnosisOptions& options,
+                                      DiagnosisState* st,
+                                      DiagnosisReport* report) {
   // Findings are adopted one per round, in order.
   std::vector<int> rounds(report->findings.size());
   for (size_t i = 0; i < rounds.size(); ++i) rounds[i] = static_cast<int>(i);
@@ -393,6 +394,7 @@ void WithdrawTiedCellSets(const DiagnosisOptions& options, DiagnosisState* st,
       st->td, st->train, options.thresholds, ModelCells(st->current.terms));
   while (WithdrawUnconfinedCell(options, held, st, report, &rounds)) {
   }
+  return rounds;
 }
 
 }  // namespace rollwear::diag

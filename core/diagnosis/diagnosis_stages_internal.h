@@ -118,9 +118,22 @@ bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
 // cell that other cells of its kind join significantly in the final model
 // (the strongest alone, Bonferroni over the siblings, or all at once; 1 %
 // over the two tests), or that a pair of them describes about as well
-// (LR within 5), located with them.
-void WithdrawTiedCellSets(const DiagnosisOptions& options,
-                          DiagnosisState* state, DiagnosisReport* report);
+// (LR within 5), located with them. Returns the round each remaining
+// finding was adopted in (aligned with report->findings).
+std::vector<int> WithdrawTiedCellSets(const DiagnosisOptions& options,
+                                      DiagnosisState* state,
+                                      DiagnosisReport* report);
+
+// The siblings guard (LookAtSiblings) again on the final model, for each
+// scoped finding but the cells: one whose siblings join it significantly
+// once the later rounds' effects are in the model is withdrawn (a
+// runner-up, refusal proxy_guard, guard "siblings"), its term leaves
+// state->current (refitted) and the siblings' place is listed as located
+// (diagnosis_final_scope.cc). `rounds`: the round each finding was adopted
+// in (WithdrawTiedCellSets), erased along with them.
+void WithdrawUnconfinedScopes(const DiagnosisOptions& options,
+                              DiagnosisState* state, DiagnosisReport* report,
+                              std::vector<int>* rounds);
 
 // Fits `terms` (their params are the start) with the baseline coefficients
 // `log_k` on `subset` (term_fit.h FitTerms); unusable when the fit fails.

@@ -189,8 +189,12 @@ int GuardedWinner(int round, const Dataset& data,
     const bool by_cell = kind == RefusalKind::kNoBetterThanCell;
     const bool by_rival = kind == RefusalKind::kNotDistinguishable;
     // A cell or a rival that describes the same data is not a structure
-    // the vocabulary failed on: not a reason to call the others shadows.
-    if (!by_cell && !by_rival) refused.push_back(i);
+    // the vocabulary failed on: not a reason to call the others shadows;
+    // nor a fit stopped at its box's edge, whose good fit is what its form
+    // stands in for (per_coil:0 + run_in: the true wear per coil was
+    // refused as its shadow).
+    const bool by_bound = kind == RefusalKind::kAtBoxBound;
+    if (!by_cell && !by_rival && !by_bound) refused.push_back(i);
     const CandidateResult& c = results[i];
     // A refusal that locates the candidate's own effect leaves its
     // adjusted p to the round (PartNotRequired).

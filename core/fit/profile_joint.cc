@@ -369,15 +369,33 @@ double CentreGap(const WearModel& model, const Dataset& data,
 
 }  // namespace
 
+namespace {
+
+// Why the joint fit cannot take `model`, or nullptr: it needs a wear law,
+// and it reads a pass's Load * m as its wear / K (Collect), which wear
+// added per pass (a per-coil term) is not: refused rather than fitted
+// wrong.
+const char* Unsupported(const WearModel& model) {
+  if (model.is_ann()) return "the joint profile fit needs a wear law model";
+  for (const ModelTerm& t : model.terms) {
+    if (t.IsAdditiveTerm()) {
+      return "the joint profile fit does not take a model with wear added "
+             "per pass (a per_coil term)";
+    }
+  }
+  return nullptr;
+}
+
+}  // namespace
+
 StatusOr<JointProfileFit> FitProfileJoint(const WearModel& centre,
                                           const Dataset& data,
                                           const DatasetIndex& index,
                                           const CampaignSplit& split,
                                           const ProfileFit& first,
                                           const ProfileFitOptions& options) {
-  if (centre.is_ann()) {
-    return Status::InvalidArgument("the joint profile fit needs a wear law model");
-  }
+  if (const char* why = Unsupported(centre))
+    return Status::InvalidArgument(why);
   std::vector<int> train = split.train, val = split.validation;
   std::sort(train.begin(), train.end());
   std::sort(val.begin(), val.end());

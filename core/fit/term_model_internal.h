@@ -7,7 +7,8 @@
 //   w_o = sum over its passes i of k_g(i) * load_i * prod_t m_t(z_t,i),
 //   k_g = exp(log kF_position + log kR_roll_type + log kS_grade),
 // plus the additive terms' wear on each pass they cover (a_t(z_t,i), wear
-// per coil) and the measurement terms' reading offsets.
+// per coil) times the roll's own factor (the roll-effect term, which scales
+// all of a roll's wear), and the measurement terms' reading offsets.
 //
 // Thread-safety: a TermModel keeps per-call scratch and a cache of the
 // last multiplier per term; use one per thread. The TermData it reads
@@ -49,6 +50,8 @@ class TermModel {
       num_params_.push_back(t.term.NumParams());
       measurement_.push_back(t.term.IsMeasurementTerm() ? 1 : 0);
       additive_.push_back(t.term.IsAdditiveTerm() ? 1 : 0);
+      scales_added_.push_back(FamilyOf(t.term.form).scales_added_wear() ? 1
+                                                                        : 0);
       scopes_.push_back(Resolve(t.term.scope));
     }
     k_.resize(s_);
@@ -139,6 +142,7 @@ class TermModel {
         k_ok_[g] = 1;
       }
       double m = 1;
+      double roll = 1;  // the factors that scale the added wear too
       for (const size_t t : active_) {
         if (!scopes_[t].CoversGrade(g)) {
           mt_[t] = 1.0;  // outside the scope: m = 1, no derivative
@@ -156,19 +160,22 @@ class TermModel {
           cached_[t] = 1;
         }
         m *= mt_[t];
+        if (scales_added_[t]) roll *= mt_[t];
       }
       const double c = k_[g] * data_.load[i] * m;
       wear += c;
       t_[g] += c;
-      const double added = added_.empty() ? 0.0 : AddedWear(i, g, grad);
+      const double added = added_.empty() ? 0.0 : AddedWear(i, g, roll, grad);
       wear += added;
       if (pass_out_ != nullptr)
         (*pass_out_)[i] = pass_out_with_added_ ? c + added : c;
       if (grad == nullptr) continue;
       for (const size_t t : active_) {
         if (!scopes_[t].CoversGrade(g)) continue;
-        // d(c)/d(param) = c / m_t * dm_t/d(param).
-        const double f = mt_[t] != 0 ? c / mt_[t] : 0.0;
+        // d(c)/d(param) = c / m_t * dm_t/d(param), and the added wear's
+        // for a factor that scales it.
+        const double scaled = scales_added_[t] ? c + added : c;
+        const double f = mt_[t] != 0 ? scaled / mt_[t] : 0.0;
         const double* dm = dm_.data() + offsets_[t];
         double* gt = grad + offsets_[t];
         for (int j = 0; j < num_params_[t]; ++j) gt[j] += f * dm[j];
@@ -201,17 +208,18 @@ class TermModel {
 
  private:
   // The additive terms' wear on pass i of grade g (added_: those covering
-  // the observation's roll), their derivatives added into grad.
-  double AddedWear(int i, int g, double* grad) {
+  // the observation's roll) times `roll` (the roll's own factor), their
+  // derivatives added into grad.
+  double AddedWear(int i, int g, double roll, double* grad) {
     double sum = 0;
     for (const size_t t : added_) {
       if (!scopes_[t].CoversGrade(g)) continue;
       const int np = num_params_[t];
       if (static_cast<int>(scratch_.size()) < np) scratch_.resize(np);
       const double z = zp_[t][i];
-      sum += TermAddend(terms_[t].term, z, scratch_.data());
+      sum += roll * TermAddend(terms_[t].term, z, scratch_.data());
       if (grad == nullptr) continue;
-      for (int j = 0; j < np; ++j) grad[offsets_[t] + j] += scratch_[j];
+      for (int j = 0; j < np; ++j) grad[offsets_[t] + j] += roll * scratch_[j];
     }
     return sum;
   }
@@ -277,6 +285,7 @@ class TermModel {
   std::vector<int> offsets_, num_params_;
   std::vector<char> measurement_;  // per term: a reading offset
   std::vector<char> additive_;     // per term: wear added per pass
+  std::vector<char> scales_added_;  // per term: scales the added wear too
   std::vector<uint64_t> last_z_;   // per term: z (bits) of the cached m_t, dm_t
   std::vector<char> cached_;       // per term: last_z_ is valid
   std::vector<char> k_ok_;  // per grade: k_ computed for this observation

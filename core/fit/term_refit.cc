@@ -117,9 +117,11 @@ StatusOr<std::vector<TermSpec>> SpecsOf(const TermData& td,
     if (t.IsMeasurementTerm() != on_measurement) {
       return Status::InvalidArgument(
           "terms: '" + t.covariate + "' is a " +
-          (on_measurement ? "measurement-side" : "wear-rate") + " covariate but form " +
-          TermFormName(t.form) + " acts on the " +
-          (t.IsMeasurementTerm() ? "measured value" : "wear rate"));
+          (on_measurement ? "measurement-side" : "wear-rate") +
+          " covariate but form " + TermFormName(t.form) + " acts on the " +
+          (t.IsMeasurementTerm() ? "measured value"
+           : t.IsAdditiveTerm()  ? "wear added per pass"
+                                 : "wear rate"));
     }
     if (t.IsMeasurementTerm() && !t.scope.grade.empty()) {
       return Status::InvalidArgument("terms: '" + t.covariate +

@@ -29,7 +29,9 @@
 //                1986); a roll the fit never saw counts as 1, its type's
 //                value
 // Additive terms add wear on every pass they cover, beside the law's:
-//   w_i = K * Load_i * prod_t m_t(z_t,i) + sum_a a
+//   w_i = K * Load_i * prod_t m_t(z_t,i) + r * sum_a a
+// (r: the roll's own factor, the roll-effect term's exp(b_r), 1 without
+// one: a roll's wear resistance acts on all its wear)
 //   per-coil     a (µm) per pass, whatever its length and load: the wear
 //                each coil's bite adds (covariate campaign_coils_before,
 //                whose value it does not use; a >= 0)

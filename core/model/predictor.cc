@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "core/model/covariates.h"
+#include "core/model/term_family.h"
 
 namespace rollwear {
 
@@ -118,6 +119,7 @@ PassTermEffect PassTermEffects(const WearModel& model, const PassInput& pass,
   ctx.length_before_m = state.rolled_length_m;
   ctx.coils_before = state.coils;
   double& multiplier = effect.multiplier;
+  double roll_factor = 1.0;  // the roll's own factor scales the added wear
   for (const ModelTerm& t : model.terms) {
     if (t.IsMeasurementTerm()) continue;
     if (!t.scope.CoversRoll(state.stand, state.roll_position, state.roll_type_label) ||
@@ -128,7 +130,9 @@ PassTermEffect PassTermEffects(const WearModel& model, const PassInput& pass,
       const int l = RollLevelOf(t, state.roll_id);
       const double level = l < 0 ? std::numeric_limits<double>::quiet_NaN()
                                  : static_cast<double>(l);
-      multiplier *= TermMultiplier(t, level, nullptr);
+      const double m = TermMultiplier(t, level, nullptr);
+      multiplier *= m;
+      if (FamilyOf(t.form).scales_added_wear()) roll_factor *= m;
       continue;
     }
     double z = std::numeric_limits<double>::quiet_NaN();
@@ -145,6 +149,7 @@ PassTermEffect PassTermEffects(const WearModel& model, const PassInput& pass,
       multiplier *= TermMultiplier(t, z, nullptr);
     }
   }
+  effect.added_um *= roll_factor;
   return effect;
 }
 

@@ -1,10 +1,12 @@
 // Incremental, coil-by-coil wear prediction for one mounted roll: the state
 // the daemon keeps per roll position. Each pass adds
-//   wear_i = K(p, r, s_i) * Load(law, pass_i, roll)
-// and the running gradient with respect to the model parameters, so the
-// prediction interval (wear_model.h) is available at any moment. Summing the
-// passes one by one gives the batch prediction of PredictObservation() on
-// the same data up to rounding (tests check 1e-9 relative).
+//   wear_i = K(p, r, s_i) * Load(law, pass_i, roll) * m_i + added_i
+// (m_i the wear-rate terms' product, added_i the additive terms' wear:
+// model_terms.h) and the running gradient in K's parameters with respect to the
+// model parameters, so the prediction interval (wear_model.h) is available at
+// any moment. Summing the passes one by one gives the batch prediction of
+// PredictObservation() on the same data up to rounding (tests check 1e-9
+// relative).
 //
 // Labels unknown to the model (a new roll type or grade) use the gauge
 // value 1 for that factor, i.e. the geometric mean of the known levels.
@@ -102,8 +104,9 @@ double PassTermMultiplier(const WearModel& model, const PassInput& pass,
                           const RollWearState& state);
 
 // The wear-rate terms' product (PassTermMultiplier) and the additive
-// terms' wear in µm (model_terms.h: wear per coil) for this pass on this
-// roll; the pass's wear is the law's times `multiplier` plus `added_um`.
+// terms' wear in µm (model_terms.h: wear per coil, times the roll's own
+// factor) for this pass on this roll; the pass's wear is the law's times
+// `multiplier` plus `added_um`.
 struct PassTermEffect {
   double multiplier = 1.0;
   double added_um = 0.0;

@@ -1,8 +1,9 @@
 // Term families: the plug-in point of model terms (model_terms.h), as Ceres
 // has its loss functions and manifolds. A family is one form of term (the
 // log-linear multiplier, the cell, the offset by level, ...): its stored
-// name, its parameter count, its multiplier or offset with derivatives, the
-// bounds and prior its refit uses, and the rules its stored form obeys.
+// name, its parameter count, its multiplier, added wear or reading offset
+// with derivatives, the bounds and prior its refit uses, and the rules its
+// stored form obeys.
 // Each family lives in its own file (term_family_<name>.cc) and is listed
 // once in the registry (term_family.cc); nothing outside those files
 // switches on the form to compute a term. Adding a family: a TermForm
@@ -11,8 +12,9 @@
 // A family also proposes its candidate terms over a covariate to the
 // diagnosis (Propose: starting values, box and further starts) and words a
 // finding of its fitted term (Word: the shape, the parameters, the
-// "Fitted:" sentence); the diagnosis adds the calendar steps, the scopes,
-// the mechanism and the scope's words (core/diagnosis/
+// "Fitted:" sentence, and the mechanism where its physics is its form's);
+// the diagnosis adds the calendar steps, the scopes, the covariate's
+// mechanism and the scope's words (core/diagnosis/
 // diagnosis_candidates.cc, diagnosis_naming.cc); see docs/diagnosis.md,
 // "Term families".
 //
@@ -135,9 +137,14 @@ class TermFamily {
   // covariate's mechanism (the rolled length and hours beside the coils:
   // core/diagnosis/diagnosis_carriers.cc) do not carry it.
   virtual bool names_mechanism() const { return false; }
+  // Whether the multiplier also scales the additive families' wear (the
+  // roll-effect family: a roll's own wear resistance acts on all its wear,
+  // so that its factor is the ratio of its wear to its type's whatever the
+  // terms: core/model/roll_factor_update.h).
+  virtual bool scales_added_wear() const { return false; }
   // Whether the diagnosis also offers the family's unscoped candidates at
   // each single scope (a stand, a roll position, a roll type, a grade:
-  // core/diagnosis/diagnosis_scoped.cc): the one-parameter families.
+  // core/diagnosis/diagnosis_scoped.cc): log-linear, flag, per-coil.
   virtual bool offered_scoped() const { return false; }
   // Whether parameter j's lower (or upper) bound in the diagnosis's box is
   // a limit of the family's shape or of physics, where the fitted term is

@@ -37,6 +37,9 @@ class Binned final : public TermFamily {
  public:
   TermForm form() const override { return TermForm::kBinned; }
   const char* name() const override { return "binned"; }
+  // One parameter per level or bin: a sparse one may sit at its bracket
+  // while the term is sound; the box check reads single-shape families.
+  bool BoundIsALimit(int /*j*/, bool /*upper*/) const override { return true; }
   int NumParams(const ModelTerm& t) const override {
     return static_cast<int>(t.edges.size());
   }

@@ -12,9 +12,12 @@ class Decaying final : public TermFamily {
  public:
   TermForm form() const override { return TermForm::kDecaying; }
   const char* name() const override { return "decaying"; }
-  // Every bound is a limit of the shape: a line (b and lam large together,
-  // b / lam the slope), a step (lam small), no effect below m = 0.1.
-  bool BoundIsALimit(int /*j*/, bool /*upper*/) const override { return true; }
+  // The length scale's bounds (a step on the first passes; a decline over
+  // the whole range) and m >= 0.1 are limits of the shape; b = 10, eleven
+  // times the wear rate at the start, is a bracket.
+  bool BoundIsALimit(int j, bool upper) const override {
+    return j == 1 || !upper;
+  }
   int NumParams(const ModelTerm& /*t*/) const override { return 2; }
   // Over a quantity that grows within a campaign; run-in fades early, so
   // lam starts at a tenth of the 95th percentile (tried at 0.02 and 0.4).

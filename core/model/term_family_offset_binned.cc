@@ -17,6 +17,9 @@ class OffsetBinned final : public TermFamily {
  public:
   TermForm form() const override { return TermForm::kOffsetBinned; }
   const char* name() const override { return "offset_binned"; }
+  // One parameter per level or bin: a sparse one may sit at its bracket
+  // while the term is sound; the box check reads single-shape families.
+  bool BoundIsALimit(int /*j*/, bool /*upper*/) const override { return true; }
   bool measurement() const override { return true; }
   int NumParams(const ModelTerm& t) const override {
     return static_cast<int>(t.edges.size());

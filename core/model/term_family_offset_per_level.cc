@@ -16,6 +16,9 @@ class OffsetPerLevel final : public TermFamily {
  public:
   TermForm form() const override { return TermForm::kOffsetPerLevel; }
   const char* name() const override { return "offset_per_level"; }
+  // One parameter per level or bin: a sparse one may sit at its bracket
+  // while the term is sound; the box check reads single-shape families.
+  bool BoundIsALimit(int /*j*/, bool /*upper*/) const override { return true; }
   bool measurement() const override { return true; }
   int NumParams(const ModelTerm& t) const override {
     return std::max(0, t.num_levels - 1);

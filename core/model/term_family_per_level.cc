@@ -15,6 +15,9 @@ class PerLevel final : public TermFamily {
  public:
   TermForm form() const override { return TermForm::kPerLevel; }
   const char* name() const override { return "per_level"; }
+  // One parameter per level or bin: a sparse one may sit at its bracket
+  // while the term is sound; the box check reads single-shape families.
+  bool BoundIsALimit(int /*j*/, bool /*upper*/) const override { return true; }
   int NumParams(const ModelTerm& t) const override {
     return std::max(0, t.num_levels - 1);
   }

@@ -18,6 +18,10 @@ class RollEffect final : public TermFamily {
  public:
   TermForm form() const override { return TermForm::kRollEffect; }
   const char* name() const override { return "roll_effect"; }
+  bool scales_added_wear() const override { return true; }
+  // One parameter per level or bin: a sparse one may sit at its bracket
+  // while the term is sound; the box check reads single-shape families.
+  bool BoundIsALimit(int /*j*/, bool /*upper*/) const override { return true; }
   int NumParams(const ModelTerm& t) const override {
     return std::max(0, t.num_levels);
   }

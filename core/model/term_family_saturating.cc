@@ -14,7 +14,9 @@ class Saturating final : public TermFamily {
   TermForm form() const override { return TermForm::kSaturating; }
   const char* name() const override { return "saturating"; }
   // Every bound is a limit of the shape: a line (b and lam large together,
-  // b / lam the slope), a step (lam small), no effect below m = 0.1.
+  // b / lam the slope: linear growth fitted as b = 10 with lam far beyond
+  // the data, stoppages seed 105), a step (lam small), no effect below
+  // m = 0.1.
   bool BoundIsALimit(int /*j*/, bool /*upper*/) const override { return true; }
   int NumParams(const ModelTerm& /*t*/) const override { return 2; }
   // Over a quantity that grows within a campaign (rolled length, coils,

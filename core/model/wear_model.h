@@ -50,8 +50,9 @@ struct WearModel {
   double noise_sd_um = 0;
   double noise_rel = 0;
   // Terms adopted from a diagnosis (model_terms.h): wear-rate terms
-  // multiply each pass's wear; measurement terms only shift what the
-  // grinder is expected to read and do not change predicted wear.
+  // multiply each pass's wear, additive terms add wear to each pass (wear
+  // per coil); measurement terms only shift what the grinder is expected
+  // to read and do not change predicted wear.
   std::vector<ModelTerm> terms;
   // The recurrent network when this model is the ANN (see above); shared,
   // immutable.

@@ -86,6 +86,21 @@ TEST(ScoreScreenTest, EqualsScoreStatisticForEveryCandidate) {
   ExpectScreenEqualsScore(*td, train, {with->log_k, with->terms},
                           diag::MakeCandidates(*td, train, used, options));
   ExpectScreenEqualsScore(*td, train, {with->log_k, with->terms}, moved);
+
+  // Against a model holding wear per coil (an additive term, 0.3 µm per
+  // coil, not fitted: these data have none): a candidate multiplier scales
+  // the law's wear of a pass, not the wear added to it.
+  TermSpec per_coil;
+  per_coil.covariate = td->CovariateIndex("campaign_coils_before");
+  ASSERT_GE(per_coil.covariate, 0);
+  per_coil.term.covariate = "campaign_coils_before";
+  per_coil.term.form = TermForm::kPerCoil;
+  per_coil.term.params = {0.3};
+  per_coil.lower = {0.0};
+  per_coil.upper = {20.0};
+  ExpectScreenEqualsScore(
+      *td, train, {base->log_k, {per_coil}},
+      diag::MakeCandidates(*td, train, {per_coil.covariate}, options));
 }
 
 // The fits' model of a reading (TermModel, core/fit/term_model_internal.h)

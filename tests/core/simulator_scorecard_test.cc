@@ -144,6 +144,38 @@ TEST(ScorecardTest, APairOfCellsIsNamedRightOnlyAsBoth) {
   EXPECT_EQ(s.wrong_physics, 2);
 }
 
+// Wear per coil and a growth along the campaign share the coil count: only
+// the finding of the truth's form names it, either way round.
+TEST(ScorecardTest, WearPerCoilIsRightOnlyInItsForm) {
+  const ConcealedEffect per_coil = {
+      "per_coil", "campaign_coils_before", {{"stand", "F6"}}, {}, true, "",
+      "per_coil"};
+  const ConcealedEffect growth = {
+      "campaign_growth", "campaign_length_before_m", {}, {}, true, ""};
+  Finding coils = Found("campaign_coils_before", {{"stand", "F6"}});
+  coils.form = "per_coil";
+  Finding rising = Found("campaign_coils_before", {{"stand", "F6"}});
+  rising.form = "log_linear";
+  CaseScore s =
+      ScoreCase("per_coil", 1, Report({coils}, "missing_physics_found"),
+                Truth({per_coil}));
+  EXPECT_TRUE(s.named_right);
+  EXPECT_EQ(s.wrong_physics, 0);
+  s = ScoreCase("per_coil", 1, Report({rising}, "missing_physics_found"),
+                Truth({per_coil}));
+  EXPECT_FALSE(s.named_right);
+  EXPECT_EQ(s.wrong_physics, 1);
+  coils.scope.clear();
+  rising.scope.clear();
+  s = ScoreCase("campaign_growth", 1, Report({coils}, "missing_physics_found"),
+                Truth({growth}));
+  EXPECT_FALSE(s.named_right);
+  EXPECT_EQ(s.wrong_physics, 1);
+  s = ScoreCase("campaign_growth", 1, Report({rising}, "missing_physics_found"),
+                Truth({growth}));
+  EXPECT_TRUE(s.named_right);
+}
+
 TEST(ScorecardTest, EquivalentNamesOnlyWithinTheirClass) {
   EXPECT_TRUE(SameCovariate("rolled_at", "started_at"));
   // A drift of the reading is not a drift of the wear rate.

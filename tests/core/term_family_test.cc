@@ -5,6 +5,7 @@
 // rules on stored terms.
 #include "core/model/term_family.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -375,17 +376,31 @@ TEST(TermFamilyTest, EachFamilyProposesOnlyOverTheCovariatesItFits) {
 }
 
 // Which bounds of the diagnosis's box are limits of a family's shape (a fit
-// there is still the family's) and which are brackets (at_box_bound).
+// there is still the family's) and which are brackets (at_box_bound): the
+// families with a parameter per level or bin are not checked; every other
+// family has a bracket the check reads, and its shape's own limits.
 TEST(TermFamilyTest, ABoundIsALimitOnlyWhereTheShapeGoesOn) {
-  for (bool upper : {false, true}) {
-    EXPECT_FALSE(FamilyOf(TermForm::kLogLinear).BoundIsALimit(0, upper));
-    EXPECT_FALSE(FamilyOf(TermForm::kOffsetLinear).BoundIsALimit(0, upper));
-    EXPECT_FALSE(FamilyOf(TermForm::kOffsetDecay).BoundIsALimit(0, upper));
-    for (int j : {0, 1}) {
-      EXPECT_TRUE(FamilyOf(TermForm::kSaturating).BoundIsALimit(j, upper));
-      EXPECT_TRUE(FamilyOf(TermForm::kDecaying).BoundIsALimit(j, upper));
+  const std::set<TermForm> per_level = {
+      TermForm::kBinned, TermForm::kPerLevel, TermForm::kOffsetBinned,
+      TermForm::kOffsetPerLevel, TermForm::kRollEffect};
+  for (TermForm f : kEveryForm) {
+    const TermFamily& family = FamilyOf(f);
+    const ModelTerm t = TermOf(f);
+    int brackets = 0;
+    for (int j = 0; j < std::min(t.NumParams(), 2); ++j) {
+      for (bool upper : {false, true})
+        brackets += family.BoundIsALimit(j, upper) ? 0 : 1;
+    }
+    if (per_level.count(f) > 0 || f == TermForm::kSaturating) {
+      EXPECT_EQ(brackets, 0) << family.name();
+    } else {
+      EXPECT_GT(brackets, 0) << family.name();
     }
   }
+  // Decaying: b = 10 is a bracket; m >= 0.1 and the length scale are not.
+  EXPECT_FALSE(FamilyOf(TermForm::kDecaying).BoundIsALimit(0, true));
+  EXPECT_TRUE(FamilyOf(TermForm::kDecaying).BoundIsALimit(0, false));
+  EXPECT_TRUE(FamilyOf(TermForm::kDecaying).BoundIsALimit(1, true));
   // The offset-decay's shortest time constant is a step; its longest a
   // constant offset on every reading.
   EXPECT_TRUE(FamilyOf(TermForm::kOffsetDecay).BoundIsALimit(1, false));
