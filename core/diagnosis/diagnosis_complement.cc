@@ -364,20 +364,28 @@ bool WithdrawUnconfinedCell(const DiagnosisOptions& options,
       u.p_value = f.p_value;
       u.p_adjusted = f.p_adjusted;
     }
-    report->runners_up.push_back({(*rounds)[i], f.covariate, f.form,
-                                  f.p_adjusted, f.cv_mse_ratio, buf,
-                                  RefusalKind::kCellPair, ""});
     u.mean_residual_um = ContributionRmsUm(*st, st->current, refit, {cell});
-    report->unexplained.push_back(u);
-    report->findings.erase(report->findings.begin() + i);
-    rounds->erase(rounds->begin() + i);
-    st->current = refit;
+    WithdrawFinding(i, buf, RefusalKind::kCellPair, "", u, refit, st, report,
+                    rounds);
     return true;
   }
   return false;
 }
 
 }  // namespace
+
+void WithdrawFinding(size_t i, const std::string& reason, RefusalKind kind,
+                     const std::string& guard, const Unexplained& located,
+                     const Fitted& refit, DiagnosisState* st,
+                     DiagnosisReport* report, std::vector<int>* rounds) {
+  const Finding& f = report->findings[i];
+  report->runners_up.push_back({(*rounds)[i], f.covariate, f.form, f.p_adjusted,
+                                f.cv_mse_ratio, reason, kind, guard});
+  report->unexplained.push_back(located);
+  report->findings.erase(report->findings.begin() + i);
+  rounds->erase(rounds->begin() + i);
+  st->current = refit;
+}
 
 std::vector<int> WithdrawTiedCellSets(const DiagnosisOptions& options,
                                       DiagnosisState* st,

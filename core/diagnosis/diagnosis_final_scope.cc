@@ -56,14 +56,9 @@ bool WithdrawFirstUnconfined(const DiagnosisOptions& options,
     terms.pop_back();
     const Fitted without = Fit(st->td, st->train, sd, with.log_k, terms);
     if (!without.usable) continue;  // keep what was adopted rather than nothing
-    report->runners_up.push_back({(*rounds)[i], f.covariate, f.form,
-                                  f.p_adjusted, f.cv_mse_ratio,
-                                  "withdrawn on the final model: " + g.reason,
-                                  RefusalKind::kProxyGuard, "siblings"});
-    report->unexplained.push_back(g.located);
-    report->findings.erase(report->findings.begin() + i);
-    rounds->erase(rounds->begin() + i);
-    st->current = without;
+    WithdrawFinding(i, "withdrawn on the final model: " + g.reason,
+                    RefusalKind::kProxyGuard, "siblings", g.located, without,
+                    st, report, rounds);
     return true;
   }
   return false;

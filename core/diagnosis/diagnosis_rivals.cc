@@ -125,6 +125,30 @@ double ContributionRmsUm(const DiagnosisState& st, const Fitted& with,
   return count > 0 ? std::sqrt(sum2 / count) : 0;
 }
 
+namespace {
+
+// Where a refused candidate lives: at `where` along its covariate, the
+// size of its term's contribution over its scope, its LR and p.
+Unexplained LocatedByItsLr(const DiagnosisState& st,
+                           const std::vector<Fitted>& fits,
+                           const std::vector<CandidateResult>& results,
+                           int candidate, const std::string& where) {
+  const CandidateResult& c = results[candidate];
+  Unexplained u;
+  u.dimension = c.covariate;
+  u.where = where;
+  u.mean_residual_um =
+      ContributionRmsUm(st, fits[candidate], st.current,
+                        {fits[candidate].terms.back().term.scope});
+  u.test = "lr";
+  u.statistic = c.lr;
+  u.p_value = c.p_value;
+  u.p_adjusted = c.p_adjusted;
+  return u;
+}
+
+}  // namespace
+
 GuardResult NotNameable(const DiagnosisState& st,
                         const std::vector<Fitted>& fits,
                         const std::vector<CandidateResult>& results,
@@ -137,19 +161,12 @@ GuardResult NotNameable(const DiagnosisState& st,
   r.reason = "follows " + c.covariate +
              ", a quantity derived from the roll serials that the data format "
              "does not name: located, not named";
-  r.located.dimension = c.covariate;
   // One entry per covariate (AddLocated drops a same-place repeat): the
   // strongest form's, refused first.
-  r.located.where = c.covariate == kRollCampaignsBeforeName
-                        ? "each roll's earlier campaigns (roll_id)"
-                        : c.covariate;
-  r.located.mean_residual_um =
-      ContributionRmsUm(st, fits[candidate], st.current,
-                        {fits[candidate].terms.back().term.scope});
-  r.located.test = "lr";
-  r.located.statistic = c.lr;
-  r.located.p_value = c.p_value;
-  r.located.p_adjusted = c.p_adjusted;
+  r.located = LocatedByItsLr(st, fits, results, candidate,
+                             c.covariate == kRollCampaignsBeforeName
+                                 ? "each roll's earlier campaigns (roll_id)"
+                                 : c.covariate);
   return r;
 }
 
@@ -167,7 +184,6 @@ GuardResult AtBoxBound(const DiagnosisState& st,
     const bool at_lo = x[j] <= lo + tol, at_hi = x[j] >= hi - tol;
     if (!(at_lo || at_hi) || family.BoundIsALimit(static_cast<int>(j), at_hi))
       continue;
-    const CandidateResult& c = results[candidate];
     r.pass = false;
     char buf[320];
     std::snprintf(buf, sizeof(buf),
@@ -176,14 +192,8 @@ GuardResult AtBoxBound(const DiagnosisState& st,
                   "for structure it does not describe; located, not named",
                   j, x[j], at_hi ? hi : lo, family.name());
     r.reason = buf;
-    r.located.dimension = c.covariate;
-    r.located.where = c.covariate;
-    r.located.mean_residual_um =
-        ContributionRmsUm(st, fits[candidate], st.current, {term.term.scope});
-    r.located.test = "lr";
-    r.located.statistic = c.lr;
-    r.located.p_value = c.p_value;
-    r.located.p_adjusted = c.p_adjusted;
+    r.located = LocatedByItsLr(st, fits, results, candidate,
+                               results[candidate].covariate);
     return r;
   }
   return r;

@@ -124,6 +124,16 @@ std::vector<int> WithdrawTiedCellSets(const DiagnosisOptions& options,
                                       DiagnosisState* state,
                                       DiagnosisReport* report);
 
+// Withdraws finding i after the rounds (diagnosis_complement.cc): a
+// runner-up of its adoption round with `reason`, `kind` and `guard`, its
+// place `located` listed as unexplained, the model replaced by `refit`
+// (without its term); `rounds` (aligned with report->findings) loses it
+// too.
+void WithdrawFinding(size_t i, const std::string& reason, RefusalKind kind,
+                     const std::string& guard, const Unexplained& located,
+                     const Fitted& refit, DiagnosisState* state,
+                     DiagnosisReport* report, std::vector<int>* rounds);
+
 // The siblings guard (LookAtSiblings) again on the final model, for each
 // scoped finding but the cells: one whose siblings join it significantly
 // once the later rounds' effects are in the model is withdrawn (a
