@@ -29,6 +29,7 @@
 
 #include "core/dataset/dataset.h"
 #include "core/model/wear_law.h"
+#include "engine/wear_answers.h"
 #include "storage/store_types.h"
 
 namespace rollwear::api {
@@ -150,9 +151,9 @@ std::string EncodeProfileAnswer(const storage::ProfileIn& in,
 // "calibrated"|"uncalibrated","coefficients":{beta2..alpha3}|null,
 // "standard_errors":{...}|null,"residual_sd_um":number|null,"x_mm":[...],
 // "predicted_wear_um":[...],"interval_um":[[lo,hi]...]}.
-std::string EncodeWearProfile(const storage::ProfileWear& wear);
-std::string EncodeWear(const storage::WearSnapshot& snapshot);
-std::string EncodePositionWear(const storage::PositionWear& wear,
+std::string EncodeWearProfile(const engine::ProfileWear& wear);
+std::string EncodeWear(const engine::WearSnapshot& snapshot);
+std::string EncodePositionWear(const engine::PositionWear& wear,
                                int64_t model_version);
 std::string EncodeCalibrationId(int64_t id);
 std::string EncodeCalibration(const storage::CalibrationRecord& record);
@@ -165,7 +166,7 @@ std::string EncodeHealth(bool healthy);
 // /v1/limits/...), POST /v1/forecast.
 std::string EncodeWearLimits(const std::vector<storage::WearLimit>& limits);
 std::string EncodeWearLimit(const storage::WearLimit& limit);
-std::string EncodeForecast(const storage::Forecast& forecast);
+std::string EncodeForecast(const engine::Forecast& forecast);
 // codec_shop.cc: the model audit trail, rolls and stored diagnoses.
 std::string EncodeModelHistory(
     const std::vector<storage::ModelPromotion>& history);

@@ -56,7 +56,7 @@ void WriteBounds(JsonWriter* w, double lo, const std::optional<double>& hi) {
 
 // The wear limit and remaining-life members of a mounted roll (null when
 // there is no limit or the roll has not worn yet).
-void WriteRemainingLife(JsonWriter* w, const storage::PositionWear& p) {
+void WriteRemainingLife(JsonWriter* w, const engine::PositionWear& p) {
   const std::optional<RemainingLife>& life = p.remaining;
   w->Key("wear_limit_um");
   w->OptionalDouble(p.wear_limit_um);
@@ -81,7 +81,7 @@ void WriteRemainingLife(JsonWriter* w, const storage::PositionWear& p) {
 }
 
 // The members of one element of GET /v1/wear, inside an open object.
-void WritePositionMembers(JsonWriter* w, const storage::PositionWear& p) {
+void WritePositionMembers(JsonWriter* w, const engine::PositionWear& p) {
   w->Key("stand");
   WriteStand(w, p.stand);
   w->Key("position");
@@ -267,7 +267,7 @@ std::string EncodeMeasurementAnswer(const storage::MeasurementIn& in,
            {"suspect", in.suspect.empty() ? Json(nullptr) : Json(in.suspect)}});
 }
 
-std::string EncodeWear(const storage::WearSnapshot& snapshot) {
+std::string EncodeWear(const engine::WearSnapshot& snapshot) {
   size_t reserve = 64;
   for (const auto& p : snapshot.positions) {
     reserve += kPositionBytes + p.roll_id.size() + p.roll_type.size() +
@@ -289,7 +289,7 @@ std::string EncodeWear(const storage::WearSnapshot& snapshot) {
   return w.Take();
 }
 
-std::string EncodePositionWear(const storage::PositionWear& wear,
+std::string EncodePositionWear(const engine::PositionWear& wear,
                                int64_t model_version) {
   JsonWriter w(kPositionBytes + 32 + wear.roll_id.size() +
                wear.roll_type.size() + wear.campaign_id.size());

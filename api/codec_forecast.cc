@@ -56,7 +56,7 @@ void WriteLimitMembers(JsonWriter* w, const storage::WearLimit& l) {
   }
 }
 
-void WriteForecastPosition(JsonWriter* w, const storage::ForecastPosition& p,
+void WriteForecastPosition(JsonWriter* w, const engine::ForecastPosition& p,
                            const std::vector<std::string>& coil_ids) {
   w->BeginObject();
   w->Key("stand");
@@ -144,7 +144,7 @@ std::string EncodeWearLimit(const storage::WearLimit& limit) {
   return w.Take();
 }
 
-std::string EncodeForecast(const storage::Forecast& forecast) {
+std::string EncodeForecast(const engine::Forecast& forecast) {
   size_t reserve = 64;
   for (const auto& p : forecast.positions) {
     reserve += 160 + 64 * p.predicted_wear_um.size();

@@ -78,8 +78,8 @@ std::string EncodeProfileAnswer(const storage::ProfileIn& in,
                    {"outcome", OutcomeName(outcome)}});
 }
 
-std::string EncodeWearProfile(const storage::ProfileWear& wear) {
-  const storage::PositionWear& c = wear.centre;
+std::string EncodeWearProfile(const engine::ProfileWear& wear) {
+  const engine::PositionWear& c = wear.centre;
   const ProfilePrediction& p = wear.profile;
   JsonWriter w(512 + 64 * p.x_mm.size());
   w.BeginObject();

@@ -83,7 +83,7 @@ HttpResponse Router::GetDashboard() {
   DashboardData d;
   d.generated_at = UtcTime(static_cast<int64_t>(std::time(nullptr)), true);
 
-  const storage::WearSnapshot wear = store_->Wear();
+  const engine::WearSnapshot wear = mounted_.Wear();
   d.model_version = wear.model_version;
   StatusOr<storage::ModelVersion> model = store_->ActiveModel();
   if (model.ok()) {
@@ -93,7 +93,7 @@ HttpResponse Router::GetDashboard() {
     if (model->version > 0) d.model_gap_val_um = model->gap_val_um;
     d.parity_reading_terms = HasMeasurementTerms(model->wear_model);
   }
-  for (const storage::PositionWear& p : wear.positions) {
+  for (const engine::PositionWear& p : wear.positions) {
     DashboardRoll r;
     r.stand = p.stand;
     r.position = PositionName(p.position);
@@ -112,8 +112,8 @@ HttpResponse Router::GetDashboard() {
       r.remaining_hi_m = p.remaining->length_hi_m;
     }
     // The profile as GET .../profile serves it (none when it errs).
-    StatusOr<storage::ProfileWear> profile =
-        store_->WearProfileAt(p.stand, p.position);
+    StatusOr<engine::ProfileWear> profile =
+        mounted_.WearProfileAt(p.stand, p.position);
     if (profile.ok()) {
       r.profile_shape = profile->shape ? "calibrated" : "uncalibrated";
       r.profile_x_mm = std::move(profile->profile.x_mm);

@@ -312,7 +312,7 @@ std::string Metrics::Render(const StoreFigures& store) const {
   Header(&out, "rollwear_predicted_wear_um", "gauge",
          "Predicted centre wear of the roll mounted at each stand and "
          "position (GET /v1/wear), um.");
-  for (const storage::PositionWear& w : store.wear) {
+  for (const engine::PositionWear& w : store.wear) {
     Sample(&out, "rollwear_predicted_wear_um",
            "stand=\"F" + std::to_string(w.stand) + "\",position=\"" +
                PositionName(w.position) + "\"",

@@ -36,6 +36,7 @@
 #include <vector>
 
 #include "api/routes.h"
+#include "engine/wear_answers.h"
 #include "storage/store_types.h"
 
 namespace rollwear::api {
@@ -107,7 +108,7 @@ struct StoreFigures {
   int64_t model_version = 0;
   double validation_gap_um = 0;  // NaN when the active model has none
   // Predicted wear of each mounted roll position (GET /v1/wear).
-  std::vector<storage::PositionWear> wear;
+  std::vector<engine::PositionWear> wear;
 };
 
 class Metrics {

@@ -199,7 +199,10 @@ int HttpStatusFor(StatusCode code) {
 }
 
 Router::Router(storage::MillStore* store, ApiOptions options)
-    : store_(store), options_(std::move(options)), metrics_(options_.build) {}
+    : store_(store),
+      mounted_(store),
+      options_(std::move(options)),
+      metrics_(options_.build) {}
 
 bool Router::Authorized(const HttpRequest& request) const {
   if (options_.token.empty()) return true;
@@ -371,7 +374,7 @@ HttpResponse Router::GetMetrics() {
   figures.healthy = store_->Healthy();
   figures.counters = store_->Counters();
   figures.validation_gap_um = std::numeric_limits<double>::quiet_NaN();
-  figures.wear = store_->Wear().positions;
+  figures.wear = mounted_.Wear().positions;
   StatusOr<storage::ModelVersion> model = store_->ActiveModel();
   if (model.ok()) {
     figures.model_version = model->version;

@@ -2,7 +2,8 @@
 // response, with no sockets (after Valhalla's actor/service split). It
 // matches the route, checks the bearer token and the body limit, decodes and
 // validates the JSON body into storage's input types, calls the MillStore
-// facade, and encodes the answer or the error body
+// facade (writes and records) or the engine (the mounted rolls' wear,
+// engine/mounted_rolls.h), and encodes the answer or the error body
 //   {"error": {"code": "...", "message": "...", "field": "passes[1].force_kn"}}
 // HTTP status codes exist in the api layer only; HttpStatusFor() is the one
 // mapping from core's StatusCode. A rejected request never reaches a write
@@ -34,6 +35,7 @@
 #include "api/routes.h"
 #include "core/base/status.h"
 #include "core/model/wear_law.h"
+#include "engine/mounted_rolls.h"
 #include "storage/mill_store.h"
 
 namespace rollwear::api {
@@ -216,6 +218,8 @@ class Router {
   bool Authorized(const HttpRequest& request) const;
 
   storage::MillStore* store_;
+  // The engine's answers about the mounted rolls (wear, profile, forecast).
+  engine::MountedRolls mounted_;
   ApiOptions options_;
   Metrics metrics_;
   // Id of the last diagnosis queued (0: none), for the dashboard.

@@ -48,7 +48,7 @@ HttpResponse Router::PostForecast(const HttpRequest& request) {
                       options_.max_forecast_coils, &coils, &error)) {
     return Error(error);
   }
-  StatusOr<storage::Forecast> forecast = store_->ForecastCoils(coils);
+  StatusOr<engine::Forecast> forecast = mounted_.ForecastCoils(coils);
   if (!forecast.ok()) return FromStatus(forecast.status());
   return Answer(200, EncodeForecast(*forecast));
 }

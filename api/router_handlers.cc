@@ -42,7 +42,7 @@ HttpResponse Router::PostCampaignEnd(const HttpRequest& request,
 }
 
 HttpResponse Router::GetWear() {
-  return Answer(200, EncodeWear(store_->Wear()));
+  return Answer(200, EncodeWear(mounted_.Wear()));
 }
 
 HttpResponse Router::GetWearAt(const std::string& stand_text,
@@ -56,14 +56,14 @@ HttpResponse Router::GetWearAt(const std::string& stand_text,
   // The answer names the model version so that clients can tell which model
   // predicted; only the full snapshot has it, so the position is taken from
   // the same snapshot: one visit to the store, and the two agree.
-  const storage::WearSnapshot snapshot = store_->Wear();
-  for (const storage::PositionWear& wear : snapshot.positions) {
+  const engine::WearSnapshot snapshot = mounted_.Wear();
+  for (const engine::PositionWear& wear : snapshot.positions) {
     if (wear.stand == stand && wear.position == position) {
       return Answer(200, EncodePositionWear(wear, snapshot.model_version));
     }
   }
   // Not mounted (or mounted just now): the store's own answer.
-  StatusOr<storage::PositionWear> wear = store_->WearAt(stand, position);
+  StatusOr<engine::PositionWear> wear = mounted_.WearAt(stand, position);
   if (!wear.ok()) return FromStatus(wear.status());
   return Answer(200, EncodePositionWear(*wear, snapshot.model_version));
 }

@@ -31,7 +31,7 @@ HttpResponse Router::GetWearProfile(const std::string& stand_text,
           stand_text, position_text, &stand, &position)) {
     return std::move(*unknown);
   }
-  StatusOr<storage::ProfileWear> wear = store_->WearProfileAt(stand, position);
+  StatusOr<engine::ProfileWear> wear = mounted_.WearProfileAt(stand, position);
   if (!wear.ok()) return FromStatus(wear.status());
   return Answer(200, EncodeWearProfile(*wear));
 }

@@ -5,7 +5,8 @@
 //                           (each coil as POST /v1/coils decodes it),
 //                           check, predict every roll after each coil with
 //                           its interval, encode
-//   BM_ForecastStore/200    MillStore::ForecastCoils alone
+//   BM_ForecastStore/200    engine::MountedRolls::ForecastCoils alone (the
+//                           store's checks and the engine's prediction)
 // and, on the same mill, the wear profile across the barrel:
 //   BM_WearProfileGet       GET /v1/wear/F6/top/profile through the router
 //                           (201 slices, interval, JSON); p99_us is the
@@ -28,6 +29,7 @@
 
 #include "api/router.h"
 #include "core/model/predictor.h"
+#include "engine/mounted_rolls.h"
 #include "storage/mill_store.h"
 
 namespace rollwear::bench {
@@ -150,7 +152,8 @@ void BM_ForecastStore(benchmark::State& state) {
     coils.push_back(std::move(c));
   }
   for (auto _ : state) {
-    StatusOr<storage::Forecast> f = mill.store->ForecastCoils(coils);
+    StatusOr<engine::Forecast> f =
+        engine::MountedRolls(mill.store.get()).ForecastCoils(coils);
     if (!f.ok()) Mill::Die(f.status().ToString());
     benchmark::DoNotOptimize(f->positions.data());
   }

@@ -1,8 +1,10 @@
-// MillStore: the daemon's durable state and the one facade (after Valhalla's
-// actor) that the HTTP layer, the CLI and the tests call. It owns the SQLite
-// database (WAL), the in-memory state of every mounted roll, and the active
-// wear model; every write is validated against that state, committed, and
-// only then acknowledged.
+// MillStore: the daemon's durable state and its records, the facade (after
+// Valhalla's actor) that the engine, the HTTP layer, the CLI and the tests
+// call. It owns the SQLite database (WAL), the in-memory state of every
+// mounted roll, and the active wear model; every write is validated against
+// that state, committed, and only then acknowledged. The answers read from
+// the mounted rolls (wear with interval and remaining life, profile,
+// forecast) are the engine's (engine/mounted_rolls.h, on Mounted()).
 //
 // Durability and throughput: writes from concurrent callers are queued and
 // committed by one writer thread in group commits (one transaction, one
@@ -83,28 +85,23 @@ class MillStore {
   // AlreadyExists otherwise.
   virtual StatusOr<WriteOutcome> AddProfile(const ProfileIn& in) = 0;
 
-  // The rolls of the open campaign (none once it has ended and no roll
-  // change has followed).
-  virtual WearSnapshot Wear() const = 0;
-  virtual StatusOr<PositionWear> WearAt(int stand, Position position) const = 0;
-  // The predicted profile across the barrel of the roll at (stand,
-  // position), read from its profile sums (core/model/predictor.h) with the
-  // active model's profile shape, or the default g = 1 when it has none
-  // (core/model/profile_interval.h); errors as WearAt.
-  virtual StatusOr<ProfileWear> WearProfileAt(int stand,
-                                              Position position) const = 0;
+  // The open campaign's mounted rolls (none once it has ended and no roll
+  // change has followed) with the served model and the wear limits in
+  // force, as of the last commit: one consistent moment. The engine
+  // answers the wear, profile and remaining-life queries from it
+  // (engine/mounted_rolls.h).
+  virtual MountedState Mounted() const = 0;
 
-  // The predicted wear of every mounted roll after each coil of a planned
-  // schedule, with intervals and the first coil at which each roll's wear
-  // limit is reached (storage/store_forecast.cc). Stores nothing; each coil
-  // is checked as AddCoil checks it (its field rules, a roll mounted at
-  // each stand it passes), except that seq need not be new; coil_id must
-  // be new (a stored one is FailedPrecondition, one planned twice
-  // InvalidArgument) and every coil must be for the open campaign
-  // (FailedPrecondition). Errors
-  // name the coil: "coils[3].passes[1].force_kn: must be > 0". The same
-  // coils posted with AddCoil then leave Wear() at the last values.
-  virtual StatusOr<Forecast> ForecastCoils(
+  // A planned schedule (storage/store_forecast.cc), checked as AddCoil
+  // checks each coil (its field rules, a roll mounted at each stand it
+  // passes), except that seq need not be new; coil_id must be new (a
+  // stored one is FailedPrecondition, one planned twice InvalidArgument)
+  // and every coil must be for the open campaign (FailedPrecondition).
+  // Errors name the coil: "coils[3].passes[1].force_kn: must be > 0".
+  // Stores nothing; answers the coils' passes as the predictor reads them
+  // and the mounted state they start from, taken with the checks. The
+  // engine predicts the schedule on it (engine::MountedRolls::ForecastCoils).
+  virtual StatusOr<PlannedSchedule> PlanCoils(
       const std::vector<CoilIn>& coils) const = 0;
 
   // Wear limits (storage/store_limits.cc). SetWearLimit stores the limit of

@@ -415,51 +415,20 @@ CoilOutcome MillStoreImpl::OutcomeForStored(const StoredCoil& coil) const {
 
 // ----------------------------------------------------------------- reads
 
-Status MillStoreImpl::MountedLocked(int slot) const {
-  if (rolls_[slot]) return Status::Ok();
-  return Status::NotFound("no roll mounted at " +
-                          RollPositionName(SlotStand(slot), SlotPosition(slot)));
-}
-
-PositionWear MillStoreImpl::PositionWearLocked(int slot) const {
-  const LiveRoll& roll = *rolls_[slot];
-  PositionWear w;
-  w.stand = SlotStand(slot);
-  w.position = SlotPosition(slot);
-  w.roll_id = roll.mount.roll_id;
-  w.roll_type = roll.mount.roll_type;
-  w.campaign_id = committed_.open_campaign;
-  w.coils = roll.state.coils;
-  w.rolled_length_m = roll.state.rolled_length_m;
-  w.predicted_wear_um = roll.state.wear_um;
-  const auto [lo, hi] = WearInterval(model_->wear_model, roll.state);
-  w.interval_lo_um = lo;
-  w.interval_hi_um = hi;
-  w.wear_limit_um = LimitLocked(slot).limit_um;
-  if (w.wear_limit_um) {
-    w.remaining = PredictRemainingLife(model_->wear_model, roll.state,
-                                       *w.wear_limit_um);
-  }
-  return w;
-}
-
-WearSnapshot MillStoreImpl::Wear() const {
+MountedState MillStoreImpl::Mounted() const {
   std::lock_guard<std::mutex> lock(mu_);
-  WearSnapshot snap;
-  snap.model_version = model_->version;
+  return MountedLocked();
+}
+
+MountedState MillStoreImpl::MountedLocked() const {
+  MountedState out;
+  out.model = model_;
+  out.campaign_id = committed_.open_campaign;
+  out.rolls = rolls_;
   for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
-    if (rolls_[slot]) snap.positions.push_back(PositionWearLocked(slot));
+    if ((*rolls_)[slot]) out.wear_limit_um[slot] = LimitLocked(slot).limit_um;
   }
-  return snap;
-}
-
-StatusOr<PositionWear> MillStoreImpl::WearAt(int stand,
-                                             Position position) const {
-  ROLLWEAR_RETURN_IF_ERROR(CheckRollPosition(stand, position));
-  std::lock_guard<std::mutex> lock(mu_);
-  const int slot = RollPositionSlot(stand, position);
-  ROLLWEAR_RETURN_IF_ERROR(MountedLocked(slot));
-  return PositionWearLocked(slot);
+  return out;
 }
 
 StatusOr<Dataset> MillStoreImpl::ExportDataset() const {

@@ -6,9 +6,9 @@
 //
 // State and locks:
 //   mu_ guards the catalogs, the queue, the live roll states, the active
-//       model pointers (as stored and as served) and the counters, committed_coil_ids_, and
-//       lookup_db_ (used to read a stored coil while admitting a write).
-//       Held only briefly, never across a commit.
+//       model pointers (as stored and as served) and the counters,
+//       committed_coil_ids_, and lookup_db_ (used to read a stored coil while
+//       admitting a write). Held only briefly, never across a commit.
 //   committed_  the catalog of what the database holds (published state);
 //   committed_coil_ids_  hashes of every committed coil id: a coil id it
 //               does not contain is not stored, so admitting a new coil
@@ -17,7 +17,7 @@
 //               coil from spec_.pending_coils);
 //   spec_       committed_ plus every write queued or being committed, which
 //               is what a new write is validated against;
-//   rolls_      the open campaign's roll states, updated after each commit.
+//   rolls_      the open campaign's roll states, replaced after each commit.
 //   read_mu_ guards read_db_, the connection of the small read queries.
 //   publish_mu_ makes a model change visible at once: the writer holds it
 //       from the commit of a task that installs a model (promotion,
@@ -117,11 +117,6 @@ struct WriteItem {
   std::promise<void> done;
 };
 
-struct LiveRoll {
-  MountedRollIn mount;
-  RollWearState state;
-};
-
 // What predictions depend on: the model and the open campaign's rolls. The
 // writer computes the state a batch leaves on a copy before committing it
 // (so each coil's answer is stored with the coil) and installs the copy
@@ -131,7 +126,7 @@ struct LiveState {
   // The prior was rebuilt for new positions (PredictBatch): `model` is
   // then the stored version too.
   bool prior_rebuilt = false;
-  std::array<std::optional<LiveRoll>, kNumRollPositionSlots> rolls;
+  RollSlots rolls;
   std::string open_campaign;
   uint32_t positions_seen = 0;
 };
@@ -154,15 +149,11 @@ class MillStoreImpl final : public MillStore {
   StatusOr<WriteOutcome> AddMeasurement(const MeasurementIn& in,
                                         std::string* suspect) override;
 
-  // ---- store_profiles.cc
-  StatusOr<WriteOutcome> AddProfile(const ProfileIn& in) override;
-  StatusOr<ProfileWear> WearProfileAt(int stand,
-                                      Position position) const override;
+  StatusOr<WriteOutcome> AddProfile(
+      const ProfileIn& in) override;  // store_profiles.cc
 
-  WearSnapshot Wear() const override;
-  StatusOr<PositionWear> WearAt(int stand, Position position) const override;
-
-  StatusOr<Forecast> ForecastCoils(
+  MountedState Mounted() const override;
+  StatusOr<PlannedSchedule> PlanCoils(
       const std::vector<CoilIn>& coils) const override;  // store_forecast.cc
   StatusOr<WearLimit> SetWearLimit(const WearLimitIn& in) override;
   std::vector<WearLimit> WearLimits() const override;  // store_limits.cc
@@ -244,9 +235,8 @@ class MillStoreImpl final : public MillStore {
   // the row has none (cannot happen after Init's backfill).
   CoilOutcome OutcomeForStored(const StoredCoil& coil) const;
   std::shared_ptr<const ModelVersion> MakePrior(uint32_t positions_seen) const;
-  PositionWear PositionWearLocked(int slot) const;
-  // NotFound "no roll mounted at F6/top" unless rolls_[slot] is set.
-  Status MountedLocked(int slot) const;
+  // Mounted() with mu_ held.
+  MountedState MountedLocked() const;
 
   // ---- store_limits.cc
   // Reads the wear_limits table into api_limits_ (Init).
@@ -313,7 +303,9 @@ class MillStoreImpl final : public MillStore {
   Catalog committed_;
   CoilIdFilter committed_coil_ids_;
   Catalog spec_;
-  std::array<std::optional<LiveRoll>, kNumRollPositionSlots> rolls_;
+  // Published whole after each commit that changes it, never changed in
+  // place (Mounted hands it out).
+  std::shared_ptr<const RollSlots> rolls_ = std::make_shared<RollSlots>();
   // The active model: as stored (ActiveModel, the promotion gate) and as
   // served (predictions; the per-roll factors updated by their readings,
   // store_roll_factors.cc). The same object without a roll-effect term.

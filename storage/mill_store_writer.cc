@@ -109,7 +109,7 @@ void MillStoreImpl::WriterLoop() {
       if (!exclusive && NeedsPrediction(batch)) {
         next.emplace();
         next->model = model_;
-        next->rolls = rolls_;
+        next->rolls = *rolls_;
         next->open_campaign = committed_.open_campaign;
         next->positions_seen = committed_.positions_seen;
       }
@@ -187,12 +187,12 @@ void MillStoreImpl::PredictBatch(const std::vector<ItemPtr>& batch,
         state->open_campaign = item->roll_change.campaign_id;
         for (auto& r : state->rolls) r.reset();
         for (const MountedRollIn& m : item->roll_change.rolls) {
-          state->rolls[RollPositionSlot(m.stand, m.position)] =
-              LiveRoll{m, MountRoll(state->model->wear_model,
-                                    RollPositionName(m.stand, m.position),
-                                    m.roll_type, m.diameter_mm, m.hardness_hb,
-                                    item->roll_change.started_at, m.extra,
-                                    item->roll_change.extra, m.roll_id)};
+          state->rolls[RollPositionSlot(m.stand, m.position)] = MountedRoll{
+              m, MountRoll(state->model->wear_model,
+                           RollPositionName(m.stand, m.position), m.roll_type,
+                           m.diameter_mm, m.hardness_hb,
+                           item->roll_change.started_at, m.extra,
+                           item->roll_change.extra, m.roll_id)};
           TrackProfile(&state->rolls[RollPositionSlot(m.stand, m.position)]
                             ->state);
         }
@@ -345,7 +345,7 @@ void MillStoreImpl::PublishBatch(const std::vector<ItemPtr>& batch,
       // positions (which is then the stored one too).
       if (next->prior_rebuilt) stored_model_ = next->model;
       model_ = std::move(next->model);
-      rolls_ = std::move(next->rolls);
+      rolls_ = std::make_shared<const RollSlots>(std::move(next->rolls));
     }
   }
   if (!measured_rolls.empty() || all_rolls_measured) {
@@ -477,16 +477,17 @@ void MillStoreImpl::InstallModel(std::shared_ptr<const ModelVersion> model,
       }
     }
   }
+  auto installed = std::make_shared<RollSlots>();
+  for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
+    if (has_open && open.mounts[slot] && states[slot]) {
+      (*installed)[slot] =
+          MountedRoll{*open.mounts[slot], std::move(*states[slot])};
+    }
+  }
   std::lock_guard<std::mutex> lock(mu_);
   if (!served) stored_model_ = stored;
   model_ = std::move(model);
-  for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
-    if (has_open && open.mounts[slot] && states[slot]) {
-      rolls_[slot] = LiveRoll{*open.mounts[slot], std::move(*states[slot])};
-    } else {
-      rolls_[slot].reset();
-    }
-  }
+  rolls_ = std::move(installed);
 }
 
 }  // namespace rollwear::storage::internal

@@ -1,9 +1,10 @@
-// MillStore::ForecastCoils: a planned schedule run through copies of the
-// open campaign's roll states (the predictor of the writer's PredictBatch,
-// on the same canonical passes), storing nothing.
+// MillStore::PlanCoils: a planned schedule checked as the writes would be,
+// turned into the canonical passes the writer's PredictBatch reads, with
+// the mounted state it starts from (the engine runs it through copies of
+// the roll states: engine/mounted_rolls.h). Stores nothing.
 //
-// Thread-safety: as MillStoreImpl; the live state is copied under mu_ and
-// the schedule predicted without the lock.
+// Thread-safety: as MillStoreImpl; the checks and the state are taken
+// under one hold of mu_.
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -22,7 +23,7 @@ Status InCoil(size_t i, const Status& s) {
 
 }  // namespace
 
-StatusOr<Forecast> MillStoreImpl::ForecastCoils(
+StatusOr<PlannedSchedule> MillStoreImpl::PlanCoils(
     const std::vector<CoilIn>& coils) const {
   std::vector<StoredCoil> schedule;
   schedule.reserve(coils.size());
@@ -31,11 +32,7 @@ StatusOr<Forecast> MillStoreImpl::ForecastCoils(
     if (!fields.ok()) return InCoil(i, fields);
     schedule.push_back(CanonicalCoil(coils[i]));
   }
-  Forecast out;
-  std::shared_ptr<const ModelVersion> model;
-  std::array<std::optional<LiveRoll>, kNumRollPositionSlots> rolls;
-  std::array<std::optional<double>, kNumRollPositionSlots> limits;
-  std::string campaign_id;
+  PlannedSchedule out;
   {
     std::lock_guard<std::mutex> lock(mu_);
     const std::string& open = committed_.open_campaign;
@@ -76,50 +73,17 @@ StatusOr<Forecast> MillStoreImpl::ForecastCoils(
                     /*check_seq=*/false);
       if (!admit.ok()) return InCoil(i, admit);
     }
-    model = model_;
-    rolls = rolls_;
-    campaign_id = open;
-    for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
-      if (rolls[slot]) limits[slot] = LimitLocked(slot).limit_um;
-    }
+    out.start = MountedLocked();
   }
-  out.model_version = model->version;
-  std::array<int, kNumRollPositionSlots> index{};
-  for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
-    if (!rolls[slot]) continue;
-    index[slot] = static_cast<int>(out.positions.size());
-    ForecastPosition p;
-    p.stand = SlotStand(slot);
-    p.position = SlotPosition(slot);
-    p.roll_id = rolls[slot]->mount.roll_id;
-    p.campaign_id = campaign_id;
-    p.wear_limit_um = limits[slot];
-    p.predicted_wear_um.reserve(schedule.size());
-    p.interval_um.reserve(schedule.size());
-    out.positions.push_back(std::move(p));
-  }
-  const WearModel& wear_model = model->wear_model;
-  for (size_t i = 0; i < schedule.size(); ++i) {
-    const StoredCoil& coil = schedule[i];
-    out.coil_ids.push_back(coil.coil_id);
+  out.coils.reserve(schedule.size());
+  for (const StoredCoil& coil : schedule) {
+    PlannedCoil planned;
+    planned.coil_id = coil.coil_id;
+    planned.passes.reserve(coil.passes.size());
     for (const StoredPass& pass : coil.passes) {
-      const PassInput in = ToPassInput(coil.grade, pass);
-      for (Position pos : {Position::kTop, Position::kBottom}) {
-        auto& roll = rolls[RollPositionSlot(pass.stand, pos)];
-        if (roll) AddPass(wear_model, in, &roll->state);
-      }
+      planned.passes.push_back({pass.stand, ToPassInput(coil.grade, pass)});
     }
-    for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
-      if (!rolls[slot]) continue;
-      ForecastPosition& p = out.positions[index[slot]];
-      const RollWearState& state = rolls[slot]->state;
-      p.predicted_wear_um.push_back(state.wear_um);
-      p.interval_um.push_back(WearInterval(wear_model, state));
-      if (p.first_crossing < 0 && p.wear_limit_um &&
-          state.wear_um >= *p.wear_limit_um) {
-        p.first_crossing = static_cast<int>(i);
-      }
-    }
+    out.coils.push_back(std::move(planned));
   }
   return out;
 }

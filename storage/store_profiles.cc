@@ -191,30 +191,4 @@ StatusOr<WriteOutcome> MillStoreImpl::AddProfile(const ProfileIn& in) {
   return outcome;
 }
 
-StatusOr<ProfileWear> MillStoreImpl::WearProfileAt(int stand,
-                                                   Position position) const {
-  ROLLWEAR_RETURN_IF_ERROR(CheckRollPosition(stand, position));
-  const int slot = RollPositionSlot(stand, position);
-  ProfileWear out;
-  std::optional<ProfileStats> stats;
-  {
-    // The centre and the sums of one moment (a coil commits both at once).
-    std::lock_guard<std::mutex> lock(mu_);
-    ROLLWEAR_RETURN_IF_ERROR(MountedLocked(slot));
-    out.centre = PositionWearLocked(slot);
-    out.model_version = model_->version;
-    out.shape = model_->profile;
-    stats = rolls_[slot]->state.profile;
-  }
-  if (!stats.has_value()) {
-    return Status::Internal("no profile state at " +
-                            RollPositionName(stand, position));
-  }
-  out.profile = PredictProfile(
-      *stats, out.shape.has_value() ? &*out.shape : nullptr,
-      out.centre.predicted_wear_um,
-      {out.centre.interval_lo_um, out.centre.interval_hi_um});
-  return out;
-}
-
 }  // namespace rollwear::storage::internal

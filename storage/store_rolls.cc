@@ -75,8 +75,8 @@ StatusOr<RollLife> MillStoreImpl::GetRollLife(
         if (!m.has_value() || m->roll_id != roll_id) continue;
         recs.push_back(*rec);
         slots.push_back(slot);
-        if (rec->id == committed_.open_campaign && rolls_[slot].has_value()) {
-          live = rolls_[slot]->state;
+        if (rec->id == committed_.open_campaign && (*rolls_)[slot]) {
+          live = (*rolls_)[slot]->state;
         }
       }
     }

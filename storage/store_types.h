@@ -1,5 +1,5 @@
 // The value types of the storage layer: what MillStore's writes take
-// (RollChangeIn, CoilIn, MeasurementIn), what its reads answer (WearSnapshot,
+// (RollChangeIn, CoilIn, MeasurementIn), what its reads answer (MountedState,
 // ModelVersion, CalibrationRecord, CampaignWearHistory, ...), and the store's
 // options. Apart from the facade (storage/mill_store.h) so that a file that
 // needs only the structs (the JSON codec, the repositories, the catalog)
@@ -12,6 +12,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -25,9 +26,8 @@
 #include "core/model/ann_model.h"
 #include "core/model/barrel_profile.h"
 #include "core/model/model_terms.h"
+#include "core/model/predictor.h"
 #include "core/model/profile_calibration.h"
-#include "core/model/profile_interval.h"
-#include "core/model/remaining_life.h"
 #include "core/model/wear_model.h"
 
 namespace rollwear::storage {
@@ -137,37 +137,6 @@ struct FittingData {
   DataQuality quality;
 };
 
-// Predicted state of one mounted roll.
-struct PositionWear {
-  int stand = 0;
-  Position position = Position::kTop;
-  std::string roll_id;
-  std::string roll_type;
-  std::string campaign_id;
-  int coils = 0;
-  double rolled_length_m = 0;
-  double predicted_wear_um = 0;
-  double interval_lo_um = 0;
-  double interval_hi_um = 0;
-  // The position's wear limit (WearLimits()), empty when none; the
-  // remaining life until it at the campaign's mix so far
-  // (core/model/remaining_life.h), empty without a limit or before the
-  // roll has worn.
-  std::optional<double> wear_limit_um;
-  std::optional<RemainingLife> remaining;
-};
-
-// The predicted profile of one mounted roll (MillStore::WearProfileAt):
-// its centre state, the model version and shape it was read with (shape
-// empty: the default g = 1, "uncalibrated"), and per slice the profile and
-// its interval.
-struct ProfileWear {
-  PositionWear centre;
-  int64_t model_version = 0;
-  std::optional<ProfileFit> shape;
-  ProfilePrediction profile;
-};
-
 // Bounds of a wear limit (µm): above 0, at most kMaxWearLimitUm.
 inline constexpr double kMaxWearLimitUm = 5000;
 
@@ -189,24 +158,6 @@ struct WearLimit {
   std::string reason;              // "api" only
 };
 
-// Predicted wear of one mounted roll after each coil of a planned schedule
-// (MillStore::ForecastCoils).
-struct ForecastPosition {
-  int stand = 0;
-  Position position = Position::kTop;
-  std::string roll_id;
-  std::string campaign_id;
-  std::optional<double> wear_limit_um;
-  std::vector<double> predicted_wear_um;               // after coil i
-  std::vector<std::pair<double, double>> interval_um;  // after coil i
-  int first_crossing = -1;  // first i with wear >= limit; -1 none
-};
-struct Forecast {
-  int64_t model_version = 0;
-  std::vector<std::string> coil_ids;        // the schedule's, in order
-  std::vector<ForecastPosition> positions;  // by stand, top first
-};
-
 struct CoilOutcome {
   WriteOutcome outcome = WriteOutcome::kCreated;
   // Wear this coil added to each roll position it passed (empty passes of a
@@ -219,11 +170,6 @@ struct CoilOutcome {
     double predicted_wear_um = 0;  // roll total after this coil
   };
   std::vector<Added> added;
-};
-
-struct WearSnapshot {
-  int64_t model_version = 0;
-  std::vector<PositionWear> positions;  // ordered by stand, top first
 };
 
 // Model name of the recurrent network in runs and model versions
@@ -417,6 +363,43 @@ struct MeasuredProfile {
   std::vector<double> x_mm;  // the grinder's points, stored order
   std::vector<double> measured_um;
   std::vector<double> predicted_um;
+};
+
+// One mounted roll of the open campaign as the writer last committed it:
+// its mount and its predicted state (core/model/predictor.h).
+struct MountedRoll {
+  MountedRollIn mount;
+  RollWearState state;
+};
+using RollSlots = std::array<std::optional<MountedRoll>, kNumRollPositionSlots>;
+
+// The open campaign's mounted rolls at one moment (MillStore::Mounted),
+// with the served model their states were predicted under and the wear
+// limit in force at each position: what the engine answers wear queries
+// and forecasts from (engine/mounted_rolls.h). `rolls` is shared with the
+// store and never changed (the writer publishes a new one).
+struct MountedState {
+  std::shared_ptr<const ModelVersion> model;
+  std::string campaign_id;  // the open campaign; empty when none
+  std::shared_ptr<const RollSlots> rolls;
+  std::array<std::optional<double>, kNumRollPositionSlots> wear_limit_um;
+};
+
+// A planned coil's passes as the predictor reads them, ordered by stand
+// (MillStore::PlanCoils).
+struct PlannedPass {
+  int stand = 0;
+  PassInput input;
+};
+struct PlannedCoil {
+  std::string coil_id;
+  std::vector<PlannedPass> passes;
+};
+// A planned schedule checked against the store, and the mounted state it
+// starts from (taken in the same moment as the checks).
+struct PlannedSchedule {
+  MountedState start;
+  std::vector<PlannedCoil> coils;
 };
 
 }  // namespace rollwear::storage

@@ -131,17 +131,6 @@ Status CheckMeasurementFields(const MeasurementIn& in) {
                      "");
 }
 
-Status CheckRollPosition(int stand, Position position) {
-  if (stand < kMinStand || stand > kMaxStand) {
-    return Status::InvalidArgument("stand: unknown stand " +
-                                   std::to_string(stand) + " (want F1..F7)");
-  }
-  if (position != Position::kTop && position != Position::kBottom) {
-    return Status::InvalidArgument("position: want top or bottom");
-  }
-  return Status::Ok();
-}
-
 Status CheckProfileFields(const ProfileIn& in) {
   const Position pos = in.position;
   if (in.points.empty()) {

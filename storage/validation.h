@@ -25,8 +25,6 @@
 
 namespace rollwear::storage::internal {
 
-// A roll position that exists: stand F1..F7 ("stand: ..."), top or bottom.
-Status CheckRollPosition(int stand, Position position);
 Status CheckRollChangeFields(const RollChangeIn& in);
 Status CheckEndFields(const std::string& campaign_id, UnixSeconds ended_at);
 Status CheckCoilFields(const CoilIn& in);

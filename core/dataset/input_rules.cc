@@ -283,4 +283,15 @@ RuleViolations MeasurementTimeRules(
   return out;
 }
 
+Status CheckRollPosition(int stand, Position position) {
+  if (stand < kMinStand || stand > kMaxStand) {
+    return Status::InvalidArgument("stand: unknown stand " +
+                                   std::to_string(stand) + " (want F1..F7)");
+  }
+  if (position != Position::kTop && position != Position::kBottom) {
+    return Status::InvalidArgument("position: want top or bottom");
+  }
+  return Status::Ok();
+}
+
 }  // namespace rollwear

@@ -31,6 +31,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/base/status.h"
 #include "core/dataset/dataset.h"
 
 namespace rollwear {
@@ -59,6 +60,11 @@ using RuleViolations = std::vector<RuleViolation>;
 
 // rule + ", got " + value (when cited).
 std::string RuleMessage(const RuleViolation& v);
+
+// A roll position that exists, for a query that names one (GET
+// /v1/wear/F6/top): InvalidArgument "stand: unknown stand 9 (want
+// F1..F7)" or "position: want top or bottom".
+Status CheckRollPosition(int stand, Position position);
 
 // campaigns.csv, a campaign end: non-empty id; ended_at (when known) not
 // before started_at.

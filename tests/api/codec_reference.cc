@@ -22,7 +22,7 @@ Json Optional(const std::optional<double>& v) {
   return v ? Json(*v) : Json(nullptr);
 }
 
-Json PositionJson(const storage::PositionWear& w) {
+Json PositionJson(const engine::PositionWear& w) {
   const std::optional<RemainingLife>& r = w.remaining;
   Json j = Json{
       {"stand", "F" + std::to_string(w.stand)},
@@ -73,14 +73,14 @@ std::string EncodeCoilAnswer(const storage::CoilIn& in,
   return Dump(j);
 }
 
-std::string EncodeWear(const storage::WearSnapshot& snapshot) {
+std::string EncodeWear(const engine::WearSnapshot& snapshot) {
   Json positions = Json::array();
   for (const auto& p : snapshot.positions) positions.push_back(PositionJson(p));
   return Dump(Json{{"model_version", snapshot.model_version},
                    {"positions", std::move(positions)}});
 }
 
-std::string EncodePositionWear(const storage::PositionWear& wear,
+std::string EncodePositionWear(const engine::PositionWear& wear,
                                int64_t model_version) {
   Json j = PositionJson(wear);
   j["model_version"] = model_version;

@@ -19,8 +19,8 @@ std::string EncodeError(const ApiError& error);
 std::string EncodeCoilAnswer(const storage::CoilIn& in,
                              const storage::CoilOutcome& outcome,
                              int64_t model_version);
-std::string EncodeWear(const storage::WearSnapshot& snapshot);
-std::string EncodePositionWear(const storage::PositionWear& wear,
+std::string EncodeWear(const engine::WearSnapshot& snapshot);
+std::string EncodePositionWear(const engine::PositionWear& wear,
                                int64_t model_version);
 // One string or double alone, as dump() prints it.
 std::string DumpString(const std::string& value);

@@ -318,8 +318,8 @@ TEST(EncoderDiffTest, CoilAnswersMatchTheDomEncoder) {
   }
 }
 
-storage::PositionWear RandomPositionWear(Rng& rng) {
-  storage::PositionWear w;
+engine::PositionWear RandomPositionWear(Rng& rng) {
+  engine::PositionWear w;
   w.stand =
       Uniform(rng, 0, 5) == 0 ? Uniform(rng, -20, 20) : Uniform(rng, 1, 7);
   w.position = RandomPosition(rng);
@@ -350,7 +350,7 @@ storage::PositionWear RandomPositionWear(Rng& rng) {
 TEST(EncoderDiffTest, WearAnswersMatchTheDomEncoder) {
   Rng rng(13);
   for (int i = 0; i < 10'000; ++i) {
-    storage::WearSnapshot snapshot;
+    engine::WearSnapshot snapshot;
     snapshot.model_version = RandomInt(rng);
     const int n = Uniform(rng, 0, 14);
     for (int k = 0; k < n; ++k) {
@@ -358,7 +358,7 @@ TEST(EncoderDiffTest, WearAnswersMatchTheDomEncoder) {
     }
     ASSERT_EQ(EncodeWear(snapshot), reference::EncodeWear(snapshot))
         << "case " << i;
-    const storage::PositionWear one = RandomPositionWear(rng);
+    const engine::PositionWear one = RandomPositionWear(rng);
     const int64_t version = RandomInt(rng);
     ASSERT_EQ(EncodePositionWear(one, version),
               reference::EncodePositionWear(one, version))

@@ -12,6 +12,7 @@ namespace {
 
 using testing::MakeCoil;
 using testing::MakeRollChange;
+using testing::Mounted;
 using testing::OpenStore;
 using testing::TempDir;
 
@@ -151,7 +152,7 @@ TEST(SchemaTest, VersionTwoFileLosesThePassesByCampaignIndex) {
       ASSERT_TRUE(
           store->AddCoil(MakeCoil("K" + std::to_string(i), "C1", i, i)).ok());
     }
-    before = store->Wear();
+    before = Mounted(*store).Wear();
   }
   {
     auto db = MustOpen(path);
@@ -164,7 +165,7 @@ TEST(SchemaTest, VersionTwoFileLosesThePassesByCampaignIndex) {
   }
   auto store = OpenStore(path);
   ASSERT_NE(store, nullptr);
-  const WearSnapshot after = store->Wear();
+  const WearSnapshot after = Mounted(*store).Wear();
   ASSERT_EQ(after.positions.size(), before.positions.size());
   ASSERT_FALSE(after.positions.empty());
   for (size_t i = 0; i < after.positions.size(); ++i) {

@@ -17,6 +17,7 @@ using testing::ExpectWearMatchesBatch;
 using testing::MakeCoil;
 using testing::MakeMeasurement;
 using testing::MakeRollChange;
+using testing::Mounted;
 using testing::OpenStore;
 using testing::TempDir;
 
@@ -49,13 +50,13 @@ TEST(StoreBasicTest, OpensAnEmptyStore) {
   EXPECT_EQ(n.campaigns, 0);
   EXPECT_EQ(n.measurements, 0);
   EXPECT_EQ(n.commits, 0);
-  EXPECT_TRUE(store->Wear().positions.empty());
+  EXPECT_TRUE(Mounted(*store).Wear().positions.empty());
   StatusOr<ModelVersion> active = store->ActiveModel();
   ASSERT_TRUE(active.ok());
   EXPECT_EQ(active->version, 0);
   EXPECT_EQ(active->model, "wang");
   EXPECT_TRUE(store->ListModels().empty());
-  EXPECT_EQ(store->WearAt(6, Position::kTop).status().code(),
+  EXPECT_EQ(Mounted(*store).WearAt(6, Position::kTop).status().code(),
             StatusCode::kNotFound);
   StatusOr<Dataset> data = store->ExportDataset();
   ASSERT_TRUE(data.ok());
@@ -100,7 +101,7 @@ TEST(StoreBasicTest, CoilsAddWearToTheMountedRollsLikeTheBatchPrediction) {
     EXPECT_NEAR(out->added[0].predicted_wear_um, total_f6_top,
                 1e-9 * total_f6_top);
   }
-  const WearSnapshot snap = store->Wear();
+  const WearSnapshot snap = Mounted(*store).Wear();
   ASSERT_EQ(snap.positions.size(), 4u);
   EXPECT_EQ(snap.positions[0].stand, 6);
   EXPECT_EQ(snap.positions[0].position, Position::kTop);
@@ -109,7 +110,7 @@ TEST(StoreBasicTest, CoilsAddWearToTheMountedRollsLikeTheBatchPrediction) {
   EXPECT_EQ(snap.positions[0].coils, 50);
   EXPECT_EQ(snap.positions[0].campaign_id, "C1");
   ExpectWearMatchesBatch(*store);
-  StatusOr<PositionWear> f7b = store->WearAt(7, Position::kBottom);
+  StatusOr<PositionWear> f7b = Mounted(*store).WearAt(7, Position::kBottom);
   ASSERT_TRUE(f7b.ok());
   EXPECT_EQ(f7b->roll_id, "R7B");
   EXPECT_EQ(store->Counters().coils, 50);
@@ -131,14 +132,14 @@ TEST(StoreBasicTest, RollChangeEndsTheOpenCampaignAndEndClearsTheRolls) {
   ASSERT_TRUE(data.ok());
   ASSERT_EQ(data->campaigns.size(), 2u);
   EXPECT_EQ(data->campaigns[0].ended_at, 5000);
-  const WearSnapshot snap = store->Wear();
+  const WearSnapshot snap = Mounted(*store).Wear();
   ASSERT_EQ(snap.positions.size(), 4u);
   EXPECT_EQ(snap.positions[0].campaign_id, "C2");
   EXPECT_EQ(snap.positions[0].coils, 0);
   EXPECT_EQ(snap.positions[0].predicted_wear_um, 0);
 
   ASSERT_TRUE(store->EndCampaign("C2", 9000).ok());
-  EXPECT_TRUE(store->Wear().positions.empty());
+  EXPECT_TRUE(Mounted(*store).Wear().positions.empty());
   // Measurements of the ended campaigns are accepted.
   EXPECT_TRUE(store
                   ->AddMeasurement(
@@ -179,14 +180,14 @@ TEST(StoreBasicTest, ReopeningRestoresExactlyTheSameState) {
                                          1000 + 7 * i))
                       .ok());
     }
-    before = store->Wear();
+    before = Mounted(*store).Wear();
     counters_before = store->Counters();
     data_before = store->ExportDataset();
     ASSERT_TRUE(data_before.ok());
   }
   auto store = OpenStore(dir.File("mill.db"));
   ASSERT_NE(store, nullptr);
-  ExpectSameSnapshot(before, store->Wear());
+  ExpectSameSnapshot(before, Mounted(*store).Wear());
   const StoreCounters after = store->Counters();
   EXPECT_EQ(after.coils, counters_before.coils);
   EXPECT_EQ(after.campaigns, counters_before.campaigns);

@@ -21,6 +21,7 @@ using testing::ExpectWearMatchesBatch;
 using testing::MakeCoil;
 using testing::MakeMeasurement;
 using testing::MakeRollChange;
+using testing::Mounted;
 using testing::OpenCampaignWithCoils;
 using testing::OpenStore;
 using testing::SimulatedMill;
@@ -36,7 +37,8 @@ TEST(StoreCalibrationTest, RunOnSimulatedDataPromotesAndRepredicts) {
   // An open campaign with coils, re-predicted after the promotion.
   OpenCampaignWithCoils(store.get(), "OK", 25);
   ASSERT_FALSE(HasFatalFailure());
-  const double prior_wear = store->Wear().positions[0].predicted_wear_um;
+  const double prior_wear =
+      Mounted(*store).Wear().positions[0].predicted_wear_um;
   const int64_t version_before = store->ActiveModel()->version;
   EXPECT_EQ(version_before, 0);
 
@@ -85,7 +87,7 @@ TEST(StoreCalibrationTest, RunOnSimulatedDataPromotesAndRepredicts) {
   EXPECT_EQ(models[0].wear_model.k, active->wear_model.k);
 
   // The open campaign's rolls now carry the new model's prediction.
-  const WearSnapshot snap = store->Wear();
+  const WearSnapshot snap = Mounted(*store).Wear();
   EXPECT_EQ(snap.model_version, 1);
   EXPECT_NE(snap.positions[0].predicted_wear_um, prior_wear);
   EXPECT_EQ(snap.positions[0].coils, 25);
@@ -102,7 +104,7 @@ TEST(StoreCalibrationTest, RunOnSimulatedDataPromotesAndRepredicts) {
   store = OpenStore(dir.File("mill.db"));
   ASSERT_NE(store, nullptr);
   EXPECT_EQ(store->ActiveModel()->version, 1);
-  const WearSnapshot again = store->Wear();
+  const WearSnapshot again = Mounted(*store).Wear();
   ASSERT_EQ(again.positions.size(), snap.positions.size());
   for (size_t i = 0; i < again.positions.size(); ++i) {
     EXPECT_EQ(again.positions[i].predicted_wear_um,
@@ -161,7 +163,8 @@ TEST(StoreCalibrationTest, ReadersNeverSeeAPromotionBeforeItsModel) {
           rec->promoted) {
         ++seen_done;
         if (store->ActiveModel()->version != rec->model_version) ++mismatches;
-        if (store->Wear().model_version != rec->model_version) ++mismatches;
+        if (Mounted(*store).Wear().model_version != rec->model_version)
+          ++mismatches;
       }
       for (const ModelVersion& m : store->ListModels()) {
         if (m.active && store->ActiveModel()->version < m.version) {
@@ -192,7 +195,7 @@ TEST(StoreCalibrationTest, FailingRunIsRecordedAndLeavesTheModelAlone) {
     ASSERT_TRUE(
         store->AddCoil(MakeCoil("K" + std::to_string(i), "C1", i + 1, i)).ok());
   }
-  const WearSnapshot before = store->Wear();
+  const WearSnapshot before = Mounted(*store).Wear();
   StatusOr<ModelVersion> active_before = store->ActiveModel();
   ASSERT_TRUE(active_before.ok());
 
@@ -213,7 +216,7 @@ TEST(StoreCalibrationTest, FailingRunIsRecordedAndLeavesTheModelAlone) {
   EXPECT_EQ(active->version, 0);
   EXPECT_EQ(active->wear_model.k, active_before->wear_model.k);
   EXPECT_TRUE(store->ListModels().empty());
-  const WearSnapshot after = store->Wear();
+  const WearSnapshot after = Mounted(*store).Wear();
   ASSERT_EQ(after.positions.size(), before.positions.size());
   for (size_t i = 0; i < after.positions.size(); ++i) {
     EXPECT_EQ(after.positions[i].predicted_wear_um,

@@ -19,6 +19,7 @@ namespace {
 
 using testing::MakeCoil;
 using testing::MakeRollChange;
+using testing::Mounted;
 using testing::OpenStore;
 using testing::TempDir;
 
@@ -72,7 +73,7 @@ TEST(StoreCoilAnswerTest, RepeatGetsTheFirstAnswerCountedOnce) {
   // Roll totals grow coil by coil: the third coil's total is its own.
   EXPECT_LT(first[2].added[0].predicted_wear_um,
             first[4].added[0].predicted_wear_um);
-  const WearSnapshot before = store->Wear();
+  const WearSnapshot before = Mounted(*store).Wear();
 
   for (int round = 0; round < 2; ++round) {
     for (int i = 0; i < 5; ++i) {
@@ -84,8 +85,8 @@ TEST(StoreCoilAnswerTest, RepeatGetsTheFirstAnswerCountedOnce) {
     }
   }
   EXPECT_EQ(store->Counters().coils, 5);
-  EXPECT_EQ(store->Wear().positions[0].coils, 5);
-  EXPECT_EQ(store->Wear().positions[0].predicted_wear_um,
+  EXPECT_EQ(Mounted(*store).Wear().positions[0].coils, 5);
+  EXPECT_EQ(Mounted(*store).Wear().positions[0].predicted_wear_um,
             before.positions[0].predicted_wear_um);
 
   // Ended campaign, then a restart: still the first answer.
@@ -172,7 +173,7 @@ TEST(StoreCoilAnswerTest, AfterAPromotionARepeatStillGetsItsFirstAnswer) {
   ASSERT_TRUE(rec.ok());
   ASSERT_TRUE(rec->promoted) << rec->message;
   // The live state is re-predicted under the new model ...
-  EXPECT_NE(store->Wear().positions[0].predicted_wear_um,
+  EXPECT_NE(Mounted(*store).Wear().positions[0].predicted_wear_um,
             first.back().added[0].predicted_wear_um);
   // ... but a repeat answers what the first post was told.
   for (int i = 0; i < 10; ++i) {
@@ -183,7 +184,8 @@ TEST(StoreCoilAnswerTest, AfterAPromotionARepeatStillGetsItsFirstAnswer) {
   }
   // A coil posted now is answered under the new model, and so is its
   // repeat; the roll total continues from the re-predicted state.
-  const double total_before = store->Wear().positions[0].predicted_wear_um;
+  const double total_before =
+      Mounted(*store).Wear().positions[0].predicted_wear_um;
   StatusOr<CoilOutcome> k11 = store->AddCoil(MakeCoil("K11", "C1", 11, 11));
   ASSERT_TRUE(k11.ok());
   EXPECT_EQ(k11->added[0].predicted_wear_um,

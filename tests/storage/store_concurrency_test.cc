@@ -21,6 +21,7 @@ namespace {
 using testing::ExpectWearMatchesBatch;
 using testing::MakeCoil;
 using testing::MakeRollChange;
+using testing::Mounted;
 using testing::OpenStore;
 using testing::TempDir;
 
@@ -88,7 +89,7 @@ TEST(StoreConcurrencyTest, SixteenThreadsTwoThousandCoilsWithDuplicates) {
   EXPECT_GT(commits, 0);
   std::cout << "[ info ] " << kCoils << " coils in " << commits
             << " group commits\n";
-  const WearSnapshot snap = store->Wear();
+  const WearSnapshot snap = Mounted(*store).Wear();
   ASSERT_EQ(snap.positions.size(), 4u);
   for (const PositionWear& w : snap.positions) EXPECT_EQ(w.coils, kCoils);
   ExpectWearMatchesBatch(*store, 1e-9);
@@ -97,7 +98,7 @@ TEST(StoreConcurrencyTest, SixteenThreadsTwoThousandCoilsWithDuplicates) {
   store.reset();
   store = OpenStore(dir.File("mill.db"));
   ASSERT_NE(store, nullptr);
-  const WearSnapshot again = store->Wear();
+  const WearSnapshot again = Mounted(*store).Wear();
   ASSERT_EQ(again.positions.size(), snap.positions.size());
   for (size_t i = 0; i < snap.positions.size(); ++i) {
     EXPECT_EQ(again.positions[i].predicted_wear_um,

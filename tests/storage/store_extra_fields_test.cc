@@ -25,6 +25,7 @@ using extra_terms_test::ModelWithTerms;
 using testing::MakeCoil;
 using testing::MakeMeasurement;
 using testing::MakeRollChange;
+using testing::Mounted;
 using testing::OpenStore;
 using testing::RelDiff;
 using testing::SimulatedMill;
@@ -81,7 +82,7 @@ void ExpectLiveWearIsBatch(const MillStore& store) {
   WearModel bare = *model;
   bare.terms.clear();
   const std::vector<double> batch_bare = BatchPrediction(*td, bare, true);
-  const WearSnapshot snap = store.Wear();
+  const WearSnapshot snap = Mounted(store).Wear();
   int compared = 0;
   for (size_t o = 0; o < td->obs.size(); ++o) {
     if (td->obs[o].campaign != open) continue;
@@ -186,11 +187,11 @@ TEST(StoreExtraFieldsTest, TermsOnExtraFieldsRunLiveAsInBatchAcrossRestarts) {
 
   // Restart: the fields are read back and give the same wear, bit for bit;
   // repeats are judged the same way.
-  const WearSnapshot before = store->Wear();
+  const WearSnapshot before = Mounted(*store).Wear();
   store.reset();
   store = OpenStore(dir.File("mill.db"));
   ASSERT_NE(store, nullptr);
-  const WearSnapshot after = store->Wear();
+  const WearSnapshot after = Mounted(*store).Wear();
   ASSERT_EQ(after.positions.size(), 4u);
   for (size_t i = 0; i < after.positions.size(); ++i) {
     EXPECT_EQ(after.positions[i].predicted_wear_um,

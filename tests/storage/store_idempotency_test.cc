@@ -12,6 +12,7 @@ namespace {
 using testing::MakeCoil;
 using testing::MakeMeasurement;
 using testing::MakeRollChange;
+using testing::Mounted;
 using testing::OpenStore;
 using testing::TempDir;
 
@@ -44,7 +45,7 @@ TEST(StoreIdempotencyTest, RollChange) {
   ASSERT_EQ(*store->ApplyRollChange(MakeRollChange("C2", 5000, "2")),
             WriteOutcome::kCreated);
   EXPECT_EQ(*store->ApplyRollChange(c1), WriteOutcome::kUnchanged);
-  EXPECT_EQ(store->Wear().positions.front().campaign_id, "C2");
+  EXPECT_EQ(Mounted(*store).Wear().positions.front().campaign_id, "C2");
   EXPECT_EQ(store->Counters().campaigns, 2);
   // And after a restart.
   store.reset();
@@ -68,7 +69,7 @@ TEST(StoreIdempotencyTest, CampaignEnd) {
   ASSERT_TRUE(store->ApplyRollChange(MakeRollChange("C2", 5000, "2")).ok());
   // C2's roll change ends nothing (C1 already ended); C1's end unchanged.
   EXPECT_EQ(*store->EndCampaign("C1", 4000), WriteOutcome::kUnchanged);
-  EXPECT_EQ(store->Wear().positions.size(), 4u);
+  EXPECT_EQ(Mounted(*store).Wear().positions.size(), 4u);
   // A campaign ended by the next roll change: the same time is unchanged.
   ASSERT_TRUE(store->ApplyRollChange(MakeRollChange("C3", 7000, "3")).ok());
   EXPECT_EQ(*store->EndCampaign("C2", 7000), WriteOutcome::kUnchanged);
@@ -92,7 +93,7 @@ TEST(StoreIdempotencyTest, Coil) {
   ASSERT_TRUE(first.ok());
   ASSERT_EQ(first->outcome, WriteOutcome::kCreated);
   ASSERT_TRUE(store->AddCoil(MakeCoil("K2", "C1", 2, 6)).ok());
-  const double wear = store->Wear().positions[0].predicted_wear_um;
+  const double wear = Mounted(*store).Wear().positions[0].predicted_wear_um;
 
   StatusOr<CoilOutcome> again = store->AddCoil(k1);
   ASSERT_TRUE(again.ok());
@@ -103,8 +104,8 @@ TEST(StoreIdempotencyTest, Coil) {
   EXPECT_EQ(again->added[0].predicted_wear_um,
             first->added[0].predicted_wear_um);
   EXPECT_LT(again->added[0].predicted_wear_um, wear);
-  EXPECT_EQ(store->Wear().positions[0].predicted_wear_um, wear);
-  EXPECT_EQ(store->Wear().positions[0].coils, 2);
+  EXPECT_EQ(Mounted(*store).Wear().positions[0].predicted_wear_um, wear);
+  EXPECT_EQ(Mounted(*store).Wear().positions[0].coils, 2);
   // Pass order does not matter.
   CoilIn reordered = k1;
   std::swap(reordered.passes[0], reordered.passes[1]);

@@ -107,12 +107,13 @@ TEST(StoreLimits, WearAnswersRemainingLifeAtTheCampaignsMix) {
   ASSERT_NE(store, nullptr);
   ASSERT_TRUE(store->ApplyRollChange(MakeRollChange("C1", 1'769'990'000)).ok());
   // No coils yet: a limit but no remaining life.
-  EXPECT_FALSE(Find(store->Wear(), 6, Position::kTop)->remaining.has_value());
+  EXPECT_FALSE(
+      Find(Mounted(*store).Wear(), 6, Position::kTop)->remaining.has_value());
   for (int i = 0; i < 40; ++i) {
     ASSERT_TRUE(
         store->AddCoil(MakeCoil("K" + std::to_string(i), "C1", i + 1, i)).ok());
   }
-  const WearSnapshot s = store->Wear();
+  const WearSnapshot s = Mounted(*store).Wear();
   const PositionWear* w = Find(s, 6, Position::kTop);
   ASSERT_NE(w, nullptr);
   ASSERT_EQ(w->wear_limit_um, 400);
@@ -149,14 +150,14 @@ TEST(StoreForecast, EqualsPostingTheSameCoilsAndStoresNothing) {
     plan.push_back(MakeCoil("K" + std::to_string(i), "C1", i + 1, i * 7));
   }
   // A limit the schedule crosses at F6/top: set it between two steps.
-  StatusOr<Forecast> first = store->ForecastCoils(plan);
+  StatusOr<Forecast> first = Mounted(*store).ForecastCoils(plan);
   ASSERT_TRUE(first.ok()) << first.status().ToString();
   const double mid = first->positions[0].predicted_wear_um[24];
   const double before = first->positions[0].predicted_wear_um[23];
   ASSERT_TRUE(
       store->SetWearLimit({6, Position::kTop, 0.5 * (mid + before), ""}).ok());
   const StoreCounters counters = store->Counters();
-  StatusOr<Forecast> f = store->ForecastCoils(plan);
+  StatusOr<Forecast> f = Mounted(*store).ForecastCoils(plan);
   ASSERT_TRUE(f.ok()) << f.status().ToString();
   EXPECT_EQ(store->Counters().coils, counters.coils);
   ASSERT_EQ(f->positions.size(), 4u);
@@ -168,7 +169,7 @@ TEST(StoreForecast, EqualsPostingTheSameCoilsAndStoresNothing) {
   for (size_t i = 0; i < plan.size(); ++i) {
     ASSERT_TRUE(store->AddCoil(plan[i]).ok());
     if (i % 7 != 6 && i + 1 != plan.size()) continue;
-    const WearSnapshot s = store->Wear();
+    const WearSnapshot s = Mounted(*store).Wear();
     ASSERT_EQ(s.positions.size(), f->positions.size());
     for (size_t p = 0; p < s.positions.size(); ++p) {
       const ForecastPosition& fp = f->positions[p];
@@ -193,21 +194,21 @@ TEST(StoreForecast, RefusesWhatAddCoilRefusesNamingTheCoil) {
   ASSERT_TRUE(store->ApplyRollChange(MakeRollChange("C1", 1'769'990'000)).ok());
   std::vector<CoilIn> plan = {MakeCoil("A", "C1", 1), MakeCoil("B", "C1", 2)};
   plan[1].passes[1].force_kn = -3;
-  StatusOr<Forecast> f = store->ForecastCoils(plan);
+  StatusOr<Forecast> f = Mounted(*store).ForecastCoils(plan);
   ASSERT_FALSE(f.ok());
   EXPECT_EQ(f.status().code(), StatusCode::kInvalidArgument);
   EXPECT_EQ(f.status().message().rfind("coils[1].passes[1].force_kn: ", 0), 0u)
       << f.status().message();
 
   plan[1] = MakeCoil("B", "C0", 2);  // not the running campaign
-  f = store->ForecastCoils(plan);
+  f = Mounted(*store).ForecastCoils(plan);
   ASSERT_FALSE(f.ok());
   EXPECT_EQ(f.status().code(), StatusCode::kFailedPrecondition);
   EXPECT_EQ(f.status().message().rfind("coils[1].campaign_id: ", 0), 0u);
 
   plan[1] = MakeCoil("B", "C1", 2);
   plan[1].passes[0].stand = 3;  // no roll mounted at F3
-  f = store->ForecastCoils(plan);
+  f = Mounted(*store).ForecastCoils(plan);
   ASSERT_FALSE(f.ok());
   EXPECT_EQ(f.status().code(), StatusCode::kFailedPrecondition);
   EXPECT_EQ(f.status().message().rfind("coils[1].passes[0]", 0), 0u)
@@ -217,15 +218,15 @@ TEST(StoreForecast, RefusesWhatAddCoilRefusesNamingTheCoil) {
   // coil planned twice; a stored seq may be planned again.
   ASSERT_TRUE(store->AddCoil(MakeCoil("A", "C1", 1)).ok());
   plan[1] = MakeCoil("B", "C1", 1);
-  f = store->ForecastCoils(plan);
+  f = Mounted(*store).ForecastCoils(plan);
   ASSERT_FALSE(f.ok());
   EXPECT_EQ(f.status().code(), StatusCode::kFailedPrecondition);
   EXPECT_EQ(f.status().message().rfind("coils[0].coil_id: ", 0), 0u)
       << f.status().message();
   plan[0] = MakeCoil("A2", "C1", 1);
-  EXPECT_TRUE(store->ForecastCoils(plan).ok());
+  EXPECT_TRUE(Mounted(*store).ForecastCoils(plan).ok());
   plan[1] = MakeCoil("A2", "C1", 2);
-  f = store->ForecastCoils(plan);
+  f = Mounted(*store).ForecastCoils(plan);
   ASSERT_FALSE(f.ok());
   EXPECT_EQ(f.status().code(), StatusCode::kInvalidArgument);
   EXPECT_EQ(f.status().message().rfind("coils[1].coil_id: ", 0), 0u)

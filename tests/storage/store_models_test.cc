@@ -19,6 +19,7 @@ namespace {
 
 using testing::MakeCoil;
 using testing::MakeRollChange;
+using testing::Mounted;
 using testing::OpenCampaignWithCoils;
 using testing::OpenStore;
 using testing::RelDiff;
@@ -28,7 +29,7 @@ using testing::TempDir;
 // Live wear of the open campaign equals the active model run coil by coil
 // over the stored passes (terms and network included).
 void ExpectLiveWearIsCoilByCoil(const MillStore& store) {
-  const WearSnapshot snap = store.Wear();
+  const WearSnapshot snap = Mounted(store).Wear();
   ASSERT_FALSE(snap.positions.empty());
   StatusOr<ModelVersion> active = store.ActiveModel();
   ASSERT_TRUE(active.ok());
@@ -149,12 +150,12 @@ TEST(StoreModelsTest, AdoptedTermsArePromotedServedAndKeptByTheNightlyRun) {
   }
 
   // Restart: the model with terms is decoded and serves the same numbers.
-  const WearSnapshot before = store->Wear();
+  const WearSnapshot before = Mounted(*store).Wear();
   store.reset();
   store = OpenStore(dir.File("mill.db"));
   ASSERT_NE(store, nullptr);
   EXPECT_FALSE(store->ActiveModel()->wear_model.terms.empty());
-  const WearSnapshot after = store->Wear();
+  const WearSnapshot after = Mounted(*store).Wear();
   ASSERT_EQ(after.positions.size(), before.positions.size());
   for (size_t i = 0; i < after.positions.size(); ++i) {
     EXPECT_EQ(after.positions[i].predicted_wear_um,
@@ -202,12 +203,12 @@ TEST(StoreModelsTest, AnnRunIsRecordedAndTheNetworkIsServedAcrossRestarts) {
   }
   ExpectLiveWearIsCoilByCoil(*store);
 
-  const WearSnapshot before = store->Wear();
+  const WearSnapshot before = Mounted(*store).Wear();
   store.reset();
   store = OpenStore(dir.File("mill.db"));
   ASSERT_NE(store, nullptr);
   EXPECT_EQ(store->ActiveModel()->model, "ann");
-  const WearSnapshot after = store->Wear();
+  const WearSnapshot after = Mounted(*store).Wear();
   ASSERT_EQ(after.positions.size(), before.positions.size());
   for (size_t i = 0; i < after.positions.size(); ++i) {
     EXPECT_EQ(after.positions[i].predicted_wear_um,

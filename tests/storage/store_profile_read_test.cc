@@ -20,6 +20,7 @@ namespace {
 
 using testing::MakeCoil;
 using testing::MakeRollChange;
+using testing::Mounted;
 using testing::OpenStore;
 using testing::TempDir;
 
@@ -55,9 +56,9 @@ TEST(StoreProfileReadTest,
                                          i + 3 * c))
                       .ok());
     }
-    StatusOr<ProfileWear> p = c == 1
-                                  ? store->WearProfileAt(6, Position::kTop)
-                                  : store->WearProfileAt(7, Position::kBottom);
+    StatusOr<ProfileWear> p =
+        c == 1 ? Mounted(*store).WearProfileAt(6, Position::kTop)
+               : Mounted(*store).WearProfileAt(7, Position::kBottom);
     ASSERT_TRUE(p.ok()) << p.status().ToString();
     live.push_back(*p);
     ASSERT_TRUE(store->EndCampaign(id, start + 43'200).ok());

@@ -20,6 +20,7 @@ namespace {
 
 using testing::MakeCoil;
 using testing::MakeRollChange;
+using testing::Mounted;
 using testing::OpenStore;
 using testing::TempDir;
 
@@ -188,7 +189,8 @@ TEST(StoreProfileTest, ProfileStateAfterRestartEqualsTheStateBefore) {
       ASSERT_TRUE(
           store->AddCoil(MakeCoil("K" + std::to_string(i), "C1", i, i)).ok());
     }
-    StatusOr<ProfileWear> p = store->WearProfileAt(7, Position::kBottom);
+    StatusOr<ProfileWear> p =
+        Mounted(*store).WearProfileAt(7, Position::kBottom);
     ASSERT_TRUE(p.ok()) << p.status().ToString();
     before = *p;
   }
@@ -199,12 +201,13 @@ TEST(StoreProfileTest, ProfileStateAfterRestartEqualsTheStateBefore) {
               1e-9 * before.centre.predicted_wear_um);
   auto store = OpenStore(path);
   ASSERT_NE(store, nullptr);
-  StatusOr<ProfileWear> after = store->WearProfileAt(7, Position::kBottom);
+  StatusOr<ProfileWear> after =
+      Mounted(*store).WearProfileAt(7, Position::kBottom);
   ASSERT_TRUE(after.ok()) << after.status().ToString();
   EXPECT_EQ(after->profile.wear_um, before.profile.wear_um);
   EXPECT_EQ(after->profile.lo_um, before.profile.lo_um);
   EXPECT_EQ(after->profile.hi_um, before.profile.hi_um);
-  EXPECT_EQ(store->WearProfileAt(5, Position::kTop).status().code(),
+  EXPECT_EQ(Mounted(*store).WearProfileAt(5, Position::kTop).status().code(),
             StatusCode::kNotFound);
 }
 

@@ -23,6 +23,7 @@ namespace {
 using testing::MakeCoil;
 using testing::MakeMeasurement;
 using testing::MakeRollChange;
+using testing::Mounted;
 using testing::OpenCampaignWithCoils;
 using testing::OpenStore;
 using testing::RelDiff;
@@ -51,7 +52,7 @@ void TwoVersions(MillStore* store, WearSnapshot* v1_wear) {
   ASSERT_TRUE(store->GetCalibration(*id)->promoted);
   OpenCampaignWithCoils(store, "OC", 12);
   ASSERT_FALSE(::testing::Test::HasFatalFailure());
-  *v1_wear = store->Wear();
+  *v1_wear = Mounted(*store).Wear();
   ASSERT_EQ(v1_wear->model_version, 1);
   WearModel other = store->ActiveModel()->wear_model;
   StatusOr<Dataset> data = store->ExportDataset();
@@ -78,7 +79,7 @@ TEST(StoreShopTest, ActivatedVersionIsPinnedAuditedAndSurvivesRestart) {
     auto store = OpenStore(dir.File("mill.db"));
     ASSERT_NE(store, nullptr);
     TwoVersions(store.get(), &v1_wear);
-    const WearSnapshot v2_wear = store->Wear();
+    const WearSnapshot v2_wear = Mounted(*store).Wear();
 
     // Refused: nothing changes.
     StatusOr<ModelVersion> r = store->ActivateModel(1, "  ", true);
@@ -89,7 +90,7 @@ TEST(StoreShopTest, ActivatedVersionIsPinnedAuditedAndSurvivesRestart) {
     EXPECT_EQ(store->ActivateModel(0, "x", true).status().code(),
               StatusCode::kNotFound);
     EXPECT_EQ(store->ActiveModel()->version, 2);
-    ExpectSameWear(store->Wear(), v2_wear);
+    ExpectSameWear(Mounted(*store).Wear(), v2_wear);
     ASSERT_EQ(store->ModelHistory(0)->size(), 2u);
 
     r = store->ActivateModel(1, "v2 over-predicts F7", true);
@@ -98,8 +99,8 @@ TEST(StoreShopTest, ActivatedVersionIsPinnedAuditedAndSurvivesRestart) {
     EXPECT_EQ(store->ActiveModel()->version, 1);
     EXPECT_TRUE(store->ActiveModel()->pinned);
     // The open campaign is re-predicted under v1: what it was under v1.
-    EXPECT_EQ(store->Wear().model_version, 1);
-    ExpectSameWear(store->Wear(), v1_wear);
+    EXPECT_EQ(Mounted(*store).Wear().model_version, 1);
+    ExpectSameWear(Mounted(*store).Wear(), v1_wear);
 
     // A nightly run and a diagnosis adoption record, but do not promote.
     StatusOr<int64_t> id =
@@ -123,7 +124,7 @@ TEST(StoreShopTest, ActivatedVersionIsPinnedAuditedAndSurvivesRestart) {
   ASSERT_NE(store, nullptr);
   EXPECT_EQ(store->ActiveModel()->version, 1);
   EXPECT_TRUE(store->ActiveModel()->pinned);
-  ExpectSameWear(store->Wear(), v1_wear);
+  ExpectSameWear(Mounted(*store).Wear(), v1_wear);
 
   StatusOr<std::vector<ModelPromotion>> h = store->ModelHistory(0);
   ASSERT_TRUE(h.ok());
@@ -278,7 +279,7 @@ TEST(StoreShopTest, RollLifeListsEachMountAndTheInventorySumsThem) {
     f6_length_c1 += c.passes[0].length_m;
     ASSERT_TRUE(store->AddCoil(c).ok());
   }
-  const WearSnapshot end_c1 = store->Wear();  // F6 top first
+  const WearSnapshot end_c1 = Mounted(*store).Wear();  // F6 top first
   ASSERT_EQ(end_c1.positions.front().roll_id, "R6T");
   // C2 mounts the same rolls again (it ends C1).
   ASSERT_TRUE(store->ApplyRollChange(MakeRollChange("C2", 1'771'000'000)).ok());
@@ -323,7 +324,7 @@ TEST(StoreShopTest, RollLifeListsEachMountAndTheInventorySumsThem) {
   EXPECT_EQ(m2.coils, 3);
   EXPECT_LE(RelDiff(m2.rolled_length_m, f6_length_c2), 1e-12);
   EXPECT_EQ(m2.predicted_wear_um,
-            store->WearAt(6, Position::kTop)->predicted_wear_um);
+            Mounted(*store).WearAt(6, Position::kTop)->predicted_wear_um);
   EXPECT_FALSE(m2.measured_um.has_value());
 
   EXPECT_EQ(store->GetRollLife("NOPE").status().code(), StatusCode::kNotFound);

@@ -7,7 +7,7 @@
 namespace rollwear::storage::testing {
 
 void ExpectWearMatchesBatch(const MillStore& store, double tol) {
-  const WearSnapshot snap = store.Wear();
+  const WearSnapshot snap = Mounted(store).Wear();
   ASSERT_FALSE(snap.positions.empty()) << "no open campaign";
   StatusOr<ModelVersion> active = store.ActiveModel();
   ASSERT_TRUE(active.ok());

@@ -16,11 +16,27 @@
 
 #include <gtest/gtest.h>
 
-#include "core/dataset/dataset.h"
 #include "core/base/status.h"
+#include "core/dataset/dataset.h"
+#include "engine/mounted_rolls.h"
 #include "storage/mill_store.h"
 
-namespace rollwear::storage::testing {
+namespace rollwear::storage {
+
+// The engine's answers the storage tests check the store's state through.
+using engine::Forecast;
+using engine::ForecastPosition;
+using engine::PositionWear;
+using engine::ProfileWear;
+using engine::WearSnapshot;
+
+namespace testing {
+
+// The engine's answers about `store`'s mounted rolls (wear, profile,
+// forecast: engine/mounted_rolls.h).
+inline engine::MountedRolls Mounted(const MillStore& store) {
+  return engine::MountedRolls(&store);
+}
 
 // True when a and b have the same bits (a round trip that keeps every digit).
 inline bool BitEqual(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
@@ -243,6 +259,7 @@ void ExpectWearMatchesBatch(const MillStore& store, double tol = 1e-9);
 Dataset SimulatedMill(uint64_t seed, int campaigns, int coils,
                       const std::vector<std::string>& effects = {});
 
-}  // namespace rollwear::storage::testing
+}  // namespace testing
+}  // namespace rollwear::storage
 
 #endif  // ROLLWEAR_TESTS_STORAGE_STORE_TEST_UTIL_H_

@@ -15,6 +15,7 @@ namespace {
 using testing::MakeCoil;
 using testing::MakeMeasurement;
 using testing::MakeRollChange;
+using testing::Mounted;
 using testing::OpenStore;
 using testing::TempDir;
 
@@ -67,7 +68,7 @@ class StoreValidationTest : public ::testing::Test {
   void Check(const Case& c) {
     SCOPED_TRACE(c.name);
     const StoreCounters before = store_->Counters();
-    const WearSnapshot wear_before = store_->Wear();
+    const WearSnapshot wear_before = Mounted(*store_).Wear();
     StatusOr<Dataset> data_before = store_->ExportDataset();
     ASSERT_TRUE(data_before.ok());
 
@@ -81,7 +82,7 @@ class StoreValidationTest : public ::testing::Test {
     EXPECT_EQ(after.campaigns, before.campaigns);
     EXPECT_EQ(after.measurements, before.measurements);
     EXPECT_EQ(after.commits, before.commits);  // nothing was written
-    const WearSnapshot wear_after = store_->Wear();
+    const WearSnapshot wear_after = Mounted(*store_).Wear();
     ASSERT_EQ(wear_after.positions.size(), wear_before.positions.size());
     for (size_t i = 0; i < wear_after.positions.size(); ++i) {
       EXPECT_EQ(wear_after.positions[i].predicted_wear_um,
@@ -344,11 +345,11 @@ TEST_F(StoreValidationTest, MeasurementRules) {
 }
 
 TEST_F(StoreValidationTest, WearAtRules) {
-  EXPECT_EQ(store_->WearAt(0, Position::kTop).status().code(),
+  EXPECT_EQ(Mounted(*store_).WearAt(0, Position::kTop).status().code(),
             StatusCode::kInvalidArgument);
-  EXPECT_EQ(store_->WearAt(5, Position::kTop).status().code(),
+  EXPECT_EQ(Mounted(*store_).WearAt(5, Position::kTop).status().code(),
             StatusCode::kNotFound);
-  EXPECT_TRUE(store_->WearAt(6, Position::kTop).ok());
+  EXPECT_TRUE(Mounted(*store_).WearAt(6, Position::kTop).ok());
 }
 
 TEST_F(StoreValidationTest, CalibrationRequestRules) {
