@@ -183,7 +183,7 @@ HttpResponse Router::GetDashboard() {
   // Only queued diagnoses set last_diagnosis_id_ (so diagnoses is set).
   const int64_t last = last_diagnosis_id_.load(std::memory_order_relaxed);
   for (int64_t id = last; id > 0 && id > last - kDiagnosisLookback; --id) {
-    std::optional<DiagnosisJob> job = options_.diagnoses->Get(id);
+    std::optional<engine::DiagnosisJob> job = options_.diagnoses->Get(id);
     if (!job || job->status != "done") continue;
     d.diagnosis = FindingOf(id, job->report);
     if (d.diagnosis) break;

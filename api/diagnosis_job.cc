@@ -4,7 +4,7 @@
 
 namespace rollwear::api {
 
-std::string EncodeDiagnosisJob(const DiagnosisJob& job) {
+std::string EncodeDiagnosisJob(const engine::DiagnosisJob& job) {
   nlohmann::json j = nlohmann::json::object();
   if (job.status == "done") {
     j = nlohmann::json::parse(job.report, nullptr, /*allow_exceptions=*/false);

@@ -76,10 +76,10 @@ struct ApiOptions {
   // Called with the id of every calibration queued through the API, so the
   // job worker runs it; may be empty (the run then stays queued).
   std::function<void(int64_t)> on_calibration_queued;
-  // Runs POST /v1/diagnoses (the daemon's service::DiagnosisJobs); not
+  // Runs POST /v1/diagnoses (the daemon's engine::DiagnosisJobs); not
   // owned, must outlive the router. Null: no diagnoses here (POST answers
   // 503 "unavailable", GET 404).
-  DiagnosisRunner* diagnoses = nullptr;
+  engine::DiagnosisRunner* diagnoses = nullptr;
   // Version and commit of the build, for rollwear_build_info.
   BuildInfo build;
 
@@ -203,7 +203,7 @@ class Router {
   HttpResponse ListDiagnoses(const HttpRequest& request);
   HttpResponse GetDiagnosisReport(const std::string& id);
   // The stored diagnosis `id` as a job (with its adoption's run), or none.
-  std::optional<DiagnosisJob> StoredDiagnosisJob(int64_t id) const;
+  std::optional<engine::DiagnosisJob> StoredDiagnosisJob(int64_t id) const;
   // router_profile.cc: grinder profiles and the predicted profile.
   HttpResponse PostProfile(const HttpRequest& request);
   HttpResponse GetWearProfile(const std::string& stand,

@@ -116,7 +116,7 @@ HttpResponse Router::PostDiagnosis(const HttpRequest& request) {
 
 HttpResponse Router::GetDiagnosis(const std::string& id_text) {
   int64_t id = 0;
-  std::optional<DiagnosisJob> job;
+  std::optional<engine::DiagnosisJob> job;
   if (ParseInt64(id_text, &id) && id > 0) {
     if (options_.diagnoses != nullptr) job = options_.diagnoses->Get(id);
     // Finished ones outlive a restart in the store (router_shop.cc).

@@ -96,7 +96,7 @@ HttpResponse Router::GetDiagnosisReport(const std::string& text) {
   if (!stored.ok()) return FromStatus(stored.status());
   if (!stored->has_value()) {
     // Queued or running: known, but it has no report yet.
-    std::optional<DiagnosisJob> job;
+    std::optional<engine::DiagnosisJob> job;
     if (options_.diagnoses != nullptr) job = options_.diagnoses->Get(id);
     if (!job) return UnknownDiagnosis(text);
     return Error(422, "not_ready",
@@ -113,11 +113,12 @@ HttpResponse Router::GetDiagnosisReport(const std::string& text) {
   return r;
 }
 
-std::optional<DiagnosisJob> Router::StoredDiagnosisJob(int64_t id) const {
+std::optional<engine::DiagnosisJob> Router::StoredDiagnosisJob(
+    int64_t id) const {
   auto stored = store_->GetDiagnosis(id);
   if (!stored.ok() || !stored->has_value()) return std::nullopt;
   const storage::StoredDiagnosis& d = **stored;
-  DiagnosisJob job;
+  engine::DiagnosisJob job;
   job.id = d.id;
   job.status = d.status;
   job.report = d.report_json;

@@ -20,10 +20,11 @@
 #include "api/http_server.h"
 #include "api/router.h"
 #include "engine/calibration_runs.h"
+#include "engine/diagnosis_jobs.h"
 #include "service/commands.h"
 #include "service/config.h"
 #include "service/cpu_latency.h"
-#include "service/jobs/diagnosis_jobs.h"
+#include "service/jobs/diagnosis_hooks.h"
 #include "service/jobs/job_log.h"
 #include "service/jobs/scheduler.h"
 #include "storage/db_lock.h"
@@ -135,7 +136,7 @@ std::unique_ptr<storage::MillStore> OpenStore(
 // `scheduler`, diagnoses to `diagnoses`.
 api::ApiOptions ApiOptionsFor(const service::ServeConfig& config,
                               service::Scheduler* scheduler,
-                              service::DiagnosisJobs* diagnoses) {
+                              engine::DiagnosisJobs* diagnoses) {
   api::ApiOptions api_options;
   api_options.token = config.token;
   api_options.body_limit_bytes = config.body_limit_bytes;
@@ -213,6 +214,16 @@ void RaiseOpenFileLimit(int max_connections) {
   }
 }
 
+// The nightly recalibration of `config`: when, and which law and option.
+service::SchedulerOptions SchedulerOptionsFor(
+    const service::ServeConfig& config) {
+  service::SchedulerOptions o;
+  o.recalibration_minute = config.recalibration_minute;
+  o.law = config.model;
+  o.option = config.option;
+  return o;
+}
+
 }  // namespace
 
 int RunServe(const ServeArgs& args) {
@@ -242,10 +253,6 @@ int RunServe(const ServeArgs& args) {
   if (store == nullptr) return 1;
 
   api::Router* router_ptr = nullptr;
-  service::SchedulerOptions scheduler_options;
-  scheduler_options.recalibration_minute = config.recalibration_minute;
-  scheduler_options.law = config.model;
-  scheduler_options.option = config.option;
   // Every calibration run: the scheduler's (API, nightly) and the
   // adoption of a diagnosis.
   const auto on_calibration = [&router_ptr](const storage::CalibrationRecord& r,
@@ -257,9 +264,10 @@ int RunServe(const ServeArgs& args) {
     service::LogCalibrationFinished(r, seconds);
   };
   engine::CalibrationRuns runs(store.get());
-  service::Scheduler scheduler(store.get(), &runs, scheduler_options,
+  service::Scheduler scheduler(store.get(), &runs, SchedulerOptionsFor(config),
                                on_calibration);
-  service::DiagnosisJobs diagnoses(store.get(), &runs, on_calibration);
+  engine::DiagnosisJobs diagnoses(
+      store.get(), &runs, service::DaemonDiagnosisHooks(on_calibration));
 
   api::ApiOptions api_options = ApiOptionsFor(config, &scheduler, &diagnoses);
   api_options.build = {args.build.version, args.build.commit};

@@ -66,7 +66,7 @@ void LogDiagnosisStarted(int64_t id, bool adopt) {
   spdlog::info("event=diagnosis_started id={} adopt={}", id, adopt);
 }
 
-void LogDiagnosisFinished(const api::DiagnosisJob& job, double seconds) {
+void LogDiagnosisFinished(const engine::DiagnosisJob& job, double seconds) {
   std::string adoption;
   if (job.adoption) {
     adoption = " adoption_calibration_id=" + std::to_string(job.adoption->id) +

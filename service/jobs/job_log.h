@@ -27,7 +27,7 @@
 #include <string>
 #include <string_view>
 
-#include "api/diagnosis_job.h"
+#include "engine/diagnosis_job.h"
 #include "storage/store_types.h"
 
 namespace rollwear::service {
@@ -43,7 +43,7 @@ void LogCalibrationQueued(int64_t id, std::string_view trigger);
 void LogCalibrationFinished(const storage::CalibrationRecord& r,
                             double seconds);
 void LogDiagnosisStarted(int64_t id, bool adopt);
-void LogDiagnosisFinished(const api::DiagnosisJob& job, double seconds);
+void LogDiagnosisFinished(const engine::DiagnosisJob& job, double seconds);
 
 }  // namespace rollwear::service
 

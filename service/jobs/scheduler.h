@@ -1,5 +1,5 @@
 // Scheduler: the daemon's calibration work (the diagnoses run beside it,
-// in service/jobs/diagnosis_jobs.h).
+// in engine/diagnosis_jobs.h).
 //   - a job worker thread that runs queued calibration runs
 //     (engine::CalibrationRuns::Run) one at a time, in submission order;
 //   - a nightly trigger that, at the configured local time of day, queues a

@@ -19,7 +19,8 @@
 
 #include "api/router.h"
 #include "engine/calibration_runs.h"
-#include "service/jobs/diagnosis_jobs.h"
+#include "engine/diagnosis_jobs.h"
+#include "service/jobs/diagnosis_hooks.h"
 #include "storage/mill_store.h"
 
 namespace rollwear::api::testing {
@@ -117,8 +118,8 @@ class RouterTest : public ::testing::Test {
     router_.reset();
     diagnoses_.reset();
     runs_ = std::make_unique<engine::CalibrationRuns>(store_.get());
-    diagnoses_ =
-        std::make_unique<service::DiagnosisJobs>(store_.get(), runs_.get());
+    diagnoses_ = std::make_unique<engine::DiagnosisJobs>(
+        store_.get(), runs_.get(), service::DaemonDiagnosisHooks());
     if (options.diagnoses == nullptr) options.diagnoses = diagnoses_.get();
     router_ = std::make_unique<Router>(store_.get(), std::move(options));
   }
@@ -180,7 +181,7 @@ class RouterTest : public ::testing::Test {
   std::string dir_;
   std::unique_ptr<storage::MillStore> store_;
   std::unique_ptr<engine::CalibrationRuns> runs_;
-  std::unique_ptr<service::DiagnosisJobs> diagnoses_;
+  std::unique_ptr<engine::DiagnosisJobs> diagnoses_;
   std::unique_ptr<Router> router_;
 };
 

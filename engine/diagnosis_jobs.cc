@@ -1,16 +1,13 @@
-#include "service/jobs/diagnosis_jobs.h"
+#include "engine/diagnosis_jobs.h"
 
 #include <chrono>
 #include <exception>
 #include <string>
 #include <utility>
 
-#include "api/diagnosis_json.h"
-#include "core/diagnosis/diagnosis.h"
 #include "core/report/diagnosis_report.h"
-#include "service/jobs/job_log.h"
 
-namespace rollwear::service {
+namespace rollwear::engine {
 namespace {
 
 constexpr size_t kKeep = 50;  // reports kept in memory
@@ -22,7 +19,7 @@ UnixSeconds Now() {
 }
 
 // What is stored of a finished job.
-storage::StoredDiagnosis ToStored(const api::DiagnosisJob& job) {
+storage::StoredDiagnosis ToStored(const DiagnosisJob& job) {
   storage::StoredDiagnosis d;
   d.id = job.id;
   d.status = job.status;
@@ -40,10 +37,9 @@ storage::StoredDiagnosis ToStored(const api::DiagnosisJob& job) {
 
 }  // namespace
 
-DiagnosisJobs::DiagnosisJobs(storage::MillStore* store,
-                             engine::CalibrationRuns* runs,
-                             CalibrationDone on_calibration)
-    : store_(store), runs_(runs), on_calibration_(std::move(on_calibration)) {
+DiagnosisJobs::DiagnosisJobs(storage::MillStore* store, CalibrationRuns* runs,
+                             DiagnosisJobHooks hooks)
+    : store_(store), runs_(runs), hooks_(std::move(hooks)) {
   // Ids go on after those stored by an earlier run of the daemon.
   StatusOr<int64_t> last = store_->LastDiagnosisId();
   if (last.ok()) next_id_ = *last + 1;
@@ -64,7 +60,7 @@ void DiagnosisJobs::Stop() {
 int64_t DiagnosisJobs::Enqueue(bool adopt) {
   std::lock_guard<std::mutex> lock(mu_);
   const int64_t id = next_id_++;
-  api::DiagnosisJob job;
+  DiagnosisJob job;
   job.id = id;
   job.status = "queued";
   job.adopt = adopt;
@@ -76,7 +72,7 @@ int64_t DiagnosisJobs::Enqueue(bool adopt) {
   return id;
 }
 
-std::optional<api::DiagnosisJob> DiagnosisJobs::Get(int64_t id) const {
+std::optional<DiagnosisJob> DiagnosisJobs::Get(int64_t id) const {
   std::lock_guard<std::mutex> lock(mu_);
   auto it = jobs_.find(id);
   if (it == jobs_.end()) return std::nullopt;
@@ -102,9 +98,9 @@ void DiagnosisJobs::Work() {
       queued_at = it->second.queued_at;
       started_at = it->second.started_at;
     }
-    LogDiagnosisStarted(id, adopt);
+    if (hooks_.on_started) hooks_.on_started(id, adopt);
     const auto start = std::chrono::steady_clock::now();
-    api::DiagnosisJob result = Run(id, adopt);
+    DiagnosisJob result = Run(id, adopt);
     result.queued_at = queued_at;
     result.started_at = started_at;
     result.finished_at = Now();
@@ -115,17 +111,19 @@ void DiagnosisJobs::Work() {
       result.message += (result.message.empty() ? "" : "; ") +
                         std::string("not stored: ") + saved.message();
     }
-    LogDiagnosisFinished(result, std::chrono::duration<double>(
+    if (hooks_.on_finished) {
+      hooks_.on_finished(result, std::chrono::duration<double>(
                                      std::chrono::steady_clock::now() - start)
                                      .count());
+    }
     std::lock_guard<std::mutex> lock(mu_);
     auto it = jobs_.find(id);
     if (it != jobs_.end()) it->second = std::move(result);
   }
 }
 
-api::DiagnosisJob DiagnosisJobs::Run(int64_t id, bool adopt) {
-  api::DiagnosisJob result;
+DiagnosisJob DiagnosisJobs::Run(int64_t id, bool adopt) {
+  DiagnosisJob result;
   result.id = id;
   result.status = "failed";
   result.adopt = adopt;
@@ -145,7 +143,7 @@ api::DiagnosisJob DiagnosisJobs::Run(int64_t id, bool adopt) {
     }
     result.status = "done";
     result.verdict = report->verdict;
-    result.report = api::DiagnosisJsonText(*report, -1, &data->quality);
+    result.report = hooks_.report_json(*report, data->quality);
     result.html = DiagnosisHtml(*report);
     if (adopt && !report->findings.empty()) {
       // Scored on the validation campaigns of the data and split the
@@ -158,7 +156,7 @@ api::DiagnosisJob DiagnosisJobs::Run(int64_t id, bool adopt) {
       const double seconds = std::chrono::duration<double>(
                                  std::chrono::steady_clock::now() - start)
                                  .count();
-      if (on_calibration_) {
+      if (hooks_.on_calibration) {
         storage::CalibrationRecord counted;
         if (run.ok()) {
           counted = *run;
@@ -167,7 +165,7 @@ api::DiagnosisJob DiagnosisJobs::Run(int64_t id, bool adopt) {
           counted.status = storage::CalibrationStatus::kFailed;
           counted.message = run.status().message();
         }
-        on_calibration_(counted, seconds);
+        hooks_.on_calibration(counted, seconds);
       }
       if (run.ok()) {
         result.adoption = std::move(run).value();
@@ -183,4 +181,4 @@ api::DiagnosisJob DiagnosisJobs::Run(int64_t id, bool adopt) {
   return result;
 }
 
-}  // namespace rollwear::service
+}  // namespace rollwear::engine
