@@ -43,13 +43,7 @@ Status ReplayInto(Db* db, const CampaignRec& rec, const WearModel& model,
     index[slot] = static_cast<int>(out->rolls.size());
     out->rolls.push_back(std::move(h));
   }
-  ROLLWEAR_ASSIGN_OR_RETURN(
-      Statement st,
-      db->Prepare(
-          std::string("SELECT c.grade, ") + kPassMeasureColumns +
-          ", p.extra FROM passes p JOIN coils c ON c.id = p.coil "
-          "WHERE c.campaign = (SELECT id FROM campaigns WHERE campaign_id = ?) "
-          "ORDER BY c.id, p.id"));
+  ROLLWEAR_ASSIGN_OR_RETURN(Statement st, db->Prepare(RecentWearQuery()));
   st.BindText(1, rec.id);
   StoredPass pass;
   while (true) {

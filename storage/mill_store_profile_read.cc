@@ -21,12 +21,8 @@ namespace {
 // Ids of the `limit` most recently started ended campaigns that have a
 // stored profile, newest first.
 StatusOr<std::vector<std::string>> CampaignsWithProfiles(Db* db, int limit) {
-  ROLLWEAR_ASSIGN_OR_RETURN(
-      Statement * st,
-      db->Cached("SELECT c.campaign_id FROM campaigns c "
-                 "WHERE c.ended_at IS NOT NULL AND EXISTS (SELECT 1 FROM "
-                 "profile_points p WHERE p.campaign = c.id) "
-                 "ORDER BY c.started_at DESC, c.campaign_id DESC LIMIT ?"));
+  ROLLWEAR_ASSIGN_OR_RETURN(Statement * st,
+                            db->Cached(kCampaignsWithProfilesSql));
   const ResetOnExit reset(st);
   st->BindInt(1, limit);
   std::vector<std::string> out;

@@ -32,12 +32,7 @@ Status At(const Status& s, const std::string& where) {
 }  // namespace
 
 StatusOr<std::optional<ProfileIn>> LookupProfile(Db* db, const ProfileIn& key) {
-  ROLLWEAR_ASSIGN_OR_RETURN(
-      Statement * st,
-      db->Cached("SELECT p.roll_id, p.measured_at, p.x_mm, p.wear_um FROM "
-                 "profile_points p JOIN campaigns c ON c.id = p.campaign "
-                 "WHERE c.campaign_id = ? AND p.stand = ? AND p.position = ? "
-                 "ORDER BY p.point"));
+  ROLLWEAR_ASSIGN_OR_RETURN(Statement * st, db->Cached(kLookupProfileSql));
   const ResetOnExit reset(st);
   st->BindText(1, key.campaign_id)
       .BindInt(2, key.stand)

@@ -4,9 +4,9 @@
 // predicted wear at the end of each ended mount is a replay of that
 // campaign's stored passes under the active model (the replay that restores
 // the live state on start), and the running mount's is the live state. The
-// inventory's rolled lengths are one aggregate over coils -> passes per
-// campaign and stand, added up per roll over the catalog's mounts (read
-// just before the catalog: a coil committed in between may be missing).
+// inventory's rolled lengths are the catalog's per campaign and stand
+// (CampaignRec::length_m, summed as coils commit), added up per roll over
+// its mounts: the inventory reads nothing from SQLite.
 #include <algorithm>
 #include <map>
 #include <memory>
@@ -20,28 +20,6 @@
 
 namespace rollwear::storage::internal {
 namespace {
-
-// Rolled length per (campaign, stand): each pass of a stand rolls both its
-// rolls. One scan of coils -> passes (about 3x faster than joining each
-// roll's mounts to the passes, which visits every pass twice).
-using LengthKey = std::pair<std::string, int>;
-StatusOr<std::map<LengthKey, double>> RolledLengthByCampaignStand(Db* db) {
-  ROLLWEAR_ASSIGN_OR_RETURN(
-      Statement st,
-      db->Prepare("SELECT k.campaign_id, x.stand, x.length FROM "
-                  "(SELECT c.campaign AS campaign, p.stand AS stand, "
-                  "SUM(p.length_m) AS length FROM coils c "
-                  "JOIN passes p ON p.coil = c.id "
-                  "GROUP BY c.campaign, p.stand) x "
-                  "JOIN campaigns k ON k.id = x.campaign"));
-  std::map<LengthKey, double> out;
-  while (true) {
-    ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
-    if (!row) return out;
-    out[{st.ColumnText(0), static_cast<int>(st.ColumnInt(1))}] =
-        st.ColumnDouble(2);
-  }
-}
 
 // The catalog's campaigns in the order they were started.
 std::vector<const CampaignRec*> ByStart(const Catalog& catalog) {
@@ -126,12 +104,6 @@ StatusOr<RollLife> MillStoreImpl::GetRollLife(
 }
 
 StatusOr<std::vector<RollSummary>> MillStoreImpl::RollInventory() const {
-  std::map<LengthKey, double> lengths;
-  {
-    std::lock_guard<std::mutex> lock(read_mu_);
-    ROLLWEAR_ASSIGN_OR_RETURN(lengths,
-                              RolledLengthByCampaignStand(read_db_.get()));
-  }
   std::map<std::string, RollSummary> rolls;
   {
     std::lock_guard<std::mutex> lock(mu_);
@@ -145,8 +117,7 @@ StatusOr<std::vector<RollSummary>> MillStoreImpl::RollInventory() const {
         r.roll_type = m->roll_type;
         r.last_diameter_mm = m->diameter_mm;
         ++r.campaigns;
-        auto it = lengths.find({rec->id, m->stand});
-        if (it != lengths.end()) r.total_rolled_m += it->second;
+        r.total_rolled_m += rec->length_m[m->stand];
         r.mounted = open;
         if (open) {
           r.stand = m->stand;

@@ -71,8 +71,7 @@ StatusOr<int64_t> InsertCampaign(Db* db, const std::string& campaign_id,
 }
 
 StatusOr<int64_t> CampaignRow(Db* db, const std::string& campaign_id) {
-  ROLLWEAR_ASSIGN_STMT(st, db,
-                       "SELECT id FROM campaigns WHERE campaign_id = ?");
+  ROLLWEAR_ASSIGN_STMT(st, db, kCampaignRowSql);
   st->BindText(1, campaign_id);
   ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st->Step());
   if (!row) return Status::NotFound("unknown campaign " + campaign_id);
@@ -193,13 +192,7 @@ Status InsertMeasurement(Db* db, int64_t campaign_row, const MeasurementIn& m,
 
 StatusOr<std::optional<StoredCoil>> LookupCoil(Db* db,
                                                const std::string& coil_id) {
-  ROLLWEAR_ASSIGN_STMT(
-      st, db,
-      "SELECT g.campaign_id, c.seq, c.grade, p.stand, p.rolled_at, "
-      "p.force_kn, p.width_mm, p.length_m, p.entry_thickness_mm, "
-      "p.exit_thickness_mm, p.temperature_c, p.speed_mps, p.lubrication, "
-      "p.shift_mm, p.extra FROM coils c JOIN campaigns g ON g.id = c.campaign "
-      "JOIN passes p ON p.coil = c.id WHERE c.coil_id = ? ORDER BY p.stand");
+  ROLLWEAR_ASSIGN_STMT(st, db, kLookupCoilSql);
   st->BindText(1, coil_id);
   std::optional<StoredCoil> out;
   while (true) {
@@ -242,10 +235,7 @@ Status ForEachCoilId(Db* db,
 StatusOr<std::optional<std::string>> LookupSeq(Db* db,
                                                const std::string& campaign_id,
                                                int seq) {
-  ROLLWEAR_ASSIGN_STMT(
-      st, db,
-      "SELECT c.coil_id FROM coils c JOIN campaigns g ON "
-      "g.id = c.campaign WHERE g.campaign_id = ? AND c.seq = ?");
+  ROLLWEAR_ASSIGN_STMT(st, db, kLookupSeqSql);
   st->BindText(1, campaign_id).BindInt(2, seq);
   ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st->Step());
   std::optional<std::string> out;
@@ -467,11 +457,31 @@ bool DecodeCoilWear(std::string_view blob, std::vector<CoilWearEntry>* out) {
 
 StatusOr<std::optional<std::string>> LookupCoilWear(
     Db* db, const std::string& coil_id) {
-  ROLLWEAR_ASSIGN_STMT(st, db, "SELECT wear FROM coils WHERE coil_id = ?");
+  ROLLWEAR_ASSIGN_STMT(st, db, kCoilWearSql);
   st->BindText(1, coil_id);
   ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st->Step());
   if (!row || st->ColumnIsNull(0)) return std::optional<std::string>();
   return std::optional<std::string>(st->ColumnBlob(0));
+}
+
+std::string RecentWearQuery() {
+  return std::string("SELECT c.grade, ") + kPassMeasureColumns +
+         ", p.extra FROM passes p JOIN coils c ON c.id = p.coil "
+         "WHERE c.campaign = (SELECT id FROM campaigns WHERE campaign_id = ?) "
+         "ORDER BY c.id, p.id";
+}
+
+std::vector<PerRequestQuery> PerRequestQueries() {
+  return {
+      {"LookupCoil", kLookupCoilSql, {}},
+      {"LookupSeq", kLookupSeqSql, {}},
+      {"LookupCoilWear", kCoilWearSql, {}},
+      {"CampaignRow", kCampaignRowSql, {}},
+      {"LookupProfile", kLookupProfileSql, {}},
+      {"CampaignsWithProfiles", kCampaignsWithProfilesSql, {"c"}},
+      {"RecentWear", RecentWearQuery(), {}},
+      {"ReplayCampaign", ReplayCampaignQuery(), {}},
+  };
 }
 
 std::string ReplayCampaignQuery() {

@@ -139,6 +139,56 @@ StatusOr<RollStates> ReplayCampaignCoils(Db* db, const CampaignRec& campaign,
                                          const WearModel& model,
                                          const CoilVisitor& visit,
                                          bool track_profiles = false);
+// The queries that run per request or per measurement, whose cost must not
+// grow with the mill's history: each reaches passes, coils and
+// measurements through an index, never a scan (checked on their query
+// plans by StoreQueryPlanTest, from PerRequestQueries()).
+//
+// A stored coil by coil_id (a new coil whose id the filter may hold, a
+// repeat, a forecast's planned id).
+inline constexpr char kLookupCoilSql[] =
+    "SELECT g.campaign_id, c.seq, c.grade, p.stand, p.rolled_at, "
+    "p.force_kn, p.width_mm, p.length_m, p.entry_thickness_mm, "
+    "p.exit_thickness_mm, p.temperature_c, p.speed_mps, p.lubrication, "
+    "p.shift_mm, p.extra FROM coils c JOIN campaigns g ON g.id = c.campaign "
+    "JOIN passes p ON p.coil = c.id WHERE c.coil_id = ? ORDER BY p.stand";
+// The coil stored under (campaign, seq).
+inline constexpr char kLookupSeqSql[] =
+    "SELECT c.coil_id FROM coils c JOIN campaigns g ON "
+    "g.id = c.campaign WHERE g.campaign_id = ? AND c.seq = ?";
+// A stored coil's first answer (a repeat's).
+inline constexpr char kCoilWearSql[] =
+    "SELECT wear FROM coils WHERE coil_id = ?";
+// A campaign's row id (a measurement's, a profile's).
+inline constexpr char kCampaignRowSql[] =
+    "SELECT id FROM campaigns WHERE campaign_id = ?";
+// A stored profile by campaign, stand and position (a profile post).
+inline constexpr char kLookupProfileSql[] =
+    "SELECT p.roll_id, p.measured_at, p.x_mm, p.wear_um FROM "
+    "profile_points p JOIN campaigns c ON c.id = p.campaign "
+    "WHERE c.campaign_id = ? AND p.stand = ? AND p.position = ? "
+    "ORDER BY p.point";
+// The most recently started ended campaigns with a stored profile (the
+// dashboard's profile charts); scans the campaigns, a few hundred a year.
+inline constexpr char kCampaignsWithProfilesSql[] =
+    "SELECT c.campaign_id FROM campaigns c "
+    "WHERE c.ended_at IS NOT NULL AND EXISTS (SELECT 1 FROM "
+    "profile_points p WHERE p.campaign = c.id) "
+    "ORDER BY c.started_at DESC, c.campaign_id DESC LIMIT ?";
+// One campaign's passes in stored order with their coil's grade (the
+// dashboard's wear history, MillStore::RecentWear).
+std::string RecentWearQuery();
+
+struct PerRequestQuery {
+  std::string name;  // what runs it
+  std::string sql;
+  // Tables (by their alias in `sql`) it may scan: a table other than
+  // passes, coils and measurements whose size does not grow with coils.
+  std::vector<std::string> may_scan;
+};
+// Every query above, and the replay's.
+std::vector<PerRequestQuery> PerRequestQueries();
+
 // The replay's one query: a campaign's passes with their coils, by the
 // campaign's id (bound as ?), in stored order. Reached through the
 // campaigns, coils (campaign, seq) and passes (coil, stand) indexes
