@@ -185,12 +185,16 @@ GuardResult AtBoxBound(const DiagnosisState& st,
     if (!(at_lo || at_hi) || family.BoundIsALimit(static_cast<int>(j), at_hi))
       continue;
     r.pass = false;
+    const int k = static_cast<int>(j);
+    const TermParamView at = family.Param(k, x[j]);
+    const TermParamView bound = family.Param(k, at_hi ? hi : lo);
     char buf[320];
     std::snprintf(buf, sizeof(buf),
                   "its fit stops at the edge of the box it is fitted in "
-                  "(parameter %zu = %.4g, bound %.4g): the %s form stands in "
+                  "(%s = %.4g, at its %s bound %.4g): the %s form stands in "
                   "for structure it does not describe; located, not named",
-                  j, x[j], at_hi ? hi : lo, family.name());
+                  at.name.c_str(), at.value, at_hi ? "upper" : "lower",
+                  bound.value, family.name());
     r.reason = buf;
     r.located = LocatedByItsLr(st, fits, results, candidate,
                                results[candidate].covariate);

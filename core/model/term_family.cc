@@ -71,6 +71,10 @@ std::optional<TermFieldError> TermFamily::NoRollEffectFields(
   return std::nullopt;
 }
 
+TermParamView TermFamily::Param(int j, double x) const {
+  return {"parameter " + std::to_string(j), x};
+}
+
 std::optional<TermFieldError> TermFamily::CheckStored(
     const ModelTerm& t) const {
   if (std::optional<TermFieldError> e = NoRollEffectFields(t)) return e;

@@ -112,6 +112,12 @@ bool GrowsWithinCampaign(const CovariateSummary& c);
 TermProposal PerLevelProposal(const TermFamily& family,
                               const CovariateSummary& c, double bound);
 
+// A parameter as the family's formula names it (TermFamily::Param).
+struct TermParamView {
+  std::string name;
+  double value = 0;
+};
+
 // printf of up to four doubles into a string (the wording's numbers).
 std::string WordFormat(const char* fmt, double a, double b = 0, double c = 0,
                        double d = 0);
@@ -154,6 +160,11 @@ class TermFamily {
   // something it does not describe (core/diagnosis/diagnosis_rivals.cc,
   // AtBoxBound). Brackets by default.
   virtual bool BoundIsALimit(int /*j*/, bool /*upper*/) const { return false; }
+  // Parameter j at the fitted value x as a reader of the family's formula
+  // knows it: its name there and x on that scale (a parameter fitted on a
+  // log scale is shown exponentiated: "lam = 3200" for q = log lam).
+  // Default: "parameter j" and x itself.
+  virtual TermParamView Param(int j, double x) const;
   virtual int NumParams(const ModelTerm& /*t*/) const { return 1; }
   // The multiplier m(z) (a wear-rate family), the wear added per pass in
   // µm (an additive family) or the offset in µm (a measurement family) at

@@ -14,6 +14,9 @@ class Cell final : public TermFamily {
  public:
   TermForm form() const override { return TermForm::kCell; }
   const char* name() const override { return "cell"; }
+  TermParamView Param(int /*j*/, double x) const override {
+    return {"multiplier exp(b)", std::exp(x)};
+  }
   double Evaluate(const ModelTerm& t, double /*z*/,
                   double* grad) const override {
     const double m = std::exp(t.params[0]);

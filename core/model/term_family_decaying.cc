@@ -12,6 +12,9 @@ class Decaying final : public TermFamily {
  public:
   TermForm form() const override { return TermForm::kDecaying; }
   const char* name() const override { return "decaying"; }
+  TermParamView Param(int j, double x) const override {
+    return j == 0 ? TermParamView{"b", x} : TermParamView{"lam", std::exp(x)};
+  }
   // The length scale's bounds (a step on the first passes; a decline over
   // the whole range) and m >= 0.1 are limits of the shape; b = 10, eleven
   // times the wear rate at the start, is a bracket.

@@ -12,6 +12,9 @@ class Flag final : public TermFamily {
  public:
   TermForm form() const override { return TermForm::kFlag; }
   const char* name() const override { return "flag"; }
+  TermParamView Param(int /*j*/, double x) const override {
+    return {"multiplier when on exp(b)", std::exp(x)};
+  }
   bool offered_scoped() const override { return true; }
   bool exponential() const override { return true; }  // u = z
   void Propose(const CovariateSummary& c,

@@ -14,6 +14,9 @@ class LogLinear final : public TermFamily {
  public:
   TermForm form() const override { return TermForm::kLogLinear; }
   const char* name() const override { return "log_linear"; }
+  TermParamView Param(int /*j*/, double x) const override {
+    return {"b (log-change per sd)", x};
+  }
   bool offered_scoped() const override { return true; }
   bool exponential() const override { return true; }
   double Exponent(const ModelTerm& t, double z) const override {

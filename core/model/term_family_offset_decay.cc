@@ -13,6 +13,10 @@ class OffsetDecay final : public TermFamily {
  public:
   TermForm form() const override { return TermForm::kOffsetDecay; }
   const char* name() const override { return "offset_decay"; }
+  TermParamView Param(int j, double x) const override {
+    return j == 0 ? TermParamView{"A (µm)", x}
+                  : TermParamView{"tau", std::exp(x)};
+  }
   // A short time constant is a step on the first readings, still the
   // shape; a long one is a constant offset on every reading (an intercept,
   // not a drift that fades): a bracket, as the amplitude's +-1000 µm.

@@ -11,6 +11,9 @@ class OffsetLinear final : public TermFamily {
  public:
   TermForm form() const override { return TermForm::kOffsetLinear; }
   const char* name() const override { return "offset_linear"; }
+  TermParamView Param(int /*j*/, double x) const override {
+    return {"A (µm per sd)", x};
+  }
   bool measurement() const override { return true; }
   void Propose(const CovariateSummary& c,
                std::vector<TermProposal>* out) const override {

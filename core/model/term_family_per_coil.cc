@@ -27,6 +27,9 @@ class PerCoil final : public TermFamily {
  public:
   TermForm form() const override { return TermForm::kPerCoil; }
   const char* name() const override { return "per_coil"; }
+  TermParamView Param(int /*j*/, double x) const override {
+    return {"a (µm per coil)", x};
+  }
   bool offered_scoped() const override { return true; }
   bool additive() const override { return true; }
   bool names_mechanism() const override { return true; }

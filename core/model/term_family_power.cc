@@ -14,6 +14,9 @@ class Power final : public TermFamily {
  public:
   TermForm form() const override { return TermForm::kPower; }
   const char* name() const override { return "power"; }
+  TermParamView Param(int /*j*/, double x) const override {
+    return {"exponent b", x};
+  }
   bool exponential() const override { return true; }
   double Exponent(const ModelTerm& t, double z) const override {
     return std::log(std::max(z, 1e-12) / t.center);

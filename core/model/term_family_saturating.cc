@@ -13,6 +13,9 @@ class Saturating final : public TermFamily {
  public:
   TermForm form() const override { return TermForm::kSaturating; }
   const char* name() const override { return "saturating"; }
+  TermParamView Param(int j, double x) const override {
+    return j == 0 ? TermParamView{"b", x} : TermParamView{"lam", std::exp(x)};
+  }
   // Every bound is a limit of the shape: a line (b and lam large together,
   // b / lam the slope: linear growth fitted as b = 10 with lam far beyond
   // the data, stoppages seed 105), a step (lam small), no effect below

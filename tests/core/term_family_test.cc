@@ -409,6 +409,46 @@ TEST(TermFamilyTest, ABoundIsALimitOnlyWhereTheShapeGoesOn) {
   EXPECT_FALSE(FamilyOf(TermForm::kPerCoil).BoundIsALimit(0, true));
 }
 
+// A fit stopped at a bracket of its box is reported with the parameter as
+// the family's formula names it (AtBoxBound's reason): every parameter
+// that has a bracket is named, and one fitted on a log scale is shown as
+// the formula's quantity, the one at which the formula takes its value.
+TEST(TermFamilyTest, AParameterIsShownOnItsFormulasScale) {
+  for (TermForm f : kEveryForm) {
+    const TermFamily& family = FamilyOf(f);
+    const ModelTerm t = TermOf(f);
+    for (int j = 0; j < std::min(t.NumParams(), 2); ++j) {
+      if (family.BoundIsALimit(j, false) && family.BoundIsALimit(j, true)) {
+        continue;
+      }
+      EXPECT_NE(family.Param(j, 0.1).name.rfind("parameter ", 0), 0u)
+          << family.name() << " " << j;
+    }
+  }
+  // The time constants: at z = lam (tau) the formula is at 1 - e^-1 (e^-1)
+  // of its amplitude.
+  for (TermForm f :
+       {TermForm::kSaturating, TermForm::kDecaying, TermForm::kOffsetDecay}) {
+    const ModelTerm t = TermOf(f);  // amplitude params[0], scale 3
+    const TermParamView scale = FamilyOf(f).Param(1, t.params[1]);
+    EXPECT_NEAR(scale.value, 3.0, 1e-12) << FamilyOf(f).name();
+    const double fraction =
+        f == TermForm::kSaturating ? 1 - std::exp(-1.0) : std::exp(-1.0);
+    const double base = f == TermForm::kOffsetDecay ? 0.0 : 1.0;
+    EXPECT_NEAR(Value(t, scale.value, nullptr), base + t.params[0] * fraction,
+                1e-12)
+        << FamilyOf(f).name();
+  }
+  // A flag's and a cell's multiplier is the wear-rate ratio itself.
+  ModelTerm flag = TermOf(TermForm::kFlag);
+  flag.params = {std::log(1.3)};
+  EXPECT_NEAR(FamilyOf(TermForm::kFlag).Param(0, flag.params[0]).value, 1.3,
+              1e-12);
+  EXPECT_NEAR(Value(flag, 1.0, nullptr), 1.3, 1e-12);
+  EXPECT_NEAR(FamilyOf(TermForm::kCell).Param(0, std::log(0.8)).value, 0.8,
+              1e-12);
+}
+
 TEST(TermFamilyTest, RefitBoxesHoldTheAdoptedParameters) {
   for (TermForm f : kEveryForm) {
     const ModelTerm t = TermOf(f);
