@@ -25,7 +25,7 @@ constexpr int kProfileCampaigns = 2;
 // Calibration runs listed.
 constexpr int kCalibrationRows = 5;
 // Diagnosis jobs looked back through for the latest finished one
-// (service::DiagnosisJobs keeps the last 50).
+// (engine::DiagnosisJobs keeps the last 50).
 constexpr int kDiagnosisLookback = 50;
 
 std::string UtcTime(int64_t unix_seconds, bool with_seconds) {

@@ -54,18 +54,12 @@ HttpResponse Router::GetWearAt(const std::string& stand_text,
     return std::move(*unknown);
   }
   // The answer names the model version so that clients can tell which model
-  // predicted; only the full snapshot has it, so the position is taken from
-  // the same snapshot: one visit to the store, and the two agree.
-  const engine::WearSnapshot snapshot = mounted_.Wear();
-  for (const engine::PositionWear& wear : snapshot.positions) {
-    if (wear.stand == stand && wear.position == position) {
-      return Answer(200, EncodePositionWear(wear, snapshot.model_version));
-    }
-  }
-  // Not mounted (or mounted just now): the store's own answer.
-  StatusOr<engine::PositionWear> wear = mounted_.WearAt(stand, position);
+  // predicted: the one the position was read with (one moment).
+  int64_t model_version = 0;
+  StatusOr<engine::PositionWear> wear =
+      mounted_.WearAt(stand, position, &model_version);
   if (!wear.ok()) return FromStatus(wear.status());
-  return Answer(200, EncodePositionWear(*wear, snapshot.model_version));
+  return Answer(200, EncodePositionWear(*wear, model_version));
 }
 
 HttpResponse Router::PostCalibration(const HttpRequest& request) {

@@ -111,7 +111,7 @@ echo "== forecast_bench" >&2
 "$bin/forecast_bench" --benchmark_color=false \
   > "$work/forecast_bench.txt" 2> "$work/forecast_bench.err"
 row "POST /v1/forecast, 200 coils, 4 rolls, no HTTP" "$(bm "$work/forecast_bench.txt" BM_ForecastRequest/200)" "milliseconds"
-row "MillStore::ForecastCoils, 200 coils, 4 rolls" "$(bm "$work/forecast_bench.txt" BM_ForecastStore/200)" ""
+row "engine::MountedRolls::ForecastCoils, 200 coils, 4 rolls" "$(bm "$work/forecast_bench.txt" BM_ForecastStore/200)" ""
 row "GET /v1/wear/{stand}/{position}/profile, 201 slices, no HTTP (see p99_us)" "$(bm "$work/forecast_bench.txt" BM_WearProfileGet)" "p99 < 1 ms"
 row "one pass added to a roll tracking its profile" "$(bm "$work/forecast_bench.txt" BM_ProfilePassUpdate)" "microseconds"
 

@@ -141,6 +141,10 @@ DiagnosisJob DiagnosisJobs::Run(int64_t id, bool adopt) {
       result.message = report.status().message();
       return result;
     }
+    if (!hooks_.report_json) {
+      result.message = "no report writer was given to the diagnosis jobs";
+      return result;
+    }
     result.status = "done";
     result.verdict = report->verdict;
     result.report = hooks_.report_json(*report, data->quality);

@@ -54,7 +54,9 @@ struct DiagnosisJobHooks {
 class DiagnosisJobs final : public DiagnosisRunner {
  public:
   // `store` and `runs` (the engine's, on that store) must outlive the
-  // worker (this object, or until Stop()); `hooks.report_json` must be set.
+  // worker (this object, or until Stop()). Without `hooks.report_json`
+  // every job fails with a message saying so (a wiring fault the first
+  // diagnosis shows, rather than an exception).
   DiagnosisJobs(storage::MillStore* store, CalibrationRuns* runs,
                 DiagnosisJobHooks hooks);
   ~DiagnosisJobs() override;  // Stop()s

@@ -63,12 +63,13 @@ WearSnapshot MountedRolls::Wear() const {
   return snap;
 }
 
-StatusOr<PositionWear> MountedRolls::WearAt(int stand,
-                                            Position position) const {
+StatusOr<PositionWear> MountedRolls::WearAt(int stand, Position position,
+                                            int64_t* model_version) const {
   ROLLWEAR_RETURN_IF_ERROR(CheckRollPosition(stand, position));
   const int slot = RollPositionSlot(stand, position);
   const MountedState mounted = store_->Mounted();
   ROLLWEAR_RETURN_IF_ERROR(RollMountedAt(mounted, slot));
+  if (model_version != nullptr) *model_version = mounted.model->version;
   return PositionWearOf(mounted, slot);
 }
 

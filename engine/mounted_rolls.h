@@ -15,6 +15,7 @@
 #ifndef ROLLWEAR_ENGINE_MOUNTED_ROLLS_H_
 #define ROLLWEAR_ENGINE_MOUNTED_ROLLS_H_
 
+#include <cstdint>
 #include <vector>
 
 #include "core/base/status.h"
@@ -35,8 +36,10 @@ class MountedRolls {
   WearSnapshot Wear() const;
   // One roll position: InvalidArgument "stand: ..." / "position: ..." for
   // one that does not exist (CheckRollPosition), NotFound "no roll mounted
-  // at F6/top".
-  StatusOr<PositionWear> WearAt(int stand, Position position) const;
+  // at F6/top". `model_version` (may be null) receives the version of the
+  // served model the answer was read with (the same moment).
+  StatusOr<PositionWear> WearAt(int stand, Position position,
+                                int64_t* model_version = nullptr) const;
   // The predicted profile across the barrel of the roll at (stand,
   // position), read from its profile sums with the served model's profile
   // shape, or the default g = 1 when it has none; errors as WearAt.

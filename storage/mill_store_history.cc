@@ -3,7 +3,8 @@
 // after every coil) and the last ended, measured campaigns under the active
 // model, on the read connection. The replay is the one that restores the
 // live state on start (same passes, same order, same model), so the open
-// campaign's last points equal Wear(). A measured roll also gets what the
+// campaign's last points equal the engine's wear answer
+// (engine::MountedRolls::Wear). A measured roll also gets what the
 // grinder is expected to read (core/model/model_eval.h: the model's measurement
 // terms added), the number validation compares with the measurement.
 #include <algorithm>

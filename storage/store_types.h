@@ -328,7 +328,8 @@ struct RollWearHistory {
   Position position = Position::kTop;
   std::string roll_id;
   // Open campaign only: after each coil the roll rolled, the rolled length
-  // so far and the predicted wear (the last point equals Wear()'s).
+  // so far and the predicted wear (the last point equals the engine's
+  // wear answer, engine::MountedRolls::Wear).
   std::vector<double> rolled_length_m;
   std::vector<double> predicted_wear_um;
   double final_predicted_um = 0;      // under the active model

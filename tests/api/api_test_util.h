@@ -1,6 +1,7 @@
 // Test fixture of api_test: a Router over the real MillStore on a fresh
 // SQLite file in a temporary folder, with the daemon's diagnosis jobs
-// (service/jobs/diagnosis_jobs.h) and one open campaign (C1, rolls at
+// (engine/diagnosis_jobs.h with the daemon's hooks,
+// service/jobs/diagnosis_hooks.h) and one open campaign (C1, rolls at
 // F6/F7 top and bottom), and helpers that build valid request bodies and
 // check error answers.
 //
