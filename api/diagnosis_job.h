@@ -8,7 +8,7 @@
 
 #include <string>
 
-#include "engine/diagnosis_job.h"
+#include "engine/diagnosis_runner.h"
 
 namespace rollwear::api {
 

@@ -1,7 +1,7 @@
 // DiagnosisJobs: runs diagnoses (core/diagnosis/diagnosis.h) of everything
 // the store holds, one at a time on a background worker, for POST
 // /v1/diagnoses and GET /v1/diagnoses/{id} (it is the router's
-// DiagnosisRunner, engine/diagnosis_job.h). Each finished diagnosis (done or
+// DiagnosisRunner, engine/diagnosis_runner.h). Each finished diagnosis (done or
 // failed, with its JSON and HTML reports) is stored (MillStore::SaveDiagnosis)
 // before it is shown finished, so it outlives a restart; ids go on after the
 // stored ones. Jobs are also kept in memory (the last 50) for queued and
@@ -32,7 +32,7 @@
 #include "core/dataset/data_quality.h"
 #include "core/diagnosis/diagnosis.h"
 #include "engine/calibration_runs.h"
-#include "engine/diagnosis_job.h"
+#include "engine/diagnosis_runner.h"
 #include "storage/mill_store.h"
 
 namespace rollwear::engine {

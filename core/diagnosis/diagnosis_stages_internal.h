@@ -371,13 +371,15 @@ GuardResult LookAlongTime(const Dataset& data, const DiagnosisState& st,
                           const std::vector<double>& after,
                           const std::string& covariate);
 
-// The first accepted candidate of a round (`accepted`, best first) that is
-// not locate-only (NotNameable), whose fit does not stop at a bracket of
-// its box (AtBoxBound), is distinct from the round's cells, passes
-// GuardAgainstProxy, is distinct from its rivals (DistinctFromRivals) and
-// fits no worse than what the guard refused (FitsWorseThanRefused), or -1; the
-// others tried become runners-up, and when none passes, where an
-// inconsistent effect lives is listed as unexplained (diagnosis_winner.cc).
+// The first accepted candidate of a round (`accepted`, best first) that
+// passes every guard of the ordered table kWinnerGuards
+// (diagnosis_winner.cc): not locate-only (NotNameable), its fit inside its
+// box (AtBoxBound), distinct from the round's cells (NoBetterThanCell),
+// GuardAgainstProxy, distinct from its rivals (DistinctFromRivals) and no
+// worse a fit than what the guards refused (FitsWorseThanRefused); or -1.
+// The others tried become runners-up with the refusing guard's
+// RefusalKind, and when none passes, where an inconsistent effect lives is
+// listed as unexplained.
 int GuardedWinner(int round, const Dataset& data,
                   const DiagnosisOptions& options, const DiagnosisState& st,
                   const std::vector<double>& sd,

@@ -141,6 +141,70 @@ GuardResult FitsWorseThanRefused(const DiagnosisState& st,
   return r;
 }
 
+namespace {
+
+// What the winner's guards see: the round and the candidate tried.
+struct WinnerGuardContext {
+  const Dataset& data;
+  const DiagnosisOptions& options;
+  const DiagnosisState& st;
+  const std::vector<double>& sd;
+  const std::vector<int>& accepted;
+  const std::vector<Fitted>& fits;
+  const std::vector<CandidateResult>& results;
+  double num_tests;
+  const std::vector<Breakdown>& before;  // Locate on the training data
+  const std::vector<int>& refused;       // candidates refused as proxies
+  int candidate;
+};
+
+// One guard of a round's winner: the refusal it gives and its check.
+struct WinnerGuard {
+  RefusalKind kind;
+  GuardResult (*check)(const WinnerGuardContext&);
+};
+
+// The guards a round's winner must pass to be named, in order; the first
+// refusal stops the chain (docs/diagnosis.md, "The proxy guard"): the
+// vocabulary first (a quantity the format names; a fit inside its box),
+// then the places and rivals the effect may stand in for.
+constexpr WinnerGuard kWinnerGuards[] = {
+    {RefusalKind::kNotNameable,
+     [](const WinnerGuardContext& c) {
+       return NotNameable(c.st, c.fits, c.results, c.candidate);
+     }},
+    {RefusalKind::kAtBoxBound,
+     [](const WinnerGuardContext& c) {
+       return AtBoxBound(c.st, c.fits, c.results, c.candidate);
+     }},
+    {RefusalKind::kNoBetterThanCell,
+     [](const WinnerGuardContext& c) {
+       GuardResult g;
+       g.reason = NoBetterThanCell(c.st, c.sd, c.accepted, c.fits, c.candidate,
+                                   c.num_tests, c.options);
+       g.pass = g.reason.empty();
+       return g;
+     }},
+    {RefusalKind::kProxyGuard,
+     [](const WinnerGuardContext& c) {
+       return GuardAgainstProxy(c.data, c.st, c.options, c.sd, c.before,
+                                c.fits[c.candidate]);
+     }},
+    {RefusalKind::kNotDistinguishable,
+     [](const WinnerGuardContext& c) {
+       return DistinctFromRivals(c.st, c.sd, c.accepted, c.fits, c.results,
+                                 c.candidate);
+     }},
+    {RefusalKind::kShadowOfRefused,
+     [](const WinnerGuardContext& c) {
+       if (c.refused.empty()) return GuardResult{};
+       return FitsWorseThanRefused(c.st, c.fits, c.candidate, c.refused,
+                                   c.results);
+     }},
+};
+
+}  // namespace
+
 // See diagnosis_stages_internal.h.
 int GuardedWinner(int round, const Dataset& data,
                   const DiagnosisOptions& options, const DiagnosisState& st,
@@ -161,29 +225,15 @@ int GuardedWinner(int round, const Dataset& data,
   for (int i : accepted) {
     // A locate-only covariate is a structure the vocabulary cannot name:
     // refused like an inconsistent effect (what fits worse is its shadow).
-    GuardResult g = NotNameable(st, fits, results, i);
-    RefusalKind kind = RefusalKind::kNotNameable;
-    if (g.pass) {
-      kind = RefusalKind::kAtBoxBound;
-      g = AtBoxBound(st, fits, results, i);
-    }
-    if (g.pass) {
-      kind = RefusalKind::kNoBetterThanCell;
-      g.reason =
-          NoBetterThanCell(st, sd, accepted, fits, i, num_tests, options);
-      g.pass = g.reason.empty();
-    }
-    if (g.pass) {
-      kind = RefusalKind::kProxyGuard;
-      g = GuardAgainstProxy(data, st, options, sd, before, fits[i]);
-    }
-    if (g.pass) {
-      kind = RefusalKind::kNotDistinguishable;
-      g = DistinctFromRivals(st, sd, accepted, fits, results, i);
-    }
-    if (g.pass && !refused.empty()) {
-      kind = RefusalKind::kShadowOfRefused;
-      g = FitsWorseThanRefused(st, fits, i, refused, results);
+    const WinnerGuardContext context{data,     options, st,      sd,
+                                     accepted, fits,    results, num_tests,
+                                     before,   refused, i};
+    GuardResult g;
+    RefusalKind kind = RefusalKind::kUnspecified;
+    for (const WinnerGuard& guard : kWinnerGuards) {
+      g = guard.check(context);
+      kind = guard.kind;
+      if (!g.pass) break;
     }
     if (g.pass) return i;
     const bool by_cell = kind == RefusalKind::kNoBetterThanCell;

@@ -27,7 +27,7 @@
 #include <string>
 #include <string_view>
 
-#include "engine/diagnosis_job.h"
+#include "engine/diagnosis_runner.h"
 #include "storage/store_types.h"
 
 namespace rollwear::service {

@@ -7,8 +7,8 @@
 // Thread-safety: DiagnosisJob is a plain value; implementations of
 // DiagnosisRunner must be thread-safe (the router calls them from any
 // request thread).
-#ifndef ROLLWEAR_ENGINE_DIAGNOSIS_JOB_H_
-#define ROLLWEAR_ENGINE_DIAGNOSIS_JOB_H_
+#ifndef ROLLWEAR_ENGINE_DIAGNOSIS_RUNNER_H_
+#define ROLLWEAR_ENGINE_DIAGNOSIS_RUNNER_H_
 
 #include <cstdint>
 #include <optional>
@@ -49,4 +49,4 @@ class DiagnosisRunner {
 
 }  // namespace rollwear::engine
 
-#endif  // ROLLWEAR_ENGINE_DIAGNOSIS_JOB_H_
+#endif  // ROLLWEAR_ENGINE_DIAGNOSIS_RUNNER_H_
