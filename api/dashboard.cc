@@ -77,14 +77,97 @@ std::optional<DashboardFinding> FindingOf(int64_t id,
   }
 }
 
+// The dashboard's row of one mounted roll: its wear (PositionWearOf) and
+// its profile as GET .../profile serves it (none when that errs), both
+// read from the same moment `mounted`.
+DashboardRoll RollRow(const storage::MountedState& mounted, int slot) {
+  const engine::PositionWear p = engine::PositionWearOf(mounted, slot);
+  DashboardRoll r;
+  r.stand = p.stand;
+  r.position = PositionName(p.position);
+  r.roll_id = p.roll_id;
+  r.roll_type = p.roll_type;
+  r.coils = p.coils;
+  r.rolled_length_m = p.rolled_length_m;
+  r.predicted_wear_um = p.predicted_wear_um;
+  r.interval_lo_um = p.interval_lo_um;
+  r.interval_hi_um = p.interval_hi_um;
+  r.wear_limit_um = p.wear_limit_um;
+  if (p.remaining) {
+    r.remaining_length_m = p.remaining->length_m;
+    r.remaining_coils = p.remaining->coils;
+    r.remaining_lo_m = p.remaining->length_lo_m;
+    r.remaining_hi_m = p.remaining->length_hi_m;
+  }
+  StatusOr<engine::ProfileWear> profile = engine::ProfileWearOf(mounted, slot);
+  if (profile.ok()) {
+    r.profile_shape = profile->shape ? "calibrated" : "uncalibrated";
+    r.profile_x_mm = std::move(profile->profile.x_mm);
+    r.profile_wear_um = std::move(profile->profile.wear_um);
+    r.profile_lo_um = std::move(profile->profile.lo_um);
+    r.profile_hi_um = std::move(profile->profile.hi_um);
+  }
+  return r;
+}
+
+// The wear history's parts of the page: the open campaign's track of each
+// mounted roll (`d->rolls`, of campaign `d->campaign_id`) and the parity
+// points of the ended campaigns.
+void AddWearHistory(const std::vector<storage::CampaignWearHistory>& history,
+                    DashboardData* d) {
+  for (const storage::CampaignWearHistory& c : history) {
+    if (c.open) {
+      if (c.campaign_id != d->campaign_id) continue;
+      for (const storage::RollWearHistory& h : c.rolls) {
+        for (DashboardRoll& r : d->rolls) {
+          if (r.stand == h.stand && r.position == PositionName(h.position)) {
+            r.track_length_m = h.rolled_length_m;
+            r.track_wear_um = h.predicted_wear_um;
+          }
+        }
+      }
+      continue;
+    }
+    ++d->parity_campaigns;
+    for (const storage::RollWearHistory& h : c.rolls) {
+      if (!h.measured_um) continue;
+      d->parity.push_back(DashboardParityPoint{
+          h.stand, PositionName(h.position), c.campaign_id, *h.measured_um,
+          h.expected_reading_um, h.measured_suspect});
+    }
+  }
+}
+
+DashboardCalibration CalibrationRow(const storage::CalibrationRecord& c) {
+  DashboardCalibration row;
+  row.id = c.id;
+  row.status = storage::CalibrationStatusName(c.status);
+  row.trigger = c.trigger;
+  row.model = c.model;
+  row.option = c.option;
+  row.finished = UtcTime(c.finished_at, false);
+  row.gap_train_um = c.gap_train_um;
+  row.gap_val_um = c.gap_val_um;
+  row.active_gap_val_um = c.active_gap_val_um;
+  row.promoted = c.promoted;
+  row.model_version = c.model_version;
+  row.message = c.message;
+  return row;
+}
+
 }  // namespace
 
 HttpResponse Router::GetDashboard() {
   DashboardData d;
   d.generated_at = UtcTime(static_cast<int64_t>(std::time(nullptr)), true);
 
-  const engine::WearSnapshot wear = mounted_.Wear();
-  d.model_version = wear.model_version;
+  // The mounted rolls, their wear and profiles of one moment.
+  const storage::MountedState mounted = mounted_.Mounted();
+  d.model_version = mounted.model->version;
+  for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
+    if ((*mounted.rolls)[slot]) d.rolls.push_back(RollRow(mounted, slot));
+  }
+  if (!d.rolls.empty()) d.campaign_id = mounted.campaign_id;
   StatusOr<storage::ModelVersion> model = store_->ActiveModel();
   if (model.ok()) {
     d.model_label = model->version == 0 ? "prior (uncalibrated) " + model->model
@@ -92,37 +175,6 @@ HttpResponse Router::GetDashboard() {
                                               std::to_string(model->option);
     if (model->version > 0) d.model_gap_val_um = model->gap_val_um;
     d.parity_reading_terms = HasMeasurementTerms(model->wear_model);
-  }
-  for (const engine::PositionWear& p : wear.positions) {
-    DashboardRoll r;
-    r.stand = p.stand;
-    r.position = PositionName(p.position);
-    r.roll_id = p.roll_id;
-    r.roll_type = p.roll_type;
-    r.coils = p.coils;
-    r.rolled_length_m = p.rolled_length_m;
-    r.predicted_wear_um = p.predicted_wear_um;
-    r.interval_lo_um = p.interval_lo_um;
-    r.interval_hi_um = p.interval_hi_um;
-    r.wear_limit_um = p.wear_limit_um;
-    if (p.remaining) {
-      r.remaining_length_m = p.remaining->length_m;
-      r.remaining_coils = p.remaining->coils;
-      r.remaining_lo_m = p.remaining->length_lo_m;
-      r.remaining_hi_m = p.remaining->length_hi_m;
-    }
-    // The profile as GET .../profile serves it (none when it errs).
-    StatusOr<engine::ProfileWear> profile =
-        mounted_.WearProfileAt(p.stand, p.position);
-    if (profile.ok()) {
-      r.profile_shape = profile->shape ? "calibrated" : "uncalibrated";
-      r.profile_x_mm = std::move(profile->profile.x_mm);
-      r.profile_wear_um = std::move(profile->profile.wear_um);
-      r.profile_lo_um = std::move(profile->profile.lo_um);
-      r.profile_hi_um = std::move(profile->profile.hi_um);
-    }
-    d.campaign_id = p.campaign_id;
-    d.rolls.push_back(std::move(r));
   }
 
   StatusOr<std::vector<storage::MeasuredProfile>> profiles =
@@ -135,49 +187,12 @@ HttpResponse Router::GetDashboard() {
           std::move(m.predicted_um)});
     }
   }
-
   StatusOr<std::vector<storage::CampaignWearHistory>> history =
       store_->RecentWear(kParityCampaigns);
-  if (history.ok()) {
-    for (const storage::CampaignWearHistory& c : *history) {
-      if (c.open) {
-        if (c.campaign_id != d.campaign_id) continue;
-        for (const storage::RollWearHistory& h : c.rolls) {
-          for (DashboardRoll& r : d.rolls) {
-            if (r.stand == h.stand && r.position == PositionName(h.position)) {
-              r.track_length_m = h.rolled_length_m;
-              r.track_wear_um = h.predicted_wear_um;
-            }
-          }
-        }
-        continue;
-      }
-      ++d.parity_campaigns;
-      for (const storage::RollWearHistory& h : c.rolls) {
-        if (!h.measured_um) continue;
-        d.parity.push_back(DashboardParityPoint{
-            h.stand, PositionName(h.position), c.campaign_id, *h.measured_um,
-            h.expected_reading_um, h.measured_suspect});
-      }
-    }
-  }
-
+  if (history.ok()) AddWearHistory(*history, &d);
   for (const storage::CalibrationRecord& c :
        store_->ListCalibrations(kCalibrationRows)) {
-    DashboardCalibration row;
-    row.id = c.id;
-    row.status = storage::CalibrationStatusName(c.status);
-    row.trigger = c.trigger;
-    row.model = c.model;
-    row.option = c.option;
-    row.finished = UtcTime(c.finished_at, false);
-    row.gap_train_um = c.gap_train_um;
-    row.gap_val_um = c.gap_val_um;
-    row.active_gap_val_um = c.active_gap_val_um;
-    row.promoted = c.promoted;
-    row.model_version = c.model_version;
-    row.message = c.message;
-    d.calibrations.push_back(std::move(row));
+    d.calibrations.push_back(CalibrationRow(c));
   }
 
   // Only queued diagnoses set last_diagnosis_id_ (so diagnoses is set).

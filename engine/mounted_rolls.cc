@@ -80,11 +80,16 @@ StatusOr<ProfileWear> MountedRolls::WearProfileAt(int stand,
   // The centre and the sums of one moment (a coil commits both at once).
   const MountedState mounted = store_->Mounted();
   ROLLWEAR_RETURN_IF_ERROR(RollMountedAt(mounted, slot));
+  return ProfileWearOf(mounted, slot);
+}
+
+StatusOr<ProfileWear> ProfileWearOf(const MountedState& mounted, int slot) {
   const std::optional<ProfileStats>& stats =
       (*mounted.rolls)[slot]->state.profile;
   if (!stats.has_value()) {
-    return Status::Internal("no profile state at " +
-                            RollPositionName(stand, position));
+    return Status::Internal(
+        "no profile state at " +
+        RollPositionName(SlotStand(slot), SlotPosition(slot)));
   }
   ProfileWear out;
   out.centre = PositionWearOf(mounted, slot);

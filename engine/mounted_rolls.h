@@ -30,6 +30,10 @@ class MountedRolls {
   // `store` must outlive this object.
   explicit MountedRolls(const storage::MillStore* store) : store_(store) {}
 
+  // The store's mounted rolls at this moment (MillStore::Mounted), for a
+  // caller that reads several answers of one moment (PositionWearOf,
+  // ProfileWearOf).
+  storage::MountedState Mounted() const { return store_->Mounted(); }
   // The rolls of the open campaign (none once it has ended and no roll
   // change has followed), by stand, top first, with the served model's
   // version.
@@ -58,6 +62,10 @@ class MountedRolls {
 
 // The answer for the roll at `slot` of `mounted` (which must hold one).
 PositionWear PositionWearOf(const storage::MountedState& mounted, int slot);
+// Its predicted profile across the barrel (MountedRolls::WearProfileAt);
+// Internal "no profile state at F6/top" when its state tracks none.
+StatusOr<ProfileWear> ProfileWearOf(const storage::MountedState& mounted,
+                                    int slot);
 
 }  // namespace rollwear::engine
 
