@@ -252,6 +252,75 @@ std::string MechanismOf(const ModelTerm& t, const CovariateSpec& c, bool up,
   return text;
 }
 
+// Shape of a wear-rate multiplier from its profile over the covariate's
+// 5th..95th percentiles (`w`), and whether it rises: monotone (with or
+// without most of the change in the first half: saturating growth /
+// decay) or with an interior extreme.
+std::pair<std::string, bool> ProfileShape(const ModelTerm& t,
+                                          const WeightedValues& w,
+                                          const TermWordingInput& in) {
+  std::vector<double> v;
+  for (double q : {0.05, 0.275, 0.5, 0.725, 0.95}) {
+    v.push_back(TermMultiplier(t, Quantile(w, q), nullptr));
+  }
+  // A departure from monotone counts only beyond 1 % of the change, and
+  // for the binned form beyond 2 standard errors of a bin's multiplier
+  // (exp(b) * se(b)): a step seen through noisy bins is still a step.
+  double tol = 0.01 * std::max(1e-12, std::abs(v.back() - v.front()));
+  if (t.form == TermForm::kBinned) {
+    for (size_t j = 0; j < t.params.size(); ++j) {
+      const double se = StdErrorOf(in, j);
+      if (std::isfinite(se))
+        tol = std::max(tol, 2 * std::exp(t.params[j]) * se);
+    }
+  }
+  bool inc = true, dec = true;
+  for (size_t i = 1; i < v.size(); ++i) {
+    inc = inc && v[i] >= v[i - 1] - tol;
+    dec = dec && v[i] <= v[i - 1] + tol;
+  }
+  const bool up = v.back() > v.front();
+  if (inc && dec) {  // flat within the tolerance: monotone in its direction
+    inc = up;
+    dec = !up;
+  }
+  if (inc && !dec) {
+    if (t.form == TermForm::kBinned && ThresholdShape(v) != nullptr) {
+      return {ThresholdShape(v), up};
+    }
+    return {(v[2] - v[0]) > 0.75 * (v[4] - v[0]) ? "saturating_growth"
+                                                 : "increasing",
+            up};
+  }
+  if (dec && !inc) {
+    return {(v[0] - v[2]) > 0.75 * (v[0] - v[4]) ? "decaying" : "decreasing",
+            up};
+  }
+  if (t.form == TermForm::kBinned) {
+    if (const char* th = ThresholdShape(v)) return {th, up};
+  }
+  const size_t imax = std::max_element(v.begin(), v.end()) - v.begin();
+  const size_t imin = std::min_element(v.begin(), v.end()) - v.begin();
+  if (imax > 0 && imax + 1 < v.size()) return {"peaked", up};
+  if (imin > 0 && imin + 1 < v.size()) return {"valley", up};
+  return {up ? "increasing" : "decreasing", up};
+}
+
+// "pass", "roll", "campaign" or "measurement".
+const char* LevelName(CovariateLevel level) {
+  switch (level) {
+    case CovariateLevel::kPass:
+      return "pass";
+    case CovariateLevel::kRoll:
+      return "roll";
+    case CovariateLevel::kCampaign:
+      return "campaign";
+    case CovariateLevel::kMeasurement:
+      return "measurement";
+  }
+  return "";
+}
+
 }  // namespace
 
 void NameFinding(const TermData& td, const std::vector<int>& train,
@@ -262,74 +331,10 @@ void NameFinding(const TermData& td, const std::vector<int>& train,
   const double lo = Quantile(w, 0.05), hi = Quantile(w, 0.95);
   f->covariate = c.name;
   f->form = TermFormName(t.form);
-  switch (c.level) {
-    case CovariateLevel::kPass:
-      f->level = "pass";
-      break;
-    case CovariateLevel::kRoll:
-      f->level = "roll";
-      break;
-    case CovariateLevel::kCampaign:
-      f->level = "campaign";
-      break;
-    case CovariateLevel::kMeasurement:
-      f->level = "measurement";
-      break;
-  }
+  f->level = LevelName(c.level);
   TermWordingInput in;
   in.std_errors = &f->parameter_std_errors;
-  // Shape of a wear-rate multiplier from its profile over the covariate's
-  // 5th..95th percentiles, and whether it rises: monotone (with or without
-  // most of the change in the first half: saturating growth / decay) or
-  // with an interior extreme.
-  auto profile_shape = [&]() -> std::pair<std::string, bool> {
-    std::vector<double> v;
-    for (double q : {0.05, 0.275, 0.5, 0.725, 0.95}) {
-      v.push_back(TermMultiplier(t, Quantile(w, q), nullptr));
-    }
-    // A departure from monotone counts only beyond 1 % of the change, and
-    // for the binned form beyond 2 standard errors of a bin's multiplier
-    // (exp(b) * se(b)): a step seen through noisy bins is still a step.
-    double tol = 0.01 * std::max(1e-12, std::abs(v.back() - v.front()));
-    if (t.form == TermForm::kBinned) {
-      for (size_t j = 0; j < t.params.size(); ++j) {
-        const double se = StdErrorOf(in, j);
-        if (std::isfinite(se))
-          tol = std::max(tol, 2 * std::exp(t.params[j]) * se);
-      }
-    }
-    bool inc = true, dec = true;
-    for (size_t i = 1; i < v.size(); ++i) {
-      inc = inc && v[i] >= v[i - 1] - tol;
-      dec = dec && v[i] <= v[i - 1] + tol;
-    }
-    const bool up = v.back() > v.front();
-    if (inc && dec) {  // flat within the tolerance: monotone in its direction
-      inc = up;
-      dec = !up;
-    }
-    if (inc && !dec) {
-      if (t.form == TermForm::kBinned && ThresholdShape(v) != nullptr) {
-        return {ThresholdShape(v), up};
-      }
-      return {(v[2] - v[0]) > 0.75 * (v[4] - v[0]) ? "saturating_growth"
-                                                   : "increasing",
-              up};
-    }
-    if (dec && !inc) {
-      return {(v[0] - v[2]) > 0.75 * (v[0] - v[4]) ? "decaying" : "decreasing",
-              up};
-    }
-    if (t.form == TermForm::kBinned) {
-      if (const char* th = ThresholdShape(v)) return {th, up};
-    }
-    const size_t imax = std::max_element(v.begin(), v.end()) - v.begin();
-    const size_t imin = std::min_element(v.begin(), v.end()) - v.begin();
-    if (imax > 0 && imax + 1 < v.size()) return {"peaked", up};
-    if (imin > 0 && imin + 1 < v.size()) return {"valley", up};
-    return {up ? "increasing" : "decreasing", up};
-  };
-  in.profile_shape = profile_shape;
+  in.profile_shape = [&t, &w, &in] { return ProfileShape(t, w, in); };
   in.range_text =
       WordFormat("wear-rate multiplier %.3f at the 5th percentile (",
                  TermMultiplier(t, lo, nullptr)) +
