@@ -168,14 +168,15 @@ HttpResponse Router::GetDashboard() {
     if ((*mounted.rolls)[slot]) d.rolls.push_back(RollRow(mounted, slot));
   }
   if (!d.rolls.empty()) d.campaign_id = mounted.campaign_id;
-  StatusOr<storage::ModelVersion> model = store_->ActiveModel();
-  if (model.ok()) {
-    d.model_label = model->version == 0 ? "prior (uncalibrated) " + model->model
-                                        : model->model + ", option " +
-                                              std::to_string(model->option);
-    if (model->version > 0) d.model_gap_val_um = model->gap_val_um;
-    d.parity_reading_terms = HasMeasurementTerms(model->wear_model);
-  }
+  // The served model of that moment (the version as stored with each
+  // roll's factor re-estimated from its readings: the same law, option,
+  // gap and terms).
+  const storage::ModelVersion& model = *mounted.model;
+  d.model_label = model.version == 0 ? "prior (uncalibrated) " + model.model
+                                     : model.model + ", option " +
+                                           std::to_string(model.option);
+  if (model.version > 0) d.model_gap_val_um = model.gap_val_um;
+  d.parity_reading_terms = HasMeasurementTerms(model.wear_model);
 
   StatusOr<std::vector<storage::MeasuredProfile>> profiles =
       store_->RecentProfiles(kProfileCampaigns);

@@ -79,7 +79,7 @@ StatusOr<DiagnosisReport> Diagnose(const Dataset& data,
                                options.robust ? &state.locate_sd : nullptr);
   phase.Mark("locate");
 
-  // 3-5. Hypothesise, test and adopt, round after round.
+  // 3-5. Hypothesise, test and repeat: round after round.
   diag::MakeFolds(options, base.split, &state);
   std::set<int> used;
   for (int round = 0; round < options.max_findings; ++round) {

@@ -13,45 +13,52 @@
 //     the physical roll, and against every catalogued covariate aggregated
 //     as the model aggregates it (ANOVA F or Pearson t tests), with effect
 //     sizes.
-//  3. Hypothesise: every registered term family (core/model/term_family.h,
-//     one file per family) proposes its candidates over every covariate of
-//     the catalog (covariates.h): wear-rate forms (log-linear, power,
-//     quantile bins, saturating, decaying, flag, one multiplier per factor
-//     level, a cell of two factors), wear added per coil, and offsets of
-//     what the grinder reads; the log-linear, flag and per-coil forms also
-//     at each single scope (a stand, roll position, roll type or grade).
+//  3. Hypothesise: candidate terms that equal the model when their
+//     amplitude is 0, over every covariate of the catalog (covariates.h),
+//     each proposed by its term family (core/model/term_family.h, one file
+//     per family): wear-rate forms (log-linear, power, quantile bins,
+//     saturating, decaying, flag, one multiplier per factor level), wear
+//     added per coil, offsets of what the grinder reads, and steps on one
+//     day of a calendar covariate; the log-linear, flag and per-coil forms
+//     also at each single scope (a stand, a position top or bottom, a roll
+//     position, a roll type, a grade), and a cell of two factors
+//     (diagnosis_scoped.cc).
 //  4. Test: a score test screens every candidate at the current model; the
 //     strongest are refitted jointly with the baseline (term_fit.h),
 //     LR = n ln(RSS0/RSS1) ~ chi2(df) with a Bonferroni correction over
 //     every test of the round, then cross-validated on the training
 //     campaigns; a candidate is accepted only when both agree (p_adj <
-//     alpha and the CV error reduced by min_cv_improvement).
-//  5. Guard: the accepted candidates are tried in order, and the first to
-//     pass every guard of kWinnerGuards (diagnosis_winner.cc) is named:
-//     over a quantity the format names, a fit inside its box, no better
-//     described by a cell, the proxy chain (kProxyGuards,
-//     diagnosis_guard.cc: consistent across pass-level factors, stands,
-//     positions, roll types and quartiles, inside its cell, scope and
-//     siblings, along time and the grade order, and the located structure
-//     reduced), distinct from rivals of another mechanism, not a shadow of
-//     a refused candidate. Each refusal is a runner-up with its RefusalKind
-//     and sentence; what a refusal located is kept for the verdict.
-//  6. Repeat on the improved model, up to max_findings findings. After the
+//     alpha and the CV error reduced by min_cv_improvement). The accepted
+//     ones are tried in order of their cross-validated error (penalised
+//     per parameter), and the first to pass every guard of kWinnerGuards
+//     (diagnosis_winner.cc) is named: over a quantity the format names, a
+//     fit inside its box, no better described by a cell, the proxy chain
+//     (kProxyGuards, diagnosis_guard.cc: consistent across pass-level
+//     factors, stands, positions, roll types and quartiles, inside its
+//     cell, scope and siblings, along time and the grade order, and the
+//     located structure reduced), distinct from rivals of another
+//     mechanism, and not a worse fit than a candidate refused as not
+//     nameable, by the proxy chain or as such a shadow. Each refusal is a
+//     runner-up with its RefusalKind and sentence; what a refusal located
+//     is kept for the verdict.
+//  5. Repeat on the improved model, up to max_findings findings. After the
 //     rounds, findings the final model does not support are withdrawn
-//     (cell sets a twin stand predicts alike, a cell or scope no longer
-//     confined; diagnosis_complement.cc, diagnosis_final_scope.cc), and
-//     the per-roll family runs on what is left (diagnosis_roll_family.cc).
-//  7. Adopt and report: the adopted terms with parameters and standard
-//     errors, the validation gap before and after each.
-//  8. Look again: the final model's residuals located as in step 2 plus
+//     (cell sets a twin stand predicts alike, a cell two other cells
+//     describe as well, a cell or scope no longer confined;
+//     diagnosis_complement.cc, diagnosis_final_scope.cc), and the per-roll
+//     family runs on what is left (diagnosis_roll_family.cc).
+//  6. Report: the adopted terms with parameters and standard errors, the
+//     validation gap before and after each.
+//  7. Look again: the final model's residuals located as in step 2 plus
 //     the noise checks (diagnosis_noise.cc) and, with profiles.csv, along
 //     the barrel (profile_locate.h); what is significant at the
 //     family-wise level and of material size is `unexplained`. Verdict:
 //     missing_physics_found (a finding), mismatch_located_unexplained (no
 //     finding, something unexplained; no physics named) or
 //     no_significant_mismatch (no finding, residuals behave like noise).
-// docs/diagnosis.md is the reference: pipeline, families, guards,
-// thresholds (DiagnosisThresholds), verdicts and limits.
+// docs/diagnosis.md is the reference (its Procedure numbers the steps the
+// same way): pipeline, families, guards, thresholds (DiagnosisThresholds),
+// verdicts and limits.
 //
 // Thread-safety: Diagnose is reentrant; it uses up to options.num_threads
 // worker threads internally.

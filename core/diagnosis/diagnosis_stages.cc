@@ -381,8 +381,8 @@ Finding FindingFromTests(const TermData& td, const CvRound& cv,
   return f;
 }
 
-// Stage 5. Refits the winner with standard errors (keeping its round fit
-// if that fails), names it and fills the validation gaps of `f`; returns
+// Step 6 (report). Refits the winner with standard errors (keeping its round
+// fit if that fails), names it and fills the validation gaps of `f`; returns
 // the adopted model.
 Fitted AdoptWinner(const DiagnosisState& st, const std::vector<double>& sd,
                    const Fitted& winner_fit, Finding* f) {
@@ -451,8 +451,8 @@ void ListOutliers(const Dataset& data, const DiagnosisState& st,
   NameOutliers(data, &report->suspected_outliers);
 }
 
-// Stage 6. The final model's residual breakdowns (Locate) and noise checks
-// (NoiseChecks), clipped to +-kHuberK sd's of `noise`: what remains
+// Step 7 (look again). The final model's residual breakdowns (Locate) and noise
+// checks (NoiseChecks), clipped to +-kHuberK sd's of `noise`: what remains
 // significant at the family-wise level and of material size.
 std::vector<Unexplained> LocateUnexplained(const Dataset& data,
                                            const DiagnosisOptions& options,
@@ -587,7 +587,7 @@ bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
   phase->Mark("guard");
   if (winner < 0) return false;
 
-  // 5. Adopt the winner.
+  // Adopt the winner (step 6: report).
   Finding f = FindingFromTests(st->td, cv, results, winner);
   f.carriers = CarriersOf(*st, sd, fits, results, winner);
   std::string twin_note;

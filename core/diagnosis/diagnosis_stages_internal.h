@@ -101,10 +101,10 @@ StatusOr<DiagnosisState> BuildState(const Dataset& data,
 void MakeFolds(const DiagnosisOptions& options, const CampaignSplit& split,
                DiagnosisState* state);
 
-// Stages 3-5, one round: refits the current model, screens and tests every
-// candidate over covariates not in `used`, cross-validates the significant
-// ones and adopts the winner (into state->current, report->findings and
-// `used`). Round 0 also fills report->first_round. Returns false when the
+// Steps 3-4, one round (step 5 repeats it): refits the current model, screens
+// and tests every candidate over covariates not in `used`, cross-validates the
+// significant ones and adopts the winner (into state->current, report->findings
+// and `used`). Round 0 also fills report->first_round. Returns false when the
 // round adopted nothing, which ends the search.
 bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
               std::set<int>* used, PhaseClock* phase, DiagnosisState* state,
