@@ -18,13 +18,19 @@ using storage::RollSlots;
 
 namespace {
 
-// NotFound "no roll mounted at F6/top" unless `mounted` holds a roll at
-// `slot`.
-Status RollMountedAt(const MountedState& mounted, int slot) {
-  if ((*mounted.rolls)[slot]) return Status::Ok();
-  return Status::NotFound(
-      "no roll mounted at " +
-      RollPositionName(SlotStand(slot), SlotPosition(slot)));
+// The store's moment `*mounted` and the slot of (stand, position), once the
+// position exists (CheckRollPosition) and holds a roll (NotFound "no roll
+// mounted at F6/top").
+StatusOr<int> MountedSlot(const storage::MillStore& store, int stand,
+                          Position position, MountedState* mounted) {
+  ROLLWEAR_RETURN_IF_ERROR(CheckRollPosition(stand, position));
+  const int slot = RollPositionSlot(stand, position);
+  *mounted = store.Mounted();
+  if (!(*mounted->rolls)[slot]) {
+    return Status::NotFound("no roll mounted at " +
+                            RollPositionName(stand, position));
+  }
+  return slot;
 }
 
 }  // namespace
@@ -65,21 +71,19 @@ WearSnapshot MountedRolls::Wear() const {
 
 StatusOr<PositionWear> MountedRolls::WearAt(int stand, Position position,
                                             int64_t* model_version) const {
-  ROLLWEAR_RETURN_IF_ERROR(CheckRollPosition(stand, position));
-  const int slot = RollPositionSlot(stand, position);
-  const MountedState mounted = store_->Mounted();
-  ROLLWEAR_RETURN_IF_ERROR(RollMountedAt(mounted, slot));
+  MountedState mounted;
+  ROLLWEAR_ASSIGN_OR_RETURN(const int slot,
+                            MountedSlot(*store_, stand, position, &mounted));
   if (model_version != nullptr) *model_version = mounted.model->version;
   return PositionWearOf(mounted, slot);
 }
 
 StatusOr<ProfileWear> MountedRolls::WearProfileAt(int stand,
                                                   Position position) const {
-  ROLLWEAR_RETURN_IF_ERROR(CheckRollPosition(stand, position));
-  const int slot = RollPositionSlot(stand, position);
   // The centre and the sums of one moment (a coil commits both at once).
-  const MountedState mounted = store_->Mounted();
-  ROLLWEAR_RETURN_IF_ERROR(RollMountedAt(mounted, slot));
+  MountedState mounted;
+  ROLLWEAR_ASSIGN_OR_RETURN(const int slot,
+                            MountedSlot(*store_, stand, position, &mounted));
   return ProfileWearOf(mounted, slot);
 }
 

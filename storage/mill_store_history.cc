@@ -20,19 +20,16 @@
 namespace rollwear::storage::internal {
 namespace {
 
-// Replays `rec` under `model` into `out`; with `track`, also every roll's
-// wear after each of its passes.
+// Replays `rec` under `model` into `out` (ReplayCampaignCoils: the replay
+// that restores the live state); with `track`, also every roll's wear after
+// each of its passes.
 Status ReplayInto(Db* db, const CampaignRec& rec, const WearModel& model,
                   bool track, CampaignWearHistory* out) {
-  RollStates states;
   std::array<int, kNumRollPositionSlots> index{};
   index.fill(-1);
   for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
     const auto& m = rec.mounts[slot];
     if (!m.has_value()) continue;
-    states[slot] = MountRoll(model, RollPositionName(m->stand, m->position),
-                             m->roll_type, m->diameter_mm, m->hardness_hb,
-                             rec.started_at, m->extra, rec.extra, m->roll_id);
     RollWearHistory h;
     h.stand = m->stand;
     h.position = m->position;
@@ -44,27 +41,19 @@ Status ReplayInto(Db* db, const CampaignRec& rec, const WearModel& model,
     index[slot] = static_cast<int>(out->rolls.size());
     out->rolls.push_back(std::move(h));
   }
-  ROLLWEAR_ASSIGN_OR_RETURN(Statement st, db->Prepare(RecentWearQuery()));
-  st.BindText(1, rec.id);
-  StoredPass pass;
-  while (true) {
-    ROLLWEAR_ASSIGN_OR_RETURN(const bool row, st.Step());
-    if (!row) break;
-    ReadPassMeasures(st, 1, &pass, &pass.rolled_at);
-    ROLLWEAR_ASSIGN_OR_RETURN(pass.extra, ParseExtraFields(st.ColumnText(12)));
-    const PassInput in = ToPassInput(st.ColumnText(0), pass);
-    for (Position p : {Position::kTop, Position::kBottom}) {
-      const int slot = RollPositionSlot(pass.stand, p);
-      auto& s = states[slot];
-      if (!s.has_value()) continue;
-      AddPass(model, in, &*s);
-      if (track) {
-        RollWearHistory& h = out->rolls[index[slot]];
-        h.rolled_length_m.push_back(s->rolled_length_m);
-        h.predicted_wear_um.push_back(s->wear_um);
+  CoilVisitor record;
+  if (track) {
+    record = [&](const ReplayedCoil& coil) {
+      for (const CoilWearEntry& e : coil.entries) {
+        RollWearHistory& h = out->rolls[index[e.slot]];
+        h.rolled_length_m.push_back(e.rolled_length_m);
+        h.predicted_wear_um.push_back(e.total_um);
       }
-    }
+      return Status::Ok();
+    };
   }
+  ROLLWEAR_ASSIGN_OR_RETURN(const RollStates states,
+                            ReplayCampaignCoils(db, rec, model, record));
   for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
     if (index[slot] < 0) continue;
     RollWearHistory& h = out->rolls[index[slot]];

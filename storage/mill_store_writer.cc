@@ -222,7 +222,8 @@ void MillStoreImpl::PredictBatch(const std::vector<ItemPtr>& batch,
               out.added.push_back(CoilOutcome::Added{p.stand, pos,
                                                      roll->mount.roll_id, wear,
                                                      roll->state.wear_um});
-              entries.push_back(CoilWearEntry{slot, wear, roll->state.wear_um});
+              entries.push_back(CoilWearEntry{slot, wear, roll->state.wear_um,
+                                              roll->state.rolled_length_m});
             }
           }
         }

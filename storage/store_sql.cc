@@ -464,13 +464,6 @@ StatusOr<std::optional<std::string>> LookupCoilWear(
   return std::optional<std::string>(st->ColumnBlob(0));
 }
 
-std::string RecentWearQuery() {
-  return std::string("SELECT c.grade, ") + kPassMeasureColumns +
-         ", p.extra FROM passes p JOIN coils c ON c.id = p.coil "
-         "WHERE c.campaign = (SELECT id FROM campaigns WHERE campaign_id = ?) "
-         "ORDER BY c.id, p.id";
-}
-
 std::vector<PerRequestQuery> PerRequestQueries() {
   return {
       {"LookupCoil", kLookupCoilSql, {}},
@@ -479,7 +472,6 @@ std::vector<PerRequestQuery> PerRequestQueries() {
       {"CampaignRow", kCampaignRowSql, {}},
       {"LookupProfile", kLookupProfileSql, {}},
       {"CampaignsWithProfiles", kCampaignsWithProfilesSql, {"c"}},
-      {"RecentWear", RecentWearQuery(), {}},
       {"ReplayCampaign", ReplayCampaignQuery(), {}},
   };
 }
@@ -538,7 +530,8 @@ StatusOr<RollStates> ReplayCampaignCoils(Db* db, const CampaignRec& campaign,
       auto& s = states[slot];
       if (!s.has_value()) continue;
       const double wear = AddPass(model, in, &*s);
-      coil.entries.push_back(CoilWearEntry{slot, wear, s->wear_um});
+      coil.entries.push_back(
+          CoilWearEntry{slot, wear, s->wear_um, s->rolled_length_m});
     }
   }
   flush();

@@ -175,10 +175,6 @@ inline constexpr char kCampaignsWithProfilesSql[] =
     "WHERE c.ended_at IS NOT NULL AND EXISTS (SELECT 1 FROM "
     "profile_points p WHERE p.campaign = c.id) "
     "ORDER BY c.started_at DESC, c.campaign_id DESC LIMIT ?";
-// One campaign's passes in stored order with their coil's grade (the
-// dashboard's wear history, MillStore::RecentWear).
-std::string RecentWearQuery();
-
 struct PerRequestQuery {
   std::string name;  // what runs it
   std::string sql;

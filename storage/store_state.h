@@ -49,11 +49,14 @@ StoredCoil CanonicalCoil(const CoilIn& in);
 
 // What a coil added to one roll position: the wear of its pass there and
 // the roll's predicted total right after it (a CoilOutcome::Added without
-// the labels, which follow from the slot and the campaign's mounts).
+// the labels, which follow from the slot and the campaign's mounts), and
+// the length the roll has rolled by then (a replay's, for the wear history;
+// not part of a stored coil's answer, EncodeCoilWear).
 struct CoilWearEntry {
   int slot = 0;
   double wear_um = 0;
   double total_um = 0;
+  double rolled_length_m = 0;
 };
 
 // What core/model/predictor.h needs of a stored pass of a coil of `grade`.
