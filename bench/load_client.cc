@@ -16,6 +16,8 @@
 #include <cstring>
 #include <deque>
 
+#include "api/async_http_client.h"
+
 namespace rollwear::bench {
 namespace {
 
@@ -26,54 +28,6 @@ double ThreadCpuSeconds() {
   getrusage(RUSAGE_THREAD, &u);
   return u.ru_utime.tv_sec + u.ru_stime.tv_sec +
          1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
-}
-
-// Case-insensitive "does `line` start with `prefix`" (prefix lower case).
-bool StartsWithLower(std::string_view line, std::string_view prefix) {
-  if (line.size() < prefix.size()) return false;
-  for (size_t i = 0; i < prefix.size(); ++i) {
-    char c = line[i];
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-    if (c != prefix[i]) return false;
-  }
-  return true;
-}
-
-// One parsed answer head.
-struct Head {
-  int status = 0;
-  size_t body_length = 0;
-  size_t head_length = 0;  // up to and including the blank line
-  bool close = false;
-};
-
-// Parses the head at the start of `in`; false while it is incomplete.
-// Sets *bad when it cannot be an HTTP/1.1 answer.
-bool ParseHead(const std::string& in, Head* head, bool* bad) {
-  const size_t end = in.find("\r\n\r\n");
-  if (end == std::string::npos) return false;
-  head->head_length = end + 4;
-  std::string_view text(in.data(), end + 2);
-  size_t line_end = text.find("\r\n");
-  std::string_view status_line = text.substr(0, line_end);
-  if (status_line.size() < 12 || status_line.substr(0, 5) != "HTTP/") {
-    *bad = true;
-    return true;
-  }
-  head->status = std::atoi(std::string(status_line.substr(9, 3)).c_str());
-  size_t pos = line_end + 2;
-  while (pos < text.size()) {
-    const size_t next = text.find("\r\n", pos);
-    std::string_view line = text.substr(pos, next - pos);
-    if (StartsWithLower(line, "content-length:")) {
-      head->body_length =
-          std::strtoull(std::string(line.substr(15)).c_str(), nullptr, 10);
-    } else if (StartsWithLower(line, "connection:")) {
-      head->close = line.find("close") != std::string_view::npos;
-    }
-    pos = next + 2;
-  }
-  return true;
 }
 
 struct Conn {
@@ -283,27 +237,14 @@ class Loop {
 
   void Receive(size_t c) {
     Conn& conn = conns_[c];
-    char buf[16384];
-    // A server that closes after an answer ("Connection: close") may send
-    // the answer and its FIN together: read the answer before the EOF.
     bool closed = false;
-    for (;;) {
-      const ssize_t k = recv(conn.fd, buf, sizeof(buf), 0);
-      if (k > 0) {
-        conn.in.append(buf, static_cast<size_t>(k));
-        continue;
-      }
-      if (k < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) break;
-      if (k == 0) {
-        closed = true;
-        break;
-      }
-      Lost(c, std::string("recv: ") + std::strerror(errno));
+    if (const int err = api::ReadAvailable(conn.fd, &conn.in, &closed)) {
+      Lost(c, std::string("recv: ") + std::strerror(err));
       return;
     }
-    Head head;
+    api::AnswerHead head;
     bool bad = false;
-    const bool have_head = ParseHead(conn.in, &head, &bad);
+    const bool have_head = api::ParseAnswerHead(conn.in, &head, &bad);
     if (have_head && (bad || conn.request < 0)) {
       Lost(c, "unexpected bytes from the server");
       return;

@@ -8,210 +8,48 @@
 // (profiles.csv, when the dataset has one) likewise, after the measurements
 // due at the same moment, profiles in the data's order (POST /v1/profiles).
 // Roll changes and campaign ends are barriers; coils, measurements and
-// profiles in between go out on N concurrent keep-alive clients. --speed X paces events at X times the
-// dataset's own clock (0 = as fast as possible). Connection errors and 5xx
-// answers other than 500 are retried for --retry-for seconds: every POST
-// has an idempotency key, so a retry of a request whose answer was lost is
+// profiles in between go out on N concurrent keep-alive connections,
+// driven by one thread (api/async_http_client.h). --speed X paces events at
+// X times the dataset's own clock (0 = as fast as possible). Connection errors
+// and 5xx answers other than 500 are retried for --retry-for seconds: every
+// POST has an idempotency key, so a retry of a request whose answer was lost is
 // answered 200 and counted once. Two failures stop the replay at once
 // (exit 1, the reason on stderr), since no retry can mend them: no
 // connection to a daemon that has not answered yet ("is the daemon
-// running?"), and a 401 (a missing or wrong token). Prints progress every second, optionally
-// the current wear (GET /v1/wear) every --show-wear seconds, and a summary.
-// --leave-last-open leaves the last campaign running (no end, no
-// measurements, no profiles), so that its rolls stay mounted and GET /v1/wear shows them.
+// running?"), and a 401 (a missing or wrong token). Prints progress every
+// second, optionally the current wear (GET /v1/wear) every --show-wear
+// seconds, and a summary. --leave-last-open leaves the last campaign
+// running (no end, no measurements, no profiles), so that its rolls stay
+// mounted and GET /v1/wear shows them.
 // Exit status 0 only when every event was accepted (2xx).
 #include <algorithm>
 #include <atomic>
-#include <cctype>
 #include <chrono>
-#include <condition_variable>
 #include <csignal>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
-#include <deque>
 #include <fstream>
 #include <mutex>
 #include <string>
 #include <thread>
+#include <unordered_map>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "api/async_http_client.h"
 #include "api/http_client.h"
-#include "api/request_encode.h"
 #include "core/dataset/dataset_io.h"
-#include "service/data_quality_cli.h"
 #include "service/commands.h"
+#include "service/data_quality_cli.h"
+#include "service/replay_requests.h"
 
 namespace rollwear::cli {
 namespace {
 
 using Json = nlohmann::json;
 using Clock = std::chrono::steady_clock;
-
-enum class Kind { kRollChange, kCoil, kEnd, kMeasurement, kProfile };
-constexpr int kKinds = 5;
-
-struct Event {
-  Kind kind;
-  UnixSeconds at;
-  // campaign (roll change, end), coil, measurement, or profile (index into
-  // Requests' profile groups)
-  int index;
-};
-
-std::string UrlEncode(const std::string& s) {
-  static constexpr const char* kHex = "0123456789ABCDEF";
-  std::string out;
-  for (unsigned char c : s) {
-    if (std::isalnum(c) || c == '-' || c == '_' || c == '.' || c == '~') {
-      out += static_cast<char>(c);
-    } else {
-      out += '%';
-      out += kHex[c >> 4];
-      out += kHex[c & 15];
-    }
-  }
-  return out;
-}
-
-// The dataset as requests.
-class Requests {
- public:
-  explicit Requests(const Dataset& d)
-      : d_(d), profiles_(api::ProfileGroups(d)) {
-    mounts_of_.resize(d.campaigns.size());
-    for (size_t i = 0; i < d.mounts.size(); ++i) {
-      mounts_of_[d.mounts[i].campaign].push_back(static_cast<int>(i));
-    }
-    passes_of_.resize(d.coil_ids.size());
-    for (size_t i = 0; i < d.passes.size(); ++i) {
-      passes_of_[d.passes[i].coil].push_back(static_cast<int>(i));
-    }
-  }
-
-  int profiles() const { return static_cast<int>(profiles_.size()); }
-
-  // Events in replay order (see the file comment). With `leave_last_open`
-  // the last campaign gets no end and its measurements and profiles are
-  // left out.
-  std::vector<Event> Timeline(bool leave_last_open) const {
-    std::vector<int> order(d_.campaigns.size());
-    for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
-    std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-      return d_.campaigns[a].started_at < d_.campaigns[b].started_at;
-    });
-    std::vector<std::vector<int>> coils_of(d_.campaigns.size());
-    for (size_t k = 0; k < passes_of_.size(); ++k) {
-      if (passes_of_[k].empty()) continue;
-      coils_of[d_.passes[passes_of_[k][0]].campaign].push_back(
-          static_cast<int>(k));
-    }
-    // The grinder's events (measurements, then profiles) by measured_at.
-    const std::vector<Event> measured = GrinderEvents();
-    std::vector<char> ended(d_.campaigns.size(), 0);
-    std::vector<Event> out;
-    size_t next_m = 0;
-    std::vector<Event> waiting;  // due before their campaign ended
-    auto flush = [&](UnixSeconds until) {
-      // Grinder events due by `until` whose campaign has ended.
-      std::vector<Event> still;
-      for (const Event& m : waiting) {
-        (ended[CampaignOf(m)] ? out : still).push_back(m);
-      }
-      waiting.swap(still);
-      while (next_m < measured.size() && measured[next_m].at <= until) {
-        const Event& m = measured[next_m++];
-        (ended[CampaignOf(m)] ? out : waiting).push_back(m);
-      }
-    };
-    for (int c : order) {
-      const Campaign& campaign = d_.campaigns[c];
-      flush(campaign.started_at);
-      out.push_back({Kind::kRollChange, campaign.started_at, c});
-      std::vector<int>& coils = coils_of[c];
-      std::stable_sort(coils.begin(), coils.end(), [&](int a, int b) {
-        return d_.passes[passes_of_[a][0]].seq <
-               d_.passes[passes_of_[b][0]].seq;
-      });
-      for (int k : coils) {
-        const UnixSeconds at = d_.passes[passes_of_[k][0]].rolled_at;
-        flush(at);
-        out.push_back({Kind::kCoil, at, k});
-      }
-      if (leave_last_open && c == order.back()) break;
-      flush(campaign.ended_at);
-      out.push_back({Kind::kEnd, campaign.ended_at, c});
-      ended[c] = 1;
-    }
-    flush(INT64_MAX);
-    return out;
-  }
-
-  std::string Path(const Event& e) const {
-    switch (e.kind) {
-      case Kind::kRollChange:
-        return "/v1/roll-changes";
-      case Kind::kCoil:
-        return "/v1/coils";
-      case Kind::kEnd:
-        return "/v1/campaigns/" + UrlEncode(d_.campaigns[e.index].id) + "/end";
-      case Kind::kMeasurement:
-        return "/v1/measurements";
-      case Kind::kProfile:
-        return "/v1/profiles";
-    }
-    return "/";
-  }
-
-  std::string Body(const Event& e) const {
-    switch (e.kind) {
-      case Kind::kRollChange:
-        return api::RollChangeRequest(d_, e.index, mounts_of_[e.index]);
-      case Kind::kCoil:
-        return api::CoilRequest(d_, passes_of_[e.index]);
-      case Kind::kEnd:
-        return api::CampaignEndRequest(d_, e.index);
-      case Kind::kMeasurement:
-        return api::MeasurementRequest(d_, e.index);
-      case Kind::kProfile:
-        return api::ProfileRequest(d_, profiles_[e.index]);
-    }
-    return "{}";
-  }
-
- private:
-  // Measurements and profiles as events, stably sorted by measured_at:
-  // measurements in file order, then profiles in the data's order.
-  std::vector<Event> GrinderEvents() const {
-    std::vector<Event> out;
-    for (size_t i = 0; i < d_.measurements.size(); ++i) {
-      out.push_back({Kind::kMeasurement, d_.measurements[i].measured_at,
-                     static_cast<int>(i)});
-    }
-    for (size_t i = 0; i < profiles_.size(); ++i) {
-      out.push_back({Kind::kProfile,
-                     d_.profile_points[profiles_[i].front()].measured_at,
-                     static_cast<int>(i)});
-    }
-    std::stable_sort(out.begin(), out.end(),
-                     [](const Event& a, const Event& b) { return a.at < b.at; });
-    return out;
-  }
-
-  // The campaign of a measurement or profile event.
-  int CampaignOf(const Event& e) const {
-    return e.kind == Kind::kMeasurement
-               ? d_.measurements[e.index].campaign
-               : d_.profile_points[profiles_[e.index].front()].campaign;
-  }
-
-  const Dataset& d_;
-  std::vector<std::vector<int>> mounts_of_;
-  std::vector<std::vector<int>> passes_of_;
-  std::vector<std::vector<int>> profiles_;  // api::ProfileGroups
-};
 
 struct Counters {
   std::atomic<int64_t> sent[kKinds] = {};      // by Kind: accepted (2xx)
@@ -244,8 +82,7 @@ void Stop(Counters* counters, const std::string& reason) {
 // The reason to stop the replay at once for this result, or "".
 std::string FatalReason(const api::HttpResult& r, const std::string& url,
                         const Counters& counters) {
-  if (r.status == 401)
-    return "401 unauthorized: set --token or ROLLWEAR_TOKEN";
+  if (r.status == 401) return "401 unauthorized: set --token or ROLLWEAR_TOKEN";
   if (r.not_connected && !counters.answered.load())
     return "connection refused at " + url + ": is the daemon running? (" +
            r.error + ")";
@@ -258,31 +95,15 @@ struct ReplayOptions {
   double retry_for_s = 60;
 };
 
-// Sends one event, retrying connection errors and 502/503/504; stops the
-// replay on a 401 or when no daemon has answered at all.
-void Send(const Requests& requests, const Event& e, api::HttpClient* client,
-          const ReplayOptions& options, Counters* counters) {
-  if (counters->stopped.load()) return;
-  const std::string path = requests.Path(e);
-  const std::string body = requests.Body(e);
-  const auto deadline =
-      Clock::now() + std::chrono::milliseconds(
-                         static_cast<int64_t>(options.retry_for_s * 1000));
-  auto backoff = std::chrono::milliseconds(20);
-  api::HttpResult r;
-  for (;;) {
-    r = client->Post(path, body);
-    if (r.answered()) counters->answered.store(true);
-    const std::string fatal = FatalReason(r, options.url, *counters);
-    if (!fatal.empty()) return Stop(counters, fatal);
-    if (counters->stopped.load()) return;
-    const bool transient =
-        !r.answered() || r.status == 502 || r.status == 503 || r.status == 504;
-    if (!transient || Clock::now() >= deadline) break;
-    counters->retries.fetch_add(1);
-    std::this_thread::sleep_for(backoff);
-    backoff = std::min(backoff * 2, std::chrono::milliseconds(500));
-  }
+// Whether a request may be sent again: no answer, or 502/503/504.
+bool Transient(const api::HttpResult& r) {
+  return !r.answered() || r.status == 502 || r.status == 503 || r.status == 504;
+}
+
+// Counts the final result of one event (and prints the first ten
+// failures).
+void Count(const Event& e, const std::string& path, const api::HttpResult& r,
+           Counters* counters) {
   const int k = static_cast<int>(e.kind);
   if (r.status >= 200 && r.status < 300) {
     counters->sent[k].fetch_add(1);
@@ -300,59 +121,83 @@ void Send(const Requests& requests, const Event& e, api::HttpClient* client,
   }
 }
 
-// N keep-alive clients draining a queue of events that may go in parallel.
-class Pool {
+// Sends events over N keep-alive connections driven by one thread
+// (api/async_http_client.h), retrying connection errors and 502/503/504
+// with a doubling backoff (20 ms to 500 ms) for --retry-for seconds;
+// stops the replay on a 401 or when no daemon has answered at all.
+class Sender {
  public:
-  Pool(int n, const Requests& requests, const ReplayOptions& options,
-       Counters* counters) {
-    for (int i = 0; i < n; ++i) {
-      threads_.emplace_back([this, &requests, &options, counters] {
-        api::HttpClientOptions o;
-        o.token = options.token;
-        api::HttpClient client(options.url, o);
-        std::unique_lock<std::mutex> lock(mu_);
-        for (;;) {
-          cv_.wait(lock, [this] { return stop_ || !queue_.empty(); });
-          if (queue_.empty()) break;
-          const Event e = queue_.front();
-          queue_.pop_front();
-          ++in_flight_;
-          lock.unlock();
-          Send(requests, e, &client, options, counters);
-          lock.lock();
-          --in_flight_;
-          if (queue_.empty() && in_flight_ == 0) drained_.notify_all();
-        }
-      });
-    }
-  }
-  ~Pool() {
-    {
-      std::lock_guard<std::mutex> lock(mu_);
-      stop_ = true;
-    }
-    cv_.notify_all();
-    for (auto& t : threads_) t.join();
-  }
+  Sender(int clients, const Requests& requests, const ReplayOptions& options,
+         Counters* counters)
+      : requests_(requests),
+        options_(options),
+        counters_(counters),
+        client_(options.url, ClientOptions(options, clients),
+                [this](uint64_t tag, const api::HttpResult& r) {
+                  OnResult(tag, r);
+                }) {}
+
+  // Queues `e` (nothing once the replay has stopped).
   void Push(const Event& e) {
-    {
-      std::lock_guard<std::mutex> lock(mu_);
-      queue_.push_back(e);
-    }
-    cv_.notify_one();
+    if (counters_->stopped.load()) return;
+    const uint64_t tag = next_tag_++;
+    Attempt& a = attempts_[tag];
+    a.event = e;
+    a.path = requests_.Path(e);
+    a.body = requests_.Body(e);
+    a.deadline = Clock::now() + std::chrono::milliseconds(static_cast<int64_t>(
+                                    options_.retry_for_s * 1000));
+    client_.Post(a.path, a.body, tag);
   }
-  void Drain() {
-    std::unique_lock<std::mutex> lock(mu_);
-    drained_.wait(lock, [this] { return queue_.empty() && in_flight_ == 0; });
-  }
+  // Sends until every pushed event has its final answer.
+  void Drain() { client_.RunUntilIdle(); }
+  // Sends until `until` (or until drained).
+  void RunUntil(Clock::time_point until) { client_.RunUntil(until); }
 
  private:
-  std::mutex mu_;
-  std::condition_variable cv_, drained_;
-  std::deque<Event> queue_;
-  int in_flight_ = 0;
-  bool stop_ = false;
-  std::vector<std::thread> threads_;
+  struct Attempt {
+    Event event{};
+    std::string path, body;
+    Clock::time_point deadline;
+    std::chrono::milliseconds backoff{20};
+  };
+
+  static api::AsyncHttpOptions ClientOptions(const ReplayOptions& options,
+                                             int clients) {
+    api::AsyncHttpOptions o;
+    o.token = options.token;
+    o.connections = std::max(1, clients);
+    return o;
+  }
+
+  void OnResult(uint64_t tag, const api::HttpResult& r) {
+    auto it = attempts_.find(tag);
+    if (it == attempts_.end()) return;
+    Attempt& a = it->second;
+    if (r.answered()) counters_->answered.store(true);
+    const std::string fatal = FatalReason(r, options_.url, *counters_);
+    if (!fatal.empty()) Stop(counters_, fatal);
+    if (counters_->stopped.load()) {
+      attempts_.erase(it);
+      return;
+    }
+    const auto now = Clock::now();
+    if (Transient(r) && now < a.deadline) {
+      counters_->retries.fetch_add(1);
+      client_.Post(a.path, a.body, tag, now + a.backoff);
+      a.backoff = std::min(a.backoff * 2, std::chrono::milliseconds(500));
+      return;
+    }
+    Count(a.event, a.path, r, counters_);
+    attempts_.erase(it);
+  }
+
+  const Requests& requests_;
+  const ReplayOptions& options_;
+  Counters* const counters_;
+  std::unordered_map<uint64_t, Attempt> attempts_;
+  uint64_t next_tag_ = 0;
+  api::AsyncHttpClient client_;
 };
 
 void PrintWear(const std::string& url, double elapsed) {
@@ -430,16 +275,13 @@ void ReportWhileRunning(Clock::time_point start, int64_t total_coils,
   }
 }
 
-// Sends the timeline: coils and measurements through the client pool, each
-// roll change and campaign end from this thread once the pool is drained;
-// paced at `speed` times real time when speed > 0.
+// Sends the timeline: coils, measurements and profiles go out together;
+// each roll change and campaign end alone, once everything before it has
+// its answer; paced at `speed` times real time when speed > 0.
 void PlayTimeline(const std::vector<Event>& timeline, const Requests& requests,
                   const ReplayOptions& options, int clients, double speed,
                   Clock::time_point start, Counters* counters) {
-  Pool pool(clients, requests, options, counters);
-  api::HttpClientOptions client_options;
-  client_options.token = options.token;
-  api::HttpClient main_client(options.url, client_options);
+  Sender sender(clients, requests, options, counters);
   const UnixSeconds t0 = timeline.empty() ? 0 : timeline.front().at;
   const auto total_coils = static_cast<int64_t>(
       std::count_if(timeline.begin(), timeline.end(),
@@ -451,9 +293,9 @@ void PlayTimeline(const std::vector<Event>& timeline, const Requests& requests,
     // A quarter of the coils sent: wait for their answers and note the time.
     while (quarter < 4 && total_coils >= 4 &&
            pushed_coils >= total_coils * (quarter + 1) / 4) {
-      pool.Drain();
-      counters->quarter_coils[quarter] = total_coils * (quarter + 1) / 4 -
-                                         total_coils * quarter / 4;
+      sender.Drain();
+      counters->quarter_coils[quarter] =
+          total_coils * (quarter + 1) / 4 - total_coils * quarter / 4;
       counters->quarter_end_s[quarter++] =
           std::chrono::duration<double>(Clock::now() - start).count();
     }
@@ -462,16 +304,15 @@ void PlayTimeline(const std::vector<Event>& timeline, const Requests& requests,
       const auto due =
           start + std::chrono::microseconds(static_cast<int64_t>(
                       static_cast<double>(e.at - t0) / speed * 1e6));
+      sender.RunUntil(due);
       std::this_thread::sleep_until(due);
     }
-    if (e.kind == Kind::kRollChange || e.kind == Kind::kEnd) {
-      pool.Drain();
-      Send(requests, e, &main_client, options, counters);
-    } else {
-      pool.Push(e);
-    }
+    const bool barrier = e.kind == Kind::kRollChange || e.kind == Kind::kEnd;
+    if (barrier) sender.Drain();
+    sender.Push(e);
+    if (barrier) sender.Drain();
   }
-  pool.Drain();
+  sender.Drain();
   if (quarter == 3 && total_coils >= 4 && !counters->stopped.load()) {
     counters->quarter_coils[3] = total_coils - total_coils * 3 / 4;
     counters->quarter_end_s[3] =
@@ -552,8 +393,7 @@ int RunReplay(const ReplayArgs& args) {
   Dataset data;
   if (int code = ReadDatasetForTool("replay", args.data, &data)) return code;
   const Requests requests(data);
-  const std::vector<Event> timeline =
-      requests.Timeline(args.leave_last_open);
+  const std::vector<Event> timeline = requests.Timeline(args.leave_last_open);
   const bool quiet = args.quiet;
   const auto total_coils = static_cast<int64_t>(data.coil_ids.size());
   if (!quiet) {
