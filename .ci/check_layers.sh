@@ -9,7 +9,9 @@
 # The layers, each may include only itself and those to its right:
 #   service -> api -> engine -> storage -> core
 # storage holds the records, not the engine: of core it may include only
-# base, dataset and model (no fitting, diagnosis, network or simulator).
+# base, dataset and model (no fitting, diagnosis, network or simulator),
+# and of the model its types, not the functions that predict (the
+# engine's predictor runs them for the store: storage/wear_predictor.h).
 # and inside core (docs/architecture.md), each folder only the folders named
 # after it:
 set -euo pipefail
@@ -37,6 +39,13 @@ declare -A forbidden=(
   [storage]='^(httplib\.h|simdjson|CLI/)'
   [engine]='^(sqlite3\.h|httplib\.h|simdjson|CLI/)'
   [api]='^(sqlite3\.h|CLI/)'
+)
+
+# Project headers a layer must not include though their folder is allowed
+# (extended regex on the header's path from the root): storage keeps the
+# predicted states, the engine computes them.
+declare -A forbidden_project=(
+  [storage]='^core/model/(predictor|model_eval|roll_factor_update|remaining_life|profile_interval)\.h$'
 )
 
 # Layers whose units (a .cc with its .h) must not include each other in a
@@ -88,6 +97,11 @@ while IFS= read -r file; do
       done
       if [[ ${ok} -eq 0 ]]; then
         echo "${file}:${line}: includes ${target}: ${own} may include only ${allowed[${own}]}"
+        bad=1
+      fi
+      ppat="${forbidden_project[${layer}]:-}"
+      if [[ -n "${ppat}" && "${target}" =~ ${ppat} ]]; then
+        echo "${file}:${line}: includes ${target}: ${layer} keeps the predictions, the engine computes them (storage/wear_predictor.h)"
         bad=1
       fi
     elif [[ "${inc}" =~ ^\"((tests|bench|fuzz|deploy)/[^\"]*|[^\"]*\.\./[^\"]*)\" ]]; then

@@ -30,6 +30,7 @@
 #include "api/router.h"
 #include "core/model/predictor.h"
 #include "engine/mounted_rolls.h"
+#include "engine/wear_prediction.h"
 #include "storage/mill_store.h"
 
 namespace rollwear::bench {
@@ -67,7 +68,7 @@ struct Mill {
     std::filesystem::create_directories(dir);
     storage::StoreOptions options;
     options.wear_limit_um.fill(400);
-    auto opened = storage::MillStore::Open((dir / "b.db").string(), options);
+    auto opened = engine::OpenStore((dir / "b.db").string(), options);
     if (!opened.ok()) Die(opened.status().ToString());
     store = std::move(opened).value();
     router = std::make_unique<api::Router>(store.get(), api::ApiOptions());

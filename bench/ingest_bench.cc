@@ -17,6 +17,7 @@
 #include <benchmark/benchmark.h>
 
 #include "api/codec.h"
+#include "engine/wear_prediction.h"
 #include "storage/mill_store.h"
 
 namespace rollwear::bench {
@@ -87,7 +88,7 @@ struct StoreFixture {
               .string();
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
-    auto opened = storage::MillStore::Open(dir + "/bench.db", {});
+    auto opened = engine::OpenStore(dir + "/bench.db");
     if (!opened.ok()) {
       std::fprintf(stderr, "ingest_bench: %s\n",
                    opened.status().message().c_str());

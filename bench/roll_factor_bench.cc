@@ -29,6 +29,7 @@
 
 #include "core/sim/simulator.h"
 #include "engine/calibration_runs.h"
+#include "engine/wear_prediction.h"
 #include "storage/mill_store.h"
 
 namespace rollwear {
@@ -41,8 +42,7 @@ double MsSince(Clock::time_point t) {
 }
 
 std::unique_ptr<storage::MillStore> OpenStore(const std::string& path) {
-  StatusOr<std::unique_ptr<storage::MillStore>> s =
-      storage::MillStore::Open(path, storage::StoreOptions());
+  StatusOr<std::unique_ptr<storage::MillStore>> s = engine::OpenStore(path);
   if (!s.ok()) {
     std::fprintf(stderr, "open %s: %s\n", path.c_str(),
                  s.status().ToString().c_str());

@@ -17,6 +17,7 @@
 #include <utility>
 
 #include "core/dataset/dataset_io.h"
+#include "engine/wear_prediction.h"
 #include "service/commands.h"
 #include "service/data_quality_cli.h"
 #include "storage/db_lock.h"
@@ -63,7 +64,7 @@ int RunImport(const ImportArgs& args) {
     return 1;
   }
   StatusOr<std::unique_ptr<storage::MillStore>> store =
-      storage::MillStore::Open(args.db, storage::StoreOptions());
+      engine::OpenStore(args.db);
   if (!store.ok()) {
     std::fprintf(stderr, "rollwear import: %s: %s\n", args.db.c_str(),
                  store.status().message().c_str());

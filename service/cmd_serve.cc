@@ -21,6 +21,7 @@
 #include "api/router.h"
 #include "engine/calibration_runs.h"
 #include "engine/diagnosis_jobs.h"
+#include "engine/wear_prediction.h"
 #include "service/commands.h"
 #include "service/config.h"
 #include "service/cpu_latency.h"
@@ -116,7 +117,7 @@ std::unique_ptr<storage::MillStore> OpenStore(
   store_options.default_option = config.option;
   store_options.wear_limit_um = config.WearLimits();
   StatusOr<std::unique_ptr<storage::MillStore>> opened =
-      storage::MillStore::Open(config.db, store_options);
+      engine::OpenStore(config.db, store_options);
   if (!opened.ok()) {
     spdlog::error("cannot open database {}: {}", config.db,
                   opened.status().message());

@@ -5,14 +5,14 @@
 // live state on start (same passes, same order, same model), so the open
 // campaign's last points equal the engine's wear answer
 // (engine::MountedRolls::Wear). A measured roll also gets what the
-// grinder is expected to read (core/model/model_eval.h: the model's measurement
-// terms added), the number validation compares with the measurement.
+// grinder is expected to read (the model's measurement terms added,
+// WearPredictor::ReadingOffset), the number validation compares with the
+// measurement.
 #include <algorithm>
 #include <memory>
 #include <mutex>
 #include <vector>
 
-#include "core/model/model_eval.h"
 #include "storage/extra_json.h"
 #include "storage/mill_store_impl.h"
 #include "storage/store_sql.h"
@@ -23,8 +23,9 @@ namespace {
 // Replays `rec` under `model` into `out` (ReplayCampaignCoils: the replay
 // that restores the live state); with `track`, also every roll's wear after
 // each of its passes.
-Status ReplayInto(Db* db, const CampaignRec& rec, const WearModel& model,
-                  bool track, CampaignWearHistory* out) {
+Status ReplayInto(Db* db, const WearPredictor& predictor,
+                  const CampaignRec& rec, const WearModel& model, bool track,
+                  CampaignWearHistory* out) {
   std::array<int, kNumRollPositionSlots> index{};
   index.fill(-1);
   for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
@@ -52,14 +53,15 @@ Status ReplayInto(Db* db, const CampaignRec& rec, const WearModel& model,
       return Status::Ok();
     };
   }
-  ROLLWEAR_ASSIGN_OR_RETURN(const RollStates states,
-                            ReplayCampaignCoils(db, rec, model, record));
+  ROLLWEAR_ASSIGN_OR_RETURN(
+      const RollStates states,
+      ReplayCampaignCoils(db, predictor, rec, model, record));
   for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
     if (index[slot] < 0) continue;
     RollWearHistory& h = out->rolls[index[slot]];
     h.final_predicted_um = states[slot]->wear_um;
     h.expected_reading_um = h.final_predicted_um;
-    h.expected_reading_um += StoredReadingOffset(model, rec, slot);
+    h.expected_reading_um += StoredReadingOffset(predictor, model, rec, slot);
   }
   return Status::Ok();
 }
@@ -71,20 +73,21 @@ bool HasMeasurement(const CampaignRec& rec) {
 
 }  // namespace
 
-double StoredReadingOffset(const WearModel& model, const CampaignRec& rec,
+double StoredReadingOffset(const WearPredictor& predictor,
+                           const WearModel& model, const CampaignRec& rec,
                            int slot) {
   const auto& measured = rec.measurements[slot];
   const auto& m = rec.mounts[slot];
   if (!measured.has_value() || !m.has_value() || !rec.ended_at.has_value())
     return 0;
-  ReadingContext reading;
+  ReadingAt reading;
   reading.stand = m->stand;
   reading.position = static_cast<int>(m->position);
   reading.roll_type = m->roll_type;
   reading.measured_at = measured->measured_at;
   reading.ended_at = rec.ended_at;
   reading.extra = &measured->extra;
-  return MeasurementTermsOffset(model, reading);
+  return predictor.ReadingOffset(model, reading);
 }
 
 StatusOr<std::vector<CampaignWearHistory>> MillStoreImpl::RecentWear(
@@ -121,8 +124,8 @@ StatusOr<std::vector<CampaignWearHistory>> MillStoreImpl::RecentWear(
     h.campaign_id = rec.id;
     h.started_at = rec.started_at;
     h.open = !rec.ended_at.has_value();
-    ROLLWEAR_RETURN_IF_ERROR(
-        ReplayInto(read_db_.get(), rec, model->wear_model, h.open, &h));
+    ROLLWEAR_RETURN_IF_ERROR(ReplayInto(read_db_.get(), predictor_, rec,
+                                        model->wear_model, h.open, &h));
     out.push_back(std::move(h));
   }
   return out;

@@ -21,6 +21,10 @@ StatusOr<std::unique_ptr<MillStore>> MillStore::Open(
   if (!options.IsValid(&error)) {
     return Status::InvalidArgument("store options: " + error);
   }
+  if (options.predictor == nullptr) {
+    return Status::InvalidArgument(
+        "store options: no predictor (open the store with engine::OpenStore)");
+  }
   auto store = std::make_unique<internal::MillStoreImpl>(options);
   ROLLWEAR_RETURN_IF_ERROR(store->Init(path));
   return std::unique_ptr<MillStore>(std::move(store));
@@ -64,9 +68,9 @@ Status MillStoreImpl::Init(const std::string& path) {
   {
     ROLLWEAR_ASSIGN_OR_RETURN(Transaction txn,
                               Transaction::Begin(writer_db_.get()));
-    ROLLWEAR_ASSIGN_OR_RETURN(
-        const int filled,
-        BackfillCoilWear(writer_db_.get(), committed_, model->wear_model));
+    ROLLWEAR_ASSIGN_OR_RETURN(const int filled,
+                              BackfillCoilWear(writer_db_.get(), predictor_,
+                                               committed_, model->wear_model));
     if (filled > 0) {
       ROLLWEAR_RETURN_IF_ERROR(txn.Commit());
     }
@@ -392,7 +396,7 @@ CoilOutcome MillStoreImpl::OutcomeForStored(const StoredCoil& coil) const {
     // replay the campaign under the current model up to this coil.
     std::lock_guard<std::mutex> lock(read_mu_);
     StatusOr<RollStates> replay =
-        ReplayCampaignCoils(read_db_.get(), rec, model->wear_model,
+        ReplayCampaignCoils(read_db_.get(), predictor_, rec, model->wear_model,
                             [&](const ReplayedCoil& c) -> Status {
                               if (c.coil_id == coil.coil_id) {
                                 entries = c.entries;

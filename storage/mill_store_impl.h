@@ -54,12 +54,13 @@
 #include <vector>
 
 #include "core/dataset/timestamp.h"
-#include "core/model/predictor.h"
+#include "core/model/roll_wear_state.h"
 #include "storage/coil_id_filter.h"
 #include "storage/import_plan.h"
 #include "storage/mill_store.h"
 #include "storage/sqlite_db.h"
 #include "storage/store_state.h"
+#include "storage/wear_predictor.h"
 
 namespace rollwear::storage::internal {
 
@@ -289,6 +290,7 @@ class MillStoreImpl final : public MillStore {
   void RefreshRollFactors(const std::set<std::string>& rolls, bool all);
 
   const StoreOptions options_;
+  const WearPredictor& predictor_ = *options_.predictor;
   std::string path_;
   std::unique_ptr<Db> writer_db_;
   std::unique_ptr<Db> lookup_db_;
@@ -331,10 +333,11 @@ class MillStoreImpl final : public MillStore {
 
 // What the grinder is expected to read on top of the wear for the stored
 // measurement of `slot` of the ended campaign `rec` under `model`: its
-// measurement terms (core/model/model_eval.h, MeasurementTermsOffset), the
-// offset validation adds. 0 when the slot is unmeasured or the campaign
-// open (mill_store_history.cc).
-double StoredReadingOffset(const WearModel& model, const CampaignRec& rec,
+// measurement terms (WearPredictor::ReadingOffset), the offset validation
+// adds. 0 when the slot is unmeasured or the campaign open
+// (mill_store_history.cc).
+double StoredReadingOffset(const WearPredictor& predictor,
+                           const WearModel& model, const CampaignRec& rec,
                            int slot);
 
 // The ended campaigns of `catalog` with a plausible reading of one of
@@ -342,13 +345,14 @@ double StoredReadingOffset(const WearModel& model, const CampaignRec& rec,
 std::vector<CampaignRec> MeasuredCampaignsOf(const Catalog& catalog,
                                              const std::set<std::string>& rolls);
 // `model` with its roll-effect term's levels re-estimated from the
-// plausible readings (core/model/roll_factor_update.h) of `rolls` (of
+// plausible readings (WearPredictor::WithRollFactors) of `rolls` (of
 // every measured roll when empty) in `campaigns` (MeasuredCampaignsOf),
 // each campaign replayed under `model`; `model` itself when it has no
 // roll-effect term (or a grade-scoped one) or no such reading. A roll
 // whose readings give no converged estimate keeps its level.
 StatusOr<std::shared_ptr<const ModelVersion>> WithRollReadings(
-    Db* db, const std::vector<CampaignRec>& campaigns,
+    Db* db, const WearPredictor& predictor,
+    const std::vector<CampaignRec>& campaigns,
     std::shared_ptr<const ModelVersion> model,
     const std::set<std::string>& rolls);
 

@@ -33,8 +33,8 @@ StatusOr<std::vector<std::string>> CampaignsWithProfiles(Db* db, int limit) {
 
 // The stored profiles of `rec` with the prediction of `model` (its replayed
 // roll states `states`) at their points, appended to `out`.
-Status PredictStoredProfiles(Db* db, const CampaignRec& rec,
-                             const ModelVersion& model,
+Status PredictStoredProfiles(Db* db, const WearPredictor& predictor,
+                             const CampaignRec& rec, const ModelVersion& model,
                              std::vector<MeasuredProfile>* out) {
   std::vector<std::pair<int, ProfileIn>> stored;
   for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
@@ -48,9 +48,9 @@ Status PredictStoredProfiles(Db* db, const CampaignRec& rec,
     if (profile.has_value()) stored.emplace_back(slot, std::move(*profile));
   }
   if (stored.empty()) return Status::Ok();
-  ROLLWEAR_ASSIGN_OR_RETURN(
-      const RollStates states,
-      ReplayCampaign(db, rec, model.wear_model, /*track_profiles=*/true));
+  ROLLWEAR_ASSIGN_OR_RETURN(const RollStates states,
+                            ReplayCampaign(db, predictor, rec, model.wear_model,
+                                           /*track_profiles=*/true));
   const ProfileShape shape =
       model.profile.has_value() ? model.profile->shape : ProfileShape();
   for (const auto& [slot, in] : stored) {
@@ -101,7 +101,7 @@ StatusOr<std::vector<MeasuredProfile>> MillStoreImpl::RecentProfiles(
   std::lock_guard<std::mutex> read_lock(read_mu_);
   for (const CampaignRec& rec : recs) {
     ROLLWEAR_RETURN_IF_ERROR(
-        PredictStoredProfiles(read_db_.get(), rec, *model, &out));
+        PredictStoredProfiles(read_db_.get(), predictor_, rec, *model, &out));
   }
   return out;
 }

@@ -30,7 +30,6 @@
 #include <string>
 #include <utility>
 
-#include "core/model/roll_factor_update.h"
 #include "storage/extra_json.h"
 #include "storage/mill_store_impl.h"
 #include "storage/store_quality.h"
@@ -187,14 +186,11 @@ void MillStoreImpl::PredictBatch(const std::vector<ItemPtr>& batch,
         state->open_campaign = item->roll_change.campaign_id;
         for (auto& r : state->rolls) r.reset();
         for (const MountedRollIn& m : item->roll_change.rolls) {
-          state->rolls[RollPositionSlot(m.stand, m.position)] = MountedRoll{
-              m, MountRoll(state->model->wear_model,
-                           RollPositionName(m.stand, m.position), m.roll_type,
-                           m.diameter_mm, m.hardness_hb,
-                           item->roll_change.started_at, m.extra,
-                           item->roll_change.extra, m.roll_id)};
-          TrackProfile(&state->rolls[RollPositionSlot(m.stand, m.position)]
-                            ->state);
+          state->rolls[RollPositionSlot(m.stand, m.position)] =
+              MountedRoll{m, predictor_.Mount(state->model->wear_model, m,
+                                              item->roll_change.started_at,
+                                              item->roll_change.extra,
+                                              /*track_profile=*/true)};
         }
         break;
       }
@@ -217,8 +213,8 @@ void MillStoreImpl::PredictBatch(const std::vector<ItemPtr>& batch,
               const int slot = RollPositionSlot(p.stand, pos);
               auto& roll = state->rolls[slot];
               if (!roll) continue;
-              const double wear =
-                  AddPass(state->model->wear_model, in, &roll->state);
+              const double wear = predictor_.AddPass(state->model->wear_model,
+                                                     in, &roll->state);
               out.added.push_back(CoilOutcome::Added{p.stand, pos,
                                                      roll->mount.roll_id, wear,
                                                      roll->state.wear_um});
@@ -283,7 +279,8 @@ Status MillStoreImpl::ExecuteItem(WriteItem* item) {
       ROLLWEAR_RETURN_IF_ERROR(WriteImportProfiles(
           db, *item->dataset, item->lines, catalog, &item->plan.profiles));
       if (model->version == 0) model = MakePrior(catalog.positions_seen);
-      StatusOr<int> filled = BackfillCoilWear(db, catalog, model->wear_model);
+      StatusOr<int> filled =
+          BackfillCoilWear(db, predictor_, catalog, model->wear_model);
       return filled.status();
     }
     case WriteKind::kTask:
@@ -414,7 +411,7 @@ void MillStoreImpl::RefreshRollFactors(const std::set<std::string>& rolls,
   {
     std::lock_guard<std::mutex> lock(mu_);
     model = model_;
-    if (RollEffectTermOf(model->wear_model.terms) == nullptr) return;
+    if (predictor_.UpdatableRollTerm(model->wear_model) == nullptr) return;
     measured = MeasuredCampaignsOf(committed_, wanted);
     const auto open = committed_.campaigns.find(committed_.open_campaign);
     if (open != committed_.campaigns.end()) {
@@ -425,7 +422,7 @@ void MillStoreImpl::RefreshRollFactors(const std::set<std::string>& rolls,
     }
   }
   StatusOr<std::shared_ptr<const ModelVersion>> served =
-      WithRollReadings(writer_db_.get(), measured, model, wanted);
+      WithRollReadings(writer_db_.get(), predictor_, measured, model, wanted);
   // On a read error the factors stay as they were (the readings are
   // stored; the next install re-estimates them).
   if (!served.ok() || *served == model) return;
@@ -442,7 +439,8 @@ void MillStoreImpl::InstallModel(std::shared_ptr<const ModelVersion> model,
                                  bool served) {
   CampaignRec open;
   bool has_open = false;
-  const bool rolls = !served && RollEffectTermOf(model->wear_model.terms);
+  const bool rolls =
+      !served && predictor_.UpdatableRollTerm(model->wear_model) != nullptr;
   std::vector<CampaignRec> measured;
   {
     std::lock_guard<std::mutex> lock(mu_);
@@ -453,13 +451,13 @@ void MillStoreImpl::InstallModel(std::shared_ptr<const ModelVersion> model,
   const std::shared_ptr<const ModelVersion> stored = model;
   if (rolls) {
     StatusOr<std::shared_ptr<const ModelVersion>> with =
-        WithRollReadings(writer_db_.get(), measured, model, {});
+        WithRollReadings(writer_db_.get(), predictor_, measured, model, {});
     if (with.ok()) model = *std::move(with);  // else: the fitted factors
   }
   RollStates states;
   if (has_open) {
     StatusOr<RollStates> replay =
-        ReplayCampaign(writer_db_.get(), open, model->wear_model,
+        ReplayCampaign(writer_db_.get(), predictor_, open, model->wear_model,
                        /*track_profiles=*/true);
     if (replay.ok()) {
       states = std::move(replay).value();
@@ -470,11 +468,8 @@ void MillStoreImpl::InstallModel(std::shared_ptr<const ModelVersion> model,
       for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
         const auto& m = open.mounts[slot];
         if (!m) continue;
-        states[slot] = MountRoll(
-            model->wear_model, RollPositionName(m->stand, m->position),
-            m->roll_type, m->diameter_mm, m->hardness_hb, open.started_at,
-            m->extra, open.extra, m->roll_id);
-        TrackProfile(&*states[slot]);
+        states[slot] = predictor_.Mount(model->wear_model, *m, open.started_at,
+                                        open.extra, /*track_profile=*/true);
       }
     }
   }

@@ -1,5 +1,6 @@
 // MillStore: the served model's per-roll wear factors, re-estimated from
-// the stored readings (core/model/roll_factor_update.h). The version as
+// the stored readings (WearPredictor::WithRollFactors, the engine's:
+// core/model/roll_factor_update.h). The version as
 // stored (stored_model_) keeps the factors its calibration fitted; the
 // served one (model_) has every measured roll's level re-estimated from
 // all of that roll's plausible stored readings, given K and the other
@@ -16,7 +17,6 @@
 #include <utility>
 #include <vector>
 
-#include "core/model/roll_factor_update.h"
 #include "storage/mill_store_impl.h"
 #include "storage/store_sql.h"
 
@@ -51,21 +51,17 @@ std::vector<CampaignRec> MeasuredCampaignsOf(
 }
 
 StatusOr<std::shared_ptr<const ModelVersion>> WithRollReadings(
-    Db* db, const std::vector<CampaignRec>& campaigns,
+    Db* db, const WearPredictor& predictor,
+    const std::vector<CampaignRec>& campaigns,
     std::shared_ptr<const ModelVersion> model,
     const std::set<std::string>& rolls) {
-  const ModelTerm* term = RollEffectTermOf(model->wear_model.terms);
-  // A grade-scoped roll effect acts on some passes only: the prediction
-  // over the factor would not be the wear without it. Not re-estimated.
-  if (term == nullptr || model->wear_model.is_ann() ||
-      !term->scope.grade.empty()) {
-    return model;
-  }
   const WearModel& wm = model->wear_model;
-  std::map<std::string, std::vector<RollReading>> readings;
+  const ModelTerm* term = predictor.UpdatableRollTerm(wm);
+  if (term == nullptr) return model;
+  std::map<std::string, std::vector<RollFactorReading>> readings;
   for (const CampaignRec& rec : campaigns) {
     ROLLWEAR_ASSIGN_OR_RETURN(const RollStates states,
-                              ReplayCampaign(db, rec, wm));
+                              ReplayCampaign(db, predictor, rec, wm));
     for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
       if (!WantedReading(rec, slot, rolls) || !states[slot].has_value()) {
         continue;
@@ -76,23 +72,17 @@ StatusOr<std::shared_ptr<const ModelVersion>> WithRollReadings(
                                   mount.roll_type)) {
         continue;
       }
-      RollReading r;
-      r.base_um =
-          states[slot]->wear_um / std::exp(RollLogFactor(*term, mount.roll_id));
-      r.offset_um = StoredReadingOffset(wm, rec, slot);
+      RollFactorReading r;
+      r.base_um = states[slot]->wear_um /
+                  std::exp(predictor.RollLogFactor(*term, mount.roll_id));
+      r.offset_um = StoredReadingOffset(predictor, wm, rec, slot);
       r.measured_um = rec.measurements[slot]->wear_center_um;
       readings[mount.roll_id].push_back(r);
     }
   }
   if (readings.empty()) return model;
   auto served = std::make_shared<ModelVersion>(*model);
-  ModelTerm* own = RollEffectTermOf(&served->wear_model.terms);
-  for (const auto& [roll, list] : readings) {
-    const RollFactorPosterior p =
-        RollFactorPosteriorOf(own->scale, {wm.noise_sd_um, wm.noise_rel}, list);
-    // Readings no roll of this type could give: the level stays.
-    if (p.converged) SetRollLevel(roll, p, own);
-  }
+  served->wear_model = predictor.WithRollFactors(wm, readings);
   return std::shared_ptr<const ModelVersion>(std::move(served));
 }
 

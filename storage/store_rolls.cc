@@ -83,7 +83,7 @@ StatusOr<RollLife> MillStoreImpl::GetRollLife(
       std::lock_guard<std::mutex> lock(read_mu_);
       ROLLWEAR_ASSIGN_OR_RETURN(
           RollStates states,
-          ReplayCampaign(read_db_.get(), rec, model->wear_model));
+          ReplayCampaign(read_db_.get(), predictor_, rec, model->wear_model));
       state = states[slot];
     }
     if (state.has_value()) {
@@ -94,7 +94,8 @@ StatusOr<RollLife> MillStoreImpl::GetRollLife(
     if (rec.measurements[slot].has_value()) {
       mount.measured_um = rec.measurements[slot]->wear_center_um;
       mount.expected_reading_um =
-          mount.predicted_wear_um + StoredReadingOffset(model->wear_model, rec, slot);
+          mount.predicted_wear_um +
+          StoredReadingOffset(predictor_, model->wear_model, rec, slot);
       mount.measured_suspect = rec.measurements[slot]->suspect;
     }
     life.roll_type = m.roll_type;

@@ -484,7 +484,8 @@ std::string ReplayCampaignQuery() {
          "ORDER BY c.id, p.id";
 }
 
-StatusOr<RollStates> ReplayCampaignCoils(Db* db, const CampaignRec& campaign,
+StatusOr<RollStates> ReplayCampaignCoils(Db* db, const WearPredictor& predictor,
+                                         const CampaignRec& campaign,
                                          const WearModel& model,
                                          const CoilVisitor& visit,
                                          bool track_profiles) {
@@ -492,11 +493,8 @@ StatusOr<RollStates> ReplayCampaignCoils(Db* db, const CampaignRec& campaign,
   for (int slot = 0; slot < kNumRollPositionSlots; ++slot) {
     const auto& m = campaign.mounts[slot];
     if (!m.has_value()) continue;
-    states[slot] = MountRoll(model, RollPositionName(m->stand, m->position),
-                             m->roll_type, m->diameter_mm, m->hardness_hb,
-                             campaign.started_at, m->extra, campaign.extra,
-                             m->roll_id);
-    if (track_profiles) TrackProfile(&*states[slot]);
+    states[slot] = predictor.Mount(model, *m, campaign.started_at,
+                                   campaign.extra, track_profiles);
   }
   ROLLWEAR_ASSIGN_OR_RETURN(Statement st, db->Prepare(ReplayCampaignQuery()));
   st.BindText(1, campaign.id);
@@ -529,7 +527,7 @@ StatusOr<RollStates> ReplayCampaignCoils(Db* db, const CampaignRec& campaign,
       const int slot = RollPositionSlot(pass.stand, p);
       auto& s = states[slot];
       if (!s.has_value()) continue;
-      const double wear = AddPass(model, in, &*s);
+      const double wear = predictor.AddPass(model, in, &*s);
       coil.entries.push_back(
           CoilWearEntry{slot, wear, s->wear_um, s->rolled_length_m});
     }
@@ -539,14 +537,16 @@ StatusOr<RollStates> ReplayCampaignCoils(Db* db, const CampaignRec& campaign,
   return states;
 }
 
-StatusOr<RollStates> ReplayCampaign(Db* db, const CampaignRec& campaign,
+StatusOr<RollStates> ReplayCampaign(Db* db, const WearPredictor& predictor,
+                                    const CampaignRec& campaign,
                                     const WearModel& model,
                                     bool track_profiles) {
-  return ReplayCampaignCoils(db, campaign, model, nullptr, track_profiles);
+  return ReplayCampaignCoils(db, predictor, campaign, model, nullptr,
+                             track_profiles);
 }
 
-StatusOr<int> BackfillCoilWear(Db* db, const Catalog& catalog,
-                               const WearModel& model) {
+StatusOr<int> BackfillCoilWear(Db* db, const WearPredictor& predictor,
+                               const Catalog& catalog, const WearModel& model) {
   std::vector<std::string> campaigns;
   {
     ROLLWEAR_ASSIGN_STMT(
@@ -573,7 +573,7 @@ StatusOr<int> BackfillCoilWear(Db* db, const Catalog& catalog,
       return up->Run();
     };
     ROLLWEAR_RETURN_IF_ERROR(
-        ReplayCampaignCoils(db, it->second, model, fill).status());
+        ReplayCampaignCoils(db, predictor, it->second, model, fill).status());
   }
   return filled;
 }

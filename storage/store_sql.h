@@ -19,12 +19,13 @@
 
 #include "core/base/status.h"
 #include "core/dataset/dataset.h"
-#include "core/model/predictor.h"
+#include "core/model/roll_wear_state.h"
 #include "core/model/wear_model.h"
 #include "storage/import_plan.h"
 #include "storage/sqlite_db.h"
 #include "storage/store_state.h"
 #include "storage/store_types.h"
+#include "storage/wear_predictor.h"
 
 namespace rollwear::storage::internal {
 
@@ -124,8 +125,8 @@ StatusOr<std::optional<std::string>> LookupCoilWear(Db* db,
 // which the live state added them, so the result is bit-identical).
 // ReplayCampaignCoils also calls `visit` (may be empty) after each coil with
 // what that coil added; an error from `visit` ends the replay with it. With
-// `track_profiles` each roll's profile sums are kept too (TrackProfile,
-// core/model/predictor.h): the live rolls' state.
+// `track_profiles` each roll's profile sums are kept too (WearPredictor::
+// Mount): the live rolls' state. The predictor computes every state.
 using RollStates =
     std::array<std::optional<RollWearState>, kNumRollPositionSlots>;
 struct ReplayedCoil {
@@ -135,7 +136,8 @@ struct ReplayedCoil {
   std::vector<CoilWearEntry> entries;
 };
 using CoilVisitor = std::function<Status(const ReplayedCoil&)>;
-StatusOr<RollStates> ReplayCampaignCoils(Db* db, const CampaignRec& campaign,
+StatusOr<RollStates> ReplayCampaignCoils(Db* db, const WearPredictor& predictor,
+                                         const CampaignRec& campaign,
                                          const WearModel& model,
                                          const CoilVisitor& visit,
                                          bool track_profiles = false);
@@ -191,14 +193,15 @@ std::vector<PerRequestQuery> PerRequestQueries();
 // (StoreQueryPlanTest): a replay costs the campaign's rows, whatever the
 // history.
 std::string ReplayCampaignQuery();
-StatusOr<RollStates> ReplayCampaign(Db* db, const CampaignRec& campaign,
+StatusOr<RollStates> ReplayCampaign(Db* db, const WearPredictor& predictor,
+                                    const CampaignRec& campaign,
                                     const WearModel& model,
                                     bool track_profiles = false);
 // Stores the answer of every coil that has none (a version-1 file, an
 // import), replaying their campaigns under `model`; inside the caller's
 // transaction. Returns how many coils it filled.
-StatusOr<int> BackfillCoilWear(Db* db, const Catalog& catalog,
-                               const WearModel& model);
+StatusOr<int> BackfillCoilWear(Db* db, const WearPredictor& predictor,
+                               const Catalog& catalog, const WearModel& model);
 
 // ---- datasets (store_dataset.cc)
 // Writes the new rows of an import plan (inside the caller's transaction).

@@ -20,7 +20,8 @@
 #include <vector>
 
 #include "core/dataset/dataset.h"
-#include "core/model/predictor.h"
+#include "core/dataset/pass_input.h"
+#include "core/model/roll_wear_state.h"
 #include "storage/store_types.h"
 
 namespace rollwear::storage::internal {
@@ -59,7 +60,8 @@ struct CoilWearEntry {
   double rolled_length_m = 0;
 };
 
-// What core/model/predictor.h needs of a stored pass of a coil of `grade`.
+// What the predictor (WearPredictor::AddPass) needs of a stored pass of a
+// coil of `grade`.
 PassInput ToPassInput(const std::string& grade, const StoredPass& p);
 
 bool SameMount(const MountedRollIn& a, const MountedRollIn& b);

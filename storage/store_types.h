@@ -26,11 +26,13 @@
 #include "core/model/ann_model.h"
 #include "core/model/barrel_profile.h"
 #include "core/model/model_terms.h"
-#include "core/model/predictor.h"
 #include "core/model/profile_calibration.h"
+#include "core/model/roll_wear_state.h"
 #include "core/model/wear_model.h"
 
 namespace rollwear::storage {
+
+class WearPredictor;  // wear_predictor.h
 
 // Schema version this build writes; older files are migrated on Open, newer
 // ones are refused.
@@ -49,6 +51,9 @@ struct StoreOptions {
   // Wear limit of each roll position slot from the configuration, µm (0:
   // none); a limit set through SetWearLimit wins (wear_limits table).
   std::array<double, kNumRollPositionSlots> wear_limit_um{};
+  // The predictions the store makes as it commits and replays
+  // (wear_predictor.h); required: the engine's (engine::OpenStore).
+  std::shared_ptr<const WearPredictor> predictor;
   bool IsValid(std::string* error) const;
 };
 
@@ -367,7 +372,8 @@ struct MeasuredProfile {
 };
 
 // One mounted roll of the open campaign as the writer last committed it:
-// its mount and its predicted state (core/model/predictor.h).
+// its mount and its predicted state (computed by the engine's predictor,
+// wear_predictor.h).
 struct MountedRoll {
   MountedRollIn mount;
   RollWearState state;

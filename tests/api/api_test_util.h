@@ -21,6 +21,7 @@
 #include "api/router.h"
 #include "engine/calibration_runs.h"
 #include "engine/diagnosis_jobs.h"
+#include "engine/wear_prediction.h"
 #include "service/jobs/diagnosis_hooks.h"
 #include "storage/mill_store.h"
 
@@ -95,7 +96,7 @@ class RouterTest : public ::testing::Test {
     ASSERT_NE(mkdtemp(pattern), nullptr);
     dir_ = pattern;
     StatusOr<std::unique_ptr<storage::MillStore>> store =
-        storage::MillStore::Open(dir_ + "/api.db", storage::StoreOptions());
+        engine::OpenStore(dir_ + "/api.db");
     ASSERT_TRUE(store.ok()) << store.status().ToString();
     store_ = std::move(store).value();
     MakeRouter(ApiOptions());

@@ -14,6 +14,7 @@
 #include "core/diagnosis/diagnosis.h"
 #include "core/sim/simulator.h"
 #include "engine/calibration_runs.h"
+#include "engine/wear_prediction.h"
 #include "tests/api/api_test_util.h"
 
 namespace rollwear::api::testing {
@@ -236,7 +237,7 @@ TEST_F(RollWearFactorTest, ARollsFactorFollowsItsMeasurementsAsTheyArrive) {
   runs_.reset();
   store_.reset();
   StatusOr<std::unique_ptr<storage::MillStore>> reopened =
-      storage::MillStore::Open(dir_ + "/api.db", storage::StoreOptions());
+      engine::OpenStore(dir_ + "/api.db");
   ASSERT_TRUE(reopened.ok()) << reopened.status().ToString();
   store_ = std::move(reopened).value();
   MakeRouter(ApiOptions());

@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "core/sim/simulator.h"
+#include "engine/wear_prediction.h"
 #include "tests/api/api_test_util.h"
 
 namespace rollwear::api::testing {
@@ -21,7 +22,7 @@ class DiagnosisRouterTest : public RouterTest {
     router_.reset();
     store_.reset();
     StatusOr<std::unique_ptr<storage::MillStore>> store =
-        storage::MillStore::Open(dir_ + "/" + db, storage::StoreOptions());
+        engine::OpenStore(dir_ + "/" + db);
     ASSERT_TRUE(store.ok());
     store_ = std::move(store).value();
     SimulatorOptions so;

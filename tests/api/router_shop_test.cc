@@ -8,6 +8,7 @@
 
 #include "core/sim/simulator.h"
 #include "engine/calibration_runs.h"
+#include "engine/wear_prediction.h"
 #include "tests/api/api_test_util.h"
 
 namespace rollwear::api::testing {
@@ -22,7 +23,7 @@ class ShopRouterTest : public RouterTest {
     store_.reset();
     db_ = dir_ + "/" + db;
     StatusOr<std::unique_ptr<storage::MillStore>> store =
-        storage::MillStore::Open(db_, storage::StoreOptions());
+        engine::OpenStore(db_);
     ASSERT_TRUE(store.ok());
     store_ = std::move(store).value();
     SimulatorOptions so;
@@ -270,8 +271,7 @@ TEST_F(ShopRouterTest, FinishedDiagnosesAreServedAfterARestart) {
   router_.reset();
   diagnoses_.reset();
   store_.reset();
-  StatusOr<std::unique_ptr<storage::MillStore>> store =
-      storage::MillStore::Open(db_, storage::StoreOptions());
+  StatusOr<std::unique_ptr<storage::MillStore>> store = engine::OpenStore(db_);
   ASSERT_TRUE(store.ok());
   store_ = std::move(store).value();
   MakeRouter(ApiOptions());

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "core/dataset/dataset_io.h"
+#include "engine/wear_prediction.h"
 #include "storage/mill_store.h"
 #include "tests/e2e/e2e_util.h"
 
@@ -108,7 +109,7 @@ TEST(DataQualityCliTest, ImportStoresSuspectMeasurementsFlagged) {
       << out;
   for (const char* db : {"strict.db", "x.db"}) {
     StatusOr<std::unique_ptr<storage::MillStore>> store =
-        storage::MillStore::Open(dir / db, storage::StoreOptions());
+        engine::OpenStore(dir / db);
     ASSERT_TRUE(store.ok()) << store.status().ToString();
     const bool strict = std::string(db) == "strict.db";
     EXPECT_EQ((*store)->Counters().measurements, strict ? 0 : n);

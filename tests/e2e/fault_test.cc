@@ -22,6 +22,7 @@
 #include "api/http_client.h"
 #include "api/http_server.h"
 #include "api/router.h"
+#include "engine/wear_prediction.h"
 #include "storage/mill_store.h"
 #include "storage/sqlite_db.h"
 #include "tests/api/api_test_util.h"
@@ -60,7 +61,7 @@ class FaultTest : public ::testing::Test {
 
   void Start() {
     StatusOr<std::unique_ptr<storage::MillStore>> store =
-        storage::MillStore::Open(dir_ / "fault.db", storage::StoreOptions());
+        engine::OpenStore(dir_ / "fault.db");
     ASSERT_TRUE(store.ok()) << store.status().ToString();
     store_ = std::move(store).value();
     router_ = std::make_unique<api::Router>(store_.get(), api::ApiOptions());

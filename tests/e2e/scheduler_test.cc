@@ -19,6 +19,7 @@
 
 #include "core/dataset/dataset_io.h"
 #include "core/sim/simulator.h"
+#include "engine/wear_prediction.h"
 #include "service/jobs/job_log.h"
 #include "tests/e2e/e2e_util.h"
 
@@ -66,8 +67,7 @@ class SchedulerTest : public ::testing::Test {
   void SetUp() override {
     SetTimeZone("UTC");
     StatusOr<std::unique_ptr<storage::MillStore>> store =
-        storage::MillStore::Open(dir_ / "scheduler.db",
-                                 storage::StoreOptions());
+        engine::OpenStore(dir_ / "scheduler.db");
     ASSERT_TRUE(store.ok()) << store.status().ToString();
     store_ = std::move(store).value();
   }

@@ -31,6 +31,7 @@
 #include "api/http_client.h"
 #include "api/request_encode.h"
 #include "core/dataset/dataset_io.h"
+#include "engine/wear_prediction.h"
 #include "storage/mill_store.h"
 #include "tests/e2e/e2e_util.h"
 
@@ -171,8 +172,7 @@ bool Drive(const std::string& url, const Plan& plan,
 // runs with concurrent clients; content must not).
 std::string CanonicalDump(const std::string& db, const std::string& out_dir,
                           std::set<std::string>* coil_ids) {
-  StatusOr<std::unique_ptr<storage::MillStore>> store =
-      storage::MillStore::Open(db, storage::StoreOptions());
+  StatusOr<std::unique_ptr<storage::MillStore>> store = engine::OpenStore(db);
   if (!store.ok()) return "open failed: " + store.status().ToString();
   StatusOr<Dataset> data = (*store)->ExportDataset();
   if (!data.ok()) return "export failed: " + data.status().ToString();

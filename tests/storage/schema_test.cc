@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "engine/wear_prediction.h"
 #include "storage/sqlite_db.h"
 #include "tests/storage/store_test_util.h"
 
@@ -218,7 +219,7 @@ TEST(SchemaTest, NewerFileIsRefusedAndLeftUntouched) {
                     .ok());
   }
   StatusOr<std::unique_ptr<MillStore>> store =
-      MillStore::Open(dir.File("newer.db"), {});
+      engine::OpenStore(dir.File("newer.db"));
   ASSERT_FALSE(store.ok());
   EXPECT_EQ(store.status().code(), StatusCode::kFailedPrecondition);
   EXPECT_EQ(store.status().message(),
@@ -255,7 +256,7 @@ TEST(SchemaTest, OlderFileIsUpgradedByTheNextMigrationKeepingData) {
   // And this build (which supports only kSchemaVersion) now refuses it.
   db.reset();
   StatusOr<std::unique_ptr<MillStore>> store =
-      MillStore::Open(dir.File("v1.db"), {});
+      engine::OpenStore(dir.File("v1.db"));
   ASSERT_FALSE(store.ok());
   EXPECT_NE(store.status().message().find(
                 "schema version " + std::to_string(next_version) + " is newer"),
@@ -293,7 +294,7 @@ TEST(SchemaTest, ForeignDatabaseIsRefused) {
     ASSERT_TRUE(db->Exec("CREATE TABLE something (x INTEGER)").ok());
   }
   StatusOr<std::unique_ptr<MillStore>> store =
-      MillStore::Open(dir.File("other.db"), {});
+      engine::OpenStore(dir.File("other.db"));
   ASSERT_FALSE(store.ok());
   EXPECT_EQ(store.status().code(), StatusCode::kFailedPrecondition);
   EXPECT_NE(store.status().message().find("not a rollwear database"),

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "engine/wear_prediction.h"
 #include "storage/mill_store.h"
 #include "tests/storage/store_test_util.h"
 
@@ -67,9 +68,23 @@ TEST(StoreBasicTest, InvalidOptionsAreRefused) {
   TempDir dir;
   StoreOptions o;
   o.default_option = 4;
-  StatusOr<std::unique_ptr<MillStore>> s = MillStore::Open(dir.File("x.db"), o);
+  StatusOr<std::unique_ptr<MillStore>> s =
+      engine::OpenStore(dir.File("x.db"), o);
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(s.status().code(), StatusCode::kInvalidArgument);
+}
+
+// The store computes no prediction itself: opened without the engine's
+// predictor it refuses, and says where to get one.
+TEST(StoreBasicTest, AStoreWithoutAPredictorIsRefused) {
+  TempDir dir;
+  StatusOr<std::unique_ptr<MillStore>> s =
+      MillStore::Open(dir.File("x.db"), StoreOptions());
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(s.status().message().find("engine::OpenStore"), std::string::npos)
+      << s.status().ToString();
+  EXPECT_TRUE(engine::OpenStore(dir.File("x.db")).ok());
 }
 
 TEST(StoreBasicTest, CoilsAddWearToTheMountedRollsLikeTheBatchPrediction) {

@@ -19,6 +19,7 @@
 #include "core/base/status.h"
 #include "core/dataset/dataset.h"
 #include "engine/mounted_rolls.h"
+#include "engine/wear_prediction.h"
 #include "storage/mill_store.h"
 
 namespace rollwear::storage {
@@ -80,7 +81,7 @@ inline constexpr const char* kUndoSchemaSixAndFive =
 
 inline std::unique_ptr<MillStore> OpenStore(const std::string& path,
                                             StoreOptions options = {}) {
-  StatusOr<std::unique_ptr<MillStore>> store = MillStore::Open(path, options);
+  StatusOr<std::unique_ptr<MillStore>> store = engine::OpenStore(path, options);
   EXPECT_TRUE(store.ok()) << store.status().ToString();
   if (!store.ok()) return nullptr;
   return std::move(store).value();
