@@ -153,7 +153,10 @@ Command AddCalibrate(CLI::App* app) {
             "derivatives: exact (automatic) or paper (forward differences, "
             "the study's protocol)");
   AddCount(c, "--split-seed", args->split_seed, "seed of the campaign split");
-  AddPath(c, "--split", args->split, "FILE", "use the split of FILE (CSV campaign_id,stand,position,set; set = train or validation) instead of the seeded one; readings not listed are not used");
+  AddPath(c, "--split", args->split, "FILE",
+          "use the split of FILE (CSV campaign_id,stand,position,set; set = "
+          "train or validation) instead of the seeded one; readings not listed "
+          "are not used");
   AddPath(c, "--predictions", args->predictions, "FILE",
           "write one CSV row per measured reading used: campaign_id,stand,"
           "position,roll_id,set,measured_um,predicted_um,lo_um,hi_um");
@@ -187,7 +190,10 @@ Command AddStudy(CLI::App* app) {
           "write the study's measured vs calculated figures as SVG into DIR");
   AddCount(c, "--split-seed", args->options.split_seed,
            "seed of the campaign split");
-  AddPath(c, "--split", args->split, "FILE", "use the split of FILE (CSV campaign_id,stand,position,set; set = train or validation) instead of the seeded one; readings not listed are not used");
+  AddPath(c, "--split", args->split, "FILE",
+          "use the split of FILE (CSV campaign_id,stand,position,set; set = "
+          "train or validation) instead of the seeded one; readings not listed "
+          "are not used");
   AddCount(c, "--seed", args->options.random_start_seed,
            "seed of the random initial sets");
   return {c, [args] { return RunStudy(*args); }};
@@ -206,7 +212,10 @@ Command AddAnn(CLI::App* app) {
   AddCount(c, "--seeds", t.members, "ensemble members (training seeds)");
   AddCount(c, "--split-seed", args->options.split_seed,
            "seed of the campaign split");
-  AddPath(c, "--split", args->split, "FILE", "use the split of FILE (CSV campaign_id,stand,position,set; set = train or validation) instead of the seeded one; readings not listed are not used");
+  AddPath(c, "--split", args->split, "FILE",
+          "use the split of FILE (CSV campaign_id,stand,position,set; set = "
+          "train or validation) instead of the seeded one; readings not listed "
+          "are not used");
   AddPath(c, "--predictions", args->predictions, "FILE",
           "write the network's prediction of every measured reading used "
           "as CSV (as calibrate --predictions; lo_um, hi_um empty)");
@@ -309,7 +318,8 @@ Command AddReplay(CLI::App* app) {
       ->required();
   AddPath(c, "--token", args->token, "T",
           "bearer token (default $ROLLWEAR_TOKEN)");
-  AddCount(c, "--clients", args->clients, "concurrent keep-alive clients")
+  AddCount(c, "--clients", args->clients,
+           "concurrent keep-alive connections (one thread drives them)")
       ->check(CLI::Range(1, 256));
   AddNumber(c, "--speed", args->speed,
             "pace at X times the dataset's clock (0 = as fast as possible)")
@@ -341,7 +351,10 @@ Command AddDiagnose(CLI::App* app) {
   AddPath(c, "--html", args->html, "FILE", "write the report as HTML");
   AddCount(c, "--split-seed", args->options.split_seed,
            "seed of the campaign split");
-  AddPath(c, "--split", args->split, "FILE", "use the split of FILE (CSV campaign_id,stand,position,set; set = train or validation) instead of the seeded one; readings not listed are not used");
+  AddPath(c, "--split", args->split, "FILE",
+          "use the split of FILE (CSV campaign_id,stand,position,set; set = "
+          "train or validation) instead of the seeded one; readings not listed "
+          "are not used");
   AddLaw(c, args->model, "wear law of the baseline");
   AddCount(c, "--threads", args->options.num_threads, "threads");
   return {c, [args] { return RunDiagnose(*args); }};
@@ -402,12 +415,11 @@ int RunCli(int argc, char** argv, const BuildVersion& build) {
                        "print the version and the git commit");
   app.allow_extras();
   app.footer("Run 'rollwear COMMAND --help' for the options of a command.");
-  const std::vector<Command> commands = {AddSimulate(&app), AddCalibrate(&app),
-                                         AddStudy(&app),    AddAnn(&app),
-                                         AddServe(&app, build), AddImport(&app),
-                                         AddExport(&app),
-                                         AddReplay(&app),   AddDiagnose(&app),
-                                         AddScorecard(&app)};
+  const std::vector<Command> commands = {
+      AddSimulate(&app), AddCalibrate(&app),    AddStudy(&app),
+      AddAnn(&app),      AddServe(&app, build), AddImport(&app),
+      AddExport(&app),   AddReplay(&app),       AddDiagnose(&app),
+      AddScorecard(&app)};
 
   std::string parse_error;
   try {
