@@ -137,10 +137,11 @@ bool DecodeRollChange(std::string_view body, int max_depth,
     }
     out->rolls.push_back(std::move(m));
   }
-  return Admissible(
+  out->rules_checked = Admissible(
       r, rolls,
       RollChangeRules(out->campaign_id, storage::MountRecords(out->rolls)),
       error);
+  return out->rules_checked;
 }
 
 bool DecodeCampaignEnd(std::string_view body, int max_depth,
@@ -196,6 +197,7 @@ bool DecodeCoil(std::string_view body, int max_depth, storage::CoilIn* out,
     return false;
   }
   out->seq = static_cast<int>(seq);
+  out->rules_checked = true;  // CoilRules held on these fields (seq above)
   return true;
 }
 
@@ -214,11 +216,12 @@ bool DecodeMeasurement(std::string_view body, int max_depth,
       !r.Number(kWear, &out->wear_center_um) || !r.Extras(&out->extra)) {
     return false;
   }
-  return Admissible(
+  out->rules_checked = Admissible(
       r, {},
       MeasurementRules(out->campaign_id, out->stand, out->position,
                        out->roll_id, out->wear_center_um),
       error);
+  return out->rules_checked;
 }
 
 bool DecodeCalibrationRequest(std::string_view body, int max_depth,

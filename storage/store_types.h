@@ -73,6 +73,12 @@ struct RollChangeIn {
   std::vector<MountedRollIn> rolls;
   ExtraFields
       extra;  // the campaign's extra fields: campaigns.csv's extra columns
+  // Set by a decoder that ran the record's input rules
+  // (core/dataset/input_rules.h) on exactly these fields and found none
+  // broken (api/codec_decode.cc, which names the JSON path of a broken
+  // one); the store then does not run them again. Any other caller leaves
+  // it false and the store checks the record.
+  bool rules_checked = false;
 };
 
 // Views of `rolls` for core's RollChangeRules (valid while `rolls` lives).
@@ -94,6 +100,8 @@ struct CoilIn {
   // Extra fields of the coil as a whole: extra columns of each of its
   // coils.csv rows (a name may not appear both here and in a pass).
   ExtraFields extra;
+  // As RollChangeIn::rules_checked.
+  bool rules_checked = false;
 };
 
 struct MeasurementIn {
@@ -108,6 +116,8 @@ struct MeasurementIn {
   // cannot be physical wear, core/dataset/data_quality.h): set by the store
   // (MillStore::AddMeasurement), stored, excluded from fitting.
   std::string suspect;
+  // As RollChangeIn::rules_checked.
+  bool rules_checked = false;
 };
 
 // A grinder profile across the barrel (POST /v1/profiles, profiles.csv):

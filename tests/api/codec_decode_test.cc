@@ -210,6 +210,41 @@ TEST(CodecDecodeTest, DataBodyExtraFieldsAreDecoded) {
   EXPECT_EQ(*measurement.extra.Numeric("depth_profile_points"), 41.0);
 }
 
+// The input rules run once per record: a record the decoder admitted
+// says so (rules_checked), so the store does not run them again; one whose
+// rules are broken is refused here, with its JSON path, and says nothing.
+// A record built any other way starts unchecked and the store checks it.
+TEST(CodecDecodeTest, AnAdmittedRecordSaysItsRulesWereChecked) {
+  EXPECT_FALSE(storage::CoilIn().rules_checked);
+  EXPECT_FALSE(storage::RollChangeIn().rules_checked);
+  EXPECT_FALSE(storage::MeasurementIn().rules_checked);
+  EXPECT_TRUE(Coil(CoilBody("K1", "C1", 1).dump()).rules_checked);
+  json bad = CoilBody("K1", "C1", 1);
+  bad["passes"][0]["force_kn"] = -5;
+  storage::CoilIn coil;
+  ApiError error;
+  EXPECT_FALSE(DecodeCoil(bad.dump(), kDepth, &coil, &error));
+  EXPECT_FALSE(coil.rules_checked);
+  EXPECT_EQ(error.field, "passes[0].force_kn") << error.message;
+
+  storage::RollChangeIn change;
+  ASSERT_TRUE(DecodeRollChange(RollChangeBody("C2", "2026-03-02T06:00:00Z").dump(),
+                               kDepth, &change, &error))
+      << error.message;
+  EXPECT_TRUE(change.rules_checked);
+  storage::MeasurementIn measurement;
+  ASSERT_TRUE(DecodeMeasurement(
+      MeasurementBody("C1", "F6", "top", "R-F6-top", 120).dump(), kDepth,
+      &measurement, &error))
+      << error.message;
+  EXPECT_TRUE(measurement.rules_checked);
+  storage::MeasurementIn negative;
+  EXPECT_FALSE(DecodeMeasurement(
+      MeasurementBody("C1", "F6", "top", "", 120).dump(), kDepth,
+      &negative, &error));
+  EXPECT_FALSE(negative.rules_checked);
+}
+
 TEST(CodecDecodeTest, ExtraFieldOrderDoesNotMatter) {
   const std::string a =
       R"({"z_last":1,"a_first":"x","m":2.5,"coil_id":"K1","campaign_id":"C1",)"
