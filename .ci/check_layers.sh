@@ -12,8 +12,8 @@
 # base, dataset and model (no fitting, diagnosis, network or simulator),
 # and of the model its types, not the functions that predict (the
 # engine's predictor runs them for the store: storage/wear_predictor.h).
-# and inside core (docs/architecture.md), each folder only the folders named
-# after it:
+# Inside core (docs/architecture.md), each folder may include only the
+# folders named after it:
 set -euo pipefail
 root="${1:-$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)}"
 cd "${root}"

@@ -24,17 +24,6 @@ namespace {
 
 using Clock = AsyncHttpClient::Clock;
 
-// Case-insensitive "does `line` start with `prefix`" (prefix lower case).
-bool StartsWithLower(std::string_view line, std::string_view prefix) {
-  if (line.size() < prefix.size()) return false;
-  for (size_t i = 0; i < prefix.size(); ++i) {
-    char c = line[i];
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-    if (c != prefix[i]) return false;
-  }
-  return true;
-}
-
 // host and port of "http://host:port" (port 80 when absent).
 bool SplitUrl(const std::string& url, std::string* host, std::string* port) {
   constexpr std::string_view kScheme = "http://";
@@ -71,7 +60,8 @@ struct Conn {
   int fd = -1;
   bool connecting = false;
   bool watch_out = false;
-  int answers = 0;  // answers read on this connection
+  int answers = 0;        // answers read on this connection
+  size_t addr_tried = 0;  // addresses tried for this request's connection
   std::optional<Queued> request;
   size_t sent = 0;
   Clock::time_point deadline;  // connect or answer timeout
@@ -80,75 +70,16 @@ struct Conn {
 
 }  // namespace
 
-bool ParseAnswerHead(std::string_view in, AnswerHead* head, bool* bad) {
-  const size_t end = in.find("\r\n\r\n");
-  if (end == std::string_view::npos) return false;
-  head->head_length = end + 4;
-  const std::string_view text = in.substr(0, end + 2);
-  const size_t line_end = text.find("\r\n");
-  const std::string_view status_line = text.substr(0, line_end);
-  if (status_line.size() < 12 || status_line.substr(0, 5) != "HTTP/") {
-    *bad = true;
-    return true;
-  }
-  head->status = std::atoi(std::string(status_line.substr(9, 3)).c_str());
-  size_t pos = line_end + 2;
-  while (pos < text.size()) {
-    const size_t next = text.find("\r\n", pos);
-    const std::string_view line = text.substr(pos, next - pos);
-    if (StartsWithLower(line, "content-length:")) {
-      head->body_length =
-          std::strtoull(std::string(line.substr(15)).c_str(), nullptr, 10);
-    } else if (StartsWithLower(line, "connection:")) {
-      head->close = line.find("close") != std::string_view::npos;
-    } else if (StartsWithLower(line, "transfer-encoding:")) {
-      head->chunked = line.find("chunked") != std::string_view::npos;
-    }
-    pos = next + 2;
-  }
-  return true;
-}
-
-int ReadAvailable(int fd, std::string* in, bool* closed) {
-  char buf[16384];
-  *closed = false;
-  for (;;) {
-    const ssize_t k = recv(fd, buf, sizeof(buf), 0);
-    if (k > 0) {
-      in->append(buf, static_cast<size_t>(k));
-    } else if (k == 0) {
-      *closed = true;
-      return 0;
-    } else {
-      return errno == EAGAIN || errno == EWOULDBLOCK ? 0 : errno;
-    }
-  }
-}
-
 class AsyncHttpClient::Loop {
  public:
   Loop(const std::string& base_url, const AsyncHttpOptions& options, Done done)
       : options_(options), done_(std::move(done)) {
-    epoll_ = epoll_create1(EPOLL_CLOEXEC);
     conns_.resize(std::max(1, options.connections));
-    std::string port;
-    if (!SplitUrl(base_url, &host_, &port)) {
-      resolve_error_ = "not an http://host:port URL: " + base_url;
-      return;
+    epoll_ = epoll_create1(EPOLL_CLOEXEC);
+    if (epoll_ < 0) setup_error_ = Errno("epoll_create1", errno);
+    if (!SplitUrl(base_url, &host_, &port_)) {
+      setup_error_ = "not an http://host:port URL: " + base_url;
     }
-    addrinfo hints{};
-    hints.ai_family = AF_UNSPEC;
-    hints.ai_socktype = SOCK_STREAM;
-    addrinfo* found = nullptr;
-    const int rc = getaddrinfo(host_.c_str(), port.c_str(), &hints, &found);
-    if (rc != 0 || found == nullptr) {
-      resolve_error_ = "cannot resolve " + host_ + ": " + gai_strerror(rc);
-      return;
-    }
-    std::memcpy(&addr_, found->ai_addr, found->ai_addrlen);
-    addr_len_ = found->ai_addrlen;
-    family_ = found->ai_family;
-    freeaddrinfo(found);
   }
 
   ~Loop() {
@@ -160,7 +91,9 @@ class AsyncHttpClient::Loop {
 
   void Post(const std::string& path, const std::string& body, uint64_t tag,
             Clock::time_point not_before) {
-    std::string bytes = "POST " + path + " HTTP/1.1\r\nHost: " + host_ +
+    const bool v6 = host_.find(':') != std::string::npos;
+    std::string bytes = "POST " + path + " HTTP/1.1\r\nHost: " +
+                        (v6 ? "[" + host_ + "]" : host_) + ":" + port_ +
                         "\r\nContent-Type: application/json\r\n";
     if (!options_.token.empty()) {
       bytes += "Authorization: Bearer " + options_.token + "\r\n";
@@ -168,6 +101,13 @@ class AsyncHttpClient::Loop {
     bytes += "Content-Length: " + std::to_string(body.size()) + "\r\n\r\n";
     bytes += body;
     queue_.push_back(Queued{std::move(bytes), tag, not_before, false});
+  }
+
+  void CancelQueued() {
+    std::deque<Queued> cancelled;
+    cancelled.swap(queue_);
+    for (const Queued& q : cancelled)
+      done_(q.tag, NoAnswer("cancelled", false));
   }
 
   size_t pending() const {
@@ -182,8 +122,10 @@ class AsyncHttpClient::Loop {
       Dispatch();
       if (pending() == 0) return true;
       const auto now = Clock::now();
-      if (now >= until) return false;
-      const int n = epoll_wait(epoll_, events, 64, WaitMs(now, until));
+      // Past the deadline: one look at what is ready, without waiting.
+      const bool last = now >= until;
+      const int n =
+          epoll_wait(epoll_, events, 64, last ? 0 : WaitMs(now, until));
       for (int i = 0; i < n; ++i) {
         const size_t c = events[i].data.u64;
         if (conns_[c].fd < 0) continue;
@@ -194,6 +136,10 @@ class AsyncHttpClient::Loop {
         }
       }
       ExpireTimeouts();
+      if (last) {
+        Dispatch();
+        return pending() == 0;
+      }
     }
   }
 
@@ -236,22 +182,49 @@ class AsyncHttpClient::Loop {
     Conn& conn = conns_[c];
     conn.request = std::move(q);
     conn.sent = 0;
+    conn.addr_tried = 0;
     if (conn.fd < 0 && !Open(c)) return;
-    if (!conn.connecting) {
-      conn.deadline =
-          Clock::now() + std::chrono::milliseconds(options_.answer_timeout_ms);
-      Writable(c);
-    }
+    if (!conn.connecting) Writable(c);
   }
 
-  // Opens connection `c` (non-blocking); false when its request has ended.
+  // The host's addresses, resolved again whenever none is known (a name
+  // that did not resolve may later); "" or the error.
+  std::string Resolve() {
+    if (!addrs_.empty()) return "";
+    addrinfo hints{};
+    hints.ai_family = AF_UNSPEC;
+    hints.ai_socktype = SOCK_STREAM;
+    addrinfo* found = nullptr;
+    const int rc = getaddrinfo(host_.c_str(), port_.c_str(), &hints, &found);
+    if (rc != 0 || found == nullptr) {
+      return "cannot resolve " + host_ + ": " + gai_strerror(rc);
+    }
+    for (const addrinfo* a = found; a != nullptr; a = a->ai_next) {
+      Address addr;
+      std::memcpy(&addr.storage, a->ai_addr, a->ai_addrlen);
+      addr.length = a->ai_addrlen;
+      addr.family = a->ai_family;
+      addrs_.push_back(addr);
+    }
+    freeaddrinfo(found);
+    return "";
+  }
+
+  // Opens connection `c` (non-blocking) to the next address not yet tried
+  // for its request (the one that last worked first); false when its
+  // request has ended.
   bool Open(size_t c) {
     Conn& conn = conns_[c];
-    if (!resolve_error_.empty()) {
-      End(c, NoAnswer(resolve_error_, true));
+    std::string error = setup_error_.empty() ? Resolve() : setup_error_;
+    if (!error.empty()) {
+      End(c, NoAnswer(error, true));
       return false;
     }
-    conn.fd = socket(family_, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
+    const Address& addr =
+        addrs_[(good_addr_ + conn.addr_tried) % addrs_.size()];
+    ++conn.addr_tried;
+    conn.fd =
+        socket(addr.family, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
     if (conn.fd < 0) {
       End(c, NoAnswer(Errno("socket", errno), true));
       return false;
@@ -260,14 +233,10 @@ class AsyncHttpClient::Loop {
     conn.in.clear();
     int one = 1;
     setsockopt(conn.fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof(one));
-    const int rc = connect(conn.fd, reinterpret_cast<sockaddr*>(&addr_),
-                           static_cast<socklen_t>(addr_len_));
-    if (rc != 0 && errno != EINPROGRESS) {
-      const int err = errno;
-      Close(c);
-      End(c, NoAnswer(Errno("connect", err), true));
-      return false;
-    }
+    const int rc =
+        connect(conn.fd, reinterpret_cast<const sockaddr*>(&addr.storage),
+                static_cast<socklen_t>(addr.length));
+    if (rc != 0 && errno != EINPROGRESS) return ConnectFailed(c, errno);
     conn.connecting = rc != 0;
     conn.watch_out = conn.connecting;
     conn.deadline =
@@ -275,8 +244,38 @@ class AsyncHttpClient::Loop {
     epoll_event ev{};
     ev.events = conn.connecting ? EPOLLIN | EPOLLOUT : EPOLLIN;
     ev.data.u64 = c;
-    epoll_ctl(epoll_, EPOLL_CTL_ADD, conn.fd, &ev);
+    if (epoll_ctl(epoll_, EPOLL_CTL_ADD, conn.fd, &ev) != 0) {
+      const int err = errno;
+      Close(c);
+      End(c, NoAnswer(Errno("epoll_ctl", err), true));
+      return false;
+    }
+    if (!conn.connecting) Connected(c);
     return true;
+  }
+
+  // The connection is made: its address is the one to try first, and the
+  // answer's clock starts.
+  void Connected(size_t c) {
+    Conn& conn = conns_[c];
+    conn.connecting = false;
+    if (!addrs_.empty()) {
+      good_addr_ = (good_addr_ + conn.addr_tried - 1) % addrs_.size();
+    }
+    conn.deadline =
+        Clock::now() + std::chrono::milliseconds(options_.answer_timeout_ms);
+  }
+
+  // Connecting failed with `err`: the next address, or the request ends
+  // not connected once every address was tried. False when it has ended.
+  bool ConnectFailed(size_t c, int err) {
+    Conn& conn = conns_[c];
+    Close(c);
+    if (conn.addr_tried < addrs_.size()) return Open(c);
+    addrs_.clear();  // resolved again for the next connection
+    good_addr_ = 0;
+    End(c, NoAnswer(Errno("connect", err), true));
+    return false;
   }
 
   void Close(size_t c) {
@@ -314,7 +313,6 @@ class AsyncHttpClient::Loop {
     Conn& conn = conns_[c];
     const bool stale = conn.answers > 0 && conn.in.empty() && conn.request &&
                        !conn.request->resent;
-    const bool was_connecting = conn.connecting;
     Close(c);
     if (stale) {
       Queued q = std::move(*conn.request);
@@ -322,7 +320,7 @@ class AsyncHttpClient::Loop {
       q.resent = true;
       return Start(c, std::move(q));
     }
-    End(c, NoAnswer(why, was_connecting));
+    End(c, NoAnswer(why, false));
   }
 
   void Writable(size_t c) {
@@ -331,10 +329,12 @@ class AsyncHttpClient::Loop {
       int err = 0;
       socklen_t len = sizeof(err);
       getsockopt(conn.fd, SOL_SOCKET, SO_ERROR, &err, &len);
-      if (err != 0) return Lost(c, Errno("connect", err));
-      conn.connecting = false;
-      conn.deadline =
-          Clock::now() + std::chrono::milliseconds(options_.answer_timeout_ms);
+      if (err != 0) {
+        // The next address: connected at once, the request goes now.
+        if (ConnectFailed(c, err) && !conns_[c].connecting) Writable(c);
+        return;
+      }
+      Connected(c);
     }
     if (!conn.request) return WatchWritable(c, false);
     const std::string& bytes = conn.request->bytes;
@@ -366,10 +366,13 @@ class AsyncHttpClient::Loop {
   void Receive(size_t c) {
     Conn& conn = conns_[c];
     bool closed = false;
-    if (const int err = ReadAvailable(conn.fd, &conn.in, &closed)) {
-      if (!conn.request) return Close(c);
-      return Lost(c, Errno("recv", err));
-    }
+    // A read error after a whole answer (a reset behind it) keeps the
+    // answer: what was read is parsed first.
+    const int err = ReadAvailable(conn.fd, &conn.in, &closed);
+    if (err != 0) closed = true;
+    const std::string why =
+        err != 0 ? Errno("recv", err)
+                 : "connection closed by the server before the answer";
     if (conn.in.empty() && !conn.request) {
       if (closed) Close(c);  // the server closed an idle connection
       return;
@@ -381,47 +384,64 @@ class AsyncHttpClient::Loop {
       conn.answers = 0;  // not a stale connection: do not send again
       return Lost(c, "unexpected bytes from the server");
     }
+    HttpResult r;
+    size_t end = 0;
+    int complete = 0;
     if (have_head && head.chunked) {
-      conn.answers = 0;
-      return Lost(c, "a chunked answer (this client reads Content-Length)");
+      complete = ChunkedBody(conn.in, head.head_length, &r.body, &end);
+    } else if (have_head &&
+               conn.in.size() >= head.head_length + head.body_length) {
+      r.body = conn.in.substr(head.head_length, head.body_length);
+      end = head.head_length + head.body_length;
+      complete = 1;
     }
-    if (!have_head || conn.in.size() < head.head_length + head.body_length) {
+    if (complete < 0) {
+      conn.answers = 0;
+      return Lost(c, "broken chunked framing from the server");
+    }
+    if (complete == 0) {
       if (closed) {
         if (!conn.in.empty()) conn.answers = 0;
-        Lost(c, "connection closed by the server before the answer");
+        Lost(c, why);
       }
       return;
     }
-    HttpResult r;
     r.status = head.status;
-    r.body = conn.in.substr(head.head_length, head.body_length);
-    conn.in.erase(0, head.head_length + head.body_length);
+    conn.in.erase(0, end);
     ++conn.answers;
     if (head.close || closed) Close(c);
     End(c, std::move(r));
   }
 
-  // Ends requests whose connection or answer took too long.
+  // Ends requests whose connection or answer took too long; a connection
+  // that timed out tries the host's next address first.
   void ExpireTimeouts() {
     const auto now = Clock::now();
     for (size_t c = 0; c < conns_.size(); ++c) {
       Conn& conn = conns_[c];
       if (!conn.request || conn.fd < 0 || now < conn.deadline) continue;
-      const bool connecting = conn.connecting;
+      if (conn.connecting) {
+        if (ConnectFailed(c, ETIMEDOUT) && !conn.connecting) Writable(c);
+        continue;
+      }
       Close(c);
-      End(c, NoAnswer(connecting ? "connect timed out" : "answer timed out",
-                      connecting));
+      End(c, NoAnswer("answer timed out", false));
     }
   }
+
+  struct Address {
+    sockaddr_storage storage{};
+    size_t length = 0;
+    int family = AF_INET;
+  };
 
   const AsyncHttpOptions options_;
   const Done done_;
   int epoll_ = -1;
-  std::string host_;
-  std::string resolve_error_;
-  sockaddr_storage addr_{};
-  size_t addr_len_ = 0;
-  int family_ = AF_INET;
+  std::string host_, port_;
+  std::string setup_error_;  // a bad URL or no epoll: every request fails
+  std::vector<Address> addrs_;
+  size_t good_addr_ = 0;  // the address that last connected
   std::vector<Conn> conns_;
   std::deque<Queued> queue_;
 };
@@ -444,6 +464,8 @@ void AsyncHttpClient::RunUntilIdle() {
 bool AsyncHttpClient::RunUntil(Clock::time_point until) {
   return loop_->RunUntil(until);
 }
+
+void AsyncHttpClient::CancelQueued() { loop_->CancelQueued(); }
 
 size_t AsyncHttpClient::pending() const { return loop_->pending(); }
 

@@ -17,9 +17,9 @@
 // sent once more on a new connection, as HTTP clients do for idempotent
 // requests; every POST of the API is (an idempotency key).
 //
-// Answers are framed by Content-Length (what rollwear's server and nginx
-// in front of it send); a chunked answer ends its request with status 0
-// and an error saying so.
+// The URL's host is resolved when a connection opens, and each of its
+// addresses is tried in turn ("localhost" may be ::1 before 127.0.0.1).
+// Answers are framed by Content-Length or chunked (api/http_answer.h).
 //
 // Thread-safety: not thread-safe. One thread calls every method; `done`
 // runs on it, inside RunUntil/RunUntilIdle, and may queue more requests.
@@ -34,6 +34,7 @@
 #include <string>
 #include <string_view>
 
+#include "api/http_answer.h"
 #include "api/http_client.h"
 
 namespace rollwear::api {
@@ -53,7 +54,7 @@ class AsyncHttpClient {
   using Done = std::function<void(uint64_t tag, const HttpResult& result)>;
 
   // `base_url` is "http://host:port" (no path). `done` is called once for
-  // every queued request.
+  // every queued request that ends before the client is destroyed.
   AsyncHttpClient(const std::string& base_url, const AsyncHttpOptions& options,
                   Done done);
   ~AsyncHttpClient();
@@ -68,8 +69,12 @@ class AsyncHttpClient {
   // Runs until every queued request has ended (those `done` queues too).
   void RunUntilIdle();
   // Runs until `until` or until every queued request has ended, whichever
-  // comes first; true when none is left.
+  // comes first (a deadline already passed still reads what is ready);
+  // true when none is left.
   bool RunUntil(Clock::time_point until);
+  // Ends every queued request not yet sent with status 0 and the error
+  // "cancelled" (in flight ones run to their end).
+  void CancelQueued();
   // Requests queued or in flight.
   size_t pending() const;
 
@@ -77,23 +82,6 @@ class AsyncHttpClient {
   class Loop;
   std::unique_ptr<Loop> loop_;
 };
-
-// The head of an HTTP/1.1 answer at the start of a connection's input.
-struct AnswerHead {
-  int status = 0;
-  size_t body_length = 0;  // Content-Length (0 when absent)
-  size_t head_length = 0;  // up to and including the blank line
-  bool close = false;      // "Connection: close"
-  bool chunked = false;    // "Transfer-Encoding: chunked"
-};
-// Parses the head at the start of `in`; false while it is incomplete. Sets
-// *bad when it cannot be an HTTP/1.x answer.
-bool ParseAnswerHead(std::string_view in, AnswerHead* head, bool* bad);
-// Appends what the non-blocking socket `fd` holds to *in until a read would
-// block; *closed when the peer has ended the stream (an answer and the FIN
-// may come together: the answer is read first). 0, or the errno of a
-// failed read.
-int ReadAvailable(int fd, std::string* in, bool* closed);
 
 }  // namespace rollwear::api
 

@@ -16,7 +16,7 @@
 #include <cstring>
 #include <deque>
 
-#include "api/async_http_client.h"
+#include "api/http_answer.h"
 
 namespace rollwear::bench {
 namespace {

@@ -31,6 +31,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <unordered_map>
@@ -145,8 +146,6 @@ class Sender {
     a.event = e;
     a.path = requests_.Path(e);
     a.body = requests_.Body(e);
-    a.deadline = Clock::now() + std::chrono::milliseconds(static_cast<int64_t>(
-                                    options_.retry_for_s * 1000));
     client_.Post(a.path, a.body, tag);
   }
   // Sends until every pushed event has its final answer.
@@ -158,7 +157,9 @@ class Sender {
   struct Attempt {
     Event event{};
     std::string path, body;
-    Clock::time_point deadline;
+    // --retry-for from the first failure (time queued behind the others
+    // does not count).
+    std::optional<Clock::time_point> deadline;
     std::chrono::milliseconds backoff{20};
   };
 
@@ -178,11 +179,18 @@ class Sender {
     const std::string fatal = FatalReason(r, options_.url, *counters_);
     if (!fatal.empty()) Stop(counters_, fatal);
     if (counters_->stopped.load()) {
+      // Nothing more is sent: what is queued ends here uncounted, as the
+      // old pool skipped it.
       attempts_.erase(it);
+      client_.CancelQueued();
       return;
     }
     const auto now = Clock::now();
-    if (Transient(r) && now < a.deadline) {
+    if (Transient(r) && !a.deadline) {
+      a.deadline = now + std::chrono::milliseconds(
+                             static_cast<int64_t>(options_.retry_for_s * 1000));
+    }
+    if (Transient(r) && now < *a.deadline) {
       counters_->retries.fetch_add(1);
       client_.Post(a.path, a.body, tag, now + a.backoff);
       a.backoff = std::min(a.backoff * 2, std::chrono::milliseconds(500));

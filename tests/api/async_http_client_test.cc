@@ -1,9 +1,11 @@
 // AsyncHttpClient (api/async_http_client.h) against a scripted server on a
 // real loopback socket: every request ends once with its own answer over
 // at most N connections; a refused connection, a lost answer, a timeout
-// and a chunked answer each end their request with status 0 and the right
-// kind; a request lost on a stale keep-alive connection is sent once more;
-// not_before holds a request back; `done` may queue more.
+// and broken chunk framing each end their request with status 0 and the right
+// kind; a request lost on a stale keep-alive connection is sent once more
+// (and is "not connected" when nothing listens any more); chunked answers
+// are read; not_before holds a request back; `done` may queue more;
+// cancelled requests end; a deadline already passed still reads.
 #include "api/async_http_client.h"
 
 #include <netinet/in.h>
@@ -22,6 +24,8 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+
+#include "api/http_answer.h"
 
 namespace rollwear::api {
 namespace {
@@ -160,6 +164,13 @@ std::unique_ptr<AsyncHttpClient> ClientOf(const ScriptedServer& server,
       });
 }
 
+// Posts tags 1 and 2 and runs until both have ended.
+void PostTwo(AsyncHttpClient* client) {
+  client->Post("/a", "{}", 1);
+  client->Post("/a", "{}", 2);
+  client->RunUntilIdle();
+}
+
 AsyncHttpOptions OneConnection() {
   AsyncHttpOptions o;
   o.connections = 1;
@@ -271,9 +282,7 @@ TEST(AsyncHttpClientTest, AnAnswerLostAfterItsFirstByteIsNotSentAgain) {
   });
   Outcomes out;
   auto client = ClientOf(server, &out, OneConnection());
-  client->Post("/a", "{}", 1);
-  client->Post("/a", "{}", 2);
-  client->RunUntilIdle();
+  PostTwo(client.get());
   ASSERT_EQ(out.results.size(), 2u);
   EXPECT_EQ(out.results[0].status, 200);
   EXPECT_FALSE(out.results[1].answered());
@@ -299,11 +308,31 @@ TEST(AsyncHttpClientTest, AnAnswerThatNeverComesTimesOut) {
   EXPECT_GE(s, 0.2);
 }
 
-TEST(AsyncHttpClientTest, AChunkedAnswerEndsWithAnErrorSayingSo) {
+TEST(AsyncHttpClientTest, AChunkedAnswerIsReadAndTheConnectionKept) {
+  // Two chunks with an extension and a trailer, then a second answer on the
+  // same connection: the first must end exactly where its framing does.
+  ScriptedServer server([](const Seen& r) {
+    if (r.index == 0) {
+      return Reply{
+          "HTTP/1.1 200 OK\r\nTransfer-Encoding: chunked\r\n\r\n"
+          "3;ext=1\r\n{\"a\r\n5\r\n\":12}\r\n0\r\nX-Trailer: t\r\n\r\n"};
+    }
+    return Reply{Ok("second")};
+  });
+  Outcomes out;
+  auto client = ClientOf(server, &out, OneConnection());
+  PostTwo(client.get());
+  ASSERT_EQ(out.results.size(), 2u);
+  EXPECT_EQ(out.by_tag[1].status, 200) << out.by_tag[1].error;
+  EXPECT_EQ(out.by_tag[1].body, "{\"a\":12}");
+  EXPECT_EQ(out.by_tag[2].body, "second");
+  EXPECT_EQ(server.connections(), 1);
+}
+
+TEST(AsyncHttpClientTest, BrokenChunkFramingEndsTheRequestWithNoAnswer) {
   ScriptedServer server([](const Seen&) {
     return Reply{
-        "HTTP/1.1 200 OK\r\nTransfer-Encoding: chunked\r\n\r\n2\r\n{}\r\n0"
-        "\r\n\r\n"};
+        "HTTP/1.1 200 OK\r\nTransfer-Encoding: chunked\r\n\r\nzz\r\n{}\r\n"};
   });
   Outcomes out;
   auto client = ClientOf(server, &out);
@@ -313,6 +342,68 @@ TEST(AsyncHttpClientTest, AChunkedAnswerEndsWithAnErrorSayingSo) {
   EXPECT_FALSE(out.results[0].answered());
   EXPECT_NE(out.results[0].error.find("chunked"), std::string::npos)
       << out.results[0].error;
+}
+
+TEST(AsyncHttpClientTest, ChunkedBodiesAreFramedExactly) {
+  std::string body;
+  size_t end = 0;
+  const std::string in = "4\r\nWiki\r\n0\r\n\r\nNEXT";
+  ASSERT_EQ(ChunkedBody(in, 0, &body, &end), 1);
+  EXPECT_EQ(body, "Wiki");
+  EXPECT_EQ(in.substr(end), "NEXT");
+  for (size_t cut = 0; cut + 4 < in.size(); ++cut) {  // every prefix
+    EXPECT_EQ(ChunkedBody(in.substr(0, cut), 0, &body, &end), 0) << cut;
+  }
+  EXPECT_EQ(ChunkedBody("4\r\nWikiXX0\r\n\r\n", 0, &body, &end), -1);
+  EXPECT_EQ(ChunkedBody("g\r\n", 0, &body, &end), -1);
+}
+
+TEST(AsyncHttpClientTest, AStaleResendThatCannotConnectIsNotConnected) {
+  // The daemon answered, then went away: the request lost on the stale
+  // connection is sent again, finds nothing listening and ends as "not
+  // connected" (the replay waits for a restart on that).
+  auto server = std::make_unique<ScriptedServer>([](const Seen&) {
+    return Reply{Ok("{}"), true, false, 100};
+  });
+  Outcomes out;
+  auto client = ClientOf(*server, &out, OneConnection());
+  client->Post("/a", "1", 1);
+  client->RunUntilIdle();
+  server.reset();
+  client->Post("/a", "2", 2);
+  client->RunUntilIdle();
+  ASSERT_EQ(out.results.size(), 2u);
+  EXPECT_EQ(out.results[0].status, 200);
+  EXPECT_FALSE(out.results[1].answered());
+  EXPECT_TRUE(out.results[1].not_connected) << out.results[1].error;
+}
+
+TEST(AsyncHttpClientTest, CancelledRequestsEndAndAPassedDeadlineStillReads) {
+  std::atomic<int> requests{0};
+  ScriptedServer server([&](const Seen&) {
+    ++requests;
+    return Reply{Ok("{}")};
+  });
+  Outcomes out;
+  auto client = ClientOf(server, &out, OneConnection());
+  for (uint64_t i = 0; i < 3; ++i) client->Post("/a", "{}", i);
+  // A deadline in the past: the first request goes out; what has arrived
+  // is read on a later call, however late.
+  while (out.results.empty()) {
+    client->RunUntil(Clock::now() - std::chrono::seconds(1));
+  }
+  EXPECT_EQ(out.by_tag[0].status, 200);
+  client->CancelQueued();
+  client->RunUntilIdle();
+  ASSERT_EQ(out.results.size(), 3u);
+  int cancelled = 0;
+  for (uint64_t i = 1; i < 3; ++i) {
+    if (out.by_tag[i].error == "cancelled") ++cancelled;
+  }
+  // The second went out as soon as the first ended (one connection); the
+  // third never went.
+  EXPECT_GE(cancelled, 1);
+  EXPECT_EQ(requests.load() + cancelled, 3);
 }
 
 TEST(AsyncHttpClientTest,
