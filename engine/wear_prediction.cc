@@ -59,6 +59,21 @@ class CorePredictor final : public storage::WearPredictor {
     return rollwear::RollLogFactor(term, roll_id);
   }
 
+  // The profile sums read with `shape` (core/model/barrel_profile.h:
+  // ProfileStats::Evaluate per slice, ProfileGrid::Interpolate at a point).
+  std::vector<double> ProfileAt(
+      const RollWearState& state, const ProfileShape& shape,
+      const std::vector<double>& x_mm) const override {
+    std::vector<double> out;
+    if (!state.profile.has_value()) return out;
+    const std::vector<double> slices = state.profile->Evaluate(shape);
+    out.reserve(x_mm.size());
+    for (double x : x_mm) {
+      out.push_back(state.profile->grid().Interpolate(slices, x));
+    }
+    return out;
+  }
+
   // Each roll's posterior (core/model/roll_factor_update.h: its readings'
   // penalised least squares under the term's prior sd and the model's
   // noise), set as its level when it converged.

@@ -4,8 +4,8 @@
 // sums tracked (ReplayCampaign, the replay that restores the live state on
 // start), and each stored point gets the model's profile there: the sums
 // read with the model's shape (g = 1 without one), interpolated between
-// slices at the point (ProfileStats::Evaluate, ProfileGrid::Interpolate;
-// core/model/barrel_profile.h), as the profile gap reads a point.
+// slices at the point (WearPredictor::ProfileAt, the engine's), as the
+// profile gap reads a point.
 #include <algorithm>
 #include <memory>
 #include <mutex>
@@ -57,7 +57,6 @@ Status PredictStoredProfiles(Db* db, const WearPredictor& predictor,
     const auto& state = states[slot];
     // No profile state (the recurrent network's model): nothing to compare.
     if (!state.has_value() || !state->profile.has_value()) continue;
-    const std::vector<double> profile = state->profile->Evaluate(shape);
     MeasuredProfile m;
     m.campaign_id = rec.id;
     m.stand = in.stand;
@@ -67,9 +66,8 @@ Status PredictStoredProfiles(Db* db, const WearPredictor& predictor,
     for (const ProfilePointIn& p : in.points) {
       m.x_mm.push_back(p.x_mm);
       m.measured_um.push_back(p.wear_um);
-      m.predicted_um.push_back(
-          state->profile->grid().Interpolate(profile, p.x_mm));
     }
+    m.predicted_um = predictor.ProfileAt(*state, shape, m.x_mm);
     out->push_back(std::move(m));
   }
   return Status::Ok();

@@ -8,7 +8,8 @@
 //
 // What the store asks: a roll's state when it is mounted, one pass added
 // to it, what the model's measurement terms add to a reading (the
-// grinder's expected reading is the predicted wear plus it), and the
+// grinder's expected reading is the predicted wear plus it), a roll's
+// predicted profile at a grinder's points, and the
 // per-roll family's factors re-estimated from the readings (served from a
 // reading's commit on). The store chooses the campaigns and replays them;
 // the predictor does the model's arithmetic.
@@ -26,6 +27,7 @@
 #include "core/dataset/dataset.h"
 #include "core/dataset/extra_fields.h"
 #include "core/dataset/pass_input.h"
+#include "core/model/barrel_profile.h"
 #include "core/model/model_terms.h"
 #include "core/model/roll_wear_state.h"
 #include "core/model/wear_model.h"
@@ -76,6 +78,12 @@ class WearPredictor {
   // The log factor `term` gives `roll_id` (0 for a roll it does not know).
   virtual double RollLogFactor(const ModelTerm& term,
                                const std::string& roll_id) const = 0;
+  // The wear a roll's tracked profile sums predict at each of `x_mm` with
+  // the profile shape `shape` (the slices' values read at each point); empty
+  // when `state` tracks no profile (the network's model).
+  virtual std::vector<double> ProfileAt(
+      const RollWearState& state, const ProfileShape& shape,
+      const std::vector<double>& x_mm) const = 0;
   // `model` with the factor of each roll in `readings` re-estimated from
   // them; a roll whose readings no factor of its type explains keeps its
   // level.
