@@ -17,7 +17,8 @@
 //     amplitude is 0, over every covariate of the catalog (covariates.h),
 //     each proposed by its term family (core/model/term_family.h, one file
 //     per family): wear-rate forms (log-linear, power, quantile bins,
-//     saturating, decaying, flag, one multiplier per factor level), wear
+//     saturating, decaying, a knee (hinge), flag, one multiplier per
+//     factor level), wear
 //     added per coil, offsets of what the grinder reads, and steps on one
 //     day of a calendar covariate; the log-linear, flag and per-coil forms
 //     also at each single scope (a stand, a position top or bottom, a roll
@@ -94,7 +95,7 @@ struct DiagnosisOptions {
   // CV-error ratio per extra parameter to be preferred.
   double cv_penalty_per_parameter = 0.005;
   int max_findings = 3;
-  int num_bins = 4;                  // quantile bins of the binned form
+  int num_bins = 4;  // quantile bins of the binned form
   int max_factor_levels = 12;
   int num_threads = 2;
   // Huber's robust loss everywhere (robust.h; docs/diagnosis.md). false:
@@ -113,7 +114,8 @@ struct Breakdown {
   std::string test;       // "anova" or "pearson"
   double statistic = 0;   // F or t
   double p_value = 1;
-  double effect_size = 0;  // largest |mean relative residual| of a group, or |r|
+  double effect_size =
+      0;  // largest |mean relative residual| of a group, or |r|
   struct Group {
     std::string label;
     int n = 0;
@@ -139,11 +141,12 @@ struct CandidateResult {
 
 struct Finding {
   std::string covariate;
-  std::string level;      // "pass", "roll", "campaign", "measurement"
-  std::string mechanism;  // physical name, e.g. "wear_rate_growth_along_campaign"
-  std::string shape;      // "increasing", "decreasing", "saturating_growth",
-                          // "decaying", "on_off", "per_level", "peaked"...
-  std::string form;       // TermFormName
+  std::string level;  // "pass", "roll", "campaign", "measurement"
+  std::string
+      mechanism;      // physical name, e.g. "wear_rate_growth_along_campaign"
+  std::string shape;  // "increasing", "decreasing", "saturating_growth",
+                      // "decaying", "on_off", "per_level", "peaked"...
+  std::string form;   // TermFormName
   std::string explanation;
   std::map<std::string, double> parameters;
   std::map<std::string, double> parameter_std_errors;
@@ -170,7 +173,7 @@ struct Finding {
   // cannot tell whether the finding holds there too ("API-X65"; the
   // contract's findings[].scope_undetermined, docs/diagnosis.md).
   std::vector<std::string> scope_undetermined;
-  ModelTerm term;                         // the adopted term
+  ModelTerm term;  // the adopted term
 };
 
 // Which check kept a significant candidate from being adopted, or withdrew
@@ -214,9 +217,12 @@ struct RunnerUp {
 // family-wise level (Bonferroni over every dimension tested) and of
 // material size, and that no adopted term explains.
 struct Unexplained {
-  std::string dimension;  // "roll_position", "time_scale_8", "runs_along_time"...
-  std::string where;      // "roll_position=F7/bottom", "calendar time, block 3 of 4"...
-  std::string test;       // "anova", "pearson", "lag1_autocorrelation", "runs", "brown_forsythe"
+  std::string
+      dimension;  // "roll_position", "time_scale_8", "runs_along_time"...
+  std::string
+      where;  // "roll_position=F7/bottom", "calendar time, block 3 of 4"...
+  std::string test;  // "anova", "pearson", "lag1_autocorrelation", "runs",
+                     // "brown_forsythe"
   double statistic = 0;
   double mean_residual_um = 0;  // mean measured - predicted where it lives
   double p_value = 1;           // unadjusted
@@ -275,7 +281,8 @@ struct DiagnosisReport {
   std::map<std::string, double> phase_seconds;
 };
 
-StatusOr<DiagnosisReport> Diagnose(const Dataset& data, const DiagnosisOptions& options);
+StatusOr<DiagnosisReport> Diagnose(const Dataset& data,
+                                   const DiagnosisOptions& options);
 
 }  // namespace rollwear
 

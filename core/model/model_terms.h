@@ -13,6 +13,10 @@
 //                                                  lam = exp(q); linear growth
 //                                                  is the lam >> z limit
 //   decaying     m = 1 + b * exp(-z / lam)         run-in: extra wear early on
+//   hinge        m = exp(b * max(0, (z - k) / s))  a knee k (fitted): the
+//                                                  rate changes above it
+//                                                  (s > 0) or below it
+//                                                  (s < 0), |s| the sd
 //   flag         m = exp(b * z)                    z in {0, 1}
 //   binned       m = exp(b_k) for z in bin k >= 1  (bin 0: m = 1); bins are
 //                                                  training quantiles: any
@@ -84,6 +88,7 @@ enum class TermForm {
   kOffsetBinned,
   kRollEffect,
   kPerCoil,
+  kHinge,
 };
 // The functions below that depend on the form ask the term's family
 // (term_family.h, whose registry term_family.cc defines them).

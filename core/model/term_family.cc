@@ -171,7 +171,7 @@ Registry Build() {
       &OffsetLinearFamily(),   &OffsetBinnedFamily(), &OffsetDecayFamily(),
       &LogLinearFamily(),      &PowerFamily(),        &BinnedFamily(),
       &SaturatingFamily(),     &DecayingFamily(),     &CellFamily(),
-      &RollEffectFamily(),     &PerCoilFamily(),
+      &RollEffectFamily(),     &PerCoilFamily(),      &HingeFamily(),
   };
   r.by_form.assign(r.all.size(), nullptr);
   for (const TermFamily* f : r.all) {

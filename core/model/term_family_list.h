@@ -25,6 +25,7 @@ const TermFamily& OffsetPerLevelFamily();
 const TermFamily& OffsetBinnedFamily();
 const TermFamily& RollEffectFamily();
 const TermFamily& PerCoilFamily();
+const TermFamily& HingeFamily();
 
 }  // namespace rollwear
 

@@ -5,6 +5,7 @@
 // Wear-rate effects multiply the wear increment of every pass of the roll:
 //   dW = K * (F/w) * L * prod_e m_e(pass, roll, campaign state).
 // Measurement effects add to what the grinder reads, not to the true wear.
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -41,6 +42,13 @@ double WarmMeasurement(const EffectContext& c, const double* p) {
 //   m = exp(beta * (T_ref - T) / 100 K).
 double Temperature(const EffectContext& c, const double* p) {
   return std::exp(p[0] * (p[1] - c.pass->temperature_c) / 100.0);
+}
+
+// cold_knee: below a knee temperature the strip's scale turns hard and
+// abrasive quickly; above it the wear law holds (a threshold, not a trend):
+//   m = exp(beta * max(0, t_knee_c - temperature_c) / 10 K).
+double ColdKnee(const EffectContext& c, const double* p) {
+  return std::exp(p[0] * std::max(0.0, p[1] - c.pass->temperature_c) / 10.0);
 }
 
 // lubrication: roll-gap lubrication lowers friction and slip in the bite,
@@ -144,6 +152,14 @@ const std::vector<EffectSpec>& BuildTable() {
        2,
        {{{"beta", 0.5}, {"t_ref_c", 900}, {"", 0}}},
        &Temperature},
+      {"cold_knee",
+       "temperature_c",
+       "below a knee temperature the scale turns abrasive; above it the law "
+       "holds: multiplier exp(beta * max(0, t_knee_c - temperature_c) / 10)",
+       EffectKind::kWearRate,
+       2,
+       {{{"beta", 0.15}, {"t_knee_c", 895}, {"", 0}}},
+       &ColdKnee},
       {"lubrication",
        "lubrication",
        "roll-gap lubrication reduces abrasive wear: multiplier "

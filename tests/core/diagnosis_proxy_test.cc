@@ -171,22 +171,33 @@ bool RefusedBecause(const DiagnosisReport& r, const std::string& covariate,
                      });
 }
 
-// Seed 103's interaction (session 11: named specific_force_kn_per_mm at F7,
-// p = 2.3e-11): the temperature term, which fits far better, is refused as
-// inconsistent across rolled length (its slope changes with speed); the
-// specific-force term at F7 passes the guard only for want of power and
-// fits worse than it by an AIC difference of 36: a shadow, not named.
+// A temperature x speed interaction (inexpressible): the terms that fit it
+// best are refused by the guard (their slope changes with the other
+// quantity), and a term over a third quantity that passes the guard only
+// for want of power but fits worse than a refused one is its shadow, not
+// named. Seed 109: contact length fits worse than specific force, which
+// the guard refused. Seed 103 (session 11: named specific_force_kn_per_mm
+// at F7, p = 2.3e-11) was this test's shadow until session 33; with the
+// hinge family's candidates in the round the specific-force term no longer
+// passes the multiplicity cut there, and the answer is the same: located
+// at temperature, nothing named.
 TEST(DiagnosisProxyTest,
      AnInteractionIsNotNamedThroughAShadowOfItsRefusedTerm) {
-  const Diagnosed d = DiagnoseSimulated(103, {"inexpressible_interaction"});
-  ASSERT_FALSE(d.sim.truth.effects.at(0).expressible);
-  EXPECT_TRUE(d.report.findings.empty()) << d.report.findings[0].explanation;
-  EXPECT_EQ(d.report.verdict, "mismatch_located_unexplained");
-  EXPECT_TRUE(RefusedBecause(d.report, "specific_force_kn_per_mm",
-                             "fits worse than temperature_c"));
-  // Where it lives: the cold quartile of temperature, one of the two
-  // quantities of the interaction.
-  EXPECT_TRUE(ListsDimension(d.report.unexplained, "temperature_c"));
+  for (uint64_t seed : {103u, 109u}) {
+    const Diagnosed d = DiagnoseSimulated(seed, {"inexpressible_interaction"});
+    ASSERT_FALSE(d.sim.truth.effects.at(0).expressible);
+    EXPECT_TRUE(d.report.findings.empty())
+        << seed << ": " << d.report.findings[0].explanation;
+    EXPECT_EQ(d.report.verdict, "mismatch_located_unexplained") << seed;
+    if (seed == 103) {
+      // Where it lives: the cold quartile of temperature, one of the two
+      // quantities of the interaction.
+      EXPECT_TRUE(ListsDimension(d.report.unexplained, "temperature_c"));
+    } else {
+      EXPECT_TRUE(RefusedBecause(d.report, "contact_length_mm",
+                                 "fits worse than specific_force_kn_per_mm"));
+    }
+  }
 }
 
 // Seed 109's interaction (named contact_length_mm, p < 1e-10, until

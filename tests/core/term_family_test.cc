@@ -24,7 +24,7 @@ constexpr TermForm kEveryForm[] = {
     TermForm::kDecaying,     TermForm::kFlag,           TermForm::kBinned,
     TermForm::kPerLevel,     TermForm::kCell,           TermForm::kOffsetDecay,
     TermForm::kOffsetLinear, TermForm::kOffsetPerLevel, TermForm::kOffsetBinned,
-    TermForm::kRollEffect,   TermForm::kPerCoil,
+    TermForm::kRollEffect,   TermForm::kPerCoil,        TermForm::kHinge,
 };
 
 // A term of form `f` with parameters away from zero, so that every
@@ -201,6 +201,7 @@ TEST(TermFamilyTest, EachFamilyKeepsItsOwnStoredRules) {
       {TermForm::kOffsetPerLevel, [](ModelTerm* t) { t->level_readings = {1}; },
        "level_sd"},
       {TermForm::kPerCoil, [](ModelTerm* t) { t->params = {-0.1}; }, "params"},
+      {TermForm::kHinge, [](ModelTerm* t) { t->scale = 0; }, "scale"},
       {TermForm::kPerCoil,
        [](ModelTerm* t) { t->covariate = "campaign_length_before_m"; },
        "covariate"},
@@ -334,12 +335,21 @@ TEST(TermFamilyTest, EachFamilyProposesOnlyOverTheCovariatesItFits) {
   ASSERT_EQ(per_coil.size(), 1u);
   EXPECT_EQ(per_coil[0].term.params, std::vector<double>{0.0});
   EXPECT_EQ(per_coil[0].lower, std::vector<double>{0.0});
-  // From zero (no power form), not accumulating (no growth or run-in),
-  // its bins' last edge at its largest value (no binned form).
+  // From zero (no power form), not accumulating (no growth or run-in, but
+  // a knee above and one below which the rate changes), its bins' last
+  // edge at its largest value (no binned form).
   length.accumulates = false;
   c.p01 = 0;
   c.edges = {10000, 110000};
-  EXPECT_EQ(ProposedForms(c), (std::vector<F>{F::kLogLinear}));
+  EXPECT_EQ(ProposedForms(c),
+            (std::vector<F>{F::kLogLinear, F::kHinge, F::kHinge}));
+  std::vector<TermProposal> hinges;
+  FamilyOf(F::kHinge).Propose(c, &hinges);
+  ASSERT_EQ(hinges.size(), 2u);
+  EXPECT_GT(hinges[0].term.scale, 0);  // above the knee
+  EXPECT_LT(hinges[1].term.scale, 0);  // below it
+  EXPECT_EQ(hinges[0].lower[1], c.p05);
+  EXPECT_EQ(hinges[0].upper[1], c.p95);
   // On the reading's side.
   CovariateSpec cooling{"cooling_h", CovariateSource::kCoolingHours,
                         CovariateLevel::kMeasurement, CovariateKind::kNumeric};

@@ -221,6 +221,25 @@ TEST(ModelCodecTest, AStoredModelKeepsItsTermsFamilyRules) {
   ASSERT_FALSE(back.ok());
   EXPECT_NE(back.status().message().find("terms[1].params"), std::string::npos)
       << back.status().message();
+  // A knee: its side in the sign of the scale, kept; none is refused.
+  m.terms.pop_back();
+  ModelTerm hinge;
+  hinge.covariate = "temperature_c";
+  hinge.form = TermForm::kHinge;
+  hinge.params = {0.8, 894.5};
+  hinge.scale = -18.25;
+  m.terms.push_back(hinge);
+  back = DecodeWearModel(EncodeWearModel(m));
+  ASSERT_TRUE(back.ok()) << back.status().ToString();
+  ASSERT_EQ(back->terms.size(), 2u);
+  EXPECT_EQ(back->terms[1].form, TermForm::kHinge);
+  EXPECT_EQ(back->terms[1].params, (std::vector<double>{0.8, 894.5}));
+  EXPECT_EQ(back->terms[1].scale, -18.25);
+  m.terms[1].scale = 0;
+  back = DecodeWearModel(EncodeWearModel(m));
+  ASSERT_FALSE(back.ok());
+  EXPECT_NE(back.status().message().find("terms[1].scale"), std::string::npos)
+      << back.status().message();
 }
 
 // Scoped, cell and offset-per-level terms keep their scope and reference
