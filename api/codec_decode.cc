@@ -110,6 +110,7 @@ bool IsBlank(std::string_view body) {
 
 bool DecodeRollChange(std::string_view body, int max_depth,
                       storage::RollChangeIn* out, ApiError* error) {
+  out->rules_checked = false;  // until this decode's rules hold
   ScannedObject scanned;
   if (!ScanBody(body, max_depth, kRollChangeShape, &scanned, error)) {
     return false;
@@ -158,6 +159,7 @@ bool DecodeCampaignEnd(std::string_view body, int max_depth,
 
 bool DecodeCoil(std::string_view body, int max_depth, storage::CoilIn* out,
                 ApiError* error) {
+  out->rules_checked = false;  // until this decode's rules hold
   ScannedObject scanned;
   if (!ScanBody(body, max_depth, kCoilShape, &scanned, error)) return false;
   ObjectReader r(scanned, kCoilShape, error);
@@ -203,6 +205,7 @@ bool DecodeCoil(std::string_view body, int max_depth, storage::CoilIn* out,
 
 bool DecodeMeasurement(std::string_view body, int max_depth,
                        storage::MeasurementIn* out, ApiError* error) {
+  out->rules_checked = false;  // until this decode's rules hold
   ScannedObject scanned;
   if (!ScanBody(body, max_depth, kMeasurementShape, &scanned, error)) {
     return false;
@@ -216,11 +219,11 @@ bool DecodeMeasurement(std::string_view body, int max_depth,
       !r.Number(kWear, &out->wear_center_um) || !r.Extras(&out->extra)) {
     return false;
   }
-  out->rules_checked = Admissible(
-      r, {},
-      MeasurementRules(out->campaign_id, out->stand, out->position,
-                       out->roll_id, out->wear_center_um),
-      error);
+  out->rules_checked =
+      Admissible(r, {},
+                 MeasurementRules(out->campaign_id, out->stand, out->position,
+                                  out->roll_id, out->wear_center_um),
+                 error);
   return out->rules_checked;
 }
 
@@ -272,12 +275,12 @@ bool DecodeWearLimit(std::string_view body, int max_depth,
   ObjectReader r(scanned, kWearLimitShape, error);
   if (!r.OnlyKnown() || !r.Number(kLimitUm, &out->limit_um)) return false;
   if (!(out->limit_um > 0) || !(out->limit_um <= storage::kMaxWearLimitUm)) {
-    return r.OutOfRange("limit_um", "must be > 0 and at most " +
-                                        std::to_string(static_cast<int>(
-                                            storage::kMaxWearLimitUm)) +
-                                        " µm, got " +
-                                        std::string(scanned.members[kLimitUm]
-                                                        .text.substr(0, 40)));
+    return r.OutOfRange(
+        "limit_um",
+        "must be > 0 and at most " +
+            std::to_string(static_cast<int>(storage::kMaxWearLimitUm)) +
+            " µm, got " +
+            std::string(scanned.members[kLimitUm].text.substr(0, 40)));
   }
   out->reason.clear();
   return !r.Has(kLimitReason) ||

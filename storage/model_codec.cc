@@ -133,7 +133,8 @@ Status ReadNumbers(const Json& obj, const char* key, const std::string& field,
 // A roll-effect term's optional per-roll spread: "level_sd" (finite,
 // >= 0) and "level_readings" (integers >= 0), one per level each.
 Status DecodeRollSpread(const Json& j, const std::string& at, ModelTerm* t) {
-  ROLLWEAR_RETURN_IF_ERROR(ReadNumbers(j, "level_sd", at + "level_sd", &t->level_sd));
+  ROLLWEAR_RETURN_IF_ERROR(
+      ReadNumbers(j, "level_sd", at + "level_sd", &t->level_sd));
   std::vector<double> readings;
   ROLLWEAR_RETURN_IF_ERROR(
       ReadNumbers(j, "level_readings", at + "level_readings", &readings));
@@ -151,7 +152,8 @@ Status DecodeRollSpread(const Json& j, const std::string& at, ModelTerm* t) {
     return Bad(at + "level_readings", "needs one number per level");
   }
   for (double sd : t->level_sd) {
-    if (!(std::isfinite(sd) && sd >= 0)) return Bad(at + "level_sd", "must be finite and >= 0");
+    if (!(std::isfinite(sd) && sd >= 0))
+      return Bad(at + "level_sd", "must be finite and >= 0");
   }
   return Status::Ok();
 }
@@ -209,8 +211,10 @@ Status DecodeTerms(const Json& doc, std::vector<ModelTerm>* out) {
     }
     ROLLWEAR_RETURN_IF_ERROR(
         ReadNumbers(j, "params", at + "params", &t.params));
-    if (!ReadScalar(j, "center", &t.center).ok()) return Bad(at + "center", "must be a number");
-    if (!ReadScalar(j, "scale", &t.scale).ok()) return Bad(at + "scale", "must be a number");
+    if (!ReadScalar(j, "center", &t.center).ok())
+      return Bad(at + "center", "must be a number");
+    if (!ReadScalar(j, "scale", &t.scale).ok())
+      return Bad(at + "scale", "must be a number");
     ROLLWEAR_RETURN_IF_ERROR(ReadNumbers(j, "edges", at + "edges", &t.edges));
     auto levels = j.find("num_levels");
     if (levels != j.end()) {
@@ -222,7 +226,8 @@ Status DecodeTerms(const Json& doc, std::vector<ModelTerm>* out) {
     ROLLWEAR_RETURN_IF_ERROR(ReadLabels(j, "levels", &t.levels, at));
     auto ref = j.find("reference_level");
     if (ref != j.end()) {
-      if (!ref->is_number_integer()) return Bad(at + "reference_level", "must be an integer");
+      if (!ref->is_number_integer())
+        return Bad(at + "reference_level", "must be an integer");
       t.reference_level = ref->get<int>();
     }
     ROLLWEAR_RETURN_IF_ERROR(DecodeScope(j, at, &t.scope));
@@ -235,7 +240,8 @@ Status DecodeTerms(const Json& doc, std::vector<ModelTerm>* out) {
     }
     if (t.IsMeasurementTerm() && !t.scope.grade.empty()) {
       // A reading is of a roll, not of a grade (model_eval.h).
-      return Bad(at + "scope.grade", "a measurement term cannot be scoped by grade");
+      return Bad(at + "scope.grade",
+                 "a measurement term cannot be scoped by grade");
     }
     out->push_back(std::move(t));
   }
@@ -442,8 +448,12 @@ StatusOr<std::vector<ModelTerm>> DecodeModelTerms(std::string_view json) {
       if (!std::isfinite(p)) return Bad(at + "params", "must be finite");
     }
     if (!std::isfinite(t.center)) return Bad(at + "center", "must be finite");
-    if (!(std::isfinite(t.scale) && t.scale > 0))
-      return Bad(at + "scale", "must be > 0");
+    if (!(std::isfinite(t.scale) &&
+          (t.scale > 0 || (FamilyOf(t.form).SignedScale() && t.scale != 0)))) {
+      return Bad(at + "scale", FamilyOf(t.form).SignedScale()
+                                   ? "must be a finite number other than 0"
+                                   : "must be > 0");
+    }
     if (!std::is_sorted(t.edges.begin(), t.edges.end())) {
       return Bad(at + "edges", "must be ascending");
     }

@@ -88,7 +88,9 @@ struct TermWording {
   // The affected levels, for the families that name levels.
   std::optional<std::vector<std::string>> levels;
   std::string fitted;  // the sentence after "Fitted: "
-  bool up = true;      // the effect raises the wear (or the reading)
+  // The multiplier (or offset) rises with the covariate: the naming picks
+  // the covariate's "up" or "down" mechanism by it (diagnosis_naming.cc).
+  bool up = true;
   // A family whose physics is its form's, not its covariate's (wear per
   // coil): the mechanism's name and sentence; empty: the diagnosis names
   // the mechanism from the covariate (diagnosis_naming.cc).
@@ -160,6 +162,10 @@ class TermFamily {
   // something it does not describe (core/diagnosis/diagnosis_rivals.cc,
   // AtBoxBound). Brackets by default.
   virtual bool BoundIsALimit(int /*j*/, bool /*upper*/) const { return false; }
+  // Whether the term's `scale` may be negative (its sign carries meaning:
+  // the hinge's side of the knee); otherwise a stored scale must be > 0
+  // (storage/model_codec.cc).
+  virtual bool SignedScale() const { return false; }
   // Parameter j at the fitted value x as a reader of the family's formula
   // knows it: its name there and x on that scale (a parameter fitted on a
   // log scale is shown exponentiated: "lam = 3200" for q = log lam).

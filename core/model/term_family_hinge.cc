@@ -26,13 +26,17 @@ class Hinge final : public TermFamily {
     return j == 0 ? TermParamView{"b (log-change per sd beyond the knee)", x}
                   : TermParamView{"knee", x};
   }
-  // A knee at the edge of the data is the log-linear form over it: still
-  // what the family describes. The amplitude's bounds are brackets.
-  bool BoundIsALimit(int j, bool /*upper*/) const override { return j == 1; }
+  // Every bound is a bracket: a knee stopped at the edge of the data is
+  // the log-linear form over it at the near edge, and at the far edge a
+  // term on the last few percent of the passes that wants to go on: either
+  // way not a knee the data show (at_box_bound locates it). The
+  // amplitude's bounds are brackets too.
+  bool SignedScale() const override { return true; }
   int NumParams(const ModelTerm& /*t*/) const override { return 2; }
-  // Over a numeric covariate of the pass or the roll: a knee above which
-  // (and one below which) the rate changes, the knee in the 5th..95th
-  // percentiles, tried from the median and the quartiles. Not over a
+  // Over a numeric covariate: a knee above which (and one below which) the
+  // rate changes, the knee in the 5th..95th percentiles, fitted from two
+  // starts, a quarter and three quarters of the way from the 5th to the
+  // 95th (the proposal's median is its term, not a start). Not over a
   // quantity that grows within a campaign (rolled length, coils, hours):
   // growth along the campaign is the saturating, decaying and log-linear
   // families' (a knee there would compete with them for one mechanism).
@@ -68,11 +72,14 @@ class Hinge final : public TermFamily {
   }
   void Word(const ModelTerm& t, const TermWordingInput& in,
             TermWording* out) const override {
-    // The shape over the covariate's 5th..95th percentiles and whether the
-    // multiplier rises with the covariate, as for any multiplier (below the
-    // knee with b > 0 the wear rises as the covariate falls): the knee's
-    // side and place are in the parameters and the sentence.
+    // The shape over the covariate's 5th..95th percentiles, as for any
+    // multiplier; whether it rises with the covariate from the parameters
+    // (the hinge is monotone: above the knee with b > 0, or below it with
+    // b < 0), not from the profile, which is flat when the knee lies past
+    // the 95th (or before the 5th) percentile. The knee's side and place
+    // are in the parameters and the sentence.
     std::tie(out->shape, out->up) = in.profile_shape();
+    out->up = (t.params[0] > 0) == (t.scale > 0);
     out->parameters = {
         {"beta", t.params[0]}, {"knee", t.params[1]}, {"scale", t.scale}};
     out->fitted = std::string(t.params[0] > 0 ? "the wear rate rises "

@@ -7,6 +7,7 @@
 // the family: "inconsistent across grade", located, not named).
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -38,6 +39,37 @@ TEST(HingeTest, AColdKneeIsNamedBelowItsKneeWhereTheTrendFormsWereRefused) {
     EXPECT_NEAR(f.parameters.at("knee"), 895.0, 10.0) << seed;
     EXPECT_GT(f.parameters.at("beta"), 0) << seed;
     EXPECT_LT(f.gap_val_after_um, f.gap_val_before_um) << seed;
+  }
+}
+
+// The mechanism is named from whether the multiplier rises with the
+// covariate: for a hinge that is b's sign and the side, not the profile
+// over the 5th..95th percentiles, which is flat when the knee lies past
+// them (it would have named the opposite physics).
+TEST(HingeTest, ItRisesWithTheCovariateByItsSideAndSignEvenWhereFlat) {
+  ModelTerm t;
+  t.form = TermForm::kHinge;
+  t.covariate = "temperature_c";
+  TermWordingInput in;
+  in.profile_shape = [] { return std::make_pair(std::string("flat"), false); };
+  in.readable = [](double v) { return WordFormat("%.0f C", v); };
+  struct Case {
+    double b, scale;
+    bool up;
+  };
+  for (const Case& c : {Case{0.5, 20, true}, Case{0.5, -20, false},
+                        Case{-0.5, 20, false}, Case{-0.5, -20, true}}) {
+    t.params = {c.b, 900};
+    t.scale = c.scale;
+    TermWording w;
+    FamilyOf(TermForm::kHinge).Word(t, in, &w);
+    EXPECT_EQ(w.up, c.up) << c.b << " " << c.scale;
+    EXPECT_EQ(w.parameters.at("knee"), 900);
+  }
+  // Every bound of its box is a bracket (a knee at an edge is no knee).
+  for (int j : {0, 1}) {
+    EXPECT_FALSE(FamilyOf(TermForm::kHinge).BoundIsALimit(j, false));
+    EXPECT_FALSE(FamilyOf(TermForm::kHinge).BoundIsALimit(j, true));
   }
 }
 

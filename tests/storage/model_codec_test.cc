@@ -167,16 +167,18 @@ TEST(ModelCodecTest, RollEffectTermsKeepTheirRollsAndSpread) {
   EXPECT_NEAR(r1->value, std::exp(0.1), 1e-12);
   EXPECT_NEAR(r1->hi, std::exp(0.1 + 1.959964 * 0.04), 1e-9);
   EXPECT_EQ(r1->readings, 7);
-  const std::optional<RollWearFactor> fresh = RollWearFactorOf(back->terms, "R9");
+  const std::optional<RollWearFactor> fresh =
+      RollWearFactorOf(back->terms, "R9");
   ASSERT_TRUE(fresh.has_value());
   EXPECT_EQ(fresh->value, 1.0);
   EXPECT_EQ(fresh->readings, 0);
   EXPECT_NEAR(fresh->lo, std::exp(-1.959964 * 0.18), 1e-9);
   EXPECT_FALSE(RollWearFactorOf({}, "R1").has_value());
-  for (const char* bad :
-       {R"({"terms":[{"covariate":"roll_id","form":"roll_effect","params":[0.1,0.2],"num_levels":2,"levels":["a","b"],"level_sd":[0.1]}]})",
-        R"({"terms":[{"covariate":"roll_id","form":"roll_effect","params":[0.1,0.2],"num_levels":2,"levels":["a","b"],"level_readings":[1,-2]}]})",
-        R"({"terms":[{"covariate":"x","form":"per_level","params":[0.1],"num_levels":2,"level_sd":[0.1,0.1]}]})"}) {
+  for (
+      const char* bad :
+      {R"({"terms":[{"covariate":"roll_id","form":"roll_effect","params":[0.1,0.2],"num_levels":2,"levels":["a","b"],"level_sd":[0.1]}]})",
+       R"({"terms":[{"covariate":"roll_id","form":"roll_effect","params":[0.1,0.2],"num_levels":2,"levels":["a","b"],"level_readings":[1,-2]}]})",
+       R"({"terms":[{"covariate":"x","form":"per_level","params":[0.1],"num_levels":2,"level_sd":[0.1,0.1]}]})"}) {
     StatusOr<std::vector<ModelTerm>> out = DecodeModelTerms(bad);
     ASSERT_FALSE(out.ok()) << bad;
     EXPECT_NE(out.status().message().find("terms[0].level_"), std::string::npos)
@@ -290,14 +292,16 @@ TEST(ModelCodecTest, ScopedTermsRoundTrip) {
   StatusOr<std::vector<ModelTerm>> bad = DecodeModelTerms(
       R"({"terms":[{"covariate":"x","form":"flag","params":[0.1],"scope":{"stand":"F9"}}]})");
   ASSERT_FALSE(bad.ok());
-  EXPECT_NE(bad.status().message().find("terms[0].scope.stand"), std::string::npos)
+  EXPECT_NE(bad.status().message().find("terms[0].scope.stand"),
+            std::string::npos)
       << bad.status().message();
   // A reference level outside the levels (it would shift every offset onto
   // another level, or read past the parameters), or on another form.
-  for (const char* doc :
-       {R"({"terms":[{"covariate":"g","form":"offset_per_level","params":[1,2],"num_levels":3,"reference_level":3}]})",
-        R"({"terms":[{"covariate":"g","form":"offset_per_level","params":[1,2],"num_levels":3,"reference_level":-1}]})",
-        R"({"terms":[{"covariate":"x","form":"flag","params":[0.1],"reference_level":1}]})"}) {
+  for (
+      const char* doc :
+      {R"({"terms":[{"covariate":"g","form":"offset_per_level","params":[1,2],"num_levels":3,"reference_level":3}]})",
+       R"({"terms":[{"covariate":"g","form":"offset_per_level","params":[1,2],"num_levels":3,"reference_level":-1}]})",
+       R"({"terms":[{"covariate":"x","form":"flag","params":[0.1],"reference_level":1}]})"}) {
     StatusOr<std::vector<ModelTerm>> refused = DecodeModelTerms(doc);
     ASSERT_FALSE(refused.ok()) << doc;
     EXPECT_NE(refused.status().message().find("terms[0].reference_level"),
@@ -310,7 +314,8 @@ TEST(ModelCodecTest, ScopedTermsRoundTrip) {
       R"({"terms":[{"covariate":"g","form":"offset_per_level","params":[1],"num_levels":2,)"
       R"("levels":["A","B"],"scope":{"grade":"HSLA"}}]})");
   ASSERT_FALSE(graded.ok());
-  EXPECT_NE(graded.status().message().find("terms[0].scope.grade"), std::string::npos)
+  EXPECT_NE(graded.status().message().find("terms[0].scope.grade"),
+            std::string::npos)
       << graded.status().message();
 }
 
@@ -414,6 +419,24 @@ TEST(ModelCodecTest, ModelTermsAreReadFromADiagnosisOrAModelAndChecked) {
   ASSERT_EQ(t->size(), 1u);
   EXPECT_EQ((*t)[0].form, TermForm::kSaturating);
   EXPECT_EQ((*t)[0].params, (std::vector<double>{0.4, 11.5}));
+  // A knee below 895 (a hinge's negative scale: its side) is read as it is
+  // (`calibrate --terms` on a cold-knee finding); a log-linear term's
+  // scale must be positive, a hinge's must not be 0.
+  StatusOr<std::vector<ModelTerm>> knee = DecodeModelTerms(
+      R"({"terms":[{"covariate":"temperature_c","form":"hinge",)"
+      R"("params":[0.8,895],"center":0,"scale":-18.5}]})");
+  ASSERT_TRUE(knee.ok()) << knee.status().ToString();
+  EXPECT_EQ(knee->front().scale, -18.5);
+  for (
+      const char* bad_scale :
+      {R"({"terms":[{"covariate":"x","form":"log_linear","params":[0.1],"center":0,"scale":-1}]})",
+       R"({"terms":[{"covariate":"x","form":"hinge","params":[0.1,2],"center":0,"scale":0}]})"}) {
+    StatusOr<std::vector<ModelTerm>> refused = DecodeModelTerms(bad_scale);
+    ASSERT_FALSE(refused.ok()) << bad_scale;
+    EXPECT_NE(refused.status().message().find("terms[0].scale"),
+              std::string::npos)
+        << refused.status().message();
+  }
   // A model's own "terms" round-trip through EncodeTerms.
   StatusOr<std::vector<ModelTerm>> again =
       DecodeModelTerms(R"({"terms":)" + EncodeTerms(*t) + "}");
@@ -432,14 +455,16 @@ TEST(ModelCodecTest, ModelTermsAreReadFromADiagnosisOrAModelAndChecked) {
        "terms[0].center"},
       {R"({"terms":[{"covariate":"x","form":"binned","params":[0.1,0.2],"edges":[5,3]}]})",
        "terms[0].edges"},
-      {R"({"terms":[{"covariate":"x","form":"decaying","params":[0.1]}]})", "terms[0].params"},
+      {R"({"terms":[{"covariate":"x","form":"decaying","params":[0.1]}]})",
+       "terms[0].params"},
       {R"({"model":"wang"})", "no \"terms\""},
   };
   for (const Bad& b : bad) {
     StatusOr<std::vector<ModelTerm>> r = DecodeModelTerms(b.json);
     ASSERT_FALSE(r.ok()) << b.json;
     EXPECT_EQ(r.status().code(), StatusCode::kInvalidArgument);
-    EXPECT_NE(r.status().message().find(b.field), std::string::npos) << r.status().message();
+    EXPECT_NE(r.status().message().find(b.field), std::string::npos)
+        << r.status().message();
   }
 }
 
