@@ -73,6 +73,7 @@ OrderedJson CaseJson(const CaseScore& c) {
           {"findings", c.findings},
           {"verdict", c.verdict},
           {"gap_val_um", c.gap_val_um},
+          {"baseline_gap_val_um", c.baseline_gap_val_um},
           {"noise_floor_um", c.noise_floor_um},
           {"gap_ratio", c.gap_ratio},
           {"seconds", c.seconds}};

@@ -297,13 +297,15 @@ struct ProxyGuardContext {
                     const DiagnosisOptions& options_in,
                     const std::vector<double>& sd_in,
                     const std::vector<Breakdown>& located_before_in,
-                    const Fitted& with_term_in)
+                    const Fitted& with_term_in,
+                    const std::vector<std::string>& refused_in)
       : data(data_in),
         st(st_in),
         options(options_in),
         sd(sd_in),
         located_before(located_before_in),
-        with_term(with_term_in) {}
+        with_term(with_term_in),
+        refused(refused_in) {}
 
   const Dataset& data;
   const DiagnosisState& st;
@@ -311,6 +313,8 @@ struct ProxyGuardContext {
   const std::vector<double>& sd;
   const std::vector<Breakdown>& located_before;
   const Fitted& with_term;
+  // The covariates of the round's candidates the guards refused before.
+  const std::vector<std::string>& refused;
   // With the term (p1), without it (p0), the adopted model (pc).
   std::vector<double> p1, p0, pc;
   // Residual without the term, the term's contribution, weight 1/sd^2,
@@ -328,8 +332,10 @@ struct ProxyGuardContext {
 ProxyGuardContext MakeProxyGuardContext(
     const Dataset& data, const DiagnosisState& st,
     const DiagnosisOptions& options, const std::vector<double>& sd,
-    const std::vector<Breakdown>& located_before, const Fitted& with_term) {
-  ProxyGuardContext c(data, st, options, sd, located_before, with_term);
+    const std::vector<Breakdown>& located_before, const Fitted& with_term,
+    const std::vector<std::string>& refused) {
+  ProxyGuardContext c(data, st, options, sd, located_before, with_term,
+                      refused);
   const TermData& td = st.td;
   std::vector<TermSpec> without = with_term.terms;
   without.pop_back();
@@ -415,6 +421,50 @@ GuardResult GroupConsistency(const ProxyGuardContext& c) {
   return GuardResult{};
 }
 
+// The interaction with a refused candidate: the term's scale differs
+// across the levels (or quartiles) of a covariate whose own term the guards
+// refused earlier in the round. The two then carry one structure that
+// neither describes, an interaction, and the term that passed is its
+// weaker reading (an interaction of temperature and speed without main
+// effects: temperature refused as inconsistent across grade, then speed
+// named at F6, its scale differing across the temperature quartiles,
+// DiagnosisProxyTest.AnInteractionWithARefusedCovariateIsNotNamed). The
+// refused covariates are hypotheses chosen before this look, so the split
+// Wald tests (SplitByPassFactors) along them are corrected for their number
+// only, not for every dimension the consistency tests look at (Bonferroni
+// over a pre-specified family), at the level of the rival tests
+// (thresholds.rival_alpha): like them it decides whether the data say the
+// named covariate alone carries the mismatch, and a refusal here costs a
+// "located" where a wrong pass costs a wrong name.
+GuardResult InteractsWithRefused(const ProxyGuardContext& c) {
+  std::vector<const SplitHeterogeneity*> along;
+  for (const SplitHeterogeneity& s : c.split) {
+    if (std::find(c.refused.begin(), c.refused.end(), s.factor) !=
+        c.refused.end()) {
+      along.push_back(&s);
+    }
+  }
+  const double m = static_cast<double>(along.size());
+  const SplitHeterogeneity* strongest = nullptr;
+  for (const SplitHeterogeneity* s : along) {
+    if (s->p * m < c.options.thresholds.rival_alpha &&
+        s->max_dev >= c.options.thresholds.material_scale &&
+        (strongest == nullptr || s->p < strongest->p)) {
+      strongest = s;
+    }
+  }
+  if (strongest == nullptr) return GuardResult{};
+  Heterogeneity h;
+  h.group = strongest->level;
+  h.group_mean_um = strongest->level_size_um;
+  const std::string& cov = c.with_term.terms.back().term.covariate;
+  return Refused("its effect differs across " + strongest->factor +
+                     ", whose own term was refused: an interaction of " + cov +
+                     " and " + strongest->factor + " that no family describes",
+                 strongest->factor, h, "wald_by_level", strongest->wald,
+                 strongest->p, m);
+}
+
 GuardResult AlongTimeIfCalendar(const ProxyGuardContext& c) {
   const ModelTerm& term = c.with_term.terms.back().term;
   if (!IsCalendarTerm(c.st.td, term)) return GuardResult{};
@@ -459,6 +509,7 @@ constexpr ProxyGuard kProxyGuards[] = {
        return LookAgain(c.data, c.st, c.options, c.located_before, c.clip,
                         c.p1);
      }},
+    {"interacts_with_refused", InteractsWithRefused},
 };
 
 }  // namespace
@@ -467,9 +518,10 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
                               const DiagnosisOptions& options,
                               const std::vector<double>& sd,
                               const std::vector<Breakdown>& located_before,
-                              const Fitted& with_term) {
-  const ProxyGuardContext c =
-      MakeProxyGuardContext(data, st, options, sd, located_before, with_term);
+                              const Fitted& with_term,
+                              const std::vector<std::string>& refused) {
+  const ProxyGuardContext c = MakeProxyGuardContext(
+      data, st, options, sd, located_before, with_term, refused);
   for (const ProxyGuard& guard : kProxyGuards) {
     GuardResult r = guard.check(c);
     if (!r.pass) {

@@ -198,17 +198,19 @@ struct GuardResult {
 
 // The proxy guard (diagnosis_guard.cc): the chain kProxyGuards run in
 // order on the last term of `with_term`, the first refusal returned with its
-// guard's name (docs/diagnosis.md lists the nine): is its effect consistent
+// guard's name (docs/diagnosis.md lists the ten): is its effect consistent
 // across pass-level factors, stands, positions, roll types and covariate
 // quartiles (Wald, Cochran's Q), inside its cell, scope and siblings, along
-// time and the grade order, and is the strongest breakdown of
-// `located_before` (Locate of the training residuals before the term,
-// clipped at the round's `sd`) materially reduced by it?
+// time and the grade order, is the strongest breakdown of `located_before`
+// (Locate of the training residuals before the term, clipped at the round's
+// `sd`) materially reduced by it, and is it consistent across the covariates
+// of `refused`, the round's candidates the guards refused before it?
 GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
                               const DiagnosisOptions& options,
                               const std::vector<double>& sd,
                               const std::vector<Breakdown>& located_before,
-                              const Fitted& with_term);
+                              const Fitted& with_term,
+                              const std::vector<std::string>& refused = {});
 
 // The guard's consistency test across the levels of one pass-level factor
 // (grade, lubrication, a text column of coils.csv; diagnosis_split.cc):

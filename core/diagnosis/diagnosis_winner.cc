@@ -155,6 +155,7 @@ struct WinnerGuardContext {
   double num_tests;
   const std::vector<Breakdown>& before;  // Locate on the training data
   const std::vector<int>& refused;       // candidates refused as proxies
+  const std::vector<std::string>& refused_covariates;  // theirs
   int candidate;
 };
 
@@ -188,7 +189,7 @@ constexpr WinnerGuard kWinnerGuards[] = {
     {RefusalKind::kProxyGuard,
      [](const WinnerGuardContext& c) {
        return GuardAgainstProxy(c.data, c.st, c.options, c.sd, c.before,
-                                c.fits[c.candidate]);
+                                c.fits[c.candidate], c.refused_covariates);
      }},
     {RefusalKind::kNotDistinguishable,
      [](const WinnerGuardContext& c) {
@@ -222,12 +223,13 @@ int GuardedWinner(int round, const Dataset& data,
              options.thresholds, &clip);
   std::vector<Unexplained> located;
   std::vector<int> refused;  // the candidates the guard refused
+  std::vector<std::string> refused_covariates;
   for (int i : accepted) {
     // A locate-only covariate is a structure the vocabulary cannot name:
     // refused like an inconsistent effect (what fits worse is its shadow).
-    const WinnerGuardContext context{data,     options, st,      sd,
-                                     accepted, fits,    results, num_tests,
-                                     before,   refused, i};
+    const WinnerGuardContext context{
+        data,    options,   st,     sd,      accepted,           fits,
+        results, num_tests, before, refused, refused_covariates, i};
     GuardResult g;
     RefusalKind kind = RefusalKind::kUnspecified;
     for (const WinnerGuard& guard : kWinnerGuards) {
@@ -244,7 +246,10 @@ int GuardedWinner(int round, const Dataset& data,
     // stands in for (per_coil:0 + run_in: the true wear per coil was
     // refused as its shadow).
     const bool by_bound = kind == RefusalKind::kAtBoxBound;
-    if (!by_cell && !by_rival && !by_bound) refused.push_back(i);
+    if (!by_cell && !by_rival && !by_bound) {
+      refused.push_back(i);
+      refused_covariates.push_back(results[i].covariate);
+    }
     const CandidateResult& c = results[i];
     // A refusal that locates the candidate's own effect leaves its
     // adjusted p to the round (PartNotRequired).

@@ -263,6 +263,7 @@ CaseScore ScoreCase(const std::string& effect, uint64_t seed,
         });
   }
   s.gap_val_um = report.final_gap_val_um;
+  s.baseline_gap_val_um = report.baseline_gap_val_um;
   s.noise_floor_um = NoiseFloor(report, truth);
   s.gap_ratio = s.gap_val_um / s.noise_floor_um;
   return s;

@@ -75,6 +75,7 @@ struct CaseScore {
   int num_findings = 0;
   std::string verdict;
   double gap_val_um = 0;
+  double baseline_gap_val_um = 0;  // the baseline's, same campaigns
   double noise_floor_um = 0;
   double gap_ratio = 0;               // gap_val_um / noise_floor_um
   double seconds = 0;                 // wall time of Diagnose

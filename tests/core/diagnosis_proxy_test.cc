@@ -220,6 +220,30 @@ TEST(DiagnosisProxyTest, AnInteractionIsRefusedAcrossThePassQuartiles) {
   EXPECT_TRUE(ListsDimension(d.report.unexplained, "effect_by_temperature_c"));
 }
 
+// Seed 110 of the same interaction: temperature is refused as inconsistent
+// across grade, then speed passes every split at the guard's Bonferroni over
+// 36 looks (its temperature quartiles at p = 0.0013 unadjusted) and was
+// named at F6 with p = 5.7e-8, while its validation gap got worse. A
+// covariate whose own term the round refused is a hypothesis fixed before
+// the look: along it the split is tested at the rival level, and speed is
+// refused as an interaction with temperature, located there.
+TEST(DiagnosisProxyTest, AnInteractionWithARefusedCovariateIsNotNamed) {
+  const Diagnosed d = DiagnoseSimulated(110, {"inexpressible_interaction"});
+  ASSERT_FALSE(d.sim.truth.effects.at(0).expressible);
+  EXPECT_TRUE(d.report.findings.empty()) << d.report.findings[0].explanation;
+  EXPECT_EQ(d.report.verdict, "mismatch_located_unexplained");
+  const auto refused_as = [&](const std::string& covariate) {
+    return std::any_of(d.report.runners_up.begin(), d.report.runners_up.end(),
+                       [&](const RunnerUp& u) {
+                         return u.covariate == covariate &&
+                                u.guard == "interacts_with_refused";
+                       });
+  };
+  EXPECT_TRUE(refused_as("speed_mps"));
+  EXPECT_TRUE(ListsDimension(d.report.unexplained, "temperature_c") ||
+              ListsDimension(d.report.unexplained, "effect_by_temperature_c"));
+}
+
 // Seed 105's hard grades rolled early in the campaign (session 11: named
 // campaign_coils_before "only in grade DP600", p = 1.8e-13): the same term
 // added at API-X70, another hard grade, is significant too (LR 17.8), so
