@@ -48,7 +48,8 @@ class CorePredictor final : public storage::WearPredictor {
 
   const ModelTerm* UpdatableRollTerm(const WearModel& model) const override {
     const ModelTerm* term = RollEffectTermOf(model.terms);
-    if (term == nullptr || model.is_ann() || !term->scope.grade.empty()) {
+    if (term == nullptr || model.is_ann() || !term->scope.grade.empty() ||
+        !term->scope.gate.empty()) {
       return nullptr;
     }
     return term;

@@ -15,6 +15,7 @@
 #include "core/model/ann_model.h"
 #include "core/model/covariates.h"
 #include "core/model/term_family.h"
+#include "storage/model_codec_scope.h"
 
 namespace rollwear::storage {
 namespace {
@@ -37,9 +38,7 @@ bool NamesUnique(const KStructure& s) {
   return true;
 }
 
-Status Bad(const std::string& field, const std::string& rule) {
-  return Status::InvalidArgument("model json: " + field + ": " + rule);
-}
+constexpr auto Bad = BadModelField;
 
 // A finite or non-finite number as written by Number().
 bool ReadNumber(const Json& j, double* out) {
@@ -104,16 +103,7 @@ Json EncodeTerm(const ModelTerm& t) {
   if (!t.level_readings.empty()) j["level_readings"] = t.level_readings;
   // Scope: absent (or a missing field) = everywhere, so models stored
   // before scopes existed read unchanged.
-  if (!t.scope.IsAll()) {
-    Json scope = Json::object();
-    if (t.scope.stand > 0) scope["stand"] = StandName(t.scope.stand);
-    if (t.scope.position >= 0) {
-      scope["position"] = PositionName(static_cast<Position>(t.scope.position));
-    }
-    if (!t.scope.roll_type.empty()) scope["roll_type"] = t.scope.roll_type;
-    if (!t.scope.grade.empty()) scope["grade"] = t.scope.grade;
-    j["scope"] = scope;
-  }
+  if (!t.scope.IsAll()) j["scope"] = EncodeScope(t.scope);
   return j;
 }
 
@@ -154,38 +144,6 @@ Status DecodeRollSpread(const Json& j, const std::string& at, ModelTerm* t) {
   for (double sd : t->level_sd) {
     if (!(std::isfinite(sd) && sd >= 0))
       return Bad(at + "level_sd", "must be finite and >= 0");
-  }
-  return Status::Ok();
-}
-
-// A term's optional "scope": {"stand": "F7", "position": "top",
-// "roll_type": "...", "grade": "..."}, every field optional.
-Status DecodeScope(const Json& j, const std::string& at, TermScope* scope) {
-  auto it = j.find("scope");
-  if (it == j.end() || it->is_null()) return Status::Ok();
-  if (!it->is_object()) return Bad(at + "scope", "must be an object");
-  auto text = [&](const char* key, std::string* out) -> Status {
-    auto f = it->find(key);
-    if (f == it->end()) return Status::Ok();
-    if (!f->is_string()) return Bad(at + "scope." + key, "must be a string");
-    *out = f->get<std::string>();
-    return Status::Ok();
-  };
-  std::string stand, position;
-  ROLLWEAR_RETURN_IF_ERROR(text("stand", &stand));
-  ROLLWEAR_RETURN_IF_ERROR(text("position", &position));
-  ROLLWEAR_RETURN_IF_ERROR(text("roll_type", &scope->roll_type));
-  ROLLWEAR_RETURN_IF_ERROR(text("grade", &scope->grade));
-  if (!stand.empty()) {
-    scope->stand = ParseStand(stand);
-    if (scope->stand == 0) return Bad(at + "scope.stand", "must be F1..F7");
-  }
-  if (!position.empty()) {
-    Position p;
-    if (!ParsePosition(position, &p)) {
-      return Bad(at + "scope.position", "must be top or bottom");
-    }
-    scope->position = static_cast<int>(p);
   }
   return Status::Ok();
 }
@@ -242,6 +200,10 @@ Status DecodeTerms(const Json& doc, std::vector<ModelTerm>* out) {
       // A reading is of a roll, not of a grade (model_eval.h).
       return Bad(at + "scope.grade",
                  "a measurement term cannot be scoped by grade");
+    }
+    if (t.IsMeasurementTerm() && !t.scope.gate.empty()) {
+      // A gate selects passes; a reading is of a roll.
+      return Bad(at + "scope.gate", "a measurement term cannot be gated");
     }
     out->push_back(std::move(t));
   }

@@ -22,7 +22,9 @@
 //     added per coil, offsets of what the grinder reads, and steps on one
 //     day of a calendar covariate; the log-linear, flag and per-coil forms
 //     also at each single scope (a stand, a position top or bottom, a roll
-//     position, a roll type, a grade), and a cell of two factors
+//     position, a roll type, a grade), the flag also behind a gate (the
+//     passes above or below a 5 % quantile of another numeric pass
+//     covariate; diagnosis_gates.cc), and a cell of two factors
 //     (diagnosis_scoped.cc).
 //  4. Test: a score test screens every candidate at the current model; the
 //     strongest are refitted jointly with the baseline (term_fit.h),
@@ -35,9 +37,11 @@
 //     (diagnosis_winner.cc) is named: over a quantity the format names, a
 //     fit inside its box, no better described by a cell, the proxy chain
 //     (kProxyGuards, diagnosis_guard.cc: consistent across pass-level
-//     factors, stands, positions, roll types and quartiles, inside its
-//     cell, scope and siblings, along time and the grade order, and the
-//     located structure reduced), distinct from rivals of another
+//     factors, stands, positions, roll types and quartiles, a gate
+//     required, inside its cell, scope and siblings, along time and the
+//     grade order, the located structure reduced, consistent across the
+//     covariates of candidates refused before it, constant inside its
+//     gate), distinct from rivals of another
 //     mechanism, and not a worse fit than a candidate refused as not
 //     nameable, by the proxy chain or as such a shadow. Each refusal is a
 //     runner-up with its RefusalKind and sentence; what a refusal located

@@ -364,7 +364,10 @@ ProxyGuardContext MakeProxyGuardContext(
   GuardDimensions(td, st.train, with_term.terms.back().term.covariate, stand,
                   position, roll_type, &c.names, &c.labels);
   c.split = SplitByPassFactors(st, with_term, c.e, c.w, c.phi);
-  c.dims = static_cast<double>(c.names.size() + c.split.size());
+  c.dims = static_cast<double>(c.names.size()) +
+           static_cast<double>(std::count_if(
+               c.split.begin(), c.split.end(),
+               [](const SplitHeterogeneity& s) { return !s.inside_gate; }));
   return c;
 }
 
@@ -380,7 +383,8 @@ GuardResult StrongestSplit(const ProxyGuardContext& c, bool deferred) {
   };
   const SplitHeterogeneity* strongest = nullptr;
   for (const SplitHeterogeneity& s : c.split) {
-    if (s.deferred == deferred && s.p * c.dims < c.options.alpha &&
+    if (s.deferred == deferred && !s.inside_gate &&
+        s.p * c.dims < c.options.alpha &&
         s.max_dev >= c.options.thresholds.material_scale &&
         (strongest == nullptr || standardised(s) > standardised(*strongest))) {
       strongest = &s;
@@ -439,8 +443,8 @@ GuardResult GroupConsistency(const ProxyGuardContext& c) {
 GuardResult InteractsWithRefused(const ProxyGuardContext& c) {
   std::vector<const SplitHeterogeneity*> along;
   for (const SplitHeterogeneity& s : c.split) {
-    if (std::find(c.refused.begin(), c.refused.end(), s.factor) !=
-        c.refused.end()) {
+    if (!s.inside_gate && std::find(c.refused.begin(), c.refused.end(),
+                                    s.factor) != c.refused.end()) {
       along.push_back(&s);
     }
   }
@@ -465,6 +469,31 @@ GuardResult InteractsWithRefused(const ProxyGuardContext& c) {
                  strongest->p, m);
 }
 
+// A gated term's effect is one multiplier on every pass beyond its
+// threshold: its scale must not differ between the near and the far half of
+// the passes inside the gate (SplitByPassFactors' inside_gate split, by the
+// gate covariate). One hypothesis the gate's own form implies, so tested at
+// thresholds.rival_alpha without the consistency guards' Bonferroni: a
+// slope along the gate covariate on the flag's passes (speed acting on
+// lubricated passes only) otherwise reads as the flag behind a gate.
+GuardResult ConstantInsideGate(const ProxyGuardContext& c) {
+  for (const SplitHeterogeneity& s : c.split) {
+    if (!s.inside_gate || !(s.p < c.options.thresholds.rival_alpha) ||
+        s.max_dev < c.options.thresholds.material_scale) {
+      continue;
+    }
+    Heterogeneity h;
+    h.group = s.level;
+    h.group_mean_um = s.level_size_um;
+    return Refused(
+        "its effect is not constant inside its gate: it differs "
+        "across " +
+            s.factor + " there",
+        s.factor, h, "wald_by_level", s.wald, s.p, 1);
+  }
+  return GuardResult{};
+}
+
 GuardResult AlongTimeIfCalendar(const ProxyGuardContext& c) {
   const ModelTerm& term = c.with_term.terms.back().term;
   if (!IsCalendarTerm(c.st.td, term)) return GuardResult{};
@@ -487,6 +516,10 @@ constexpr ProxyGuard kProxyGuards[] = {
     {"group_consistency", GroupConsistency},
     {"split_by_quartile",
      [](const ProxyGuardContext& c) { return StrongestSplit(c, true); }},
+    {"gate_required",
+     [](const ProxyGuardContext& c) {
+       return GateRequired(c.st, c.options, c.sd, c.with_term);
+     }},
     {"inside_cell",
      [](const ProxyGuardContext& c) {
        return LookInsideCell(c.st, c.options, c.sd, c.with_term);
@@ -510,6 +543,7 @@ constexpr ProxyGuard kProxyGuards[] = {
                         c.p1);
      }},
     {"interacts_with_refused", InteractsWithRefused},
+    {"constant_inside_gate", ConstantInsideGate},
 };
 
 }  // namespace

@@ -147,8 +147,33 @@ std::vector<TermScope> SingleScopes(const TermData& td,
                                     const DiagnosisThresholds& thresholds,
                                     bool keep_everywhere = false);
 
-// Whether observation `ob` is inside `s` (a grade scope holds an observation
-// when any of its passes rolled the grade).
+// The gates a gated family's candidate over covariate index `covariate` is
+// offered behind (term_family.h, offered_gated): above and below each
+// distinct load-weighted inner 1/thresholds.gate_grid quantile of every
+// other numeric pass-level covariate of the training passes that neither
+// grows within a campaign (that is the growth families' physics) nor is
+// locate-only.
+std::vector<TermScope> GateScopes(const TermData& td,
+                                  const std::vector<int>& train,
+                                  const DiagnosisThresholds& thresholds,
+                                  int covariate);
+
+// Whether candidate i is behind a gate while a gated copy of the same term
+// (covariate, form and place) is among `chosen` (diagnosis_gates.cc): the
+// round refits one gate per term.
+bool GateOfATermIn(const std::vector<Candidate>& candidates, int i,
+                   const std::vector<int>& chosen);
+// Appends to `chosen` the ungated twin of each gated candidate in it (the
+// same term on every pass), when offered and not chosen yet: the gate must
+// be required (GateRequired), and the round must have the twin to name
+// when it is not (the plain lubrication flag was not refitted behind six of
+// its gated copies).
+void AddUngatedTwins(const std::vector<Candidate>& candidates,
+                     std::vector<int>* chosen);
+
+// Whether observation `ob` is inside `s` (a grade scope, or a gate, holds an
+// observation when any of its passes rolled the grade, or is inside the
+// gate).
 bool InScope(const TermData& td, const TermObservation& ob, const TermScope& s);
 
 // A mechanism several recorded quantities carry (diagnosis_carriers.cc):

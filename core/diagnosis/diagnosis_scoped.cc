@@ -46,12 +46,20 @@ bool InScope(const TermData& td, const TermObservation& ob,
                     rt)) {
     return false;
   }
-  if (s.grade.empty()) return true;
-  const int grade =
-      static_cast<int>(std::find(td.grades.begin(), td.grades.end(), s.grade) -
-                       td.grades.begin());
+  if (s.grade.empty() && s.gate.empty()) return true;
+  const int grade = s.grade.empty()
+                        ? -1
+                        : static_cast<int>(std::find(td.grades.begin(),
+                                                     td.grades.end(), s.grade) -
+                                           td.grades.begin());
+  const int gate = s.gate.empty() ? -1 : td.CovariateIndex(s.gate);
+  if (!s.gate.empty() && gate < 0) return false;
+  // Inside when one of its passes is of the grade and inside the gate.
   for (int i = ob.pass_begin; i < ob.pass_end; ++i) {
-    if (td.grade[i] == grade) return true;
+    if ((grade < 0 || td.grade[i] == grade) &&
+        (gate < 0 || s.CoversGateValue(td.z[gate][i]))) {
+      return true;
+    }
   }
   return false;
 }
@@ -300,6 +308,13 @@ void AddScopedCandidates(const TermData& td, const std::vector<int>& train,
     if (!FamilyOf(s.term.form).offered_scoped()) continue;
     if (td.catalog[s.covariate].locate_only) continue;  // a rival, never named
     for (const TermScope& scope : scopes) {
+      Candidate c{s, {}};
+      c.spec.term.scope = scope;
+      out->push_back(std::move(c));
+    }
+    if (!FamilyOf(s.term.form).offered_gated()) continue;
+    for (const TermScope& scope :
+         GateScopes(td, train, thresholds, s.covariate)) {
       Candidate c{s, {}};
       c.spec.term.scope = scope;
       out->push_back(std::move(c));

@@ -40,6 +40,13 @@ namespace {
 // position together, is one factor: the K structure's place), or "" for a
 // scope of two factors.
 std::string FactorName(const TermScope& s) {
+  // A gate alone: its covariate, whose other side is its one sibling.
+  if (!s.gate.empty()) {
+    return s.stand == 0 && s.position < 0 && s.roll_type.empty() &&
+                   s.grade.empty()
+               ? s.gate
+               : "";
+  }
   const bool stand = s.stand > 0, position = s.position >= 0;
   const int what = (s.roll_type.empty() ? 0 : 1) + (s.grade.empty() ? 0 : 1);
   if (stand && position) return what == 0 ? "roll_position" : "";
@@ -52,6 +59,7 @@ std::string FactorName(const TermScope& s) {
 // The level of a single-factor scope as a breakdown labels it: "F6",
 // "top", "F7/top", "ICDP-S2", "DP600".
 std::string LevelName(const TermScope& s) {
+  if (!s.gate.empty()) return (s.gate_above ? ">= " : "< ") + s.GateAtText();
   const std::string pos = s.position < 0 ? ""
                           : s.position == static_cast<int>(Position::kTop)
                               ? "top"
@@ -63,14 +71,21 @@ std::string LevelName(const TermScope& s) {
 }
 
 // The other levels, with enough data, of the factor that the last term of
-// `with_term` is scoped to; none for cells, measurement terms and scopes of
-// two factors.
+// `with_term` is scoped to (a gate's other side); none for cells,
+// measurement terms and scopes of two factors.
 std::vector<TermScope> Siblings(const DiagnosisState& st,
                                 const TermSpec& spec) {
   std::vector<TermScope> siblings;
   const std::string factor = FactorName(spec.term.scope);
   if (spec.term.form == TermForm::kCell || spec.term.IsMeasurementTerm() ||
       factor.empty()) {
+    return siblings;
+  }
+  if (!spec.term.scope.gate.empty()) {
+    // The other side of the gate: "elsewhere the wear law holds" is its.
+    TermScope other = spec.term.scope;
+    other.gate_above = !other.gate_above;
+    siblings.push_back(other);
     return siblings;
   }
   for (const TermScope& s :

@@ -31,6 +31,7 @@
 
 #include "core/base/distributions.h"
 #include "core/diagnosis/diagnosis_stages_internal.h"
+#include "core/model/term_family.h"
 
 namespace rollwear::diag {
 namespace {
@@ -41,6 +42,7 @@ struct PassFactor {
   std::vector<int> level;  // per pass (TermData::load indexing)
   std::vector<std::string> labels;
   bool deferred = false;  // SplitHeterogeneity::deferred
+  bool inside_gate = false;  // SplitHeterogeneity::inside_gate
 };
 
 // The quartiles of numeric pass-level covariate k over the training
@@ -67,6 +69,37 @@ bool QuartileFactor(const TermData& td, const std::vector<int>& train, int k,
   for (size_t i = 0; i < f->level.size(); ++i) {
     const double z = td.z[k][i];
     f->level[i] = std::isnan(z) ? -1 : QuartileOf(z, edges);
+  }
+  return true;
+}
+
+// A gated term's passes inside its gate, split in two at the load-weighted
+// median of the gate covariate over them (the passes outside pooled): a
+// gate claims one effect on every pass beyond its threshold, so the term's
+// scale must not differ between the near and the far half (a slope along
+// the gate covariate on the lubricated passes otherwise reads as a gated
+// flag). SplitHeterogeneity::inside_gate marks it for the guard
+// (diagnosis_guard.cc, ConstantInsideGate).
+bool InsideGateHalves(const TermData& td, const std::vector<int>& train,
+                      const TermScope& scope, PassFactor* f) {
+  const int k = scope.gate.empty() ? -1 : td.CovariateIndex(scope.gate);
+  if (k < 0) return false;
+  WeightedValues inside;
+  for (const auto& [z, wt] : Collect(td, train, k).v) {
+    if (!scope.CoversGateValue(z)) continue;
+    inside.v.emplace_back(z, wt);
+    inside.total += wt;
+  }
+  const double median = Quantile(inside, 0.5);
+  if (!std::isfinite(median)) return false;
+  f->name = scope.gate;
+  f->inside_gate = true;
+  f->labels = {"inside the gate, < " + WordFormat("%.4g", median),
+               "inside the gate, >= " + WordFormat("%.4g", median)};
+  f->level.resize(td.z[k].size());
+  for (size_t i = 0; i < f->level.size(); ++i) {
+    const double z = td.z[k][i];
+    f->level[i] = !scope.CoversGateValue(z) ? -1 : (z < median ? 0 : 1);
   }
   return true;
 }
@@ -109,6 +142,9 @@ std::vector<PassFactor> PassFactors(const TermData& td,
       f.level[i] = LevelIndex(td.z[k][i]);
     out.push_back(std::move(f));
   }
+  PassFactor inside;
+  if (InsideGateHalves(td, train, term.scope, &inside))
+    out.push_back(std::move(inside));
   return out;
 }
 
@@ -297,6 +333,7 @@ std::vector<SplitHeterogeneity> SplitByPassFactors(const DiagnosisState& st,
     SplitHeterogeneity h;
     h.factor = f.name;
     h.deferred = f.deferred;
+    h.inside_gate = f.inside_gate;
     if (!FitLevelScales(st, f, c, column, tested, e, w, phi, &h)) continue;
     const int largest = static_cast<int>(
         std::find(tested.begin(), tested.end(), h.level) - tested.begin());

@@ -220,8 +220,12 @@ std::vector<Fitted> RefitStrongest(const DiagnosisState& st,
     if (to_fit.size() >= static_cast<size_t>(st.thresholds.max_refits) ||
         score_p[i] * screen.num_tests > st.thresholds.max_refit_score_p)
       break;
+    // One gate per term: the gates of one term are one description at
+    // different thresholds, and would otherwise crowd the top six.
+    if (GateOfATermIn(screen.best_start, i, to_fit)) continue;
     to_fit.push_back(i);
   }
+  AddUngatedTwins(screen.best_start, &to_fit);
   // The strongest cell is always refitted, so the proxy guard can compare a
   // covariate winner with the structural description (NoBetterThanCell,
   // diagnosis_winner.cc) even when covariate variants crowd the top six.

@@ -196,6 +196,15 @@ struct GuardResult {
   std::string guard;
 };
 
+// The proxy guard's look at a gated last term of `with_term`
+// (diagnosis_gates.cc): refused when the gate is not required, i.e. the
+// gated term adds nothing significant to its ungated twin; passes any
+// other term.
+GuardResult GateRequired(const DiagnosisState& st,
+                         const DiagnosisOptions& options,
+                         const std::vector<double>& sd,
+                         const Fitted& with_term);
+
 // The proxy guard (diagnosis_guard.cc): the chain kProxyGuards run in
 // order on the last term of `with_term`, the first refusal returned with its
 // guard's name (docs/diagnosis.md lists the ten): is its effect consistent
@@ -229,6 +238,10 @@ struct SplitHeterogeneity {
   // stands, positions and roll types, which it may stand in for (contact
   // length differs between stands).
   bool deferred = false;
+  // The halves of a gated term's passes inside its gate (by the gate
+  // covariate): tested on its own (ConstantInsideGate), not among the
+  // dimensions of the consistency guards.
+  bool inside_gate = false;
 };
 // One entry per pass-level factor the last term of `with_term` is not
 // about and whose levels can be told apart (>= 2 levels with enough of the

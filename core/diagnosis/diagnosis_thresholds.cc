@@ -53,6 +53,7 @@ bool DiagnosisThresholds::IsValid(std::string* error) const {
   share("min_level_share", min_level_share);
   count("min_level_readings", min_level_readings);
   if (bad.empty() && step_grid < 2) bad = "step_grid must be >= 2";
+  if (bad.empty() && gate_grid < 2) bad = "gate_grid must be >= 2";
   count("max_refits", max_refits);
   positive("max_refit_score_p", max_refit_score_p);
   count("max_cross_validated", max_cross_validated);

@@ -151,6 +151,16 @@ struct DiagnosisThresholds {
   // (diagnosis_candidates.cc, diagnosis_stages.cc): one candidate per inner
   // 1/step_grid quantile.
   int step_grid = 20;
+  // The thresholds of the gates a gated family is offered behind
+  // (diagnosis_scoped.cc, GateScopes): the inner 1/gate_grid quantiles of
+  // the gate covariate's load-weighted training passes (the step grid's 5 %
+  // steps). A truth's threshold between two edges leaves part of its
+  // effect on the wrong side, which the gate's siblings and constancy
+  // tests then see (at deciles the simulator's gated lubrication was
+  // located, not named, in 3 of 10 seeds; docs/diagnosis.md, "A term
+  // behind a gate"); the Bonferroni count of the round and of the
+  // gate-required test includes every gate.
+  int gate_grid = 20;
   // Each round refits only the strongest screened candidates
   // (diagnosis_stages.cc): at most max_refits, and only while the
   // Bonferroni-adjusted score p-value stays <= max_refit_score_p.

@@ -246,7 +246,11 @@ int GuardedWinner(int round, const Dataset& data,
     // stands in for (per_coil:0 + run_in: the true wear per coil was
     // refused as its shadow).
     const bool by_bound = kind == RefusalKind::kAtBoxBound;
-    if (!by_cell && !by_rival && !by_bound) {
+    // Nor a gate the term on every pass does without: the ungated twin
+    // describes the same data (lubrication seed 102: the plain flag was
+    // refused as a shadow of its own gated copy).
+    const bool by_twin = g.guard == "gate_required";
+    if (!by_cell && !by_rival && !by_bound && !by_twin) {
       refused.push_back(i);
       refused_covariates.push_back(results[i].covariate);
     }

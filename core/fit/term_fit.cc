@@ -493,7 +493,7 @@ double ScoreScreen::Statistic(const TermSpec& candidate, int* df) const {
       } else {
         const std::vector<double>& z = data.z[candidate.covariate];
         for (int i = obs.pass_begin; i < obs.pass_end; ++i) {
-          if (!scope.CoversGrade(0, data.grade[i])) continue;
+          if (!scope.CoversPass(0, data.grade[i], i)) continue;
           // Wear added per pass: none at the start (the candidate's columns
           // alone are new, da/d(param)), or the full computation.
           if (additive) {

@@ -67,11 +67,14 @@ class TermModel {
   int s_offset() const { return p_ + r_; }
   const std::vector<TermSpec>& terms() const { return terms_; }
   // Whether term t applies to observation `o` (its roll) and, for a wear
-  // term, to a pass of grade g.
+  // term, to pass i of grade g.
   bool CoversRoll(int t, const TermObservation& o) const {
     return scopes_[t].CoversRoll(o);
   }
-  bool CoversGrade(int t, int g) const { return scopes_[t].CoversGrade(g); }
+  // Whether wear term t applies to pass i of grade g (its grade and gate).
+  bool CoversPass(int t, int g, int i) const {
+    return scopes_[t].CoversPass(g, i);
+  }
   // With `out` (indexed by pass, sized to every pass), Predict also writes
   // each pass's wear contribution k_g * load * (product of the wear terms),
   // with the additive terms' wear on the pass when `with_added` (the pass's
@@ -144,7 +147,7 @@ class TermModel {
       double m = 1;
       double roll = 1;  // the factors that scale the added wear too
       for (const size_t t : active_) {
-        if (!scopes_[t].CoversGrade(g)) {
+        if (!scopes_[t].CoversPass(g, i)) {
           mt_[t] = 1.0;  // outside the scope: m = 1, no derivative
           cached_[t] = 0;
           continue;
@@ -171,7 +174,7 @@ class TermModel {
         (*pass_out_)[i] = pass_out_with_added_ ? c + added : c;
       if (grad == nullptr) continue;
       for (const size_t t : active_) {
-        if (!scopes_[t].CoversGrade(g)) continue;
+        if (!scopes_[t].CoversPass(g, i)) continue;
         // d(c)/d(param) = c / m_t * dm_t/d(param), and the added wear's
         // for a factor that scales it.
         const double scaled = scales_added_[t] ? c + added : c;
@@ -213,7 +216,7 @@ class TermModel {
   double AddedWear(int i, int g, double roll, double* grad) {
     double sum = 0;
     for (const size_t t : added_) {
-      if (!scopes_[t].CoversGrade(g)) continue;
+      if (!scopes_[t].CoversPass(g, i)) continue;
       const int np = num_params_[t];
       if (static_cast<int>(scratch_.size()) < np) scratch_.resize(np);
       const double z = zp_[t][i];
@@ -225,16 +228,26 @@ class TermModel {
   }
 
   // A TermScope resolved to the data's level indices (-1: any level, -2: a
-  // label the data does not have, which nothing matches).
+  // label the data does not have, which nothing matches) and its gate to the
+  // gate covariate's values by pass (a gate over a covariate the data does
+  // not have matches nothing).
   struct ResolvedScope {
     int stand = 0, position = -1, roll_type = -1, grade = -1;
+    const double* gate = nullptr;  // the gate covariate by pass
+    double gate_at = 0;
+    bool gate_above = true, gate_missing = false;
     bool CoversRoll(const TermObservation& o) const {
       return (stand == 0 || stand == SlotStand(o.slot)) &&
              (position < 0 ||
               position == static_cast<int>(SlotPosition(o.slot))) &&
              (roll_type == -1 || roll_type == o.roll_type);
     }
-    bool CoversGrade(int g) const { return grade == -1 || grade == g; }
+    bool CoversPass(int g, int i) const {
+      if (grade != -1 && grade != g) return false;
+      if (gate == nullptr) return !gate_missing;
+      // NaN (no value) is on neither side.
+      return gate_above ? gate[i] >= gate_at : gate[i] < gate_at;
+    }
   };
   ResolvedScope Resolve(const TermScope& s) const {
     auto level = [](const std::vector<std::string>& labels,
@@ -243,8 +256,19 @@ class TermModel {
       const auto it = std::find(labels.begin(), labels.end(), l);
       return it == labels.end() ? -2 : static_cast<int>(it - labels.begin());
     };
-    return {s.stand, s.position, level(data_.roll_types, s.roll_type),
-            level(data_.grades, s.grade)};
+    ResolvedScope r{s.stand, s.position, level(data_.roll_types, s.roll_type),
+                    level(data_.grades, s.grade)};
+    if (!s.gate.empty()) {
+      r.gate_at = s.gate_at;
+      r.gate_above = s.gate_above;
+      const int k = data_.CovariateIndex(s.gate);
+      if (k >= 0) {
+        r.gate = data_.z[k].data();
+      } else {
+        r.gate_missing = true;
+      }
+    }
+    return r;
   }
 
   // The families whose multiplier is m = exp(b u(z)) with u fixed by the

@@ -128,6 +128,17 @@ StatusOr<std::vector<TermSpec>> SpecsOf(const TermData& td,
                                      "' is a measurement term and cannot be scoped by "
                                      "grade (a reading is of a roll, not of a grade)");
     }
+    if (!t.scope.gate.empty()) {
+      const int g = td.CovariateIndex(t.scope.gate);
+      if (t.IsMeasurementTerm() || g < 0 ||
+          td.catalog[g].level != CovariateLevel::kPass ||
+          td.catalog[g].kind != CovariateKind::kNumeric) {
+        return Status::InvalidArgument(
+            "terms: '" + t.covariate + "' is gated by '" + t.scope.gate +
+            "', which must be a numeric pass-level covariate of the data, on "
+            "a wear term");
+      }
+    }
     if (static_cast<int>(t.params.size()) != t.NumParams()) {
       return Status::InvalidArgument(
           "terms: '" + t.covariate + "' (" + TermFormName(t.form) + ") has " +

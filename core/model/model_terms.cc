@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "core/dataset/dataset.h"
 
@@ -17,7 +18,16 @@ std::string TermScope::Label() const {
   if (position >= 0) add(std::string(PositionName(static_cast<Position>(position))) + " rolls");
   if (!roll_type.empty()) add("roll type " + roll_type);
   if (!grade.empty()) add("grade " + grade);
+  if (!gate.empty()) {
+    add("passes with " + gate + (gate_above ? " >= " : " < ") + GateAtText());
+  }
   return out;
+}
+
+std::string TermScope::GateAtText() const {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.4g", gate_at);
+  return buf;
 }
 
 std::vector<std::pair<std::string, std::string>> TermScope::Fields() const {
@@ -26,6 +36,11 @@ std::vector<std::pair<std::string, std::string>> TermScope::Fields() const {
   if (position >= 0) f.emplace_back("position", PositionName(static_cast<Position>(position)));
   if (!roll_type.empty()) f.emplace_back("roll_type", roll_type);
   if (!grade.empty()) f.emplace_back("grade", grade);
+  if (!gate.empty()) {
+    f.emplace_back("gate", gate);
+    f.emplace_back("gate_side", gate_above ? "above" : "below");
+    f.emplace_back("gate_at", GateAtText());
+  }
   return f;
 }
 

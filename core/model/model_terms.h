@@ -66,6 +66,7 @@
 #ifndef ROLLWEAR_CORE_MODEL_MODEL_TERMS_H_
 #define ROLLWEAR_CORE_MODEL_MODEL_TERMS_H_
 
+#include <cmath>
 #include <optional>
 #include <string>
 #include <utility>
@@ -96,14 +97,38 @@ const char* TermFormName(TermForm f);  // "log_linear", "power", ...
 bool ParseTermForm(const std::string& name, TermForm* out);
 
 // Where a term applies; the default (all zero / empty) is everywhere.
+// A gate restricts a term to the passes on one side of a threshold of a
+// second, pass-level numeric covariate (a lubrication flag that acts only
+// above some speed): the term applies where gate >= gate_at (gate_above) or
+// gate < gate_at, and is 1 (or adds nothing) on the other passes.
 struct TermScope {
+  TermScope() = default;
+  // A place and a grade, no gate ({7, -1, "", "HSLA420"}).
+  TermScope(int stand_in, int position_in, std::string roll_type_in,
+            std::string grade_in)
+      : stand(stand_in),
+        position(position_in),
+        roll_type(std::move(roll_type_in)),
+        grade(std::move(grade_in)) {}
+
   int stand = 0;          // 1..7, 0 = every stand
   int position = -1;      // static_cast<int>(Position), -1 = both
   std::string roll_type;  // empty = every roll type
   std::string grade;      // empty = every grade
+  std::string gate;       // empty = no gate; else a pass-level covariate
+  double gate_at = 0;     // the gate's threshold, in the covariate's unit
+  bool gate_above = true;
 
   bool IsAll() const {
-    return stand == 0 && position < 0 && roll_type.empty() && grade.empty();
+    return stand == 0 && position < 0 && roll_type.empty() && grade.empty() &&
+           gate.empty();
+  }
+  // Whether a pass whose gate covariate is `value` is inside the gate (a
+  // pass without a value is outside; with no gate, every pass is inside).
+  bool CoversGateValue(double value) const {
+    if (gate.empty()) return true;
+    if (std::isnan(value)) return false;
+    return gate_above ? value >= gate_at : value < gate_at;
   }
   // Whether a roll at (stand, position) of `roll_type` is inside (the grade
   // is checked per pass with CoversGrade).
@@ -113,11 +138,15 @@ struct TermScope {
            (roll_type.empty() || roll_type == type);
   }
   bool CoversGrade(const std::string& g) const { return grade.empty() || grade == g; }
-  // Readable: "F7", "top rolls", "roll type ICDP", "grade HSLA", joined by
-  // ", "; "" when everywhere.
+  // Readable: "F7", "top rolls", "roll type ICDP", "grade HSLA",
+  // "passes with speed_mps >= 12.1", joined by ", "; "" when everywhere.
   std::string Label() const;
-  // The contract's finding scope: {"stand":"F7","position":"top",...}.
+  // The contract's finding scope: {"stand":"F7","position":"top",...}; a
+  // gate as "gate" (the covariate), "gate_side" ("above" or "below") and
+  // "gate_at" (the threshold, %.4g).
   std::vector<std::pair<std::string, std::string>> Fields() const;
+  // The gate's threshold as Label and Fields write it ("12.1").
+  std::string GateAtText() const;
   bool operator==(const TermScope&) const = default;
 };
 

@@ -135,14 +135,23 @@ PassTermEffect PassTermEffects(const WearModel& model, const PassInput& pass,
       if (FamilyOf(t.form).scales_added_wear()) roll_factor *= m;
       continue;
     }
-    double z = std::numeric_limits<double>::quiet_NaN();
-    bool built_in = false;
-    for (const CovariateSpec& spec : kCatalog) {
-      if (spec.name != t.covariate || spec.level == CovariateLevel::kMeasurement) continue;
-      built_in = true;
-      z = CovariateValue(spec, kNoExtras, ctx, 0);
+    // z of a covariate: the catalog's, or an extra column's by the term's
+    // own reading (a level index for per_level).
+    const auto value_of = [&](const ModelTerm& reading) {
+      for (const CovariateSpec& spec : kCatalog) {
+        if (spec.name == reading.covariate &&
+            spec.level != CovariateLevel::kMeasurement) {
+          return CovariateValue(spec, kNoExtras, ctx, 0);
+        }
+      }
+      return ExtraTermValue(reading, pass, state);
+    };
+    if (!t.scope.gate.empty()) {
+      ModelTerm gate;  // the gate covariate read as a number
+      gate.covariate = t.scope.gate;
+      if (!t.scope.CoversGateValue(value_of(gate))) continue;  // m = 1
     }
-    if (!built_in) z = ExtraTermValue(t, pass, state);
+    const double z = value_of(t);
     if (t.IsAdditiveTerm()) {
       effect.added_um += TermAddend(t, z, nullptr);
     } else {

@@ -154,6 +154,12 @@ class TermFamily {
   // each single scope (a stand, a roll position, a roll type, a grade:
   // core/diagnosis/diagnosis_scoped.cc): log-linear, flag, per-coil.
   virtual bool offered_scoped() const { return false; }
+  // Whether the diagnosis also offers the family's unscoped candidates
+  // behind each gate (TermScope::gate: the passes above or below a
+  // quartile of another numeric pass-level covariate, core/diagnosis/
+  // diagnosis_scoped.cc): the flag, whose effect may act only above some
+  // speed.
+  virtual bool offered_gated() const { return false; }
   // Whether parameter j's lower (or upper) bound in the diagnosis's box is
   // a limit of the family's shape or of physics, where the fitted term is
   // still what the family describes (the saturating form's: linear growth,

@@ -16,6 +16,7 @@ class Flag final : public TermFamily {
     return {"multiplier when on exp(b)", std::exp(x)};
   }
   bool offered_scoped() const override { return true; }
+  bool offered_gated() const override { return true; }
   bool exponential() const override { return true; }  // u = z
   void Propose(const CovariateSummary& c,
                std::vector<TermProposal>* out) const override {

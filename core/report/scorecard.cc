@@ -26,7 +26,7 @@ std::string CovariateClass(const std::string& name) {
 
 std::string Describe(const Finding& f) {
   std::string out = f.covariate;
-  const auto& scope = FindingScope(f);
+  const auto scope = FindingScope(f);
   if (!scope.empty()) {
     out += " {";
     bool first = true;
@@ -148,8 +148,10 @@ bool LocatesMismatch(const DiagnosisReport& report,
                      });
 }
 
-const std::map<std::string, std::string>& FindingScope(const Finding& f) {
-  return f.scope;
+std::map<std::string, std::string> FindingScope(const Finding& f) {
+  std::map<std::string, std::string> scope = f.scope;
+  scope.erase("gate_at");  // the side of a threshold is the physics
+  return scope;
 }
 
 bool SameCovariate(const std::string& truth, const std::string& found) {

@@ -96,8 +96,11 @@ struct EffectScore {
   std::map<std::string, int> verdicts;
 };
 
-// The scope of a finding (the one place that reads Finding::scope).
-const std::map<std::string, std::string>& FindingScope(const Finding& f);
+// The scope of a finding (the one place that reads Finding::scope), without
+// a gate's threshold: a gated effect is named right by its gate covariate
+// and side (the diagnosis places the threshold at a quartile, the truth
+// anywhere).
+std::map<std::string, std::string> FindingScope(const Finding& f);
 // True when a finding's covariate names the same physics as the truth's.
 bool SameCovariate(const std::string& truth, const std::string& found);
 // True when `f` describes `e`: covariate, scope and levels.

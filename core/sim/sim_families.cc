@@ -382,6 +382,37 @@ FamilyEffect Stoppages(int variant, Random* rng, bool null_effect) {
   };
   return f;
 }
+// gated_lubrication: roll-gap lubrication lowers wear by gamma =
+// 0.3..0.45 only on one side of a threshold of another pass quantity: above
+// a speed v0 = 10.5..12.5 m/s (variant 0: the oil film needs speed), or
+// below an entry temperature t0 = 895..910 C (variant 1: on hotter strip it
+// burns off). Described by a flag term behind a gate (TermScope::gate).
+FamilyEffect GatedLubrication(int variant, Random* rng, uint64_t, int) {
+  const double gamma = rng->Uniform(0.3, 0.45);
+  const bool by_speed = variant == 0;
+  const double at =
+      by_speed ? rng->Uniform(10.5, 12.5) : rng->Uniform(895.0, 910.0);
+  FamilyEffect f =
+      Base("gated_lubrication", "lubrication",
+           by_speed ? "flag above speed" : "flag below temperature", gamma);
+  f.truth.scope = {{"gate", by_speed ? "speed_mps" : "temperature_c"},
+                   {"gate_side", by_speed ? "above" : "below"}};
+  f.truth.parameters = {{"gamma", gamma}, {"gate_at", at}};
+  f.truth.description =
+      "roll-gap lubrication lowers the wear rate by " +
+      Fmt("%.0f %%", 100 * gamma) + " only " +
+      (by_speed ? "above " + Fmt("%.1f m/s", at)
+                : "below an entry temperature of " + Fmt("%.0f C", at)) +
+      "; elsewhere it changes nothing";
+  f.apply = [gamma, by_speed, at](const EffectContext& c) {
+    if (!c.pass->lubrication) return 1.0;
+    const bool inside =
+        by_speed ? c.pass->speed_mps >= at : c.pass->temperature_c < at;
+    return inside ? 1 - gamma : 1.0;
+  };
+  return f;
+}
+
 FamilyEffect StoppagesOn(int variant, Random* rng, uint64_t, int) {
   return Stoppages(variant, rng, false);
 }
@@ -435,6 +466,10 @@ const std::vector<FamilySpec>& Families() {
        "every coil adds 0.25..0.5 um of wear per roll whatever its length "
        "(the bite's impact), at both stands or at one",
        2, &PerCoil},
+      {"gated_lubrication",
+       "lubrication lowers wear only above some speed or below some entry "
+       "temperature (a flag behind a threshold of another quantity)",
+       2, &GatedLubrication},
       {"inexpressible_order",
        "a hard grade right after the roll change wears more (campaign "
        "order x grade); not expressible",

@@ -16,6 +16,7 @@
 #include "core/model/predictor.h"
 #include "core/model/roll_factor_update.h"
 #include "tests/core/extra_terms_util.h"
+#include "tests/core/jacobian_check.h"
 #include "tests/core/simulator_test_util.h"
 
 namespace rollwear {
@@ -119,27 +120,9 @@ TEST(PerCoilTest, TheFitsJacobianIsThatOfTheirPrediction) {
   for (const TermSpec& s : specs) {
     for (double p : s.term.params) x[off++] = p;
   }
-  model.SetParams(x.data());
-  int checked = 0;
-  for (int o = 0; o < static_cast<int>(td->obs.size()); o += 7) {
-    std::vector<double> grad(x.size(), 0.0);
-    model.Predict(x.data(), o, grad.data());
-    for (size_t j = 0; j < x.size(); ++j) {
-      const double h = 1e-6 * (1 + std::abs(x[j]));
-      std::vector<double> up = x, down = x;
-      up[j] += h;
-      down[j] -= h;
-      model.SetParams(up.data());
-      const double f_up = model.Predict(up.data(), o, nullptr);
-      model.SetParams(down.data());
-      const double f_down = model.Predict(down.data(), o, nullptr);
-      model.SetParams(x.data());
-      const double numeric = (f_up - f_down) / (2 * h);
-      EXPECT_NEAR(grad[j], numeric, 1e-5 * (1 + std::abs(numeric)))
-          << "observation " << o << " parameter " << j;
-      checked += numeric != 0 ? 1 : 0;
-    }
-  }
+  const int checked = jacobian_check::ExpectJacobianOfPrediction(
+                          &model, x, static_cast<int>(td->obs.size()), 7)
+                          .nonzero;
   EXPECT_GT(checked, 20);
 }
 

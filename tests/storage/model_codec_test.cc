@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <string>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -242,6 +244,59 @@ TEST(ModelCodecTest, AStoredModelKeepsItsTermsFamilyRules) {
   ASSERT_FALSE(back.ok());
   EXPECT_NE(back.status().message().find("terms[1].scale"), std::string::npos)
       << back.status().message();
+  // A gate: its covariate, side and threshold, kept.
+  m.terms.pop_back();
+  ModelTerm gated;
+  gated.covariate = "lubrication";
+  gated.form = TermForm::kFlag;
+  gated.params = {-0.35};
+  gated.scope.stand = 7;
+  gated.scope.gate = "speed_mps";
+  gated.scope.gate_at = 11.625;
+  gated.scope.gate_above = false;
+  m.terms.push_back(gated);
+  back = DecodeWearModel(EncodeWearModel(m));
+  ASSERT_TRUE(back.ok()) << back.status().ToString();
+  EXPECT_EQ(back->terms[1].scope, gated.scope);
+}
+
+// A gate is all three fields or none, with a side and a finite threshold,
+// and never on a reading's term.
+TEST(ModelCodecTest, AGateIsWholeAndOnAWearTerm) {
+  const std::string head =
+      R"({"terms":[{"covariate":"lubrication","form":"flag","params":[-0.3],)"
+      R"("center":0,"scale":1,"scope":)";
+  StatusOr<std::vector<ModelTerm>> ok = DecodeModelTerms(
+      head + R"({"gate":"speed_mps","gate_side":"above","gate_at":11.5}}]})");
+  ASSERT_TRUE(ok.ok()) << ok.status().ToString();
+  EXPECT_EQ(ok->front().scope.gate, "speed_mps");
+  EXPECT_TRUE(ok->front().scope.gate_above);
+  EXPECT_EQ(ok->front().scope.gate_at, 11.5);
+  const std::pair<const char*, const char*> bad[] = {
+      {R"({"gate":"speed_mps","gate_side":"above"})", "scope.gate_at"},
+      {R"({"gate":"speed_mps","gate_side":"over","gate_at":1})",
+       "scope.gate_side"},
+      {R"({"gate_side":"above","gate_at":1})", "scope.gate"},
+      {R"({"gate":"","gate_side":"above","gate_at":1})", "scope.gate"},
+      {R"({"gate":"speed_mps","gate_side":"below","gate_at":"11"})",
+       "scope.gate_at"},
+  };
+  for (const auto& [scope, field] : bad) {
+    StatusOr<std::vector<ModelTerm>> refused =
+        DecodeModelTerms(head + scope + "}]}");
+    ASSERT_FALSE(refused.ok()) << scope;
+    EXPECT_NE(refused.status().message().find(std::string("terms[0].") + field),
+              std::string::npos)
+        << refused.status().message();
+  }
+  StatusOr<std::vector<ModelTerm>> reading = DecodeModelTerms(
+      R"({"terms":[{"covariate":"cooling_h","form":"offset_linear",)"
+      R"("params":[2],"center":0,"scale":1,"scope":)"
+      R"({"gate":"speed_mps","gate_side":"above","gate_at":11.5}}]})");
+  ASSERT_FALSE(reading.ok());
+  EXPECT_NE(reading.status().message().find("terms[0].scope.gate"),
+            std::string::npos)
+      << reading.status().message();
 }
 
 // Scoped, cell and offset-per-level terms keep their scope and reference

@@ -1,0 +1,138 @@
+// The gates of the diagnosis (docs/diagnosis.md, "A term behind a gate"):
+// the gates a gated family's candidates are offered behind, the round's
+// refits of one gate per term with its ungated twin, and the guard that a
+// gate is required. The other two checks of a gate are the proxy chain's
+// siblings (its other side, diagnosis_siblings.cc) and constancy inside it
+// (diagnosis_guard.cc, diagnosis_split.cc).
+// Thread-safety: reentrant (reads its arguments only).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "core/base/distributions.h"
+#include "core/diagnosis/diagnosis_internal.h"
+#include "core/diagnosis/diagnosis_stages_internal.h"
+
+namespace rollwear::diag {
+namespace {
+
+// The same candidate term apart from its gate: covariate, form and place.
+bool SameTermApartFromGate(const TermSpec& x, const TermSpec& y) {
+  const auto place = [](const TermScope& s) {
+    return TermScope(s.stand, s.position, s.roll_type, s.grade);
+  };
+  return x.covariate == y.covariate && x.term.form == y.term.form &&
+         place(x.term.scope) == place(y.term.scope);
+}
+
+bool Gated(const Candidate& c) { return !c.spec.term.scope.gate.empty(); }
+
+}  // namespace
+
+std::vector<TermScope> GateScopes(const TermData& td,
+                                  const std::vector<int>& train,
+                                  const DiagnosisThresholds& thresholds,
+                                  int covariate) {
+  std::vector<TermScope> out;
+  for (int k = 0; k < static_cast<int>(td.catalog.size()); ++k) {
+    const CovariateSpec& c = td.catalog[k];
+    if (k == covariate || c.level != CovariateLevel::kPass ||
+        c.kind != CovariateKind::kNumeric ||
+        c.source == CovariateSource::kCell || c.accumulates || c.locate_only) {
+      continue;
+    }
+    const WeightedValues values = Collect(td, train, k);
+    std::vector<double> edges;
+    for (int j = 1; j < thresholds.gate_grid; ++j) {
+      const double e =
+          Quantile(values, j / static_cast<double>(thresholds.gate_grid));
+      if (std::isfinite(e) &&
+          std::find(edges.begin(), edges.end(), e) == edges.end()) {
+        edges.push_back(e);
+      }
+    }
+    // Each side holds 1/gate_grid of the load-weighted passes or more (a
+    // reading holds passes on both sides, so readings are not counted as a
+    // place's are).
+    for (double e : edges) {
+      for (bool above : {true, false}) {
+        TermScope s;
+        s.gate = c.name;
+        s.gate_at = e;
+        s.gate_above = above;
+        out.push_back(s);
+      }
+    }
+  }
+  return out;
+}
+
+bool GateOfATermIn(const std::vector<Candidate>& candidates, int i,
+                   const std::vector<int>& chosen) {
+  if (!Gated(candidates[i])) return false;
+  return std::any_of(chosen.begin(), chosen.end(), [&](int j) {
+    return Gated(candidates[j]) &&
+           SameTermApartFromGate(candidates[i].spec, candidates[j].spec);
+  });
+}
+
+void AddUngatedTwins(const std::vector<Candidate>& candidates,
+                     std::vector<int>* chosen) {
+  for (size_t k = 0, n = chosen->size(); k < n; ++k) {
+    const int g = (*chosen)[k];
+    if (!Gated(candidates[g])) continue;
+    for (int i = 0; i < static_cast<int>(candidates.size()); ++i) {
+      if (!Gated(candidates[i]) &&
+          SameTermApartFromGate(candidates[i].spec, candidates[g].spec) &&
+          std::find(chosen->begin(), chosen->end(), i) == chosen->end()) {
+        chosen->push_back(i);
+        break;
+      }
+    }
+  }
+}
+
+// A gate must be required: the gated term added to the model that holds
+// the same term on every pass (its ungated twin, fitted from no effect)
+// must add significantly, LR = n ln(RSS_open / RSS_open+gated) ~ chi2(df)
+// (Wilks 1938), at thresholds.rival_alpha with a Bonferroni factor of the
+// gates the candidate was offered behind (GateScopes: the threshold was
+// chosen among them). Otherwise the effect acts on every pass as well and
+// "elsewhere the wear law holds" is not shown: refused, and the ungated
+// term stays on offer (the simulator's plain lubrication flag was named
+// behind a gate on shift_mm).
+GuardResult GateRequired(const DiagnosisState& st,
+                         const DiagnosisOptions& options,
+                         const std::vector<double>& sd,
+                         const Fitted& with_term) {
+  const TermSpec& spec = with_term.terms.back();
+  if (spec.term.scope.gate.empty()) return GuardResult{};
+  Fitted without = with_term;
+  without.terms.pop_back();
+  TermSpec open = spec;
+  open.term.scope.gate.clear();
+  std::fill(open.term.params.begin(), open.term.params.end(), 0.0);
+  const Fitted base = FitWith(st, sd, without, open);
+  if (!base.usable || !(base.rss > 0)) return GuardResult{};
+  const Fitted joint = FitWith(st, sd, base, spec);
+  if (!joint.usable || !(joint.rss > 0)) return GuardResult{};
+  const double n = static_cast<double>(st.train.size());
+  const double lr = NestedLr(n, base.rss, joint.rss);
+  const double p = ChiSquareSurvival(lr, spec.term.NumParams());
+  const double gates = static_cast<double>(std::max<size_t>(
+      1, GateScopes(st.td, st.train, st.thresholds, spec.covariate).size()));
+  if (p * gates < options.thresholds.rival_alpha) return GuardResult{};
+  GuardResult r;
+  r.pass = false;
+  char buf[240];
+  std::snprintf(buf, sizeof(buf),
+                "its gate is not required: the same term on every pass fits "
+                "as well (given it, the gate adds LR %.1f, p adjusted %.2g)",
+                lr, std::min(1.0, p * gates));
+  r.reason = buf;
+  return r;
+}
+
+}  // namespace rollwear::diag
