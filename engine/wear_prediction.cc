@@ -12,7 +12,6 @@
 namespace rollwear::engine {
 namespace {
 
-using storage::ReadingAt;
 using storage::RollFactorReading;
 
 class CorePredictor final : public storage::WearPredictor {
@@ -35,15 +34,8 @@ class CorePredictor final : public storage::WearPredictor {
   }
 
   double ReadingOffset(const WearModel& model,
-                       const ReadingAt& reading) const override {
-    ReadingContext c;
-    c.stand = reading.stand;
-    c.position = reading.position;
-    c.roll_type = reading.roll_type;
-    c.measured_at = reading.measured_at;
-    c.ended_at = reading.ended_at;
-    c.extra = reading.extra;
-    return MeasurementTermsOffset(model, c);
+                       const ReadingContext& reading) const override {
+    return MeasurementTermsOffset(model, reading);
   }
 
   const ModelTerm* UpdatableRollTerm(const WearModel& model) const override {

@@ -80,7 +80,7 @@ double StoredReadingOffset(const WearPredictor& predictor,
   const auto& m = rec.mounts[slot];
   if (!measured.has_value() || !m.has_value() || !rec.ended_at.has_value())
     return 0;
-  ReadingAt reading;
+  ReadingContext reading;
   reading.stand = m->stand;
   reading.position = static_cast<int>(m->position);
   reading.roll_type = m->roll_type;

@@ -29,21 +29,12 @@
 #include "core/dataset/pass_input.h"
 #include "core/model/barrel_profile.h"
 #include "core/model/model_terms.h"
+#include "core/model/reading_context.h"
 #include "core/model/roll_wear_state.h"
 #include "core/model/wear_model.h"
 #include "storage/store_types.h"
 
 namespace rollwear::storage {
-
-// A stored reading of one roll, as a measurement term reads it.
-struct ReadingAt {
-  int stand = 0;
-  int position = 0;  // static_cast<int>(Position)
-  std::string roll_type;
-  UnixSeconds measured_at = 0;
-  std::optional<UnixSeconds> ended_at;  // the campaign's end
-  const ExtraFields* extra = nullptr;   // the measurement's extra fields
-};
 
 // One reading of a roll for its own factor: the wear predicted without the
 // roll's factor, the measurement terms' offset, and what was read.
@@ -70,7 +61,7 @@ class WearPredictor {
                          RollWearState* state) const = 0;
   // What the model's measurement terms add to `reading`, µm.
   virtual double ReadingOffset(const WearModel& model,
-                               const ReadingAt& reading) const = 0;
+                               const ReadingContext& reading) const = 0;
   // The per-roll term readings re-estimate: none (nullptr) without one,
   // for the network, or for one scoped by grade (it acts on some passes
   // only, so the prediction over the factor is not the roll's wear).

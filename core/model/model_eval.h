@@ -18,6 +18,7 @@
 #include "core/dataset/extra_fields.h"
 #include "core/model/metrics.h"
 #include "core/model/predictor.h"
+#include "core/model/reading_context.h"
 #include "core/model/wear_model.h"
 
 namespace rollwear {
@@ -47,19 +48,6 @@ std::vector<MeasuredPrediction> PredictMeasured(
 // Whether `model` has a measurement term (an offset on what the grinder
 // reads, model_terms.h).
 bool HasMeasurementTerms(const WearModel& model);
-
-// A grinder's reading as the measurement terms see it: the roll it
-// measures (for a term's scope) and the reading's own quantities. The batch
-// path (PredictMeasured) and the daemon (storage/mill_store_history.cc)
-// fill it from their records, so both read the same offset.
-struct ReadingContext {
-  int stand = 0;          // 1..7, the measured roll's stand
-  int position = -1;      // static_cast<int>(Position)
-  std::string roll_type;  // the roll's type label
-  UnixSeconds measured_at = 0;
-  std::optional<UnixSeconds> ended_at;  // the campaign's end (cooling_h)
-  const ExtraFields* extra = nullptr;   // measurements.csv's extra fields
-};
 
 // What the grinder reads besides the wear: the sum of `model`'s measurement
 // terms (model_terms.h, offset forms) for `reading`. A term counts only on
