@@ -201,9 +201,12 @@ Status DecodeTerms(const Json& doc, std::vector<ModelTerm>* out) {
       return Bad(at + "scope.grade",
                  "a measurement term cannot be scoped by grade");
     }
-    if (t.IsMeasurementTerm() && !t.scope.gate.empty()) {
-      // A gate selects passes; a reading is of a roll.
-      return Bad(at + "scope.gate", "a measurement term cannot be gated");
+    if ((t.IsMeasurementTerm() || t.form == TermForm::kRollEffect) &&
+        !t.scope.gate.empty()) {
+      // A gate selects passes; a reading is of a roll, and a roll's own
+      // factor acts on all its wear.
+      return Bad(at + "scope.gate",
+                 "a measurement term or a roll's own factor cannot be gated");
     }
     out->push_back(std::move(t));
   }

@@ -94,15 +94,81 @@ void AddUngatedTwins(const std::vector<Candidate>& candidates,
   }
 }
 
+void AddRivalGates(const std::vector<Candidate>& candidates,
+                   const std::vector<double>& score_p, double max_score_p,
+                   std::vector<int>* chosen) {
+  for (size_t k = 0, n = chosen->size(); k < n; ++k) {
+    const int g = (*chosen)[k];
+    if (!Gated(candidates[g])) continue;
+    const std::string& gate = candidates[g].spec.term.scope.gate;
+    // The strongest gate of the same term on each other gate covariate.
+    std::vector<int> best;
+    for (int i = 0; i < static_cast<int>(candidates.size()); ++i) {
+      const TermScope& s = candidates[i].spec.term.scope;
+      if (!Gated(candidates[i]) || s.gate == gate ||
+          !(score_p[i] <= max_score_p) ||
+          !SameTermApartFromGate(candidates[i].spec, candidates[g].spec)) {
+        continue;
+      }
+      auto same = std::find_if(best.begin(), best.end(), [&](int b) {
+        return candidates[b].spec.term.scope.gate == s.gate;
+      });
+      if (same == best.end()) {
+        best.push_back(i);
+      } else if (score_p[i] < score_p[*same]) {
+        *same = i;
+      }
+    }
+    for (int i : best) {
+      if (std::find(chosen->begin(), chosen->end(), i) == chosen->end())
+        chosen->push_back(i);
+    }
+  }
+}
+
+bool GatedCopyIn(const std::vector<Fitted>& fits, int i,
+                 const std::vector<int>& chosen) {
+  if (fits[i].terms.empty()) return false;
+  const TermSpec& x = fits[i].terms.back();
+  if (x.term.scope.gate.empty()) return false;
+  return std::any_of(chosen.begin(), chosen.end(), [&](int j) {
+    if (fits[j].terms.empty()) return false;
+    const TermSpec& y = fits[j].terms.back();
+    return !y.term.scope.gate.empty() && SameTermApartFromGate(x, y);
+  });
+}
+
+void AddFittedTwins(const std::vector<Fitted>& fits,
+                    const std::vector<CandidateResult>& results, double alpha,
+                    std::vector<int>* chosen) {
+  for (size_t k = 0, n = chosen->size(); k < n; ++k) {
+    const int g = (*chosen)[k];
+    if (fits[g].terms.empty() || fits[g].terms.back().term.scope.gate.empty())
+      continue;
+    for (int i = 0; i < static_cast<int>(fits.size()); ++i) {
+      if (!fits[i].usable || fits[i].terms.empty() ||
+          !fits[i].terms.back().term.scope.gate.empty() ||
+          !(results[i].p_adjusted < alpha) ||
+          !SameTermApartFromGate(fits[i].terms.back(), fits[g].terms.back()) ||
+          std::find(chosen->begin(), chosen->end(), i) != chosen->end()) {
+        continue;
+      }
+      chosen->push_back(i);
+      break;
+    }
+  }
+}
+
 // A gate must be required: the gated term added to the model that holds
 // the same term on every pass (its ungated twin, fitted from no effect)
 // must add significantly, LR = n ln(RSS_open / RSS_open+gated) ~ chi2(df)
 // (Wilks 1938), at thresholds.rival_alpha with a Bonferroni factor of the
-// gates the candidate was offered behind (GateScopes: the threshold was
-// chosen among them). Otherwise the effect acts on every pass as well and
-// "elsewhere the wear law holds" is not shown: refused, and the ungated
-// term stays on offer (the simulator's plain lubrication flag was named
-// behind a gate on shift_mm).
+// thresholds the candidate was offered behind (GateScopes: the threshold
+// was chosen among them; given the twin, the two sides of a threshold are
+// one model). A fit that fails refuses: not checked is not passed. Otherwise
+// the effect acts on every pass as well and "elsewhere the wear law holds" is
+// not shown: refused, and the ungated term stays on offer (the simulator's
+// plain lubrication flag was named behind a gate on shift_mm).
 GuardResult GateRequired(const DiagnosisState& st,
                          const DiagnosisOptions& options,
                          const std::vector<double>& sd,
@@ -115,16 +181,24 @@ GuardResult GateRequired(const DiagnosisState& st,
   open.term.scope.gate.clear();
   std::fill(open.term.params.begin(), open.term.params.end(), 0.0);
   const Fitted base = FitWith(st, sd, without, open);
-  if (!base.usable || !(base.rss > 0)) return GuardResult{};
-  const Fitted joint = FitWith(st, sd, base, spec);
-  if (!joint.usable || !(joint.rss > 0)) return GuardResult{};
+  const Fitted joint =
+      base.usable && base.rss > 0 ? FitWith(st, sd, base, spec) : Fitted{};
+  GuardResult r;
+  if (!joint.usable || !(joint.rss > 0)) {
+    // Not checked is not passed.
+    r.pass = false;
+    r.reason = "whether its gate is required cannot be checked (a fit failed)";
+    return r;
+  }
   const double n = static_cast<double>(st.train.size());
   const double lr = NestedLr(n, base.rss, joint.rss);
   const double p = ChiSquareSurvival(lr, spec.term.NumParams());
+  // Given the twin, a gate above a threshold and the gate below it are one
+  // model (flag 1[below] = flag - flag 1[above]): one test per threshold.
   const double gates = static_cast<double>(std::max<size_t>(
-      1, GateScopes(st.td, st.train, st.thresholds, spec.covariate).size()));
+      1,
+      GateScopes(st.td, st.train, st.thresholds, spec.covariate).size() / 2));
   if (p * gates < options.thresholds.rival_alpha) return GuardResult{};
-  GuardResult r;
   r.pass = false;
   char buf[240];
   std::snprintf(buf, sizeof(buf),

@@ -477,6 +477,18 @@ GuardResult InteractsWithRefused(const ProxyGuardContext& c) {
 // slope along the gate covariate on the flag's passes (speed acting on
 // lubricated passes only) otherwise reads as the flag behind a gate.
 GuardResult ConstantInsideGate(const ProxyGuardContext& c) {
+  const TermScope& scope = c.with_term.terms.back().term.scope;
+  if (scope.gate.empty()) return GuardResult{};
+  if (std::none_of(c.split.begin(), c.split.end(),
+                   [](const SplitHeterogeneity& s) { return s.inside_gate; })) {
+    // Not checked is not passed: too few of its passes on one half.
+    GuardResult r;
+    r.pass = false;
+    r.reason =
+        "whether its effect is constant inside its gate cannot be tested "
+        "(too few of its passes on one half)";
+    return r;
+  }
   for (const SplitHeterogeneity& s : c.split) {
     if (!s.inside_gate || !(s.p < c.options.thresholds.rival_alpha) ||
         s.max_dev < c.options.thresholds.material_scale) {

@@ -171,6 +171,16 @@ bool GateOfATermIn(const std::vector<Candidate>& candidates, int i,
 void AddUngatedTwins(const std::vector<Candidate>& candidates,
                      std::vector<int>* chosen);
 
+// Appends to `chosen`, for each gated candidate in it, the strongest gate
+// of the same term on each other gate covariate whose score p-value is at
+// most `max_score_p` (diagnosis_gates.cc): the gate covariates a term's
+// effect may follow (speed and the gauge move together through the
+// stands), which the winner must be told apart from
+// (DistinctFromOtherGates, diagnosis_rivals.cc).
+void AddRivalGates(const std::vector<Candidate>& candidates,
+                   const std::vector<double>& score_p, double max_score_p,
+                   std::vector<int>* chosen);
+
 // Whether observation `ob` is inside `s` (a grade scope, or a gate, holds an
 // observation when any of its passes rolled the grade, or is inside the
 // gate).

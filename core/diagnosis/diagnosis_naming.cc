@@ -205,7 +205,14 @@ std::string DescribeScope(const ModelTerm& t, Finding* f) {
     f->scope.erase(f->covariate);
   }
   if (t.scope.IsAll()) return "";
-  return " It applies only to " + t.scope.Label() + kElsewhereTheLawHolds + ".";
+  // A gate's threshold is a step of the grid it was chosen on
+  // (thresholds.gate_grid), not a fitted value.
+  const std::string grid = t.scope.gate.empty()
+                               ? ""
+                               : " (its threshold one of a grid of the passes' "
+                                 "quantiles, not fitted)";
+  return " It applies only to " + t.scope.Label() + grid +
+         kElsewhereTheLawHolds + ".";
 }
 
 // The mechanism name of finding `f` (its term `t` over covariate `c`,

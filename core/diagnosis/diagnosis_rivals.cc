@@ -203,6 +203,32 @@ GuardResult AtBoxBound(const DiagnosisState& st,
   return r;
 }
 
+namespace {
+
+// The refusal of a winner the data cannot tell from a rival: `reason`, and
+// located at `where` with the size of the winner's term over its scope and
+// the winner's own test.
+GuardResult NotDistinguishable(const DiagnosisState& st,
+                               const std::vector<Fitted>& fits,
+                               const std::vector<CandidateResult>& results,
+                               int winner, const std::string& reason,
+                               const std::string& where) {
+  GuardResult r;
+  r.pass = false;
+  r.reason = reason;
+  r.located.dimension = results[winner].covariate;
+  r.located.where = where;
+  r.located.mean_residual_um = ContributionRmsUm(
+      st, fits[winner], st.current, {fits[winner].terms.back().term.scope});
+  r.located.test = "encompassing_lr";
+  r.located.statistic = results[winner].lr;
+  r.located.p_value = results[winner].p_value;
+  r.located.p_adjusted = results[winner].p_adjusted;
+  return r;
+}
+
+}  // namespace
+
 GuardResult DistinctFromRivals(const DiagnosisState& st,
                                const std::vector<double>& sd,
                                const std::vector<int>& accepted,
@@ -249,18 +275,42 @@ GuardResult DistinctFromRivals(const DiagnosisState& st,
                   "%.1f, p %.2g; the data do not say which quantity drives "
                   "the wear",
                   rival.c_str(), lr, p);
-    r.pass = false;
-    r.reason = buf;
-    r.located.dimension = results[winner].covariate;
-    r.located.where = where + ": along " + results[winner].covariate + " or " +
-                      results[j].covariate;
-    r.located.mean_residual_um =
-        ContributionRmsUm(st, fits[winner], st.current, {scope});
-    r.located.test = "encompassing_lr";
-    r.located.statistic = results[winner].lr;
-    r.located.p_value = results[winner].p_value;
-    r.located.p_adjusted = results[winner].p_adjusted;
-    return r;
+    return NotDistinguishable(st, fits, results, winner, buf,
+                              where + ": along " + results[winner].covariate +
+                                  " or " + results[j].covariate);
+  }
+  return r;
+}
+
+GuardResult DistinctFromOtherGates(const DiagnosisState& st,
+                                   const std::vector<double>& sd,
+                                   const std::vector<Fitted>& fits,
+                                   const std::vector<CandidateResult>& results,
+                                   int winner) {
+  GuardResult r;
+  const ModelTerm& term = fits[winner].terms.back().term;
+  if (term.scope.gate.empty()) return r;
+  for (int j = 0; j < static_cast<int>(fits.size()); ++j) {
+    if (!fits[j].usable || !(fits[j].rss > 0)) continue;
+    const ModelTerm& other = fits[j].terms.back().term;
+    if (other.scope.gate.empty() || other.scope.gate == term.scope.gate ||
+        other.covariate != term.covariate || other.form != term.form ||
+        other.scope.Label() == term.scope.Label()) {
+      continue;
+    }
+    const Encompassing e = AddsTo(st, sd, fits, winner, j);
+    if (e.p < st.thresholds.rival_alpha) continue;
+    char buf[320];
+    std::snprintf(buf, sizeof(buf),
+                  "not distinguishable from the same term on %s: given it, "
+                  "the gate on %s adds LR %.1f, p %.2g; the data do not say "
+                  "which quantity gates the effect",
+                  other.scope.Label().c_str(), term.scope.gate.c_str(), e.lr,
+                  e.p);
+    return NotDistinguishable(st, fits, results, winner, buf,
+                              results[winner].covariate +
+                                  " behind a gate: along " + term.scope.gate +
+                                  " or " + other.scope.gate);
   }
   return r;
 }

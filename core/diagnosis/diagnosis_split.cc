@@ -74,22 +74,32 @@ bool QuartileFactor(const TermData& td, const std::vector<int>& train, int k,
 }
 
 // A gated term's passes inside its gate, split in two at the load-weighted
-// median of the gate covariate over them (the passes outside pooled): a
+// median of the gate covariate over those it acts on (the passes outside
+// pooled): a
 // gate claims one effect on every pass beyond its threshold, so the term's
 // scale must not differ between the near and the far half (a slope along
 // the gate covariate on the lubricated passes otherwise reads as a gated
 // flag). SplitHeterogeneity::inside_gate marks it for the guard
 // (diagnosis_guard.cc, ConstantInsideGate).
 bool InsideGateHalves(const TermData& td, const std::vector<int>& train,
-                      const TermScope& scope, PassFactor* f) {
+                      const ModelTerm& term, PassFactor* f) {
+  const TermScope& scope = term.scope;
   const int k = scope.gate.empty() ? -1 : td.CovariateIndex(scope.gate);
-  if (k < 0) return false;
+  const int own = td.CovariateIndex(term.covariate);
+  if (k < 0 || own < 0) return false;
+  // The median over the passes where the term acts (a flag: those on),
+  // load-weighted, so that both halves hold its effect.
   WeightedValues inside;
-  for (const auto& [z, wt] : Collect(td, train, k).v) {
-    if (!scope.CoversGateValue(z)) continue;
-    inside.v.emplace_back(z, wt);
-    inside.total += wt;
+  for (int o : train) {
+    const TermObservation& ob = td.obs[o];
+    for (int i = ob.pass_begin; i < ob.pass_end; ++i) {
+      const double z = td.z[k][i], x = td.z[own][i];
+      if (!scope.CoversGateValue(z) || std::isnan(x) || x == 0) continue;
+      inside.v.emplace_back(z, td.load[i]);
+      inside.total += td.load[i];
+    }
   }
+  std::sort(inside.v.begin(), inside.v.end());
   const double median = Quantile(inside, 0.5);
   if (!std::isfinite(median)) return false;
   f->name = scope.gate;
@@ -143,7 +153,7 @@ std::vector<PassFactor> PassFactors(const TermData& td,
     out.push_back(std::move(f));
   }
   PassFactor inside;
-  if (InsideGateHalves(td, train, term.scope, &inside))
+  if (InsideGateHalves(td, train, term, &inside))
     out.push_back(std::move(inside));
   return out;
 }

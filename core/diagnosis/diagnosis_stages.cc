@@ -226,6 +226,8 @@ std::vector<Fitted> RefitStrongest(const DiagnosisState& st,
     to_fit.push_back(i);
   }
   AddUngatedTwins(screen.best_start, &to_fit);
+  AddRivalGates(screen.best_start, score_p,
+                st.thresholds.max_refit_score_p / screen.num_tests, &to_fit);
   // The strongest cell is always refitted, so the proxy guard can compare a
   // covariate winner with the structural description (NoBetterThanCell,
   // diagnosis_winner.cc) even when covariate variants crowd the top six.
@@ -291,10 +293,13 @@ CvRound CrossValidateSignificant(const DiagnosisState& st,
   for (int i : cv.order) {
     if (fits[i].usable && results[i].p_adjusted < options.alpha &&
         cv.to_cv.size() <
-            static_cast<size_t>(options.thresholds.max_cross_validated)) {
+            static_cast<size_t>(options.thresholds.max_cross_validated) &&
+        !GatedCopyIn(fits, i, cv.to_cv)) {
       cv.to_cv.push_back(i);
     }
   }
+  // A gated candidate's significant ungated twin too (GateRequired).
+  AddFittedTwins(fits, results, options.alpha, &cv.to_cv);
   // And the strongest significant cell, which the proxy guard compares
   // covariate winners with (NoBetterThanCell takes accepted cells only).
   for (int i : cv.order) {

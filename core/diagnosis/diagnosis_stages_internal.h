@@ -196,6 +196,16 @@ struct GuardResult {
   std::string guard;
 };
 
+// Whether fitted candidate i is gated while a gated copy of the same term
+// is among `chosen`, and appends to `chosen` the significant (p adjusted <
+// alpha) ungated twin of each gated candidate in it (diagnosis_gates.cc):
+// the round cross-validates one gate per term, with its twin.
+bool GatedCopyIn(const std::vector<Fitted>& fits, int i,
+                 const std::vector<int>& chosen);
+void AddFittedTwins(const std::vector<Fitted>& fits,
+                    const std::vector<CandidateResult>& results, double alpha,
+                    std::vector<int>* chosen);
+
 // The proxy guard's look at a gated last term of `with_term`
 // (diagnosis_gates.cc): refused when the gate is not required, i.e. the
 // gated term adds nothing significant to its ungated twin; passes any
@@ -207,13 +217,14 @@ GuardResult GateRequired(const DiagnosisState& st,
 
 // The proxy guard (diagnosis_guard.cc): the chain kProxyGuards run in
 // order on the last term of `with_term`, the first refusal returned with its
-// guard's name (docs/diagnosis.md lists the ten): is its effect consistent
+// guard's name (docs/diagnosis.md lists the twelve): is its effect consistent
 // across pass-level factors, stands, positions, roll types and covariate
-// quartiles (Wald, Cochran's Q), inside its cell, scope and siblings, along
-// time and the grade order, is the strongest breakdown of `located_before`
-// (Locate of the training residuals before the term, clipped at the round's
-// `sd`) materially reduced by it, and is it consistent across the covariates
-// of `refused`, the round's candidates the guards refused before it?
+// quartiles (Wald, Cochran's Q), its gate required, inside its cell, scope
+// and siblings, along time and the grade order, is the strongest breakdown
+// of `located_before` (Locate of the training residuals before the term,
+// clipped at the round's `sd`) materially reduced by it, is it consistent
+// across the pass-level covariates of `refused` (the round's candidates the
+// guards refused before it), and constant inside its gate?
 GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
                               const DiagnosisOptions& options,
                               const std::vector<double>& sd,
@@ -359,6 +370,15 @@ GuardResult DistinctFromRivals(const DiagnosisState& st,
                                const std::vector<Fitted>& fits,
                                const std::vector<CandidateResult>& results,
                                int winner);
+// The same comparison for a gated winner against the same term behind a
+// gate on another covariate (refitted by AddRivalGates; diagnosis_rivals.cc):
+// fails when the winner adds nothing significant to one of them, since the
+// data then do not say which quantity gates the effect.
+GuardResult DistinctFromOtherGates(const DiagnosisState& st,
+                                   const std::vector<double>& sd,
+                                   const std::vector<Fitted>& fits,
+                                   const std::vector<CandidateResult>& results,
+                                   int winner);
 
 // The guard's look at the grade x campaign-order check (diagnosis_order.cc):
 // refused, with where the structure lives after the term as `located`, when

@@ -152,7 +152,7 @@ struct DiagnosisThresholds {
   // 1/step_grid quantile.
   int step_grid = 20;
   // The thresholds of the gates a gated family is offered behind
-  // (diagnosis_scoped.cc, GateScopes): the inner 1/gate_grid quantiles of
+  // (diagnosis_gates.cc, GateScopes): the inner 1/gate_grid quantiles of
   // the gate covariate's load-weighted training passes (the step grid's 5 %
   // steps). A truth's threshold between two edges leaves part of its
   // effect on the wrong side, which the gate's siblings and constancy

@@ -196,6 +196,11 @@ constexpr WinnerGuard kWinnerGuards[] = {
        return DistinctFromRivals(c.st, c.sd, c.accepted, c.fits, c.results,
                                  c.candidate);
      }},
+    {RefusalKind::kNotDistinguishable,
+     [](const WinnerGuardContext& c) {
+       return DistinctFromOtherGates(c.st, c.sd, c.fits, c.results,
+                                     c.candidate);
+     }},
     {RefusalKind::kShadowOfRefused,
      [](const WinnerGuardContext& c) {
        if (c.refused.empty()) return GuardResult{};

@@ -130,13 +130,13 @@ StatusOr<std::vector<TermSpec>> SpecsOf(const TermData& td,
     }
     if (!t.scope.gate.empty()) {
       const int g = td.CovariateIndex(t.scope.gate);
-      if (t.IsMeasurementTerm() || g < 0 ||
+      if (t.IsMeasurementTerm() || t.form == TermForm::kRollEffect || g < 0 ||
           td.catalog[g].level != CovariateLevel::kPass ||
           td.catalog[g].kind != CovariateKind::kNumeric) {
         return Status::InvalidArgument(
             "terms: '" + t.covariate + "' is gated by '" + t.scope.gate +
             "', which must be a numeric pass-level covariate of the data, on "
-            "a wear term");
+            "a wear term other than a roll's own factor");
       }
     }
     if (static_cast<int>(t.params.size()) != t.NumParams()) {

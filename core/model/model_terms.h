@@ -131,7 +131,7 @@ struct TermScope {
     return gate_above ? value >= gate_at : value < gate_at;
   }
   // Whether a roll at (stand, position) of `roll_type` is inside (the grade
-  // is checked per pass with CoversGrade).
+  // and the gate are checked per pass: CoversGrade, CoversGateValue).
   bool CoversRoll(int roll_stand, int roll_position, const std::string& type) const {
     return (stand == 0 || stand == roll_stand) &&
            (position < 0 || position == roll_position) &&

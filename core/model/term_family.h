@@ -156,8 +156,8 @@ class TermFamily {
   virtual bool offered_scoped() const { return false; }
   // Whether the diagnosis also offers the family's unscoped candidates
   // behind each gate (TermScope::gate: the passes above or below a
-  // quartile of another numeric pass-level covariate, core/diagnosis/
-  // diagnosis_scoped.cc): the flag, whose effect may act only above some
+  // quantile of another numeric pass-level covariate, core/diagnosis/
+  // diagnosis_gates.cc): the flag, whose effect may act only above some
   // speed.
   virtual bool offered_gated() const { return false; }
   // Whether parameter j's lower (or upper) bound in the diagnosis's box is

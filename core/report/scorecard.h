@@ -98,8 +98,8 @@ struct EffectScore {
 
 // The scope of a finding (the one place that reads Finding::scope), without
 // a gate's threshold: a gated effect is named right by its gate covariate
-// and side (the diagnosis places the threshold at a quartile, the truth
-// anywhere).
+// and side (the diagnosis places the threshold on a grid of quantiles, the
+// truth anywhere).
 std::map<std::string, std::string> FindingScope(const Finding& f);
 // True when a finding's covariate names the same physics as the truth's.
 bool SameCovariate(const std::string& truth, const std::string& found);

@@ -140,6 +140,25 @@ TEST(GatedTermTest, ARefitRefusesAGateThatIsNotANumericPassCovariate) {
     EXPECT_NE(bad.status().message().find("gated by"), std::string::npos)
         << bad.status().ToString();
   }
+  // A roll's own factor acts on all its wear: never behind a gate (the
+  // daemon reads it by the roll, before any pass quantity).
+  StatusOr<TermData> td = BuildTermData(sim.data, WearLaw::kWang);
+  ASSERT_TRUE(td.ok());
+  ModelTerm roll;
+  roll.covariate = kRollIdName;
+  roll.form = TermForm::kRollEffect;
+  roll.scale = 0.2;
+  roll.levels = td->catalog[td->CovariateIndex(kRollIdName)].levels;
+  roll.num_levels = static_cast<int>(roll.levels.size());
+  roll.params.assign(roll.levels.size(), 0.0);
+  roll.scope.gate = "speed_mps";
+  roll.scope.gate_at = 11;
+  StatusOr<WearModel> gated_roll =
+      RefitWithTerms(sim.data, WearLaw::kWang, {roll}, train);
+  ASSERT_FALSE(gated_roll.ok());
+  EXPECT_NE(gated_roll.status().message().find("roll's own factor"),
+            std::string::npos)
+      << gated_roll.status().ToString();
 }
 
 // Variant 0: lubrication lowers wear only above a speed; variant 1 only
@@ -171,6 +190,31 @@ TEST(GatedTermTest, HiddenGatedLubricationIsNamedBehindItsGate) {
         << f.explanation;
     EXPECT_LT(f.gap_val_after_um, f.gap_val_before_um) << effect;
   }
+}
+
+// Two gate covariates the data cannot tell apart (a mill's own column that
+// copies the speed): the gated flag must not be named behind either, since
+// the data do not say which quantity gates it; it is located along both.
+TEST(GatedTermTest, AGateTheDataCannotTellFromAnotherIsNotNamed) {
+  Simulation sim = simulator_test::Simulated(
+      101, test_size::FullOr(kPaperCampaigns, 150), {"gated_lubrication:0"});
+  std::vector<double> copy(sim.data.passes.size());
+  for (size_t i = 0; i < copy.size(); ++i)
+    copy[i] = sim.data.passes[i].speed_mps;
+  sim.data.pass_extra.numeric_names.push_back("speed_copy_mps");
+  sim.data.pass_extra.numeric.push_back(std::move(copy));
+  StatusOr<DiagnosisReport> r = Diagnose(sim.data, DiagnosisOptions{});
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  for (const Finding& f : r->findings) {
+    EXPECT_NE(f.covariate, "lubrication") << f.explanation;
+  }
+  bool along_both = false;
+  for (const Unexplained& u : r->unexplained) {
+    along_both =
+        along_both || (u.where.find("speed_mps") != std::string::npos &&
+                       u.where.find("speed_copy_mps") != std::string::npos);
+  }
+  EXPECT_TRUE(along_both) << simulator_test::DescribeReport(*r);
 }
 
 }  // namespace
