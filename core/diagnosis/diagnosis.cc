@@ -34,6 +34,8 @@ const char* RefusalKindName(RefusalKind kind) {
       return "cell_pair";
     case RefusalKind::kRollFamily:
       return "roll_family";
+    case RefusalKind::kJointPartnerMissing:
+      return "joint_partner_missing";
     case RefusalKind::kUnspecified:
       return "unspecified";
   }
@@ -88,6 +90,7 @@ StatusOr<DiagnosisReport> Diagnose(const Dataset& data,
   std::vector<int> rounds =
       diag::WithdrawTiedCellSets(options, &state, &report);
   diag::WithdrawUnconfinedScopes(options, &state, &report, &rounds);
+  diag::WithdrawUnpairedJoint(options, &state, &report, &rounds);
   // The per-roll family on what the rounds leave (diagnosis_roll_family.cc).
   if (diag::RunRollFamily(options, &state, &report)) phase.Mark("roll_family");
 

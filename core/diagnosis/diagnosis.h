@@ -185,20 +185,22 @@ struct Finding {
 // typed part of RunnerUp::reason, for clients that sort refusals without
 // reading sentences (JSON runners_up[].refusal, RefusalKindName).
 enum class RefusalKind {
-  kNotNameable,         // over a quantity the format does not name
-  kAtBoxBound,          // its fit stops at a bracket of its box
-  kNoBetterThanCell,    // a cell of the round describes the data as well
-  kProxyGuard,          // one of the proxy guard's rows (RunnerUp::guard)
-  kNotDistinguishable,  // a rival of another mechanism fits as well
-  kShadowOfRefused,     // fits worse than a candidate the guard refused
-  kTwinStands,          // withdrawn: the twin stand's levels predict alike
-  kCellPair,            // withdrawn: two other cells describe it as well
-  kRollFamily,          // the per-roll family's own checks
-  kUnspecified,         // not set (a bug: every refusal sets its kind)
+  kNotNameable,          // over a quantity the format does not name
+  kAtBoxBound,           // its fit stops at a bracket of its box
+  kNoBetterThanCell,     // a cell of the round describes the data as well
+  kProxyGuard,           // one of the proxy guard's rows (RunnerUp::guard)
+  kNotDistinguishable,   // a rival of another mechanism fits as well
+  kShadowOfRefused,      // fits worse than a candidate the guard refused
+  kTwinStands,           // withdrawn: the twin stand's levels predict alike
+  kCellPair,             // withdrawn: two other cells describe it as well
+  kRollFamily,           // the per-roll family's own checks
+  kJointPartnerMissing,  // withdrawn: named jointly with a structure the
+                         // final model does not hold
+  kUnspecified,          // not set (a bug: every refusal sets its kind)
 };
 // "not_nameable", "at_box_bound", "no_better_than_cell", "proxy_guard",
 // "not_distinguishable", "shadow_of_refused", "twin_stands", "cell_pair",
-// "roll_family", "unspecified".
+// "roll_family", "joint_partner_missing", "unspecified".
 const char* RefusalKindName(RefusalKind kind);
 
 // A significant candidate of a round that was not adopted, with why

@@ -15,13 +15,13 @@
 // Reinsel 2008, "Time Series Analysis", 4th ed., sec. 2.1.6).
 //
 // Rule. When gamma_1 before the term is positive and significant (p <
-// alpha, two-sided; options.alpha = 0.001) and more than along_time_share
-// (one half) of it is left after the term, the term is not named: it is a
-// smooth part of a
-// structure along time it does not describe (a random walk of the wear rate
-// has structure at every time scale; a step or a trend, once fitted, leaves
-// campaign means that are close to independent). The lag-1 structure is
-// then listed as unexplained.
+// alpha, two-sided; options.alpha = 0.001) and either more than
+// along_time_share (one half) of it is left after the term, or what is left
+// is itself significant at alpha with r1 >= material_autocorrelation, the
+// term is not named: it is a smooth part of a structure along time it does
+// not describe (a random walk of the wear rate has structure at every time
+// scale; a step or a trend, once fitted, leaves campaign means that are
+// close to independent). The lag-1 structure is then listed as unexplained.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -92,7 +92,15 @@ GuardResult LookAlongTime(const Dataset& data, const DiagnosisState& st,
   const Lag1 b = Lag1OfResiduals(data, st, sd, before);
   if (!(b.p < options.alpha) || !(b.gamma1 > 0)) return r;
   const Lag1 a = Lag1OfResiduals(data, st, sd, after);
-  if (a.gamma1 <= options.thresholds.along_time_share * b.gamma1) return r;
+  // Refused when more than along_time_share of the autocovariance remains,
+  // or when what remains is itself significant and material (r1 at least
+  // material_autocorrelation): a random walk of the wear rate, whose slow
+  // part a binned or step term takes, leaves autocorrelated campaign means
+  // behind; a step or a drift, once fitted, leaves near-independent ones.
+  const bool still = a.p < options.alpha &&
+                     a.r1 >= options.thresholds.material_autocorrelation;
+  if (a.gamma1 <= options.thresholds.along_time_share * b.gamma1 && !still)
+    return r;
   r.pass = false;
   char buf[200];
   std::snprintf(

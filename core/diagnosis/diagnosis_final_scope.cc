@@ -19,9 +19,8 @@
 #include "core/diagnosis/diagnosis_stages_internal.h"
 
 namespace rollwear::diag {
-namespace {
 
-// The index in `terms` of the term finding `f` adopted, or -1.
+// See diagnosis_stages_internal.h.
 int AdoptedTermIndex(const std::vector<TermSpec>& terms, const Finding& f) {
   for (size_t i = 0; i < terms.size(); ++i) {
     const ModelTerm& t = terms[i].term;
@@ -32,6 +31,8 @@ int AdoptedTermIndex(const std::vector<TermSpec>& terms, const Finding& f) {
   }
   return -1;
 }
+
+namespace {
 
 // Withdraws the first finding whose siblings join it in the final model;
 // true when it did.

@@ -29,6 +29,49 @@ bool SameTermApartFromGate(const TermSpec& x, const TermSpec& y) {
 
 bool Gated(const Candidate& c) { return !c.spec.term.scope.gate.empty(); }
 
+// The term an item of the round stands for: a candidate's, or a fit's last
+// (the candidate it was fitted for); null when the fit holds none.
+const TermSpec* TermOf(const Candidate& c) { return &c.spec; }
+const TermSpec* TermOf(const Fitted& f) {
+  return f.terms.empty() ? nullptr : &f.terms.back();
+}
+bool GatedTerm(const TermSpec* t) {
+  return t != nullptr && !t->term.scope.gate.empty();
+}
+
+// Whether item i is gated while a gated copy of the same term is among
+// `chosen` (the round takes one gate per term).
+template <typename Item>
+bool GatedCopyAmong(const std::vector<Item>& items, int i,
+                    const std::vector<int>& chosen) {
+  const TermSpec* x = TermOf(items[i]);
+  if (!GatedTerm(x)) return false;
+  return std::any_of(chosen.begin(), chosen.end(), [&](int j) {
+    const TermSpec* y = TermOf(items[j]);
+    return GatedTerm(y) && SameTermApartFromGate(*x, *y);
+  });
+}
+
+// Appends to `chosen`, for each gated item in it, the first ungated item of
+// the same term that is `eligible` and not chosen yet: its ungated twin.
+template <typename Item, typename Eligible>
+void AddTwinsOf(const std::vector<Item>& items, Eligible eligible,
+                std::vector<int>* chosen) {
+  for (size_t k = 0, n = chosen->size(); k < n; ++k) {
+    const TermSpec* g = TermOf(items[(*chosen)[k]]);
+    if (!GatedTerm(g)) continue;
+    for (int i = 0; i < static_cast<int>(items.size()); ++i) {
+      const TermSpec* t = TermOf(items[i]);
+      if (t != nullptr && !GatedTerm(t) && eligible(i) &&
+          SameTermApartFromGate(*t, *g) &&
+          std::find(chosen->begin(), chosen->end(), i) == chosen->end()) {
+        chosen->push_back(i);
+        break;
+      }
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<TermScope> GateScopes(const TermData& td,
@@ -44,18 +87,21 @@ std::vector<TermScope> GateScopes(const TermData& td,
       continue;
     }
     const WeightedValues values = Collect(td, train, k);
+    if (values.v.empty()) continue;
     std::vector<double> edges;
     for (int j = 1; j < thresholds.gate_grid; ++j) {
       const double e =
           Quantile(values, j / static_cast<double>(thresholds.gate_grid));
-      if (std::isfinite(e) &&
+      // An edge at the smallest value leaves nothing below it (the gate
+      // "below" acts nowhere, "above" everywhere: the ungated twin).
+      if (std::isfinite(e) && e > values.v.front().first &&
           std::find(edges.begin(), edges.end(), e) == edges.end()) {
         edges.push_back(e);
       }
     }
-    // Each side holds 1/gate_grid of the load-weighted passes or more (a
-    // reading holds passes on both sides, so readings are not counted as a
-    // place's are).
+    // Without ties each side holds 1/gate_grid of the load-weighted passes
+    // or more; with ties at least the passes of one value (a reading holds
+    // passes on both sides, so readings are not counted as a place's are).
     for (double e : edges) {
       for (bool above : {true, false}) {
         TermScope s;
@@ -71,27 +117,13 @@ std::vector<TermScope> GateScopes(const TermData& td,
 
 bool GateOfATermIn(const std::vector<Candidate>& candidates, int i,
                    const std::vector<int>& chosen) {
-  if (!Gated(candidates[i])) return false;
-  return std::any_of(chosen.begin(), chosen.end(), [&](int j) {
-    return Gated(candidates[j]) &&
-           SameTermApartFromGate(candidates[i].spec, candidates[j].spec);
-  });
+  return GatedCopyAmong(candidates, i, chosen);
 }
 
 void AddUngatedTwins(const std::vector<Candidate>& candidates,
                      std::vector<int>* chosen) {
-  for (size_t k = 0, n = chosen->size(); k < n; ++k) {
-    const int g = (*chosen)[k];
-    if (!Gated(candidates[g])) continue;
-    for (int i = 0; i < static_cast<int>(candidates.size()); ++i) {
-      if (!Gated(candidates[i]) &&
-          SameTermApartFromGate(candidates[i].spec, candidates[g].spec) &&
-          std::find(chosen->begin(), chosen->end(), i) == chosen->end()) {
-        chosen->push_back(i);
-        break;
-      }
-    }
-  }
+  AddTwinsOf(
+      candidates, [](int) { return true; }, chosen);
 }
 
 void AddRivalGates(const std::vector<Candidate>& candidates,
@@ -128,35 +160,16 @@ void AddRivalGates(const std::vector<Candidate>& candidates,
 
 bool GatedCopyIn(const std::vector<Fitted>& fits, int i,
                  const std::vector<int>& chosen) {
-  if (fits[i].terms.empty()) return false;
-  const TermSpec& x = fits[i].terms.back();
-  if (x.term.scope.gate.empty()) return false;
-  return std::any_of(chosen.begin(), chosen.end(), [&](int j) {
-    if (fits[j].terms.empty()) return false;
-    const TermSpec& y = fits[j].terms.back();
-    return !y.term.scope.gate.empty() && SameTermApartFromGate(x, y);
-  });
+  return GatedCopyAmong(fits, i, chosen);
 }
 
 void AddFittedTwins(const std::vector<Fitted>& fits,
                     const std::vector<CandidateResult>& results, double alpha,
                     std::vector<int>* chosen) {
-  for (size_t k = 0, n = chosen->size(); k < n; ++k) {
-    const int g = (*chosen)[k];
-    if (fits[g].terms.empty() || fits[g].terms.back().term.scope.gate.empty())
-      continue;
-    for (int i = 0; i < static_cast<int>(fits.size()); ++i) {
-      if (!fits[i].usable || fits[i].terms.empty() ||
-          !fits[i].terms.back().term.scope.gate.empty() ||
-          !(results[i].p_adjusted < alpha) ||
-          !SameTermApartFromGate(fits[i].terms.back(), fits[g].terms.back()) ||
-          std::find(chosen->begin(), chosen->end(), i) != chosen->end()) {
-        continue;
-      }
-      chosen->push_back(i);
-      break;
-    }
-  }
+  AddTwinsOf(
+      fits,
+      [&](int i) { return fits[i].usable && results[i].p_adjusted < alpha; },
+      chosen);
 }
 
 // A gate must be required: the gated term added to the model that holds

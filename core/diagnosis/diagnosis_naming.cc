@@ -40,9 +40,12 @@ constexpr Mechanism kMechanisms[] = {
      "The first coils after a roll change wear the roll more: run-in of a "
      "freshly ground surface."},
     {"hours_since_mount", "thermal_growth_with_time_in_service",
-     "Wear rate rises with hours in service, not with the rolled length: the "
-     "roll heats up and thermal fatigue accumulates with time in the stand "
-     "(stoppages included).",
+     "Wear rate rises with hours in service, not with the rolled length: it "
+     "follows the time the roll spends in the stand, idle time after "
+     "stoppages included. Readings taken once per campaign cannot tell "
+     "thermal fatigue accumulating with time in the stand from extra wear "
+     "at each restart after a stop (a cold roll, a lost oxide film); both "
+     "follow the idle time.",
      "run_in_of_fresh_surface",
      "Wear is highest in the first hours after mounting: run-in and the "
      "thermal transient of a cold roll."},
@@ -244,6 +247,18 @@ std::string MechanismOf(const ModelTerm& t, const CovariateSpec& c, bool up,
     f->mechanism = up ? g->up : g->down;
     text = std::string(up ? g->up_text : g->down_text) +
            CarriersSentence(f->carriers);
+  } else if (m != nullptr && (f->shape == "peaked" || f->shape == "valley")) {
+    // Its sentences read a monotone dependence ("drift upward"): a profile
+    // with an interior extreme is stated as such, not given one of them.
+    f->mechanism = c.name + "_nonmonotone";
+    text = "The wear rate " +
+           std::string(f->shape == "peaked" ? "rises, then falls,"
+                                            : "falls, then rises,") +
+           " along " + c.name + ", which no monotone reading of it (" +
+           (std::string(m->up) == m->down
+                ? std::string(m->up)
+                : std::string(m->up) + " or " + m->down) +
+           ") describes as a whole.";
   } else if (m != nullptr) {
     f->mechanism = up ? m->up : m->down;
     text = up ? m->up_text : m->down_text;

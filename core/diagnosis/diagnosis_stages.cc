@@ -1,6 +1,7 @@
 // The stages of Diagnose() (see diagnosis_stages_internal.h): baseline, data,
-// folds, the rounds of screen / refit / test / cross-validate / adopt, and the
-// summary of the final model.
+// folds, and the rounds of screen / refit / test / cross-validate / guard
+// (diagnosis_winner.cc, then diagnosis_joint.cc) / adopt. The summary of the
+// final model is diagnosis_summary.cc.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -15,7 +16,6 @@
 #include "core/base/random.h"
 #include "core/diagnosis/diagnosis_stages_internal.h"
 #include "core/model/aggregation.h"
-#include "core/model/k_structure.h"
 #include "core/model/metrics.h"
 
 namespace rollwear::diag {
@@ -417,73 +417,6 @@ Fitted AdoptWinner(const DiagnosisState& st, const std::vector<double>& sd,
   return adopted;
 }
 
-// One DiagnosisPoint per observation of `all`, with the final prediction.
-void AddPoints(const Dataset& data, const DiagnosisState& st,
-               const std::vector<double>& after_all, DiagnosisReport* report) {
-  const TermData& td = st.td;
-  for (int o : st.all) {
-    const TermObservation& ob = td.obs[o];
-    DiagnosisPoint p;
-    p.campaign_id = data.campaigns[ob.campaign].id;
-    p.stand = SlotStand(ob.slot);
-    p.position = SlotPosition(ob.slot);
-    p.validation = !st.train_campaigns.count(ob.campaign);
-    p.measured_um = ob.measured_um;
-    p.before_um = st.before_all[o];
-    p.after_um = after_all[o];
-    for (const Finding& f : report->findings) {
-      const int k = td.CovariateIndex(f.covariate);
-      if (k >= 0) p.covariates[f.covariate] = td.obs_z[k][o];
-    }
-    report->points.push_back(std::move(p));
-  }
-}
-
-// The readings of `all` more than kOutlierSigmas sd's of `noise` off the
-// final prediction, largest first.
-void ListOutliers(const Dataset& data, const DiagnosisState& st,
-                  const std::vector<double>& after_all,
-                  const RobustNoise& noise, DiagnosisReport* report) {
-  for (int o : st.all) {
-    const TermObservation& ob = st.td.obs[o];
-    const double u = (ob.measured_um - after_all[o]) / noise.SdAt(after_all[o]);
-    if (!(std::abs(u) > kOutlierSigmas)) continue;
-    SuspectedOutlier out;
-    out.campaign = ob.campaign;
-    out.slot = ob.slot;
-    out.training = st.train_campaigns.count(ob.campaign) > 0;
-    out.measured_um = ob.measured_um;
-    out.predicted_um = after_all[o];
-    out.standardized_residual = u;
-    report->suspected_outliers.push_back(out);
-  }
-  NameOutliers(data, &report->suspected_outliers);
-}
-
-// Step 7 (look again). The final model's residual breakdowns (Locate) and noise
-// checks (NoiseChecks), clipped to +-kHuberK sd's of `noise`: what remains
-// significant at the family-wise level and of material size.
-std::vector<Unexplained> LocateUnexplained(const Dataset& data,
-                                           const DiagnosisOptions& options,
-                                           const DiagnosisState& st,
-                                           const std::vector<double>& after_all,
-                                           const RobustNoise& noise) {
-  std::vector<double> pred, sd;
-  for (int o : st.all) {
-    pred.push_back(after_all[o]);
-    sd.push_back(noise.SdAt(after_all[o]));
-  }
-  std::vector<Breakdown> checks =
-      Locate(st.td, data, st.all, pred, options.thresholds, &sd);
-  for (Breakdown& b :
-       NoiseChecks(st.td, data, st.all, pred, sd, options.thresholds)) {
-    checks.push_back(std::move(b));
-  }
-  return UnexplainedStructure(checks, options.alpha,
-                              MaterialResidualUm(sd, options.thresholds),
-                              options.thresholds);
-}
-
 }  // namespace
 
 Fitted Fit(const TermData& td, const std::vector<int>& subset,
@@ -591,10 +524,21 @@ bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
   const std::vector<int> accepted = RankAccepted(cv, options, &results);
   if (round == 0) RecordFirstRound(cv.order, results, report);
   // The proxy guard, best accepted candidate first.
-  const int winner = GuardedWinner(round, data, options, *st, sd, accepted,
-                                   fits, results, screen.num_tests, report);
+  RoundRefusals refusals;
+  int winner = GuardedWinner(round, data, options, *st, sd, accepted, fits,
+                             results, screen.num_tests, report, &refusals);
+  std::string joint_note;
+  if (winner < 0) {
+    winner = JointWinner(round, data, options, sd, accepted, fits, results,
+                         screen.num_tests, screen.score_p, screen.best_start,
+                         refusals, st, report, &joint_note);
+  }
   phase->Mark("guard");
-  if (winner < 0) return false;
+  if (winner < 0) {
+    for (Unexplained& u : refusals.located)
+      report->unexplained.push_back(std::move(u));
+    return false;
+  }
 
   // Adopt the winner (step 6: report).
   Finding f = FindingFromTests(st->td, cv, results, winner);
@@ -612,7 +556,7 @@ bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
     f.p_adjusted = std::min(1.0, f.p_value * screen.num_tests);
   }
   Fitted adopted = AdoptWinner(*st, sd, chosen, &f);
-  f.explanation += twin_note;
+  f.explanation += twin_note + joint_note;
   NoteUndeterminedSiblings(*st, sd, adopted, &f);
   StateReferenceIdentification(reference, &f);
   report->findings.push_back(f);
@@ -623,78 +567,6 @@ bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
   }
   st->current = adopted;
   return true;
-}
-
-void Summarise(const Dataset& data, const DiagnosisOptions& options,
-               const DiagnosisState& st, DiagnosisReport* report) {
-  const TermData& td = st.td;
-  const Fitted& current = st.current;
-  const std::vector<double> after_all =
-      PredictTerms(td, st.all, current.log_k, current.terms);
-  std::vector<double> pt, pv;
-  for (int o : st.train) pt.push_back(after_all[o]);
-  for (int o : st.val) pv.push_back(after_all[o]);
-  report->final_gap_train_um = Gap(td, st.train, pt);
-  report->final_gap_val_um = Gap(td, st.val, pv);
-  if (report->findings.empty()) {
-    // Nothing adopted: the final model is the baseline. (The robust term
-    // refit and the robust calibration stop after the same two reweighting
-    // steps from different starts, so their gaps may differ by a fraction
-    // of a micron; the report must not show a change it did not make.)
-    report->final_gap_train_um = report->baseline_gap_train_um;
-    report->final_gap_val_um = report->baseline_gap_val_um;
-  }
-  const StatusOr<KStructure> ks =
-      KStructure::ForOption(1, td.positions, td.roll_types, td.grades);
-  if (ks.ok()) {
-    for (int i = 0; i < ks->num_coefficients(); ++i) {
-      report->coefficients.emplace_back(ks->CoefficientName(i),
-                                        std::exp(current.log_k[i]));
-    }
-  }
-  for (const TermSpec& t : current.terms) report->terms.push_back(t.term);
-  if (ks.ok()) {
-    WearModel& m = report->adopted_model;
-    m.law = options.law;
-    m.structure = *ks;
-    for (double lk : current.log_k) m.k.push_back(std::exp(lk));
-    m.terms = report->terms;
-    std::vector<double> e;
-    for (size_t i = 0; i < st.train.size(); ++i) {
-      e.push_back(td.obs[st.train[i]].measured_um - pt[i]);
-    }
-    const RobustNoise noise = FitRobustNoise(pt, e);
-    // Served widened to cover the training tails, as calibrate's (robust.h);
-    // outliers and the locate below judge against the robust noise itself.
-    const double c = TailCoverageScale(noise.u);
-    m.noise_sd_um = c * noise.noise_sd_um;
-    m.noise_rel = c * noise.noise_rel;
-    ListOutliers(data, st, after_all, noise, report);
-    // Appended to what the proxy guard located in the last round.
-    for (Unexplained& u :
-         LocateUnexplained(data, options, st, after_all, noise)) {
-      report->unexplained.push_back(std::move(u));
-    }
-    std::stable_sort(report->unexplained.begin(), report->unexplained.end(),
-                     [](const Unexplained& a, const Unexplained& b) {
-                       return a.p_value < b.p_value;
-                     });
-    // The lag-1 structure describes the whole series: the strongest entry
-    // only (the guard's, naming the time term that failed to take it away,
-    // and the final model's look again can both list it).
-    bool lag1_seen = false;
-    std::erase_if(report->unexplained, [&](const Unexplained& u) {
-      if (u.dimension != "lag1_along_time") return false;
-      const bool drop = lag1_seen;
-      lag1_seen = true;
-      return drop;
-    });
-  }
-  report->verdict = !report->findings.empty() ? "missing_physics_found"
-                    : !report->unexplained.empty()
-                        ? "mismatch_located_unexplained"
-                        : "no_significant_mismatch";
-  AddPoints(data, st, after_all, report);
 }
 
 }  // namespace rollwear::diag

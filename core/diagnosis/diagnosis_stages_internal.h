@@ -78,6 +78,14 @@ struct DiagnosisState {
   // options.thresholds (diagnosis_thresholds.h), for the stages that are
   // given the state but not the options.
   DiagnosisThresholds thresholds;
+  // The findings joint forward selection named (JointWinner): the term's
+  // covariate and form, the structure it was judged with, and its refusal
+  // alone (reason and place), for WithdrawUnpairedJoint.
+  struct JointPair {
+    std::string covariate, form, partner, reason;
+    Unexplained place;
+  };
+  std::vector<JointPair> joint;
 };
 
 // Stage 1 (diagnosis_baseline.cc). Aggregates, splits the campaigns 2:1 and
@@ -406,6 +414,24 @@ GuardResult LookAlongTime(const Dataset& data, const DiagnosisState& st,
                           const std::vector<double>& after,
                           const std::string& covariate);
 
+// What the guards refused in a round (GuardedWinner): the places the
+// refusals located (RunRound lists them as unexplained when the round names
+// nothing), the candidates refused as proxies of a structure and their
+// covariates (FitsWorseThanRefused, interacts_with_refused), and, aligned,
+// every candidate tried with its refusal (kind, guard, reason, place) and
+// its row in report->runners_up.
+struct RoundRefusals {
+  std::vector<Unexplained> located;
+  std::vector<int> refused;
+  std::vector<std::string> refused_covariates;
+  std::vector<int> tried;
+  std::vector<RefusalKind> kinds;
+  std::vector<std::string> guards;
+  std::vector<std::string> reasons;
+  std::vector<Unexplained> places;
+  std::vector<size_t> rows;
+};
+
 // The first accepted candidate of a round (`accepted`, best first) that
 // passes every guard of the ordered table kWinnerGuards
 // (diagnosis_winner.cc): not locate-only (NotNameable), its fit inside its
@@ -413,15 +439,62 @@ GuardResult LookAlongTime(const Dataset& data, const DiagnosisState& st,
 // GuardAgainstProxy, distinct from its rivals (DistinctFromRivals) and no
 // worse a fit than what the guards refused (FitsWorseThanRefused); or -1.
 // The others tried become runners-up with the refusing guard's
-// RefusalKind, and when none passes, where an inconsistent effect lives is
-// listed as unexplained.
+// RefusalKind; `refusals` gets what was refused and where it lives.
 int GuardedWinner(int round, const Dataset& data,
                   const DiagnosisOptions& options, const DiagnosisState& st,
                   const std::vector<double>& sd,
                   const std::vector<int>& accepted,
                   const std::vector<Fitted>& fits,
                   const std::vector<CandidateResult>& results, double num_tests,
-                  DiagnosisReport* report);
+                  DiagnosisReport* report, RoundRefusals* refusals);
+
+// Every guard of kWinnerGuards on `candidate` over the model st.current
+// (diagnosis_winner.cc), nothing refused before it but the covariates
+// `refused_covariates`: the first refusal, or a pass.
+GuardResult WinnerGuardsOn(
+    const Dataset& data, const DiagnosisOptions& options,
+    const DiagnosisState& st, const std::vector<double>& sd,
+    const std::vector<int>& accepted, const std::vector<Fitted>& fits,
+    const std::vector<CandidateResult>& results, double num_tests,
+    const std::vector<std::string>& refused_covariates, int candidate);
+
+// Joint forward selection (diagnosis_joint.cc, docs/diagnosis.md "Two
+// effects together"): when the guards refused every accepted candidate of
+// a round judged on the round's model, each refused candidate A (best
+// first, one per covariate, at most thresholds.max_joint_candidates) is
+// judged again on the model that also carries another significant
+// structure B of the round (the best-screened candidate of each other
+// covariate, by `score_p` over `screened`, fitted where the round did not
+// refit it; those adding significantly to the round's model, best fit
+// first, at most thresholds.max_joint_contexts). A is the winner when, given B,
+// it still adds significantly (Bonferroni over the round's tests) and passes
+// every guard, and B, given A, does the same: the pair is one consistent
+// description, and a second effect no longer vetoes the first. Not run in
+// a round with no round after it (B would never be judged). Returns A
+// (whose runner-up row of this round it removes, recording the pair in
+// st->joint) and sets `note` to the sentence saying so; or -1. st->current
+// is restored before it returns.
+int JointWinner(int round, const Dataset& data, const DiagnosisOptions& options,
+                const std::vector<double>& sd, const std::vector<int>& accepted,
+                const std::vector<Fitted>& fits,
+                const std::vector<CandidateResult>& results, double num_tests,
+                const std::vector<double>& score_p,
+                const std::vector<Candidate>& screened,
+                const RoundRefusals& refusals, DiagnosisState* st,
+                DiagnosisReport* report, std::string* note);
+
+// After the rounds (diagnosis_joint.cc): a finding joint selection named
+// whose partner structure the final model does not hold (no finding over
+// its covariate or a carrier of the same mechanism) was named on a model
+// that does not exist: withdrawn (WithdrawFinding), its refusal alone
+// restored and its place listed as unexplained.
+void WithdrawUnpairedJoint(const DiagnosisOptions& options,
+                           DiagnosisState* state, DiagnosisReport* report,
+                           std::vector<int>* rounds);
+
+// The index in `terms` of the term finding `f` adopted, or -1
+// (diagnosis_final_scope.cc).
+int AdoptedTermIndex(const std::vector<TermSpec>& terms, const Finding& f);
 
 // The covariates the round's fitted candidates carry the winner's
 // mechanism through (SameCarriedMechanism), over its scope, that the data

@@ -57,6 +57,8 @@ bool DiagnosisThresholds::IsValid(std::string* error) const {
   count("max_refits", max_refits);
   positive("max_refit_score_p", max_refit_score_p);
   count("max_cross_validated", max_cross_validated);
+  if (bad.empty() && (max_joint_candidates < 0 || max_joint_contexts < 0))
+    bad = "max_joint_candidates and max_joint_contexts must be >= 0";
   if (bad.empty()) return true;
   if (error != nullptr) *error = bad;
   return false;

@@ -78,7 +78,8 @@ struct DiagnosisThresholds {
   // The look along time (diagnosis_along_time.cc): the share of the lag-1
   // autocovariance that may remain after a calendar-time term: half of it
   // (about 71 % of its amplitude), the look-again share applied to a
-  // second-moment statistic.
+  // second-moment statistic. What remains must also not be significant
+  // and material (r1 >= material_autocorrelation, below).
   double along_time_share = 0.5;
   // The grade x campaign-order look (diagnosis_order.cc): the share of the
   // check's t^2 a term must take away to be judged by it. Campaign-order
@@ -91,7 +92,8 @@ struct DiagnosisThresholds {
   // Material size of the noise checks (diagnosis_noise.cc): the lag-1
   // autocorrelation |r1|; the runs test's |R - E[R]| / E[R]; the spread
   // ratio's |ratio - 1|; a located group mean, as a share of the median
-  // noise sd (|mean| / median sd).
+  // noise sd (|mean| / median sd). The look along time reads the first
+  // for what a calendar term leaves.
   double material_autocorrelation = 0.15;
   double material_runs_share = 0.10;
   double material_spread_share = 0.25;
@@ -169,6 +171,14 @@ struct DiagnosisThresholds {
   // Each round cross-validates at most this many significant candidates
   // (by LR; the strongest significant cell comes in addition).
   int max_cross_validated = 3;
+  // Joint forward selection (diagnosis_joint.cc): when the guards refuse
+  // every accepted candidate of a round, the best max_joint_candidates of
+  // them (one per covariate) are judged again on the model that also holds
+  // one of the round's max_joint_contexts strongest other significant
+  // structures. A cost bound (each pair costs two sets of refits and two
+  // guard chains), not a test level; 0 turns joint selection off.
+  int max_joint_candidates = 2;
+  int max_joint_contexts = 2;
 
   // Whether every threshold is in range; otherwise false with the field's
   // name and its range in *error (when not null).

@@ -209,7 +209,49 @@ constexpr WinnerGuard kWinnerGuards[] = {
      }},
 };
 
+// Runs kWinnerGuards on `c.candidate` until one refuses; `kind` gets the
+// refusing guard's RefusalKind (the last one's when all pass).
+GuardResult RunWinnerGuards(const WinnerGuardContext& c, RefusalKind* kind) {
+  GuardResult g;
+  *kind = RefusalKind::kUnspecified;
+  for (const WinnerGuard& guard : kWinnerGuards) {
+    g = guard.check(c);
+    *kind = guard.kind;
+    if (!g.pass) break;
+  }
+  return g;
+}
+
+// Locate on the training data under st.current, residuals clipped to sd.
+std::vector<Breakdown> LocateBefore(const Dataset& data,
+                                    const DiagnosisOptions& options,
+                                    const DiagnosisState& st,
+                                    const std::vector<double>& sd) {
+  std::vector<double> clip;
+  for (int o : st.train) clip.push_back(sd[o]);
+  return Locate(
+      st.td, data, st.train,
+      PredictTerms(st.td, st.train, st.current.log_k, st.current.terms),
+      options.thresholds, &clip);
+}
+
 }  // namespace
+
+// See diagnosis_stages_internal.h.
+GuardResult WinnerGuardsOn(
+    const Dataset& data, const DiagnosisOptions& options,
+    const DiagnosisState& st, const std::vector<double>& sd,
+    const std::vector<int>& accepted, const std::vector<Fitted>& fits,
+    const std::vector<CandidateResult>& results, double num_tests,
+    const std::vector<std::string>& refused_covariates, int candidate) {
+  const std::vector<Breakdown> before = LocateBefore(data, options, st, sd);
+  const std::vector<int> none;
+  const WinnerGuardContext context{
+      data,    options,   st,     sd,   accepted,           fits,
+      results, num_tests, before, none, refused_covariates, candidate};
+  RefusalKind kind;
+  return RunWinnerGuards(context, &kind);
+}
 
 // See diagnosis_stages_internal.h.
 int GuardedWinner(int round, const Dataset& data,
@@ -218,30 +260,20 @@ int GuardedWinner(int round, const Dataset& data,
                   const std::vector<int>& accepted,
                   const std::vector<Fitted>& fits,
                   const std::vector<CandidateResult>& results, double num_tests,
-                  DiagnosisReport* report) {
+                  DiagnosisReport* report, RoundRefusals* refusals) {
   if (accepted.empty()) return -1;
-  std::vector<double> clip;
-  for (int o : st.train) clip.push_back(sd[o]);
-  const std::vector<Breakdown> before =
-      Locate(st.td, data, st.train,
-             PredictTerms(st.td, st.train, st.current.log_k, st.current.terms),
-             options.thresholds, &clip);
-  std::vector<Unexplained> located;
-  std::vector<int> refused;  // the candidates the guard refused
-  std::vector<std::string> refused_covariates;
+  const std::vector<Breakdown> before = LocateBefore(data, options, st, sd);
+  std::vector<Unexplained>& located = refusals->located;
+  std::vector<int>& refused = refusals->refused;  // refused as proxies
+  std::vector<std::string>& refused_covariates = refusals->refused_covariates;
   for (int i : accepted) {
     // A locate-only covariate is a structure the vocabulary cannot name:
     // refused like an inconsistent effect (what fits worse is its shadow).
     const WinnerGuardContext context{
         data,    options,   st,     sd,      accepted,           fits,
         results, num_tests, before, refused, refused_covariates, i};
-    GuardResult g;
-    RefusalKind kind = RefusalKind::kUnspecified;
-    for (const WinnerGuard& guard : kWinnerGuards) {
-      g = guard.check(context);
-      kind = guard.kind;
-      if (!g.pass) break;
-    }
+    RefusalKind kind;
+    GuardResult g = RunWinnerGuards(context, &kind);
     if (g.pass) return i;
     const bool by_cell = kind == RefusalKind::kNoBetterThanCell;
     const bool by_rival = kind == RefusalKind::kNotDistinguishable;
@@ -263,11 +295,16 @@ int GuardedWinner(int round, const Dataset& data,
     // A refusal that locates the candidate's own effect leaves its
     // adjusted p to the round (PartNotRequired).
     if (std::isnan(g.located.p_adjusted)) g.located.p_adjusted = c.p_adjusted;
+    refusals->rows.push_back(report->runners_up.size());
     report->runners_up.push_back({round, c.covariate, c.form, c.p_adjusted,
                                   c.cv_mse_ratio, g.reason, kind, g.guard});
+    refusals->tried.push_back(i);
+    refusals->kinds.push_back(kind);
+    refusals->guards.push_back(g.guard);
+    refusals->reasons.push_back(g.reason);
+    refusals->places.push_back(g.located);
     if (!g.located.dimension.empty()) AddLocated(g.located, &located);
   }
-  for (const Unexplained& u : located) report->unexplained.push_back(u);
   return -1;
 }
 
