@@ -8,10 +8,10 @@
 //
 // Greedy forward selection judges each candidate on the model of its round.
 // With two effects in the data, the one not yet modelled leaves structure
-// that a guard reads as the candidate's failing: a lubrication flag
-// "inconsistent across temperature" while temperature's own effect is
-// unmodelled; a hardness term leaving "located structure" along the
-// campaign while the campaign's growth is unmodelled. Forward selection
+// that a guard reads as the candidate's failing: a hardness term leaving
+// "located structure" along the campaign while the campaign's growth is
+// unmodelled; a speed term leaving structure along the hours in service
+// while the stoppages' effect is unmodelled. Forward selection
 // with re-examination of the included terms given the others (Efroymson
 // 1960, in Ralston & Wilf, Mathematical Methods for Digital Computers,
 // ch. 17) is the classical remedy; here only the guards' verdicts are
@@ -67,10 +67,10 @@ std::vector<int> StrongestPerCovariate(
 }
 
 // Of `strongest` (fitted in `fits`), the structures other than
-// `covariate`'s whose term adds significantly to the round's model (LR ~
-// chi2(df), Bonferroni over the round's `num_tests`), best fit first, at
-// most `limit`; none over a locate-only covariate (it cannot pass the
-// guards given anything).
+// `covariate`'s (and its mechanism's other carriers) whose term adds
+// significantly to the round's model (LR ~ chi2(df), Bonferroni over the
+// round's `num_tests`), best fit first, at most `limit`; none over a
+// locate-only covariate (it cannot pass the guards given anything).
 std::vector<int> Contexts(const DiagnosisState& st,
                           const std::vector<Fitted>& fits,
                           const std::vector<CandidateResult>& results,
@@ -80,8 +80,10 @@ std::vector<int> Contexts(const DiagnosisState& st,
   const double n = static_cast<double>(st.train.size());
   std::vector<int> out;
   for (int j : strongest) {
+    // Another carrier of the candidate's own mechanism is no second effect.
     if (!fits[j].usable || fits[j].terms.empty() || !(fits[j].rss > 0) ||
-        results[j].covariate == covariate)
+        results[j].covariate == covariate ||
+        SameCarriedMechanism(results[j].covariate, covariate))
       continue;
     const TermSpec& t = fits[j].terms.back();
     const int k = t.covariate;
@@ -247,8 +249,8 @@ int JointWinner(int round, const Dataset& data, const DiagnosisOptions& options,
           JointNote(refusals.reasons[k],
                     results[b].covariate + " (" + results[b].form +
                         (bs.Fields().empty() ? "" : ", " + bs.Label()) + ")");
-      st->joint.push_back({cov, results[a].form, results[b].covariate,
-                           refusals.reasons[k], refusals.places[k]});
+      st->joint.push_back({round, results[b].covariate, refusals.reasons[k],
+                           fits[b].terms.back().term, refusals.places[k]});
       // Its refusal of this round is withdrawn.
       report->runners_up.erase(report->runners_up.begin() +
                                static_cast<long>(refusals.rows[k]));
@@ -258,50 +260,88 @@ int JointWinner(int round, const Dataset& data, const DiagnosisOptions& options,
   return -1;
 }
 
+namespace {
+
+// Whether the final model holds joint pair `pair`'s partner: a term over its
+// covariate (a cell: at its place), or a finding other than the pair's own
+// (finding `self`) whose covariate or listed carriers carry its mechanism.
+bool HoldsPartner(const DiagnosisState::JointPair& pair, size_t self,
+                  const DiagnosisState& st, const DiagnosisReport& report) {
+  const ModelTerm& p = pair.partner_term;
+  for (const TermSpec& t : st.current.terms) {
+    if (p.form == TermForm::kCell
+            ? t.term.form == TermForm::kCell && t.term.scope == p.scope
+            : t.term.covariate == p.covariate)
+      return true;
+  }
+  for (size_t i = 0; i < report.findings.size(); ++i) {
+    const Finding& g = report.findings[i];
+    if (i == self) continue;
+    if (SameCarriedMechanism(g.covariate, pair.partner) ||
+        std::find(g.carriers.begin(), g.carriers.end(), pair.partner) !=
+            g.carriers.end())
+      return true;
+  }
+  return false;
+}
+
+// Withdraws finding i, named jointly per `pair`, whose partner the final
+// model does not hold: its term leaves the model (refitted; when the refit
+// fails, the other terms at their current values), its refusal alone is
+// restored and its place listed.
+void WithdrawJoint(const DiagnosisOptions& options,
+                   const DiagnosisState::JointPair& pair, size_t i,
+                   DiagnosisState* st, DiagnosisReport* report,
+                   std::vector<int>* rounds) {
+  const Finding& f = report->findings[i];
+  Fitted without = st->current;
+  const int at = AdoptedTermIndex(st->current.terms, f);
+  if (at >= 0) {
+    without.terms.erase(without.terms.begin() + at);
+    const std::vector<double> sd =
+        TermNoiseSd(st->td, st->train, st->current.log_k, without.terms,
+                    nullptr, options.robust);
+    const Fitted refit =
+        Fit(st->td, st->train, sd, st->current.log_k, without.terms);
+    if (refit.usable) without = refit;
+  }
+  Unexplained place = pair.place;
+  if (place.dimension.empty()) {
+    // A refusal that located nothing: the effect's own covariate.
+    place.dimension = f.covariate;
+    place.where = "everywhere: along " + f.covariate;
+    place.test = "likelihood_ratio";
+    place.statistic = f.lr;
+    place.p_value = f.p_value;
+  }
+  if (std::isnan(place.p_adjusted)) place.p_adjusted = f.p_adjusted;
+  WithdrawFinding(i,
+                  "withdrawn on the final model: named jointly with " +
+                      pair.partner +
+                      ", which the final model does not hold; alone it was "
+                      "refused (" +
+                      pair.reason + ")",
+                  RefusalKind::kJointPartnerMissing, "", place, without, st,
+                  report, rounds);
+}
+
+}  // namespace
+
 // See diagnosis_stages_internal.h.
 void WithdrawUnpairedJoint(const DiagnosisOptions& options, DiagnosisState* st,
                            DiagnosisReport* report, std::vector<int>* rounds) {
-  for (const DiagnosisState::JointPair& pair : st->joint) {
-    const auto holds_partner = [&](const Finding& g) {
-      return g.covariate == pair.partner ||
-             SameCarriedMechanism(g.covariate, pair.partner) ||
-             std::find(g.carriers.begin(), g.carriers.end(), pair.partner) !=
-                 g.carriers.end();
-    };
-    if (std::any_of(report->findings.begin(), report->findings.end(),
-                    holds_partner))
-      continue;
-    for (size_t i = 0; i < report->findings.size(); ++i) {
-      const Finding& f = report->findings[i];
-      if (f.covariate != pair.covariate || f.form != pair.form) continue;
-      const int at = AdoptedTermIndex(st->current.terms, f);
-      if (at < 0) break;
-      std::vector<TermSpec> terms = st->current.terms;
-      terms.erase(terms.begin() + at);
-      const std::vector<double> sd = TermNoiseSd(
-          st->td, st->train, st->current.log_k, terms, nullptr, options.robust);
-      const Fitted without =
-          Fit(st->td, st->train, sd, st->current.log_k, terms);
-      // Not refitted is not withdrawn: kept rather than a broken model.
-      if (!without.usable) break;
-      Unexplained place = pair.place;
-      if (place.dimension.empty()) {
-        // A refusal that located nothing: the effect's own covariate.
-        place.dimension = f.covariate;
-        place.where = "everywhere: along " + f.covariate;
-        place.test = "likelihood_ratio";
-        place.statistic = f.lr;
-        place.p_value = f.p_value;
-      }
-      if (std::isnan(place.p_adjusted)) place.p_adjusted = f.p_adjusted;
-      WithdrawFinding(i,
-                      "withdrawn on the final model: named jointly with " +
-                          pair.partner +
-                          ", which the final model does not hold; alone it "
-                          "was refused (" +
-                          pair.reason + ")",
-                      RefusalKind::kJointPartnerMissing, "", place, without, st,
-                      report, rounds);
+  // Until nothing moves: a partner may itself be a joint finding withdrawn
+  // here. A finding is known by its adoption round (`rounds`, aligned with
+  // the findings; a cell finding is reported on its factor, not "cell").
+  for (bool again = true; again;) {
+    again = false;
+    for (const DiagnosisState::JointPair& pair : st->joint) {
+      const auto it = std::find(rounds->begin(), rounds->end(), pair.round);
+      if (it == rounds->end()) continue;  // withdrawn already
+      const size_t i = static_cast<size_t>(it - rounds->begin());
+      if (HoldsPartner(pair, i, *st, *report)) continue;
+      WithdrawJoint(options, pair, i, st, report, rounds);
+      again = true;
       break;
     }
   }

@@ -78,11 +78,13 @@ struct DiagnosisState {
   // options.thresholds (diagnosis_thresholds.h), for the stages that are
   // given the state but not the options.
   DiagnosisThresholds thresholds;
-  // The findings joint forward selection named (JointWinner): the term's
-  // covariate and form, the structure it was judged with, and its refusal
+  // The findings joint forward selection named (JointWinner): the round
+  // that adopted it, the structure it was judged with, and its refusal
   // alone (reason and place), for WithdrawUnpairedJoint.
   struct JointPair {
-    std::string covariate, form, partner, reason;
+    int round = 0;  // the finding's adoption round
+    std::string partner, reason;
+    ModelTerm partner_term;  // a cell partner is known by its place
     Unexplained place;
   };
   std::vector<JointPair> joint;
@@ -463,12 +465,14 @@ GuardResult WinnerGuardsOn(
 // a round judged on the round's model, each refused candidate A (best
 // first, one per covariate, at most thresholds.max_joint_candidates) is
 // judged again on the model that also carries another significant
-// structure B of the round (the best-screened candidate of each other
-// covariate, by `score_p` over `screened`, fitted where the round did not
-// refit it; those adding significantly to the round's model, best fit
-// first, at most thresholds.max_joint_contexts). A is the winner when, given B,
-// it still adds significantly (Bonferroni over the round's tests) and passes
-// every guard, and B, given A, does the same: the pair is one consistent
+// structure B of the round (of the max_joint_contexts + 1 strongest
+// covariates by `score_p` over `screened`, fitted where the round did not
+// refit them, those other than A's mechanism adding significantly to the
+// round's model, best fit first, at most thresholds.max_joint_contexts). A
+// is the winner when, given B, it still adds significantly (Bonferroni over
+// the round's tests times the pairs that may be tried) and passes every
+// guard but shadow_of_refused, and B, given A, does the same: the pair is
+// one consistent
 // description, and a second effect no longer vetoes the first. Not run in
 // a round with no round after it (B would never be judged). Returns A
 // (whose runner-up row of this round it removes, recording the pair in
@@ -484,9 +488,10 @@ int JointWinner(int round, const Dataset& data, const DiagnosisOptions& options,
                 DiagnosisReport* report, std::string* note);
 
 // After the rounds (diagnosis_joint.cc): a finding joint selection named
-// whose partner structure the final model does not hold (no finding over
-// its covariate or a carrier of the same mechanism) was named on a model
-// that does not exist: withdrawn (WithdrawFinding), its refusal alone
+// whose partner structure the final model does not hold (no term over its
+// covariate, or for a cell at its place, and no finding carrying its
+// mechanism) was named on a model that does not exist: withdrawn
+// (WithdrawFinding, RefusalKind::kJointPartnerMissing), its refusal alone
 // restored and its place listed as unexplained.
 void WithdrawUnpairedJoint(const DiagnosisOptions& options,
                            DiagnosisState* state, DiagnosisReport* report,

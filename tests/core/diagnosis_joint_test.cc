@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/diagnosis/diagnosis_stages_internal.h"
 #include "tests/core/simulator_test_util.h"
 
 namespace rollwear {
@@ -70,6 +71,80 @@ TEST(DiagnosisJointTest, NotTriedWithoutARoundForThePartner) {
   ASSERT_TRUE(r.ok()) << r.status().ToString();
   EXPECT_TRUE(r->findings.empty());
   EXPECT_EQ(r->verdict, "mismatch_located_unexplained");
+  // Not named and withdrawn again: never named. Its refusal of the round
+  // stands, and nothing was withdrawn for a missing partner.
+  EXPECT_TRUE(std::any_of(
+      r->runners_up.begin(), r->runners_up.end(), [](const RunnerUp& u) {
+        return u.round == 0 && u.covariate == "hardness_hb" &&
+               u.refusal == RefusalKind::kProxyGuard;
+      }));
+  for (const RunnerUp& u : r->runners_up)
+    EXPECT_NE(u.refusal, RefusalKind::kJointPartnerMissing) << u.reason;
+}
+
+// After the rounds, a jointly named finding whose partner the final model
+// does not hold is withdrawn (WithdrawUnpairedJoint); one whose partner it
+// holds stays. A hand-built state: a small simulated mill's baseline, one
+// adopted hardness term as the finding of round 0, named jointly with a
+// campaign-growth term.
+TEST(DiagnosisJointTest, AFindingWhosePartnerIsMissingIsWithdrawn) {
+  const Simulation sim = simulator_test::Simulated(7, 60, {"hardness"});
+  const DiagnosisOptions options;
+  DiagnosisReport report;
+  StatusOr<diag::Baseline> base = diag::RunBaseline(sim.data, options, &report);
+  ASSERT_TRUE(base.ok()) << base.status().ToString();
+  StatusOr<diag::DiagnosisState> built =
+      diag::BuildState(sim.data, options, *base, &report);
+  ASSERT_TRUE(built.ok()) << built.status().ToString();
+  diag::DiagnosisState st = std::move(built).value();
+  const auto spec_of = [&](const std::string& covariate) {
+    for (const auto& group : diag::UnscopedCandidates(st.td, st.train, options))
+      for (const diag::Candidate& c : group)
+        if (c.spec.term.covariate == covariate &&
+            c.spec.term.form == TermForm::kLogLinear)
+          return c.spec;
+    ADD_FAILURE() << "no log-linear candidate over " << covariate;
+    return TermSpec{};
+  };
+  const TermSpec hardness = spec_of("hardness_hb");
+  const TermSpec growth = spec_of("campaign_length_before_m");
+  const std::vector<double> sd(st.td.obs.size(), 10.0);
+  const diag::Fitted with =
+      diag::Fit(st.td, st.train, sd, st.current.log_k, {hardness});
+  ASSERT_TRUE(with.usable);
+
+  for (bool partner_held : {false, true}) {
+    diag::DiagnosisState s = st;
+    DiagnosisReport r;
+    s.current = with;
+    if (partner_held) s.current.terms.push_back(growth);
+    Finding f;
+    f.covariate = "hardness_hb";
+    f.form = "log_linear";
+    f.term = with.terms.back().term;
+    r.findings.push_back(f);
+    std::vector<int> rounds = {0};
+    Unexplained place;
+    place.dimension = "campaign_length_before_m";
+    place.where = "campaign_length_before_m=Q4";
+    s.joint.push_back({0, "campaign_length_before_m",
+                       "located structure remains", growth.term, place});
+    diag::WithdrawUnpairedJoint(options, &s, &r, &rounds);
+    if (partner_held) {
+      EXPECT_EQ(r.findings.size(), 1u);
+      EXPECT_TRUE(r.runners_up.empty());
+      continue;
+    }
+    EXPECT_TRUE(r.findings.empty());
+    EXPECT_TRUE(rounds.empty());
+    ASSERT_EQ(r.runners_up.size(), 1u);
+    EXPECT_EQ(r.runners_up[0].refusal, RefusalKind::kJointPartnerMissing);
+    EXPECT_NE(r.runners_up[0].reason.find("campaign_length_before_m"),
+              std::string::npos);
+    ASSERT_EQ(r.unexplained.size(), 1u);
+    EXPECT_EQ(r.unexplained[0].dimension, "campaign_length_before_m");
+    EXPECT_TRUE(s.current.terms.empty());  // the term left the model
+  }
 }
 
 // The option is checked: a negative bound is refused.
