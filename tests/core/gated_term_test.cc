@@ -166,30 +166,25 @@ TEST(GatedTermTest, ARefitRefusesAGateThatIsNotANumericPassCovariate) {
 // where seeds 101 and 102 of each variant are named; the scorecard names
 // both in 5 of 5 seeds at 395).
 TEST(GatedTermTest, HiddenGatedLubricationIsNamedBehindItsGate) {
-  const int campaigns = test_size::FullOr(kPaperCampaigns, 150);
-  for (const auto& [effect, seed] :
-       {std::pair<const char*, uint64_t>{"gated_lubrication:0", 101},
-        std::pair<const char*, uint64_t>{"gated_lubrication:1", 102}}) {
-    const simulator_test::Diagnosed d =
-        simulator_test::DiagnoseSimulated(seed, {effect}, campaigns);
-    ASSERT_EQ(d.sim.truth.effects.size(), 1u);
-    const SimulatedEffect& truth = d.sim.truth.effects[0];
-    ASSERT_EQ(d.report.findings.size(), 1u)
-        << effect << simulator_test::DescribeReport(d.report);
-    const Finding& f = d.report.findings[0];
-    EXPECT_EQ(f.covariate, "lubrication") << effect;
-    EXPECT_EQ(f.form, "flag") << effect;
-    EXPECT_EQ(f.scope.at("gate"), truth.scope.at("gate")) << effect;
-    EXPECT_EQ(f.scope.at("gate_side"), truth.scope.at("gate_side")) << effect;
-    // Lubrication lowers the wear: a multiplier below 1, within 0.1 of the
-    // truth.s 1 - gamma.
-    const double m = f.parameters.at("multiplier_on");
-    EXPECT_NEAR(m, 1 - truth.parameters.at("gamma"), 0.1) << effect;
-    EXPECT_NE(f.explanation.find("passes with " + truth.scope.at("gate")),
-              std::string::npos)
-        << f.explanation;
-    EXPECT_LT(f.gap_val_after_um, f.gap_val_before_um) << effect;
-  }
+  simulator_test::ForEachSingleFinding(
+      {{"gated_lubrication:0", 101}, {"gated_lubrication:1", 102}},
+      test_size::FullOr(kPaperCampaigns, 150),
+      [](const std::string& effect, const SimulatedEffect& truth,
+         const Finding& f) {
+        EXPECT_EQ(f.covariate, "lubrication") << effect;
+        EXPECT_EQ(f.form, "flag") << effect;
+        EXPECT_EQ(f.scope.at("gate"), truth.scope.at("gate")) << effect;
+        EXPECT_EQ(f.scope.at("gate_side"), truth.scope.at("gate_side"))
+            << effect;
+        // Lubrication lowers the wear: a multiplier below 1, within 0.1 of
+        // the truth's 1 - gamma.
+        const double m = f.parameters.at("multiplier_on");
+        EXPECT_NEAR(m, 1 - truth.parameters.at("gamma"), 0.1) << effect;
+        EXPECT_NE(f.explanation.find("passes with " + truth.scope.at("gate")),
+                  std::string::npos)
+            << f.explanation;
+        EXPECT_LT(f.gap_val_after_um, f.gap_val_before_um) << effect;
+      });
 }
 
 // Two gate covariates the data cannot tell apart (a mill's own column that

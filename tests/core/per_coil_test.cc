@@ -130,29 +130,23 @@ TEST(PerCoilTest, TheFitsJacobianIsThatOfTheirPrediction) {
 // Reduced under the sanitizers (150 campaigns, where the scorecard names it
 // in 7 of 8 seeds; seeds 201 and 202 are among those named).
 TEST(PerCoilTest, HiddenWearPerCoilIsNamedWhereItActsWithItsSize) {
-  const int campaigns = test_size::FullOr(kPaperCampaigns, 150);
-  for (const auto& [effect, seed] :
-       {std::pair<const char*, uint64_t>{"per_coil:0", 201},
-        std::pair<const char*, uint64_t>{"per_coil:1", 202}}) {
-    const simulator_test::Diagnosed d =
-        simulator_test::DiagnoseSimulated(seed, {effect}, campaigns);
-    ASSERT_EQ(d.sim.truth.effects.size(), 1u);
-    const SimulatedEffect& truth = d.sim.truth.effects[0];
-    ASSERT_EQ(d.report.findings.size(), 1u)
-        << effect << simulator_test::DescribeReport(d.report);
-    const Finding& f = d.report.findings[0];
-    EXPECT_EQ(f.form, "per_coil") << effect;
-    EXPECT_EQ(f.mechanism, "wear_per_coil") << effect;
-    EXPECT_TRUE(f.carriers.empty()) << effect;
-    EXPECT_EQ(f.scope, truth.scope) << effect;
-    // The size within 3 standard errors and 25 % of the truth.
-    const double a = f.parameters.at("um_per_coil");
-    const double se = f.parameter_std_errors.at("param0");
-    const double want = truth.parameters.at("um_per_coil");
-    EXPECT_NEAR(a, want, 3 * se) << effect;
-    EXPECT_NEAR(a, want, 0.25 * want) << effect;
-    EXPECT_LT(f.gap_val_after_um, f.gap_val_before_um) << effect;
-  }
+  simulator_test::ForEachSingleFinding(
+      {{"per_coil:0", 201}, {"per_coil:1", 202}},
+      test_size::FullOr(kPaperCampaigns, 150),
+      [](const std::string& effect, const SimulatedEffect& truth,
+         const Finding& f) {
+        EXPECT_EQ(f.form, "per_coil") << effect;
+        EXPECT_EQ(f.mechanism, "wear_per_coil") << effect;
+        EXPECT_TRUE(f.carriers.empty()) << effect;
+        EXPECT_EQ(f.scope, truth.scope) << effect;
+        // The size within 3 standard errors and 25 % of the truth.
+        const double a = f.parameters.at("um_per_coil");
+        const double se = f.parameter_std_errors.at("param0");
+        const double want = truth.parameters.at("um_per_coil");
+        EXPECT_NEAR(a, want, 3 * se) << effect;
+        EXPECT_NEAR(a, want, 0.25 * want) << effect;
+        EXPECT_LT(f.gap_val_after_um, f.gap_val_before_um) << effect;
+      });
 }
 
 // Wear per coil everywhere and a run-in together (seed 102): a reading

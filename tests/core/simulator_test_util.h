@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 #include <map>
 #include <string>
 #include <tuple>
@@ -163,6 +164,22 @@ void RatioAgainst(const std::vector<MeasurementView>& views, F covariate,
   for (const MeasurementView& v : views) {
     ratio->push_back(v.noise_free / v.baseline);
     x->push_back(covariate(v));
+  }
+}
+
+// Diagnoses each simulated (effect, seed) at `campaigns` campaigns, asserts
+// one hidden effect and exactly one finding, and calls
+// check(effect, truth, finding) on them.
+template <typename Check>
+void ForEachSingleFinding(
+    std::initializer_list<std::pair<const char*, uint64_t>> cases,
+    int campaigns, Check check) {
+  for (const auto& [effect, seed] : cases) {
+    const Diagnosed d = DiagnoseSimulated(seed, {effect}, campaigns);
+    ASSERT_EQ(d.sim.truth.effects.size(), 1u) << effect;
+    ASSERT_EQ(d.report.findings.size(), 1u)
+        << effect << DescribeReport(d.report);
+    check(std::string(effect), d.sim.truth.effects[0], d.report.findings[0]);
   }
 }
 
