@@ -45,13 +45,18 @@
 //     mechanism, and not a worse fit than a candidate refused as not
 //     nameable, by the proxy chain or as such a shadow. Each refusal is a
 //     runner-up with its RefusalKind and sentence; what a refusal located
-//     is kept for the verdict.
+//     is kept for the verdict. When every accepted candidate is refused,
+//     joint forward selection (diagnosis_joint.cc) judges a refused one
+//     again on the model that carries another significant structure of
+//     the round, and names it when each of the two passes given the other.
 //  5. Repeat on the improved model, up to max_findings findings. After the
 //     rounds, findings the final model does not support are withdrawn
 //     (cell sets a twin stand predicts alike, a cell two other cells
-//     describe as well, a cell or scope no longer confined;
-//     diagnosis_complement.cc, diagnosis_final_scope.cc), and the per-roll
-//     family runs on what is left (diagnosis_roll_family.cc).
+//     describe as well, a cell or scope no longer confined, a jointly
+//     named finding whose partner the final model does not hold;
+//     diagnosis_complement.cc, diagnosis_final_scope.cc,
+//     diagnosis_joint.cc), and the per-roll family runs on what is left
+//     (diagnosis_roll_family.cc).
 //  6. Report: the adopted terms with parameters and standard errors, the
 //     validation gap before and after each.
 //  7. Look again: the final model's residuals located as in step 2 plus
