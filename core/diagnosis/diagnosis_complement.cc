@@ -58,10 +58,8 @@ std::vector<TermSpec> TermsWithoutCells(const std::vector<TermSpec>& terms,
 Fitted RefitWithoutCells(const DiagnosisOptions& options,
                          const DiagnosisState& st,
                          const std::vector<TermScope>& cells) {
-  const std::vector<TermSpec> kept = TermsWithoutCells(st.current.terms, cells);
-  const std::vector<double> sd = TermNoiseSd(st.td, st.train, st.current.log_k,
-                                             kept, nullptr, options.robust);
-  return Fit(st.td, st.train, sd, st.current.log_k, kept);
+  return FitWithOwnNoise(st, options, st.current.log_k,
+                         TermsWithoutCells(st.current.terms, cells));
 }
 
 // Withdraws the stand cells of one factor when their complement is no
@@ -305,11 +303,9 @@ bool WithdrawUnconfinedCell(const DiagnosisOptions& options,
                             const std::vector<TermScope>& held,
                             DiagnosisState* st, DiagnosisReport* report,
                             std::vector<int>* rounds) {
-  const std::vector<double> sd =
-      TermNoiseSd(st->td, st->train, st->current.log_k, st->current.terms,
-                  nullptr, options.robust);
+  std::vector<double> sd;
   const Fitted base =
-      Fit(st->td, st->train, sd, st->current.log_k, st->current.terms);
+      FitWithOwnNoise(*st, options, st->current.log_k, st->current.terms, &sd);
   if (!base.usable || !(base.rss > 0)) return false;
   const double alpha =
       std::max(options.thresholds.sibling_cell_alpha, options.alpha);

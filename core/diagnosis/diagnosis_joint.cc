@@ -125,11 +125,9 @@ bool PassesGiven(const JointRound& r, const std::vector<int>& accepted,
                  std::string* reason) {
   const std::vector<Fitted>& fits = r.fits;
   const std::string& given_cov = r.results[given].covariate;
-  const std::vector<double> sd =
-      TermNoiseSd(st->td, st->train, fits[given].log_k, fits[given].terms,
-                  nullptr, r.options.robust);
-  const Fitted base =
-      Fit(st->td, st->train, sd, fits[given].log_k, fits[given].terms);
+  std::vector<double> sd;
+  const Fitted base = FitWithOwnNoise(*st, r.options, fits[given].log_k,
+                                      fits[given].terms, &sd);
   const TermSpec& term = fits[candidate].terms.back();
   std::vector<Fitted> on_base(fits.size());
   if (base.usable) on_base[candidate] = FitWith(*st, sd, base, term);
@@ -298,11 +296,8 @@ void WithdrawJoint(const DiagnosisOptions& options,
   const int at = AdoptedTermIndex(st->current.terms, f);
   if (at >= 0) {
     without.terms.erase(without.terms.begin() + at);
-    const std::vector<double> sd =
-        TermNoiseSd(st->td, st->train, st->current.log_k, without.terms,
-                    nullptr, options.robust);
     const Fitted refit =
-        Fit(st->td, st->train, sd, st->current.log_k, without.terms);
+        FitWithOwnNoise(*st, options, st->current.log_k, without.terms);
     if (refit.usable) without = refit;
   }
   Unexplained place = pair.place;

@@ -396,11 +396,9 @@ bool RunRollFamily(const DiagnosisOptions& options, DiagnosisState* st,
       static_cast<int>(report->findings.size()) >= options.max_findings) {
     return false;
   }
-  const std::vector<double> sd =
-      TermNoiseSd(td, st->train, st->current.log_k, st->current.terms, nullptr,
-                  options.robust);
+  std::vector<double> sd;
   const Fitted cur =
-      Fit(td, st->train, sd, st->current.log_k, st->current.terms);
+      FitWithOwnNoise(*st, options, st->current.log_k, st->current.terms, &sd);
   if (!cur.usable) return false;
   // Wear alone (a measurement term's offset does not scale with the
   // roll), and each reading less the model's offsets.

@@ -434,6 +434,18 @@ Fitted Fit(const TermData& td, const std::vector<int>& subset,
   return f;
 }
 
+Fitted FitWithOwnNoise(const DiagnosisState& st,
+                       const DiagnosisOptions& options,
+                       const std::vector<double>& log_k,
+                       const std::vector<TermSpec>& terms,
+                       std::vector<double>* sd) {
+  std::vector<double> own =
+      TermNoiseSd(st.td, st.train, log_k, terms, nullptr, options.robust);
+  Fitted f = Fit(st.td, st.train, own, log_k, terms);
+  if (sd != nullptr) *sd = std::move(own);
+  return f;
+}
+
 StatusOr<DiagnosisState> BuildState(const Dataset& data,
                                     const DiagnosisOptions& options,
                                     const Baseline& base,
@@ -492,10 +504,9 @@ bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
               std::set<int>* used, PhaseClock* phase, DiagnosisState* st,
               DiagnosisReport* report) {
   const TermData& td = st->td;
-  const std::vector<double> sd =
-      TermNoiseSd(td, st->train, st->current.log_k, st->current.terms, nullptr,
-                  options.robust);
-  Fitted cur = Fit(td, st->train, sd, st->current.log_k, st->current.terms);
+  std::vector<double> sd;
+  const Fitted cur =
+      FitWithOwnNoise(*st, options, st->current.log_k, st->current.terms, &sd);
   phase->Mark("round_fit");
   if (!cur.usable) return false;
   st->current = cur;

@@ -163,6 +163,15 @@ Fitted Fit(const TermData& td, const std::vector<int>& subset,
            std::vector<TermSpec> terms, bool errors = false,
            std::vector<double>* term_se = nullptr);
 
+// The model (`log_k`, `terms`) refitted on the training readings with its
+// own noise model (TermNoiseSd at those values, options.robust); the sd
+// goes to *sd when not null, for the tests that compare with it.
+Fitted FitWithOwnNoise(const DiagnosisState& st,
+                       const DiagnosisOptions& options,
+                       const std::vector<double>& log_k,
+                       const std::vector<TermSpec>& terms,
+                       std::vector<double>* sd = nullptr);
+
 // Mean |measured - pred| over `obs` (pred aligned with obs).
 double Gap(const TermData& td, const std::vector<int>& obs,
            const std::vector<double>& pred);
