@@ -42,10 +42,10 @@ constexpr Mechanism kMechanisms[] = {
     {"hours_since_mount", "thermal_growth_with_time_in_service",
      "Wear rate rises with hours in service, not with the rolled length: it "
      "follows the time the roll spends in the stand, idle time after "
-     "stoppages included. Readings taken once per campaign cannot tell "
-     "thermal fatigue accumulating with time in the stand from extra wear "
-     "at each restart after a stop (a cold roll, a lost oxide film); both "
-     "follow the idle time.",
+     "stoppages included (thermal fatigue, oxide growth on the idle hot "
+     "roll). Extra wear on the first coils after each restart only (a cold "
+     "roll, a lost oxide film) would follow the stops instead: the "
+     "diagnosis tests it as a rival it cannot name (after_stop).",
      "run_in_of_fresh_surface",
      "Wear is highest in the first hours after mounting: run-in and the "
      "thermal transient of a cold roll."},

@@ -158,15 +158,18 @@ GuardResult NotNameable(const DiagnosisState& st,
   if (!st.td.catalog[term.covariate].locate_only) return r;
   const CandidateResult& c = results[candidate];
   r.pass = false;
-  r.reason = "follows " + c.covariate +
-             ", a quantity derived from the roll serials that the data format "
-             "does not name: located, not named";
+  const bool stops = c.covariate == kAfterStopName;
+  r.reason =
+      "follows " + c.covariate + ", a quantity derived from " +
+      (stops ? "the gaps between the coils' rolled_at" : "the roll serials") +
+      " that the data format does not name: located, not named";
   // One entry per covariate (AddLocated drops a same-place repeat): the
   // strongest form's, refused first.
-  r.located = LocatedByItsLr(st, fits, results, candidate,
-                             c.covariate == kRollCampaignsBeforeName
-                                 ? "each roll's earlier campaigns (roll_id)"
-                                 : c.covariate);
+  r.located = LocatedByItsLr(
+      st, fits, results, candidate,
+      c.covariate == kRollCampaignsBeforeName
+          ? "each roll's earlier campaigns (roll_id)"
+          : (stops ? "the first coils after a stop (rolled_at)" : c.covariate));
   return r;
 }
 

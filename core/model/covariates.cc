@@ -81,6 +81,18 @@ std::vector<CovariateSpec> CovariateCatalog(const Dataset& data) {
             S::kCampaignExtraFactor, &c);
   AddExtras(data.measurement_extra, L::kMeasurement,
             S::kMeasurementExtraNumeric, S::kMeasurementExtraFactor, &c);
+  // After the extras: a dataset without stops has the catalog it had.
+  const std::vector<unsigned char> after_stop = PassesAfterStop(data);
+  if (std::find(after_stop.begin(), after_stop.end(), 1) != after_stop.end()) {
+    c.push_back({kAfterStopName,
+                 S::kAfterStop,
+                 L::kPass,
+                 K::kFlag,
+                 -1,
+                 false,
+                 {},
+                 /*locate_only=*/true});
+  }
   // Last, so that adding it moved no other covariate's index.
   std::vector<std::string> rolls;
   for (const Mount& m : data.mounts) {
@@ -153,6 +165,8 @@ double CovariateValue(const CovariateSpec& spec, const Dataset& data,
       return 1.0;
     case CovariateSource::kRollCampaignsBefore:
       return ctx.roll_campaigns_before;
+    case CovariateSource::kAfterStop:
+      return ctx.after_stop;
     case CovariateSource::kRollId: return SortedLevelIndex(spec.levels, m.roll_id);
     case CovariateSource::kCoolingHours:
       if (ctx.measurement_row < 0) return kNaN;
@@ -209,6 +223,47 @@ std::vector<int> RollCampaignsBefore(const Dataset& data) {
     }
     out[row] = it->second.first;
   }
+  return out;
+}
+
+std::vector<unsigned char> PassesAfterStop(const Dataset& data) {
+  std::vector<unsigned char> out(data.passes.size(), 0);
+  if (data.passes.empty()) return out;
+  const DatasetIndex index(data);
+  std::vector<double> spacing;
+  const auto each_sequence = [&](const auto& visit) {
+    for (size_t c = 0; c < data.campaigns.size(); ++c) {
+      for (int stand = 0; stand <= kMaxStand; ++stand) {
+        const std::vector<int>& rows =
+            index.PassesOf(static_cast<int>(c), stand);
+        if (rows.size() >= 2) visit(rows);
+      }
+    }
+  };
+  each_sequence([&](const std::vector<int>& rows) {
+    for (size_t i = 1; i < rows.size(); ++i) {
+      spacing.push_back(static_cast<double>(
+          data.passes[rows[i]].rolled_at - data.passes[rows[i - 1]].rolled_at));
+    }
+  });
+  if (spacing.empty()) return out;
+  const auto mid =
+      spacing.begin() + static_cast<std::ptrdiff_t>(spacing.size() / 2);
+  std::nth_element(spacing.begin(), mid, spacing.end());
+  const double stop_s = std::max(kStopMinSpacingS, kStopSpacingRatio * *mid);
+  each_sequence([&](const std::vector<int>& rows) {
+    int since = -1;  // coils since the last stop; -1: none yet
+    for (size_t i = 1; i < rows.size(); ++i) {
+      const double gap = static_cast<double>(
+          data.passes[rows[i]].rolled_at - data.passes[rows[i - 1]].rolled_at);
+      if (gap > stop_s) {
+        since = 0;
+      } else if (since >= 0) {
+        ++since;
+      }
+      if (since >= 0 && since < kAfterStopCoils) out[rows[i]] = 1;
+    }
+  });
   return out;
 }
 

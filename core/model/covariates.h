@@ -26,6 +26,14 @@
 // is `locate_only`: the diagnosis tests and locates along it (a mismatch
 // that follows a roll's service is not calendar time) but never names it
 // as physics, and the predictor never serves it (NaN there).
+// after_stop (kAfterStopName): a flag, 1 on the first kAfterStopCoils
+// coils rolled after a stop inside the campaign (PassesAfterStop), 0
+// elsewhere: a roll cooled while the mill stood and its surface rebuilt
+// after the restart (its thermal crown and oxide film). The data format
+// records each coil's rolled_at, not the stops, so it is `locate_only`: a
+// term over hours in service that only stands in for extra wear just
+// after the restarts is refused as not distinguishable from it, never
+// named. It is in the catalog only when the data hold a stop.
 // roll_id (kRollIdName): the physical roll, a factor whose levels are the
 // data's roll ids in sorted order, last in the catalog. It is the
 // covariate of the roll-effect form only (model_terms.h): `locate_only` for
@@ -71,6 +79,7 @@ enum class CovariateSource {
   kMeasuredAt,
   kCell,
   kRollCampaignsBefore,
+  kAfterStop,
   kRollId,
   kPassExtraNumeric,
   kMountExtraNumeric,
@@ -116,10 +125,33 @@ struct PassContext {
   // The roll's earlier campaigns in the data (RollCampaignsBefore); NaN
   // where no history is at hand (the predictor).
   double roll_campaigns_before = std::numeric_limits<double>::quiet_NaN();
+  // after_stop of this pass (PassesAfterStop); NaN where the coils before
+  // are not at hand (the predictor).
+  double after_stop = std::numeric_limits<double>::quiet_NaN();
 };
 
 inline constexpr const char* kRollCampaignsBeforeName = "roll_campaigns_before";
 inline constexpr const char* kRollIdName = "roll_id";
+inline constexpr const char* kAfterStopName = "after_stop";
+
+// A stop: a coil rolled more than kStopMinSpacingS after the coil before it
+// at the same stand, and more than kStopSpacingRatio times the data's
+// median spacing (a coil every 1.5-3 min is a hot strip mill's rhythm; ten
+// minutes is a delay, not a gap between slabs). The flag covers the next
+// kAfterStopCoils coils (the stop's first coil included): the work roll's
+// surface temperature settles within minutes of rolling after an idle
+// time (Stevens, Ivens & Harper 1971, J. Iron Steel Inst. 209:1, on work
+// roll cooling), ten coils being about twenty minutes. Chosen from that
+// physics, not fitted to any data.
+inline constexpr double kStopMinSpacingS = 600;
+inline constexpr double kStopSpacingRatio = 5;
+inline constexpr int kAfterStopCoils = 10;
+
+// Per row of data.passes: 1 when the pass is among the first
+// kAfterStopCoils coils after a stop in its campaign (at its stand), else
+// 0. The roll change that starts a campaign is not a stop here (the start
+// of a campaign is campaign_coils_before's).
+std::vector<unsigned char> PassesAfterStop(const Dataset& data);
 
 // Per row of data.mounts: the number of campaigns started before this
 // mount's campaign (ties: earlier row first) that mounted the same roll_id.

@@ -52,6 +52,7 @@ using families::InexpressibleLubrication;
 using families::InexpressibleNightShift;
 using families::InexpressibleOrder;
 using families::InexpressibleRandomWalk;
+using families::InexpressibleRestart;
 using families::InexpressibleRollService;
 using families::ScopedEffect;
 
@@ -504,6 +505,10 @@ const std::vector<FamilySpec>& Families() {
       {"inexpressible_bursts",
        "extra wear scatter in some calendar periods; not expressible", 1,
        &InexpressibleBursts},
+      {"inexpressible_restart",
+       "the first coils after a stoppage wear more (a cooled roll); not "
+       "expressible",
+       1, &InexpressibleRestart},
   };
   return kFamilies;
 }

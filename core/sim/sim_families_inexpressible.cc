@@ -267,4 +267,30 @@ FamilyEffect InexpressibleBursts(int, Random* rng, uint64_t seed,
   return f;
 }
 
+// inexpressible_restart: after a stoppage (kSimStopS or more idle) the
+// next 4..9 coils wear x(1 + s), s in 0.6..1.0 (a roll cooled while the
+// mill stood, its oxide film and thermal crown rebuilt). Besides the
+// 2 % short stoppages of every campaign, 2 % of the coils are followed by
+// an idle time of 0.2..1 h. Readings once per campaign see it only through
+// the number of stops, which hours in service also count: a term over
+// hours_since_mount fits part of it. The data format records rolled_at,
+// not the stops: lives in the coils after a stop.
+FamilyEffect InexpressibleRestart(int, Random* rng, uint64_t, int) {
+  const double s = rng->Uniform(0.6, 1.0);
+  const int n = 4 + static_cast<int>(rng->Below(6));
+  FamilyEffect f =
+      Inexpressible("inexpressible_restart", "step", s, "coils after a stop");
+  f.stoppage_probability = 0.02;
+  f.stoppage_min_h = 0.2;
+  f.stoppage_max_h = 1;
+  f.truth.parameters = {{"s", s}, {"n_coils", n}};
+  f.truth.description = "the first " + std::to_string(n) +
+                        " coils after a stoppage wear x" + Fmt("%.2f", 1 + s) +
+                        " (a cooled roll rebuilding its surface)";
+  f.apply = [s, n](const EffectContext& c) {
+    return c.coils_since_stop < n ? 1 + s : 1.0;
+  };
+  return f;
+}
+
 }  // namespace rollwear::sim::families

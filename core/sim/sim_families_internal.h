@@ -105,6 +105,8 @@ FamilyEffect InexpressibleRandomWalk(int variant, Random* rng, uint64_t seed,
                                      int num_campaigns);
 FamilyEffect InexpressibleBursts(int variant, Random* rng, uint64_t seed,
                                  int num_campaigns);
+FamilyEffect InexpressibleRestart(int variant, Random* rng, uint64_t seed,
+                                  int num_campaigns);
 
 }  // namespace rollwear::sim::families
 

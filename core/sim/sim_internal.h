@@ -158,6 +158,7 @@ struct CoilPlan {
   bool lubrication = false;
   double shift6_mm = 0, shift7_mm = 0;
   double gap_s = 0;  // idle time before the next coil
+  int coils_since_stop = 1 << 20;  // CountCoilsSinceStop
 };
 
 // Generates the coils of a campaign in rolling order (a "coffin" width
@@ -199,7 +200,20 @@ struct EffectContext {
   int roll_type = -1;     // index into RollTypes()
   int column_level = -1;  // measurement effects: level of the column
   int roll_campaigns_before = 0;  // the mounted roll's earlier campaigns
+  // Coils rolled since the last stoppage inside the campaign (an idle time
+  // of kSimStopS or more before a coil; that coil counts 0); a large value
+  // before the first.
+  int coils_since_stop = 1 << 20;
 };
+
+// What the simulator's own effects call a stoppage: an idle time before a
+// coil of at least five minutes.
+constexpr double kSimStopS = 300;
+
+// Sets each coil's coils_since_stop from the gaps before it (the campaign's
+// gaps final, stoppages added): 0 on the first coil after a stoppage, a
+// large value before the first.
+void CountCoilsSinceStop(std::vector<CoilPlan>* coils);
 
 enum class EffectKind {
   kWearRate,     // Apply returns a multiplier on the pass's wear increment

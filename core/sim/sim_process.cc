@@ -358,4 +358,14 @@ double RollForceKn(const GradeSpec& grade, double width_mm, double h_in_mm,
   return force_n / 1000;
 }
 
+void CountCoilsSinceStop(std::vector<CoilPlan>* coils) {
+  for (size_t i = 1; i < coils->size(); ++i) {
+    const CoilPlan& before = (*coils)[i - 1];
+    (*coils)[i].coils_since_stop =
+        before.gap_s >= kSimStopS
+            ? 0
+            : std::min(before.coils_since_stop + 1, 1 << 20);
+  }
+}
+
 }  // namespace rollwear::sim

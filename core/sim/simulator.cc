@@ -403,6 +403,7 @@ std::array<double, 4> MillRun::RollCoils(
         ctx.mount = &m;
         ctx.campaign_length_before_m = length_before_m[s];
         ctx.coils_before = i;
+        ctx.coils_since_stop = coil.coils_since_stop;
         ctx.hours_since_mount = (*t - start) / 3600.0;
         ctx.days_since_first_campaign = (start - kStartTime) / 86400.0;
         for (const ActiveEffect& e : rate_effects_) {
@@ -598,6 +599,7 @@ void MillRun::Run() {
       for (sim::CoilPlan& coil : coils) coil.shift6_mm = coil.shift7_mm = 0;
     }
     AddStoppages(c, &coils);
+    sim::CountCoilsSinceStop(&coils);
     ChooseRolls(&start, &choice_rng);
     AddMounts(c);
 

@@ -513,9 +513,9 @@ TEST(SimulatorFamilyTest, GradeRollPositionActsAtItsRollPositionOnly) {
 }
 
 TEST(SimulatorFamilyTest, InexpressibleEffectsSayWhereTheMismatchLives) {
-  for (const char* name :
-       {"inexpressible_order", "inexpressible_interaction",
-        "inexpressible_random_walk", "inexpressible_bursts"}) {
+  for (const char* name : {"inexpressible_order", "inexpressible_interaction",
+                           "inexpressible_random_walk", "inexpressible_bursts",
+                           "inexpressible_restart"}) {
     const Simulation sim = Simulated(37, 60, {name});
     const SimulatedEffect& e = OnlyEffect(sim);
     EXPECT_FALSE(e.expressible) << name;
