@@ -66,17 +66,71 @@ std::vector<int> StrongestPerCovariate(
   return out;
 }
 
+// The covariate along which a refusal located the structure left ("inconsistent
+// across temperature_c": dimension "effect_by_temperature_c" or
+// "temperature_c"), or "" when the place is not along a covariate.
+std::string LocatedCovariate(const Unexplained& place, const TermData& td) {
+  std::string d = place.dimension;
+  if (d.rfind("effect_by_", 0) == 0) d = d.substr(10);
+  return td.CovariateIndex(d) >= 0 ? d : "";
+}
+
+// The best-screened candidates over `covariate` whose score test is
+// significant at the round's level, one per form, strongest first, at
+// most `limit` (a form whose fit stops at its box's edge is no context:
+// the next may be).
+std::vector<int> StrongestOf(const std::string& covariate,
+                             const std::vector<double>& score_p,
+                             const std::vector<CandidateResult>& results,
+                             double alpha, double num_tests, int limit) {
+  std::vector<int> order;
+  for (size_t i = 0; i < score_p.size(); ++i) {
+    if (results[i].covariate == covariate && score_p[i] * num_tests < alpha)
+      order.push_back(static_cast<int>(i));
+  }
+  std::sort(order.begin(), order.end(),
+            [&](int a, int b) { return score_p[a] < score_p[b]; });
+  std::vector<int> out;
+  for (int i : order) {
+    if (static_cast<int>(out.size()) >= limit) break;
+    if (std::none_of(out.begin(), out.end(),
+                     [&](int j) { return results[j].form == results[i].form; }))
+      out.push_back(i);
+  }
+  return out;
+}
+
+// The fitted candidate that is gated candidate `gated`'s twin: the same
+// covariate, form and scope, without the gate; or -1.
+int UngatedTwinOf(const std::vector<Fitted>& fits, int gated) {
+  const ModelTerm& g = fits[gated].terms.back().term;
+  if (g.scope.gate.empty()) return -1;
+  TermScope plain = g.scope;
+  plain.gate.clear();
+  plain.gate_at = 0;
+  plain.gate_above = true;
+  for (size_t j = 0; j < fits.size(); ++j) {
+    if (!fits[j].usable || fits[j].terms.empty()) continue;
+    const ModelTerm& t = fits[j].terms.back().term;
+    if (t.covariate == g.covariate && t.form == g.form && t.scope == plain)
+      return static_cast<int>(j);
+  }
+  return -1;
+}
+
 // Of `strongest` (fitted in `fits`), the structures other than
 // `covariate`'s (and its mechanism's other carriers) whose term adds
 // significantly to the round's model (LR ~ chi2(df), Bonferroni over the
-// round's `num_tests`), best fit first, at most `limit`; none over a
-// locate-only covariate (it cannot pass the guards given anything).
+// round's `num_tests`): the best fit over `located` (the covariate the
+// candidate's refusal located the left structure along) first, then the
+// others best fit first, at most `limit` of them; none over a locate-only
+// covariate (it cannot pass the guards given anything).
 std::vector<int> Contexts(const DiagnosisState& st,
                           const std::vector<Fitted>& fits,
                           const std::vector<CandidateResult>& results,
                           const std::vector<int>& strongest, double alpha,
                           double num_tests, const std::string& covariate,
-                          int limit) {
+                          const std::string& located, int limit) {
   const double n = static_cast<double>(st.train.size());
   std::vector<int> out;
   for (int j : strongest) {
@@ -90,14 +144,29 @@ std::vector<int> Contexts(const DiagnosisState& st,
     if (k >= 0 && k < static_cast<int>(st.td.catalog.size()) &&
         st.td.catalog[k].locate_only)
       continue;
+    // A form standing in for structure it does not describe is no context.
+    if (!AtBoxBound(st, fits, results, j).pass) continue;
     const double p = ChiSquareSurvival(NestedLr(n, st.current.rss, fits[j].rss),
                                        t.term.NumParams());
     if (p * num_tests < alpha) out.push_back(j);
   }
-  std::sort(out.begin(), out.end(),
-            [&](int a, int b) { return fits[a].rss < fits[b].rss; });
-  if (static_cast<int>(out.size()) > limit) out.resize(limit);
-  return out;
+  std::sort(out.begin(), out.end(), [&](int a, int b) {
+    const bool la = results[a].covariate == located;
+    const bool lb = results[b].covariate == located;
+    return la != lb ? la : fits[a].rss < fits[b].rss;
+  });
+  // One over the located covariate beside `limit` others.
+  const bool first_located =
+      !out.empty() && results[out.front()].covariate == located;
+  std::vector<int> kept;
+  for (int j : out) {
+    const bool is_located = results[j].covariate == located;
+    if (is_located
+            ? kept.empty() && first_located
+            : static_cast<int>(kept.size()) < limit + (first_located ? 1 : 0))
+      kept.push_back(j);
+  }
+  return kept;
 }
 
 // The round a check of one pair reads.
@@ -122,7 +191,7 @@ struct JointRound {
 // (interacts_with_refused: an interaction of the two is no pair).
 bool PassesGiven(const JointRound& r, const std::vector<int>& accepted,
                  int candidate, int given, DiagnosisState* st,
-                 std::string* reason) {
+                 std::string* reason, std::string* guard = nullptr) {
   const std::vector<Fitted>& fits = r.fits;
   const std::string& given_cov = r.results[given].covariate;
   std::vector<double> sd;
@@ -181,6 +250,7 @@ bool PassesGiven(const JointRound& r, const std::vector<int>& accepted,
                      r.results, r.round_tests, refused, candidate);
   st->current = saved;
   if (!g.pass) *reason = g.reason;
+  if (guard != nullptr) *guard = g.guard;
   return g.pass;
 }
 
@@ -191,6 +261,33 @@ std::string JointNote(const std::string& refusal, const std::string& partner) {
          " it adds significantly and passes every guard, and that term does "
          "the same given it (joint forward selection): the round names it "
          "first, the next judges the other on the model with it.";
+}
+
+// The candidates a context is chosen from: the strongest of each other
+// covariate by score, and the strongest forms of each covariate a
+// structural refusal located the left structure along (a temperature effect
+// left unmodelled refuses the lubrication flag as inconsistent across
+// temperature_c, whose score ranks below the flag's scoped and gated
+// copies).
+std::vector<int> ContextCandidates(const DiagnosisOptions& options,
+                                   const std::vector<CandidateResult>& results,
+                                   double num_tests,
+                                   const std::vector<double>& score_p,
+                                   const RoundRefusals& refusals,
+                                   const DiagnosisState& st) {
+  const DiagnosisThresholds& t = options.thresholds;
+  std::vector<int> strongest = StrongestPerCovariate(
+      score_p, results, options.alpha, num_tests, t.max_joint_contexts + 1);
+  for (size_t k = 0; k < refusals.tried.size(); ++k) {
+    if (!StructuralRefusal(refusals.kinds[k], refusals.guards[k])) continue;
+    for (int j :
+         StrongestOf(LocatedCovariate(refusals.places[k], st.td), score_p,
+                     results, options.alpha, num_tests, t.max_joint_contexts)) {
+      if (std::find(strongest.begin(), strongest.end(), j) == strongest.end())
+        strongest.push_back(j);
+    }
+  }
+  return strongest;
 }
 
 }  // namespace
@@ -211,22 +308,21 @@ int JointWinner(int round, const Dataset& data, const DiagnosisOptions& options,
     any = any || StructuralRefusal(refusals.kinds[k], refusals.guards[k]);
   if (!any || t.max_joint_candidates == 0 || t.max_joint_contexts == 0)
     return -1;
-  // The contexts: the strongest of each other covariate, fitted on the
-  // round's model where the round did not refit it.
+  // The contexts, fitted on the round's model where the round did not
+  // refit them.
   std::vector<Fitted> fits = round_fits;
-  const std::vector<int> strongest = StrongestPerCovariate(
-      score_p, results, options.alpha, num_tests, t.max_joint_contexts + 1);
+  const std::vector<int> strongest =
+      ContextCandidates(options, results, num_tests, score_p, refusals, *st);
   for (int j : strongest) {
     if (!fits[j].usable)
       fits[j] = FitWith(*st, sd, st->current, screened[j].spec);
   }
-  const JointRound r{data,
-                     options,
-                     fits,
-                     results,
-                     num_tests * t.max_joint_candidates * t.max_joint_contexts,
-                     num_tests,
-                     refusals.refused_covariates};
+  const JointRound r{
+      data, options, fits, results,
+      // A located partner beside the contexts: one pair more
+      // per candidate.
+      num_tests * t.max_joint_candidates * (t.max_joint_contexts + 1),
+      num_tests, refusals.refused_covariates};
   std::vector<std::string> tried;
   for (size_t k = 0; k < refusals.tried.size(); ++k) {
     const int a = refusals.tried[k];
@@ -236,23 +332,39 @@ int JointWinner(int round, const Dataset& data, const DiagnosisOptions& options,
       continue;
     if (static_cast<int>(tried.size()) >= t.max_joint_candidates) break;
     tried.push_back(cov);
-    for (int b : Contexts(*st, fits, results, strongest, options.alpha,
-                          num_tests, cov, t.max_joint_contexts)) {
-      std::string why;
-      if (!PassesGiven(r, accepted, a, b, st, &why)) continue;
+    for (int b :
+         Contexts(*st, fits, results, strongest, options.alpha, num_tests, cov,
+                  LocatedCovariate(refusals.places[k], st->td),
+                  t.max_joint_contexts)) {
+      std::string why, guard;
+      int named = a;
+      if (!PassesGiven(r, accepted, a, b, st, &why, &guard)) {
+        // A gate the other structure makes unnecessary: the same term on
+        // every pass (the gated copy's twin, which the gate was tested
+        // against) is the pair's candidate.
+        named = guard == "gate_required" ? UngatedTwinOf(fits, a) : -1;
+        if (named < 0 || !PassesGiven(r, accepted, named, b, st, &why))
+          continue;
+      }
       // The pair must be one description: the other, given the winner.
-      if (!PassesGiven(r, accepted, b, a, st, &why)) continue;
+      if (!PassesGiven(r, accepted, b, named, st, &why)) continue;
+      // The named one's refusal of this round (a twin the round never
+      // tried is not named).
+      const auto at =
+          std::find(refusals.tried.begin(), refusals.tried.end(), named);
+      if (at == refusals.tried.end()) continue;
+      const size_t kn = static_cast<size_t>(at - refusals.tried.begin());
       const TermScope& bs = fits[b].terms.back().term.scope;
       *note =
-          JointNote(refusals.reasons[k],
+          JointNote(refusals.reasons[kn],
                     results[b].covariate + " (" + results[b].form +
                         (bs.Fields().empty() ? "" : ", " + bs.Label()) + ")");
-      st->joint.push_back({round, results[b].covariate, refusals.reasons[k],
-                           fits[b].terms.back().term, refusals.places[k]});
+      st->joint.push_back({round, results[b].covariate, refusals.reasons[kn],
+                           fits[b].terms.back().term, refusals.places[kn]});
       // Its refusal of this round is withdrawn.
       report->runners_up.erase(report->runners_up.begin() +
-                               static_cast<long>(refusals.rows[k]));
-      return a;
+                               static_cast<long>(refusals.rows[kn]));
+      return named;
     }
   }
   return -1;

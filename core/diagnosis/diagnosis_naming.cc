@@ -43,9 +43,10 @@ constexpr Mechanism kMechanisms[] = {
      "Wear rate rises with hours in service, not with the rolled length: it "
      "follows the time the roll spends in the stand, idle time after "
      "stoppages included (thermal fatigue, oxide growth on the idle hot "
-     "roll). Extra wear on the first coils after each restart only (a cold "
-     "roll, a lost oxide film) would follow the stops instead: the "
-     "diagnosis tests it as a rival it cannot name (after_stop).",
+     "roll). Readings taken once per campaign tell this only in part from "
+     "extra wear on the first coils after each restart (a cold roll, a lost "
+     "oxide film), since both follow the stops; where the data hold enough "
+     "coils after stops the diagnosis compares the two (after_stop).",
      "run_in_of_fresh_surface",
      "Wear is highest in the first hours after mounting: run-in and the "
      "thermal transient of a cold roll."},

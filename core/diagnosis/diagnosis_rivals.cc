@@ -23,7 +23,9 @@
 // A rival may be locate-only (roll_campaigns_before, covariates.h): a
 // calendar drift must add to a roll's service to be named, since rolls
 // serve in turn and a roll's service follows the calendar (correlation
-// 0.83 in an independent generator's mills). NotNameable refuses such a
+// 0.83 in an independent generator's mills); so must an hours-in-service
+// term add to extra wear on the first coils after a stop (after_stop),
+// which the number of stops drives in both. NotNameable refuses such a
 // candidate itself and lists where it lives.
 // Thread-safety: reentrant (reads its arguments only).
 #include <algorithm>
@@ -158,7 +160,8 @@ GuardResult NotNameable(const DiagnosisState& st,
   if (!st.td.catalog[term.covariate].locate_only) return r;
   const CandidateResult& c = results[candidate];
   r.pass = false;
-  const bool stops = c.covariate == kAfterStopName;
+  const CovariateSource source = st.td.catalog[term.covariate].source;
+  const bool stops = source == CovariateSource::kAfterStop;
   r.reason =
       "follows " + c.covariate + ", a quantity derived from " +
       (stops ? "the gaps between the coils' rolled_at" : "the roll serials") +
@@ -167,7 +170,7 @@ GuardResult NotNameable(const DiagnosisState& st,
   // strongest form's, refused first.
   r.located = LocatedByItsLr(
       st, fits, results, candidate,
-      c.covariate == kRollCampaignsBeforeName
+      source == CovariateSource::kRollCampaignsBefore
           ? "each roll's earlier campaigns (roll_id)"
           : (stops ? "the first coils after a stop (rolled_at)" : c.covariate));
   return r;

@@ -356,9 +356,9 @@ double ContributionRmsUm(const DiagnosisState& st, const Fitted& with,
                          const Fitted& without,
                          const std::vector<TermScope>& scopes);
 
-// A candidate over a locate-only covariate (CovariateSpec::locate_only,
-// roll_campaigns_before): always fails, with where it lives and its LR as
-// `located` (diagnosis_rivals.cc). Passes every other candidate.
+// A candidate over a locate-only covariate (CovariateSpec::locate_only:
+// roll_campaigns_before, after_stop): always fails, with where it lives and its
+// LR as `located` (diagnosis_rivals.cc). Passes every other candidate.
 GuardResult NotNameable(const DiagnosisState& st,
                         const std::vector<Fitted>& fits,
                         const std::vector<CandidateResult>& results,
@@ -475,9 +475,12 @@ GuardResult WinnerGuardsOn(
 // first, one per covariate, at most thresholds.max_joint_candidates) is
 // judged again on the model that also carries another significant
 // structure B of the round (of the max_joint_contexts + 1 strongest
-// covariates by `score_p` over `screened`, fitted where the round did not
-// refit them, those other than A's mechanism adding significantly to the
-// round's model, best fit first, at most thresholds.max_joint_contexts). A
+// covariates by `score_p` over `screened` and the covariate A's refusal
+// located the left structure along, fitted where the round did not refit
+// them, those other than A's mechanism adding significantly to the round's
+// model and not at their box's edge: the located one's best fit, then
+// best fit first, at most thresholds.max_joint_contexts beside it; a gated
+// A that B makes unnecessary gives way to its ungated twin). A
 // is the winner when, given B, it still adds significantly (Bonferroni over
 // the round's tests times the pairs that may be tried) and passes every
 // guard but shadow_of_refused, and B, given A, does the same: the pair is

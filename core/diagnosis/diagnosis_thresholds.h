@@ -175,8 +175,10 @@ struct DiagnosisThresholds {
   // every accepted candidate of a round, the best max_joint_candidates of
   // them (one per covariate) are judged again on the model that also holds
   // one of the round's max_joint_contexts strongest other significant
-  // structures. A cost bound (each pair costs two sets of refits and two
-  // guard chains), not a test level; 0 turns joint selection off.
+  // structures, or the one its refusal located the left structure along
+  // (max_joint_contexts + 1 pairs per candidate). A cost bound (each pair
+  // costs two sets of refits and two guard chains), not a test level; 0
+  // turns joint selection off.
   int max_joint_candidates = 2;
   int max_joint_contexts = 2;
 

@@ -112,6 +112,16 @@ StatusOr<std::vector<TermSpec>> SpecsOf(const TermData& td,
       return Status::InvalidArgument("terms: covariate '" + t.covariate +
                                      "' is not in the data");
     }
+    // A quantity the data format does not name is never served (the
+    // predictor has no value for it): a term over it would fit one model
+    // and serve another. roll_id is the roll-effect form's own.
+    if (td.catalog[s.covariate].locate_only &&
+        !(t.form == TermForm::kRollEffect &&
+          td.catalog[s.covariate].source == CovariateSource::kRollId)) {
+      return Status::InvalidArgument(
+          "terms: '" + t.covariate +
+          "' is derived by the diagnosis, not recorded: no term can use it");
+    }
     const bool on_measurement =
         td.catalog[s.covariate].level == CovariateLevel::kMeasurement;
     if (t.IsMeasurementTerm() != on_measurement) {

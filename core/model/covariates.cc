@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <string>
 #include <unordered_map>
@@ -81,9 +82,15 @@ std::vector<CovariateSpec> CovariateCatalog(const Dataset& data) {
             S::kCampaignExtraFactor, &c);
   AddExtras(data.measurement_extra, L::kMeasurement,
             S::kMeasurementExtraNumeric, S::kMeasurementExtraFactor, &c);
-  // After the extras: a dataset without stops has the catalog it had.
+  // After the extras: a dataset without stops has the catalog it had (the
+  // simulator's and a real mill's all have some). A mill column of that
+  // name is the mill's: the derived flag then stays out.
   const std::vector<unsigned char> after_stop = PassesAfterStop(data);
-  if (std::find(after_stop.begin(), after_stop.end(), 1) != after_stop.end()) {
+  const bool taken = std::any_of(
+      c.begin(), c.end(),
+      [](const CovariateSpec& s) { return s.name == kAfterStopName; });
+  if (!taken &&
+      std::find(after_stop.begin(), after_stop.end(), 1) != after_stop.end()) {
     c.push_back({kAfterStopName,
                  S::kAfterStop,
                  L::kPass,
@@ -253,9 +260,13 @@ std::vector<unsigned char> PassesAfterStop(const Dataset& data) {
   const double stop_s = std::max(kStopMinSpacingS, kStopSpacingRatio * *mid);
   each_sequence([&](const std::vector<int>& rows) {
     int since = -1;  // coils since the last stop; -1: none yet
+    // The gap from the latest coil so far: a rolled_at out of seq order
+    // makes no stop of the coil after it.
+    UnixSeconds latest = data.passes[rows[0]].rolled_at;
     for (size_t i = 1; i < rows.size(); ++i) {
-      const double gap = static_cast<double>(
-          data.passes[rows[i]].rolled_at - data.passes[rows[i - 1]].rolled_at);
+      const UnixSeconds at = data.passes[rows[i]].rolled_at;
+      const double gap = static_cast<double>(at - latest);
+      latest = std::max(latest, at);
       if (gap > stop_s) {
         since = 0;
       } else if (since >= 0) {

@@ -33,7 +33,8 @@
 // records each coil's rolled_at, not the stops, so it is `locate_only`: a
 // term over hours in service that only stands in for extra wear just
 // after the restarts is refused as not distinguishable from it, never
-// named. It is in the catalog only when the data hold a stop.
+// named. It is in the catalog only when the data hold a stop and no extra
+// column of the mill's is called after_stop.
 // roll_id (kRollIdName): the physical roll, a factor whose levels are the
 // data's roll ids in sorted order, last in the catalog. It is the
 // covariate of the roll-effect form only (model_terms.h): `locate_only` for

@@ -84,7 +84,7 @@ bool DimensionLocates(const std::string& part, const std::string& dimension) {
            SameCovariate("started_at", dimension) || dimension == "measured_at";
   }
   if (part.find("after a stop") != std::string::npos)  // restarts
-    return dimension == "after_stop";
+    return dimension == "after_stop" || dimension == "effect_by_after_stop";
   if (part.find("campaign order") != std::string::npos) {  // within a campaign
     return SameCovariate("campaign_coils_before", dimension) ||
            dimension == "campaign_rolled_length_m" ||

@@ -120,7 +120,8 @@ std::vector<std::string> MismatchParts(const std::string& mismatch);
 // "grade" by dominant_grade, position_by_grade*, effect_by_grade,
 // stand_by_grade or grade_by_campaign_order; "roll type" by roll_type,
 // position_by_roll_type, effect_by_roll_type, effect_by_stand_roll_type or
-// stand_by_roll_type; "time of day" by time_of_day; "position" or "stand"
+// stand_by_roll_type; "after a stop" by after_stop or effect_by_after_stop;
+// "time of day" by time_of_day; "position" or "stand"
 // by roll_position, position_by_*, spread_by_position, effect_by_position,
 // effect_by_stand or stand_by_*; any other
 // part is a covariate name, located by that covariate's own breakdown

@@ -208,7 +208,7 @@ struct EffectContext {
 
 // What the simulator's own effects call a stoppage: an idle time before a
 // coil of at least five minutes.
-constexpr double kSimStopS = 300;
+inline constexpr double kSimStopS = 300;
 
 // Sets each coil's coils_since_stop from the gaps before it (the campaign's
 // gaps final, stoppages added): 0 on the first coil after a stoppage, a

@@ -12,6 +12,7 @@
 
 #include "core/diagnosis/diagnosis_stages_internal.h"
 #include "tests/core/simulator_test_util.h"
+#include "tests/core/test_size.h"
 
 namespace rollwear {
 namespace {
@@ -57,6 +58,31 @@ TEST(DiagnosisJointTest, ASecondEffectNoLongerVetoesTheFirst) {
         << u.reason;
   }
   EXPECT_LT(r->final_gap_val_um, 0.95 * r->baseline_gap_val_um);
+}
+
+// A temperature effect and lubrication together (seed 102, the paper's
+// size). The lubrication flag, far the strongest, is refused as
+// inconsistent across temperature_c, while temperature's own score ranks
+// below a dozen scoped and gated copies of the flag: with the partners
+// taken by score alone temperature was never tried, and nothing was named
+// (session 35). The covariate a refusal locates the left structure along is
+// now a partner too, in its forms whose fit stays inside its box (the
+// power form stops at b = -4), and a gated copy the partner makes
+// unnecessary gives way to its twin on every pass.
+TEST(DiagnosisJointTest, ThePartnerIsWhereTheRefusalLocatedTheStructure) {
+  const Simulation sim = simulator_test::Simulated(
+      102, kPaperCampaigns, {"temperature", "lubrication"});
+  StatusOr<DiagnosisReport> r = Diagnose(sim.data, DiagnosisOptions{});
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  EXPECT_EQ(r->verdict, "missing_physics_found");
+  ASSERT_EQ(r->findings.size(), 2u);
+  EXPECT_EQ(r->findings[0].covariate, "lubrication");
+  EXPECT_EQ(r->findings[0].scope.count("gate"), 0u);
+  EXPECT_NE(r->findings[0].explanation.find("joint forward selection"),
+            std::string::npos)
+      << r->findings[0].explanation;
+  EXPECT_EQ(r->findings[1].covariate, "temperature_c");
+  EXPECT_LT(r->final_gap_val_um, 0.8 * r->baseline_gap_val_um);
 }
 
 // With no round after it, a round does not try joint selection: the

@@ -20,6 +20,7 @@
 #include <gtest/gtest.h>
 
 #include "core/diagnosis/diagnosis.h"
+#include "core/fit/term_refit.h"
 #include "core/model/covariates.h"
 #include "tests/core/simulator_test_util.h"
 #include "tests/core/test_size.h"
@@ -117,6 +118,72 @@ TEST(AfterStopTest, AStopIsLongAgainstTheMillsOwnRhythm) {
   EXPECT_EQ(std::count(twice.begin(), twice.end(), 1), 4 + kAfterStopCoils);
 }
 
+TEST(AfterStopTest, NoStopAcrossCampaignsOrFromAnOutOfOrderTime) {
+  // Two campaigns; the second starts 30 min after the first ends (a roll
+  // change, not a stop inside a campaign).
+  std::vector<int> gaps(20, 120);
+  Dataset d = Sequence(gaps);
+  const Dataset second = Sequence(gaps);
+  d.campaigns.push_back({"C2", d.campaigns[0].ended_at + 1800, 0});
+  for (Pass p : second.passes) {
+    p.campaign = 1;
+    p.coil += static_cast<int>(d.coil_ids.size());
+    p.rolled_at += d.campaigns[1].started_at - 1000;
+    d.passes.push_back(p);
+  }
+  for (const std::string& id : second.coil_ids) d.coil_ids.push_back(id + "b");
+  EXPECT_FALSE(InCatalog(d));
+  // A coil whose rolled_at is 20 min early and the next back in rhythm:
+  // the gap is counted from the latest coil, so no stop.
+  gaps[5] = -1200;
+  gaps[6] = 1320;
+  EXPECT_FALSE(InCatalog(Sequence(gaps)));
+  // A gap of exactly the threshold (10 min, five spacings) is no stop.
+  gaps = std::vector<int>(20, 120);
+  gaps[5] = 600;
+  EXPECT_FALSE(InCatalog(Sequence(gaps)));
+  gaps[5] = 601;
+  EXPECT_TRUE(InCatalog(Sequence(gaps)));
+}
+
+TEST(AfterStopTest, AMillColumnOfThatNameIsTheMills) {
+  std::vector<int> gaps(20, 120);
+  gaps[5] = 1800;
+  Dataset d = Sequence(gaps);
+  d.pass_extra.numeric_names.push_back(kAfterStopName);
+  d.pass_extra.numeric.emplace_back(d.passes.size(), 0.5);
+  const std::vector<CovariateSpec> c = CovariateCatalog(d);
+  EXPECT_EQ(std::count_if(c.begin(), c.end(),
+                          [](const CovariateSpec& s) {
+                            return s.name == kAfterStopName;
+                          }),
+            1);
+  EXPECT_FALSE(InCatalog(d));  // the one there is not locate-only
+}
+
+// A term over a quantity the diagnosis derives is never fitted by hand
+// either (calibrate --terms): the daemon could not serve it.
+TEST(AfterStopTest, NoTermIsFittedOverADerivedQuantity) {
+  const Simulation sim = simulator_test::Simulated(101, 30, {});
+  ASSERT_TRUE(InCatalog(sim.data));
+  std::vector<int> train;
+  for (int c = 0; c < static_cast<int>(sim.data.campaigns.size()); ++c)
+    train.push_back(c);
+  for (const char* name : {kAfterStopName, kRollCampaignsBeforeName}) {
+    ModelTerm t;
+    t.covariate = name;
+    t.form = std::string(name) == kAfterStopName ? TermForm::kFlag
+                                                 : TermForm::kLogLinear;
+    t.params = {0.1};
+    StatusOr<WearModel> m =
+        RefitWithTerms(sim.data, WearLaw::kWang, {t}, train);
+    ASSERT_FALSE(m.ok()) << name;
+    EXPECT_NE(m.status().message().find("derived by the diagnosis"),
+              std::string::npos)
+        << m.status().ToString();
+  }
+}
+
 bool Locates(const DiagnosisReport& r, const std::string& dimension) {
   return std::any_of(
       r.unexplained.begin(), r.unexplained.end(),
@@ -130,6 +197,18 @@ TEST(DiagnosisRestartTest, ExtraWearAfterStopsIsLocatedNotNamedAsHours) {
     EXPECT_EQ(d.report.verdict, "mismatch_located_unexplained");
     EXPECT_TRUE(d.report.findings.empty());
     EXPECT_TRUE(Locates(d.report, kAfterStopName));
+    // The flag's own candidate refused as not nameable, located after the
+    // stops; the hours term that stood in for it refused too.
+    const auto& u = d.report.runners_up;
+    EXPECT_TRUE(std::any_of(u.begin(), u.end(), [](const RunnerUp& r) {
+      return r.covariate == kAfterStopName &&
+             r.refusal == RefusalKind::kNotNameable;
+    }));
+    EXPECT_TRUE(std::any_of(
+        d.report.unexplained.begin(), d.report.unexplained.end(),
+        [](const Unexplained& x) {
+          return x.where == "the first coils after a stop (rolled_at)";
+        }));
   }
 }
 

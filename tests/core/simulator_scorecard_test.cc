@@ -294,6 +294,18 @@ TEST(ScorecardTest, InexpressibleNeedsTheRightLocation) {
                   .named_right);
   EXPECT_FALSE(ScoreCase("inexpressible_bursts", 1, Unexplained1("dominant_grade"), bursts)
                    .named_right);
+  // Extra wear after restarts: located at the flag, or by the guard's
+  // refusal across it; not along hours in service, which stands in for it.
+  const ScoreTruth restart = Truth(
+      {{"inexpressible_restart", "", {}, {}, false, "coils after a stop"}});
+  for (const char* at : {"after_stop", "effect_by_after_stop"}) {
+    EXPECT_TRUE(ScoreCase("inexpressible_restart", 1, Unexplained1(at), restart)
+                    .named_right)
+        << at;
+  }
+  EXPECT_FALSE(ScoreCase("inexpressible_restart", 1,
+                         Unexplained1("hours_since_mount"), restart)
+                   .named_right);
 
   // A covariate effect on dry passes only: located by the guard's refusal
   // across the lubrication flag, or along the covariate; not by a grade.
