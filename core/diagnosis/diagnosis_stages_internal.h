@@ -475,21 +475,21 @@ GuardResult WinnerGuardsOn(
 // first, one per covariate, at most thresholds.max_joint_candidates) is
 // judged again on the model that also carries another significant
 // structure B of the round (of the max_joint_contexts + 1 strongest
-// covariates by `score_p` over `screened` and the covariate A's refusal
-// located the left structure along, fitted where the round did not refit
-// them, those other than A's mechanism adding significantly to the round's
-// model and not at their box's edge: the located one's best fit, then
-// best fit first, at most thresholds.max_joint_contexts beside it; a gated
+// covariates by `score_p` over `screened` and the covariates the round's
+// structural refusals located the left structure along, fitted where the round
+// did not refit them, those other than A's mechanism adding significantly to
+// the round's model and not at their box's edge: the located one's best fit,
+// then best fit first, at most thresholds.max_joint_contexts beside it; a gated
 // A that B makes unnecessary gives way to its ungated twin). A
 // is the winner when, given B, it still adds significantly (Bonferroni over
 // the round's tests times the pairs that may be tried) and passes every
 // guard but shadow_of_refused, and B, given A, does the same: the pair is
 // one consistent
 // description, and a second effect no longer vetoes the first. Not run in
-// a round with no round after it (B would never be judged). Returns A
-// (whose runner-up row of this round it removes, recording the pair in
-// st->joint) and sets `note` to the sentence saying so; or -1. st->current
-// is restored before it returns.
+// a round with no round after it (B would never be judged). Returns A or
+// its ungated twin (whose runner-up row of this round it removes, recording the
+// pair in st->joint) and sets `note` to the sentence saying so; or -1.
+// st->current is restored before it returns.
 int JointWinner(int round, const Dataset& data, const DiagnosisOptions& options,
                 const std::vector<double>& sd, const std::vector<int>& accepted,
                 const std::vector<Fitted>& fits,

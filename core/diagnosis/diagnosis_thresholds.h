@@ -177,8 +177,8 @@ struct DiagnosisThresholds {
   // one of the round's max_joint_contexts strongest other significant
   // structures, or the one its refusal located the left structure along
   // (max_joint_contexts + 1 pairs per candidate). A cost bound (each pair
-  // costs two sets of refits and two guard chains), not a test level; 0
-  // turns joint selection off.
+  // costs two or, with a gated copy's twin, three sets of refits and guard
+  // chains), not a test level; 0 turns joint selection off.
   int max_joint_candidates = 2;
   int max_joint_contexts = 2;
 

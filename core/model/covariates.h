@@ -150,8 +150,11 @@ inline constexpr int kAfterStopCoils = 10;
 
 // Per row of data.passes: 1 when the pass is among the first
 // kAfterStopCoils coils after a stop in its campaign (at its stand), else
-// 0. The roll change that starts a campaign is not a stop here (the start
-// of a campaign is campaign_coils_before's).
+// 0. A gap is measured from the latest rolled_at of the earlier coils (a
+// time out of seq order makes no stop; one far in the future hides the
+// stops after it), the median spacing from consecutive coils. The roll change
+// that starts a campaign is not a stop here (the start of a campaign is
+// campaign_coils_before's).
 std::vector<unsigned char> PassesAfterStop(const Dataset& data);
 
 // Per row of data.mounts: the number of campaigns started before this
