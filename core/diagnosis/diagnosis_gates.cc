@@ -163,6 +163,18 @@ bool GatedCopyIn(const std::vector<Fitted>& fits, int i,
   return GatedCopyAmong(fits, i, chosen);
 }
 
+int UngatedTwinOf(const std::vector<Fitted>& fits, int gated) {
+  const TermSpec* g = TermOf(fits[gated]);
+  if (!GatedTerm(g)) return -1;
+  for (size_t j = 0; j < fits.size(); ++j) {
+    const TermSpec* t = TermOf(fits[j]);
+    if (fits[j].usable && t != nullptr && !GatedTerm(t) &&
+        SameTermApartFromGate(*t, *g))
+      return static_cast<int>(j);
+  }
+  return -1;
+}
+
 void AddFittedTwins(const std::vector<Fitted>& fits,
                     const std::vector<CandidateResult>& results, double alpha,
                     std::vector<int>* chosen) {

@@ -100,24 +100,6 @@ std::vector<int> StrongestOf(const std::string& covariate,
   return out;
 }
 
-// The fitted candidate that is gated candidate `gated`'s twin: the same
-// covariate, form and scope, without the gate; or -1.
-int UngatedTwinOf(const std::vector<Fitted>& fits, int gated) {
-  const ModelTerm& g = fits[gated].terms.back().term;
-  if (g.scope.gate.empty()) return -1;
-  TermScope plain = g.scope;
-  plain.gate.clear();
-  plain.gate_at = 0;
-  plain.gate_above = true;
-  for (size_t j = 0; j < fits.size(); ++j) {
-    if (!fits[j].usable || fits[j].terms.empty()) continue;
-    const ModelTerm& t = fits[j].terms.back().term;
-    if (t.covariate == g.covariate && t.form == g.form && t.scope == plain)
-      return static_cast<int>(j);
-  }
-  return -1;
-}
-
 // Of `strongest` (fitted in `fits`), the structures other than
 // `covariate`'s (and its mechanism's other carriers) whose term adds
 // significantly to the round's model (LR ~ chi2(df), Bonferroni over the
@@ -343,17 +325,16 @@ int JointWinner(int round, const Dataset& data, const DiagnosisOptions& options,
         // every pass (the gated copy's twin, which the gate was tested
         // against) is the pair's candidate.
         named = guard == "gate_required" ? UngatedTwinOf(fits, a) : -1;
-        if (named < 0 || !PassesGiven(r, accepted, named, b, st, &why))
-          continue;
       }
-      // The pair must be one description: the other, given the winner.
-      if (!PassesGiven(r, accepted, b, named, st, &why)) continue;
       // The named one's refusal of this round (a twin the round never
-      // tried is not named).
+      // tried is not named, and not judged).
       const auto at =
           std::find(refusals.tried.begin(), refusals.tried.end(), named);
       if (at == refusals.tried.end()) continue;
       const size_t kn = static_cast<size_t>(at - refusals.tried.begin());
+      if (named != a && !PassesGiven(r, accepted, named, b, st, &why)) continue;
+      // The pair must be one description: the other, given the winner.
+      if (!PassesGiven(r, accepted, b, named, st, &why)) continue;
       const TermScope& bs = fits[b].terms.back().term.scope;
       *note =
           JointNote(refusals.reasons[kn],

@@ -221,6 +221,10 @@ struct GuardResult {
 // the round cross-validates one gate per term, with its twin.
 bool GatedCopyIn(const std::vector<Fitted>& fits, int i,
                  const std::vector<int>& chosen);
+// The usable fit whose term is gated fit `gated`'s ungated twin (the same
+// covariate, form and place, no gate), or -1 (none, or `gated` is not
+// gated).
+int UngatedTwinOf(const std::vector<Fitted>& fits, int gated);
 void AddFittedTwins(const std::vector<Fitted>& fits,
                     const std::vector<CandidateResult>& results, double alpha,
                     std::vector<int>* chosen);
