@@ -24,6 +24,7 @@
 #include <cstdio>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/base/distributions.h"
@@ -245,6 +246,59 @@ Joining SiblingsJoin(const DiagnosisState& st, const std::vector<double>& sd,
   return j;
 }
 
+// The pairs of `siblings` that restate `cell`: the pair that with the cell
+// covers every level at the cell's place is the cell restated (the place's
+// own K takes up the common factor, the pair at the cell's inverse
+// multiplier), and so is the pair that covers the rest at its twin's place
+// (TwinCell: the same data), each sibling taken at the place or as its
+// twin there (as in AllSiblingsAtPlace): one description with a cell more,
+// not a rival (the sparser one is named, as for the complement at the
+// other stand, ComplementCells).
+class CellRestatements {
+ public:
+  CellRestatements(const DiagnosisState& st, const TermScope& cell,
+                   const std::vector<TermScope>& siblings) {
+    std::vector<TermScope> places = {cell};
+    TermScope twin;
+    if (TwinCell(st.td, st.train, st.thresholds, cell, &twin))
+      places.push_back(twin);
+    for (const TermScope& place : places) {
+      Place p;
+      p.own = place.roll_type + place.grade;
+      p.levels = LevelsAtPlace(st, place);
+      for (const TermScope& s : siblings) {
+        TermScope there = s;
+        const bool at = SamePlace(s, place) ||
+                        (TwinCell(st.td, st.train, st.thresholds, s, &there) &&
+                         SamePlace(there, place));
+        p.level.push_back(at ? there.roll_type + there.grade : "");
+      }
+      places_.push_back(std::move(p));
+    }
+  }
+
+  // Whether siblings a and b (indices) restate the cell.
+  bool ByPair(size_t a, size_t b) const {
+    for (const Place& p : places_) {
+      if (p.level[a].empty() || p.level[b].empty()) continue;
+      const std::set<std::string> covered = {p.own, p.level[a], p.level[b]};
+      if (std::includes(covered.begin(), covered.end(), p.levels.begin(),
+                        p.levels.end())) {
+        return true;
+      }
+    }
+    return false;
+  }
+
+ private:
+  struct Place {
+    std::string own;                 // the cell's (or twin's) level
+    std::set<std::string> levels;    // LevelsAtPlace
+    std::vector<std::string> level;  // each sibling's level there, or ""
+  };
+  std::vector<Place> places_;
+};
+
 // Two other cells that describe the data about as well as one adopted
 // cell: the pair's and the cell's LR against the model without the cell.
 struct RivalPair {
@@ -254,7 +308,9 @@ struct RivalPair {
 
 // The best pair of `siblings` in place of `cell` in `base` (fitted with
 // the noise sd `sd`); label empty when no pair comes within
-// thresholds.rival_pair_margin (diagnosis_thresholds.h) of the cell.
+// thresholds.rival_pair_margin (diagnosis_thresholds.h) of the cell. The
+// pair that is the cell's complement at its place or its twin's (each
+// sibling taken there or as its twin there) is not tried.
 RivalPair BestRivalPair(const DiagnosisState& st, const std::vector<double>& sd,
                         const Fitted& base, const TermScope& cell,
                         const std::vector<TermScope>& siblings) {
@@ -266,8 +322,10 @@ RivalPair BestRivalPair(const DiagnosisState& st, const std::vector<double>& sd,
   r.lr_cell = NestedLr(n, b0.rss, base.rss);
   double best = -1;
   std::string label;
+  const CellRestatements restated(st, cell, siblings);
   for (size_t a = 0; a < siblings.size(); ++a) {
     for (size_t b = a + 1; b < siblings.size(); ++b) {
+      if (restated.ByPair(a, b)) continue;
       std::vector<TermSpec> terms = without;
       terms.push_back(CellTermSpec(st.td, siblings[a]));
       terms.push_back(CellTermSpec(st.td, siblings[b]));

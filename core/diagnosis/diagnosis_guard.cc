@@ -33,13 +33,9 @@
 //      has no shape inside a quarter of the period (b_bar near 0); an
 //      interaction (an effect of temperature only at high speed) changes
 //      scale across the other quantity's quartiles (Cochran's Q).
-//  (b) Look again. The breakdown that located the mismatch most strongly
-//      (Locate on the training residuals of the model before the term; only
-//      if it is itself significant at the family-wise level) must be
-//      materially reduced after the term: no longer significant, or its
-//      largest group mean residual at most half what it was. Otherwise the
-//      term fitted something else and the located structure is still
-//      there: not adopted.
+//  (b) Look again (diagnosis_look_again.cc): the breakdown that located
+//      the mismatch most strongly must be materially reduced by the term;
+//      roll-to-roll scatter left behind is judged beside a per-roll term.
 //  (c) Along time (diagnosis_along_time.cc): a calendar-time term must take
 //      away at least half of the lag-1 autocovariance of the time-ordered
 //      campaign means of the residuals, when that is significant.
@@ -52,6 +48,7 @@
 #include <string>
 
 #include "core/base/distributions.h"
+#include "core/diagnosis/diagnosis_look_again.h"
 #include "core/diagnosis/diagnosis_stages_internal.h"
 #include "core/fit/robust.h"
 
@@ -136,14 +133,6 @@ Heterogeneity Cochran(const std::vector<std::string>& label,
   }
   h.p = ChiSquareSurvival(h.q, static_cast<double>(used.size() - 1));
   return h;
-}
-
-double LargestGroupMean(const Breakdown& b) {
-  double m = 0;
-  for (const Breakdown::Group& g : b.groups) {
-    if (g.label != "missing") m = std::max(m, std::abs(g.mean_residual_um));
-  }
-  return m;
 }
 
 // Each training observation's quartile ("Q1".."Q4") of covariate k as the
@@ -242,49 +231,6 @@ void GuardDimensions(const TermData& td, const std::vector<int>& train,
   }
 }
 
-GuardResult LookAgain(const Dataset& data, const DiagnosisState& st,
-                      const DiagnosisOptions& options,
-                      const std::vector<Breakdown>& before,
-                      const std::vector<double>& clip,
-                      const std::vector<double>& after) {
-  GuardResult r;
-  if (before.empty()) return r;
-  const double m = static_cast<double>(before.size());
-  const Breakdown& top = before.front();  // strongest first
-  if (!(top.p_value * m < options.alpha)) return r;
-  for (const Breakdown& b :
-       Locate(st.td, data, st.train, after, options.thresholds, &clip)) {
-    if (b.dimension != top.dimension) continue;
-    const bool gone = !(b.p_value * m < options.alpha);
-    const bool shrunk =
-        LargestGroupMean(b) <=
-        options.thresholds.look_again_shrink * LargestGroupMean(top);
-    if (!gone && !shrunk) {
-      r.pass = false;
-      char buf[160];
-      std::snprintf(
-          buf, sizeof(buf),
-          "located structure remains (%s: largest group mean %.1f -> %.1f um)",
-          top.dimension.c_str(), LargestGroupMean(top), LargestGroupMean(b));
-      r.reason = buf;
-      // Where the structure the candidate failed to take away lives: its
-      // largest group after the term (listed as unexplained when no
-      // candidate of the round passes, so the verdict cannot be "noise").
-      const Breakdown::Group* largest = Carrier(b);
-      r.located.dimension = b.dimension;
-      r.located.where =
-          largest != nullptr ? b.dimension + "=" + largest->label : b.dimension;
-      r.located.test = b.test;
-      r.located.statistic = b.statistic;
-      r.located.mean_residual_um =
-          largest != nullptr ? largest->mean_residual_um : 0;
-      r.located.p_value = b.p_value;
-      r.located.p_adjusted = std::min(1.0, b.p_value * m);
-    }
-  }
-  return r;
-}
-
 }  // namespace
 
 namespace {
@@ -327,6 +273,7 @@ struct ProxyGuardContext {
   std::vector<std::vector<std::string>> labels;
   std::vector<SplitHeterogeneity> split;
   double dims = 0;  // Bonferroni: the number of looks
+  double num_tests = 1;  // the round's Bonferroni count
 };
 
 ProxyGuardContext MakeProxyGuardContext(
@@ -551,8 +498,9 @@ constexpr ProxyGuard kProxyGuards[] = {
      }},
     {"look_again",
      [](const ProxyGuardContext& c) {
-       return LookAgain(c.data, c.st, c.options, c.located_before, c.clip,
-                        c.p1);
+       return LookAgainBesideRolls(
+           c.data, c.st, c.options, c.sd, c.with_term, c.clip, c.num_tests,
+           LookAgain(c.data, c.st, c.options, c.located_before, c.clip, c.p1));
      }},
     {"interacts_with_refused", InteractsWithRefused},
     {"constant_inside_gate", ConstantInsideGate},
@@ -564,10 +512,11 @@ GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
                               const DiagnosisOptions& options,
                               const std::vector<double>& sd,
                               const std::vector<Breakdown>& located_before,
-                              const Fitted& with_term,
+                              const Fitted& with_term, double num_tests,
                               const std::vector<std::string>& refused) {
-  const ProxyGuardContext c = MakeProxyGuardContext(
+  ProxyGuardContext c = MakeProxyGuardContext(
       data, st, options, sd, located_before, with_term, refused);
+  c.num_tests = num_tests;
   for (const ProxyGuard& guard : kProxyGuards) {
     GuardResult r = guard.check(c);
     if (!r.pass) {

@@ -386,7 +386,39 @@ std::string HeldOutVerdict(const DiagnosisOptions& options,
   return "";
 }
 
+// The rolls' scatter under `model` (its own noise sd): each training
+// reading's wear alone (a measurement term's offset does not scale with the
+// roll) in *pred, the reading less the model's offsets in *y.
+Heterogeneity ScatterUnder(const DiagnosisState& st,
+                           const DiagnosisOptions& options,
+                           const std::vector<double>& sd, const Fitted& model,
+                           int k, std::vector<double>* pred,
+                           std::vector<double>* y) {
+  const TermData& td = st.td;
+  *pred = PredictTerms(td, st.train, model.log_k, model.terms,
+                       /*wear_only=*/true);
+  const std::vector<double> full =
+      PredictTerms(td, st.train, model.log_k, model.terms);
+  y->resize(st.train.size());
+  for (size_t i = 0; i < y->size(); ++i) {
+    (*y)[i] = td.obs[st.train[i]].measured_um - (full[i] - (*pred)[i]);
+  }
+  return RollHeterogeneity(td, k, st.train, *pred, *y, sd, options);
+}
+
 }  // namespace
+
+bool RollScatterTerm(const DiagnosisState& st, const DiagnosisOptions& options,
+                     const std::vector<double>& sd, const Fitted& model,
+                     TermSpec* term) {
+  const int k = st.td.CovariateIndex(kRollIdName);
+  if (k < 0) return false;
+  std::vector<double> pred, y;
+  const Heterogeneity h = ScatterUnder(st, options, sd, model, k, &pred, &y);
+  if (h.rolls < 3 || !(h.tau > 0)) return false;
+  *term = RollTerm(st.td, k, h.tau);
+  return true;
+}
 
 bool RunRollFamily(const DiagnosisOptions& options, DiagnosisState* st,
                    DiagnosisReport* report) {
@@ -400,18 +432,8 @@ bool RunRollFamily(const DiagnosisOptions& options, DiagnosisState* st,
   const Fitted cur =
       FitWithOwnNoise(*st, options, st->current.log_k, st->current.terms, &sd);
   if (!cur.usable) return false;
-  // Wear alone (a measurement term's offset does not scale with the
-  // roll), and each reading less the model's offsets.
-  const std::vector<double> pred =
-      PredictTerms(td, st->train, cur.log_k, cur.terms, /*wear_only=*/true);
-  const std::vector<double> full =
-      PredictTerms(td, st->train, cur.log_k, cur.terms);
-  std::vector<double> y(st->train.size());
-  for (size_t i = 0; i < y.size(); ++i) {
-    y[i] = td.obs[st->train[i]].measured_um - (full[i] - pred[i]);
-  }
-  const Heterogeneity h =
-      RollHeterogeneity(td, k, st->train, pred, y, sd, options);
+  std::vector<double> pred, y;
+  const Heterogeneity h = ScatterUnder(*st, options, sd, cur, k, &pred, &y);
   if (h.rolls < 3 || h.p_value >= options.alpha || !(h.tau > 0)) return false;
   std::string why =
       ScatterNotEverywhere(td, k, st->train, pred, y, sd, h, options);

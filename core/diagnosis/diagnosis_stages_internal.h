@@ -205,6 +205,18 @@ std::vector<CvResult> CrossValidate(const DiagnosisState& st,
 bool RunRollFamily(const DiagnosisOptions& options, DiagnosisState* st,
                    DiagnosisReport* report);
 
+// The per-roll term (diagnosis_roll_family.cc) for the rolls' scatter under
+// `model` with the noise sd `sd` (not refitted): its spread tau by
+// DerSimonian & Laird from Cochran's Q over the rolls with at least
+// thresholds.min_readings_per_roll training readings, as RunRollFamily
+// estimates it, but without its significance and held-out tests (the look
+// again beside the rolls, diagnosis_look_again.h, uses it as the rival
+// "the rolls' own scatter"). False when the data hold no roll_id, fewer
+// than 3 such rolls, or no scatter beyond the noise (tau 0).
+bool RollScatterTerm(const DiagnosisState& st, const DiagnosisOptions& options,
+                     const std::vector<double>& sd, const Fitted& model,
+                     TermSpec* term);
+
 // The proxy guard's answer on a round's winner (diagnosis_guard.cc).
 struct GuardResult {
   bool pass = true;
@@ -248,11 +260,13 @@ GuardResult GateRequired(const DiagnosisState& st,
 // clipped at the round's `sd`) materially reduced by it, is it consistent
 // across the pass-level covariates of `refused` (the round's candidates the
 // guards refused before it), and constant inside its gate?
+// `num_tests`: the round's Bonferroni count, the level a candidate must
+// clear again where it is judged beside the rolls' own scatter.
 GuardResult GuardAgainstProxy(const Dataset& data, const DiagnosisState& st,
                               const DiagnosisOptions& options,
                               const std::vector<double>& sd,
                               const std::vector<Breakdown>& located_before,
-                              const Fitted& with_term,
+                              const Fitted& with_term, double num_tests,
                               const std::vector<std::string>& refused = {});
 
 // The guard's consistency test across the levels of one pass-level factor

@@ -72,7 +72,7 @@ struct DiagnosisThresholds {
   // |b_g - b_bar| (and |b_bar - 1|), in effect units, must reach this to
   // make an inconsistency material.
   double material_scale = 0.5;
-  // The proxy guard's look again (diagnosis_guard.cc): the largest located
+  // The proxy guard's look again (diagnosis_look_again.cc): the largest located
   // group mean residual must shrink to at most this share (halve).
   double look_again_shrink = 0.5;
   // The look along time (diagnosis_along_time.cc): the share of the lag-1

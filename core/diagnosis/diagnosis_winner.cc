@@ -189,7 +189,8 @@ constexpr WinnerGuard kWinnerGuards[] = {
     {RefusalKind::kProxyGuard,
      [](const WinnerGuardContext& c) {
        return GuardAgainstProxy(c.data, c.st, c.options, c.sd, c.before,
-                                c.fits[c.candidate], c.refused_covariates);
+                                c.fits[c.candidate], c.num_tests,
+                                c.refused_covariates);
      }},
     {RefusalKind::kNotDistinguishable,
      [](const WinnerGuardContext& c) {

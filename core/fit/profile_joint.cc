@@ -13,6 +13,7 @@
 #include <Eigen/Dense>
 #include <ceres/ceres.h>
 
+#include "core/base/intraclass.h"
 #include "core/dataset/pass_input.h"
 #include "core/fit/lm_setup.h"
 #include "core/model/model_eval.h"
@@ -217,37 +218,19 @@ class JointCost : public ceres::CostFunction {
 // Sets each point's weight 1 / (sigma^2 (1 + (n_r - 1) rho)) from the
 // residuals under `full` (the first stage); returns rho.
 double WeighPoints(const double* full, JointData* d) {
-  std::map<int, std::vector<double>> by_roll;
+  std::vector<double> residual;
+  std::vector<int> roll;
+  std::map<int, double> points_of;
   for (const JointPoint& p : d->points) {
-    by_roll[p.roll].push_back(p.measured_um - PredictPoint(*d, p, full, nullptr));
+    residual.push_back(p.measured_um - PredictPoint(*d, p, full, nullptr));
+    roll.push_back(p.roll);
+    points_of[p.roll] += 1;
   }
-  // One-way ANOVA: MSB, MSW and the mean cluster size n0.
-  double grand = 0, ss_within = 0, ss_between = 0, sum_n2 = 0;
-  double n = 0;
-  for (const auto& [roll, r] : by_roll) {
-    for (double v : r) grand += v;
-    n += static_cast<double>(r.size());
-    sum_n2 += static_cast<double>(r.size() * r.size());
-  }
-  grand /= n;
-  for (const auto& [roll, r] : by_roll) {
-    double mean = 0;
-    for (double v : r) mean += v;
-    mean /= static_cast<double>(r.size());
-    for (double v : r) ss_within += (v - mean) * (v - mean);
-    ss_between += static_cast<double>(r.size()) * (mean - grand) * (mean - grand);
-  }
-  const double k = static_cast<double>(by_roll.size());
-  const double msw = ss_within / std::max(1.0, n - k);
-  const double msb = ss_between / std::max(1.0, k - 1);
-  const double n0 = (n - sum_n2 / n) / std::max(1.0, k - 1);
-  const double rho = std::clamp((msb - msw) / (msb + (n0 - 1) * msw), 0.0, 0.99);
-  const double var = (ss_within + ss_between) / std::max(1.0, n - 1);
+  const Intraclass icc = OneWayIntraclass(residual, roll);
   for (JointPoint& p : d->points) {
-    const double n_r = static_cast<double>(by_roll[p.roll].size());
-    p.weight = 1 / (var * (1 + (n_r - 1) * rho));
+    p.weight = 1 / (icc.variance * (1 + (points_of[p.roll] - 1) * icc.rho));
   }
-  return rho;
+  return icc.rho;
 }
 
 // The gauge (as term_fit.cc): coefficients without data are held, and in

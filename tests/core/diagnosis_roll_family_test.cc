@@ -30,14 +30,8 @@ constexpr int kRollFamilySeeds = test_size::FullOr(3, 1);
 
 Simulation SimulatedRollMill(uint64_t seed, double roll_factor_sd,
                      std::vector<std::string> effects = {}) {
-  SimulatorOptions o;
-  o.seed = seed;
-  o.num_campaigns = kRollFamilyCampaigns;
-  o.roll_wear_factor_sd = roll_factor_sd;
-  o.effects = std::move(effects);
-  StatusOr<Simulation> s = Simulate(o);
-  EXPECT_TRUE(s.ok()) << s.status().ToString();
-  return std::move(s).value();
+  return simulator_test::Simulated(seed, kRollFamilyCampaigns,
+                                   std::move(effects), 0, roll_factor_sd);
 }
 
 const Finding* RollWearFinding(const DiagnosisReport& r) {

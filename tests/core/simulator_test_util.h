@@ -26,14 +26,17 @@
 
 namespace rollwear::simulator_test {
 
+// `roll_factor_sd`: SimulatorOptions::roll_wear_factor_sd (each physical
+// roll's lifelong wear factor; 0: none).
 inline Simulation Simulated(uint64_t seed, int campaigns,
                             std::vector<std::string> effects = {},
-                            double missing = 0) {
+                            double missing = 0, double roll_factor_sd = 0) {
   SimulatorOptions o;
   o.seed = seed;
   o.num_campaigns = campaigns;
   o.effects = std::move(effects);
   o.missing_measurement_fraction = missing;
+  o.roll_wear_factor_sd = roll_factor_sd;
   StatusOr<Simulation> s = Simulate(o);
   EXPECT_TRUE(s.ok()) << s.status().ToString();
   return std::move(s).value();
