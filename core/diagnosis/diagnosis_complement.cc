@@ -130,6 +130,24 @@ bool SamePlace(const TermScope& a, const TermScope& b) {
   return a.stand == b.stand && a.position == b.position;
 }
 
+// Cell `s` at `place` (*there = s), or its twin there (TwinCell: the same
+// description of the data when its level runs at two places); false when
+// neither is.
+bool AtPlace(const DiagnosisState& st, const TermScope& s,
+             const TermScope& place, TermScope* there) {
+  if (SamePlace(s, place)) {
+    *there = s;
+    return true;
+  }
+  TermScope twin;
+  if (TwinCell(st.td, st.train, st.thresholds, s, &twin) &&
+      SamePlace(twin, place)) {
+    *there = twin;
+    return true;
+  }
+  return false;
+}
+
 // The other offered cells of `cell`'s kind at its place or its twin's
 // place, not `held`.
 std::vector<TermScope> SiblingCells(const DiagnosisState& st,
@@ -180,13 +198,7 @@ std::vector<TermScope> AllSiblingsAtPlace(const DiagnosisState& st,
   std::set<std::string> covered = {cell.roll_type + cell.grade};
   for (const TermScope& s : sibs) {
     TermScope t = s;
-    if (!SamePlace(s, cell)) {
-      TermScope twin;
-      if (TwinCell(st.td, st.train, st.thresholds, s, &twin) &&
-          SamePlace(twin, cell)) {
-        t = twin;
-      }
-    }
+    AtPlace(st, s, cell, &t);
     const std::string level = t.roll_type + t.grade;
     if (SamePlace(t, cell) && !covered.insert(level).second) continue;
     if (std::find(out.begin(), out.end(), t) == out.end()) out.push_back(t);
@@ -267,11 +279,9 @@ class CellRestatements {
       p.own = place.roll_type + place.grade;
       p.levels = LevelsAtPlace(st, place);
       for (const TermScope& s : siblings) {
-        TermScope there = s;
-        const bool at = SamePlace(s, place) ||
-                        (TwinCell(st.td, st.train, st.thresholds, s, &there) &&
-                         SamePlace(there, place));
-        p.level.push_back(at ? there.roll_type + there.grade : "");
+        TermScope there;
+        p.level.push_back(
+            AtPlace(st, s, place, &there) ? there.roll_type + there.grade : "");
       }
       places_.push_back(std::move(p));
     }

@@ -143,12 +143,8 @@ GuardResult LookAgainBesideRolls(const Dataset& data, const DiagnosisState& st,
       !RollScatterTerm(st, options, sd, st.current, &rolls)) {
     return look_again;
   }
-  std::vector<TermSpec> terms = st.current.terms;
-  terms.push_back(rolls);
-  const Fitted before = Fit(st.td, st.train, sd, st.current.log_k, terms);
-  terms = with_term.terms;
-  terms.push_back(rolls);
-  const Fitted after = Fit(st.td, st.train, sd, with_term.log_k, terms);
+  const Fitted before = FitWith(st, sd, st.current, rolls);
+  const Fitted after = FitWith(st, sd, with_term, rolls);
   if (!before.usable || !after.usable || !(before.rss > 0) ||
       !(after.rss > 0)) {
     return look_again;

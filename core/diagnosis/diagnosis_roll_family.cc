@@ -203,13 +203,6 @@ TermSpec CalendarRival(const TermData& td, const std::vector<int>& train,
   return s;
 }
 
-Fitted WithTerm(const DiagnosisState& st, const std::vector<double>& sd,
-                const Fitted& base, const TermSpec& term) {
-  std::vector<TermSpec> terms = base.terms;
-  terms.push_back(term);
-  return Fit(st.td, st.train, sd, base.log_k, std::move(terms));
-}
-
 void Refuse(const Heterogeneity& h, const std::string& why,
             DiagnosisReport* report) {
   RunnerUp r;
@@ -357,9 +350,9 @@ std::string HeldOutVerdict(const DiagnosisOptions& options,
     const TermSpec rival =
         CalendarRival(st.td, st.train, name, options.num_bins);
     if (rival.covariate < 0) continue;
-    const Fitted r = WithTerm(st, sd, cur, rival);
+    const Fitted r = FitWith(st, sd, cur, rival);
     const Fitted rw =
-        r.usable ? WithTerm(st, sd, r, with.terms.back()) : Fitted{};
+        r.usable ? FitWith(st, sd, r, with.terms.back()) : Fitted{};
     if (!r.usable || !rw.usable) continue;
     models.push_back(r);
     models.push_back(rw);
@@ -438,7 +431,7 @@ bool RunRollFamily(const DiagnosisOptions& options, DiagnosisState* st,
   std::string why =
       ScatterNotEverywhere(td, k, st->train, pred, y, sd, h, options);
   const Fitted with =
-      why.empty() ? WithTerm(*st, sd, cur, RollTerm(td, k, h.tau)) : Fitted{};
+      why.empty() ? FitWith(*st, sd, cur, RollTerm(td, k, h.tau)) : Fitted{};
   if (why.empty() && !with.usable) why = "the per-roll fit did not converge";
   if (why.empty()) {
     why = FollowsARecordedQuantity(td, st->train, with.terms.back(),
