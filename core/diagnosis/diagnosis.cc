@@ -55,6 +55,11 @@ bool DiagnosisOptions::IsValid(std::string* error) const {
   if (max_findings < 0) return fail("max_findings must be >= 0");
   if (num_bins < 2) return fail("num_bins must be >= 2");
   if (num_threads < 1) return fail("num_threads must be >= 1");
+  // A guard's question about an alternative is never stricter than the
+  // round (diagnosis_alternatives.h).
+  if (!(thresholds.alternative_alpha >= alpha)) {
+    return fail("thresholds.alternative_alpha must be >= alpha");
+  }
   return thresholds.IsValid(error);
 }
 

@@ -43,12 +43,16 @@
 //     covariates of candidates refused before it, constant inside its
 //     gate), distinct from rivals of another
 //     mechanism, and not a worse fit than a candidate refused as not
-//     nameable, by the proxy chain or as such a shadow. Each refusal is a
-//     runner-up with its RefusalKind and sentence; what a refusal located
-//     is kept for the verdict. When every accepted candidate is refused,
-//     joint forward selection (diagnosis_joint.cc) judges a refused one
-//     again on the model that carries another significant structure of
-//     the round, and names it when each of the two passes given the other.
+//     nameable, by the proxy chain or as such a shadow. The guards that
+//     weigh an alternative description (a cell, a sibling or part of the
+//     scope, a slope inside a cell, a rival, another gate) share one
+//     encompassing test and one multiplicity policy at
+//     thresholds.alternative_alpha (diagnosis_alternatives.h). Each refusal is
+//     a runner-up with its RefusalKind and sentence; what a refusal located is
+//     kept for the verdict. When every accepted candidate is refused, joint
+//     forward selection (diagnosis_joint.cc) judges a refused one again on the
+//     model that carries another significant structure of the round, and names
+//     it when each of the two passes given the other.
 //  5. Repeat on the improved model, up to max_findings findings. After the
 //     rounds, findings the final model does not support are withdrawn
 //     (cell sets a twin stand predicts alike, a cell two other cells
@@ -98,7 +102,8 @@ struct DiagnosisOptions {
   // A split file's split (core/model/given_split.h); replaces the seeded one.
   std::optional<CampaignSplit> given_split;
   int cv_folds = 5;
-  double alpha = 0.001;              // family-wise level per round
+  // Family-wise level per round; at most thresholds.alternative_alpha.
+  double alpha = 0.001;
   double min_cv_improvement = 0.03;  // relative CV weighted-MSE reduction
   // Parsimony: a candidate must beat one with fewer parameters by this much
   // CV-error ratio per extra parameter to be preferred.

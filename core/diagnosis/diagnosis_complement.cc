@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "core/base/distributions.h"
+#include "core/diagnosis/diagnosis_alternatives.h"
 #include "core/diagnosis/diagnosis_stages_internal.h"
 
 namespace rollwear::diag {
@@ -228,31 +229,33 @@ struct Joining {
 Joining SiblingsJoin(const DiagnosisState& st, const std::vector<double>& sd,
                      const Fitted& base, const TermScope& cell,
                      const std::vector<TermScope>& siblings) {
-  const double n = static_cast<double>(st.train.size());
-  const StrongestAddition a =
-      StrongestOf(siblings, n, base.rss, 1, [&](const TermScope& s) {
-        return FitWith(st, sd, base, CellTermSpec(st.td, s));
-      });
+  std::vector<TermSpec> cells;
+  for (const TermScope& s : siblings) cells.push_back(CellTermSpec(st.td, s));
+  const StrongestAlternative a = Strongest(st, sd, base, cells);
   Joining j;
-  if (a.scope == nullptr) return j;
-  j.strongest = a.scope;
-  j.lr = a.lr;
-  j.p = a.p;
-  j.p_adjusted = std::min(1.0, a.p * 2 * static_cast<double>(siblings.size()));
+  if (a.index < 0) return j;
+  j.strongest = &siblings[a.index];
+  j.lr = a.test.lr;
+  j.p = a.test.p;
+  // Any of the siblings, or all at once, joining withdraws the cell: two
+  // tests, the first over the siblings.
+  j.p_adjusted =
+      AnyOf(st.thresholds, 2.0 * static_cast<double>(siblings.size()))
+          .Adjusted(a.test.p);
   int df = 0;
   const std::vector<TermScope> all =
       AllSiblingsAtPlace(st, cell, siblings, &df);
   if (df < 2) return j;
   std::vector<TermSpec> terms = base.terms;
   for (const TermScope& s : all) terms.push_back(CellTermSpec(st.td, s));
-  const Fitted together = Fit(st.td, st.train, sd, base.log_k, terms);
-  if (!together.usable || !(together.rss > 0)) return j;
-  const double lr = NestedLr(n, base.rss, together.rss);
-  const double p = ChiSquareSurvival(lr, df);
-  if (std::min(1.0, 2 * p) < j.p_adjusted) {
-    j.lr = lr;
-    j.p = p;
-    j.p_adjusted = std::min(1.0, 2 * p);
+  const Encompassing together =
+      Encompassed(st, base, Fit(st.td, st.train, sd, base.log_k, terms), df);
+  if (!together.usable()) return j;
+  const double p_adjusted = AnyOf(st.thresholds, 2).Adjusted(together.p);
+  if (p_adjusted < j.p_adjusted) {
+    j.lr = together.lr;
+    j.p = together.p;
+    j.p_adjusted = p_adjusted;
     j.df = df;
   }
   return j;
@@ -357,7 +360,7 @@ RivalPair BestRivalPair(const DiagnosisState& st, const std::vector<double>& sd,
 
 // Withdraws the first adopted cell that is not confined (the other cells
 // of its kind at its place, or its twin's, added to the final model, join
-// it significantly: SiblingsJoin, at the scope siblings' level) or not
+// it significantly: SiblingsJoin, at alternative_alpha) or not
 // identified (two of them in its place describe the data about as well:
 // BestRivalPair). Either way the effect lives in a set of cells the rounds
 // did not name, and the named cell would say "elsewhere the law holds" of
@@ -375,8 +378,7 @@ bool WithdrawUnconfinedCell(const DiagnosisOptions& options,
   const Fitted base =
       FitWithOwnNoise(*st, options, st->current.log_k, st->current.terms, &sd);
   if (!base.usable || !(base.rss > 0)) return false;
-  const double alpha =
-      std::max(options.thresholds.sibling_cell_alpha, options.alpha);
+  const double alpha = options.thresholds.alternative_alpha;
   for (size_t i = 0; i < report->findings.size(); ++i) {
     const Finding& f = report->findings[i];
     const TermScope cell = f.term.scope;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/base/distributions.h"
+#include "core/diagnosis/diagnosis_alternatives.h"
 #include "core/diagnosis/diagnosis_internal.h"
 #include "core/diagnosis/diagnosis_stages_internal.h"
 
@@ -187,7 +188,7 @@ void AddFittedTwins(const std::vector<Fitted>& fits,
 // A gate must be required: the gated term added to the model that holds
 // the same term on every pass (its ungated twin, fitted from no effect)
 // must add significantly, LR = n ln(RSS_open / RSS_open+gated) ~ chi2(df)
-// (Wilks 1938), at thresholds.rival_alpha with a Bonferroni factor of the
+// (Wilks 1938), at thresholds.alternative_alpha with a Bonferroni factor of the
 // thresholds the candidate was offered behind (GateScopes: the threshold
 // was chosen among them; given the twin, the two sides of a threshold are
 // one model). A fit that fails refuses: not checked is not passed. Otherwise
@@ -215,21 +216,23 @@ GuardResult GateRequired(const DiagnosisState& st,
     r.reason = "whether its gate is required cannot be checked (a fit failed)";
     return r;
   }
-  const double n = static_cast<double>(st.train.size());
-  const double lr = NestedLr(n, base.rss, joint.rss);
-  const double p = ChiSquareSurvival(lr, spec.term.NumParams());
+  const Encompassing e = Encompassed(st, base, joint, spec.term.NumParams());
+  const double lr = e.lr;
   // Given the twin, a gate above a threshold and the gate below it are one
-  // model (flag 1[below] = flag - flag 1[above]): one test per threshold.
-  const double gates = static_cast<double>(std::max<size_t>(
-      1,
-      GateScopes(st.td, st.train, st.thresholds, spec.covariate).size() / 2));
-  if (p * gates < options.thresholds.rival_alpha) return GuardResult{};
+  // model (flag 1[below] = flag - flag 1[above]): one test per threshold,
+  // and the gate is required when the one chosen adds (AnyOf).
+  const Multiplicity gates = AnyOf(
+      options.thresholds,
+      static_cast<double>(
+          GateScopes(st.td, st.train, st.thresholds, spec.covariate).size() /
+          2));
+  if (gates.Rejects(e.p)) return GuardResult{};
   r.pass = false;
   char buf[240];
   std::snprintf(buf, sizeof(buf),
                 "its gate is not required: the same term on every pass fits "
                 "as well (given it, the gate adds LR %.1f, p adjusted %.2g)",
-                lr, std::min(1.0, p * gates));
+                lr, gates.Adjusted(e.p));
   r.reason = buf;
   return r;
 }

@@ -48,6 +48,7 @@
 #include <string>
 
 #include "core/base/distributions.h"
+#include "core/diagnosis/diagnosis_alternatives.h"
 #include "core/diagnosis/diagnosis_look_again.h"
 #include "core/diagnosis/diagnosis_stages_internal.h"
 #include "core/fit/robust.h"
@@ -383,10 +384,10 @@ GuardResult GroupConsistency(const ProxyGuardContext& c) {
 // refused covariates are hypotheses chosen before this look, so the split
 // Wald tests (SplitByPassFactors) along them are corrected for their number
 // only, not for every dimension the consistency tests look at (Bonferroni
-// over a pre-specified family), at the level of the rival tests
-// (thresholds.rival_alpha): like them it decides whether the data say the
-// named covariate alone carries the mismatch, and a refusal here costs a
-// "located" where a wrong pass costs a wrong name.
+// over a pre-specified family), at the level of the alternatives
+// (thresholds.alternative_alpha, diagnosis_alternatives.h): like them it
+// decides whether the data say the named covariate alone carries the mismatch,
+// and a refusal here costs a "located" where a wrong pass costs a wrong name.
 GuardResult InteractsWithRefused(const ProxyGuardContext& c) {
   std::vector<const SplitHeterogeneity*> along;
   for (const SplitHeterogeneity& s : c.split) {
@@ -396,9 +397,10 @@ GuardResult InteractsWithRefused(const ProxyGuardContext& c) {
     }
   }
   const double m = static_cast<double>(along.size());
+  const Multiplicity family = AnyOf(c.options.thresholds, m);
   const SplitHeterogeneity* strongest = nullptr;
   for (const SplitHeterogeneity* s : along) {
-    if (s->p * m < c.options.thresholds.rival_alpha &&
+    if (family.Rejects(s->p) &&
         s->max_dev >= c.options.thresholds.material_scale &&
         (strongest == nullptr || s->p < strongest->p)) {
       strongest = s;
@@ -420,7 +422,7 @@ GuardResult InteractsWithRefused(const ProxyGuardContext& c) {
 // threshold: its scale must not differ between the near and the far half of
 // the passes inside the gate (SplitByPassFactors' inside_gate split, by the
 // gate covariate). One hypothesis the gate's own form implies, so tested at
-// thresholds.rival_alpha without the consistency guards' Bonferroni: a
+// thresholds.alternative_alpha without the consistency guards' Bonferroni: a
 // slope along the gate covariate on the flag's passes (speed acting on
 // lubricated passes only) otherwise reads as the flag behind a gate.
 GuardResult ConstantInsideGate(const ProxyGuardContext& c) {
@@ -436,8 +438,9 @@ GuardResult ConstantInsideGate(const ProxyGuardContext& c) {
         "(too few of its passes on one half)";
     return r;
   }
+  const Multiplicity one = AnyOf(c.options.thresholds, 1);
   for (const SplitHeterogeneity& s : c.split) {
-    if (!s.inside_gate || !(s.p < c.options.thresholds.rival_alpha) ||
+    if (!s.inside_gate || !one.Rejects(s.p) ||
         s.max_dev < c.options.thresholds.material_scale) {
       continue;
     }

@@ -15,17 +15,17 @@
 // describes the same data), on top of the model that holds the cell. The
 // nested likelihood-ratio test LR = n ln(RSS / RSS_inside) ~ chi2(1)
 // (Wilks 1938, Ann. Math. Stat. 9:60), Bonferroni over places x
-// covariates, at the sibling test's family-wise level (the burden of proof
-// is on the cell's "constant"), asks whether the cell's effect varies with
-// the covariate there. A slope inside the cell can also come from another
-// structure the model still lacks: a grade wearing F7 more, whose coils are
-// wider, makes width matter inside every F7 cell. So the slope must also
-// add given each other cell the candidates offer, one at a time (at 1 %,
-// unadjusted: each is a rival explanation of a slope already significant
-// over the family). A wider slope (everywhere, at the stand, on the roll
-// type) is no such rival: it holds the cell's place too, and the cell's
-// multiplier would still vary there. When it adds, the cell is refused and
-// the place is located along the covariate: the vocabulary has no
+// covariates, at thresholds.alternative_alpha (AnyOf,
+// diagnosis_alternatives.h: the burden of proof is on the cell's "constant"),
+// asks whether the cell's effect varies with the covariate there. A slope
+// inside the cell can also come from another structure the model still lacks: a
+// grade wearing F7 more, whose coils are wider, makes width matter inside every
+// F7 cell. So the slope must also add given each other cell the candidates
+// offer, one at a time (EachOf, unadjusted: each is a rival explanation of a
+// slope already significant over the family). A wider slope (everywhere, at the
+// stand, on the roll type) is no such rival: it holds the cell's place too, and
+// the cell's multiplier would still vary there. When it adds, the cell is
+// refused and the place is located along the covariate: the vocabulary has no
 // covariate scoped to two factors at once, so the mismatch is located, not
 // named. An alternative whose fit fails is no explanation (the slope
 // counts as adding given it).
@@ -37,6 +37,7 @@
 #include <vector>
 
 #include "core/base/distributions.h"
+#include "core/diagnosis/diagnosis_alternatives.h"
 #include "core/diagnosis/diagnosis_stages_internal.h"
 
 namespace rollwear::diag {
@@ -82,33 +83,33 @@ std::vector<TermSpec> Alternatives(const DiagnosisState& st,
   return out;
 }
 
-// Whether slope `s` adds to `with_term` plus each alternative at `alpha`,
-// unadjusted: the slope is already significant over the family (the plain
+// Whether slope `s` adds to `with_term` plus each alternative (EachOf,
+// unadjusted): the slope is already significant over the family (the plain
 // test), and each alternative here is a rival explanation of it, which
 // explains it when the slope no longer adds at that level.
 bool AddsToEveryAlternative(const DiagnosisState& st,
                             const std::vector<double>& sd,
                             const Fitted& with_term, const Slope& s,
-                            const std::vector<TermSpec>& alternatives,
-                            double alpha) {
-  const double n = static_cast<double>(st.train.size());
+                            const std::vector<TermSpec>& alternatives) {
+  const Multiplicity each = EachOf(st.thresholds);
   for (const TermSpec& alt : alternatives) {
     const Fitted base = FitWith(st, sd, with_term, alt);
     if (!base.usable) continue;
     const Fitted full = FitWith(st, sd, base, SlopeSpec(st, s, s.place, s.b));
     if (!full.usable) continue;
-    const double lr = NestedLr(n, base.rss, full.rss);
-    if (!(ChiSquareSurvival(lr, 1) < alpha)) return false;
+    if (!each.Rejects(Encompassed(st, base, full, 1).p)) return false;
   }
   return true;
 }
 
-// The significant, material slopes inside `places`, strongest first.
+// The significant, material slopes inside `places`, strongest first: any
+// one refutes the cell's "constant", so Bonferroni over places x
+// covariates (*family).
 std::vector<Slope> SignificantSlopes(const DiagnosisState& st,
                                      const std::vector<double>& sd,
                                      const Fitted& with_term,
                                      const std::vector<TermScope>& places,
-                                     double alpha, double* tests) {
+                                     Multiplicity* family) {
   std::vector<int> covariates;
   for (int k = 0; k < static_cast<int>(st.td.catalog.size()); ++k) {
     const CovariateSpec& c = st.td.catalog[k];
@@ -118,8 +119,8 @@ std::vector<Slope> SignificantSlopes(const DiagnosisState& st,
       covariates.push_back(k);
     }
   }
-  *tests = static_cast<double>(places.size() * covariates.size());
-  const double n = static_cast<double>(st.train.size());
+  *family = AnyOf(st.thresholds,
+                  static_cast<double>(places.size() * covariates.size()));
   std::vector<Slope> out;
   for (int k : covariates) {
     Slope s;
@@ -130,14 +131,16 @@ std::vector<Slope> SignificantSlopes(const DiagnosisState& st,
     if (!(s.spread > 0)) continue;
     for (const TermScope& place : places) {
       s.place = place;
-      const Fitted inside =
-          FitWith(st, sd, with_term, SlopeSpec(st, s, place, 0.0));
-      if (!inside.usable || !(inside.rss > 0)) continue;
-      s.b = inside.terms.back().term.params[0];
-      s.lr = NestedLr(n, with_term.rss, inside.rss);
-      s.p = ChiSquareSurvival(s.lr, 1);
-      if (std::abs(s.b) >= st.thresholds.material_slope && s.p * *tests < alpha)
+      const Encompassing inside =
+          Encompass(st, sd, with_term, SlopeSpec(st, s, place, 0.0));
+      if (!inside.usable()) continue;
+      s.b = inside.with.terms.back().term.params[0];
+      s.lr = inside.lr;
+      s.p = inside.p;
+      if (std::abs(s.b) >= st.thresholds.material_slope &&
+          family->Rejects(s.p)) {
         out.push_back(s);
+      }
     }
   }
   std::sort(out.begin(), out.end(),
@@ -158,10 +161,9 @@ GuardResult LookInsideCell(const DiagnosisState& st,
   TermScope twin;
   if (TwinCell(st.td, st.train, options.thresholds, cell.term.scope, &twin))
     places.push_back(twin);
-  const double alpha = std::max(options.thresholds.inside_alpha, options.alpha);
-  double tests = 0;
+  Multiplicity family;
   const std::vector<Slope> slopes =
-      SignificantSlopes(st, sd, with_term, places, alpha, &tests);
+      SignificantSlopes(st, sd, with_term, places, &family);
   if (slopes.empty()) return r;
   // The model's cells (this one among them) and their twins are in it
   // already.
@@ -171,14 +173,14 @@ GuardResult LookInsideCell(const DiagnosisState& st,
       st, OfferedCellScopes(st.td, st.train, options.thresholds), skip);
   const Slope* found = nullptr;
   for (const Slope& s : slopes) {
-    if (AddsToEveryAlternative(st, sd, with_term, s, alternatives, alpha)) {
+    if (AddsToEveryAlternative(st, sd, with_term, s, alternatives)) {
       found = &s;
       break;
     }
   }
   if (found == nullptr) return r;
   const std::string& name = st.td.catalog[found->k].name;
-  const double p_adjusted = std::min(1.0, found->p * tests);
+  const double p_adjusted = family.Adjusted(found->p);
   char buf[320];
   std::snprintf(buf, sizeof(buf),
                 "not constant inside the cell: on %s the effect varies with "

@@ -34,6 +34,7 @@
 
 #include "core/base/distributions.h"
 #include "core/base/intraclass.h"
+#include "core/diagnosis/diagnosis_alternatives.h"
 #include "core/diagnosis/diagnosis_stages_internal.h"
 
 namespace rollwear::diag {
@@ -160,8 +161,11 @@ GuardResult LookAgainBesideRolls(const Dataset& data, const DiagnosisState& st,
   const double deff = CampaignDesignEffect(st, sd, p_before, p_after);
   const double lr = NestedLr(n, before.rss, after.rss) / deff;
   const double p = ChiSquareSurvival(lr, df);
-  const double p_adjusted = std::min(1.0, p * std::max(1.0, num_tests));
-  if (!(p_adjusted < options.alpha)) {
+  // The candidate's own effect tested again, beside the rolls: one of the
+  // round's tests.
+  const Multiplicity round = RoundFamily(options, num_tests);
+  const double p_adjusted = round.Adjusted(p);
+  if (!round.Rejects(p)) {
     GuardResult r = look_again;
     char buf[200];
     std::snprintf(buf, sizeof(buf),

@@ -9,14 +9,14 @@
 // encompassing test (Mizon & Richard 1986, Econometrica 54:657): the
 // nested likelihood ratio of the winner's term added to the rival's model,
 // LR = n ln(RSS_rival / RSS_rival+winner) ~ chi2(df_winner) (Wilks 1938,
-// Ann. Math. Stat. 9:60), at rival_alpha (diagnosis_thresholds.h) for each
-// rival. Naming needs every rival's test to reject, an intersection-union test
-// (Berger 1982, Technometrics 24:295): each at level alpha bounds the chance of
-// naming a covariate the data do not prefer, with no multiplicity correction.
-// Since RSS_rival+winner <= RSS_winner, n ln(RSS_rival / RSS_winner) is a
-// lower bound of that LR: a rival it already clears needs no joint fit.
-// A rival is an accepted candidate over another covariate that is not a
-// factor cell (NoBetterThanCell compares those). When the winner adds
+// Ann. Math. Stat. 9:60), at alternative_alpha (diagnosis_alternatives.h)
+// for each rival. Naming needs every rival's test to reject, an
+// intersection-union test (Berger 1982, Technometrics 24:295): each at level
+// alpha bounds the chance of naming a covariate the data do not prefer, with no
+// multiplicity correction. Since RSS_rival+winner <= RSS_winner, n ln(RSS_rival
+// / RSS_winner) is a lower bound of that LR: a rival it already clears needs no
+// joint fit. A rival is an accepted candidate over another covariate that is
+// not a factor cell (NoBetterThanCell compares those). When the winner adds
 // nothing significant to a rival, the data do not say which of the two
 // quantities drives the wear: the winner is not named, and where the
 // mismatch lives (along the covariate, in the scope) is listed instead.
@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "core/base/distributions.h"
+#include "core/diagnosis/diagnosis_alternatives.h"
 #include "core/diagnosis/diagnosis_stages_internal.h"
 #include "core/model/covariates.h"
 #include "core/model/term_family.h"
@@ -49,7 +50,8 @@ namespace {
 // before the rival existed and refused as "not distinguishable" with it).
 // The reverse encompassing test: the rival's term added to the winner's
 // model, LR = n ln(RSS_winner / RSS_joint) ~ chi2(df_rival), at the same
-// thresholds.rival_alpha; its lower bound n ln(RSS_winner / RSS_rival) first.
+// thresholds.alternative_alpha; its lower bound n ln(RSS_winner / RSS_rival)
+// first.
 bool EncompassesLocateOnly(const DiagnosisState& st,
                            const std::vector<Fitted>& fits, int winner,
                            int rival, const Fitted& joint) {
@@ -57,50 +59,51 @@ bool EncompassesLocateOnly(const DiagnosisState& st,
   if (!st.td.catalog[rival_term.covariate].locate_only) return false;
   const double n = static_cast<double>(st.train.size());
   const int df = rival_term.term.NumParams();
+  const Multiplicity each = EachOf(st.thresholds);
   double lr = NestedLr(n, fits[winner].rss, fits[rival].rss);
-  if (ChiSquareSurvival(lr, df) < st.thresholds.rival_alpha) return false;
+  if (each.Rejects(ChiSquareSurvival(lr, df))) return false;
   if (!joint.usable || !(joint.rss > 0))
     return false;  // cannot tell: not named
   lr = std::max(lr, NestedLr(n, fits[winner].rss, joint.rss));
-  return ChiSquareSurvival(lr, df) >= st.thresholds.rival_alpha;
+  return !each.Rejects(ChiSquareSurvival(lr, df));
 }
 
 // The encompassing test of fitted candidate `adding` against fitted
 // candidate `base`: the term of `adding` added to the model of `base`,
 // LR = n ln(RSS_base / RSS_base+adding) ~ chi2(df_adding), its lower bound
 // n ln(RSS_base / RSS_adding) first. `joint` is fitted only when the bound
-// does not clear rival_alpha; a failed joint fit leaves the bound.
-struct Encompassing {
+// does not clear the level (EachOf: the winner must add to every rival); a
+// failed joint fit leaves the bound.
+struct Addition {
   double lr = 0;
   double p = 1;
   Fitted joint;
 };
-Encompassing AddsTo(const DiagnosisState& st, const std::vector<double>& sd,
-                    const std::vector<Fitted>& fits, int adding, int base) {
-  Encompassing e;
+Addition AddsTo(const DiagnosisState& st, const std::vector<double>& sd,
+                const std::vector<Fitted>& fits, int adding, int base) {
+  Addition e;
   const TermSpec& term = fits[adding].terms.back();
   const double n = static_cast<double>(st.train.size());
   const int df = term.term.NumParams();
   e.lr = NestedLr(n, fits[base].rss, fits[adding].rss);
   e.p = ChiSquareSurvival(e.lr, df);
-  if (e.p < st.thresholds.rival_alpha) return e;
-  std::vector<TermSpec> both = fits[base].terms;
-  both.push_back(term);
-  e.joint = Fit(st.td, st.train, sd, fits[base].log_k, both);
-  if (e.joint.usable && e.joint.rss > 0) {
-    e.lr = std::max(e.lr, NestedLr(n, fits[base].rss, e.joint.rss));
-    e.p = ChiSquareSurvival(e.lr, df);
+  if (EachOf(st.thresholds).Rejects(e.p)) return e;
+  const Encompassing joint = Encompass(st, sd, fits[base], term);
+  e.joint = joint.with;
+  if (joint.usable() && joint.lr > e.lr) {
+    e.lr = joint.lr;
+    e.p = joint.p;
   }
   return e;
 }
 
 // Whether the data cannot tell `a` from `b` either way: neither term adds
-// significantly (at rival_alpha) to the other's model.
+// significantly (at alternative_alpha) to the other's model.
 bool TiedBothWays(const DiagnosisState& st, const std::vector<double>& sd,
                   const std::vector<Fitted>& fits, int a, int b) {
-  const double alpha = st.thresholds.rival_alpha;
-  return AddsTo(st, sd, fits, a, b).p >= alpha &&
-         AddsTo(st, sd, fits, b, a).p >= alpha;
+  const Multiplicity each = EachOf(st.thresholds);
+  return !each.Rejects(AddsTo(st, sd, fits, a, b).p) &&
+         !each.Rejects(AddsTo(st, sd, fits, b, a).p);
 }
 
 }  // namespace
@@ -252,9 +255,11 @@ GuardResult DistinctFromRivals(const DiagnosisState& st,
     }
   }
   if (rivals.empty()) return r;
+  // Named only when it adds to every rival (EachOf).
+  const Multiplicity each = EachOf(st.thresholds);
   for (int j : rivals) {
-    const Encompassing e = AddsTo(st, sd, fits, winner, j);
-    if (e.p < st.thresholds.rival_alpha) continue;
+    const Addition e = AddsTo(st, sd, fits, winner, j);
+    if (each.Rejects(e.p)) continue;
     if (EncompassesLocateOnly(st, fits, winner, j, e.joint)) continue;
     const double lr = e.lr, p = e.p;
     const TermScope& scope = term.term.scope;
@@ -266,7 +271,7 @@ GuardResult DistinctFromRivals(const DiagnosisState& st,
         !FamilyOf(term.term.form).names_mechanism() &&
         !FamilyOf(fits[j].terms.back().term.form).names_mechanism() &&
         fits[j].terms.back().term.scope.Label() == scope.Label() &&
-        AddsTo(st, sd, fits, j, winner).p >= st.thresholds.rival_alpha) {
+        !each.Rejects(AddsTo(st, sd, fits, j, winner).p)) {
       continue;
     }
     const std::string where =
@@ -304,8 +309,8 @@ GuardResult DistinctFromOtherGates(const DiagnosisState& st,
         other.scope.Label() == term.scope.Label()) {
       continue;
     }
-    const Encompassing e = AddsTo(st, sd, fits, winner, j);
-    if (e.p < st.thresholds.rival_alpha) continue;
+    const Addition e = AddsTo(st, sd, fits, winner, j);
+    if (EachOf(st.thresholds).Rejects(e.p)) continue;
     char buf[320];
     std::snprintf(buf, sizeof(buf),
                   "not distinguishable from the same term on %s: given it, "

@@ -31,6 +31,7 @@
 #include <string>
 
 #include "core/base/distributions.h"
+#include "core/diagnosis/diagnosis_alternatives.h"
 #include "core/diagnosis/diagnosis_stages_internal.h"
 
 namespace rollwear::diag {
@@ -96,11 +97,10 @@ std::vector<TermScope> Siblings(const DiagnosisState& st,
   return siblings;
 }
 
-// `with_term` with a copy of its last term added at `sibling`: free,
-// starting from no effect, or `tied` to the last term's parameters.
-Fitted FitSibling(const DiagnosisState& st, const std::vector<double>& sd,
-                  const Fitted& with_term, const TermScope& sibling,
-                  bool tied) {
+// A copy of the last term of `with_term` at `sibling`: free, starting
+// from no effect, or `tied` to the last term's parameters.
+TermSpec SiblingTerm(const Fitted& with_term, const TermScope& sibling,
+                     bool tied) {
   TermSpec copy = with_term.terms.back();
   copy.term.scope = sibling;
   for (size_t j = 0; j < copy.term.params.size(); ++j) {
@@ -113,7 +113,17 @@ Fitted FitSibling(const DiagnosisState& st, const std::vector<double>& sd,
     copy.lower[j] = v - 1e-9 * (1 + std::abs(v));
     copy.upper[j] = v + 1e-9 * (1 + std::abs(v));
   }
-  return FitWith(st, sd, with_term, copy);
+  return copy;
+}
+
+// Free copies of the last term of `with_term` at each of `scopes`: the
+// alternatives the siblings and parts tests add to it.
+std::vector<TermSpec> FreeCopies(const Fitted& with_term,
+                                 const std::vector<TermScope>& scopes) {
+  std::vector<TermSpec> out;
+  for (const TermScope& s : scopes)
+    out.push_back(SiblingTerm(with_term, s, false));
+  return out;
 }
 
 }  // namespace
@@ -140,24 +150,6 @@ double MeanResidualIn(const DiagnosisState& st, const Fitted& fitted,
   return count > 0 ? sum / count : 0;
 }
 
-double NestedLr(double n, double rss_a, double rss_b) {
-  return std::max(0.0, n * std::log(rss_a / rss_b));
-}
-
-StrongestAddition StrongestOf(
-    const std::vector<TermScope>& scopes, double n, double base_rss, int df,
-    const std::function<Fitted(const TermScope&)>& fit) {
-  StrongestAddition best;
-  for (const TermScope& s : scopes) {
-    const Fitted with = fit(s);
-    if (!with.usable || !(with.rss > 0)) continue;
-    const double lr = NestedLr(n, base_rss, with.rss);
-    const double p = ChiSquareSurvival(lr, df);
-    if (p < best.p) best = {&s, lr, p};
-  }
-  return best;
-}
-
 GuardResult LookAtSiblings(const DiagnosisState& st,
                            const DiagnosisOptions& options,
                            const std::vector<double>& sd,
@@ -168,24 +160,21 @@ GuardResult LookAtSiblings(const DiagnosisState& st,
   const std::string factor = FactorName(scope);
   const std::vector<TermScope> siblings = Siblings(st, spec);
   if (siblings.empty()) return r;
-  const double k = static_cast<double>(siblings.size());  // Bonferroni
-  const StrongestAddition a =
-      StrongestOf(siblings, static_cast<double>(st.train.size()), with_term.rss,
-                  spec.term.NumParams(), [&](const TermScope& s) {
-                    return FitSibling(st, sd, with_term, s, false);
-                  });
-  const TermScope* best = a.scope;
-  const double best_p = a.p, best_lr = a.lr;
-  if (best == nullptr ||
-      !(best_p * k < std::max(options.thresholds.sibling_alpha, options.alpha)))
-    return r;
+  // Any sibling that adds refutes "elsewhere the law holds".
+  const Multiplicity family =
+      AnyOf(options.thresholds, static_cast<double>(siblings.size()));
+  const StrongestAlternative a =
+      Strongest(st, sd, with_term, FreeCopies(with_term, siblings));
+  if (a.index < 0 || !family.Rejects(a.test.p)) return r;
+  const TermScope* best = &siblings[a.index];
+  const double best_p = a.test.p, best_lr = a.test.lr;
   char buf[240];
   std::snprintf(
       buf, sizeof(buf),
       "not confined to %s: the same term is significant at %s too (LR %.1f, "
       "p adjusted %.2g)",
       scope.Label().c_str(), best->Label().c_str(), best_lr,
-      std::min(1.0, best_p * k));
+      family.Adjusted(best_p));
   r.pass = false;
   r.reason = buf;
   r.located.dimension = "effect_by_" + factor;
@@ -195,7 +184,7 @@ GuardResult LookAtSiblings(const DiagnosisState& st,
   // Where the structure the scope leaves out lives.
   r.located.mean_residual_um = MeanResidualIn(st, with_term, *best);
   r.located.p_value = best_p;
-  r.located.p_adjusted = std::min(1.0, best_p * k);
+  r.located.p_adjusted = family.Adjusted(best_p);
   return r;
 }
 
@@ -271,18 +260,19 @@ GuardResult PartNotRequired(const DiagnosisState& st,
   }
   const double n = static_cast<double>(st.train.size());
   const int df = spec.term.NumParams();
+  // Naming the whole scope needs every part required.
+  const Multiplicity each_part = EachOf(st.thresholds);
   for (int a = 0; a < 2; ++a) {
     const TermScope& carrier = parts[1 - a];
     std::vector<TermSpec> terms = with_term.terms;
     terms.back().term.scope = carrier;
     const Fitted moved = Fit(st.td, st.train, sd, with_term.log_k, terms);
     if (!moved.usable) continue;
-    const Fitted each = FitSibling(st, sd, moved, parts[a], false);
-    if (!each.usable || !(each.rss > 0)) continue;
-    const double lr = NestedLr(n, moved.rss, each.rss);
-    const double p = ChiSquareSurvival(lr, df);
-    if (p < st.thresholds.sibling_alpha)
-      continue;  // the effect at part a is needed
+    const Encompassing e =
+        Encompass(st, sd, moved, SiblingTerm(moved, parts[a], false));
+    if (!e.usable()) continue;
+    const double lr = e.lr, p = e.p;
+    if (each_part.Rejects(p)) continue;  // the effect at part a is needed
     char buf[320];
     std::snprintf(buf, sizeof(buf),
                   "the data cannot tell whether it acts on %s: there the term "
@@ -318,17 +308,15 @@ GuardResult LookWithinScope(const DiagnosisState& st,
   const TermSpec& spec = with_term.terms.back();
   const std::vector<TermScope> parts = Parts(st, spec);
   if (parts.size() < 2) return r;
-  const double k = static_cast<double>(parts.size());  // Bonferroni
-  const StrongestAddition a =
-      StrongestOf(parts, static_cast<double>(st.train.size()), with_term.rss,
-                  spec.term.NumParams(), [&](const TermScope& part) {
-                    return FitSibling(st, sd, with_term, part, false);
-                  });
-  const TermScope* best = a.scope;
-  const double best_p = a.p, best_lr = a.lr;
-  if (best == nullptr) return r;
-  if (!(best_p * k < std::max(options.thresholds.sibling_alpha, options.alpha)))
-    return PartNotRequired(st, sd, with_term, parts);
+  // Any part where the effect differs refutes the scope's uniformity.
+  const Multiplicity family =
+      AnyOf(options.thresholds, static_cast<double>(parts.size()));
+  const StrongestAlternative a =
+      Strongest(st, sd, with_term, FreeCopies(with_term, parts));
+  if (a.index < 0) return r;
+  const TermScope* best = &parts[a.index];
+  const double best_p = a.test.p, best_lr = a.test.lr;
+  if (!family.Rejects(best_p)) return PartNotRequired(st, sd, with_term, parts);
   const std::string other =
       FactorName(spec.term.scope) == "stand"
           ? (best->roll_type.empty() ? "grade" : "roll_type")
@@ -338,7 +326,7 @@ GuardResult LookWithinScope(const DiagnosisState& st,
                 "not uniform within %s: the effect differs on %s (LR %.1f, p "
                 "adjusted %.2g)",
                 spec.term.scope.Label().c_str(), best->Label().c_str(), best_lr,
-                std::min(1.0, best_p * k));
+                family.Adjusted(best_p));
   r.pass = false;
   r.reason = buf;
   r.located.dimension = "effect_by_" + other;
@@ -346,7 +334,7 @@ GuardResult LookWithinScope(const DiagnosisState& st,
   r.located.test = "likelihood_ratio";
   r.located.statistic = best_lr;
   r.located.p_value = best_p;
-  r.located.p_adjusted = std::min(1.0, best_p * k);
+  r.located.p_adjusted = family.Adjusted(best_p);
   return r;
 }
 
@@ -354,18 +342,19 @@ void NoteUndeterminedSiblings(const DiagnosisState& st,
                               const std::vector<double>& sd,
                               const Fitted& with_term, Finding* f) {
   const TermSpec& spec = with_term.terms.back();
-  const double n = static_cast<double>(st.train.size());
   const int df = spec.term.NumParams();
   std::vector<std::string> levels;
   for (const TermScope& s : Siblings(st, spec)) {
-    const Fitted free = FitSibling(st, sd, with_term, s, false);
-    const Fitted tied = FitSibling(st, sd, with_term, s, true);
+    const Fitted free =
+        FitWith(st, sd, with_term, SiblingTerm(with_term, s, false));
+    const Fitted tied =
+        FitWith(st, sd, with_term, SiblingTerm(with_term, s, true));
     if (!free.usable || !tied.usable || !(free.rss > 0)) continue;
     // The guard found the free copy not significant (family-wise); the
-    // level is undetermined when the tied copy is not rejected either.
-    const double p_same =
-        ChiSquareSurvival(NestedLr(n, tied.rss, free.rss), df);
-    if (p_same >= st.thresholds.sibling_alpha) levels.push_back(LevelName(s));
+    // level is undetermined when the tied copy is not rejected either
+    // (each level on its own: EachOf).
+    if (!EachOf(st.thresholds).Rejects(Encompassed(st, tied, free, df).p))
+      levels.push_back(LevelName(s));
   }
   f->scope_undetermined = levels;
   if (levels.empty()) return;

@@ -12,7 +12,6 @@
 #define ROLLWEAR_CORE_DIAGNOSIS_DIAGNOSIS_STAGES_INTERNAL_H_
 
 #include <chrono>
-#include <functional>
 #include <set>
 #include <string>
 #include <unordered_set>
@@ -335,18 +334,9 @@ double MeanResidualIn(const DiagnosisState& st, const Fitted& fitted,
                       const TermScope& scope);
 // The nested likelihood-ratio statistic of model b extending model a,
 // LR = n ln(RSS_a / RSS_b) ~ chi2(extra params) (Wilks 1938, Ann. Math.
-// Stat. 9:60), floored at 0 (diagnosis_siblings.cc).
+// Stat. 9:60), floored at 0 (diagnosis_alternatives.cc, the encompassing
+// test's statistic).
 double NestedLr(double n, double rss_a, double rss_b);
-// Of `scopes`, the one whose extra term (`fit` returns the model with it)
-// adds most to a model of RSS `base_rss` on n readings, by the p of
-// NestedLr with `df`; scope nullptr when no fit was usable.
-struct StrongestAddition {
-  const TermScope* scope = nullptr;
-  double lr = 0, p = 1;
-};
-StrongestAddition StrongestOf(
-    const std::vector<TermScope>& scopes, double n, double base_rss, int df,
-    const std::function<Fitted(const TermScope&)>& fit);
 // The proxy guard's look at the siblings of a single-factor scope
 // (diagnosis_siblings.cc): fails when the last term of `with_term`, added
 // again at another level of its scope's factor, is significant there too.
@@ -534,8 +524,8 @@ int AdoptedTermIndex(const std::vector<TermSpec>& terms, const Finding& f);
 // The covariates the round's fitted candidates carry the winner's
 // mechanism through (SameCarriedMechanism), over its scope, that the data
 // cannot tell from it either way: neither term adds significantly to the
-// other's model (DistinctFromRivals' encompassing test, at rival_alpha). The
-// winner's covariate first, then theirs; empty when there is none
+// other's model (DistinctFromRivals' encompassing test, at alternative_alpha).
+// The winner's covariate first, then theirs; empty when there is none
 // (diagnosis_rivals.cc). A carrier need not have been cross-validated: the
 // strongest candidates of a round may all be forms of one covariate.
 std::vector<std::string> CarriersOf(const DiagnosisState& st,

@@ -21,10 +21,7 @@ bool DiagnosisThresholds::IsValid(std::string* error) const {
   const auto count = [&bad](const char* name, int v) {
     if (bad.empty() && v < 1) bad = std::string(name) + " must be >= 1";
   };
-  level("sibling_alpha", sibling_alpha);
-  level("sibling_cell_alpha", sibling_cell_alpha);
-  level("inside_alpha", inside_alpha);
-  level("rival_alpha", rival_alpha);
+  level("alternative_alpha", alternative_alpha);
   level("everywhere_alpha", everywhere_alpha);
   level("plain_alpha", plain_alpha);
   positive("shadow_delta", shadow_delta);

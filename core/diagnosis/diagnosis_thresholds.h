@@ -18,25 +18,22 @@ struct DiagnosisThresholds {
   // --- Significance levels of the guards -------------------------------
   // The round's own family-wise level is DiagnosisOptions::alpha (0.001).
 
-  // The family-wise level of the sibling test (diagnosis_siblings.cc).
-  // Looser than the round's alpha on purpose: the test guards a claim
-  // ("elsewhere the wear law holds"), so the burden of proof is on the
-  // scope, and failing it only withholds a name.
-  double sibling_alpha = 0.01;
-  // The family-wise level of the sibling-cell test (diagnosis_complement.cc)
-  // as the scope siblings' (sibling_alpha): it guards the claim "elsewhere
-  // the law holds".
-  double sibling_cell_alpha = 0.01;
-  // The family-wise level of the look inside a cell
-  // (diagnosis_inside_cell.cc), as the sibling test's (sibling_alpha).
-  double inside_alpha = 0.01;
-  // The level of each rival test (diagnosis_rivals.cc), the level of the
-  // other guard-stage comparisons (sibling_alpha). The winner has passed
-  // the round's alpha already; this asks only whether the data prefer it
-  // to an accepted rival. Measured on the scorecard (session 14): a true
-  // effect's term added LR 5.5..9.4 to a collinear rival while the rival
-  // added 0..2.4 to it, which the round's 0.001 would call a tie.
-  double rival_alpha = 0.01;
+  // The level of every question the guards ask of an alternative to the
+  // winner (diagnosis_alternatives.h: a sibling level or a part of its
+  // scope, a slope inside a cell, another cell of a cell's kind, a rival
+  // covariate or gate, the ungated twin of a gated term) and of the
+  // interaction and gate-constancy splits (diagnosis_guard.cc): family-wise
+  // over a question that any one test decides (Bonferroni), each test's
+  // level where every test must reject. Looser than the round's alpha on
+  // purpose, and never below it (DiagnosisOptions::IsValid): the winner
+  // has passed the round already; this asks only whether the data prefer
+  // it to an alternative, and failing the burden of proof only withholds a
+  // name. Measured on the scorecard (session 14): a true effect's term
+  // added LR 5.5..9.4 to a collinear rival while the rival added 0..2.4 to
+  // it, which the round's 0.001 would call a tie. (Until session 38 it was
+  // four members of one value: sibling_alpha, sibling_cell_alpha,
+  // inside_alpha, rival_alpha.)
+  double alternative_alpha = 0.01;
   // The per-roll family (diagnosis_roll_family.cc): a roll's own wear
   // resistance goes with the roll, so the rolls must scatter (Cochran's Q
   // at everywhere_alpha) within every stand, position and roll type where

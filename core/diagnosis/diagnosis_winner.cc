@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/base/distributions.h"
+#include "core/diagnosis/diagnosis_alternatives.h"
 #include "core/diagnosis/diagnosis_stages_internal.h"
 
 namespace rollwear::diag {
@@ -70,23 +71,22 @@ std::string NoBetterThanCell(const DiagnosisState& st,
   const TermSpec& term = fits[winner].terms.back();
   if (term.term.form == TermForm::kCell || term.term.IsMeasurementTerm())
     return "";
-  const double n = static_cast<double>(st.train.size());
+  // The winner's own effect tested again, given the cell: one of the
+  // round's tests.
+  const Multiplicity round = RoundFamily(options, num_tests);
   for (int j : accepted) {
     const TermSpec& cell = fits[j].terms.back();
     if (j == winner || cell.term.form != TermForm::kCell) continue;
-    std::vector<TermSpec> both = fits[j].terms;
-    both.push_back(term);
-    const Fitted joint = Fit(st.td, st.train, sd, fits[j].log_k, both);
+    const Fitted joint = FitWith(st, sd, fits[j], term);
     if (!joint.usable) continue;
-    const double lr = NestedLr(n, fits[j].rss, joint.rss);
-    const double p = ChiSquareSurvival(lr, term.term.NumParams());
-    if (p * num_tests >= options.alpha) {
+    const Encompassing e =
+        Encompassed(st, fits[j], joint, term.term.NumParams());
+    if (!round.Rejects(e.p)) {
       char buf[200];
       std::snprintf(buf, sizeof(buf),
                     "no better than the cell %s (given the cell: LR %.1f, "
                     "p adjusted %.2g)",
-                    cell.term.scope.Label().c_str(), lr,
-                    std::min(1.0, p * num_tests));
+                    cell.term.scope.Label().c_str(), e.lr, round.Adjusted(e.p));
       return buf;
     }
   }

@@ -24,7 +24,7 @@
 namespace rollwear {
 namespace {
 
-constexpr int kCampaigns = test_size::FullOr(300, 200);
+constexpr int kRollScatterCampaigns = test_size::FullOr(300, 200);
 // Under the sanitizers one seed (test_size.h).
 constexpr int kSeeds = test_size::FullOr(2, 1);
 // Each roll's lifelong wear factor: sd 8 % of its log, enough that roll_id
@@ -34,7 +34,7 @@ constexpr double kRollFactorSd = 0.08;
 DiagnosisReport DiagnoseWithRollScatter(uint64_t seed,
                                         std::vector<std::string> effects) {
   const Simulation sim = simulator_test::Simulated(
-      seed, kCampaigns, std::move(effects), 0, kRollFactorSd);
+      seed, kRollScatterCampaigns, std::move(effects), 0, kRollFactorSd);
   StatusOr<DiagnosisReport> r = Diagnose(sim.data, DiagnosisOptions{});
   EXPECT_TRUE(r.ok()) << r.status().ToString();
   return r.ok() ? std::move(r).value() : DiagnosisReport{};

@@ -21,9 +21,19 @@ TEST(DiagnosisThresholdsTest, DefaultsAreValid) {
 TEST(DiagnosisThresholdsTest, ABadThresholdIsRefusedByName) {
   std::string error;
   DiagnosisOptions options;
-  options.thresholds.sibling_alpha = 1.5;
+  options.thresholds.alternative_alpha = 1.5;
   EXPECT_FALSE(options.IsValid(&error));
-  EXPECT_NE(error.find("sibling_alpha"), std::string::npos) << error;
+  EXPECT_NE(error.find("alternative_alpha"), std::string::npos) << error;
+
+  // A guard's question about an alternative stricter than the round itself.
+  options = DiagnosisOptions{};
+  options.thresholds.alternative_alpha = options.alpha / 2;
+  error.clear();
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_NE(error.find("alternative_alpha must be >= alpha"), std::string::npos)
+      << error;
+  options.thresholds.alternative_alpha = options.alpha;
+  EXPECT_TRUE(options.IsValid(&error)) << error;
 
   options = DiagnosisOptions{};
   options.thresholds.min_scope_observations = 0;

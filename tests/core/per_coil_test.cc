@@ -35,7 +35,7 @@ ModelTerm PerCoilAt(int stand, double um_per_coil) {
 }
 
 // A multiplier beside wear per coil: exp(0.2 (v - 10) / 2).
-ModelTerm SpeedTerm() {
+ModelTerm SpeedBesidePerCoil() {
   ModelTerm speed;
   speed.covariate = "speed_mps";
   speed.form = TermForm::kLogLinear;
@@ -68,7 +68,7 @@ TEST(PerCoilTest, TheDaemonAddsEachCoilsWearAsTheBatchDoes) {
   StatusOr<TermData> td = BuildTermData(d, WearLaw::kWang);
   ASSERT_TRUE(td.ok()) << td.status().ToString();
   ASSERT_GT(td->obs.size(), 40u);
-  const ModelTerm speed = SpeedTerm();
+  const ModelTerm speed = SpeedBesidePerCoil();
   const ModelTerm roll = RollEffectOf(*td);
   const WearModel model = ModelWithTerms(*td, {PerCoilAt(7, 0.4), speed, roll});
   const WearModel without = ModelWithTerms(*td, {speed, roll});
@@ -105,7 +105,7 @@ TEST(PerCoilTest, TheFitsJacobianIsThatOfTheirPrediction) {
   StatusOr<TermData> td = BuildTermData(sim.data, WearLaw::kWang);
   ASSERT_TRUE(td.ok()) << td.status().ToString();
   std::vector<TermSpec> specs;
-  const ModelTerm speed = SpeedTerm();
+  const ModelTerm speed = SpeedBesidePerCoil();
   for (const ModelTerm& t : {PerCoilAt(7, 0.4), speed, RollEffectOf(*td)}) {
     TermSpec s;
     s.term = t;
