@@ -146,7 +146,8 @@ std::optional<CovariateSummary> SummariseCovariate(
   if (c.kind == CovariateKind::kFlag) {
     double on = 0;
     for (const auto& [z, wt] : w.v) on += z > 0.5 ? wt : 0.0;
-    if (on < 0.02 * w.total || on > 0.98 * w.total) return std::nullopt;
+    const double share = options.thresholds.min_flag_share;
+    if (on < share * w.total || on > (1 - share) * w.total) return std::nullopt;
     return s;
   }
   if (!(s.p95 > s.p05)) return std::nullopt;  // (nearly) constant

@@ -26,6 +26,7 @@
 
 #include "core/base/distributions.h"
 #include "core/dataset/dataset.h"
+#include "core/diagnosis/diagnosis_alternatives.h"
 #include "core/diagnosis/diagnosis_stages_internal.h"
 #include "core/fit/term_refit.h"
 
@@ -267,11 +268,13 @@ namespace {
 // Whether the fitted multipliers follow a recorded roll-level quantity
 // (hardness, diameter, a mounts.csv number): Pearson's r over the rolls of
 // b_r against the roll's mean of the covariate on its training readings,
-// t^2 = r^2 (n - 2) / (1 - r^2) ~ F(1, n - 2), at `alpha`. Returns "" or
-// why not: such a scatter is that quantity's, not the rolls' own.
+// t^2 = r^2 (n - 2) / (1 - r^2) ~ F(1, n - 2), any of the tests at the
+// round's level (RoundFamily, diagnosis_alternatives.h). Returns "" or why
+// not: such a scatter is that quantity's, not the rolls' own.
 std::string FollowsARecordedQuantity(const TermData& td,
                                      const std::vector<int>& train,
-                                     const TermSpec& roll, double alpha) {
+                                     const TermSpec& roll,
+                                     const DiagnosisOptions& options) {
   const int levels = roll.term.num_levels;
   // Per eligible covariate and roll type (-1: all rolls), Bonferroni over
   // those tests.
@@ -322,7 +325,7 @@ std::string FollowsARecordedQuantity(const TermData& td,
       const double r = sxy / std::sqrt(sxx * syy);
       const double p =
           FSurvival(r * r * (m - 2) / std::max(1e-12, 1 - r * r), 1, m - 2);
-      if (p * tests >= alpha) continue;
+      if (!RoundFamily(options, tests).Rejects(p)) continue;
       char text[240];
       std::snprintf(text, sizeof text,
                     "the rolls' multipliers follow %s%s%s (r = %.2f over %d "
@@ -434,8 +437,7 @@ bool RunRollFamily(const DiagnosisOptions& options, DiagnosisState* st,
       why.empty() ? FitWith(*st, sd, cur, RollTerm(td, k, h.tau)) : Fitted{};
   if (why.empty() && !with.usable) why = "the per-roll fit did not converge";
   if (why.empty()) {
-    why = FollowsARecordedQuantity(td, st->train, with.terms.back(),
-                                   options.alpha);
+    why = FollowsARecordedQuantity(td, st->train, with.terms.back(), options);
   }
   CvResult cv_cur, cv_with;
   if (why.empty())

@@ -357,11 +357,13 @@ void RecordFirstRound(const std::vector<int>& order,
 }
 
 // The winner's test figures and the accepted alternatives that explain the
-// data about as well (CV ratio within 0.01) over another covariate that
-// could be named (not a cell, not a locate-only covariate).
-Finding FindingFromTests(const TermData& td, const CvRound& cv,
+// data about as well (CV ratio within thresholds.alternatives_cv_margin)
+// over another covariate that could be named (not a cell, not a
+// locate-only covariate).
+Finding FindingFromTests(const DiagnosisState& st, const CvRound& cv,
                          const std::vector<CandidateResult>& results,
                          int winner) {
+  const TermData& td = st.td;
   Finding f;
   const CandidateResult& wr = results[winner];
   f.lr = wr.lr;
@@ -381,7 +383,8 @@ Finding FindingFromTests(const TermData& td, const CvRound& cv,
     if (r.accepted && r.covariate != wr.covariate &&
         r.covariate != kCellCovariateName &&
         !(c >= 0 && td.catalog[c].locate_only) &&
-        r.cv_mse_ratio <= wr.cv_mse_ratio + 0.01 &&
+        r.cv_mse_ratio <=
+            wr.cv_mse_ratio + st.thresholds.alternatives_cv_margin &&
         std::find(f.alternatives.begin(), f.alternatives.end(), r.covariate) ==
             f.alternatives.end()) {
       f.alternatives.push_back(r.covariate);
@@ -552,7 +555,7 @@ bool RunRound(int round, const Dataset& data, const DiagnosisOptions& options,
   }
 
   // Adopt the winner (step 6: report).
-  Finding f = FindingFromTests(st->td, cv, results, winner);
+  Finding f = FindingFromTests(*st, cv, results, winner);
   f.carriers = CarriersOf(*st, sd, fits, results, winner);
   std::string twin_note;
   ReferenceChoice reference;

@@ -49,10 +49,13 @@ bool DiagnosisThresholds::IsValid(std::string* error) const {
   count("min_part_observations", min_part_observations);
   share("min_level_share", min_level_share);
   count("min_level_readings", min_level_readings);
+  if (bad.empty() && !(min_flag_share >= 0 && min_flag_share < 0.5))
+    bad = "min_flag_share must be in [0, 0.5)";
   if (bad.empty() && step_grid < 2) bad = "step_grid must be >= 2";
   if (bad.empty() && gate_grid < 2) bad = "gate_grid must be >= 2";
   count("max_refits", max_refits);
   positive("max_refit_score_p", max_refit_score_p);
+  share("alternatives_cv_margin", alternatives_cv_margin);
   count("max_cross_validated", max_cross_validated);
   if (bad.empty() && (max_joint_candidates < 0 || max_joint_contexts < 0))
     bad = "max_joint_candidates and max_joint_contexts must be >= 0";

@@ -143,6 +143,10 @@ struct DiagnosisThresholds {
   // min_level_readings readings; the others are pooled as "other".
   double min_level_share = 0.02;
   int min_level_readings = 10;
+  // A flag is a candidate only when it is on for at least min_flag_share of
+  // the baseline wear and off for as much (diagnosis_candidates.cc): a flag
+  // nearly always on or off is an intercept or a handful of passes.
+  double min_flag_share = 0.02;
 
   // --- Grids and selection limits ------------------------------------------
 
@@ -165,6 +169,11 @@ struct DiagnosisThresholds {
   // Bonferroni-adjusted score p-value stays <= max_refit_score_p.
   int max_refits = 6;
   double max_refit_score_p = 0.5;
+  // A finding lists as `alternatives` the accepted candidates over other
+  // nameable covariates whose cross-validated error ratio is within this of
+  // the winner's (diagnosis_stages.cc, FindingFromTests): a report's "fits
+  // almost as well", not a test.
+  double alternatives_cv_margin = 0.01;
   // Each round cross-validates at most this many significant candidates
   // (by LR; the strongest significant cell comes in addition).
   int max_cross_validated = 3;

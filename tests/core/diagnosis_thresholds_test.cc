@@ -41,6 +41,13 @@ TEST(DiagnosisThresholdsTest, ABadThresholdIsRefusedByName) {
   EXPECT_FALSE(options.IsValid(&error));
   EXPECT_NE(error.find("min_scope_observations"), std::string::npos) << error;
 
+  // A flag share of a half or more would leave no flag on offer.
+  options = DiagnosisOptions{};
+  options.thresholds.min_flag_share = 0.5;
+  error.clear();
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_NE(error.find("min_flag_share"), std::string::npos) << error;
+
   options = DiagnosisOptions{};
   options.thresholds.material_noise_share = -0.25;
   EXPECT_FALSE(options.IsValid(nullptr));

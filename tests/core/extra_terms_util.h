@@ -137,6 +137,17 @@ inline std::vector<double> BatchPrediction(const TermData& td, const WearModel& 
   return PredictTerms(td, all, log_k, specs, wear_only);
 }
 
+// A speed multiplier beside another term: exp(0.2 (v - 10) / 2).
+inline ModelTerm SpeedTerm() {
+  ModelTerm speed;
+  speed.covariate = "speed_mps";
+  speed.form = TermForm::kLogLinear;
+  speed.params = {0.2};
+  speed.center = 10;
+  speed.scale = 2;
+  return speed;
+}
+
 }  // namespace rollwear::extra_terms_test
 
 #endif  // ROLLWEAR_TESTS_CORE_EXTRA_TERMS_UTIL_H_

@@ -26,6 +26,7 @@ namespace {
 
 using extra_terms_test::BatchPrediction;
 using extra_terms_test::ModelWithTerms;
+using extra_terms_test::SpeedTerm;
 
 // exp(-0.4) on lubricated passes at speed_mps >= at (or below it).
 ModelTerm LubricationGated(double at, bool above) {
@@ -37,16 +38,6 @@ ModelTerm LubricationGated(double at, bool above) {
   t.scope.gate_at = at;
   t.scope.gate_above = above;
   return t;
-}
-
-ModelTerm SpeedTerm() {
-  ModelTerm speed;
-  speed.covariate = "speed_mps";
-  speed.form = TermForm::kLogLinear;
-  speed.params = {0.2};
-  speed.center = 10;
-  speed.scale = 2;
-  return speed;
 }
 
 // The daemon's running wear coil by coil against the batch prediction; and

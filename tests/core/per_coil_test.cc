@@ -24,6 +24,7 @@ namespace {
 
 using extra_terms_test::BatchPrediction;
 using extra_terms_test::ModelWithTerms;
+using extra_terms_test::SpeedTerm;
 
 ModelTerm PerCoilAt(int stand, double um_per_coil) {
   ModelTerm t;
@@ -32,17 +33,6 @@ ModelTerm PerCoilAt(int stand, double um_per_coil) {
   t.params = {um_per_coil};
   t.scope.stand = stand;
   return t;
-}
-
-// A multiplier beside wear per coil: exp(0.2 (v - 10) / 2).
-ModelTerm SpeedBesidePerCoil() {
-  ModelTerm speed;
-  speed.covariate = "speed_mps";
-  speed.form = TermForm::kLogLinear;
-  speed.params = {0.2};
-  speed.center = 10;
-  speed.scale = 2;
-  return speed;
 }
 
 // A roll-effect term over every roll of `td`: roll r's factor
@@ -68,7 +58,7 @@ TEST(PerCoilTest, TheDaemonAddsEachCoilsWearAsTheBatchDoes) {
   StatusOr<TermData> td = BuildTermData(d, WearLaw::kWang);
   ASSERT_TRUE(td.ok()) << td.status().ToString();
   ASSERT_GT(td->obs.size(), 40u);
-  const ModelTerm speed = SpeedBesidePerCoil();
+  const ModelTerm speed = SpeedTerm();
   const ModelTerm roll = RollEffectOf(*td);
   const WearModel model = ModelWithTerms(*td, {PerCoilAt(7, 0.4), speed, roll});
   const WearModel without = ModelWithTerms(*td, {speed, roll});
@@ -105,7 +95,7 @@ TEST(PerCoilTest, TheFitsJacobianIsThatOfTheirPrediction) {
   StatusOr<TermData> td = BuildTermData(sim.data, WearLaw::kWang);
   ASSERT_TRUE(td.ok()) << td.status().ToString();
   std::vector<TermSpec> specs;
-  const ModelTerm speed = SpeedBesidePerCoil();
+  const ModelTerm speed = SpeedTerm();
   for (const ModelTerm& t : {PerCoilAt(7, 0.4), speed, RollEffectOf(*td)}) {
     TermSpec s;
     s.term = t;
