@@ -95,9 +95,10 @@ bool AddsToEveryAlternative(const DiagnosisState& st,
   for (const TermSpec& alt : alternatives) {
     const Fitted base = FitWith(st, sd, with_term, alt);
     if (!base.usable) continue;
-    const Fitted full = FitWith(st, sd, base, SlopeSpec(st, s, s.place, s.b));
-    if (!full.usable) continue;
-    if (!each.Rejects(Encompassed(st, base, full, 1).p)) return false;
+    const Encompassing e =
+        Encompass(st, sd, base, SlopeSpec(st, s, s.place, s.b));
+    if (!e.with.usable) continue;
+    if (!each.Rejects(e.p)) return false;
   }
   return true;
 }

@@ -155,11 +155,11 @@ GuardResult LookAgainBesideRolls(const Dataset& data, const DiagnosisState& st,
       PredictTerms(st.td, st.train, before.log_k, before.terms);
   const std::vector<double> p_after =
       PredictTerms(st.td, st.train, after.log_k, after.terms);
-  const double n = static_cast<double>(st.train.size());
   const double df = with_term.terms.back().term.NumParams();
   if (!(df > 0)) return look_again;
   const double deff = CampaignDesignEffect(st, sd, p_before, p_after);
-  const double lr = NestedLr(n, before.rss, after.rss) / deff;
+  const double lr =
+      Encompassed(st, before, after, static_cast<int>(df)).lr / deff;
   const double p = ChiSquareSurvival(lr, df);
   // The candidate's own effect tested again, beside the rolls: one of the
   // round's tests.

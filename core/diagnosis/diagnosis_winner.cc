@@ -77,10 +77,8 @@ std::string NoBetterThanCell(const DiagnosisState& st,
   for (int j : accepted) {
     const TermSpec& cell = fits[j].terms.back();
     if (j == winner || cell.term.form != TermForm::kCell) continue;
-    const Fitted joint = FitWith(st, sd, fits[j], term);
-    if (!joint.usable) continue;
-    const Encompassing e =
-        Encompassed(st, fits[j], joint, term.term.NumParams());
+    const Encompassing e = Encompass(st, sd, fits[j], term);
+    if (!e.with.usable) continue;
     if (!round.Rejects(e.p)) {
       char buf[200];
       std::snprintf(buf, sizeof(buf),
